@@ -1,0 +1,1 @@
+//! Colour science: observers (x̄ȳz̄), XYZ integration, RGB spaces. (in progress)
