@@ -1,0 +1,296 @@
+//! How a plugin declares its types and exports them: implement [`PluginType`] (parameters,
+//! version, construction) plus the kind's trait, then list the types in [`export_plugin!`].
+//! Parameters double as the saved state, so a type gets blob support for free.
+
+use crate::error::{ErrorKind, PluginError, PluginResult};
+use crate::host::{Host, HostRef};
+use crate::module::{ObjectKind, ObjectSource, ParamInfo, TypeInfo};
+use abi_stable::std_types::{ROption, RString, RVec};
+use serde::{de::DeserializeOwned, Serialize};
+
+/// Largest saved state a plugin will decode (bytes). Guards against allocation bombs in
+/// corrupted blobs: bincode would otherwise trust a length prefix.
+pub const MAX_STATE_BYTES: usize = 64 << 20;
+
+fn bincode_config() -> impl bincode::config::Config {
+    bincode::config::standard().with_limit::<MAX_STATE_BYTES>()
+}
+
+/// Documentation of one parameter.
+#[derive(Clone, Debug)]
+pub struct ParamDoc {
+    /// Name as written in the scene.
+    pub name: &'static str,
+    /// Unit ("" when unitless).
+    pub unit: &'static str,
+    /// Default in scene syntax, `None` when required.
+    pub default: Option<&'static str>,
+    /// What it does.
+    pub description: &'static str,
+}
+
+impl ParamDoc {
+    /// A parameter the scene must give.
+    pub const fn required(name: &'static str, unit: &'static str, description: &'static str) -> Self {
+        Self {
+            name,
+            unit,
+            default: None,
+            description,
+        }
+    }
+    /// A parameter with a default.
+    pub const fn optional(
+        name: &'static str,
+        unit: &'static str,
+        default: &'static str,
+        description: &'static str,
+    ) -> Self {
+        Self {
+            name,
+            unit,
+            default: Some(default),
+            description,
+        }
+    }
+}
+
+/// A type a plugin provides: its name, schema version, parameters and constructor.
+pub trait PluginType: Sized + Send + Sync + 'static {
+    /// Name scenes use to find it (`type: "point"`).
+    const TYPE_NAME: &'static str;
+    /// Saved-state schema version: bump it whenever `Params` changes shape.
+    const TYPE_VERSION: u32;
+    /// One line on what it is.
+    const DESCRIPTION: &'static str;
+    /// Constructor parameters, written in the scene as a RON struct; also the saved state.
+    type Params: Serialize + DeserializeOwned;
+    /// Parameter documentation (names, units, defaults).
+    fn params_doc() -> Vec<ParamDoc>;
+    /// Build from parameters; validate them and name the bad one in the error.
+    fn new(params: Self::Params, host: &Host<'_, '_>) -> PluginResult<Self>;
+    /// The parameters this object was built from (its saved state).
+    fn params(&self) -> &Self::Params;
+}
+
+/// Metadata of `T` for [`PluginInfo`](crate::module::PluginInfo).
+pub fn type_info<T: PluginType>(kind: ObjectKind) -> TypeInfo {
+    TypeInfo {
+        kind,
+        name: T::TYPE_NAME.into(),
+        version: T::TYPE_VERSION,
+        description: T::DESCRIPTION.into(),
+        params: T::params_doc()
+            .into_iter()
+            .map(|p| ParamInfo {
+                name: p.name.into(),
+                unit: p.unit.into(),
+                default: p.default.map(RString::from).map(ROption::RSome).unwrap_or(ROption::RNone),
+                description: p.description.into(),
+            })
+            .collect::<RVec<_>>(),
+    }
+}
+
+/// Parse RON parameter text into `P`; the error carries RON's line:column and the field name.
+pub fn parse_params<P: DeserializeOwned>(type_name: &str, text: &str) -> PluginResult<P> {
+    ron::from_str(text).map_err(|e| {
+        PluginError::invalid_parameter(format!("{type_name}: parameters: {e}"))
+    })
+}
+
+/// Encode parameters as saved state (bincode, standard config).
+pub fn encode_state<P: Serialize>(params: &P) -> PluginResult<Vec<u8>> {
+    bincode::serde::encode_to_vec(params, bincode_config())
+        .map_err(|e| PluginError::new(ErrorKind::Other, format!("cannot encode state: {e}")))
+}
+
+/// Decode saved state, refusing trailing bytes and oversized lengths.
+pub fn decode_state<P: DeserializeOwned>(type_name: &str, bytes: &[u8]) -> PluginResult<P> {
+    let (p, used) = bincode::serde::decode_from_slice(bytes, bincode_config()).map_err(|e| {
+        PluginError::new(ErrorKind::BadState, format!("{type_name}: cannot decode state: {e}"))
+    })?;
+    if used != bytes.len() {
+        return Err(PluginError::new(
+            ErrorKind::BadState,
+            format!(
+                "{type_name}: state has {} trailing bytes after {used} bytes of payload",
+                bytes.len() - used
+            ),
+        ));
+    }
+    Ok(p)
+}
+
+/// Build `T` from parameters or saved state.
+pub fn construct<T: PluginType>(source: ObjectSource<'_>, host: &HostRef<'_>) -> PluginResult<T> {
+    let host = Host::new(host);
+    let params = match source {
+        ObjectSource::Params(text) => parse_params::<T::Params>(T::TYPE_NAME, text.as_str())?,
+        ObjectSource::State {
+            type_version,
+            bytes,
+        } => {
+            if type_version != T::TYPE_VERSION {
+                return Err(PluginError::new(
+                    ErrorKind::BadState,
+                    format!(
+                        "{}: state was written by type version {type_version}, this plugin reads version {}",
+                        T::TYPE_NAME,
+                        T::TYPE_VERSION
+                    ),
+                ));
+            }
+            decode_state::<T::Params>(T::TYPE_NAME, bytes.as_slice())?
+        }
+    };
+    T::new(params, &host)
+}
+
+/// The saved state of `T` (its parameters, bincode-encoded).
+pub fn save<T: PluginType>(t: &T) -> PluginResult<Vec<u8>> {
+    encode_state(t.params())
+}
+
+/// The error for a type name the plugin does not provide.
+pub fn unknown_type(kind: ObjectKind, name: &str, known: &[&str]) -> PluginError {
+    PluginError::new(
+        ErrorKind::UnknownType,
+        format!(
+            "no {kind} type `{name}` in this plugin (it provides: {})",
+            if known.is_empty() {
+                "none".to_string()
+            } else {
+                known.join(", ")
+            }
+        ),
+    )
+}
+
+/// Export a plugin: its name and version and the types it provides, by kind.
+///
+/// Invoke it once, at the root of a `cdylib` crate (it aliases this crate as `abi_stable` in the
+/// crate root so that abi_stable's export machinery resolves without a direct dependency). It
+/// defines `pub fn root_module()` for in-process use (tests, static linking) and exports the same
+/// module from the library.
+///
+/// ```ignore
+/// spectrace_plugin_api::export_plugin! {
+///     name: "my-lights",
+///     version: env!("CARGO_PKG_VERSION"),
+///     lights: [MyLight],
+///     spds: [],
+///     observers: [],
+///     materials: [],
+/// }
+/// ```
+#[macro_export]
+macro_rules! export_plugin {
+    (
+        name: $name:expr,
+        version: $version:expr,
+        lights: [$($light:ty),* $(,)?],
+        spds: [$($spd:ty),* $(,)?],
+        observers: [$($observer:ty),* $(,)?],
+        materials: [$($material:ty),* $(,)?] $(,)?
+    ) => {
+        extern crate spectrace_plugin_api as abi_stable;
+
+        /// This plugin's root module, built in-process: the same path the host takes after
+        /// loading the library, without the library.
+        pub fn root_module() -> $crate::module::PluginModuleRef {
+            use $crate::__private::PrefixTypeTrait as _;
+            use $crate::__private::{RResult, RStr};
+            use $crate::export::{construct, save, type_info, unknown_type, PluginType};
+            use $crate::guard::guarded;
+            use $crate::host::HostRef;
+            use $crate::module::{ObjectKind, ObjectSource, PluginInfo, PluginModule};
+            use $crate::error::PluginError;
+
+            extern "C" fn info() -> PluginInfo {
+                PluginInfo {
+                    name: ($name).into(),
+                    version: ($version).into(),
+                    api_version: $crate::module::API_VERSION.into(),
+                    types: ::std::vec![
+                        $(type_info::<$light>(ObjectKind::Light),)*
+                        $(type_info::<$spd>(ObjectKind::Spd),)*
+                        $(type_info::<$observer>(ObjectKind::Observer),)*
+                        $(type_info::<$material>(ObjectKind::Material),)*
+                    ]
+                    .into(),
+                }
+            }
+            extern "C" fn create_light(
+                type_name: RStr<'_>,
+                source: ObjectSource<'_>,
+                host: HostRef<'_>,
+            ) -> RResult<$crate::light::LightBox, PluginError> {
+                guarded("create_light", || {
+                    let name = type_name.as_str();
+                    $(if name == <$light as PluginType>::TYPE_NAME {
+                        let obj = construct::<$light>(source, &host)?;
+                        return Ok($crate::light::GuardedLight::boxed(obj, save::<$light>));
+                    })*
+                    Err(unknown_type(ObjectKind::Light, name, &[$(<$light as PluginType>::TYPE_NAME),*]))
+                })
+            }
+            extern "C" fn create_spd(
+                type_name: RStr<'_>,
+                source: ObjectSource<'_>,
+                host: HostRef<'_>,
+            ) -> RResult<$crate::spd::SpdBox, PluginError> {
+                guarded("create_spd", || {
+                    let name = type_name.as_str();
+                    $(if name == <$spd as PluginType>::TYPE_NAME {
+                        let obj = construct::<$spd>(source, &host)?;
+                        return Ok($crate::spd::GuardedSpd::boxed(obj, save::<$spd>));
+                    })*
+                    Err(unknown_type(ObjectKind::Spd, name, &[$(<$spd as PluginType>::TYPE_NAME),*]))
+                })
+            }
+            extern "C" fn create_observer(
+                type_name: RStr<'_>,
+                source: ObjectSource<'_>,
+                host: HostRef<'_>,
+            ) -> RResult<$crate::observer::ObserverBox, PluginError> {
+                guarded("create_observer", || {
+                    let name = type_name.as_str();
+                    $(if name == <$observer as PluginType>::TYPE_NAME {
+                        let obj = construct::<$observer>(source, &host)?;
+                        return Ok($crate::observer::GuardedObserver::boxed(obj, save::<$observer>));
+                    })*
+                    Err(unknown_type(ObjectKind::Observer, name, &[$(<$observer as PluginType>::TYPE_NAME),*]))
+                })
+            }
+            extern "C" fn create_material(
+                type_name: RStr<'_>,
+                source: ObjectSource<'_>,
+                host: HostRef<'_>,
+            ) -> RResult<$crate::material::MaterialBox, PluginError> {
+                guarded("create_material", || {
+                    let name = type_name.as_str();
+                    $(if name == <$material as PluginType>::TYPE_NAME {
+                        let obj = construct::<$material>(source, &host)?;
+                        return Ok($crate::material::GuardedMaterial::boxed(obj, save::<$material>));
+                    })*
+                    Err(unknown_type(ObjectKind::Material, name, &[$(<$material as PluginType>::TYPE_NAME),*]))
+                })
+            }
+            PluginModule {
+                info,
+                create_light,
+                create_spd,
+                create_observer,
+                create_material,
+            }
+            .leak_into_prefix()
+        }
+
+        /// The exported root module (what the host finds in the library).
+        #[$crate::__private::export_root_module]
+        pub fn spectrace_plugin_root_module() -> $crate::module::PluginModuleRef {
+            root_module()
+        }
+    };
+}

@@ -1,0 +1,260 @@
+//! Light sources: the seed's two calls, plus what a bidirectional path tracer needs to connect.
+//!
+//! A plugin author implements [`LightSource`]. The host sees it as a [`LightBox`], the stable-ABI
+//! trait object, through a guard that catches panics and counts beams for `number_of_beams`.
+
+use crate::error::{PluginError, PluginResult};
+use crate::guard::guarded;
+use crate::types::{Beam, Flags, RandomSample, SpectralValues, Vec3, Wavelengths};
+use abi_stable::{
+    sabi_trait,
+    std_types::{RBox, RResult, RVec},
+    StableAbi,
+};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// Capability bits of a light source.
+pub mod light_flags {
+    use crate::types::Flags;
+    /// Emits from a single point (point and spot lights): position pdfs are discrete.
+    pub const DELTA_POSITION: Flags = Flags(1);
+    /// Emits in a single direction (directional lights): direction pdfs are discrete.
+    pub const DELTA_DIRECTION: Flags = Flags(2);
+    /// Implements `sample_emission`, `emission_pdf` and `sample_toward`, so paths can be
+    /// connected to it. Without it the host can only trace the beams it hands out.
+    pub const CONNECTABLE: Flags = Flags(4);
+    /// Rays that leave the scene see it (`radiance` and `incident_pdf` are meaningful).
+    pub const ENVIRONMENT: Flags = Flags(8);
+}
+
+/// A position and direction drawn from the light's emission, for light subpaths.
+#[repr(C)]
+#[derive(StableAbi, Clone, Copy, Debug, Default, PartialEq)]
+pub struct EmissionSample {
+    /// Start point (scene units).
+    pub origin: Vec3,
+    /// Unit direction of travel.
+    pub direction: Vec3,
+    /// Surface normal at `origin`; zero for lights without a surface.
+    pub normal: Vec3,
+    /// Emitted value per lane: intensity W/(sr·nm) for point-like sources, radiance
+    /// W/(m²·sr·nm) for surfaces.
+    pub value: SpectralValues,
+    /// Density of `origin`: per area (1/m²), or 1 for a delta position.
+    pub pdf_position: f64,
+    /// Density of `direction`: per solid angle (1/sr), or 1 for a delta direction.
+    pub pdf_direction: f64,
+}
+
+/// The densities with which [`LightSource::sample_emission`] would produce a given beam.
+#[repr(C)]
+#[derive(StableAbi, Clone, Copy, Debug, Default, PartialEq)]
+pub struct EmissionPdf {
+    /// Per area, or 1 for a delta position.
+    pub position: f64,
+    /// Per solid angle, or 1 for a delta direction.
+    pub direction: f64,
+}
+
+/// A point on the light chosen as seen from a receiver, for next-event estimation and
+/// camera-to-light connections.
+#[repr(C)]
+#[derive(StableAbi, Clone, Copy, Debug, Default, PartialEq)]
+pub struct IncidentSample {
+    /// Point on the light (or far along `direction` for directional lights).
+    pub point: Vec3,
+    /// Light surface normal at `point`; zero when the light has no surface.
+    pub normal: Vec3,
+    /// Unit direction from the receiver towards the light.
+    pub direction: Vec3,
+    /// Distance from receiver to `point` (scene units); infinite for directional lights.
+    pub distance: f64,
+    /// Radiance arriving at the receiver per lane, W/(m²·sr·nm); for delta lights the
+    /// irradiance-like value I/d² that a pdf of 1 turns into the right estimate.
+    pub value: SpectralValues,
+    /// Solid-angle density of `direction` (1/sr), or 1 for delta lights.
+    pub pdf: f64,
+}
+
+/// A wavelength drawn from a light's spectrum.
+#[repr(C)]
+#[derive(StableAbi, Clone, Copy, Debug, Default, PartialEq)]
+pub struct WavelengthSample {
+    /// Wavelength, nm.
+    pub nm: f64,
+    /// Density, 1/nm (or a probability for a spectral line).
+    pub pdf: f64,
+}
+
+/// What a plugin author implements for a light source.
+///
+/// Only [`next_beam`](Self::next_beam) and [`total_power_w`](Self::total_power_w) are required:
+/// with them any light renders (the host traces its beams). The rest is the optional
+/// `CONNECTABLE` capability, declared through [`capabilities`](Self::capabilities).
+pub trait LightSource: Send + Sync + 'static {
+    /// The seed's `getNextBeam`. Uses `sample.u[0..5]` at most: position (2), direction (2),
+    /// wavelength (1). Must be a pure function of `sample`.
+    fn next_beam(&self, sample: &RandomSample) -> PluginResult<Beam>;
+    /// Total radiant flux, W (the host picks lights in proportion to it).
+    fn total_power_w(&self) -> PluginResult<f64>;
+    /// Capability bits ([`light_flags`]).
+    fn capabilities(&self) -> Flags {
+        Flags::NONE
+    }
+    /// Draw a wavelength from the light's spectrum (`u` in [0,1)).
+    fn sample_wavelength(&self, _u: f64) -> PluginResult<WavelengthSample> {
+        Err(PluginError::unsupported("sample_wavelength"))
+    }
+    /// Density of [`sample_wavelength`](Self::sample_wavelength) at `nm`.
+    fn wavelength_pdf(&self, _nm: f64) -> PluginResult<f64> {
+        Err(PluginError::unsupported("wavelength_pdf"))
+    }
+    /// Sample an emitted beam for the given wavelengths (uses `sample.u[0..4]`).
+    fn sample_emission(
+        &self,
+        _sample: &RandomSample,
+        _lambda: &Wavelengths,
+    ) -> PluginResult<EmissionSample> {
+        Err(PluginError::unsupported("sample_emission"))
+    }
+    /// Densities of emitting from `origin` along `direction`.
+    fn emission_pdf(&self, _origin: Vec3, _direction: Vec3) -> PluginResult<EmissionPdf> {
+        Err(PluginError::unsupported("emission_pdf"))
+    }
+    /// Sample a point on the light as seen from `receiver` (uses `sample.u[0..2]`).
+    fn sample_toward(
+        &self,
+        _receiver: Vec3,
+        _sample: &RandomSample,
+        _lambda: &Wavelengths,
+    ) -> PluginResult<IncidentSample> {
+        Err(PluginError::unsupported("sample_toward"))
+    }
+    /// Radiance seen by a ray leaving the scene along `direction` (environment lights).
+    fn radiance(&self, _direction: Vec3, _lambda: &Wavelengths) -> PluginResult<SpectralValues> {
+        Ok(SpectralValues::ZERO)
+    }
+    /// Solid-angle density with which `sample_toward` picks `direction` (environment lights).
+    fn incident_pdf(&self, _receiver: Vec3, _direction: Vec3) -> PluginResult<f64> {
+        Ok(0.0)
+    }
+}
+
+/// The stable-ABI face of a light source. Hosts call this; authors implement [`LightSource`].
+/// Methods after `last_prefix_field` may be absent in plugins built against an older API.
+#[sabi_trait]
+pub trait AbiLightSource: Send + Sync {
+    /// See [`LightSource::next_beam`]; also counts the beam.
+    fn next_beam(&self, sample: &RandomSample) -> RResult<Beam, PluginError>;
+    /// The seed's `numberOfBeams`: beams handed out by `next_beam` so far.
+    fn number_of_beams(&self) -> f64;
+    /// See [`LightSource::total_power_w`].
+    fn total_power_w(&self) -> RResult<f64, PluginError>;
+    /// See [`LightSource::capabilities`].
+    fn capabilities(&self) -> Flags;
+    /// See [`LightSource::sample_wavelength`].
+    fn sample_wavelength(&self, u: f64) -> RResult<WavelengthSample, PluginError>;
+    /// See [`LightSource::wavelength_pdf`].
+    fn wavelength_pdf(&self, nm: f64) -> RResult<f64, PluginError>;
+    /// See [`LightSource::sample_emission`].
+    fn sample_emission(
+        &self,
+        sample: &RandomSample,
+        lambda: &Wavelengths,
+    ) -> RResult<EmissionSample, PluginError>;
+    /// See [`LightSource::emission_pdf`].
+    fn emission_pdf(&self, origin: Vec3, direction: Vec3) -> RResult<EmissionPdf, PluginError>;
+    /// See [`LightSource::sample_toward`].
+    fn sample_toward(
+        &self,
+        receiver: Vec3,
+        sample: &RandomSample,
+        lambda: &Wavelengths,
+    ) -> RResult<IncidentSample, PluginError>;
+    /// See [`LightSource::radiance`].
+    fn radiance(&self, direction: Vec3, lambda: &Wavelengths) -> RResult<SpectralValues, PluginError>;
+    /// See [`LightSource::incident_pdf`].
+    fn incident_pdf(&self, receiver: Vec3, direction: Vec3) -> RResult<f64, PluginError>;
+    /// The object's state as bytes (bincode of its parameters), for blobs.
+    #[sabi(last_prefix_field)]
+    fn save_state(&self) -> RResult<RVec<u8>, PluginError>;
+}
+
+/// A light source behind the stable ABI, owned.
+pub type LightBox = AbiLightSource_TO<'static, RBox<()>>;
+
+/// Wraps an author's light: catches panics and counts beams.
+pub struct GuardedLight<T> {
+    inner: T,
+    beams: AtomicU64,
+    state: fn(&T) -> PluginResult<Vec<u8>>,
+}
+
+impl<T: LightSource> GuardedLight<T> {
+    /// Box `inner` behind the ABI; `state` serialises it for blobs.
+    pub fn boxed(inner: T, state: fn(&T) -> PluginResult<Vec<u8>>) -> LightBox {
+        AbiLightSource_TO::from_value(
+            Self {
+                inner,
+                beams: AtomicU64::new(0),
+                state,
+            },
+            abi_stable::sabi_trait::TD_Opaque,
+        )
+    }
+}
+
+impl<T: LightSource> AbiLightSource for GuardedLight<T> {
+    fn next_beam(&self, sample: &RandomSample) -> RResult<Beam, PluginError> {
+        let r = guarded("next_beam", || self.inner.next_beam(sample));
+        if r.is_ok() {
+            self.beams.fetch_add(1, Ordering::Relaxed);
+        }
+        r
+    }
+    fn number_of_beams(&self) -> f64 {
+        self.beams.load(Ordering::Relaxed) as f64
+    }
+    fn total_power_w(&self) -> RResult<f64, PluginError> {
+        guarded("total_power_w", || self.inner.total_power_w())
+    }
+    fn capabilities(&self) -> Flags {
+        match guarded("capabilities", || Ok(self.inner.capabilities())) {
+            RResult::ROk(f) => f,
+            RResult::RErr(_) => Flags::NONE,
+        }
+    }
+    fn sample_wavelength(&self, u: f64) -> RResult<WavelengthSample, PluginError> {
+        guarded("sample_wavelength", || self.inner.sample_wavelength(u))
+    }
+    fn wavelength_pdf(&self, nm: f64) -> RResult<f64, PluginError> {
+        guarded("wavelength_pdf", || self.inner.wavelength_pdf(nm))
+    }
+    fn sample_emission(
+        &self,
+        sample: &RandomSample,
+        lambda: &Wavelengths,
+    ) -> RResult<EmissionSample, PluginError> {
+        guarded("sample_emission", || self.inner.sample_emission(sample, lambda))
+    }
+    fn emission_pdf(&self, origin: Vec3, direction: Vec3) -> RResult<EmissionPdf, PluginError> {
+        guarded("emission_pdf", || self.inner.emission_pdf(origin, direction))
+    }
+    fn sample_toward(
+        &self,
+        receiver: Vec3,
+        sample: &RandomSample,
+        lambda: &Wavelengths,
+    ) -> RResult<IncidentSample, PluginError> {
+        guarded("sample_toward", || self.inner.sample_toward(receiver, sample, lambda))
+    }
+    fn radiance(&self, direction: Vec3, lambda: &Wavelengths) -> RResult<SpectralValues, PluginError> {
+        guarded("radiance", || self.inner.radiance(direction, lambda))
+    }
+    fn incident_pdf(&self, receiver: Vec3, direction: Vec3) -> RResult<f64, PluginError> {
+        guarded("incident_pdf", || self.inner.incident_pdf(receiver, direction))
+    }
+    fn save_state(&self) -> RResult<RVec<u8>, PluginError> {
+        guarded("save_state", || (self.state)(&self.inner).map(RVec::from))
+    }
+}

@@ -1,0 +1,35 @@
+//! Small vector helpers shared by the lights.
+
+use spectrace_plugin_api::Vec3;
+use std::f64::consts::PI;
+
+/// Uniform direction on the unit sphere from two numbers in [0,1); density 1/(4π) sr⁻¹.
+pub fn uniform_sphere(u0: f64, u1: f64) -> Vec3 {
+    let z = 1.0 - 2.0 * u0;
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let phi = 2.0 * PI * u1;
+    Vec3::new(r * phi.cos(), r * phi.sin(), z)
+}
+
+/// An orthonormal basis (t, b, n) around unit `n` (Duff et al. 2017, branch-free and robust).
+pub fn basis(n: Vec3) -> (Vec3, Vec3) {
+    let sign = 1.0f64.copysign(n.z);
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    (
+        Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
+        Vec3::new(b, sign + n.y * n.y * a, -n.y),
+    )
+}
+
+/// Check a vector parameter is finite, naming it otherwise.
+pub fn finite(name: &str, v: [f64; 3]) -> Result<Vec3, spectrace_plugin_api::PluginError> {
+    let v = Vec3::new(v[0], v[1], v[2]);
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(spectrace_plugin_api::PluginError::invalid_parameter(format!(
+            "`{name}` must be finite, got {v:?}"
+        )))
+    }
+}
