@@ -1,1 +1,169 @@
-//! (in progress)
+//! Materials: how surfaces scatter (BSDFs) and, for area lights, emit.
+//!
+//! Everything here works in the local shading frame ([`Frame`]): the shading normal is +z, `wo`
+//! points away from the surface towards where the path came from, `wi` towards where it goes.
+//! Both are unit vectors. BSDF values are in 1/sr, pdfs in 1/sr (solid angle), emitted radiance
+//! in W/(m²·sr·nm).
+
+pub mod conductor;
+pub mod dielectric;
+pub mod emissive;
+pub mod flags;
+pub mod frame;
+pub mod fresnel;
+pub mod ior;
+pub mod lambertian;
+pub mod metals;
+pub mod microfacet;
+pub mod mirror;
+pub mod rough_dielectric;
+pub mod texture;
+
+pub use conductor::RoughConductor;
+pub use dielectric::SmoothDielectric;
+pub use emissive::Emissive;
+pub use flags::MaterialFlags;
+pub use frame::Frame;
+pub use ior::SpectralIor;
+pub use lambertian::Lambertian;
+pub use mirror::Mirror;
+pub use rough_dielectric::RoughDielectric;
+pub use texture::{ConstantTexture, CurveTexture, SpectralTexture};
+
+use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use glam::{Vec2, Vec3A};
+use std::fmt::Debug;
+
+/// Which quantity a path carries. Refraction scales radiance by 1/η² but not importance, and
+/// shading normals need the adjoint correction only on light paths (Veach 1997, ch. 5).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TransportMode {
+    /// Camera paths: carrying radiance towards the eye.
+    Radiance,
+    /// Light paths: carrying importance/flux away from lights.
+    Importance,
+}
+
+/// What a material may know about the surface point besides the directions.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct ShadingContext {
+    /// Surface parameterisation (for textures).
+    pub uv: Vec2,
+}
+
+/// A sampled scattering direction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BsdfSample {
+    /// Sampled incident direction, local frame, unit.
+    pub wi: Vec3A,
+    /// BSDF value f(wo, wi) in 1/sr (for delta lobes: the delta's weight divided by |cos θi|,
+    /// so `f·|cos θi|/pdf` is the throughput factor in every case).
+    pub f: SampledSpectrum,
+    /// Density of `wi` (1/sr), or the discrete lobe probability for delta lobes.
+    pub pdf: f32,
+    /// The lobe that was sampled (REFLECTION/TRANSMISSION × DIFFUSE/GLOSSY/SPECULAR, plus
+    /// DISPERSIVE when the direction depended on the hero wavelength).
+    pub flags: MaterialFlags,
+    /// Relative IOR crossed (`n_transmitted/n_incident`), 1 for reflection.
+    pub eta: f32,
+}
+
+/// A surface material as the integrator sees it. Object safe; built-ins and plugin adapters
+/// implement it alike.
+pub trait Material: Send + Sync + Debug {
+    /// What lobes this material has (union over all lobes).
+    fn flags(&self) -> MaterialFlags;
+
+    /// Sample `wi` given `wo`. `u_lobe` picks a lobe, `u` the direction within it. `None` when no
+    /// light is scattered (e.g. `wo` on the wrong side of a one-sided surface).
+    fn sample(
+        &self,
+        wo: Vec3A,
+        ctx: &ShadingContext,
+        lambda: &SampledWavelengths,
+        u_lobe: f32,
+        u: Vec2,
+        mode: TransportMode,
+    ) -> Option<BsdfSample>;
+
+    /// BSDF value f(wo, wi) in 1/sr; zero for delta lobes.
+    fn eval(
+        &self,
+        wo: Vec3A,
+        wi: Vec3A,
+        ctx: &ShadingContext,
+        lambda: &SampledWavelengths,
+        mode: TransportMode,
+    ) -> SampledSpectrum;
+
+    /// Density (1/sr) with which [`sample`](Self::sample) would return `wi`; zero for delta lobes.
+    fn pdf(
+        &self,
+        wo: Vec3A,
+        wi: Vec3A,
+        ctx: &ShadingContext,
+        lambda: &SampledWavelengths,
+        mode: TransportMode,
+    ) -> f32;
+
+    /// Radiance emitted towards `wo` in W/(m²·sr·nm) (only for [`MaterialFlags::EMISSIVE`]).
+    fn emitted(
+        &self,
+        _wo: Vec3A,
+        _ctx: &ShadingContext,
+        _lambda: &SampledWavelengths,
+    ) -> SampledSpectrum {
+        SampledSpectrum::zero()
+    }
+}
+
+/// True when `a` and `b` lie on the same side of the local surface.
+#[inline]
+pub fn same_hemisphere(a: Vec3A, b: Vec3A) -> bool {
+    a.z * b.z > 0.0
+}
+
+/// Mirror `wo` about the normal `n` (both unit, pointing away from the surface).
+#[inline]
+pub fn reflect(wo: Vec3A, n: Vec3A) -> Vec3A {
+    -wo + n * (2.0 * wo.dot(n))
+}
+
+/// Refract `wi` through a surface with normal `n` (on `wi`'s side) and relative IOR
+/// `eta = n_transmitted / n_incident`. `None` under total internal reflection.
+#[inline]
+pub fn refract(wi: Vec3A, n: Vec3A, eta: f32) -> Option<Vec3A> {
+    let cos_i = n.dot(wi);
+    let sin2_i = (1.0 - cos_i * cos_i).max(0.0);
+    let sin2_t = sin2_i / (eta * eta);
+    if sin2_t >= 1.0 {
+        return None;
+    }
+    let cos_t = (1.0 - sin2_t).sqrt();
+    Some(-wi / eta + n * (cos_i / eta - cos_t))
+}
+
+/// Cosine-weighted direction on the upper hemisphere (Malley's method, concentric disk mapping
+/// so strata stay compact).
+pub fn sample_cosine_hemisphere(u: Vec2) -> Vec3A {
+    let d = sample_concentric_disk(u);
+    let z = (1.0 - d.x * d.x - d.y * d.y).max(0.0).sqrt();
+    Vec3A::new(d.x, d.y, z)
+}
+
+/// Uniform point on the unit disk with low distortion (Shirley & Chiu 1997).
+pub fn sample_concentric_disk(u: Vec2) -> Vec2 {
+    let o = u * 2.0 - Vec2::ONE;
+    if o.x == 0.0 && o.y == 0.0 {
+        return Vec2::ZERO;
+    }
+    let (r, theta) = if o.x.abs() > o.y.abs() {
+        (o.x, std::f32::consts::FRAC_PI_4 * (o.y / o.x))
+    } else {
+        (
+            o.y,
+            std::f32::consts::FRAC_PI_2 - std::f32::consts::FRAC_PI_4 * (o.x / o.y),
+        )
+    };
+    Vec2::new(r * theta.cos(), r * theta.sin())
+}

@@ -1,0 +1,88 @@
+//! Lambertian (ideal diffuse) reflection, two-sided: light arriving on either side is scattered
+//! back into that side's hemisphere with f = R(λ)/π.
+
+use super::{
+    same_hemisphere, sample_cosine_hemisphere, BsdfSample, Material, MaterialFlags, ShadingContext,
+    SpectralTexture, TransportMode,
+};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use glam::{Vec2, Vec3A};
+use std::f32::consts::FRAC_1_PI;
+use std::sync::Arc;
+
+/// Diffuse reflector with spectral reflectance `R(λ) ∈ [0, 1]`.
+#[derive(Debug, Clone)]
+pub struct Lambertian {
+    reflectance: Arc<dyn SpectralTexture>,
+}
+
+impl Lambertian {
+    /// A Lambertian surface; `reflectance` should stay within [0, 1] to conserve energy.
+    pub fn new(reflectance: Arc<dyn SpectralTexture>) -> Self {
+        Self { reflectance }
+    }
+}
+
+impl Material for Lambertian {
+    fn flags(&self) -> MaterialFlags {
+        MaterialFlags::DIFFUSE | MaterialFlags::REFLECTION
+    }
+
+    fn sample(
+        &self,
+        wo: Vec3A,
+        ctx: &ShadingContext,
+        lambda: &SampledWavelengths,
+        _u_lobe: f32,
+        u: Vec2,
+        _mode: TransportMode,
+    ) -> Option<BsdfSample> {
+        if wo.z == 0.0 {
+            return None;
+        }
+        let mut wi = sample_cosine_hemisphere(u);
+        if wo.z < 0.0 {
+            wi.z = -wi.z;
+        }
+        let pdf = wi.z.abs() * FRAC_1_PI;
+        if pdf == 0.0 {
+            return None;
+        }
+        Some(BsdfSample {
+            wi,
+            f: self.reflectance.eval(lambda, ctx.uv) * FRAC_1_PI,
+            pdf,
+            flags: self.flags(),
+            eta: 1.0,
+        })
+    }
+
+    fn eval(
+        &self,
+        wo: Vec3A,
+        wi: Vec3A,
+        ctx: &ShadingContext,
+        lambda: &SampledWavelengths,
+        _mode: TransportMode,
+    ) -> SampledSpectrum {
+        if !same_hemisphere(wo, wi) {
+            return SampledSpectrum::zero();
+        }
+        self.reflectance.eval(lambda, ctx.uv) * FRAC_1_PI
+    }
+
+    fn pdf(
+        &self,
+        wo: Vec3A,
+        wi: Vec3A,
+        _ctx: &ShadingContext,
+        _lambda: &SampledWavelengths,
+        _mode: TransportMode,
+    ) -> f32 {
+        if same_hemisphere(wo, wi) {
+            wi.z.abs() * FRAC_1_PI
+        } else {
+            0.0
+        }
+    }
+}
