@@ -1,0 +1,611 @@
+//! The scene's geometry as one object: every shape in world space, one BVH over all of them,
+//! and per-object area and sampling data for area lights.
+//!
+//! The scene builder describes each object as a [`ShapeDesc`] (shape in object space plus a
+//! [`Transform`]) and calls [`Geometry::build`]. Transforms are baked in at build time (meshes
+//! and quads are transformed vertex by vertex, spheres keep their analytic form and therefore
+//! need a similarity transform), so rays are traced in world space with no per-object
+//! instancing. Object `i` of the input is `object == i` in every [`Hit`] and sampling call.
+
+use glam::{Vec2, Vec3A};
+
+use super::bvh::Bvh;
+use super::quad::Quad;
+use super::sphere::Sphere;
+use super::triangle::{
+    barycentric_point, geometric_normal, intersect_triangle, sample_uniform_barycentrics,
+    triangle_area, WatertightRay,
+};
+use super::{Aabb, GeometryError, Ray, Transform, TriangleMesh};
+
+/// A shape in its own (object) space.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Shape {
+    /// A triangle mesh (e.g. from [`super::load_obj`] or [`super::load_ply`]).
+    Mesh(TriangleMesh),
+    /// An analytic sphere.
+    Sphere {
+        /// Centre (object units).
+        center: Vec3A,
+        /// Radius (object units, > 0).
+        radius: f32,
+    },
+    /// A parallelogram `corner + s·edge0 + t·edge1`, front face along `edge0 × edge1`.
+    Quad {
+        /// One corner (object units).
+        corner: Vec3A,
+        /// First edge from the corner.
+        edge0: Vec3A,
+        /// Second edge from the corner.
+        edge1: Vec3A,
+    },
+}
+
+/// One scene object: a shape and the transform that places it in the world.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ShapeDesc {
+    /// The shape in object space.
+    pub shape: Shape,
+    /// Object-to-world transform.
+    pub transform: Transform,
+}
+
+/// A shape after its transform has been applied.
+#[derive(Clone, Debug, PartialEq)]
+pub enum WorldShape {
+    /// World-space mesh (normals transformed by the inverse transpose, winding kept outward).
+    Mesh(TriangleMesh),
+    /// World-space sphere.
+    Sphere(Sphere),
+    /// World-space quad.
+    Quad(Quad),
+}
+
+/// What a ray hit. All vectors are in world space.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    /// Ray parameter (units of `ray.dir`).
+    pub t: f32,
+    /// Hit point, computed on the surface (not as `o + t·d`).
+    pub point: Vec3A,
+    /// Conservative per-axis bound on the point's distance from the true surface; pass it to
+    /// [`super::spawn_ray`].
+    pub point_error: Vec3A,
+    /// Unit geometric normal, facing where the winding (meshes, quads) or the outside
+    /// (spheres) says, regardless of which side the ray came from.
+    pub geometric_normal: Vec3A,
+    /// Unit shading normal: interpolated vertex normals if the mesh has them (not flipped to
+    /// the geometric side), otherwise the geometric normal.
+    pub shading_normal: Vec3A,
+    /// Texture coordinates: interpolated from the mesh if it has uvs, else `(b1, b2)`
+    /// barycentrics for triangles, `(s, t)` for quads, `(φ/2π, θ/π)` for spheres.
+    pub uv: Vec2,
+    /// Index of the object (position in the list given to [`Geometry::build`]).
+    pub object: u32,
+    /// Index of the primitive within its object: triangle index for meshes, 0 otherwise.
+    pub primitive: u32,
+}
+
+/// A point sampled on a surface for light sampling.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfaceSample {
+    /// The point.
+    pub point: Vec3A,
+    /// Per-axis error bound of the point (for [`super::spawn_ray_to`]).
+    pub point_error: Vec3A,
+    /// Unit geometric normal at the point (front side as for [`Hit::geometric_normal`]).
+    pub normal: Vec3A,
+    /// Texture coordinates as in [`Hit::uv`].
+    pub uv: Vec2,
+    /// Density of the sample: per unit area (1/units²) from [`Geometry::sample_area`], per
+    /// steradian from [`Geometry::sample_solid_angle`].
+    pub pdf: f32,
+}
+
+/// Per-object data kept after the build.
+#[derive(Clone, Debug)]
+struct Object {
+    shape: WorldShape,
+    area: f32,
+    /// Meshes: cumulative triangle areas normalised to end at 1 (for sampling by area).
+    cdf: Vec<f32>,
+}
+
+/// A BVH leaf entry: an object and a primitive inside it.
+#[derive(Clone, Copy, Debug)]
+struct Primitive {
+    object: u32,
+    index: u32,
+}
+
+/// The closest candidate found during traversal; surface data is computed only for the winner.
+#[derive(Clone, Copy)]
+enum Candidate {
+    Triangle {
+        prim: Primitive,
+        b: [f32; 3],
+    },
+    Quad {
+        prim: Primitive,
+        half: usize,
+        b: [f32; 3],
+    },
+    Sphere {
+        prim: Primitive,
+    },
+}
+
+/// All scene geometry with its BVH. Immutable after [`Geometry::build`]; `Sync`, so threads
+/// share one instance.
+#[derive(Clone, Debug)]
+pub struct Geometry {
+    objects: Vec<Object>,
+    prims: Vec<Primitive>,
+    bvh: Bvh,
+}
+
+impl Geometry {
+    /// Applies each object's transform, validates the shapes and builds one BVH over every
+    /// triangle, sphere and quad. Errors name the object index and what is wrong (invalid
+    /// mesh, non-positive radius, sphere under a non-similarity transform, degenerate quad).
+    pub fn build(objects: Vec<ShapeDesc>) -> Result<Geometry, GeometryError> {
+        let mut built = Vec::with_capacity(objects.len());
+        for (i, desc) in objects.into_iter().enumerate() {
+            built.push(
+                build_object(desc)
+                    .map_err(|message| GeometryError::InvalidObject { object: i, message })?,
+            );
+        }
+        if built.len() > u32::MAX as usize {
+            return Err(GeometryError::InvalidObject {
+                object: built.len(),
+                message: "more than 2³² objects".into(),
+            });
+        }
+        let mut prims = Vec::new();
+        let mut bounds = Vec::new();
+        for (oi, obj) in built.iter().enumerate() {
+            let object = oi as u32;
+            match &obj.shape {
+                WorldShape::Mesh(m) => {
+                    for t in 0..m.indices.len() {
+                        let [a, b, c] = m.triangle(t);
+                        prims.push(Primitive {
+                            object,
+                            index: t as u32,
+                        });
+                        bounds.push(Aabb::from_point(a).grow(b).grow(c));
+                    }
+                }
+                WorldShape::Sphere(s) => {
+                    prims.push(Primitive { object, index: 0 });
+                    let r = Vec3A::splat(s.radius);
+                    // Widen by a relative ULP so the f32 box surely holds the f64 sphere.
+                    let slack = (s.center.abs() + r) * super::float_error::gamma(2);
+                    bounds.push(Aabb {
+                        min: s.center - r - slack,
+                        max: s.center + r + slack,
+                    });
+                }
+                WorldShape::Quad(q) => {
+                    prims.push(Primitive { object, index: 0 });
+                    let v = q.vertices;
+                    bounds.push(Aabb::from_point(v[0]).grow(v[1]).grow(v[2]).grow(v[3]));
+                }
+            }
+        }
+        let bvh = Bvh::build(&bounds);
+        let prims = bvh.order_ref().iter().map(|&i| prims[i as usize]).collect();
+        Ok(Geometry {
+            objects: built,
+            prims,
+            bvh,
+        })
+    }
+
+    /// Number of objects.
+    pub fn object_count(&self) -> usize {
+        self.objects.len()
+    }
+
+    /// Number of BVH primitives (triangles + spheres + quads).
+    pub fn primitive_count(&self) -> usize {
+        self.prims.len()
+    }
+
+    /// The world-space shape of `object`, if it exists.
+    pub fn shape(&self, object: u32) -> Option<&WorldShape> {
+        self.objects.get(object as usize).map(|o| &o.shape)
+    }
+
+    /// Surface area of `object` (world units²; 0 for unknown objects).
+    pub fn object_area(&self, object: u32) -> f32 {
+        self.objects.get(object as usize).map_or(0.0, |o| o.area)
+    }
+
+    /// World bounds of everything.
+    pub fn bounds(&self) -> Aabb {
+        self.bvh.bounds()
+    }
+
+    /// Bytes held by the BVH nodes and primitive list (not the meshes).
+    pub fn bvh_memory_bytes(&self) -> usize {
+        self.bvh.memory_bytes() + self.prims.len() * std::mem::size_of::<Primitive>()
+    }
+
+    /// Closest hit with `0 < t < t_max`, or `None`.
+    pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
+        let wr = WatertightRay::new(ray);
+        let mut best: Option<Candidate> = None;
+        let t = self.bvh.traverse(ray, t_max, false, |i, t_max| {
+            let prim = self.prims[i as usize];
+            let (t, cand) = self.test_primitive(ray, &wr, prim, t_max)?;
+            best = Some(cand);
+            Some(t)
+        })?;
+        Some(self.make_hit(ray, t, best?))
+    }
+
+    /// Whether anything is hit with `0 < t < t_max` (any-hit traversal; for shadow rays).
+    pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        let wr = WatertightRay::new(ray);
+        self.bvh
+            .traverse(ray, t_max, true, |i, t_max| {
+                let prim = self.prims[i as usize];
+                self.test_primitive(ray, &wr, prim, t_max).map(|(t, _)| t)
+            })
+            .is_some()
+    }
+
+    #[inline]
+    fn test_primitive(
+        &self,
+        ray: &Ray,
+        wr: &WatertightRay,
+        prim: Primitive,
+        t_max: f32,
+    ) -> Option<(f32, Candidate)> {
+        match &self.objects[prim.object as usize].shape {
+            WorldShape::Mesh(m) => {
+                let [a, b, c] = m.triangle(prim.index as usize);
+                let h = intersect_triangle(ray, wr, t_max, a, b, c)?;
+                Some((
+                    h.t,
+                    Candidate::Triangle {
+                        prim,
+                        b: [h.b0, h.b1, h.b2],
+                    },
+                ))
+            }
+            WorldShape::Quad(q) => {
+                let mut result = None;
+                let mut t_max = t_max;
+                for half in 0..2 {
+                    let [a, b, c] = q.triangle(half);
+                    if let Some(h) = intersect_triangle(ray, wr, t_max, a, b, c) {
+                        t_max = h.t;
+                        result = Some((
+                            h.t,
+                            Candidate::Quad {
+                                prim,
+                                half,
+                                b: [h.b0, h.b1, h.b2],
+                            },
+                        ));
+                    }
+                }
+                result
+            }
+            WorldShape::Sphere(s) => {
+                let t = s.intersect_t(ray, t_max)?;
+                Some((t, Candidate::Sphere { prim }))
+            }
+        }
+    }
+
+    fn make_hit(&self, ray: &Ray, t: f32, cand: Candidate) -> Hit {
+        match cand {
+            Candidate::Triangle { prim, b } => {
+                let WorldShape::Mesh(m) = &self.objects[prim.object as usize].shape else {
+                    unreachable!("triangle candidate always comes from a mesh")
+                };
+                let ti = prim.index as usize;
+                let [p0, p1, p2] = m.triangle(ti);
+                let (point, point_error) = barycentric_point(b[0], b[1], b[2], p0, p1, p2);
+                let ng = geometric_normal(p0, p1, p2);
+                let idx = m.indices[ti];
+                let ns = m.normals.as_ref().map_or(ng, |ns| {
+                    let n = ns[idx[0] as usize] * b[0]
+                        + ns[idx[1] as usize] * b[1]
+                        + ns[idx[2] as usize] * b[2];
+                    let n = n.normalize_or_zero();
+                    if n == Vec3A::ZERO {
+                        ng
+                    } else {
+                        n
+                    }
+                });
+                let uv = m.uvs.as_ref().map_or(Vec2::new(b[1], b[2]), |uv| {
+                    uv[idx[0] as usize] * b[0]
+                        + uv[idx[1] as usize] * b[1]
+                        + uv[idx[2] as usize] * b[2]
+                });
+                Hit {
+                    t,
+                    point,
+                    point_error,
+                    geometric_normal: ng,
+                    shading_normal: ns,
+                    uv,
+                    object: prim.object,
+                    primitive: prim.index,
+                }
+            }
+            Candidate::Quad { prim, half, b } => {
+                let WorldShape::Quad(q) = &self.objects[prim.object as usize].shape else {
+                    unreachable!("quad candidate always comes from a quad")
+                };
+                let [p0, p1, p2] = q.triangle(half);
+                let (point, point_error) = barycentric_point(b[0], b[1], b[2], p0, p1, p2);
+                Hit {
+                    t,
+                    point,
+                    point_error,
+                    geometric_normal: q.normal,
+                    shading_normal: q.normal,
+                    uv: Quad::uv(half, b[1], b[2]),
+                    object: prim.object,
+                    primitive: 0,
+                }
+            }
+            Candidate::Sphere { prim } => {
+                let WorldShape::Sphere(s) = &self.objects[prim.object as usize].shape else {
+                    unreachable!("sphere candidate always comes from a sphere")
+                };
+                let sp = s.surface_at(ray, t);
+                Hit {
+                    t,
+                    point: sp.point,
+                    point_error: sp.error,
+                    geometric_normal: sp.normal,
+                    shading_normal: sp.normal,
+                    uv: sp.uv,
+                    object: prim.object,
+                    primitive: 0,
+                }
+            }
+        }
+    }
+
+    /// Samples a point on `object` uniformly by area from `u ∈ [0,1)²` (`u.x` also picks the
+    /// triangle of a mesh, in proportion to its area). `pdf` is `1/area` per unit area.
+    /// `None` for unknown or zero-area objects.
+    pub fn sample_area(&self, object: u32, u: Vec2) -> Option<SurfaceSample> {
+        let obj = self.objects.get(object as usize)?;
+        if !(obj.area > 0.0) {
+            return None;
+        }
+        let pdf = 1.0 / obj.area;
+        match &obj.shape {
+            WorldShape::Sphere(s) => {
+                let smp = s.sample_area(u);
+                Some(SurfaceSample {
+                    point: smp.surface.point,
+                    point_error: smp.surface.error,
+                    normal: smp.surface.normal,
+                    uv: smp.surface.uv,
+                    pdf,
+                })
+            }
+            WorldShape::Quad(q) => {
+                let a0 = {
+                    let [a, b, c] = q.triangle(0);
+                    triangle_area(a, b, c)
+                };
+                let split = a0 / obj.area;
+                let (half, ux) = if u.x < split {
+                    (0, u.x / split)
+                } else {
+                    (1, ((u.x - split) / (1.0 - split)).min(1.0))
+                };
+                let [p0, p1, p2] = q.triangle(half);
+                let (b0, b1, b2) = sample_uniform_barycentrics(Vec2::new(ux, u.y));
+                let (point, point_error) = barycentric_point(b0, b1, b2, p0, p1, p2);
+                Some(SurfaceSample {
+                    point,
+                    point_error,
+                    normal: q.normal,
+                    uv: Quad::uv(half, b1, b2),
+                    pdf,
+                })
+            }
+            WorldShape::Mesh(m) => {
+                // First triangle whose cumulative area exceeds u.x; reuse the fraction within it.
+                let i = obj
+                    .cdf
+                    .partition_point(|&c| c <= u.x)
+                    .min(obj.cdf.len() - 1);
+                let lo = if i == 0 { 0.0 } else { obj.cdf[i - 1] };
+                let width = obj.cdf[i] - lo;
+                let ux = if width > 0.0 {
+                    ((u.x - lo) / width).clamp(0.0, 1.0)
+                } else {
+                    0.5
+                };
+                let [p0, p1, p2] = m.triangle(i);
+                let (b0, b1, b2) = sample_uniform_barycentrics(Vec2::new(ux, u.y));
+                let (point, point_error) = barycentric_point(b0, b1, b2, p0, p1, p2);
+                let idx = m.indices[i];
+                let uv = m.uvs.as_ref().map_or(Vec2::new(b1, b2), |uv| {
+                    uv[idx[0] as usize] * b0 + uv[idx[1] as usize] * b1 + uv[idx[2] as usize] * b2
+                });
+                Some(SurfaceSample {
+                    point,
+                    point_error,
+                    normal: geometric_normal(p0, p1, p2),
+                    uv,
+                    pdf,
+                })
+            }
+        }
+    }
+
+    /// Density per unit area of [`Self::sample_area`] on `object` (`1/area`; 0 if none).
+    pub fn pdf_area(&self, object: u32) -> f32 {
+        let a = self.object_area(object);
+        if a > 0.0 {
+            1.0 / a
+        } else {
+            0.0
+        }
+    }
+
+    /// Samples a point on `object` as seen from `reference`, with `pdf` per steradian of
+    /// direction at `reference`. Spheres seen from outside sample the subtended cone exactly;
+    /// everything else samples by area and converts (`pdf_A · d² / |cos θ_light|`). `None` if the
+    /// sample is unusable (zero area, point coincides with `reference`, grazing angle).
+    pub fn sample_solid_angle(
+        &self,
+        object: u32,
+        reference: Vec3A,
+        u: Vec2,
+    ) -> Option<SurfaceSample> {
+        if let Some(WorldShape::Sphere(s)) = self.shape(object) {
+            if let Some(smp) = s.sample_solid_angle(reference, u) {
+                return Some(SurfaceSample {
+                    point: smp.surface.point,
+                    point_error: smp.surface.error,
+                    normal: smp.surface.normal,
+                    uv: smp.surface.uv,
+                    pdf: smp.pdf,
+                });
+            }
+        }
+        let mut smp = self.sample_area(object, u)?;
+        smp.pdf = area_to_solid_angle(smp.pdf, reference, smp.point, smp.normal)?;
+        Some(smp)
+    }
+
+    /// Density per steradian with which [`Self::sample_solid_angle`] would pick `point`
+    /// (normal `normal`) on `object` from `reference`; for MIS weights when a BSDF-sampled ray
+    /// hits an area light. 0 when that sample could not have been produced.
+    pub fn pdf_solid_angle(
+        &self,
+        object: u32,
+        reference: Vec3A,
+        point: Vec3A,
+        normal: Vec3A,
+    ) -> f32 {
+        if let Some(WorldShape::Sphere(s)) = self.shape(object) {
+            if let Some(pdf) = s.pdf_solid_angle(reference) {
+                return pdf;
+            }
+        }
+        area_to_solid_angle(self.pdf_area(object), reference, point, normal).unwrap_or(0.0)
+    }
+}
+
+/// `pdf_area · d² / |cos θ|` (1/sr), or `None` if the distance or the cosine is zero.
+fn area_to_solid_angle(
+    pdf_area: f32,
+    reference: Vec3A,
+    point: Vec3A,
+    normal: Vec3A,
+) -> Option<f32> {
+    let d = point - reference;
+    let dist2 = d.length_squared();
+    if !(dist2 > 0.0) || !(pdf_area > 0.0) {
+        return None;
+    }
+    let cos = normal.dot(d).abs() / dist2.sqrt();
+    if !(cos > 0.0) {
+        return None;
+    }
+    Some(pdf_area * dist2 / cos)
+}
+
+fn build_object(desc: ShapeDesc) -> Result<Object, String> {
+    let xf = desc.transform;
+    match desc.shape {
+        Shape::Mesh(mut mesh) => {
+            mesh.validate().map_err(|e| e.to_string())?;
+            if !xf.is_identity() {
+                for p in &mut mesh.positions {
+                    *p = xf.point(*p);
+                }
+                if let Some(ns) = &mut mesh.normals {
+                    for n in ns.iter_mut() {
+                        *n = xf.normal(*n);
+                    }
+                }
+                if xf.flips_handedness() {
+                    // Keep the winding's front side the same physical side after a mirror.
+                    for t in &mut mesh.indices {
+                        t.swap(1, 2);
+                    }
+                }
+                if let Some(i) = mesh.positions.iter().position(|p| !p.is_finite()) {
+                    return Err(format!("vertex {i} is not finite after the transform"));
+                }
+            }
+            let mut cdf = Vec::with_capacity(mesh.indices.len());
+            let mut total = 0.0f64;
+            for t in 0..mesh.indices.len() {
+                let [a, b, c] = mesh.triangle(t);
+                total += triangle_area(a, b, c) as f64;
+                cdf.push(total);
+            }
+            let cdf = if total > 0.0 {
+                cdf.iter().map(|&c| (c / total) as f32).collect()
+            } else {
+                Vec::new()
+            };
+            Ok(Object {
+                shape: WorldShape::Mesh(mesh),
+                area: total as f32,
+                cdf,
+            })
+        }
+        Shape::Sphere { center, radius } => {
+            if !(radius > 0.0) || !radius.is_finite() || !center.is_finite() {
+                return Err(format!(
+                    "sphere needs a finite centre and a positive radius, got {center} and {radius}"
+                ));
+            }
+            let scale = xf.uniform_scale().ok_or_else(|| {
+                "a sphere's transform must be rotation, uniform scale and translation only \
+                 (use a mesh for ellipsoids)"
+                    .to_string()
+            })?;
+            let sphere = Sphere {
+                center: xf.point(center),
+                radius: (radius as f64 * scale) as f32,
+            };
+            if !sphere.center.is_finite() || !(sphere.radius > 0.0) || !sphere.radius.is_finite() {
+                return Err("sphere is degenerate after its transform".into());
+            }
+            Ok(Object {
+                area: sphere.area(),
+                shape: WorldShape::Sphere(sphere),
+                cdf: Vec::new(),
+            })
+        }
+        Shape::Quad {
+            corner,
+            edge0,
+            edge1,
+        } => {
+            let c = xf.point(corner);
+            let e0 = xf.vector(edge0);
+            let e1 = xf.vector(edge1);
+            let quad = Quad::new(c, e0, e1).ok_or_else(|| {
+                format!("degenerate quad: edges {edge0} and {edge1} are parallel or zero")
+            })?;
+            Ok(Object {
+                area: quad.area(),
+                shape: WorldShape::Quad(quad),
+                cdf: Vec::new(),
+            })
+        }
+    }
+}
