@@ -12,5 +12,6 @@ pub mod geometry;
 pub mod integrator;
 pub mod light;
 pub mod material;
+pub mod plugin;
 pub mod scene;
 pub mod spectrum;

@@ -147,6 +147,23 @@ pub fn construct<T: PluginType>(source: ObjectSource<'_>, host: &HostRef<'_>) ->
     T::new(params, &host)
 }
 
+/// Saved state of `T` decoded and written back as RON parameters.
+pub fn describe<T: PluginType>(type_version: u32, bytes: &[u8]) -> PluginResult<String> {
+    if type_version != T::TYPE_VERSION {
+        return Err(PluginError::new(
+            ErrorKind::BadState,
+            format!(
+                "{}: state was written by type version {type_version}, this plugin reads version {}",
+                T::TYPE_NAME,
+                T::TYPE_VERSION
+            ),
+        ));
+    }
+    let params: T::Params = decode_state(T::TYPE_NAME, bytes)?;
+    ron::ser::to_string_pretty(&params, ron::ser::PrettyConfig::default())
+        .map_err(|e| PluginError::new(ErrorKind::Other, format!("{}: {e}", T::TYPE_NAME)))
+}
+
 /// The saved state of `T` (its parameters, bincode-encoded).
 pub fn save<T: PluginType>(t: &T) -> PluginResult<Vec<u8>> {
     encode_state(t.params())
@@ -201,14 +218,14 @@ macro_rules! export_plugin {
         pub fn root_module() -> $crate::module::PluginModuleRef {
             use $crate::__private::PrefixTypeTrait as _;
             use $crate::__private::{RResult, RStr};
-            use $crate::export::{construct, save, type_info, unknown_type, PluginType};
+            use $crate::export::{construct, describe, save, type_info, unknown_type, PluginType};
             use $crate::guard::guarded;
             use $crate::host::HostRef;
             use $crate::module::{ObjectKind, ObjectSource, PluginInfo, PluginModule};
             use $crate::error::PluginError;
 
-            extern "C" fn info() -> PluginInfo {
-                PluginInfo {
+            extern "C" fn info() -> RResult<PluginInfo, PluginError> {
+                guarded("info", || Ok(PluginInfo {
                     name: ($name).into(),
                     version: ($version).into(),
                     api_version: $crate::module::API_VERSION.into(),
@@ -219,7 +236,41 @@ macro_rules! export_plugin {
                         $(type_info::<$material>(ObjectKind::Material),)*
                     ]
                     .into(),
-                }
+                }))
+            }
+            extern "C" fn describe_state(
+                kind: ObjectKind,
+                type_name: RStr<'_>,
+                type_version: u32,
+                bytes: $crate::__private::RSlice<'_, u8>,
+            ) -> RResult<$crate::__private::RString, PluginError> {
+                guarded("describe_state", || {
+                    let name = type_name.as_str();
+                    let bytes = bytes.as_slice();
+                    match kind {
+                        ObjectKind::Light => {
+                            $(if name == <$light as PluginType>::TYPE_NAME {
+                                return describe::<$light>(type_version, bytes).map(Into::into);
+                            })*
+                        }
+                        ObjectKind::Spd => {
+                            $(if name == <$spd as PluginType>::TYPE_NAME {
+                                return describe::<$spd>(type_version, bytes).map(Into::into);
+                            })*
+                        }
+                        ObjectKind::Observer => {
+                            $(if name == <$observer as PluginType>::TYPE_NAME {
+                                return describe::<$observer>(type_version, bytes).map(Into::into);
+                            })*
+                        }
+                        ObjectKind::Material => {
+                            $(if name == <$material as PluginType>::TYPE_NAME {
+                                return describe::<$material>(type_version, bytes).map(Into::into);
+                            })*
+                        }
+                    }
+                    Err(unknown_type(kind, name, &[]))
+                })
             }
             extern "C" fn create_light(
                 type_name: RStr<'_>,
@@ -283,6 +334,7 @@ macro_rules! export_plugin {
                 create_spd,
                 create_observer,
                 create_material,
+                describe_state,
             }
             .leak_into_prefix()
         }

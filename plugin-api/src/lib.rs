@@ -62,5 +62,5 @@ pub use abi_stable::library;
 pub mod __private {
     pub use abi_stable::export_root_module;
     pub use abi_stable::prefix_type::PrefixTypeTrait;
-    pub use abi_stable::std_types::{RResult, RStr};
+    pub use abi_stable::std_types::{RResult, RSlice, RStr, RString};
 }

@@ -137,7 +137,7 @@ pub enum ObjectSource<'a> {
 #[sabi(missing_field(panic))]
 pub struct PluginModule {
     /// Name, version, API version and provided types.
-    pub info: extern "C" fn() -> PluginInfo,
+    pub info: extern "C" fn() -> RResult<PluginInfo, PluginError>,
     /// Construct a light source.
     pub create_light: extern "C" fn(
         type_name: RStr<'_>,
@@ -156,13 +156,22 @@ pub struct PluginModule {
         source: ObjectSource<'_>,
         host: HostRef<'_>,
     ) -> RResult<ObserverBox, PluginError>,
-    /// Construct a material. Fields added in later API versions go after this one.
-    #[sabi(last_prefix_field)]
+    /// Construct a material.
     pub create_material: extern "C" fn(
         type_name: RStr<'_>,
         source: ObjectSource<'_>,
         host: HostRef<'_>,
     ) -> RResult<MaterialBox, PluginError>,
+    /// Decode saved state of a type into its parameters in scene (RON) syntax, without building
+    /// the object: what `spectrace blob inspect` prints. Fields added in later API versions go
+    /// after this one.
+    #[sabi(last_prefix_field)]
+    pub describe_state: extern "C" fn(
+        kind: ObjectKind,
+        type_name: RStr<'_>,
+        type_version: u32,
+        bytes: RSlice<'_, u8>,
+    ) -> RResult<RString, PluginError>,
 }
 
 impl RootModule for PluginModuleRef {

@@ -1,0 +1,206 @@
+//! Loading plugin libraries. The only `unsafe` of the project lives behind abi_stable here:
+//! opening a library runs its code, which the user chose to trust by naming it.
+//!
+//! abi_stable's `RootModule::load_from_file` caches one library per root-module type, and every
+//! plugin shares ours, so it would hand the first plugin back for every path. We go one level
+//! lower, `lib_header_from_path` + `init_root_module`, which opens each path on its own.
+//! Libraries are never unloaded (objects from them may live until the process ends).
+
+use spectrace_plugin_api::abi::library::{lib_header_from_path, LibraryError};
+use spectrace_plugin_api::{PluginInfo, PluginModuleRef};
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// Why a library was refused, in one line; the full report (for `--verbose`) in `detail`.
+#[derive(Debug, Clone)]
+pub struct LoadError {
+    /// The library file.
+    pub path: PathBuf,
+    /// The cause, one line.
+    pub cause: String,
+    /// Everything abi_stable said, which for a layout mismatch runs to hundreds of lines.
+    pub detail: String,
+}
+
+impl fmt::Display for LoadError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: {}", self.path.display(), self.cause)
+    }
+}
+
+impl std::error::Error for LoadError {}
+
+impl LoadError {
+    fn new(path: &Path, cause: impl Into<String>, detail: impl Into<String>) -> Self {
+        Self {
+            path: path.to_path_buf(),
+            cause: cause.into(),
+            detail: detail.into(),
+        }
+    }
+
+    /// The message with the full report appended, for `--verbose`.
+    pub fn verbose(&self) -> String {
+        if self.detail.is_empty() {
+            self.to_string()
+        } else {
+            format!("{self}\n{}", self.detail)
+        }
+    }
+}
+
+/// A plugin library that passed every check.
+#[derive(Clone)]
+pub struct LoadedPlugin {
+    /// Where it was loaded from.
+    pub path: PathBuf,
+    /// What it says about itself.
+    pub info: PluginInfo,
+    /// Its root module.
+    pub module: PluginModuleRef,
+}
+
+impl fmt::Debug for LoadedPlugin {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("LoadedPlugin")
+            .field("path", &self.path)
+            .field("name", &self.info.name)
+            .field("version", &self.info.version)
+            .finish()
+    }
+}
+
+impl LoadedPlugin {
+    /// Wrap a root module obtained in-process (a plugin crate linked as a Rust library): the
+    /// same checks and calls as for a loaded library, without the file.
+    pub fn from_module(module: PluginModuleRef, origin: &str) -> Result<Self, LoadError> {
+        let path = PathBuf::from(origin);
+        let info = (module.info())().into_result().map_err(|e| {
+            LoadError::new(&path, format!("its `info` call failed: {e}"), String::new())
+        })?;
+        Ok(Self { path, info, module })
+    }
+}
+
+/// Load one plugin library, checking the abi_stable header, the interface version and the whole
+/// layout of the root module before calling anything in it.
+pub fn load_library(path: &Path) -> Result<LoadedPlugin, LoadError> {
+    if !path.exists() {
+        return Err(LoadError::new(path, "no such file", ""));
+    }
+    if path.is_dir() {
+        return Err(LoadError::new(path, "is a directory, not a plugin library", ""));
+    }
+    let header = lib_header_from_path(path).map_err(|e| describe(path, e))?;
+    let module = header
+        .init_root_module::<PluginModuleRef>()
+        .map_err(|e| describe(path, e))?;
+    let plugin = LoadedPlugin::from_module(module, &path.to_string_lossy())?;
+    Ok(LoadedPlugin {
+        path: path.to_path_buf(),
+        ..plugin
+    })
+}
+
+/// The file names a plugin library can have on this platform.
+pub fn is_library_file(path: &Path) -> bool {
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+    matches!(ext, "so" | "dylib" | "dll")
+}
+
+/// Load every library in `dir` (not recursive), in file-name order. A bad library does not stop
+/// the others: its error is returned beside the plugins that loaded.
+pub fn load_dir(dir: &Path) -> Result<(Vec<LoadedPlugin>, Vec<LoadError>), LoadError> {
+    let entries = std::fs::read_dir(dir)
+        .map_err(|e| LoadError::new(dir, format!("cannot read plugin directory: {e}"), ""))?;
+    let mut paths: Vec<PathBuf> = entries
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.is_file() && is_library_file(p))
+        .collect();
+    paths.sort();
+    let mut loaded = Vec::new();
+    let mut errors = Vec::new();
+    for p in paths {
+        match load_library(&p) {
+            Ok(l) => loaded.push(l),
+            Err(e) => errors.push(e),
+        }
+    }
+    Ok((loaded, errors))
+}
+
+/// Turn abi_stable's error into one line a user can act on.
+fn describe(path: &Path, err: LibraryError) -> LoadError {
+    let detail = err.to_string();
+    let cause = match err {
+        LibraryError::OpenError { err, .. } => {
+            format!("not a loadable shared library ({})", first_line(&err.to_string()))
+        }
+        LibraryError::GetSymbolError { .. } => {
+            "not a spectrace plugin: the library exports no abi_stable root module \
+             (was it built with `export_plugin!`?)"
+                .to_string()
+        }
+        LibraryError::InvalidAbiHeader(h) => format!(
+            "built with an incompatible abi_stable (header {h:?}); rebuild it against this \
+             host's spectrace-plugin-api"
+        ),
+        LibraryError::InvalidCAbi { .. } => {
+            "built by a compiler whose C ABI differs from this host's".to_string()
+        }
+        LibraryError::IncompatibleVersionNumber {
+            expected_version,
+            actual_version,
+            ..
+        } => format!(
+            "built against spectrace-plugin-api {actual_version}, but this host speaks \
+             {expected_version} ({}); rebuild the plugin against {expected_version}",
+            if version_older(actual_version.to_string(), expected_version.to_string()) {
+                "the plugin's API is too old"
+            } else {
+                "the plugin's API is too new"
+            }
+        ),
+        LibraryError::ParseVersionError(e) => format!("its API version string is malformed: {e}"),
+        LibraryError::AbiInstability(e) => format!(
+            "ABI layout mismatch: the plugin's root module does not match this host's \
+             interface ({}); run with --verbose for the full layout report",
+            first_cause(&e.to_string())
+        ),
+        LibraryError::RootModule { err, .. } => {
+            format!("its root module failed to initialise: {}", first_line(&err.to_string()))
+        }
+        LibraryError::Many(list) => match list.into_iter().next() {
+            Some(first) => return describe(path, first).with_detail(detail),
+            None => "unknown loading error".to_string(),
+        },
+    };
+    LoadError::new(path, cause, detail)
+}
+
+impl LoadError {
+    fn with_detail(mut self, detail: String) -> Self {
+        self.detail = detail;
+        self
+    }
+}
+
+fn first_line(s: &str) -> &str {
+    s.lines().map(str::trim).find(|l| !l.is_empty()).unwrap_or("")
+}
+
+/// The first line of a layout report that names an actual difference.
+fn first_cause(report: &str) -> String {
+    let keywords = ["mismatch", "expected", "found", "different", "Mismatched"];
+    report
+        .lines()
+        .map(str::trim)
+        .find(|l| keywords.iter().any(|k| l.contains(k)))
+        .map(|l| l.chars().take(200).collect())
+        .unwrap_or_else(|| first_line(report).chars().take(200).collect())
+}
+
+fn version_older(a: String, b: String) -> bool {
+    let parse = |s: &str| -> Vec<u64> { s.split('.').filter_map(|p| p.parse().ok()).collect() };
+    parse(&a) < parse(&b)
+}

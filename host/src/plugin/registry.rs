@@ -1,0 +1,380 @@
+//! One registry maps (kind, type name) to whoever provides the type: a built-in or a loaded
+//! plugin. Scenes and the CLI ask it by name and never care which. Duplicate names are refused
+//! at registration, naming both providers; unknown names list what is available.
+
+use super::loader::{load_dir, load_library, LoadError, LoadedPlugin};
+use super::services::HostServices;
+use spectrace_plugin_api::abi::std_types::{RSlice, RStr};
+use spectrace_plugin_api::module::ObjectSource;
+use spectrace_plugin_api::{LightBox, MaterialBox, ObjectKind, ObserverBox, PluginError, SpdBox, TypeInfo};
+use std::collections::BTreeMap;
+use std::fmt;
+use std::path::Path;
+use std::sync::Arc;
+
+/// Who provides a type.
+#[derive(Clone, Debug)]
+pub enum Provider {
+    /// Compiled into the host.
+    Builtin,
+    /// A loaded plugin library.
+    Plugin(Arc<LoadedPlugin>),
+}
+
+impl Provider {
+    /// "built-in" or "plugin NAME VERSION (PATH)".
+    pub fn describe(&self) -> String {
+        match self {
+            Provider::Builtin => "built-in".to_string(),
+            Provider::Plugin(p) => format!(
+                "plugin `{}` {} ({})",
+                p.info.name,
+                p.info.version,
+                p.path.display()
+            ),
+        }
+    }
+}
+
+/// One registered type.
+#[derive(Clone, Debug)]
+pub struct TypeEntry {
+    /// Its metadata: kind, name, version, parameters.
+    pub info: TypeInfo,
+    /// Who provides it.
+    pub provider: Provider,
+}
+
+/// Why a registry operation failed.
+#[derive(Debug, Clone)]
+pub enum RegistryError {
+    /// A library could not be loaded.
+    Load(LoadError),
+    /// Two providers claim the same (kind, name), or two plugins the same plugin name.
+    Duplicate {
+        /// What is duplicated, e.g. "light type `point`".
+        what: String,
+        /// The provider already registered.
+        existing: String,
+        /// The one refused.
+        refused: String,
+    },
+    /// No provider for this (kind, name).
+    UnknownType {
+        /// Kind asked for.
+        kind: ObjectKind,
+        /// Name asked for.
+        name: String,
+        /// Names of that kind that do exist.
+        known: Vec<String>,
+    },
+    /// The provider's constructor refused (the message names the parameter).
+    Construct {
+        /// Kind.
+        kind: ObjectKind,
+        /// Type name.
+        name: String,
+        /// Provider description.
+        provider: String,
+        /// The plugin's error.
+        error: PluginError,
+    },
+}
+
+impl fmt::Display for RegistryError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            RegistryError::Load(e) => write!(f, "{e}"),
+            RegistryError::Duplicate {
+                what,
+                existing,
+                refused,
+            } => write!(
+                f,
+                "duplicate {what}: already provided by {existing}; refused from {refused}"
+            ),
+            RegistryError::UnknownType { kind, name, known } => write!(
+                f,
+                "unknown {kind} type `{name}` (known {kind} types: {})",
+                if known.is_empty() {
+                    "none".to_string()
+                } else {
+                    known.join(", ")
+                }
+            ),
+            RegistryError::Construct {
+                kind,
+                name,
+                provider,
+                error,
+            } => write!(f, "{kind} `{name}` from {provider}: {error}"),
+        }
+    }
+}
+
+impl std::error::Error for RegistryError {}
+
+impl RegistryError {
+    /// The message with the full loader report, for `--verbose`.
+    pub fn verbose(&self) -> String {
+        match self {
+            RegistryError::Load(e) => e.verbose(),
+            other => other.to_string(),
+        }
+    }
+}
+
+/// The registry of every type the host can build.
+#[derive(Default, Clone)]
+pub struct Registry {
+    plugins: Vec<Arc<LoadedPlugin>>,
+    types: BTreeMap<(ObjectKind, String), TypeEntry>,
+}
+
+impl fmt::Debug for Registry {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Registry")
+            .field("plugins", &self.plugins.len())
+            .field("types", &self.types.len())
+            .finish()
+    }
+}
+
+impl Registry {
+    /// An empty registry.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Register a built-in type; same duplicate rule as for plugins.
+    pub fn register_builtin(&mut self, info: TypeInfo) -> Result<(), RegistryError> {
+        self.insert(TypeEntry {
+            info,
+            provider: Provider::Builtin,
+        })
+    }
+
+    fn insert(&mut self, entry: TypeEntry) -> Result<(), RegistryError> {
+        let key = (entry.info.kind, entry.info.name.to_string());
+        if let Some(existing) = self.types.get(&key) {
+            return Err(RegistryError::Duplicate {
+                what: format!("{} type `{}`", key.0, key.1),
+                existing: existing.provider.describe(),
+                refused: entry.provider.describe(),
+            });
+        }
+        self.types.insert(key, entry);
+        Ok(())
+    }
+
+    /// Add a loaded plugin and all its types. All or nothing: on a duplicate nothing of the
+    /// plugin is registered.
+    pub fn add_plugin(&mut self, plugin: LoadedPlugin) -> Result<(), RegistryError> {
+        let plugin = Arc::new(plugin);
+        let provider = Provider::Plugin(plugin.clone());
+        if let Some(other) = self.plugins.iter().find(|p| p.info.name == plugin.info.name) {
+            return Err(RegistryError::Duplicate {
+                what: format!("plugin name `{}`", plugin.info.name),
+                existing: Provider::Plugin(other.clone()).describe(),
+                refused: provider.describe(),
+            });
+        }
+        let mut seen = std::collections::BTreeSet::new();
+        for t in plugin.info.types.iter() {
+            let key = (t.kind, t.name.to_string());
+            if let Some(existing) = self.types.get(&key) {
+                return Err(RegistryError::Duplicate {
+                    what: format!("{} type `{}`", t.kind, t.name),
+                    existing: existing.provider.describe(),
+                    refused: provider.describe(),
+                });
+            }
+            if !seen.insert(key) {
+                return Err(RegistryError::Duplicate {
+                    what: format!("{} type `{}`", t.kind, t.name),
+                    existing: provider.describe(),
+                    refused: format!("{} (it lists the type twice)", provider.describe()),
+                });
+            }
+        }
+        for t in plugin.info.types.iter() {
+            self.types.insert(
+                (t.kind, t.name.to_string()),
+                TypeEntry {
+                    info: t.clone(),
+                    provider: provider.clone(),
+                },
+            );
+        }
+        self.plugins.push(plugin);
+        Ok(())
+    }
+
+    /// Load a library and add it.
+    pub fn load_plugin(&mut self, path: &Path) -> Result<(), RegistryError> {
+        let plugin = load_library(path).map_err(RegistryError::Load)?;
+        self.add_plugin(plugin)
+    }
+
+    /// Load every library of a directory; the errors of those refused are returned, the rest
+    /// are registered.
+    pub fn load_plugin_dir(&mut self, dir: &Path) -> Vec<RegistryError> {
+        match load_dir(dir) {
+            Err(e) => vec![RegistryError::Load(e)],
+            Ok((loaded, mut errors)) => {
+                let mut out: Vec<RegistryError> =
+                    errors.drain(..).map(RegistryError::Load).collect();
+                for p in loaded {
+                    if let Err(e) = self.add_plugin(p) {
+                        out.push(e);
+                    }
+                }
+                out
+            }
+        }
+    }
+
+    /// Loaded plugins, in load order.
+    pub fn plugins(&self) -> &[Arc<LoadedPlugin>] {
+        &self.plugins
+    }
+
+    /// Every registered type, sorted by kind then name.
+    pub fn types(&self) -> impl Iterator<Item = &TypeEntry> {
+        self.types.values()
+    }
+
+    /// Is (kind, name) registered?
+    pub fn contains(&self, kind: ObjectKind, name: &str) -> bool {
+        self.types.contains_key(&(kind, name.to_string()))
+    }
+
+    /// Find (kind, name), or say what exists.
+    pub fn lookup(&self, kind: ObjectKind, name: &str) -> Result<&TypeEntry, RegistryError> {
+        self.types
+            .get(&(kind, name.to_string()))
+            .ok_or_else(|| RegistryError::UnknownType {
+                kind,
+                name: name.to_string(),
+                known: self
+                    .types
+                    .keys()
+                    .filter(|(k, _)| *k == kind)
+                    .map(|(_, n)| n.clone())
+                    .collect(),
+            })
+    }
+
+    /// The plugin that provides (kind, name); `None` for built-ins.
+    pub fn plugin_for(
+        &self,
+        kind: ObjectKind,
+        name: &str,
+    ) -> Result<Option<Arc<LoadedPlugin>>, RegistryError> {
+        Ok(match &self.lookup(kind, name)?.provider {
+            Provider::Builtin => None,
+            Provider::Plugin(p) => Some(p.clone()),
+        })
+    }
+
+    fn plugin_entry(
+        &self,
+        kind: ObjectKind,
+        name: &str,
+    ) -> Result<(Arc<LoadedPlugin>, String), RegistryError> {
+        let entry = self.lookup(kind, name)?;
+        match &entry.provider {
+            Provider::Plugin(p) => Ok((p.clone(), entry.provider.describe())),
+            Provider::Builtin => Err(RegistryError::Construct {
+                kind,
+                name: name.to_string(),
+                provider: "built-in".to_string(),
+                error: PluginError::unsupported(
+                    "built-in types are built by the host directly, not through the plugin ABI",
+                ),
+            }),
+        }
+    }
+
+    /// Build a plugin light from parameters (RON text) or saved state.
+    pub fn create_plugin_light(
+        &self,
+        name: &str,
+        source: ObjectSource<'_>,
+    ) -> Result<LightBox, RegistryError> {
+        let (plugin, provider) = self.plugin_entry(ObjectKind::Light, name)?;
+        let services = HostServices::new(self);
+        let host = services.as_ref();
+        (plugin.module.create_light())(RStr::from_str(name), source, host)
+            .into_result()
+            .map_err(|error| construct_error(ObjectKind::Light, name, provider, error))
+    }
+
+    /// Build a plugin SPD.
+    pub fn create_plugin_spd(
+        &self,
+        name: &str,
+        source: ObjectSource<'_>,
+    ) -> Result<SpdBox, RegistryError> {
+        let (plugin, provider) = self.plugin_entry(ObjectKind::Spd, name)?;
+        let services = HostServices::new(self);
+        (plugin.module.create_spd())(RStr::from_str(name), source, services.as_ref())
+            .into_result()
+            .map_err(|error| construct_error(ObjectKind::Spd, name, provider, error))
+    }
+
+    /// Build a plugin observer.
+    pub fn create_plugin_observer(
+        &self,
+        name: &str,
+        source: ObjectSource<'_>,
+    ) -> Result<ObserverBox, RegistryError> {
+        let (plugin, provider) = self.plugin_entry(ObjectKind::Observer, name)?;
+        let services = HostServices::new(self);
+        (plugin.module.create_observer())(RStr::from_str(name), source, services.as_ref())
+            .into_result()
+            .map_err(|error| construct_error(ObjectKind::Observer, name, provider, error))
+    }
+
+    /// Build a plugin material.
+    pub fn create_plugin_material(
+        &self,
+        name: &str,
+        source: ObjectSource<'_>,
+    ) -> Result<MaterialBox, RegistryError> {
+        let (plugin, provider) = self.plugin_entry(ObjectKind::Material, name)?;
+        let services = HostServices::new(self);
+        (plugin.module.create_material())(RStr::from_str(name), source, services.as_ref())
+            .into_result()
+            .map_err(|error| construct_error(ObjectKind::Material, name, provider, error))
+    }
+
+    /// Decode a plugin type's saved state into RON parameters.
+    pub fn describe_plugin_state(
+        &self,
+        kind: ObjectKind,
+        name: &str,
+        type_version: u32,
+        bytes: &[u8],
+    ) -> Result<String, RegistryError> {
+        let (plugin, provider) = self.plugin_entry(kind, name)?;
+        (plugin.module.describe_state())(
+            kind,
+            RStr::from_str(name),
+            type_version,
+            RSlice::from_slice(bytes),
+        )
+        .into_result()
+        .map(|s| s.into_string())
+        .map_err(|error| construct_error(kind, name, provider, error))
+    }
+}
+
+fn construct_error(kind: ObjectKind, name: &str, provider: String, error: PluginError) -> RegistryError {
+    RegistryError::Construct {
+        kind,
+        name: name.to_string(),
+        provider,
+        error,
+    }
+}

@@ -1,0 +1,100 @@
+//! What the host lends a plugin while it builds an object: SPD lookup by spec. An SPD spec is
+//! either a registered SPD type with RON parameters, `name(param: value, …)` or a bare `name`
+//! of a registered type (built-in or from any plugin), or a spec of the spectrum module
+//! (`d65`, `blackbody:3000`, a CSV path, …). Built-in SPDs are lent through the same guarded
+//! ABI wrapper plugins use, so a plugin cannot tell them apart.
+
+use super::registry::Registry;
+use crate::spectrum::{parse_spd_spec, Spd as HostSpd};
+use spectrace_plugin_api::abi::sabi_trait::TD_Opaque;
+use spectrace_plugin_api::abi::std_types::{RResult, RStr};
+use spectrace_plugin_api::host::{AbiHost, AbiHost_TO, HostRef};
+use spectrace_plugin_api::module::ObjectSource;
+use spectrace_plugin_api::spd::GuardedSpd;
+use spectrace_plugin_api::{
+    spd_flags, Flags, ObjectKind, PluginError, PluginResult, Spd, SpdBox, WavelengthRange,
+    WavelengthSample,
+};
+use std::sync::Arc;
+
+/// The host's services, borrowing the registry for the duration of a constructor call.
+pub struct HostServices<'r> {
+    registry: &'r Registry,
+}
+
+impl<'r> HostServices<'r> {
+    /// Services backed by `registry`.
+    pub fn new(registry: &'r Registry) -> Self {
+        Self { registry }
+    }
+
+    /// The ABI view handed to plugin constructors.
+    pub fn as_ref(&self) -> HostRef<'_> {
+        AbiHost_TO::from_ptr(self, TD_Opaque)
+    }
+
+    /// Resolve a spec to an SPD behind the ABI.
+    pub fn resolve_spd(&self, spec: &str) -> Result<SpdBox, PluginError> {
+        let spec = spec.trim();
+        let (name, params) = match spec.find('(') {
+            Some(i) if spec.ends_with(')') => (spec[..i].trim(), &spec[i..]),
+            _ => (spec, "()"),
+        };
+        if self.registry.contains(ObjectKind::Spd, name) {
+            if let Ok(Some(_)) = self.registry.plugin_for(ObjectKind::Spd, name) {
+                return self
+                    .registry
+                    .create_plugin_spd(name, ObjectSource::Params(RStr::from_str(params)))
+                    .map_err(|e| PluginError::invalid_parameter(format!("spd `{spec}`: {e}")));
+            }
+        }
+        let spd = parse_spd_spec(spec)
+            .map_err(|e| PluginError::invalid_parameter(format!("spd `{spec}`: {e}")))?;
+        Ok(lend_spd(Arc::new(spd)))
+    }
+}
+
+impl AbiHost for HostServices<'_> {
+    fn spd(&self, spec: RStr<'_>) -> RResult<SpdBox, PluginError> {
+        self.resolve_spd(spec.as_str()).into()
+    }
+}
+
+/// A host SPD seen through the plugin interface.
+struct LentSpd(Arc<dyn HostSpd>);
+
+impl Spd for LentSpd {
+    fn value(&self, nm: f64) -> PluginResult<f64> {
+        Ok(self.0.value(nm))
+    }
+    fn sample(&self, u: f64) -> PluginResult<WavelengthSample> {
+        let s = self.0.sample(u);
+        Ok(WavelengthSample {
+            nm: s.lambda,
+            pdf: s.pdf,
+        })
+    }
+    fn pdf(&self, nm: f64) -> PluginResult<f64> {
+        Ok(self.0.pdf(nm))
+    }
+    fn range_nm(&self) -> WavelengthRange {
+        let (min_nm, max_nm) = self.0.range();
+        WavelengthRange { min_nm, max_nm }
+    }
+    fn capabilities(&self) -> Flags {
+        if self.0.is_delta() {
+            spd_flags::HAS_LINES
+        } else {
+            Flags::NONE
+        }
+    }
+}
+
+/// Wrap a host SPD so it can be handed to a plugin.
+pub fn lend_spd(spd: Arc<dyn HostSpd>) -> SpdBox {
+    GuardedSpd::boxed(LentSpd(spd), |_| {
+        Err(PluginError::unsupported(
+            "a host SPD lent to a plugin is saved by its spec, not by state",
+        ))
+    })
+}
