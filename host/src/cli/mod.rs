@@ -1,5 +1,9 @@
 //! Command-line subcommands; each lives in its own file and `main.rs` only dispatches.
 
+pub mod blob;
+pub mod plugin_args;
+pub mod plugins;
+
 use clap::{Parser, Subcommand};
 use std::ffi::OsString;
 
@@ -16,7 +20,13 @@ pub struct Cli {
 
 /// The subcommands.
 #[derive(Subcommand, Debug)]
-pub enum Command {}
+pub enum Command {
+    /// List plugin libraries with their versions, API versions and types.
+    Plugins(plugins::PluginsArgs),
+    /// Pack and inspect serialized objects (blobs).
+    #[command(subcommand)]
+    Blob(blob::BlobCommand),
+}
 
 /// Parse `args`, run the chosen subcommand and return the process exit code.
 pub fn main_with_args<I, T>(args: I) -> i32
@@ -31,11 +41,20 @@ where
             return e.exit_code();
         }
     };
-    match cli.command {
+    let verbose = cli.verbose;
+    let result: Result<(), String> = match cli.command {
         None => {
-            eprintln!("spectrace: no subcommand given; try `spectrace --help`");
-            2
+            eprintln!("spectrace: no subcommand given; try `spectrace render` or `spectrace --help`");
+            return 2;
         }
-        Some(command) => match command {},
+        Some(Command::Plugins(args)) => plugins::run(&args, verbose),
+        Some(Command::Blob(cmd)) => blob::run(&cmd, verbose),
+    };
+    match result {
+        Ok(()) => 0,
+        Err(message) => {
+            eprintln!("spectrace: {message}");
+            1
+        }
     }
 }

@@ -189,8 +189,35 @@ fn first_line(s: &str) -> &str {
     s.lines().map(str::trim).find(|l| !l.is_empty()).unwrap_or("")
 }
 
-/// The first line of a layout report that names an actual difference.
+/// One line from abi_stable's layout report: the expected and the found type, where it states
+/// them, else the first line that names a difference.
 fn first_cause(report: &str) -> String {
+    let summary = |marker: &str| -> Option<String> {
+        let start = report.rfind(marker)? + marker.len();
+        let mut ty = None;
+        let mut size = None;
+        let mut package = None;
+        for line in report[start..].lines().map(str::trim).take(8) {
+            if let Some(v) = line.strip_prefix("type:") {
+                ty.get_or_insert(v.to_string());
+            } else if let Some(v) = line.strip_prefix("size:") {
+                size.get_or_insert(v.split_whitespace().next().unwrap_or("").to_string());
+            } else if let Some(v) = line.strip_prefix("package:") {
+                package.get_or_insert(v.replace('\'', "").replace(" version:", " "));
+            }
+        }
+        Some(format!("`{}` of {}, {} bytes", ty?, package?, size?))
+    };
+    if let (Some(expected), Some(found)) = (
+        summary("Layout of expected type:"),
+        summary("Layout of found type:"),
+    ) {
+        return format!("expected {expected}, found {found}");
+    }
+    first_line_with_difference(report)
+}
+
+fn first_line_with_difference(report: &str) -> String {
     let keywords = ["mismatch", "expected", "found", "different", "Mismatched"];
     report
         .lines()

@@ -8,5 +8,10 @@ pub mod registry;
 pub mod services;
 
 pub use loader::{LoadError, LoadedPlugin};
+
+/// A registry holding every built-in type, ready for plugins to be added.
+pub fn builtin_registry() -> Registry {
+    Registry::new()
+}
 pub use registry::{Registry, RegistryError};
 pub use spectrace_plugin_api::ObjectKind;

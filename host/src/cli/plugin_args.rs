@@ -1,0 +1,43 @@
+//! The plugin options shared by every subcommand that builds objects.
+
+use crate::plugin::Registry;
+use std::path::PathBuf;
+
+/// Which plugin libraries to load.
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct PluginArgs {
+    /// Load this plugin library (repeatable).
+    #[arg(long = "plugin", value_name = "PATH")]
+    pub libraries: Vec<PathBuf>,
+    /// Load every plugin library in this directory (repeatable). The directories listed in the
+    /// SPECTRACE_PLUGIN_PATH environment variable (separated like PATH) are loaded too.
+    #[arg(long = "plugins", visible_alias = "dir", value_name = "DIR")]
+    pub directories: Vec<PathBuf>,
+}
+
+impl PluginArgs {
+    /// A registry with the built-in types and the requested plugins. A library that cannot be
+    /// loaded is an error (the user named it); in a directory, bad libraries are reported as
+    /// warnings and the good ones still load.
+    pub fn registry(&self, verbose: bool) -> Result<Registry, String> {
+        let mut registry = crate::plugin::builtin_registry();
+        let mut dirs = self.directories.clone();
+        if let Some(paths) = std::env::var_os("SPECTRACE_PLUGIN_PATH") {
+            dirs.extend(std::env::split_paths(&paths).filter(|p| !p.as_os_str().is_empty()));
+        }
+        for dir in &dirs {
+            for e in registry.load_plugin_dir(dir) {
+                eprintln!(
+                    "spectrace: warning: {}",
+                    if verbose { e.verbose() } else { e.to_string() }
+                );
+            }
+        }
+        for lib in &self.libraries {
+            registry
+                .load_plugin(lib)
+                .map_err(|e| if verbose { e.verbose() } else { e.to_string() })?;
+        }
+        Ok(registry)
+    }
+}
