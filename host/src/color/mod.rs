@@ -1,1 +1,15 @@
-//! Colour science: observers (x̄ȳz̄), XYZ integration, RGB spaces. (in progress)
+//! Colour science: observers (x̄ȳz̄), XYZ integration, RGB spaces, the sRGB transfer function
+//! and RGB → reflectance-spectrum uplift.
+
+pub mod matrix3;
+pub mod observer;
+pub mod rgb_space;
+pub mod srgb_transfer;
+pub mod uplift;
+pub mod xyz;
+
+pub use observer::{CieObserver, CieObserverKind, Observer};
+pub use rgb_space::{RgbColorSpace, ACES2065_1, DISPLAY_P3, REC2020, SRGB};
+pub use srgb_transfer::{linear_to_srgb8, quantize_8bit, srgb_decode, srgb_encode};
+pub use uplift::{uplift_srgb, RgbUplifter, SigmoidPolynomial};
+pub use xyz::{chromaticity, emitter_xyz, reflectance_xyz, spd_tristimulus};

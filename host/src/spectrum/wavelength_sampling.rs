@@ -60,9 +60,10 @@ impl SampledWavelengths {
         let mut lambda = [0.0f32; LANES];
         let mut pdf = [0.0f32; LANES];
         for i in 0..LANES {
-            let l = visible_sample(rotated(u as f64, i));
-            lambda[i] = l as f32;
-            pdf[i] = visible_pdf(l) as f32;
+            // The pdf is evaluated at the stored (f32) wavelength so the pair is consistent.
+            let l = visible_sample(rotated(u as f64, i)) as f32;
+            lambda[i] = l;
+            pdf[i] = visible_pdf(l as f64) as f32;
         }
         Self { lambda, pdf }
     }
