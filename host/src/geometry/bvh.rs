@@ -98,7 +98,9 @@ impl Bvh {
     }
 
     /// Visits, near-first, every primitive whose leaf box the ray reaches before `t_max`.
-    /// `test(prim, t_max)` returns the hit distance if the primitive is hit closer than `t_max`;
+    /// `test(slot, t_max)` gets the primitive's position in leaf order (primitive
+    /// `order_ref()[slot]` of the build input; callers usually store their primitives in that
+    /// order) and returns the hit distance if the primitive is hit closer than `t_max`;
     /// the search then shrinks to that distance. With `any_hit` the walk stops at the first hit.
     /// Returns the closest distance found (or the first, for `any_hit`).
     #[inline]
@@ -127,8 +129,8 @@ impl Bvh {
             if bounds.hit(ray.origin, inv_dir, t_max) {
                 if node.count > 0 {
                     let first = node.offset as usize;
-                    for &prim in &self.order[first..first + node.count as usize] {
-                        if let Some(t) = test(prim, t_max) {
+                    for slot in first..first + node.count as usize {
+                        if let Some(t) = test(slot as u32, t_max) {
                             t_max = t;
                             found = Some(t);
                             if any_hit {

@@ -24,6 +24,7 @@ pub mod aabb;
 pub mod bvh;
 pub mod error;
 pub mod float_error;
+pub mod generate;
 pub mod mesh;
 pub mod obj;
 pub mod ply;
