@@ -1,6 +1,7 @@
 //! Command-line subcommands; each lives in its own file and `main.rs` only dispatches.
 
 pub mod blob;
+pub mod color;
 pub mod plugin_args;
 pub mod plugins;
 
@@ -26,6 +27,8 @@ pub enum Command {
     /// Pack and inspect serialized objects (blobs).
     #[command(subcommand)]
     Blob(blob::BlobCommand),
+    /// Colour of a spectrum: XYZ, chromaticity and linear sRGB.
+    Color(color::ColorArgs),
 }
 
 /// Parse `args`, run the chosen subcommand and return the process exit code.
@@ -49,6 +52,7 @@ where
         }
         Some(Command::Plugins(args)) => plugins::run(&args, verbose),
         Some(Command::Blob(cmd)) => blob::run(&cmd, verbose),
+        Some(Command::Color(args)) => color::run(&args),
     };
     match result {
         Ok(()) => 0,

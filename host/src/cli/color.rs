@@ -1,0 +1,115 @@
+//! `spectrace color SPD [--observer …] [--illuminant SPD] [--json]`: the colour of a spectrum.
+//!
+//! Without `--illuminant`, SPD is an emitter (any emission spec: bundled name, CSV path,
+//! `blackbody:K`, …) and XYZ is normalized to Y = 100. With `--illuminant`, SPD is a
+//! reflectance (CSV path, `colorchecker:PATCH`, a number, …) seen under that illuminant with the
+//! CIE factor k = 100/ΣSȳ. Linear sRGB is XYZ/100 through the sRGB matrix; for a reflectance the
+//! illuminant's white is first Bradford-adapted to D65, for an emitter XYZ is used as is.
+
+use crate::color::rgb_space::SRGB;
+use crate::color::xyz::{chromaticity, emitter_xyz, reflectance_xyz, spd_tristimulus};
+use crate::color::{CieObserverKind, Observer};
+use crate::spectrum::{parse_spd_spec, SpectralCurve};
+
+/// Arguments of `spectrace color`.
+#[derive(clap::Args, Debug)]
+pub struct ColorArgs {
+    /// The spectrum: a bundled name (d65, a, fl11, mercury, …), a CSV path, blackbody:K,
+    /// gaussian:CENTRE:FWHM, line:NM; with --illuminant a reflectance (CSV path, colorchecker:PATCH, number).
+    pub spd: String,
+    /// Colour-matching functions: cie1931-2, cie1964-10, cie2015-2 or cie2015-10.
+    #[arg(long, default_value = "cie1931-2", value_parser = parse_observer)]
+    pub observer: CieObserverKind,
+    /// Treat SPD as a reflectance under this illuminant (any emission spec).
+    #[arg(long)]
+    pub illuminant: Option<String>,
+    /// Print one JSON object with the keys X, Y, Z, x, y, srgb_linear.
+    #[arg(long)]
+    pub json: bool,
+}
+
+fn parse_observer(s: &str) -> Result<CieObserverKind, String> {
+    CieObserverKind::from_name(s).ok_or_else(|| {
+        format!("unknown observer `{s}`; choose cie1931-2, cie1964-10, cie2015-2 or cie2015-10")
+    })
+}
+
+/// The computed colour of a spectrum.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ColorReport {
+    /// Tristimulus values (Y = 100 for an emitter or the perfect white).
+    pub xyz: [f64; 3],
+    /// Chromaticity x, y.
+    pub xy: (f64, f64),
+    /// Linear sRGB (D65), XYZ/100 converted.
+    pub srgb_linear: [f64; 3],
+}
+
+/// Compute the colour described by `args`; errors name the bad spec or file.
+pub fn compute(args: &ColorArgs) -> Result<ColorReport, String> {
+    let observer = args.observer.get();
+    let (xyz, rgb_matrix) = match &args.illuminant {
+        None => {
+            let spd = parse_spd_spec(&args.spd).map_err(|e| e.to_string())?;
+            let xyz = emitter_xyz(&spd, observer);
+            if xyz[1] <= 0.0 {
+                return Err(format!(
+                    "`{}` has no power visible to the {} observer ({}–{} nm)",
+                    args.spd,
+                    observer.name(),
+                    observer.range().0,
+                    observer.range().1
+                ));
+            }
+            (xyz, SRGB.xyz_to_rgb_matrix())
+        }
+        Some(ill) => {
+            let illuminant = parse_spd_spec(ill).map_err(|e| e.to_string())?;
+            let curve = SpectralCurve::parse(&args.spd).map_err(|e| e.to_string())?;
+            let white = spd_tristimulus(&illuminant, observer);
+            if white[1] <= 0.0 {
+                return Err(format!(
+                    "illuminant `{ill}` has no power visible to the {} observer",
+                    observer.name()
+                ));
+            }
+            let xyz = reflectance_xyz(|l| curve.value(l), &illuminant, observer);
+            (xyz, SRGB.xyz_to_rgb_matrix_from(white))
+        }
+    };
+    let scaled = xyz.map(|v| v / 100.0);
+    let srgb_linear = crate::color::matrix3::mul_vec(&rgb_matrix, scaled);
+    Ok(ColorReport {
+        xyz,
+        xy: chromaticity(xyz),
+        srgb_linear,
+    })
+}
+
+/// Run `spectrace color`: print the report as text or JSON.
+pub fn run(args: &ColorArgs) -> Result<(), String> {
+    let r = compute(args)?;
+    if args.json {
+        let obj = serde_json::json!({
+            "X": r.xyz[0],
+            "Y": r.xyz[1],
+            "Z": r.xyz[2],
+            "x": r.xy.0,
+            "y": r.xy.1,
+            "srgb_linear": r.srgb_linear,
+        });
+        println!("{obj}");
+    } else {
+        println!("observer    {}", args.observer.name());
+        println!(
+            "X Y Z       {:.4} {:.4} {:.4}",
+            r.xyz[0], r.xyz[1], r.xyz[2]
+        );
+        println!("x y         {:.5} {:.5}", r.xy.0, r.xy.1);
+        println!(
+            "sRGB linear {:.5} {:.5} {:.5}  (D65)",
+            r.srgb_linear[0], r.srgb_linear[1], r.srgb_linear[2]
+        );
+    }
+    Ok(())
+}
