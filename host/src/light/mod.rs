@@ -1,1 +1,131 @@
-//! (in progress)
+//! Light sources as the integrators see them, the built-in lights (area, point, spot,
+//! directional) and the [`LightSourceManager`] that picks lights in proportion to their power.
+//!
+//! Every light has a normalised SPD `S(λ)` (1/nm) and an overall scale, so its emission is
+//! `scale · S(λ)`; light subpaths draw their wavelengths from `S`. Units: radiance
+//! W/(m²·sr·nm), intensity W/(sr·nm), irradiance W/(m²·nm), power W (scene length units stand in
+//! for metres).
+
+pub mod area;
+pub mod directional;
+pub mod flags;
+pub mod manager;
+pub mod point;
+pub mod spot;
+
+pub use area::AreaLight;
+pub use directional::DirectionalLight;
+pub use flags::LightFlags;
+pub use manager::LightSourceManager;
+pub use point::PointLight;
+pub use spot::SpotLight;
+
+use crate::geometry::{Aabb, Ray};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spd};
+use glam::{Vec2, Vec3A};
+use std::fmt::Debug;
+use std::sync::Arc;
+
+/// The receiving point of a light sample.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LightSampleContext {
+    /// Point being lit (world).
+    pub p: Vec3A,
+    /// Its error bound (for the shadow ray).
+    pub p_error: Vec3A,
+    /// Its geometric normal (zero for points in media).
+    pub n: Vec3A,
+}
+
+/// Light arriving at a point from a sampled light position.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LightLiSample {
+    /// Incident radiance carried along `wi` (W/(m²·sr·nm)); for delta lights the equivalent
+    /// `I/d²` or `E` so that the estimator is `f·L·|cos|/pdf` in every case.
+    pub radiance: SampledSpectrum,
+    /// Unit direction from the receiver towards the light.
+    pub wi: Vec3A,
+    /// Solid-angle density of the sample (1/sr); 1 for delta lights (see [`LightFlags::is_delta`]).
+    pub pdf: f32,
+    /// The point on the light (for the visibility test).
+    pub p_light: Vec3A,
+    /// Its error bound.
+    pub p_light_error: Vec3A,
+    /// Light surface normal there (zero for point-like and directional lights).
+    pub n_light: Vec3A,
+}
+
+/// A ray leaving a light (light tracing and BDPT light subpaths).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LightLeSample {
+    /// Origin on the light and unit direction.
+    pub ray: Ray,
+    /// Emitted radiance along the ray (W/(m²·sr·nm)); intensity W/(sr·nm) for point and spot
+    /// lights; irradiance W/(m²·nm) for directional lights.
+    pub radiance: SampledSpectrum,
+    /// Density of the origin (1/m²; 1 for delta positions).
+    pub pdf_pos: f32,
+    /// Density of the direction (1/sr; 1 for delta directions).
+    pub pdf_dir: f32,
+    /// Light surface normal at the origin (zero when there is none).
+    pub normal: Vec3A,
+}
+
+/// A light source. Object safe: the built-ins and the plugin adapters implement it alike.
+pub trait Light: Send + Sync + Debug {
+    /// What kind of light this is (delta position/direction, area, beams only).
+    fn flags(&self) -> LightFlags;
+
+    /// Total emitted power in W (∫ over wavelength and all directions), used to choose lights in
+    /// proportion to their contribution.
+    fn power(&self) -> f64;
+
+    /// The normalised emission SPD (1/nm).
+    fn spd(&self) -> Arc<dyn Spd>;
+
+    /// Sample a point on the light as seen from `ctx` (next-event estimation).
+    fn sample_li(
+        &self,
+        ctx: &LightSampleContext,
+        u: Vec2,
+        lambda: &SampledWavelengths,
+    ) -> Option<LightLiSample>;
+
+    /// Solid-angle density (1/sr) with which `sample_li` from `ctx` would produce the light point
+    /// `p_light` with normal `n_light`. Zero for delta lights.
+    fn pdf_li(&self, ctx: &LightSampleContext, p_light: Vec3A, n_light: Vec3A) -> f32;
+
+    /// Radiance leaving the light's surface at `p` (normal `n`, texture coordinate `uv`) in
+    /// direction `w` (away from the light). Zero except for area lights.
+    fn radiance(
+        &self,
+        p: Vec3A,
+        n: Vec3A,
+        uv: Vec2,
+        w: Vec3A,
+        lambda: &SampledWavelengths,
+    ) -> SampledSpectrum;
+
+    /// Sample an emitted ray: `u1` picks the origin, `u2` the direction.
+    fn sample_le(&self, u1: Vec2, u2: Vec2, lambda: &SampledWavelengths) -> Option<LightLeSample>;
+
+    /// Densities `(pdf_pos, pdf_dir)` of `sample_le` producing `ray` (leaving a point with normal
+    /// `n`, zero when none).
+    fn pdf_le(&self, ray: &Ray, n: Vec3A) -> (f32, f32);
+
+    /// The scene object whose surface this light is, for area lights.
+    fn object(&self) -> Option<u32> {
+        None
+    }
+
+    /// Called once the scene bounds are known (directional lights need them for `sample_le`).
+    fn preprocess(&self, _scene_bounds: &Aabb) {}
+}
+
+/// Uniform direction on the unit sphere.
+pub fn sample_uniform_sphere(u: Vec2) -> Vec3A {
+    let z = 1.0 - 2.0 * u.x;
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let phi = 2.0 * std::f32::consts::PI * u.y;
+    Vec3A::new(r * phi.cos(), r * phi.sin(), z)
+}

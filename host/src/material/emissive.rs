@@ -1,36 +1,29 @@
-//! The surface of an area light: emits `scale · S(λ)` radiance (W/(m²·sr·nm)) from its front
-//! side (along the geometric normal) and reflects nothing, as the measured Cornell box light is
-//! modelled by the anchor renderers.
+//! The surface of an area light: emits `scale · S(λ)` radiance (W/(m²·sr·nm), `S` a normalised
+//! SPD in 1/nm, `scale` in W/(m²·sr)) from its front side (along the geometric normal) and
+//! reflects nothing, as the measured Cornell box light is modelled by the anchor renderers.
 
-use super::{BsdfSample, Material, MaterialFlags, ShadingContext, SpectralTexture, TransportMode};
-use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use super::{BsdfSample, EmissionProfile, Material, MaterialFlags, ShadingContext, TransportMode};
+use crate::spectrum::spd::spd_at;
+use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spd};
 use glam::{Vec2, Vec3A};
 use std::sync::Arc;
 
 /// A black, one- or two-sided emitter.
 #[derive(Debug, Clone)]
 pub struct Emissive {
-    radiance: Arc<dyn SpectralTexture>,
-    two_sided: bool,
+    profile: EmissionProfile,
 }
 
 impl Emissive {
-    /// An emitter of spectral radiance `radiance(λ)` in W/(m²·sr·nm).
-    pub fn new(radiance: Arc<dyn SpectralTexture>, two_sided: bool) -> Self {
+    /// An emitter of spectral radiance `scale · spd(λ)`.
+    pub fn new(spd: Arc<dyn Spd>, scale: f32, two_sided: bool) -> Self {
         Self {
-            radiance,
-            two_sided,
+            profile: EmissionProfile {
+                spd,
+                scale,
+                two_sided,
+            },
         }
-    }
-
-    /// The spectral radiance texture.
-    pub fn radiance(&self) -> &Arc<dyn SpectralTexture> {
-        &self.radiance
-    }
-
-    /// Whether the back side emits too.
-    pub fn two_sided(&self) -> bool {
-        self.two_sided
     }
 }
 
@@ -73,14 +66,19 @@ impl Material for Emissive {
         0.0
     }
 
+    fn emission(&self) -> Option<EmissionProfile> {
+        Some(self.profile.clone())
+    }
+
     fn emitted(
         &self,
         wo: Vec3A,
         ctx: &ShadingContext,
         lambda: &SampledWavelengths,
     ) -> SampledSpectrum {
-        if wo.z > 0.0 || (self.two_sided && wo.z < 0.0) {
-            self.radiance.eval(lambda, ctx.uv)
+        let _ = ctx;
+        if wo.z > 0.0 || (self.profile.two_sided && wo.z < 0.0) {
+            spd_at(self.profile.spd.as_ref(), lambda) * self.profile.scale
         } else {
             SampledSpectrum::zero()
         }

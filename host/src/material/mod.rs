@@ -30,9 +30,22 @@ pub use mirror::Mirror;
 pub use rough_dielectric::RoughDielectric;
 pub use texture::{ConstantTexture, CurveTexture, SpectralTexture};
 
-use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spd};
 use glam::{Vec2, Vec3A};
 use std::fmt::Debug;
+use std::sync::Arc;
+
+/// How an emissive material emits, so the scene can turn its objects into area lights:
+/// radiance `scale · spd(λ)` in W/(m²·sr·nm), uniform over the surface.
+#[derive(Clone, Debug)]
+pub struct EmissionProfile {
+    /// Normalised SPD (1/nm), also used to draw light-path wavelengths.
+    pub spd: Arc<dyn Spd>,
+    /// Integrated radiance in W/(m²·sr).
+    pub scale: f32,
+    /// Whether the back side emits as well.
+    pub two_sided: bool,
+}
 
 /// Which quantity a path carries. Refraction scales radiance by 1/η² but not importance, and
 /// shading normals need the adjoint correction only on light paths (Veach 1997, ch. 5).
@@ -105,6 +118,12 @@ pub trait Material: Send + Sync + Debug {
         lambda: &SampledWavelengths,
         mode: TransportMode,
     ) -> f32;
+
+    /// For emissive materials: the emission the area light built on this surface uses. Must agree
+    /// with [`emitted`](Self::emitted).
+    fn emission(&self) -> Option<EmissionProfile> {
+        None
+    }
 
     /// Radiance emitted towards `wo` in W/(m²·sr·nm) (only for [`MaterialFlags::EMISSIVE`]).
     fn emitted(

@@ -1,0 +1,36 @@
+//! Bit flags describing the kind of a light.
+
+use std::ops::BitOr;
+
+/// A set of light properties.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Hash)]
+pub struct LightFlags(pub u32);
+
+impl LightFlags {
+    /// All light leaves one point (point, spot): cannot be hit by rays.
+    pub const DELTA_POSITION: Self = Self(1);
+    /// All light travels in one direction (directional): cannot be hit by rays.
+    pub const DELTA_DIRECTION: Self = Self(1 << 1);
+    /// Emits from a surface that rays can hit.
+    pub const AREA: Self = Self(1 << 2);
+    /// Only generates beams (the seed's `next_beam` / `number_of_beams`), cannot be evaluated:
+    /// handled by light tracing alone.
+    pub const BEAMS_ONLY: Self = Self(1 << 3);
+
+    /// True when every bit of `other` is set.
+    pub fn contains(self, other: Self) -> bool {
+        self.0 & other.0 == other.0
+    }
+
+    /// True for point-like or directional lights (pdfs are discrete, MIS must not weight them).
+    pub fn is_delta(self) -> bool {
+        self.0 & (Self::DELTA_POSITION.0 | Self::DELTA_DIRECTION.0) != 0
+    }
+}
+
+impl BitOr for LightFlags {
+    type Output = Self;
+    fn bitor(self, rhs: Self) -> Self {
+        Self(self.0 | rhs.0)
+    }
+}
