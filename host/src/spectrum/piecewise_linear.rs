@@ -99,9 +99,15 @@ impl PiecewiseLinear1D {
         let s = linear_segment_inverse(a, b, t);
         let (x0, x1) = (self.x[i], self.x[i + 1]);
         let x = (x0 + s * (x1 - x0)).clamp(x0, x1);
-        // Evaluate on the chosen segment (not by a fresh search) so a shared node with a zero
-        // neighbour cannot report the neighbour's value.
-        let v = (1.0 - s) * a + s * b;
+        // Evaluate at the returned x (so the pdf is exactly pdf(x), even next to a zero end
+        // where rounding x matters), but on the chosen segment (so a shared node with a zero
+        // neighbour cannot report the neighbour's value). Should x round onto a zero end of a
+        // microscopically short segment, fall back to the value at s, which is positive.
+        let s_x = (x - x0) / (x1 - x0);
+        let mut v = (1.0 - s_x) * a + s_x * b;
+        if v <= 0.0 {
+            v = (1.0 - s) * a + s * b;
+        }
         (x, v / total)
     }
 }
