@@ -84,8 +84,9 @@ impl PiecewiseConstant1D {
         let area = self.cdf[i + 1] - self.cdf[i];
         let s = ((target - self.cdf[i]) / area).clamp(0.0, 1.0);
         let (x0, x1) = (self.edges[i], self.edges[i + 1]);
-        // Stay strictly below the bin's upper edge so value(x) reports this bin.
-        let x = (x0 + s * (x1 - x0)).clamp(x0, x0.max(x1 - (x1 - x0) * f64::EPSILON));
+        // Stay strictly below the bin's upper edge so value(x) reports this bin (rounding of
+        // x0 + s·w can land on x1 when s is within an ulp of 1).
+        let x = (x0 + s * (x1 - x0)).clamp(x0, x1.next_down());
         (x, self.values[i] / total)
     }
 }
