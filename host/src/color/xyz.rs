@@ -53,7 +53,7 @@ pub fn spd_tristimulus(spd: &dyn Spd, obs: &dyn Observer) -> [f64; 3] {
 /// XYZ of an emitter, scaled so that Y = 100. All zeros if the SPD is invisible to `obs`.
 pub fn emitter_xyz(spd: &dyn Spd, obs: &dyn Observer) -> [f64; 3] {
     let t = spd_tristimulus(spd, obs);
-    if !(t[1] > 0.0) {
+    if t[1].is_nan() || t[1] <= 0.0 {
         return [0.0; 3];
     }
     t.map(|v| 100.0 * v / t[1])
@@ -68,7 +68,7 @@ pub fn reflectance_xyz(
     obs: &dyn Observer,
 ) -> [f64; 3] {
     let white = spd_tristimulus(illuminant, obs);
-    if !(white[1] > 0.0) {
+    if white[1].is_nan() || white[1] <= 0.0 {
         return [0.0; 3];
     }
     let k = 100.0 / white[1];

@@ -160,10 +160,11 @@ pub fn parse_spd_spec(spec: &str) -> Result<BuiltinSpd, SpectrumError> {
     }
 }
 
+/// Wavelengths (nm) and raw values of a table.
+pub(crate) type RawTable = (Vec<f64>, Vec<f64>);
+
 /// The raw (unnormalized) table behind a bundled name or CSV path, for use as a curve.
-pub(crate) fn raw_table_for_spec(
-    spec: &str,
-) -> Option<Result<(Vec<f64>, Vec<f64>), SpectrumError>> {
+pub(crate) fn raw_table_for_spec(spec: &str) -> Option<Result<RawTable, SpectrumError>> {
     if let Some(found) = bundled_table(spec) {
         return Some(found.map(|(t, _)| (t.wavelengths, t.columns[0].clone())));
     }
