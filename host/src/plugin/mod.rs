@@ -2,6 +2,7 @@
 //! constructors for built-in and loaded types alike, the services plugins call back into, the
 //! adapters that make plugin objects look like built-in ones, and the blob file format.
 
+pub mod adapter;
 pub mod blob;
 pub mod loader;
 pub mod registry;

@@ -1,0 +1,567 @@
+//! Adapters: plugin objects dressed as the host's own traits, so the integrator never knows
+//! where an object came from. Each adapter converts once per call between the ABI's f64 plain
+//! data and the renderer's f32 types (the seed: wrap a light whose beams are in another
+//! representation, and convert in the call).
+//!
+//! The host traits are infallible (a hot path full of `Result`s would cost every built-in), but
+//! a plugin call can fail. The adapter then returns "no contribution" and records the error in the
+//! shared [`PluginFaults`]; the renderer checks it between passes and stops cleanly, keeping what
+//! was rendered, with the plugin's message.
+
+use crate::color::Observer;
+use crate::geometry::Ray;
+use crate::light::{Light, LightFlags, LightLeSample, LightLiSample, LightSampleContext};
+use crate::material::{
+    BsdfSample, Material, MaterialFlags, ShadingContext, TransportMode as HostMode,
+};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spd, SpdSample, LANES};
+use glam::{Vec2, Vec3A};
+use spectrace_plugin_api::{
+    light_flags, material_flags, spd_flags, Beam, Flags, LightBox, MaterialBox, ObserverBox,
+    PluginError, RandomSample, SpdBox, SpectralValues, TransportMode, Vec3, Wavelengths,
+};
+use std::fmt;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
+
+/// Errors raised by plugin calls while rendering: the first message and how many there were.
+#[derive(Default, Debug)]
+pub struct PluginFaults {
+    first: Mutex<Option<String>>,
+    count: AtomicU64,
+}
+
+impl PluginFaults {
+    /// A new, empty collector shared by every adapter of one scene.
+    pub fn new() -> Arc<Self> {
+        Arc::new(Self::default())
+    }
+
+    /// Record `error` raised by `who`.
+    pub fn record(&self, who: &str, error: &PluginError) {
+        if self.count.fetch_add(1, Ordering::Relaxed) == 0 {
+            if let Ok(mut first) = self.first.lock() {
+                first.get_or_insert_with(|| format!("{who}: {error}"));
+            }
+        }
+    }
+
+    /// The first recorded error, if any.
+    pub fn first(&self) -> Option<String> {
+        self.first.lock().ok().and_then(|f| f.clone())
+    }
+
+    /// How many errors were recorded.
+    pub fn count(&self) -> u64 {
+        self.count.load(Ordering::Relaxed)
+    }
+}
+
+fn v3(v: Vec3A) -> Vec3 {
+    Vec3::new(v.x as f64, v.y as f64, v.z as f64)
+}
+
+fn va(v: Vec3) -> Vec3A {
+    Vec3A::new(v.x as f32, v.y as f32, v.z as f32)
+}
+
+fn lambdas(l: &SampledWavelengths) -> Wavelengths {
+    Wavelengths {
+        nm: l.lambda.map(|x| x as f64),
+    }
+}
+
+fn spectrum(v: SpectralValues) -> SampledSpectrum {
+    SampledSpectrum(std::array::from_fn(|i| v.v[i] as f32))
+}
+
+fn sample_from(u: &[f32]) -> RandomSample {
+    let mut s = RandomSample::default();
+    for (dst, &src) in s.u.iter_mut().zip(u) {
+        *dst = src as f64;
+    }
+    s
+}
+
+fn mode(m: HostMode) -> TransportMode {
+    match m {
+        HostMode::Radiance => TransportMode::Radiance,
+        HostMode::Importance => TransportMode::Importance,
+    }
+}
+
+/// Who an adapter speaks for, in error messages.
+#[derive(Clone, Debug)]
+pub struct Origin {
+    /// e.g. "light `spot` (plugin point-light 0.1.0)".
+    pub label: String,
+    /// Where errors go.
+    pub faults: Arc<PluginFaults>,
+}
+
+impl Origin {
+    fn fail<T>(&self, e: PluginError, fallback: T) -> T {
+        self.faults.record(&self.label, &e);
+        fallback
+    }
+}
+
+// ----------------------------------------------------------------------------------------------
+// SPD
+
+/// A plugin SPD as a host [`Spd`].
+pub struct PluginSpd {
+    spd: SpdBox,
+    range: (f64, f64),
+    has_lines: bool,
+    origin: Origin,
+}
+
+impl PluginSpd {
+    /// Wrap `spd`.
+    pub fn new(spd: SpdBox, origin: Origin) -> Self {
+        let r = spd.range_nm();
+        let has_lines = spd.capabilities().contains(spd_flags::HAS_LINES);
+        Self {
+            spd,
+            range: (r.min_nm, r.max_nm),
+            has_lines,
+            origin,
+        }
+    }
+}
+
+impl fmt::Debug for PluginSpd {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "PluginSpd({})", self.origin.label)
+    }
+}
+
+impl Spd for PluginSpd {
+    fn value(&self, lambda_nm: f64) -> f64 {
+        self.spd
+            .value(lambda_nm)
+            .into_result()
+            .unwrap_or_else(|e| self.origin.fail(e, 0.0))
+    }
+    fn sample(&self, u: f64) -> SpdSample {
+        match self.spd.sample(u).into_result() {
+            Ok(s) => SpdSample {
+                lambda: s.nm,
+                pdf: s.pdf,
+                // A line carries probability, not density: its continuous pdf is zero there.
+                is_delta: self.has_lines && self.pdf(s.nm) == 0.0,
+            },
+            Err(e) => self.origin.fail(
+                e,
+                SpdSample {
+                    lambda: 0.5 * (self.range.0 + self.range.1),
+                    pdf: 0.0,
+                    is_delta: false,
+                },
+            ),
+        }
+    }
+    fn pdf(&self, lambda_nm: f64) -> f64 {
+        self.spd
+            .pdf(lambda_nm)
+            .into_result()
+            .unwrap_or_else(|e| self.origin.fail(e, 0.0))
+    }
+    fn range(&self) -> (f64, f64) {
+        self.range
+    }
+    fn is_delta(&self) -> bool {
+        self.has_lines
+    }
+}
+
+// ----------------------------------------------------------------------------------------------
+// Observer
+
+/// A plugin colour observer as a host [`Observer`].
+pub struct PluginObserver {
+    observer: ObserverBox,
+    name: String,
+    range: (f64, f64),
+    origin: Origin,
+}
+
+impl PluginObserver {
+    /// Wrap `observer`.
+    pub fn new(observer: ObserverBox, origin: Origin) -> Self {
+        let r = observer.range_nm();
+        Self {
+            name: observer.name().into_string(),
+            range: (r.min_nm, r.max_nm),
+            observer,
+            origin,
+        }
+    }
+}
+
+impl fmt::Debug for PluginObserver {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "PluginObserver({})", self.origin.label)
+    }
+}
+
+impl Observer for PluginObserver {
+    fn name(&self) -> &str {
+        &self.name
+    }
+    fn range(&self) -> (f64, f64) {
+        self.range
+    }
+    fn xyz_bar(&self, lambda_nm: f64) -> [f64; 3] {
+        match self.observer.xyz_bar(lambda_nm).into_result() {
+            Ok(v) => [v.x, v.y, v.z],
+            Err(e) => self.origin.fail(e, [0.0; 3]),
+        }
+    }
+}
+
+// ----------------------------------------------------------------------------------------------
+// Material
+
+fn material_bits(f: Flags, transmission_event: Option<bool>) -> MaterialFlags {
+    let pairs = [
+        (material_flags::DIFFUSE, MaterialFlags::DIFFUSE),
+        (material_flags::GLOSSY, MaterialFlags::GLOSSY),
+        (material_flags::SPECULAR, MaterialFlags::SPECULAR),
+        (material_flags::TRANSMISSION, MaterialFlags::TRANSMISSION),
+        (material_flags::DISPERSIVE, MaterialFlags::DISPERSIVE),
+        (material_flags::EMISSIVE, MaterialFlags::EMISSIVE),
+    ];
+    let mut out = MaterialFlags::NONE;
+    for (p, h) in pairs {
+        if f.contains(p) {
+            out = out | h;
+        }
+    }
+    // The plugin interface has no reflection bit: a material reflects unless an event says it
+    // transmitted.
+    if transmission_event != Some(true) {
+        out = out | MaterialFlags::REFLECTION;
+    }
+    out
+}
+
+/// A plugin material as a host [`Material`].
+pub struct PluginMaterial {
+    material: MaterialBox,
+    flags: MaterialFlags,
+    origin: Origin,
+}
+
+impl PluginMaterial {
+    /// Wrap `material`.
+    pub fn new(material: MaterialBox, origin: Origin) -> Self {
+        let flags = material_bits(material.capabilities(), None);
+        Self {
+            material,
+            flags,
+            origin,
+        }
+    }
+
+    fn ctx(ctx: &ShadingContext) -> spectrace_plugin_api::ShadingContext {
+        spectrace_plugin_api::ShadingContext {
+            uv: [ctx.uv.x as f64, ctx.uv.y as f64],
+            position: Vec3::default(),
+        }
+    }
+}
+
+impl fmt::Debug for PluginMaterial {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "PluginMaterial({})", self.origin.label)
+    }
+}
+
+impl Material for PluginMaterial {
+    fn flags(&self) -> MaterialFlags {
+        self.flags
+    }
+
+    fn sample(
+        &self,
+        wo: Vec3A,
+        ctx: &ShadingContext,
+        lambda: &SampledWavelengths,
+        u_lobe: f32,
+        u: Vec2,
+        m: HostMode,
+    ) -> Option<BsdfSample> {
+        let r = self.material.sample(
+            &Self::ctx(ctx),
+            v3(wo),
+            &lambdas(lambda),
+            &sample_from(&[u_lobe, u.x, u.y]),
+            mode(m),
+        );
+        match r.into_result() {
+            Ok(s) => s.into_option().map(|s| BsdfSample {
+                wi: va(s.wi),
+                f: spectrum(s.value),
+                pdf: s.pdf as f32,
+                flags: material_bits(s.flags, Some(s.flags.contains(material_flags::TRANSMISSION))),
+                eta: s.eta as f32,
+            }),
+            Err(e) => self.origin.fail(e, None),
+        }
+    }
+
+    fn eval(
+        &self,
+        wo: Vec3A,
+        wi: Vec3A,
+        ctx: &ShadingContext,
+        lambda: &SampledWavelengths,
+        m: HostMode,
+    ) -> SampledSpectrum {
+        match self
+            .material
+            .eval(&Self::ctx(ctx), v3(wo), v3(wi), &lambdas(lambda), mode(m))
+            .into_result()
+        {
+            Ok(v) => spectrum(v),
+            Err(e) => self.origin.fail(e, SampledSpectrum::zero()),
+        }
+    }
+
+    fn pdf(
+        &self,
+        wo: Vec3A,
+        wi: Vec3A,
+        ctx: &ShadingContext,
+        lambda: &SampledWavelengths,
+        m: HostMode,
+    ) -> f32 {
+        match self
+            .material
+            .pdf(&Self::ctx(ctx), v3(wo), v3(wi), &lambdas(lambda), mode(m))
+            .into_result()
+        {
+            Ok(v) => v as f32,
+            Err(e) => self.origin.fail(e, 0.0),
+        }
+    }
+
+    fn emitted(&self, wo: Vec3A, ctx: &ShadingContext, lambda: &SampledWavelengths) -> SampledSpectrum {
+        if !self.flags.contains(MaterialFlags::EMISSIVE) {
+            return SampledSpectrum::zero();
+        }
+        match self
+            .material
+            .emitted(&Self::ctx(ctx), v3(wo), &lambdas(lambda))
+            .into_result()
+        {
+            Ok(v) => spectrum(v),
+            Err(e) => self.origin.fail(e, SampledSpectrum::zero()),
+        }
+    }
+}
+
+// ----------------------------------------------------------------------------------------------
+// Light
+
+/// A plugin light's wavelength distribution, seen as an SPD: what light subpaths draw from.
+struct LightSpectrum {
+    light: Arc<LightBox>,
+    origin: Origin,
+}
+
+impl fmt::Debug for LightSpectrum {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "LightSpectrum({})", self.origin.label)
+    }
+}
+
+impl Spd for LightSpectrum {
+    fn value(&self, lambda_nm: f64) -> f64 {
+        self.pdf(lambda_nm)
+    }
+    fn sample(&self, u: f64) -> SpdSample {
+        match self.light.sample_wavelength(u).into_result() {
+            Ok(s) => SpdSample {
+                lambda: s.nm,
+                pdf: s.pdf,
+                is_delta: false,
+            },
+            Err(e) => self.origin.fail(
+                e,
+                SpdSample {
+                    lambda: 550.0,
+                    pdf: 0.0,
+                    is_delta: false,
+                },
+            ),
+        }
+    }
+    fn pdf(&self, lambda_nm: f64) -> f64 {
+        self.light
+            .wavelength_pdf(lambda_nm)
+            .into_result()
+            .unwrap_or_else(|e| self.origin.fail(e, 0.0))
+    }
+    fn range(&self) -> (f64, f64) {
+        (360.0, 830.0)
+    }
+}
+
+/// A plugin light as a host [`Light`]. Without the CONNECTABLE capability it is BEAMS_ONLY:
+/// integrators can only trace the beams it hands out (see [`PluginLight::next_beam`]).
+pub struct PluginLight {
+    light: Arc<LightBox>,
+    flags: LightFlags,
+    power: f64,
+    spectrum: Arc<dyn Spd>,
+    origin: Origin,
+}
+
+impl PluginLight {
+    /// Wrap `light`.
+    pub fn new(light: LightBox, origin: Origin) -> Self {
+        let caps = light.capabilities();
+        let mut flags = LightFlags::default();
+        if caps.contains(light_flags::DELTA_POSITION) {
+            flags = flags | LightFlags::DELTA_POSITION;
+        }
+        if caps.contains(light_flags::DELTA_DIRECTION) {
+            flags = flags | LightFlags::DELTA_DIRECTION;
+        }
+        if !caps.contains(light_flags::CONNECTABLE) {
+            flags = flags | LightFlags::BEAMS_ONLY;
+        }
+        let power = light
+            .total_power_w()
+            .into_result()
+            .unwrap_or_else(|e| origin.fail(e, 0.0));
+        let light = Arc::new(light);
+        Self {
+            spectrum: Arc::new(LightSpectrum {
+                light: light.clone(),
+                origin: origin.clone(),
+            }),
+            light,
+            flags,
+            power,
+            origin,
+        }
+    }
+
+    /// The seed's `next_beam`, for lights that only hand out beams.
+    pub fn next_beam(&self, u: &RandomSample) -> Option<Beam> {
+        match self.light.next_beam(u).into_result() {
+            Ok(b) => Some(b),
+            Err(e) => self.origin.fail(e, None),
+        }
+    }
+
+    /// The seed's `number_of_beams`: how many beams the light has handed out.
+    pub fn number_of_beams(&self) -> f64 {
+        self.light.number_of_beams()
+    }
+}
+
+impl fmt::Debug for PluginLight {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "PluginLight({})", self.origin.label)
+    }
+}
+
+impl Light for PluginLight {
+    fn flags(&self) -> LightFlags {
+        self.flags
+    }
+
+    fn power(&self) -> f64 {
+        self.power
+    }
+
+    fn spd(&self) -> Arc<dyn Spd> {
+        self.spectrum.clone()
+    }
+
+    fn sample_li(
+        &self,
+        ctx: &LightSampleContext,
+        u: Vec2,
+        lambda: &SampledWavelengths,
+    ) -> Option<LightLiSample> {
+        if self.flags.contains(LightFlags::BEAMS_ONLY) {
+            return None;
+        }
+        let r = self
+            .light
+            .sample_toward(v3(ctx.p), &sample_from(&[u.x, u.y]), &lambdas(lambda));
+        match r.into_result() {
+            Ok(s) if s.pdf > 0.0 => Some(LightLiSample {
+                radiance: spectrum(s.value),
+                wi: va(s.direction),
+                pdf: s.pdf as f32,
+                p_light: va(s.point),
+                p_light_error: Vec3A::ZERO,
+                n_light: va(s.normal),
+            }),
+            Ok(_) => None,
+            Err(e) => self.origin.fail(e, None),
+        }
+    }
+
+    fn pdf_li(&self, ctx: &LightSampleContext, p_light: Vec3A, _n_light: Vec3A) -> f32 {
+        if self.flags.is_delta() || self.flags.contains(LightFlags::BEAMS_ONLY) {
+            return 0.0;
+        }
+        let dir = (p_light - ctx.p).normalize_or_zero();
+        match self.light.incident_pdf(v3(ctx.p), v3(dir)).into_result() {
+            Ok(p) => p as f32,
+            Err(e) => self.origin.fail(e, 0.0),
+        }
+    }
+
+    fn radiance(
+        &self,
+        _p: Vec3A,
+        _n: Vec3A,
+        _uv: Vec2,
+        _w: Vec3A,
+        _lambda: &SampledWavelengths,
+    ) -> SampledSpectrum {
+        // Plugin lights have no surface in the scene; rays cannot hit them.
+        SampledSpectrum::zero()
+    }
+
+    fn sample_le(&self, u1: Vec2, u2: Vec2, lambda: &SampledWavelengths) -> Option<LightLeSample> {
+        if self.flags.contains(LightFlags::BEAMS_ONLY) {
+            return None;
+        }
+        let r = self
+            .light
+            .sample_emission(&sample_from(&[u1.x, u1.y, u2.x, u2.y]), &lambdas(lambda));
+        match r.into_result() {
+            Ok(s) if s.pdf_position > 0.0 && s.pdf_direction > 0.0 => Some(LightLeSample {
+                ray: Ray::new(va(s.origin), va(s.direction)),
+                radiance: spectrum(s.value),
+                pdf_pos: s.pdf_position as f32,
+                pdf_dir: s.pdf_direction as f32,
+                normal: va(s.normal),
+            }),
+            Ok(_) => None,
+            Err(e) => self.origin.fail(e, None),
+        }
+    }
+
+    fn pdf_le(&self, ray: &Ray, _n: Vec3A) -> (f32, f32) {
+        if self.flags.contains(LightFlags::BEAMS_ONLY) {
+            return (0.0, 0.0);
+        }
+        match self.light.emission_pdf(v3(ray.origin), v3(ray.dir)).into_result() {
+            Ok(p) => (p.position as f32, p.direction as f32),
+            Err(e) => self.origin.fail(e, (0.0, 0.0)),
+        }
+    }
+}
+
+const _: () = assert!(LANES == spectrace_plugin_api::LANES, "host and ABI lane counts agree");
