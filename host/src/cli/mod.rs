@@ -4,6 +4,7 @@ pub mod blob;
 pub mod color;
 pub mod plugin_args;
 pub mod plugins;
+pub mod render;
 
 use clap::{Parser, Subcommand};
 use std::ffi::OsString;
@@ -29,6 +30,8 @@ pub enum Command {
     Blob(blob::BlobCommand),
     /// Colour of a spectrum: XYZ, chromaticity and linear sRGB.
     Color(color::ColorArgs),
+    /// Render a scene (default: the measured spectral Cornell box) to OpenEXR and PNG.
+    Render(render::RenderArgs),
 }
 
 /// Parse `args`, run the chosen subcommand and return the process exit code.
@@ -53,6 +56,7 @@ where
         Some(Command::Plugins(args)) => plugins::run(&args, verbose),
         Some(Command::Blob(cmd)) => blob::run(&cmd, verbose),
         Some(Command::Color(args)) => color::run(&args),
+        Some(Command::Render(args)) => render::run(&args),
     };
     match result {
         Ok(()) => 0,

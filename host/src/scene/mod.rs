@@ -1,1 +1,69 @@
-//! (in progress)
+//! Scenes: the in-memory [`Scene`] (the seed's SceneObjectManager + CameraManager +
+//! LightSourceManager, plus geometry, observer and output settings), its RON file format
+//! ([`description`]), object construction through [`factory::ObjectFactory`], the builder and the
+//! embedded default Cornell box.
+
+pub mod builder;
+pub mod cornell;
+pub mod description;
+pub mod error;
+pub mod factory;
+pub mod objects;
+pub mod params;
+
+pub use builder::{build_scene, load_scene_file, parse_scene_str};
+pub use cornell::{cornell_box_description, default_scene};
+pub use description::SceneDescription;
+pub use error::SceneError;
+pub use factory::{BuiltinFactory, FactoryContext, FactoryError, ObjectFactory};
+pub use objects::{SceneObject, SceneObjectManager};
+
+use crate::camera::CameraManager;
+use crate::color::{Observer, RgbColorSpace};
+use crate::geometry::Geometry;
+use crate::light::LightSourceManager;
+use std::sync::Arc;
+
+/// Render settings a scene file may carry (the command line overrides them).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneOptions {
+    /// Samples per pixel when the command line gives neither `--spp` nor `--time`.
+    pub spp: u32,
+    /// Longest path (number of scattering events); Russian roulette ends most paths earlier.
+    pub max_depth: u32,
+    /// RGB space of the EXR's R, G, B channels.
+    pub rgb_space: RgbColorSpace,
+    /// Name of that space (for messages).
+    pub rgb_space_name: String,
+    /// Exposure multiplier of the PNG preview.
+    pub png_exposure: f64,
+}
+
+impl Default for SceneOptions {
+    fn default() -> Self {
+        Self {
+            spp: 64,
+            max_depth: 64,
+            rgb_space: crate::color::SRGB,
+            rgb_space_name: "srgb".into(),
+            png_exposure: 1.0,
+        }
+    }
+}
+
+/// Everything needed to render.
+#[derive(Debug, Clone)]
+pub struct Scene {
+    /// All shapes and the BVH.
+    pub geometry: Arc<Geometry>,
+    /// Materials per object.
+    pub objects: SceneObjectManager,
+    /// Named cameras.
+    pub cameras: CameraManager,
+    /// Lights and the light chooser.
+    pub lights: LightSourceManager,
+    /// Colour-matching functions the film integrates with.
+    pub observer: Arc<dyn Observer>,
+    /// Output and sampling defaults.
+    pub options: SceneOptions,
+}
