@@ -113,6 +113,19 @@ pub trait Light: Send + Sync + Debug {
     /// `n`, zero when none).
     fn pdf_le(&self, ray: &Ray, n: Vec3A) -> (f32, f32);
 
+    /// The seed's `next_beam`: one beam (origin, direction, wavelength, power in W as the flux
+    /// estimate of one sample; see [`spectrace_plugin_api::Beam`]) from the host's random
+    /// numbers. Lights flagged [`LightFlags::BEAMS_ONLY`] offer nothing else, so light tracing
+    /// is the only way to render them. `None` for lights that do not hand out beams.
+    fn next_beam(&self, _u: &spectrace_plugin_api::RandomSample) -> Option<spectrace_plugin_api::Beam> {
+        None
+    }
+
+    /// The seed's `number_of_beams`: beams handed out by [`Light::next_beam`] so far.
+    fn number_of_beams(&self) -> f64 {
+        0.0
+    }
+
     /// The scene object whose surface this light is, for area lights.
     fn object(&self) -> Option<u32> {
         None

@@ -451,18 +451,6 @@ impl PluginLight {
         }
     }
 
-    /// The seed's `next_beam`, for lights that only hand out beams.
-    pub fn next_beam(&self, u: &RandomSample) -> Option<Beam> {
-        match self.light.next_beam(u).into_result() {
-            Ok(b) => Some(b),
-            Err(e) => self.origin.fail(e, None),
-        }
-    }
-
-    /// The seed's `number_of_beams`: how many beams the light has handed out.
-    pub fn number_of_beams(&self) -> f64 {
-        self.light.number_of_beams()
-    }
 }
 
 impl fmt::Debug for PluginLight {
@@ -551,6 +539,17 @@ impl Light for PluginLight {
             Ok(_) => None,
             Err(e) => self.origin.fail(e, None),
         }
+    }
+
+    fn next_beam(&self, u: &RandomSample) -> Option<Beam> {
+        match self.light.next_beam(u).into_result() {
+            Ok(b) => Some(b),
+            Err(e) => self.origin.fail(e, None),
+        }
+    }
+
+    fn number_of_beams(&self) -> f64 {
+        self.light.number_of_beams()
     }
 
     fn pdf_le(&self, ray: &Ray, _n: Vec3A) -> (f32, f32) {
