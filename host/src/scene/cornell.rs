@@ -105,8 +105,9 @@ pub fn cornell_box_description() -> Result<SceneDescription, SceneError> {
                 positions.push(tuple(&p));
             }
             // Two triangles with the quad's winding (which fixes the front side).
-            indices.push(tuple(&[base, base + 1.0, base + 2.0]));
-            indices.push(tuple(&[base, base + 2.0, base + 3.0]));
+            let int = |v: f64| Value::Number(Number::from(v as i64));
+            indices.push(Value::Seq(vec![int(base), int(base + 1.0), int(base + 2.0)]));
+            indices.push(Value::Seq(vec![int(base), int(base + 2.0), int(base + 3.0)]));
         }
         objects.push(ObjectDescription {
             name: name.clone(),
@@ -161,4 +162,30 @@ pub fn default_scene() -> Result<Scene, SceneError> {
         Path::new("<embedded cornell box>"),
         &[&BuiltinFactory],
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `scenes/cornell_box.ron` must describe exactly the embedded default scene (both come from
+    /// the same JSON data; this catches either drifting). Regenerate the file with
+    /// `SPECTRACE_WRITE_CORNELL_RON=1 cargo test -p spectrace --lib scene::cornell`.
+    #[test]
+    fn shipped_ron_matches_embedded_scene() {
+        let desc = cornell_box_description().unwrap();
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/cornell_box.ron");
+        if std::env::var_os("SPECTRACE_WRITE_CORNELL_RON").is_some() {
+            let cfg = ron::ser::PrettyConfig::new()
+                .depth_limit(4)
+                .separate_tuple_members(false)
+                .enumerate_arrays(false);
+            let text = ron::ser::to_string_pretty(&desc, cfg).unwrap();
+            let header = "// The measured spectral Cornell box (Cornell Program of Computer Graphics, \"Cornell Box Data\"),\n// generated from host/data/scenes/cornell_box.json; identical to `spectrace render` with no scene.\n// Units: mm; reflectances unitless; emission as spectral radiance (W/(m²·sr·nm), relative).\n";
+            std::fs::write(&path, format!("{header}{text}\n")).unwrap();
+        }
+        let text = std::fs::read_to_string(&path).unwrap();
+        let parsed = crate::scene::parse_scene_str(&text, &path).unwrap();
+        assert_eq!(parsed, desc);
+    }
 }
