@@ -92,11 +92,22 @@ pub fn type_info<T: PluginType>(kind: ObjectKind) -> TypeInfo {
     }
 }
 
-/// Parse RON parameter text into `P`; the error carries RON's line:column and the field name.
+/// Parse RON parameter text into `P`. The text is read as a RON value first and then converted,
+/// so a list may be written `(1, 2, 3)` or `[1, 2, 3]` and a struct `(a: 1)` or `{"a": 1}`: the
+/// host re-serialises scene values without knowing the plugin's types. Syntax errors carry RON's
+/// line:column; others name the field.
 pub fn parse_params<P: DeserializeOwned>(type_name: &str, text: &str) -> PluginResult<P> {
-    ron::from_str(text).map_err(|e| {
+    let value: ron::Value = ron::from_str(text).map_err(|e| {
         PluginError::invalid_parameter(format!("{type_name}: parameters: {e}"))
-    })
+    })?;
+    // `()` reads as the unit value; for parameters it means "all defaults".
+    let value = match value {
+        ron::Value::Unit => ron::Value::Map(ron::Map::new()),
+        v => v,
+    };
+    value
+        .into_rust()
+        .map_err(|e| PluginError::invalid_parameter(format!("{type_name}: parameters: {e}")))
 }
 
 /// Encode parameters as saved state (bincode, standard config).

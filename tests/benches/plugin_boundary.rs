@@ -33,13 +33,13 @@ fn bench(c: &mut Criterion) {
         .add_plugin(LoadedPlugin::from_module(spectrace_point_light::root_module(), "in-process").unwrap())
         .unwrap();
     let abi_in_process = in_process
-        .create_plugin_light("point", ObjectSource::Params(RStr::from_str(PARAMS)))
+        .create_plugin_light("isotropic_point", ObjectSource::Params(RStr::from_str(PARAMS)))
         .unwrap();
 
     let mut loaded = Registry::new();
     loaded.load_plugin(&plugin_library("spectrace-point-light")).unwrap();
     let abi_loaded = loaded
-        .create_plugin_light("point", ObjectSource::Params(RStr::from_str(PARAMS)))
+        .create_plugin_light("isotropic_point", ObjectSource::Params(RStr::from_str(PARAMS)))
         .unwrap();
 
     let mut sample = RandomSample::default();

@@ -57,7 +57,7 @@ fn plugin_and_host_point_lights_agree() {
     let host = PointLight::new(Vec3A::new(0.5, 1.5, -0.25), spd, 60.0);
     let (plugin, faults) = plugin_light(
         "spectrace-point-light",
-        "point",
+        "isotropic_point",
         "(position: (0.5, 1.5, -0.25), power_w: 60, spd: \"d65\")",
     );
     assert_eq!(plugin.flags(), LightFlags::DELTA_POSITION);
@@ -89,7 +89,7 @@ fn plugin_and_host_spot_lights_agree() {
     let dir = target - pos;
     let (plugin, _) = plugin_light(
         "spectrace-point-light",
-        "spot",
+        "smooth_spot",
         &format!(
             "(position: (0, 2, 0), direction: ({}, {}, {}), cone_angle_deg: 40, falloff_start_deg: 15, power_w: 12, spd: \"blackbody:3200\")",
             dir.x, dir.y, dir.z

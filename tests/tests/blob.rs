@@ -38,7 +38,7 @@ fn samples() -> impl Iterator<Item = RandomSample> {
 #[test]
 fn pack_inspect_load_gives_identical_beams() {
     let r = registry();
-    let blob = Blob::pack_plugin_light(&r, "spot", PARAMS).unwrap();
+    let blob = Blob::pack_plugin_light(&r, "smooth_spot", PARAMS).unwrap();
     let path = tmp("spot.blob");
     blob.write_file(&path).unwrap();
 
@@ -49,7 +49,7 @@ fn pack_inspect_load_gives_identical_beams() {
     assert!(described.contains("power_w: 42.0") && described.contains("\"fl11\""), "{described}");
 
     let original = r
-        .create_plugin_light("spot", ObjectSource::Params(RStr::from_str(PARAMS)))
+        .create_plugin_light("smooth_spot", ObjectSource::Params(RStr::from_str(PARAMS)))
         .unwrap();
     let restored = read.load_plugin_light(&r).unwrap();
     for s in samples() {
@@ -59,7 +59,7 @@ fn pack_inspect_load_gives_identical_beams() {
 
 #[test]
 fn a_blob_whose_plugin_is_absent_names_plugin_and_version() {
-    let blob = Blob::pack_plugin_light(&registry(), "point", "(position: (0,0,0), power_w: 1)").unwrap();
+    let blob = Blob::pack_plugin_light(&registry(), "isotropic_point", "(position: (0,0,0), power_w: 1)").unwrap();
     let empty = Registry::new();
     let e = blob.load_plugin_light(&empty).err().unwrap();
     assert!(matches!(e, BlobLoadError::MissingPlugin { .. }));
@@ -69,7 +69,7 @@ fn a_blob_whose_plugin_is_absent_names_plugin_and_version() {
 
 #[test]
 fn a_blob_of_another_type_version_is_refused_by_the_plugin() {
-    let mut blob = Blob::pack_plugin_light(&registry(), "point", "(position: (0,0,0), power_w: 1)").unwrap();
+    let mut blob = Blob::pack_plugin_light(&registry(), "isotropic_point", "(position: (0,0,0), power_w: 1)").unwrap();
     blob.type_version = 7;
     let msg = blob.load_plugin_light(&registry()).err().unwrap().to_string();
     assert!(msg.contains("type version 7") && msg.contains("reads version 1"), "{msg}");
@@ -77,7 +77,7 @@ fn a_blob_of_another_type_version_is_refused_by_the_plugin() {
 
 #[test]
 fn a_valid_frame_around_a_garbage_payload_is_refused_by_the_plugin() {
-    let mut blob = Blob::pack_plugin_light(&registry(), "point", "(position: (0,0,0), power_w: 1)").unwrap();
+    let mut blob = Blob::pack_plugin_light(&registry(), "isotropic_point", "(position: (0,0,0), power_w: 1)").unwrap();
     // A well-formed, checksummed blob whose payload claims a 2^60-byte string.
     blob.payload = vec![0xFF, 0, 0, 0, 0, 0, 0, 0, 0x10];
     let msg = blob.load_plugin_light(&registry()).err().unwrap().to_string();
@@ -86,7 +86,7 @@ fn a_valid_frame_around_a_garbage_payload_is_refused_by_the_plugin() {
 
 #[test]
 fn damaged_blob_files_give_clear_errors() {
-    let good = Blob::pack_plugin_light(&registry(), "point", "(position: (0,0,0), power_w: 1)")
+    let good = Blob::pack_plugin_light(&registry(), "isotropic_point", "(position: (0,0,0), power_w: 1)")
         .unwrap()
         .encode()
         .unwrap();
@@ -140,7 +140,7 @@ fn cli_pack_then_inspect() {
     let lib = plugin_library("spectrace-point-light");
     let out = tmp("cli.blob");
     let pack = Command::new(spectrace_bin())
-        .args(["blob", "pack", "point", "--params", "(position: (1, 2, 3), power_w: 7.5, spd: \"a\")", "-o"])
+        .args(["blob", "pack", "isotropic_point", "--params", "(position: (1, 2, 3), power_w: 7.5, spd: \"a\")", "-o"])
         .arg(&out)
         .arg("--plugin")
         .arg(&lib)
@@ -156,7 +156,7 @@ fn cli_pack_then_inspect() {
         .unwrap();
     let text = String::from_utf8_lossy(&inspect.stdout);
     assert!(inspect.status.success());
-    for needle in ["kind: light", "plugin: point-light 0.1.0", "type: point", "power_w: 7.5", "position: (1.0, 2.0, 3.0)"] {
+    for needle in ["kind: light", "plugin: point-light 0.1.0", "type: isotropic_point", "power_w: 7.5", "position: (1.0, 2.0, 3.0)"] {
         assert!(text.contains(needle), "missing `{needle}` in:\n{text}");
     }
     // Without the plugin: the header still prints, and it says what is needed.

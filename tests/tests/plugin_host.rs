@@ -46,9 +46,9 @@ fn loaded_plugin_gives_the_same_beams_as_the_same_type_built_in() {
         )
         .unwrap();
     for (ty, text) in [
-        ("point", POINT_PARAMS),
+        ("isotropic_point", POINT_PARAMS),
         (
-            "spot",
+            "smooth_spot",
             "(position: (0, 5, 0), direction: (0, -1, 0.2), cone_angle_deg: 40, falloff_start_deg: 20, power_w: 15, spd: \"blackbody:3000\")",
         ),
     ] {
@@ -76,13 +76,13 @@ fn point_light_beams_average_to_its_flux() {
     // Spot light: power varies with angle; 20 000 beams give a relative standard error below
     // 0.5%, so 2% is a > 4σ bound.
     let r = registry_with(&plugin_library("spectrace-point-light"));
-    let point = r.create_plugin_light("point", params(POINT_PARAMS)).unwrap();
+    let point = r.create_plugin_light("isotropic_point", params(POINT_PARAMS)).unwrap();
     for s in samples(100) {
         assert_eq!(point.next_beam(&s).unwrap().power_w, 60.0);
     }
     let spot = r
         .create_plugin_light(
-            "spot",
+            "smooth_spot",
             params("(position: (0,0,0), direction: (0,0,-1), cone_angle_deg: 50, falloff_start_deg: 10, power_w: 15)"),
         )
         .unwrap();
@@ -102,7 +102,7 @@ fn plugins_list_their_types_with_parameters() {
     assert_eq!(p.info.name.as_str(), "point-light");
     assert_eq!(p.info.api_version.as_str(), spectrace_plugin_api::API_VERSION);
     let names: Vec<&str> = p.info.types.iter().map(|t| t.name.as_str()).collect();
-    assert_eq!(names, ["point", "spot"]);
+    assert_eq!(names, ["isotropic_point", "smooth_spot"]);
     let point = &p.info.types[0];
     assert!(point.params.iter().any(|q| q.name.as_str() == "power_w" && q.unit.as_str() == "W"));
 }
@@ -156,14 +156,14 @@ fn duplicate_types_and_plugins_are_refused_naming_both() {
     let mut r = Registry::new();
     r.register_builtin(TypeInfo {
         kind: ObjectKind::Light,
-        name: "point".into(),
+        name: "isotropic_point".into(),
         version: 1,
         description: "built-in point".into(),
         params: Default::default(),
     })
     .unwrap();
     let e = r.load_plugin(&path).unwrap_err().to_string();
-    assert!(e.contains("duplicate light type `point`") && e.contains("built-in"), "{e}");
+    assert!(e.contains("duplicate light type `isotropic_point`") && e.contains("built-in"), "{e}");
     assert!(r.plugins().is_empty(), "nothing of a refused plugin is registered");
 
     let mut r = registry_with(&path);
@@ -177,7 +177,7 @@ fn unknown_types_list_what_exists() {
     let e = r.create_plugin_light("laser", params("()")).err().unwrap();
     assert!(matches!(e, RegistryError::UnknownType { .. }));
     let msg = e.to_string();
-    assert!(msg.contains("unknown light type `laser`") && msg.contains("point, spot"), "{msg}");
+    assert!(msg.contains("unknown light type `laser`") && msg.contains("isotropic_point, smooth_spot"), "{msg}");
 }
 
 #[test]
@@ -191,7 +191,7 @@ fn constructor_errors_name_the_parameter() {
         ("(position: (0,0,0), power_w: ", "parameters"),
     ];
     for (text, needle) in cases {
-        let msg = r.create_plugin_light("point", params(text)).err().unwrap().to_string();
+        let msg = r.create_plugin_light("isotropic_point", params(text)).err().unwrap().to_string();
         assert!(msg.contains(needle), "`{text}` → {msg}");
         assert!(msg.contains("point-light"), "names the plugin: {msg}");
     }
@@ -232,4 +232,16 @@ fn a_plugin_directory_loads_the_good_and_reports_the_bad() {
     assert_eq!(r.plugins().len(), 1);
     assert_eq!(errors.len(), 1);
     assert!(errors[0].to_string().contains("old_api"));
+}
+
+#[test]
+fn plugin_types_join_the_built_ins_in_one_registry() {
+    let mut r = spectrace::plugin::builtin_registry();
+    // The built-in scene types are registered like plugin types …
+    assert!(r.contains(ObjectKind::Light, "point"));
+    assert!(r.contains(ObjectKind::Material, "lambertian"));
+    assert!(r.plugin_for(ObjectKind::Light, "point").unwrap().is_none());
+    // … so a plugin with distinct names loads beside them, and one reusing a name is refused.
+    r.load_plugin(&plugin_library("spectrace-point-light")).unwrap();
+    assert!(r.plugin_for(ObjectKind::Light, "isotropic_point").unwrap().is_some());
 }

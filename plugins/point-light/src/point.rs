@@ -1,4 +1,4 @@
-//! `point`: an isotropic point light.
+//! `isotropic_point`: an isotropic point light.
 //!
 //! | parameter  | unit        | default | meaning                                        |
 //! |------------|-------------|---------|------------------------------------------------|
@@ -42,7 +42,7 @@ pub struct PointLight {
 }
 
 impl PluginType for PointLight {
-    const TYPE_NAME: &'static str = "point";
+    const TYPE_NAME: &'static str = "isotropic_point";
     const TYPE_VERSION: u32 = 1;
     const DESCRIPTION: &'static str = "isotropic point light with a given flux and spectrum";
     type Params = PointParams;

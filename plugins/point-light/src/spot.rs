@@ -1,4 +1,4 @@
-//! `spot`: a point light emitting into a cone with a smooth edge.
+//! `smooth_spot`: a point light emitting into a cone with a smooth edge.
 //!
 //! | parameter           | unit        | default | meaning                                          |
 //! |---------------------|-------------|---------|--------------------------------------------------|
@@ -68,7 +68,7 @@ pub struct SpotLight {
 }
 
 impl PluginType for SpotLight {
-    const TYPE_NAME: &'static str = "spot";
+    const TYPE_NAME: &'static str = "smooth_spot";
     const TYPE_VERSION: u32 = 1;
     const DESCRIPTION: &'static str = "point light emitting into a cone with a smooth edge";
     type Params = SpotParams;
