@@ -40,6 +40,9 @@ pub struct RenderArgs {
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
+    /// Plugin libraries whose types the scene may use.
+    #[command(flatten)]
+    pub plugins: super::plugin_args::PluginArgs,
 }
 
 /// Load the scene named by `args` (or the default) with the given factories.
@@ -50,9 +53,21 @@ pub fn load(args: &RenderArgs, factories: &[&dyn ObjectFactory]) -> Result<Scene
     }
 }
 
-/// Run `spectrace render` with the built-in types only.
+/// Run `spectrace render` with the built-in types and the plugins named in `args`.
 pub fn run(args: &RenderArgs) -> Result<(), String> {
-    run_with_factories(args, &[&BuiltinFactory])
+    let registry = std::sync::Arc::new(args.plugins.registry(false)?);
+    let faults = crate::plugin::adapter::PluginFaults::new();
+    let plugins = crate::plugin::factory::PluginFactory::new(registry, faults.clone());
+    let result = run_with_factories(args, &[&BuiltinFactory, &plugins]);
+    // Plugin calls that failed during rendering contributed nothing; say so, with the first cause.
+    if let Some(first) = faults.first() {
+        return Err(format!(
+            "{} plugin call(s) failed during rendering (their samples contributed nothing; the \
+             image was still written); first: {first}",
+            faults.count()
+        ));
+    }
+    result
 }
 
 /// Run `spectrace render`, building scene items with `factories` (plugins first, then
