@@ -110,6 +110,7 @@ pub fn intersect_triangle(
     }
 
     // Scaled distance, compared against [0, t_max·det] without dividing.
+    let max_z_world = az.abs().max(bz.abs()).max(cz.abs());
     let (az, bz, cz) = (az * wr.sz, bz * wr.sz, cz * wr.sz);
     let t_scaled = e0 * az + e1 * bz + e2 * cz;
     if det < 0.0 && (t_scaled >= 0.0 || t_scaled < t_max * det) {
@@ -125,13 +126,16 @@ pub fn intersect_triangle(
     }
 
     // Reject hits whose t is not provably > 0 given the rounding in the steps above
-    // (bounds derived term by term from γₙ of each operation chain).
+    // (bounds derived term by term from γₙ of each operation chain). The sheared x and y carry
+    // the error of `x + s_x·z` with the *unscaled* z (|s_x|, |s_y| ≤ 1 since z is the dominant
+    // axis); only t uses the z scaled by 1/d_z. Mixing the two (as some references do) inflates
+    // the bound enormously for short, unnormalised directions such as `spawn_ray_to`'s.
     let max_z = az.abs().max(bz.abs()).max(cz.abs());
     let delta_z = gamma(3) * max_z;
     let max_x = ax.abs().max(bx.abs()).max(cx.abs());
     let max_y = ay.abs().max(by.abs()).max(cy.abs());
-    let delta_x = gamma(5) * (max_x + max_z);
-    let delta_y = gamma(5) * (max_y + max_z);
+    let delta_x = gamma(5) * (max_x + max_z_world);
+    let delta_y = gamma(5) * (max_y + max_z_world);
     let delta_e = 2.0 * (gamma(2) * max_x * max_y + delta_y * max_x + delta_x * max_y);
     let max_e = e0.abs().max(e1.abs()).max(e2.abs());
     let delta_t =
