@@ -149,7 +149,9 @@ impl Sphere {
     fn cone_one_minus_cos(&self, reference: Vec3A) -> Option<(f64, f64)> {
         let r = self.radius as f64;
         let dist2 = (self.center.as_dvec3() - reference.as_dvec3()).length_squared();
-        if dist2 <= r * r {
+        // Points on the surface itself (rounded either way) must use area sampling: from there
+        // the "cone" is a whole hemisphere whose nearest hit is the point itself.
+        if dist2 <= r * r * (1.0 + 1e-4) {
             return None;
         }
         let sin2 = r * r / dist2;
