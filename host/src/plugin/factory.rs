@@ -2,7 +2,7 @@
 //! built-in factory and this one in turn; since the registry refuses a plugin type whose name a
 //! built-in (or another plugin) already has, at most one of them knows any name.
 
-use super::adapter::{Origin, PluginFaults, PluginLight, PluginMaterial, PluginSpd};
+use super::adapter::{Origin, PluginFaults, PluginLight, PluginMaterial, PluginObserver, PluginSpd};
 use super::registry::{Registry, RegistryError};
 use crate::light::Light;
 use crate::material::Material;
@@ -83,7 +83,7 @@ impl ObjectFactory for PluginFactory {
                     ObjectKind::Material => "material",
                     ObjectKind::Light => "light",
                     ObjectKind::Spd => "spd",
-                    ObjectKind::Observer => return None,
+                    ObjectKind::Observer => "observer",
                 };
                 Some((kind, t.name.to_string()))
             })
@@ -130,5 +130,19 @@ impl ObjectFactory for PluginFactory {
             .create_plugin_spd(type_name, ObjectSource::Params(RStr::from_str(&text)))
             .map_err(construct_error)?;
         Ok(Arc::new(PluginSpd::new(s, origin)))
+    }
+
+    fn observer(
+        &self,
+        type_name: &str,
+        params: &ron::Value,
+        _ctx: &FactoryContext,
+    ) -> Result<Arc<dyn crate::color::Observer>, FactoryError> {
+        let (text, origin) = self.prepare(ObjectKind::Observer, "observer", type_name, params)?;
+        let o = self
+            .registry
+            .create_plugin_observer(type_name, ObjectSource::Params(RStr::from_str(&text)))
+            .map_err(construct_error)?;
+        Ok(Arc::new(PluginObserver::new(o, origin)))
     }
 }

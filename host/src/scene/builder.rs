@@ -88,14 +88,20 @@ pub fn build_scene(
 
     // Observer and options.
     let obs_name = desc.observer.as_deref().unwrap_or("cie1931-2");
-    let kind = CieObserverKind::from_name(obs_name).ok_or_else(|| {
-        let names: Vec<&str> = CieObserverKind::ALL.iter().map(|k| k.name()).collect();
-        item_err(
-            "observer".into(),
-            format!("unknown observer `{obs_name}`; known: {}", names.join(", ")),
-        )
-    })?;
-    let observer: Arc<dyn Observer> = Arc::new(kind.get().clone());
+    let observer: Arc<dyn Observer> = match CieObserverKind::from_name(obs_name) {
+        Some(kind) => Arc::new(kind.get().clone()),
+        // Not a CIE name: an observer type from a factory (a plugin), with default parameters.
+        None => first_known(factories, "observer", obs_name, |f| {
+            f.observer(obs_name, &ron::Value::Unit, &ctx_for("observer"))
+        })
+        .map_err(|e| {
+            let names: Vec<&str> = CieObserverKind::ALL.iter().map(|k| k.name()).collect();
+            item_err(
+                "observer".into(),
+                format!("{e} (built-in observers: {})", names.join(", ")),
+            )
+        })?,
+    };
     let mut options = SceneOptions::default();
     if let Some(s) = desc.output.spp {
         options.spp = s.max(1);

@@ -96,6 +96,20 @@ pub trait ObjectFactory: Send + Sync {
         params: &Value,
         ctx: &FactoryContext,
     ) -> Result<Arc<dyn Spd>, FactoryError>;
+
+    /// A colour observer of type `type_name`, for a scene's `observer` that is not one of the
+    /// built-in CIE names (plugins can ship, say, a camera's sensor curves).
+    fn observer(
+        &self,
+        type_name: &str,
+        _params: &Value,
+        _ctx: &FactoryContext,
+    ) -> Result<Arc<dyn crate::color::Observer>, FactoryError> {
+        Err(FactoryError::UnknownType {
+            kind: "observer",
+            type_name: type_name.to_string(),
+        })
+    }
 }
 
 /// The built-in materials, lights and SPDs.
