@@ -434,6 +434,9 @@ impl Blob {
 
     /// The payload decoded into parameters (RON), by the plugin that wrote it.
     pub fn describe(&self, registry: &super::Registry) -> Result<String, BlobLoadError> {
+        if self.plugin == BUILTIN_PLUGIN {
+            return self.builtin_params();
+        }
         self.check_plugin(registry)?;
         registry
             .describe_plugin_state(self.kind, &self.type_name, self.type_version, &self.payload)
@@ -447,6 +450,105 @@ impl Blob {
             self.kind, self.plugin, self.plugin_version, self.type_name, self.type_version,
             self.payload.len()
         )
+    }
+}
+
+/// Built-in types: the payload is the parameters' RON text (bincode-encoded string), since the
+/// host itself reads it back.
+fn encode_builtin_params(text: &str) -> Vec<u8> {
+    spectrace_plugin_api::export::encode_state(&text.to_string()).unwrap_or_default()
+}
+
+impl Blob {
+    /// Save a built-in light (type and RON parameters) as a blob. The light is built once first,
+    /// so a blob with bad parameters is never written.
+    pub fn pack_builtin_light(type_name: &str, params: &ron::Value) -> Result<Blob, String> {
+        use crate::scene::{BuiltinFactory, FactoryContext, ObjectFactory};
+        let ctx = FactoryContext {
+            base_dir: std::path::PathBuf::from("."),
+            item: format!("light `{type_name}`"),
+        };
+        BuiltinFactory
+            .light(type_name, params, &ctx)
+            .map_err(|e| format!("built-in light `{type_name}`: {e}"))?;
+        let text = ron::to_string(params).map_err(|e| e.to_string())?;
+        Ok(Blob {
+            kind: ObjectKind::Light,
+            plugin: BUILTIN_PLUGIN.to_string(),
+            plugin_version: env!("CARGO_PKG_VERSION").to_string(),
+            type_name: type_name.to_string(),
+            type_version: 1,
+            payload: encode_builtin_params(&text),
+        })
+    }
+
+    /// Save the light named `light` of a scene file as a blob (built-in or plugin type).
+    pub fn pack_scene_light(
+        registry: &super::Registry,
+        scene: &Path,
+        light: &str,
+    ) -> Result<Blob, String> {
+        let text = std::fs::read_to_string(scene)
+            .map_err(|e| format!("{}: cannot read: {e}", scene.display()))?;
+        let desc = crate::scene::parse_scene_str(&text, scene).map_err(|e| e.to_string())?;
+        let item = desc.lights.iter().find(|l| l.name == light).ok_or_else(|| {
+            let names: Vec<&str> = desc.lights.iter().map(|l| l.name.as_str()).collect();
+            format!(
+                "{}: no light named `{light}` (lights: {})",
+                scene.display(),
+                names.join(", ")
+            )
+        })?;
+        match registry.plugin_for(ObjectKind::Light, &item.type_name) {
+            Ok(Some(_)) => {
+                let params = ron::to_string(&item.params).map_err(|e| e.to_string())?;
+                Blob::pack_plugin_light(registry, &item.type_name, &params)
+                    .map_err(|e| format!("{}: light `{light}`: {e}", scene.display()))
+            }
+            _ => Blob::pack_builtin_light(&item.type_name, &item.params)
+                .map_err(|e| format!("{}: light `{light}`: {e}", scene.display())),
+        }
+    }
+
+    fn builtin_params(&self) -> Result<String, BlobLoadError> {
+        spectrace_plugin_api::export::decode_state::<String>(&self.type_name, &self.payload)
+            .map_err(|error| {
+                BlobLoadError::Registry(super::RegistryError::Construct {
+                    kind: self.kind,
+                    name: self.type_name.clone(),
+                    provider: "built-in".into(),
+                    error,
+                })
+            })
+    }
+
+    /// Rebuild the light this blob holds as a renderer light, built-in or from its plugin.
+    pub fn instantiate_light(
+        &self,
+        registry: &super::Registry,
+        faults: &std::sync::Arc<super::adapter::PluginFaults>,
+    ) -> Result<std::sync::Arc<dyn crate::light::Light>, String> {
+        use crate::scene::{BuiltinFactory, FactoryContext, ObjectFactory};
+        if self.kind != ObjectKind::Light {
+            return Err(format!("holds a {}, not a light", self.kind));
+        }
+        if self.plugin == BUILTIN_PLUGIN {
+            let text = self.builtin_params().map_err(|e| e.to_string())?;
+            let params: ron::Value = ron::from_str(&text).map_err(|e| format!("bad parameters: {e}"))?;
+            let ctx = FactoryContext {
+                base_dir: std::path::PathBuf::from("."),
+                item: format!("light `{}`", self.type_name),
+            };
+            return BuiltinFactory
+                .light(&self.type_name, &params, &ctx)
+                .map_err(|e| e.to_string());
+        }
+        let light = self.load_plugin_light(registry).map_err(|e| e.to_string())?;
+        let origin = super::adapter::Origin {
+            label: format!("light `{}` (plugin {} {}, from a blob)", self.type_name, self.plugin, self.plugin_version),
+            faults: faults.clone(),
+        };
+        Ok(std::sync::Arc::new(super::adapter::PluginLight::new(light, origin)))
     }
 }
 

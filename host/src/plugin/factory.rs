@@ -68,13 +68,32 @@ fn construct_error(e: RegistryError) -> FactoryError {
     }
 }
 
+/// The light type that loads a blob file: `(type: "blob", params: (file: "lamp.blob"))`.
+pub const BLOB_LIGHT: &str = "blob";
+
+impl PluginFactory {
+    fn blob_light(
+        &self,
+        params: &ron::Value,
+        ctx: &FactoryContext,
+    ) -> Result<Arc<dyn Light>, FactoryError> {
+        let p = crate::scene::params::Params::new(params);
+        p.expect_only(&["file"])?;
+        let file = ctx.resolve(p.string("file")?);
+        let blob = super::blob::Blob::read_file(&file).map_err(|e| FactoryError::Param(e.to_string()))?;
+        blob.instantiate_light(&self.registry, &self.faults)
+            .map_err(|e| FactoryError::Param(format!("{}: {e}", file.display())))
+    }
+}
+
 impl ObjectFactory for PluginFactory {
     fn name(&self) -> &str {
         "plugins"
     }
 
     fn known_types(&self) -> Vec<(&'static str, String)> {
-        self.registry
+        std::iter::once(("light", BLOB_LIGHT.to_string()))
+            .chain(self.registry
             .plugins()
             .iter()
             .flat_map(|p| p.info.types.iter())
@@ -86,7 +105,7 @@ impl ObjectFactory for PluginFactory {
                     ObjectKind::Observer => "observer",
                 };
                 Some((kind, t.name.to_string()))
-            })
+            }))
             .collect()
     }
 
@@ -108,8 +127,11 @@ impl ObjectFactory for PluginFactory {
         &self,
         type_name: &str,
         params: &ron::Value,
-        _ctx: &FactoryContext,
+        ctx: &FactoryContext,
     ) -> Result<Arc<dyn Light>, FactoryError> {
+        if type_name == BLOB_LIGHT {
+            return self.blob_light(params, ctx);
+        }
         let (text, origin) = self.prepare(ObjectKind::Light, "light", type_name, params)?;
         let l = self
             .registry

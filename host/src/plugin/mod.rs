@@ -16,7 +16,8 @@ pub use loader::{LoadError, LoadedPlugin};
 pub fn builtin_registry() -> Registry {
     use crate::scene::{BuiltinFactory, ObjectFactory};
     let mut registry = Registry::new();
-    for (kind, name) in BuiltinFactory.known_types() {
+    let blob = ("light", factory::BLOB_LIGHT.to_string());
+    for (kind, name) in BuiltinFactory.known_types().into_iter().chain(std::iter::once(blob)) {
         let Some(kind) = ObjectKind::parse(kind) else {
             continue;
         };
