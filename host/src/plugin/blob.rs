@@ -435,7 +435,11 @@ impl Blob {
     /// The payload decoded into parameters (RON), by the plugin that wrote it.
     pub fn describe(&self, registry: &super::Registry) -> Result<String, BlobLoadError> {
         if self.plugin == BUILTIN_PLUGIN {
-            return self.builtin_params();
+            let text = self.builtin_params()?;
+            return Ok(match ron::from_str::<ron::Value>(&text) {
+                Ok(v) => super::ron_text::to_scene_syntax(&v),
+                Err(_) => text,
+            });
         }
         self.check_plugin(registry)?;
         registry

@@ -7,6 +7,7 @@ pub mod blob;
 pub mod factory;
 pub mod loader;
 pub mod registry;
+pub mod ron_text;
 pub mod services;
 
 pub use loader::{LoadError, LoadedPlugin};
