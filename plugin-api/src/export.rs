@@ -31,7 +31,11 @@ pub struct ParamDoc {
 
 impl ParamDoc {
     /// A parameter the scene must give.
-    pub const fn required(name: &'static str, unit: &'static str, description: &'static str) -> Self {
+    pub const fn required(
+        name: &'static str,
+        unit: &'static str,
+        description: &'static str,
+    ) -> Self {
         Self {
             name,
             unit,
@@ -85,7 +89,11 @@ pub fn type_info<T: PluginType>(kind: ObjectKind) -> TypeInfo {
             .map(|p| ParamInfo {
                 name: p.name.into(),
                 unit: p.unit.into(),
-                default: p.default.map(RString::from).map(ROption::RSome).unwrap_or(ROption::RNone),
+                default: p
+                    .default
+                    .map(RString::from)
+                    .map(ROption::RSome)
+                    .unwrap_or(ROption::RNone),
                 description: p.description.into(),
             })
             .collect::<RVec<_>>(),
@@ -97,9 +105,8 @@ pub fn type_info<T: PluginType>(kind: ObjectKind) -> TypeInfo {
 /// host re-serialises scene values without knowing the plugin's types. Syntax errors carry RON's
 /// line:column; others name the field.
 pub fn parse_params<P: DeserializeOwned>(type_name: &str, text: &str) -> PluginResult<P> {
-    let value: ron::Value = ron::from_str(text).map_err(|e| {
-        PluginError::invalid_parameter(format!("{type_name}: parameters: {e}"))
-    })?;
+    let value: ron::Value = ron::from_str(text)
+        .map_err(|e| PluginError::invalid_parameter(format!("{type_name}: parameters: {e}")))?;
     // `()` reads as the unit value; for parameters it means "all defaults".
     let value = match value {
         ron::Value::Unit => ron::Value::Map(ron::Map::new()),
@@ -119,7 +126,10 @@ pub fn encode_state<P: Serialize>(params: &P) -> PluginResult<Vec<u8>> {
 /// Decode saved state, refusing trailing bytes and oversized lengths.
 pub fn decode_state<P: DeserializeOwned>(type_name: &str, bytes: &[u8]) -> PluginResult<P> {
     let (p, used) = bincode::serde::decode_from_slice(bytes, bincode_config()).map_err(|e| {
-        PluginError::new(ErrorKind::BadState, format!("{type_name}: cannot decode state: {e}"))
+        PluginError::new(
+            ErrorKind::BadState,
+            format!("{type_name}: cannot decode state: {e}"),
+        )
     })?;
     if used != bytes.len() {
         return Err(PluginError::new(

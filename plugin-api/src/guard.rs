@@ -7,7 +7,10 @@ use abi_stable::std_types::RResult;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 /// Run `f`, returning its result or the caught panic as an error naming `what` was being done.
-pub fn guarded<T>(what: &str, f: impl FnOnce() -> Result<T, PluginError>) -> RResult<T, PluginError> {
+pub fn guarded<T>(
+    what: &str,
+    f: impl FnOnce() -> Result<T, PluginError>,
+) -> RResult<T, PluginError> {
     match catch_unwind(AssertUnwindSafe(f)) {
         Ok(Ok(v)) => RResult::ROk(v),
         Ok(Err(e)) => RResult::RErr(e),

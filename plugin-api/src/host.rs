@@ -32,7 +32,10 @@ impl<'a, 'b> Host<'a, 'b> {
     }
     /// Resolve an SPD spec (see the module docs) to an SPD the object may keep.
     pub fn spd(&self, spec: &str) -> PluginResult<SpdHandle> {
-        self.services.spd(RStr::from_str(spec)).into_result().map(SpdHandle)
+        self.services
+            .spd(RStr::from_str(spec))
+            .into_result()
+            .map(SpdHandle)
     }
 }
 

@@ -44,8 +44,8 @@ pub use module::{ObjectKind, PluginInfo, PluginModuleRef, TypeInfo, API_VERSION}
 pub use observer::{ColorObserver, ObserverBox};
 pub use spd::{spd_flags, Spd, SpdBox, SpdHandle};
 pub use types::{
-    Beam, Flags, RandomSample, SpectralValues, TransportMode, Vec3, WavelengthRange, Wavelengths, Xyz,
-    LANES,
+    Beam, Flags, RandomSample, SpectralValues, TransportMode, Vec3, WavelengthRange, Wavelengths,
+    Xyz, LANES,
 };
 
 /// Re-exported so plugins and the host use the very same abi_stable.

@@ -172,7 +172,11 @@ pub trait AbiLightSource: Send + Sync {
         lambda: &Wavelengths,
     ) -> RResult<IncidentSample, PluginError>;
     /// See [`LightSource::radiance`].
-    fn radiance(&self, direction: Vec3, lambda: &Wavelengths) -> RResult<SpectralValues, PluginError>;
+    fn radiance(
+        &self,
+        direction: Vec3,
+        lambda: &Wavelengths,
+    ) -> RResult<SpectralValues, PluginError>;
     /// See [`LightSource::incident_pdf`].
     fn incident_pdf(&self, receiver: Vec3, direction: Vec3) -> RResult<f64, PluginError>;
     /// The object's state as bytes (bincode of its parameters), for blobs.
@@ -235,10 +239,14 @@ impl<T: LightSource> AbiLightSource for GuardedLight<T> {
         sample: &RandomSample,
         lambda: &Wavelengths,
     ) -> RResult<EmissionSample, PluginError> {
-        guarded("sample_emission", || self.inner.sample_emission(sample, lambda))
+        guarded("sample_emission", || {
+            self.inner.sample_emission(sample, lambda)
+        })
     }
     fn emission_pdf(&self, origin: Vec3, direction: Vec3) -> RResult<EmissionPdf, PluginError> {
-        guarded("emission_pdf", || self.inner.emission_pdf(origin, direction))
+        guarded("emission_pdf", || {
+            self.inner.emission_pdf(origin, direction)
+        })
     }
     fn sample_toward(
         &self,
@@ -246,13 +254,21 @@ impl<T: LightSource> AbiLightSource for GuardedLight<T> {
         sample: &RandomSample,
         lambda: &Wavelengths,
     ) -> RResult<IncidentSample, PluginError> {
-        guarded("sample_toward", || self.inner.sample_toward(receiver, sample, lambda))
+        guarded("sample_toward", || {
+            self.inner.sample_toward(receiver, sample, lambda)
+        })
     }
-    fn radiance(&self, direction: Vec3, lambda: &Wavelengths) -> RResult<SpectralValues, PluginError> {
+    fn radiance(
+        &self,
+        direction: Vec3,
+        lambda: &Wavelengths,
+    ) -> RResult<SpectralValues, PluginError> {
         guarded("radiance", || self.inner.radiance(direction, lambda))
     }
     fn incident_pdf(&self, receiver: Vec3, direction: Vec3) -> RResult<f64, PluginError> {
-        guarded("incident_pdf", || self.inner.incident_pdf(receiver, direction))
+        guarded("incident_pdf", || {
+            self.inner.incident_pdf(receiver, direction)
+        })
     }
     fn save_state(&self) -> RResult<RVec<u8>, PluginError> {
         guarded("save_state", || (self.state)(&self.inner).map(RVec::from))

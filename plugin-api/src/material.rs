@@ -207,4 +207,3 @@ impl<T: Material> AbiMaterial for GuardedMaterial<T> {
         guarded("save_state", || (self.state)(&self.inner).map(RVec::from))
     }
 }
-

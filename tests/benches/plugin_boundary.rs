@@ -30,23 +30,36 @@ fn bench(c: &mut Criterion) {
 
     let mut in_process = Registry::new();
     in_process
-        .add_plugin(LoadedPlugin::from_module(spectrace_point_light::root_module(), "in-process").unwrap())
+        .add_plugin(
+            LoadedPlugin::from_module(spectrace_point_light::root_module(), "in-process").unwrap(),
+        )
         .unwrap();
     let abi_in_process = in_process
-        .create_plugin_light("isotropic_point", ObjectSource::Params(RStr::from_str(PARAMS)))
+        .create_plugin_light(
+            "isotropic_point",
+            ObjectSource::Params(RStr::from_str(PARAMS)),
+        )
         .unwrap();
 
     let mut loaded = Registry::new();
-    loaded.load_plugin(&plugin_library("spectrace-point-light")).unwrap();
+    loaded
+        .load_plugin(&plugin_library("spectrace-point-light"))
+        .unwrap();
     let abi_loaded = loaded
-        .create_plugin_light("isotropic_point", ObjectSource::Params(RStr::from_str(PARAMS)))
+        .create_plugin_light(
+            "isotropic_point",
+            ObjectSource::Params(RStr::from_str(PARAMS)),
+        )
         .unwrap();
 
-    let mut sample = RandomSample::default();
-    sample.u = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8];
+    let sample = RandomSample {
+        u: [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8],
+    };
 
     let mut g = c.benchmark_group("next_beam");
-    g.bench_function("built_in", |b| b.iter(|| direct.next_beam(black_box(&sample)).unwrap()));
+    g.bench_function("built_in", |b| {
+        b.iter(|| direct.next_beam(black_box(&sample)).unwrap())
+    });
     g.bench_function("abi_in_process", |b| {
         b.iter(|| abi_in_process.next_beam(black_box(&sample)).unwrap())
     });
@@ -56,7 +69,9 @@ fn bench(c: &mut Criterion) {
     g.finish();
 
     let mut g = c.benchmark_group("total_power_w");
-    g.bench_function("built_in", |b| b.iter(|| black_box(direct).total_power_w().unwrap()));
+    g.bench_function("built_in", |b| {
+        b.iter(|| black_box(direct).total_power_w().unwrap())
+    });
     g.bench_function("abi_loaded_library", |b| {
         b.iter(|| black_box(&abi_loaded).total_power_w().unwrap())
     });

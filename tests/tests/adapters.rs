@@ -39,7 +39,11 @@ fn receivers() -> Vec<Vec3A> {
     let mut v = Vec::new();
     for i in 0..40 {
         let t = i as f32 * 0.37;
-        v.push(Vec3A::new(3.0 * t.sin(), -2.0 + 0.1 * i as f32, 2.5 * t.cos()));
+        v.push(Vec3A::new(
+            3.0 * t.sin(),
+            -2.0 + 0.1 * i as f32,
+            2.5 * t.cos(),
+        ));
     }
     v
 }
@@ -70,7 +74,9 @@ fn plugin_and_host_point_lights_agree() {
             n: Vec3A::Y,
         };
         let a = host.sample_li(&ctx, Vec2::new(0.2, 0.7), &lambda).unwrap();
-        let b = plugin.sample_li(&ctx, Vec2::new(0.2, 0.7), &lambda).unwrap();
+        let b = plugin
+            .sample_li(&ctx, Vec2::new(0.2, 0.7), &lambda)
+            .unwrap();
         for i in 0..4 {
             assert_close(a.radiance[i], b.radiance[i], "point radiance");
         }
@@ -113,7 +119,10 @@ fn plugin_and_host_spot_lights_agree() {
             )
         })
         .collect();
-    let peak = pairs.iter().map(|(a, _)| a.max_value()).fold(0.0f32, f32::max);
+    let peak = pairs
+        .iter()
+        .map(|(a, _)| a.max_value())
+        .fold(0.0f32, f32::max);
     let mut lit = 0;
     for (ra, rb) in &pairs {
         for k in 0..4 {
@@ -121,13 +130,21 @@ fn plugin_and_host_spot_lights_agree() {
             // cut-off the host's f32 smoothstep loses digits to cancellation in cos − cos_outer
             // (relative error ≈ 2ε/(cos − cos_outer)), while the value itself is ≪ the peak.
             let tol = 1e-4 * ra[k].abs().max(rb[k].abs()) + 1e-5 * peak;
-            assert!((ra[k] - rb[k]).abs() <= tol, "spot radiance {} vs {}", ra[k], rb[k]);
+            assert!(
+                (ra[k] - rb[k]).abs() <= tol,
+                "spot radiance {} vs {}",
+                ra[k],
+                rb[k]
+            );
         }
         if !ra.is_black() {
             lit += 1;
         }
     }
-    assert!(lit > 50 && lit < 400, "receivers should straddle the cone edge ({lit} lit)");
+    assert!(
+        lit > 50 && lit < 400,
+        "receivers should straddle the cone edge ({lit} lit)"
+    );
 }
 
 #[test]
@@ -159,7 +176,10 @@ fn plugin_failures_become_faults_not_panics() {
     assert!(light.next_beam(&u).is_none());
     assert_eq!(faults.count(), 1);
     let msg = faults.first().unwrap();
-    assert!(msg.contains("panicking") && msg.contains("deliberate panic"), "{msg}");
+    assert!(
+        msg.contains("panicking") && msg.contains("deliberate panic"),
+        "{msg}"
+    );
 }
 
 #[test]

@@ -22,7 +22,9 @@ fn samples(n: usize) -> Vec<RandomSample> {
         .map(|_| {
             let mut s = RandomSample::default();
             for u in &mut s.u {
-                state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                state = state
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
                 *u = (state >> 11) as f64 / (1u64 << 53) as f64;
             }
             s
@@ -32,7 +34,8 @@ fn samples(n: usize) -> Vec<RandomSample> {
 
 fn registry_with(path: &Path) -> Registry {
     let mut r = Registry::new();
-    r.load_plugin(path).unwrap_or_else(|e| panic!("{}", e.verbose()));
+    r.load_plugin(path)
+        .unwrap_or_else(|e| panic!("{}", e.verbose()));
     r
 }
 
@@ -76,7 +79,9 @@ fn point_light_beams_average_to_its_flux() {
     // Spot light: power varies with angle; 20 000 beams give a relative standard error below
     // 0.5%, so 2% is a > 4σ bound.
     let r = registry_with(&plugin_library("spectrace-point-light"));
-    let point = r.create_plugin_light("isotropic_point", params(POINT_PARAMS)).unwrap();
+    let point = r
+        .create_plugin_light("isotropic_point", params(POINT_PARAMS))
+        .unwrap();
     for s in samples(100) {
         assert_eq!(point.next_beam(&s).unwrap().power_w, 60.0);
     }
@@ -92,7 +97,10 @@ fn point_light_beams_average_to_its_flux() {
         .map(|s| spot.next_beam(s).unwrap().power_w)
         .sum::<f64>()
         / n as f64;
-    assert!((mean / 15.0 - 1.0).abs() < 0.02, "mean beam power {mean} W vs 15 W");
+    assert!(
+        (mean / 15.0 - 1.0).abs() < 0.02,
+        "mean beam power {mean} W vs 15 W"
+    );
 }
 
 #[test]
@@ -100,11 +108,17 @@ fn plugins_list_their_types_with_parameters() {
     let r = registry_with(&plugin_library("spectrace-point-light"));
     let p = &r.plugins()[0];
     assert_eq!(p.info.name.as_str(), "point-light");
-    assert_eq!(p.info.api_version.as_str(), spectrace_plugin_api::API_VERSION);
+    assert_eq!(
+        p.info.api_version.as_str(),
+        spectrace_plugin_api::API_VERSION
+    );
     let names: Vec<&str> = p.info.types.iter().map(|t| t.name.as_str()).collect();
     assert_eq!(names, ["isotropic_point", "smooth_spot"]);
     let point = &p.info.types[0];
-    assert!(point.params.iter().any(|q| q.name.as_str() == "power_w" && q.unit.as_str() == "W"));
+    assert!(point
+        .params
+        .iter()
+        .any(|q| q.name.as_str() == "power_w" && q.unit.as_str() == "W"));
 }
 
 #[test]
@@ -114,24 +128,39 @@ fn a_file_that_is_not_a_library_is_refused() {
     let fake = dir.join("libfake.so");
     std::fs::write(&fake, b"this is text, not ELF").unwrap();
     let e = Registry::new().load_plugin(&fake).unwrap_err().to_string();
-    assert!(e.contains("libfake.so") && e.contains("not a loadable shared library"), "{e}");
+    assert!(
+        e.contains("libfake.so") && e.contains("not a loadable shared library"),
+        "{e}"
+    );
     let missing = dir.join("libmissing.so");
-    let e = Registry::new().load_plugin(&missing).unwrap_err().to_string();
-    assert!(e.contains("libmissing.so") && e.contains("no such file"), "{e}");
+    let e = Registry::new()
+        .load_plugin(&missing)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("libmissing.so") && e.contains("no such file"),
+        "{e}"
+    );
 }
 
 #[test]
 fn a_library_without_root_module_is_refused() {
     let path = plugin_library("spectrace-fixture-not-a-plugin");
     let e = Registry::new().load_plugin(&path).unwrap_err().to_string();
-    assert!(e.contains("not a spectrace plugin") && e.contains("root module"), "{e}");
+    assert!(
+        e.contains("not a spectrace plugin") && e.contains("root module"),
+        "{e}"
+    );
 }
 
 #[test]
 fn a_plugin_built_against_another_api_version_is_refused() {
     let path = plugin_library("spectrace-fixture-old-api");
     let e = Registry::new().load_plugin(&path).unwrap_err().to_string();
-    assert!(e.contains("spectrace_fixture_old_api"), "names the file: {e}");
+    assert!(
+        e.contains("spectrace_fixture_old_api"),
+        "names the file: {e}"
+    );
     assert!(
         e.contains("built against spectrace-plugin-api 0.0.1") && e.contains("too old"),
         "{e}"
@@ -163,8 +192,14 @@ fn duplicate_types_and_plugins_are_refused_naming_both() {
     })
     .unwrap();
     let e = r.load_plugin(&path).unwrap_err().to_string();
-    assert!(e.contains("duplicate light type `isotropic_point`") && e.contains("built-in"), "{e}");
-    assert!(r.plugins().is_empty(), "nothing of a refused plugin is registered");
+    assert!(
+        e.contains("duplicate light type `isotropic_point`") && e.contains("built-in"),
+        "{e}"
+    );
+    assert!(
+        r.plugins().is_empty(),
+        "nothing of a refused plugin is registered"
+    );
 
     let mut r = registry_with(&path);
     let e = r.load_plugin(&path).unwrap_err().to_string();
@@ -177,7 +212,10 @@ fn unknown_types_list_what_exists() {
     let e = r.create_plugin_light("laser", params("()")).err().unwrap();
     assert!(matches!(e, RegistryError::UnknownType { .. }));
     let msg = e.to_string();
-    assert!(msg.contains("unknown light type `laser`") && msg.contains("isotropic_point, smooth_spot"), "{msg}");
+    assert!(
+        msg.contains("unknown light type `laser`") && msg.contains("isotropic_point, smooth_spot"),
+        "{msg}"
+    );
 }
 
 #[test]
@@ -187,11 +225,18 @@ fn constructor_errors_name_the_parameter() {
         ("(position: (0,0,0), power_w: -5.0)", "power_w"),
         ("(power_w: 5.0)", "position"),
         ("(position: (0,0,0), power_w: 5.0, colour: 3)", "colour"),
-        ("(position: (0,0,0), power_w: 5.0, spd: \"no-such-spectrum\")", "no-such-spectrum"),
+        (
+            "(position: (0,0,0), power_w: 5.0, spd: \"no-such-spectrum\")",
+            "no-such-spectrum",
+        ),
         ("(position: (0,0,0), power_w: ", "parameters"),
     ];
     for (text, needle) in cases {
-        let msg = r.create_plugin_light("isotropic_point", params(text)).err().unwrap().to_string();
+        let msg = r
+            .create_plugin_light("isotropic_point", params(text))
+            .err()
+            .unwrap()
+            .to_string();
         assert!(msg.contains(needle), "`{text}` → {msg}");
         assert!(msg.contains("point-light"), "names the plugin: {msg}");
     }
@@ -205,18 +250,28 @@ fn a_panicking_plugin_is_reported_and_the_host_goes_on() {
     s.u[0] = 0.9;
     let e = light.next_beam(&s).into_result().unwrap_err();
     assert_eq!(e.kind, ErrorKind::Panic);
-    assert!(e.message.as_str().contains("deliberate panic in next_beam"), "{e}");
+    assert!(
+        e.message.as_str().contains("deliberate panic in next_beam"),
+        "{e}"
+    );
     // Still usable after the panic.
     s.u[0] = 0.1;
     assert_eq!(light.next_beam(&s).unwrap().wavelength_nm, 550.0);
-    assert_eq!(light.number_of_beams(), 1.0, "the panicked call emitted no beam");
+    assert_eq!(
+        light.number_of_beams(),
+        1.0,
+        "the panicked call emitted no beam"
+    );
 
     let e = r
         .create_plugin_light("panicking", params("(panic_in_constructor: true)"))
         .err()
         .unwrap()
         .to_string();
-    assert!(e.contains("plugin panicked") && e.contains("told to panic"), "{e}");
+    assert!(
+        e.contains("plugin panicked") && e.contains("told to panic"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -242,6 +297,10 @@ fn plugin_types_join_the_built_ins_in_one_registry() {
     assert!(r.contains(ObjectKind::Material, "lambertian"));
     assert!(r.plugin_for(ObjectKind::Light, "point").unwrap().is_none());
     // … so a plugin with distinct names loads beside them, and one reusing a name is refused.
-    r.load_plugin(&plugin_library("spectrace-point-light")).unwrap();
-    assert!(r.plugin_for(ObjectKind::Light, "isotropic_point").unwrap().is_some());
+    r.load_plugin(&plugin_library("spectrace-point-light"))
+        .unwrap();
+    assert!(r
+        .plugin_for(ObjectKind::Light, "isotropic_point")
+        .unwrap()
+        .is_some());
 }

@@ -18,7 +18,9 @@ fn scene_path() -> PathBuf {
 fn render_mean(path: &Path, with_plugin: bool) -> ([f64; 3], u64, Arc<PluginFaults>) {
     let mut registry = spectrace::plugin::builtin_registry();
     if with_plugin {
-        registry.load_plugin(&plugin_library("spectrace-point-light")).unwrap();
+        registry
+            .load_plugin(&plugin_library("spectrace-point-light"))
+            .unwrap();
     }
     let faults = PluginFaults::new();
     let plugins = PluginFactory::new(Arc::new(registry), faults.clone());
@@ -55,7 +57,8 @@ fn plugin_spot_and_builtin_spot_render_the_same_image() {
                   outer_angle: 35, power: 3000, spd: "fl11")),"#,
     );
     assert_ne!(builtin, text, "the replacement must have matched");
-    let path = std::env::temp_dir().join(format!("spectrace-builtin-spot-{}.ron", std::process::id()));
+    let path =
+        std::env::temp_dir().join(format!("spectrace-builtin-spot-{}.ron", std::process::id()));
     std::fs::write(&path, builtin).unwrap();
     let (builtin_mean, _, _) = render_mean(&path, false);
 
@@ -66,7 +69,12 @@ fn plugin_spot_and_builtin_spot_render_the_same_image() {
     // normalisation or cos factor would be tens of percent).
     for c in 0..3 {
         let rel = (plugin_mean[c] - builtin_mean[c]).abs() / builtin_mean[c];
-        assert!(rel < 5e-3, "channel {c}: plugin {} vs built-in {}", plugin_mean[c], builtin_mean[c]);
+        assert!(
+            rel < 5e-3,
+            "channel {c}: plugin {} vs built-in {}",
+            plugin_mean[c],
+            builtin_mean[c]
+        );
     }
 }
 
@@ -77,6 +85,12 @@ fn a_scene_naming_a_plugin_type_without_the_plugin_says_so() {
     let faults = PluginFaults::new();
     let plugins = PluginFactory::new(Arc::new(registry), faults);
     let factories: [&dyn ObjectFactory; 2] = [&BuiltinFactory, &plugins];
-    let e = load_scene_file(&scene_path(), &factories).err().unwrap().to_string();
-    assert!(e.contains("plugin_spot.ron") && e.contains("smooth_spot"), "{e}");
+    let e = load_scene_file(&scene_path(), &factories)
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(
+        e.contains("plugin_spot.ron") && e.contains("smooth_spot"),
+        "{e}"
+    );
 }

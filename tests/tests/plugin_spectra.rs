@@ -18,8 +18,10 @@ use std::sync::Arc;
 
 fn registry() -> Registry {
     let mut r = spectrace::plugin::builtin_registry();
-    r.load_plugin(&plugin_library("spectrace-sensor-spectra")).unwrap();
-    r.load_plugin(&plugin_library("spectrace-point-light")).unwrap();
+    r.load_plugin(&plugin_library("spectrace-sensor-spectra"))
+        .unwrap();
+    r.load_plugin(&plugin_library("spectrace-point-light"))
+        .unwrap();
     r
 }
 
@@ -33,7 +35,9 @@ fn origin() -> Origin {
 fn lcg(n: usize, mut state: u64) -> Vec<f64> {
     (0..n)
         .map(|_| {
-            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             (state >> 11) as f64 / (1u64 << 53) as f64
         })
         .collect()
@@ -55,7 +59,9 @@ fn lorentzian_spd_is_normalised_and_samples_itself() {
     // here, so 1e-6 checks the normalisation itself.
     let h = 0.01;
     let n = ((830.0 - 360.0) / h) as usize;
-    let integral: f64 = (0..n).map(|i| spd.value(360.0 + (i as f64 + 0.5) * h) * h).sum();
+    let integral: f64 = (0..n)
+        .map(|i| spd.value(360.0 + (i as f64 + 0.5) * h) * h)
+        .sum();
     assert!((integral - 1.0).abs() < 1e-6, "∫ = {integral}");
 
     // Chi-square of 200 000 draws over 40 bins of equal width against the bins' exact
@@ -69,14 +75,19 @@ fn lorentzian_spd_is_normalised_and_samples_itself() {
     for u in lcg(draws, 17) {
         let s = spd.sample(u);
         assert!(s.pdf > 0.0 && s.pdf.is_finite());
-        assert!((s.pdf - spd.value(s.lambda)).abs() <= 1e-12 * s.pdf, "pdf equals value");
+        assert!(
+            (s.pdf - spd.value(s.lambda)).abs() <= 1e-12 * s.pdf,
+            "pdf equals value"
+        );
         let b = (((s.lambda - 360.0) / width) as usize).min(bins - 1);
         counts[b] += 1;
     }
     let mut chi2 = 0.0;
     for (b, &c) in counts.iter().enumerate() {
         let lo = 360.0 + b as f64 * width;
-        let p: f64 = (0..1000).map(|i| spd.value(lo + (i as f64 + 0.5) * width / 1000.0) * width / 1000.0).sum();
+        let p: f64 = (0..1000)
+            .map(|i| spd.value(lo + (i as f64 + 0.5) * width / 1000.0) * width / 1000.0)
+            .sum();
         let expected = p * draws as f64;
         if expected > 5.0 {
             chi2 += (c as f64 - expected).powi(2) / expected;
@@ -111,22 +122,33 @@ fn one_plugins_light_uses_another_plugins_spd() {
     nm.sort_by(|a, b| a.partial_cmp(b).unwrap());
     let q = |f: f64| nm[(f * nm.len() as f64) as usize];
     assert!((q(0.5) - 589.3).abs() < 0.05, "median {}", q(0.5));
-    assert!(((q(0.75) - q(0.25)) - 1.2).abs() < 0.05, "IQR {}", q(0.75) - q(0.25));
+    assert!(
+        ((q(0.75) - q(0.25)) - 1.2).abs() < 0.05,
+        "IQR {}",
+        q(0.75) - q(0.25)
+    );
 }
 
 #[test]
 fn sensor_observer_through_the_adapter() {
     let r = registry();
     let obs = PluginObserver::new(
-        r.create_plugin_observer("gaussian_sensor", ObjectSource::Params(RStr::from_str("()")))
-            .unwrap(),
+        r.create_plugin_observer(
+            "gaussian_sensor",
+            ObjectSource::Params(RStr::from_str("()")),
+        )
+        .unwrap(),
         origin(),
     );
     assert_eq!(obs.name(), "gaussian-sensor");
     assert_eq!(obs.range(), (360.0, 830.0));
     let v = obs.xyz_bar(600.0);
     // Channels peak at 600/540/450 nm with σ 40/40/30 nm: closed form at 600 nm.
-    let expect = [1.0, (-0.5f64 * 1.5 * 1.5).exp(), (-0.5f64 * 5.0 * 5.0).exp()];
+    let expect = [
+        1.0,
+        (-0.5f64 * 1.5 * 1.5).exp(),
+        (-0.5f64 * 5.0 * 5.0).exp(),
+    ];
     for c in 0..3 {
         assert!((v[c] - expect[c]).abs() < 1e-15, "{v:?} vs {expect:?}");
     }
@@ -161,8 +183,13 @@ fn a_scene_can_render_with_a_plugin_observer() {
     assert_eq!(faults.count(), 0);
 
     // An observer nobody provides is an error naming it and the built-in ones.
-    let bad = std::fs::read_to_string(&path).unwrap().replace("gaussian_sensor", "no_such_eye");
+    let bad = std::fs::read_to_string(&path)
+        .unwrap()
+        .replace("gaussian_sensor", "no_such_eye");
     std::fs::write(&path, bad).unwrap();
-    let e = load_scene_file(&path, &factories).err().unwrap().to_string();
+    let e = load_scene_file(&path, &factories)
+        .err()
+        .unwrap()
+        .to_string();
     assert!(e.contains("no_such_eye") && e.contains("cie1931-2"), "{e}");
 }

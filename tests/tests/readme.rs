@@ -15,7 +15,10 @@ fn workspace_file(rel: &str) -> String {
 #[test]
 fn readme_shows_the_example_plugin_verbatim() {
     let readme = workspace_file("README.md");
-    for file in ["plugins/example-laser/src/lib.rs", "plugins/example-laser/Cargo.toml"] {
+    for file in [
+        "plugins/example-laser/src/lib.rs",
+        "plugins/example-laser/Cargo.toml",
+    ] {
         let code = workspace_file(file);
         assert!(
             readme.contains(code.trim_end()),
@@ -29,13 +32,17 @@ fn readme_commands_match_ci() {
     let readme = workspace_file("README.md");
     let ci = workspace_file(".ci/run");
     let command = ci.lines().last().unwrap().trim();
-    assert!(readme.contains(command), "README must give the CI test command `{command}`");
+    assert!(
+        readme.contains(command),
+        "README must give the CI test command `{command}`"
+    );
 }
 
 #[test]
 fn the_example_laser_loads_and_emits_its_line() {
     let mut r = Registry::new();
-    r.load_plugin(&plugin_library("spectrace-example-laser")).unwrap();
+    r.load_plugin(&plugin_library("spectrace-example-laser"))
+        .unwrap();
     let laser = r
         .create_plugin_light(
             "laser",
@@ -50,10 +57,16 @@ fn the_example_laser_loads_and_emits_its_line() {
     let b = laser.next_beam(&s).unwrap();
     assert_eq!(b.wavelength_nm, 532.0);
     assert_eq!(b.power_w, 0.005);
-    assert_eq!((b.direction.x, b.direction.y, b.direction.z), (0.0, 0.0, -1.0));
+    assert_eq!(
+        (b.direction.x, b.direction.y, b.direction.z),
+        (0.0, 0.0, -1.0)
+    );
     // The start point lies in the aperture disk (radius 0.01 in the z = 0 plane around (0,1,0)).
     let off = b.origin - spectrace_plugin_api::Vec3::new(0.0, 1.0, 0.0);
-    assert!(off.length() <= 0.01 + 1e-15 && off.z.abs() < 1e-15, "{off:?}");
+    assert!(
+        off.length() <= 0.01 + 1e-15 && off.z.abs() < 1e-15,
+        "{off:?}"
+    );
     // Beams only: it offers no connection capability, so the host must trace its beams.
     assert_eq!(laser.capabilities().0, 0);
 }

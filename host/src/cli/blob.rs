@@ -58,8 +58,8 @@ pub fn run(cmd: &BlobCommand, verbose: bool) -> Result<(), String> {
                         Ok(Some(_)) => Blob::pack_plugin_light(&registry, type_name, params)
                             .map_err(|e| e.to_string())?,
                         Ok(None) => {
-                            let value: ron::Value = ron::from_str(params)
-                                .map_err(|e| format!("--params: {e}"))?;
+                            let value: ron::Value =
+                                ron::from_str(params).map_err(|e| format!("--params: {e}"))?;
                             Blob::pack_builtin_light(type_name, &value)?
                         }
                         Err(e) => return Err(e.to_string()),

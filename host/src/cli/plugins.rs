@@ -19,7 +19,9 @@ pub struct PluginsArgs {
 pub fn run(args: &PluginsArgs, verbose: bool) -> Result<(), String> {
     let registry = args.plugins.registry(verbose)?;
     if registry.plugins().is_empty() {
-        println!("no plugins loaded (use --plugin PATH or --dir DIR, or set SPECTRACE_PLUGIN_PATH)");
+        println!(
+            "no plugins loaded (use --plugin PATH or --dir DIR, or set SPECTRACE_PLUGIN_PATH)"
+        );
     }
     for p in registry.plugins() {
         println!(
@@ -30,7 +32,10 @@ pub fn run(args: &PluginsArgs, verbose: bool) -> Result<(), String> {
             p.path.display()
         );
         for t in p.info.types.iter() {
-            println!("  {} `{}` v{}: {}", t.kind, t.name, t.version, t.description);
+            println!(
+                "  {} `{}` v{}: {}",
+                t.kind, t.name, t.version, t.description
+            );
             for q in t.params.iter() {
                 let unit = if q.unit.is_empty() {
                     String::new()
@@ -47,8 +52,14 @@ pub fn run(args: &PluginsArgs, verbose: bool) -> Result<(), String> {
     }
     if args.builtins {
         println!("built-in types:");
-        for t in registry.types().filter(|t| matches!(t.provider, Provider::Builtin)) {
-            println!("  {} `{}`: {}", t.info.kind, t.info.name, t.info.description);
+        for t in registry
+            .types()
+            .filter(|t| matches!(t.provider, Provider::Builtin))
+        {
+            println!(
+                "  {} `{}`: {}",
+                t.info.kind, t.info.name, t.info.description
+            );
         }
     }
     Ok(())

@@ -236,13 +236,13 @@ fn material_bits(f: Flags, transmission_event: Option<bool>) -> MaterialFlags {
     let mut out = MaterialFlags::NONE;
     for (p, h) in pairs {
         if f.contains(p) {
-            out = out | h;
+            out |= h;
         }
     }
     // The plugin interface has no reflection bit: a material reflects unless an event says it
     // transmitted.
     if transmission_event != Some(true) {
-        out = out | MaterialFlags::REFLECTION;
+        out |= MaterialFlags::REFLECTION;
     }
     out
 }
@@ -305,7 +305,10 @@ impl Material for PluginMaterial {
                 wi: va(s.wi),
                 f: spectrum(s.value),
                 pdf: s.pdf as f32,
-                flags: material_bits(s.flags, Some(s.flags.contains(material_flags::TRANSMISSION))),
+                flags: material_bits(
+                    s.flags,
+                    Some(s.flags.contains(material_flags::TRANSMISSION)),
+                ),
                 eta: s.eta as f32,
             }),
             Err(e) => self.origin.fail(e, None),
@@ -348,7 +351,12 @@ impl Material for PluginMaterial {
         }
     }
 
-    fn emitted(&self, wo: Vec3A, ctx: &ShadingContext, lambda: &SampledWavelengths) -> SampledSpectrum {
+    fn emitted(
+        &self,
+        wo: Vec3A,
+        ctx: &ShadingContext,
+        lambda: &SampledWavelengths,
+    ) -> SampledSpectrum {
         if !self.flags.contains(MaterialFlags::EMISSIVE) {
             return SampledSpectrum::zero();
         }
@@ -450,7 +458,6 @@ impl PluginLight {
             origin,
         }
     }
-
 }
 
 impl fmt::Debug for PluginLight {
@@ -556,11 +563,18 @@ impl Light for PluginLight {
         if self.flags.contains(LightFlags::BEAMS_ONLY) {
             return (0.0, 0.0);
         }
-        match self.light.emission_pdf(v3(ray.origin), v3(ray.dir)).into_result() {
+        match self
+            .light
+            .emission_pdf(v3(ray.origin), v3(ray.dir))
+            .into_result()
+        {
             Ok(p) => (p.position as f32, p.direction as f32),
             Err(e) => self.origin.fail(e, (0.0, 0.0)),
         }
     }
 }
 
-const _: () = assert!(LANES == spectrace_plugin_api::LANES, "host and ABI lane counts agree");
+const _: () = assert!(
+    LANES == spectrace_plugin_api::LANES,
+    "host and ABI lane counts agree"
+);

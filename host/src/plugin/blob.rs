@@ -380,16 +380,18 @@ impl Blob {
         let plugin = registry
             .plugin_for(ObjectKind::Light, type_name)?
             .expect("plugin_for is Some for plugin types");
-        let light =
-            registry.create_plugin_light(type_name, ObjectSource::Params(RStr::from_str(params_ron)))?;
-        let payload = light.save_state().into_result().map_err(|error| {
-            super::RegistryError::Construct {
-                kind: ObjectKind::Light,
-                name: type_name.to_string(),
-                provider: entry.provider.describe(),
-                error,
-            }
-        })?;
+        let light = registry
+            .create_plugin_light(type_name, ObjectSource::Params(RStr::from_str(params_ron)))?;
+        let payload =
+            light
+                .save_state()
+                .into_result()
+                .map_err(|error| super::RegistryError::Construct {
+                    kind: ObjectKind::Light,
+                    name: type_name.to_string(),
+                    provider: entry.provider.describe(),
+                    error,
+                })?;
         Ok(Blob {
             kind: ObjectKind::Light,
             plugin: plugin.info.name.to_string(),
@@ -401,7 +403,10 @@ impl Blob {
     }
 
     fn check_plugin(&self, registry: &super::Registry) -> Result<(), BlobLoadError> {
-        let loaded = registry.plugins().iter().any(|p| p.info.name.as_str() == self.plugin);
+        let loaded = registry
+            .plugins()
+            .iter()
+            .any(|p| p.info.name.as_str() == self.plugin);
         if !loaded {
             return Err(BlobLoadError::MissingPlugin {
                 plugin: self.plugin.clone(),
@@ -495,14 +500,18 @@ impl Blob {
         let text = std::fs::read_to_string(scene)
             .map_err(|e| format!("{}: cannot read: {e}", scene.display()))?;
         let desc = crate::scene::parse_scene_str(&text, scene).map_err(|e| e.to_string())?;
-        let item = desc.lights.iter().find(|l| l.name == light).ok_or_else(|| {
-            let names: Vec<&str> = desc.lights.iter().map(|l| l.name.as_str()).collect();
-            format!(
-                "{}: no light named `{light}` (lights: {})",
-                scene.display(),
-                names.join(", ")
-            )
-        })?;
+        let item = desc
+            .lights
+            .iter()
+            .find(|l| l.name == light)
+            .ok_or_else(|| {
+                let names: Vec<&str> = desc.lights.iter().map(|l| l.name.as_str()).collect();
+                format!(
+                    "{}: no light named `{light}` (lights: {})",
+                    scene.display(),
+                    names.join(", ")
+                )
+            })?;
         match registry.plugin_for(ObjectKind::Light, &item.type_name) {
             Ok(Some(_)) => {
                 let params = ron::to_string(&item.params).map_err(|e| e.to_string())?;
@@ -538,7 +547,8 @@ impl Blob {
         }
         if self.plugin == BUILTIN_PLUGIN {
             let text = self.builtin_params().map_err(|e| e.to_string())?;
-            let params: ron::Value = ron::from_str(&text).map_err(|e| format!("bad parameters: {e}"))?;
+            let params: ron::Value =
+                ron::from_str(&text).map_err(|e| format!("bad parameters: {e}"))?;
             let ctx = FactoryContext {
                 base_dir: std::path::PathBuf::from("."),
                 item: format!("light `{}`", self.type_name),
@@ -547,12 +557,19 @@ impl Blob {
                 .light(&self.type_name, &params, &ctx)
                 .map_err(|e| e.to_string());
         }
-        let light = self.load_plugin_light(registry).map_err(|e| e.to_string())?;
+        let light = self
+            .load_plugin_light(registry)
+            .map_err(|e| e.to_string())?;
         let origin = super::adapter::Origin {
-            label: format!("light `{}` (plugin {} {}, from a blob)", self.type_name, self.plugin, self.plugin_version),
+            label: format!(
+                "light `{}` (plugin {} {}, from a blob)",
+                self.type_name, self.plugin, self.plugin_version
+            ),
             faults: faults.clone(),
         };
-        Ok(std::sync::Arc::new(super::adapter::PluginLight::new(light, origin)))
+        Ok(std::sync::Arc::new(super::adapter::PluginLight::new(
+            light, origin,
+        )))
     }
 }
 
@@ -606,7 +623,10 @@ mod tests {
         let mut bytes = sample().encode().unwrap();
         let len_at = bytes.len() - 5 - 4 - 8;
         bytes[len_at..len_at + 8].copy_from_slice(&u64::MAX.to_le_bytes());
-        assert!(matches!(Blob::decode(&bytes), Err(BlobError::PayloadTooLarge(_))));
+        assert!(matches!(
+            Blob::decode(&bytes),
+            Err(BlobError::PayloadTooLarge(_))
+        ));
         bytes[len_at..len_at + 8].copy_from_slice(&1000u64.to_le_bytes());
         assert!(matches!(
             Blob::decode(&bytes),

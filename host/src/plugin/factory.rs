@@ -2,7 +2,9 @@
 //! built-in factory and this one in turn; since the registry refuses a plugin type whose name a
 //! built-in (or another plugin) already has, at most one of them knows any name.
 
-use super::adapter::{Origin, PluginFaults, PluginLight, PluginMaterial, PluginObserver, PluginSpd};
+use super::adapter::{
+    Origin, PluginFaults, PluginLight, PluginMaterial, PluginObserver, PluginSpd,
+};
 use super::registry::{Registry, RegistryError};
 use crate::light::Light;
 use crate::material::Material;
@@ -61,10 +63,19 @@ impl PluginFactory {
 
 fn construct_error(e: RegistryError) -> FactoryError {
     match e {
-        RegistryError::Construct { error, provider, .. } => {
-            FactoryError::Param(format!("{} (from {provider})", error.message))
-        }
+        RegistryError::Construct {
+            error, provider, ..
+        } => FactoryError::Param(format!("{} (from {provider})", error.message)),
         other => FactoryError::Param(other.to_string()),
+    }
+}
+
+fn kind_name(kind: ObjectKind) -> &'static str {
+    match kind {
+        ObjectKind::Material => "material",
+        ObjectKind::Light => "light",
+        ObjectKind::Spd => "spd",
+        ObjectKind::Observer => "observer",
     }
 }
 
@@ -80,7 +91,8 @@ impl PluginFactory {
         let p = crate::scene::params::Params::new(params);
         p.expect_only(&["file"])?;
         let file = ctx.resolve(p.string("file")?);
-        let blob = super::blob::Blob::read_file(&file).map_err(|e| FactoryError::Param(e.to_string()))?;
+        let blob =
+            super::blob::Blob::read_file(&file).map_err(|e| FactoryError::Param(e.to_string()))?;
         blob.instantiate_light(&self.registry, &self.faults)
             .map_err(|e| FactoryError::Param(format!("{}: {e}", file.display())))
     }
@@ -93,19 +105,13 @@ impl ObjectFactory for PluginFactory {
 
     fn known_types(&self) -> Vec<(&'static str, String)> {
         std::iter::once(("light", BLOB_LIGHT.to_string()))
-            .chain(self.registry
-            .plugins()
-            .iter()
-            .flat_map(|p| p.info.types.iter())
-            .filter_map(|t| {
-                let kind = match t.kind {
-                    ObjectKind::Material => "material",
-                    ObjectKind::Light => "light",
-                    ObjectKind::Spd => "spd",
-                    ObjectKind::Observer => "observer",
-                };
-                Some((kind, t.name.to_string()))
-            }))
+            .chain(
+                self.registry
+                    .plugins()
+                    .iter()
+                    .flat_map(|p| p.info.types.iter())
+                    .map(|t| (kind_name(t.kind), t.name.to_string())),
+            )
             .collect()
     }
 

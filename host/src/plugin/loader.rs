@@ -89,7 +89,11 @@ pub fn load_library(path: &Path) -> Result<LoadedPlugin, LoadError> {
         return Err(LoadError::new(path, "no such file", ""));
     }
     if path.is_dir() {
-        return Err(LoadError::new(path, "is a directory, not a plugin library", ""));
+        return Err(LoadError::new(
+            path,
+            "is a directory, not a plugin library",
+            "",
+        ));
     }
     let header = lib_header_from_path(path).map_err(|e| describe(path, e))?;
     let module = header
@@ -134,7 +138,10 @@ fn describe(path: &Path, err: LibraryError) -> LoadError {
     let detail = err.to_string();
     let cause = match err {
         LibraryError::OpenError { err, .. } => {
-            format!("not a loadable shared library ({})", first_line(&err.to_string()))
+            format!(
+                "not a loadable shared library ({})",
+                first_line(&err.to_string())
+            )
         }
         LibraryError::GetSymbolError { .. } => {
             "not a spectrace plugin: the library exports no abi_stable root module \
@@ -168,7 +175,10 @@ fn describe(path: &Path, err: LibraryError) -> LoadError {
             first_cause(&e.to_string())
         ),
         LibraryError::RootModule { err, .. } => {
-            format!("its root module failed to initialise: {}", first_line(&err.to_string()))
+            format!(
+                "its root module failed to initialise: {}",
+                first_line(&err.to_string())
+            )
         }
         LibraryError::Many(list) => match list.into_iter().next() {
             Some(first) => return describe(path, first).with_detail(detail),
@@ -186,7 +196,10 @@ impl LoadError {
 }
 
 fn first_line(s: &str) -> &str {
-    s.lines().map(str::trim).find(|l| !l.is_empty()).unwrap_or("")
+    s.lines()
+        .map(str::trim)
+        .find(|l| !l.is_empty())
+        .unwrap_or("")
 }
 
 /// One line from abi_stable's layout report: the expected and the found type, where it states

@@ -18,7 +18,11 @@ pub fn builtin_registry() -> Registry {
     use crate::scene::{BuiltinFactory, ObjectFactory};
     let mut registry = Registry::new();
     let blob = ("light", factory::BLOB_LIGHT.to_string());
-    for (kind, name) in BuiltinFactory.known_types().into_iter().chain(std::iter::once(blob)) {
+    for (kind, name) in BuiltinFactory
+        .known_types()
+        .into_iter()
+        .chain(std::iter::once(blob))
+    {
         let Some(kind) = ObjectKind::parse(kind) else {
             continue;
         };

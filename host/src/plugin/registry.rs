@@ -6,7 +6,9 @@ use super::loader::{load_dir, load_library, LoadError, LoadedPlugin};
 use super::services::HostServices;
 use spectrace_plugin_api::abi::std_types::{RSlice, RStr};
 use spectrace_plugin_api::module::ObjectSource;
-use spectrace_plugin_api::{LightBox, MaterialBox, ObjectKind, ObserverBox, PluginError, SpdBox, TypeInfo};
+use spectrace_plugin_api::{
+    LightBox, MaterialBox, ObjectKind, ObserverBox, PluginError, SpdBox, TypeInfo,
+};
 use std::collections::BTreeMap;
 use std::fmt;
 use std::path::Path;
@@ -172,7 +174,11 @@ impl Registry {
     pub fn add_plugin(&mut self, plugin: LoadedPlugin) -> Result<(), RegistryError> {
         let plugin = Arc::new(plugin);
         let provider = Provider::Plugin(plugin.clone());
-        if let Some(other) = self.plugins.iter().find(|p| p.info.name == plugin.info.name) {
+        if let Some(other) = self
+            .plugins
+            .iter()
+            .find(|p| p.info.name == plugin.info.name)
+        {
             return Err(RegistryError::Duplicate {
                 what: format!("plugin name `{}`", plugin.info.name),
                 existing: Provider::Plugin(other.clone()).describe(),
@@ -370,7 +376,12 @@ impl Registry {
     }
 }
 
-fn construct_error(kind: ObjectKind, name: &str, provider: String, error: PluginError) -> RegistryError {
+fn construct_error(
+    kind: ObjectKind,
+    name: &str,
+    provider: String,
+    error: PluginError,
+) -> RegistryError {
     RegistryError::Construct {
         kind,
         name: name.to_string(),

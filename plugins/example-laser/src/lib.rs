@@ -53,7 +53,9 @@ impl PluginType for Laser {
         let [x, y, z] = params.direction;
         let axis = Vec3::new(x, y, z);
         if !(axis.is_finite() && axis.length() > 0.0) {
-            return Err(PluginError::invalid_parameter("`direction` must be finite and non-zero"));
+            return Err(PluginError::invalid_parameter(
+                "`direction` must be finite and non-zero",
+            ));
         }
         if !(300.0..=1000.0).contains(&params.wavelength_nm) {
             return Err(PluginError::invalid_parameter(format!(
@@ -62,10 +64,16 @@ impl PluginType for Laser {
             )));
         }
         if !(params.power_w > 0.0 && params.power_w.is_finite() && params.radius >= 0.0) {
-            return Err(PluginError::invalid_parameter("`power_w` must be > 0 and `radius` ≥ 0"));
+            return Err(PluginError::invalid_parameter(
+                "`power_w` must be > 0 and `radius` ≥ 0",
+            ));
         }
         let axis = axis.normalized();
-        let helper = if axis.x.abs() < 0.9 { Vec3::new(1.0, 0.0, 0.0) } else { Vec3::new(0.0, 1.0, 0.0) };
+        let helper = if axis.x.abs() < 0.9 {
+            Vec3::new(1.0, 0.0, 0.0)
+        } else {
+            Vec3::new(0.0, 1.0, 0.0)
+        };
         let tangent = axis.cross(helper).normalized();
         let [ox, oy, oz] = params.origin;
         Ok(Self {

@@ -28,8 +28,8 @@ pub fn finite(name: &str, v: [f64; 3]) -> Result<Vec3, spectrace_plugin_api::Plu
     if v.is_finite() {
         Ok(v)
     } else {
-        Err(spectrace_plugin_api::PluginError::invalid_parameter(format!(
-            "`{name}` must be finite, got {v:?}"
-        )))
+        Err(spectrace_plugin_api::PluginError::invalid_parameter(
+            format!("`{name}` must be finite, got {v:?}"),
+        ))
     }
 }

@@ -12,8 +12,8 @@ use crate::frame::{finite, uniform_sphere};
 use serde::{Deserialize, Serialize};
 use spectrace_plugin_api::{
     light_flags, Beam, EmissionPdf, EmissionSample, Flags, Host, IncidentSample, LightSource,
-    ParamDoc, PluginError, PluginResult, PluginType, RandomSample, SpdHandle, SpectralValues,
-    Vec3, WavelengthSample, Wavelengths,
+    ParamDoc, PluginError, PluginResult, PluginType, RandomSample, SpdHandle, SpectralValues, Vec3,
+    WavelengthSample, Wavelengths,
 };
 use std::f64::consts::PI;
 

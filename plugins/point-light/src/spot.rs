@@ -17,8 +17,8 @@ use crate::frame::{basis, finite};
 use serde::{Deserialize, Serialize};
 use spectrace_plugin_api::{
     light_flags, Beam, EmissionPdf, EmissionSample, Flags, Host, IncidentSample, LightSource,
-    ParamDoc, PluginError, PluginResult, PluginType, RandomSample, SpdHandle, SpectralValues,
-    Vec3, WavelengthSample, Wavelengths,
+    ParamDoc, PluginError, PluginResult, PluginType, RandomSample, SpdHandle, SpectralValues, Vec3,
+    WavelengthSample, Wavelengths,
 };
 use std::f64::consts::PI;
 
@@ -77,8 +77,18 @@ impl PluginType for SpotLight {
         vec![
             ParamDoc::required("position", "scene units", "apex of the cone"),
             ParamDoc::required("direction", "", "cone axis (any length > 0)"),
-            ParamDoc::optional("cone_angle_deg", "degrees", "30", "half-angle where intensity reaches 0"),
-            ParamDoc::optional("falloff_start_deg", "degrees", "25", "half-angle where the falloff begins"),
+            ParamDoc::optional(
+                "cone_angle_deg",
+                "degrees",
+                "30",
+                "half-angle where intensity reaches 0",
+            ),
+            ParamDoc::optional(
+                "falloff_start_deg",
+                "degrees",
+                "25",
+                "half-angle where the falloff begins",
+            ),
             ParamDoc::required("power_w", "W", "total radiant flux, > 0"),
             ParamDoc::optional("spd", "SPD spec", "\"e\"", "spectrum, resolved by the host"),
         ]
@@ -88,7 +98,9 @@ impl PluginType for SpotLight {
         let position = finite("position", params.position)?;
         let axis = finite("direction", params.direction)?;
         if axis.length() == 0.0 {
-            return Err(PluginError::invalid_parameter("`direction` must not be zero"));
+            return Err(PluginError::invalid_parameter(
+                "`direction` must not be zero",
+            ));
         }
         let axis = axis.normalized();
         if !(params.cone_angle_deg > 0.0 && params.cone_angle_deg <= 90.0) {

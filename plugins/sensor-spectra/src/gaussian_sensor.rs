@@ -75,7 +75,12 @@ impl PluginType for GaussianSensor {
         vec![
             ParamDoc::optional("name", "", "\"gaussian-sensor\"", "name shown in outputs"),
             ParamDoc::optional("peaks_nm", "nm", "(600, 540, 450)", "channel peaks"),
-            ParamDoc::optional("widths_nm", "nm", "(40, 40, 30)", "channel standard deviations"),
+            ParamDoc::optional(
+                "widths_nm",
+                "nm",
+                "(40, 40, 30)",
+                "channel standard deviations",
+            ),
             ParamDoc::optional("gains", "", "(1, 1, 1)", "channel peak sensitivities"),
             ParamDoc::optional("min_nm", "nm", "360", "range start"),
             ParamDoc::optional("max_nm", "nm", "830", "range end"),
@@ -90,7 +95,11 @@ impl PluginType for GaussianSensor {
                 )));
             }
         }
-        if params.gains.iter().chain(&params.peaks_nm).any(|v| !v.is_finite())
+        if params
+            .gains
+            .iter()
+            .chain(&params.peaks_nm)
+            .any(|v| !v.is_finite())
             || params.gains.iter().any(|g| *g < 0.0)
         {
             return Err(PluginError::invalid_parameter(
@@ -98,7 +107,9 @@ impl PluginType for GaussianSensor {
             ));
         }
         if !(params.min_nm < params.max_nm) {
-            return Err(PluginError::invalid_parameter("`min_nm` must be below `max_nm`"));
+            return Err(PluginError::invalid_parameter(
+                "`min_nm` must be below `max_nm`",
+            ));
         }
         Ok(Self { params })
     }

@@ -15,7 +15,6 @@ use spectrace_plugin_api::{
     Host, ParamDoc, PluginError, PluginResult, PluginType, Spd, WavelengthRange, WavelengthSample,
 };
 
-
 /// Parameters of [`Lorentzian`].
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
@@ -126,4 +125,3 @@ impl Spd for Lorentzian {
         }
     }
 }
-
