@@ -16,7 +16,7 @@ pub const BIN_COUNT: usize = 16;
 /// Leaves hold at most this many primitives.
 pub const MAX_LEAF_SIZE: usize = 4;
 /// Cost of visiting a node relative to one primitive test, in the SAH.
-const TRAVERSAL_COST: f32 = 0.5;
+const TRAVERSAL_COST: f32 = 1.0;
 /// Subtrees with more primitives than this are built in parallel.
 const PARALLEL_THRESHOLD: usize = 16 * 1024;
 /// Traversal stack depth; the build keeps the tree shallower than this (see `build_range`).
