@@ -2,7 +2,7 @@
 //! sampling (power heuristic, β = 2) between light and BSDF sampling, Russian roulette, and hero
 //! wavelength sampling (all lanes share one path until a dispersive event keeps only the hero).
 
-use super::SampleRng;
+use super::PixelSampler;
 use crate::geometry::{spawn_ray, spawn_ray_to, Ray};
 use crate::light::LightSampleContext;
 use crate::material::{Frame, MaterialFlags, ShadingContext, TransportMode};
@@ -63,7 +63,7 @@ impl PathTracer {
         scene: &Scene,
         mut ray: Ray,
         lambda: &mut SampledWavelengths,
-        rng: &mut SampleRng,
+        rng: &mut PixelSampler,
         stats: &mut PathStats,
     ) -> SampledSpectrum {
         let mut l = SampledSpectrum::zero();

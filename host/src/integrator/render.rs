@@ -2,7 +2,7 @@
 //! merges them into the film in tile order. Each camera sample draws its random numbers from
 //! `(seed, pixel, sample index)` only, so the image is bitwise identical for any thread count.
 
-use super::{PathStats, PathTracer, SampleRng};
+use super::{PathStats, PathTracer, PixelSampler};
 use crate::camera::CameraSample;
 use crate::film::{PixelFilm, Sensor, TileBuffer, XyzImage};
 use crate::scene::Scene;
@@ -158,7 +158,7 @@ pub fn render(
                         for x in x0..x0 + w {
                             let pixel = y as u64 * width as u64 + x as u64;
                             for s in first..first + pass_spp {
-                                let mut rng = SampleRng::for_sample(settings.seed, pixel, s as u64);
+                                let mut rng = PixelSampler::new(settings.seed, pixel, s);
                                 let mut lambda = SampledWavelengths::sample_visible(rng.next_1d());
                                 let offset = cam.filter.sample(rng.next_2d());
                                 let sample = CameraSample {

@@ -4,8 +4,8 @@
 
 use super::{Light, LightFlags, LightLeSample, LightLiSample, LightSampleContext};
 use crate::geometry::{spawn_ray, Geometry, Ray};
+use crate::material::dense::DenseSpectrum;
 use crate::material::{sample_cosine_hemisphere, EmissionProfile, Frame};
-use crate::spectrum::spd::spd_at;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spd};
 use glam::{Vec2, Vec3A};
 use std::f32::consts::PI;
@@ -18,6 +18,7 @@ pub struct AreaLight {
     object: u32,
     emission: EmissionProfile,
     area: f32,
+    radiance: DenseSpectrum,
 }
 
 impl AreaLight {
@@ -25,6 +26,7 @@ impl AreaLight {
     pub fn new(geometry: Arc<Geometry>, object: u32, emission: EmissionProfile) -> Self {
         let area = geometry.object_area(object);
         Self {
+            radiance: DenseSpectrum::from_spd(emission.spd.clone(), emission.scale),
             geometry,
             object,
             emission,
@@ -38,7 +40,7 @@ impl AreaLight {
     }
 
     fn le(&self, lambda: &SampledWavelengths) -> SampledSpectrum {
-        spd_at(self.emission.spd.as_ref(), lambda) * self.emission.scale
+        self.radiance.eval(lambda)
     }
 }
 

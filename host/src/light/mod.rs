@@ -117,7 +117,10 @@ pub trait Light: Send + Sync + Debug {
     /// estimate of one sample; see [`spectrace_plugin_api::Beam`]) from the host's random
     /// numbers. Lights flagged [`LightFlags::BEAMS_ONLY`] offer nothing else, so light tracing
     /// is the only way to render them. `None` for lights that do not hand out beams.
-    fn next_beam(&self, _u: &spectrace_plugin_api::RandomSample) -> Option<spectrace_plugin_api::Beam> {
+    fn next_beam(
+        &self,
+        _u: &spectrace_plugin_api::RandomSample,
+    ) -> Option<spectrace_plugin_api::Beam> {
         None
     }
 

@@ -2,8 +2,8 @@
 //! SPD in 1/nm, `scale` in W/(m²·sr)) from its front side (along the geometric normal) and
 //! reflects nothing, as the measured Cornell box light is modelled by the anchor renderers.
 
+use super::dense::DenseSpectrum;
 use super::{BsdfSample, EmissionProfile, Material, MaterialFlags, ShadingContext, TransportMode};
-use crate::spectrum::spd::spd_at;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spd};
 use glam::{Vec2, Vec3A};
 use std::sync::Arc;
@@ -12,12 +12,14 @@ use std::sync::Arc;
 #[derive(Debug, Clone)]
 pub struct Emissive {
     profile: EmissionProfile,
+    radiance: DenseSpectrum,
 }
 
 impl Emissive {
     /// An emitter of spectral radiance `scale · spd(λ)`.
     pub fn new(spd: Arc<dyn Spd>, scale: f32, two_sided: bool) -> Self {
         Self {
+            radiance: DenseSpectrum::from_spd(spd.clone(), scale),
             profile: EmissionProfile {
                 spd,
                 scale,
@@ -78,7 +80,7 @@ impl Material for Emissive {
     ) -> SampledSpectrum {
         let _ = ctx;
         if wo.z > 0.0 || (self.profile.two_sided && wo.z < 0.0) {
-            spd_at(self.profile.spd.as_ref(), lambda) * self.profile.scale
+            self.radiance.eval(lambda)
         } else {
             SampledSpectrum::zero()
         }

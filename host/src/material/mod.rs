@@ -6,6 +6,7 @@
 //! in W/(m²·sr·nm).
 
 pub mod conductor;
+pub mod dense;
 pub mod dielectric;
 pub mod emissive;
 pub mod flags;

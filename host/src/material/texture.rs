@@ -2,7 +2,8 @@
 //! (reflectance, emission) at a surface point. Implementations adapt tabulated curves, RGB
 //! uplifts or plugin spectra; materials never know which.
 
-use crate::spectrum::{SampledSpectrum, SampledWavelengths, LANES};
+use super::dense::DenseSpectrum;
+use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::Vec2;
 use std::fmt::Debug;
 use std::sync::Arc;
@@ -24,13 +25,14 @@ impl SpectralTexture for ConstantTexture {
     }
 }
 
-/// A spatially uniform spectrum given by any function of wavelength (nm), scaled.
+/// A spatially uniform spectrum given by any function of wavelength (nm), scaled; evaluated
+/// from a 1 nm resampling ([`DenseSpectrum`]).
 ///
 /// Built from the spectrum module's curves, SPDs and uplifted RGB colours by the scene factory.
 pub struct CurveTexture {
     name: String,
     scale: f32,
-    curve: Arc<dyn Fn(f32) -> f32 + Send + Sync>,
+    dense: DenseSpectrum,
 }
 
 impl CurveTexture {
@@ -43,7 +45,7 @@ impl CurveTexture {
         Self {
             name: name.into(),
             scale,
-            curve,
+            dense: DenseSpectrum::new(Arc::new(move |l| scale * curve(l))),
         }
     }
 
@@ -55,8 +57,9 @@ impl CurveTexture {
     }
 
     /// The value at one wavelength (nm).
+    #[inline]
     pub fn value(&self, lambda_nm: f32) -> f32 {
-        self.scale * (self.curve)(lambda_nm)
+        self.dense.value(lambda_nm)
     }
 }
 
@@ -71,11 +74,7 @@ impl Debug for CurveTexture {
 
 impl SpectralTexture for CurveTexture {
     fn eval(&self, lambda: &SampledWavelengths, _uv: Vec2) -> SampledSpectrum {
-        let mut out = [0.0; LANES];
-        for (o, &l) in out.iter_mut().zip(lambda.lambda.iter()) {
-            *o = self.value(l);
-        }
-        SampledSpectrum(out)
+        self.dense.eval(lambda)
     }
 }
 

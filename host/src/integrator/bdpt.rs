@@ -1,0 +1,860 @@
+//! Bidirectional path tracing (Veach 1997, ch. 10; structure after pbrt-v4's named steps): for
+//! each camera sample a camera subpath and a light subpath are traced
+//! ([`generate_camera_subpath`], [`generate_light_subpath`], both by [`random_walk`]), and every
+//! prefix pair is joined by [`connect`] into a full path of `s` light and `t` camera vertices.
+//! Each such (s, t) strategy is weighted by the power heuristic ([`mis_weight`]), computed from
+//! per-vertex forward/reverse area densities; the vertices touched by a connection get their
+//! reverse densities as overrides instead of being patched in place.
+//!
+//! Special cases: s = 0 (the camera path hits an area light), s = 1 (a light point sampled
+//! afresh, as in next-event estimation), t = 1 (a lens point sampled afresh; the contribution
+//! lands on another pixel and is splatted), delta lights (never hit, so s = 0 is not a strategy
+//! for them), delta BSDFs (no connection through them; their zero densities cancel), directional
+//! lights (positional density on a disk, see [`Vertex::pdf_light`]), finite apertures (the lens
+//! density is the camera's own), shading normals (adjoint correction on light subpaths).
+//! Wavelengths: one set per pair from [`WavelengthMixture`]; see `select.rs`.
+
+use super::light_tracer::{connect_to_camera, trace_beam, XyzWeights};
+use super::render::ProgressFn;
+use super::select::{IntegratorOutput, WavelengthMixture};
+use super::vertex::{geometry_term, remap0, unoccluded, Vertex, VertexKind};
+use super::{PathStats, RenderError, RenderResult, RenderSettings, SampleBudget, SampleRng};
+use crate::camera::{Camera, CameraSample};
+use crate::film::{PixelFilm, Sensor, SplatFilm, TileBuffer};
+use crate::geometry::{spawn_ray, Ray};
+use crate::light::{LightFlags, LightSampleContext};
+use crate::material::{Frame, MaterialFlags, ShadingContext, TransportMode};
+use crate::scene::Scene;
+use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use glam::Vec2;
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::time::Instant;
+
+/// Longest path (bounces) that gets its own strategy image; longer ones are summed into one.
+pub const STRATEGY_IMAGE_MAX_DEPTH: u32 = 5;
+
+/// BDPT settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bdpt {
+    /// Maximum number of bounces of a full path (`s + t − 2`).
+    pub max_depth: u32,
+    /// Subpath vertex count from which Russian roulette may end a subpath.
+    pub rr_depth: u32,
+}
+
+/// Flip the transport direction.
+fn flip(mode: TransportMode) -> TransportMode {
+    match mode {
+        TransportMode::Radiance => TransportMode::Importance,
+        TransportMode::Importance => TransportMode::Radiance,
+    }
+}
+
+/// Extend `path` by up to `max_new` surface vertices, starting with `ray` leaving the last
+/// vertex of `path` with solid-angle density `pdf_dir` (1/sr) and throughput `beta`. Sets each
+/// new vertex's `pdf_fwd` and its predecessor's `pdf_rev`.
+#[allow(clippy::too_many_arguments)]
+pub fn random_walk(
+    scene: &Scene,
+    mut ray: Ray,
+    lambda: &SampledWavelengths,
+    rng: &mut SampleRng,
+    mut beta: SampledSpectrum,
+    pdf_dir: f32,
+    max_new: usize,
+    mode: TransportMode,
+    rr_depth: u32,
+    path: &mut Vec<Vertex>,
+    stats: &mut PathStats,
+) {
+    if max_new == 0 || path.is_empty() {
+        return;
+    }
+    let mut pdf_fwd = pdf_dir;
+    let mut dispersed = path[path.len() - 1].dispersed;
+    // Scattering-only throughput for Russian roulette (β of light paths carries watts).
+    let mut scatter = 1.0f32;
+    let mut added = 0usize;
+    loop {
+        stats.rays += 1;
+        let Some(hit) = scene.geometry.intersect(&ray, f32::INFINITY) else {
+            break;
+        };
+        let wo_world = -ray.dir.normalize();
+        let prev = path[path.len() - 1];
+        let mut v = Vertex {
+            kind: VertexKind::Surface { object: hit.object },
+            p: hit.point,
+            p_error: hit.point_error,
+            ng: hit.geometric_normal,
+            ns: hit.shading_normal,
+            uv: hit.uv,
+            wo: wo_world,
+            beta,
+            pdf_fwd: 0.0,
+            pdf_rev: 0.0,
+            delta: false,
+            dispersed,
+        };
+        v.pdf_fwd = prev.convert_density(pdf_fwd, &v);
+        path.push(v);
+        added += 1;
+        if added >= max_new {
+            break;
+        }
+        let material = scene.objects.material(hit.object);
+        let frame = Frame::from_normal(hit.shading_normal);
+        let wo = frame.to_local(wo_world);
+        let ctx = ShadingContext { uv: hit.uv };
+        let u_lobe = rng.next_1d();
+        let u_dir = rng.next_2d();
+        let Some(bs) = material.sample(wo, &ctx, lambda, u_lobe, u_dir, mode) else {
+            break;
+        };
+        if !(bs.pdf > 0.0) || bs.f.is_black() {
+            break;
+        }
+        let wi_world = frame.to_world(bs.wi);
+        let mut pdf_rev = material.pdf(bs.wi, wo, &ctx, lambda, flip(mode));
+        pdf_fwd = bs.pdf;
+        let n = path.len();
+        if bs.flags.is_specular() {
+            path[n - 1].delta = true;
+            pdf_fwd = 0.0;
+            pdf_rev = 0.0;
+        }
+        if bs.flags.contains(MaterialFlags::DISPERSIVE) {
+            dispersed = true;
+        }
+        let correction = super::vertex::shading_normal_correction(
+            hit.geometric_normal,
+            hit.shading_normal,
+            wo_world,
+            wi_world,
+            mode,
+        );
+        let factor = bs.wi.z.abs() / bs.pdf * correction;
+        beta *= bs.f * factor;
+        scatter *= (bs.f * factor).max_value();
+        if beta.has_non_finite() || beta.is_black() {
+            break;
+        }
+        path[n - 2].pdf_rev = path[n - 1].convert_density(pdf_rev, &path[n - 2]);
+        if added as u32 >= rr_depth && scatter < 1.0 {
+            let q = (1.0 - scatter).max(0.05);
+            if rng.next_1d() < q {
+                break;
+            }
+            beta = beta / (1.0 - q);
+            scatter /= 1.0 - q;
+        }
+        ray = spawn_ray(hit.point, hit.point_error, hit.geometric_normal, wi_world);
+    }
+}
+
+/// The camera subpath of one camera ray: the lens vertex plus up to `max_vertices − 1` more.
+#[allow(clippy::too_many_arguments)]
+pub fn generate_camera_subpath(
+    scene: &Scene,
+    camera: &dyn Camera,
+    ray: Ray,
+    weight: f32,
+    lambda: &SampledWavelengths,
+    rng: &mut SampleRng,
+    max_vertices: usize,
+    rr_depth: u32,
+    path: &mut Vec<Vertex>,
+    stats: &mut PathStats,
+) {
+    path.clear();
+    if max_vertices == 0 {
+        return;
+    }
+    let beta = SampledSpectrum::splat(weight);
+    path.push(Vertex::camera(ray.origin, camera.forward(), beta));
+    let (_, pdf_dir) = camera.pdf_we(&ray);
+    random_walk(
+        scene,
+        ray,
+        lambda,
+        rng,
+        beta,
+        pdf_dir,
+        max_vertices - 1,
+        TransportMode::Radiance,
+        rr_depth,
+        path,
+        stats,
+    );
+}
+
+/// How a light subpath started.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LightStart {
+    /// No light could be sampled (no lights, or a zero-density sample).
+    None,
+    /// A subpath from an evaluable light is in the path buffer.
+    Path,
+    /// The chosen light is beams-only: light `index` chosen with probability `pmf`; the caller
+    /// traces one of its beams instead.
+    Beams {
+        /// Light index.
+        index: usize,
+        /// Its selection probability.
+        pmf: f32,
+    },
+}
+
+/// The light subpath: a light chosen by power, an emitted ray from `sample_le`, then a random
+/// walk in importance mode, up to `max_vertices` vertices.
+#[allow(clippy::too_many_arguments)]
+pub fn generate_light_subpath(
+    scene: &Scene,
+    lambda: &SampledWavelengths,
+    rng: &mut SampleRng,
+    max_vertices: usize,
+    rr_depth: u32,
+    path: &mut Vec<Vertex>,
+    stats: &mut PathStats,
+) -> LightStart {
+    path.clear();
+    let u_light = rng.next_1d();
+    let u1 = rng.next_2d();
+    let u2 = rng.next_2d();
+    if max_vertices == 0 {
+        return LightStart::None;
+    }
+    let Some((li, pmf)) = scene.lights.sample(u_light) else {
+        return LightStart::None;
+    };
+    let light = &scene.lights.lights()[li];
+    let flags = light.flags();
+    if flags.contains(LightFlags::BEAMS_ONLY) {
+        return LightStart::Beams { index: li, pmf };
+    }
+    let Some(les) = light.sample_le(u1, u2, lambda) else {
+        return LightStart::None;
+    };
+    if !(les.pdf_pos > 0.0 && les.pdf_dir > 0.0) || les.radiance.is_black() {
+        return LightStart::None;
+    }
+    let cos = if les.normal != glam::Vec3A::ZERO {
+        les.normal.dot(les.ray.dir).abs()
+    } else {
+        1.0
+    };
+    let beta = les.radiance * (cos / (pmf * les.pdf_pos * les.pdf_dir));
+    let mut v0 = Vertex::light(
+        li as u32,
+        les.ray.origin,
+        glam::Vec3A::ZERO,
+        les.normal,
+        beta,
+    );
+    v0.pdf_fwd = pmf * les.pdf_pos;
+    path.push(v0);
+    random_walk(
+        scene,
+        les.ray,
+        lambda,
+        rng,
+        beta,
+        les.pdf_dir,
+        max_vertices - 1,
+        TransportMode::Importance,
+        rr_depth,
+        path,
+        stats,
+    );
+    // Parallel rays of a directional light: the density at the first hit is positional.
+    if flags.contains(LightFlags::DELTA_DIRECTION) && path.len() > 1 {
+        let cos1 = if path[1].on_surface() {
+            path[1].ng.dot(les.ray.dir).abs()
+        } else {
+            1.0
+        };
+        path[1].pdf_fwd = les.pdf_pos * cos1;
+    }
+    LightStart::Path
+}
+
+/// One strategy's unweighted contribution and where it goes.
+#[derive(Clone, Copy, Debug)]
+pub struct Connection {
+    /// Contribution (radiance units per lane, before the wavelength pdfs).
+    pub l: SampledSpectrum,
+    /// Power-heuristic weight.
+    pub weight: f32,
+    /// For t = 1: the raster position to splat at.
+    pub raster: Option<Vec2>,
+    /// Only the hero wavelength is valid (a dispersive event on either subpath).
+    pub dispersed: bool,
+}
+
+/// Join the first `s` light vertices and the first `t` camera vertices (Veach's (s, t)
+/// strategy). `None` when the strategy gives nothing for this pair.
+#[allow(clippy::too_many_arguments)]
+pub fn connect(
+    scene: &Scene,
+    camera: &dyn Camera,
+    light_path: &[Vertex],
+    camera_path: &[Vertex],
+    s: usize,
+    t: usize,
+    lambda: &SampledWavelengths,
+    rng: &mut SampleRng,
+    stats: &mut PathStats,
+) -> Option<Connection> {
+    let mut sampled: Option<Vertex> = None;
+    let mut raster = None;
+    let l;
+    if s == 0 {
+        // The camera path found an emitter by itself.
+        let pt = &camera_path[t - 1];
+        pt.light_index(scene)?;
+        l = pt.le(scene, &camera_path[t - 2], lambda) * pt.beta;
+    } else if t == 1 {
+        // Connect a light vertex to a freshly sampled lens point and splat.
+        let (c, r, cam_v) =
+            connect_to_camera(scene, camera, light_path, s, lambda, rng.next_2d(), stats)?;
+        l = c;
+        raster = Some(r);
+        sampled = Some(cam_v);
+    } else if s == 1 {
+        // Next-event estimation: a fresh light point as seen from the camera vertex.
+        let pt = &camera_path[t - 1];
+        if !pt.connectible() {
+            return None;
+        }
+        let (li, pmf) = scene.lights.sample(rng.next_1d())?;
+        let u = rng.next_2d();
+        let light = &scene.lights.lights()[li];
+        let ctx = LightSampleContext {
+            p: pt.p,
+            p_error: pt.p_error,
+            n: pt.ng,
+        };
+        let ls = light.sample_li(&ctx, u, lambda)?;
+        if !(ls.pdf > 0.0) || ls.radiance.is_black() {
+            return None;
+        }
+        let mut lv = Vertex::light(
+            li as u32,
+            ls.p_light,
+            ls.p_light_error,
+            ls.n_light,
+            ls.radiance / (pmf * ls.pdf),
+        );
+        lv.pdf_fwd = lv.pdf_light_origin(scene, pt);
+        let mut c = pt.beta * pt.f(scene, &lv, lambda, TransportMode::Radiance) * lv.beta;
+        if pt.on_surface() {
+            c = c * ls.wi.dot(pt.ns).abs();
+        }
+        if c.is_black() {
+            return None;
+        }
+        stats.shadow_rays += 1;
+        if !unoccluded(scene, pt, &lv) {
+            return None;
+        }
+        l = c;
+        sampled = Some(lv);
+    } else {
+        // General case: join two surface vertices.
+        let qs = &light_path[s - 1];
+        let pt = &camera_path[t - 1];
+        if !qs.connectible() || !pt.connectible() {
+            return None;
+        }
+        let c = qs.beta
+            * qs.f(scene, pt, lambda, TransportMode::Importance)
+            * pt.f(scene, qs, lambda, TransportMode::Radiance)
+            * pt.beta;
+        if c.is_black() {
+            return None;
+        }
+        let g = geometry_term(qs, pt);
+        if !(g > 0.0) {
+            return None;
+        }
+        stats.shadow_rays += 1;
+        if !unoccluded(scene, qs, pt) {
+            return None;
+        }
+        l = c * g;
+    }
+    if l.is_black() {
+        return None;
+    }
+    let weight = mis_weight(
+        scene,
+        camera,
+        light_path,
+        camera_path,
+        sampled.as_ref(),
+        s,
+        t,
+        lambda,
+    );
+    let dispersed = camera_path[t - 1].dispersed
+        || (s > 0 && s <= light_path.len() && light_path[s - 1].dispersed);
+    Some(Connection {
+        l,
+        weight,
+        raster,
+        dispersed,
+    })
+}
+
+/// Power-heuristic weight of strategy (s, t) for the path it produced, relative to all other
+/// strategies that could have produced the same path (Veach 1997, §10.2). `sampled` is the
+/// freshly sampled lens vertex (t = 1) or light vertex (s = 1, t ≥ 2).
+#[allow(clippy::too_many_arguments)]
+pub fn mis_weight(
+    scene: &Scene,
+    camera: &dyn Camera,
+    light_path: &[Vertex],
+    camera_path: &[Vertex],
+    sampled: Option<&Vertex>,
+    s: usize,
+    t: usize,
+    lambda: &SampledWavelengths,
+) -> f32 {
+    // The (up to) four vertices whose reverse densities the connection changes, as copies.
+    let pt = match (t, sampled) {
+        (1, Some(v)) => *v,
+        _ => camera_path[t - 1],
+    };
+    let qs = if s == 0 {
+        None
+    } else if s == 1 && t > 1 {
+        sampled.copied()
+    } else {
+        Some(light_path[s - 1])
+    };
+    let pt_minus = if t >= 2 {
+        Some(&camera_path[t - 2])
+    } else {
+        None
+    };
+    let qs_minus = if s >= 2 {
+        Some(&light_path[s - 2])
+    } else {
+        None
+    };
+    use TransportMode::{Importance, Radiance};
+    let pt_rev = match &qs {
+        Some(q) => q.pdf(scene, camera, qs_minus, &pt, lambda, Importance),
+        None => pt_minus.map_or(0.0, |m| pt.pdf_light_origin(scene, m)),
+    };
+    let pt_minus_rev = pt_minus.map(|m| match &qs {
+        Some(q) => pt.pdf(scene, camera, Some(q), m, lambda, Importance),
+        None => pt.pdf_light(scene, m),
+    });
+    let qs_rev = qs
+        .as_ref()
+        .map(|q| pt.pdf(scene, camera, pt_minus, q, lambda, Radiance));
+    let qs_minus_rev = match (&qs, qs_minus) {
+        (Some(q), Some(m)) => Some(q.pdf(scene, camera, Some(&pt), m, lambda, Radiance)),
+        _ => None,
+    };
+    // (pdf_fwd, pdf_rev, delta) of camera vertex i and light vertex i after the overrides.
+    let cam = |i: usize| -> (f32, f32, bool) {
+        if i + 1 == t {
+            (pt.pdf_fwd, pt_rev, false)
+        } else if i + 2 == t {
+            let v = &camera_path[i];
+            (v.pdf_fwd, pt_minus_rev.unwrap_or(v.pdf_rev), v.delta)
+        } else {
+            let v = &camera_path[i];
+            (v.pdf_fwd, v.pdf_rev, v.delta)
+        }
+    };
+    let light_v = |i: usize| -> &Vertex {
+        if i + 1 == s {
+            qs.as_ref().unwrap_or(&light_path[i])
+        } else {
+            &light_path[i]
+        }
+    };
+    let light = |i: usize| -> (f32, f32, bool) {
+        let v = light_v(i);
+        if i + 1 == s {
+            (v.pdf_fwd, qs_rev.unwrap_or(v.pdf_rev), false)
+        } else if i + 2 == s {
+            (v.pdf_fwd, qs_minus_rev.unwrap_or(v.pdf_rev), v.delta)
+        } else {
+            (v.pdf_fwd, v.pdf_rev, v.delta)
+        }
+    };
+    let sq = |x: f32| x * x;
+    let mut sum = 0.0f32;
+    let mut ri = 1.0f32;
+    for i in (1..t).rev() {
+        let (fwd, rev, delta) = cam(i);
+        ri *= sq(remap0(rev) / remap0(fwd));
+        if !delta && !cam(i - 1).2 {
+            sum += ri;
+        }
+    }
+    ri = 1.0;
+    for i in (0..s).rev() {
+        let (fwd, rev, delta) = light(i);
+        ri *= sq(remap0(rev) / remap0(fwd));
+        let delta_before = if i > 0 {
+            light(i - 1).2
+        } else {
+            light_v(0).is_delta_light(scene)
+        };
+        if !delta && !delta_before {
+            sum += ri;
+        }
+    }
+    let w = 1.0 / (1.0 + sum);
+    if w.is_finite() {
+        w
+    } else {
+        0.0
+    }
+}
+
+/// Per-thread scratch and counters of the BDPT driver.
+struct Worker {
+    camera_path: Vec<Vertex>,
+    light_path: Vec<Vertex>,
+    stats: PathStats,
+    non_finite: u64,
+    max_y: f64,
+}
+
+/// Strategy images: one splat film per (s, t) up to [`STRATEGY_IMAGE_MAX_DEPTH`] bounces, and
+/// one for everything longer (the last entry).
+struct StrategyFilms {
+    films: Vec<((u32, u32), SplatFilm)>,
+    max_st: usize,
+}
+
+impl StrategyFilms {
+    fn new(width: u32, height: u32) -> Self {
+        let max_st = STRATEGY_IMAGE_MAX_DEPTH as usize + 2;
+        let mut films = Vec::new();
+        for total in 1..=max_st {
+            for s in 0..=total {
+                let t = total - s;
+                if t >= 1 {
+                    films.push(((s as u32, t as u32), SplatFilm::new(width, height)));
+                }
+            }
+        }
+        films.push(((u32::MAX, u32::MAX), SplatFilm::new(width, height)));
+        Self { films, max_st }
+    }
+
+    fn film(&self, s: usize, t: usize) -> &SplatFilm {
+        if s + t > self.max_st {
+            return &self.films[self.films.len() - 1].1;
+        }
+        // Films are ordered by total = s + t, then s.
+        let before: usize = (1..s + t).map(|n| n).sum::<usize>();
+        &self.films[before + s].1
+    }
+}
+
+/// Render `scene` by BDPT with the tiles, passes and seeding of the path tracer's driver;
+/// t = 1 contributions (and beams-only lights) are splatted and scaled by 1/spp.
+pub fn render_bdpt(
+    scene: &Scene,
+    settings: &RenderSettings,
+    strategy_images: bool,
+    progress: &ProgressFn<'_>,
+    cancel: Option<&AtomicBool>,
+) -> Result<IntegratorOutput, RenderError> {
+    let cam = scene
+        .cameras
+        .get(settings.camera.as_deref())
+        .map_err(RenderError::Setup)?;
+    let camera = cam.camera.as_ref();
+    let (width, height) = camera.resolution();
+    let ts = settings.tile_size.max(1);
+    let mut tiles = Vec::new();
+    for y0 in (0..height).step_by(ts as usize) {
+        for x0 in (0..width).step_by(ts as usize) {
+            tiles.push((x0, y0, ts.min(width - x0), ts.min(height - y0)));
+        }
+    }
+    let pool = super::light_tracer::thread_pool(settings.threads)?;
+    let sensor = Sensor::new(scene.observer.clone());
+    let mixture = WavelengthMixture::new(scene);
+    let bdpt = Bdpt {
+        max_depth: settings.tracer.max_depth,
+        rr_depth: settings.tracer.rr_depth,
+    };
+    let mut film = PixelFilm::new(width, height);
+    let splats = SplatFilm::new(width, height);
+    let strategies = strategy_images.then(|| StrategyFilms::new(width, height));
+    let rays = AtomicU64::new(0);
+    let non_finite = AtomicU64::new(0);
+    let max_y_bits = AtomicU64::new(0);
+    let done = AtomicU64::new(0);
+    let start = Instant::now();
+    let mut spp_done = 0u32;
+    let mut pass = 0u32;
+    loop {
+        let pass_spp = match settings.budget {
+            SampleBudget::Spp(n) => {
+                if spp_done >= n {
+                    break;
+                }
+                n - spp_done
+            }
+            SampleBudget::Time(t) => {
+                if pass > 0 && start.elapsed() >= t {
+                    break;
+                }
+                (1u32 << pass.saturating_sub(1).min(6)).max(1)
+            }
+        };
+        let total_units = match settings.budget {
+            SampleBudget::Spp(_) => tiles.len() as u64,
+            SampleBudget::Time(_) => tiles.len() as u64 * (pass as u64 + 1),
+        };
+        let first = spp_done;
+        let buffers: Vec<Option<TileBuffer>> = pool.install(|| {
+            tiles
+                .par_iter()
+                .map(|&(x0, y0, w, h)| {
+                    if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+                        return None;
+                    }
+                    let mut buf = TileBuffer::new(x0, y0, w, h);
+                    let mut worker = Worker {
+                        camera_path: Vec::with_capacity(16),
+                        light_path: Vec::with_capacity(16),
+                        stats: PathStats::default(),
+                        non_finite: 0,
+                        max_y: 0.0,
+                    };
+                    for y in y0..y0 + h {
+                        for x in x0..x0 + w {
+                            let pixel = y as u64 * width as u64 + x as u64;
+                            for si in first..first + pass_spp {
+                                let mut rng =
+                                    SampleRng::for_sample(settings.seed, pixel, si as u64);
+                                let xyz = bdpt.sample(
+                                    scene,
+                                    cam,
+                                    &sensor,
+                                    &mixture,
+                                    (x, y),
+                                    &mut rng,
+                                    &splats,
+                                    strategies.as_ref(),
+                                    &mut worker,
+                                );
+                                buf.add(x, y, xyz);
+                            }
+                        }
+                    }
+                    rays.fetch_add(
+                        worker.stats.rays + worker.stats.shadow_rays,
+                        Ordering::Relaxed,
+                    );
+                    non_finite.fetch_add(worker.non_finite, Ordering::Relaxed);
+                    max_y_bits.fetch_max(worker.max_y.to_bits(), Ordering::Relaxed);
+                    let d = done.fetch_add(1, Ordering::Relaxed) + 1;
+                    progress(d, total_units);
+                    Some(buf)
+                })
+                .collect()
+        });
+        let mut complete = true;
+        for b in &buffers {
+            match b {
+                Some(b) => film.merge(b),
+                None => complete = false,
+            }
+        }
+        if !complete {
+            break;
+        }
+        spp_done += pass_spp;
+        pass += 1;
+        if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+            break;
+        }
+    }
+    let elapsed = start.elapsed();
+    let scale = 1.0 / spp_done.max(1) as f64;
+    let mut image = film.image();
+    let splat_image = splats.image(scale);
+    for (p, s) in image.xyz.iter_mut().zip(&splat_image.xyz) {
+        for c in 0..3 {
+            p[c] += s[c];
+        }
+    }
+    let strategy_images = strategies
+        .map(|sf| {
+            sf.films
+                .iter()
+                .map(|(st, f)| (*st, f.image(scale)))
+                .collect()
+        })
+        .unwrap_or_default();
+    Ok(IntegratorOutput {
+        result: RenderResult {
+            image,
+            spp: spp_done,
+            samples: film.sample_count() as u64,
+            rays: rays.load(Ordering::Relaxed),
+            elapsed,
+        },
+        strategy_images,
+        non_finite: non_finite.load(Ordering::Relaxed),
+        // Non-negative f64 bit patterns order like the values.
+        max_sample_y: f64::from_bits(max_y_bits.load(Ordering::Relaxed)),
+    })
+}
+
+impl Bdpt {
+    /// One camera sample of pixel `(x, y)`: returns the XYZ of all t ≥ 2 strategies for the
+    /// pixel film and splats the t = 1 strategies (and beams) into `splats`.
+    #[allow(clippy::too_many_arguments)]
+    fn sample(
+        &self,
+        scene: &Scene,
+        cam: &crate::camera::manager::NamedCamera,
+        sensor: &Sensor,
+        mixture: &WavelengthMixture,
+        (x, y): (u32, u32),
+        rng: &mut SampleRng,
+        splats: &SplatFilm,
+        strategies: Option<&StrategyFilms>,
+        worker: &mut Worker,
+    ) -> [f64; 3] {
+        let camera = cam.camera.as_ref();
+        let lambda = mixture.sample(rng);
+        let weights = XyzWeights::new(sensor, &lambda);
+        let offset = cam.filter.sample(rng.next_2d());
+        let cs = CameraSample {
+            p_film: Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset,
+            p_lens: rng.next_2d(),
+        };
+        let Some(cray) = camera.generate_ray(&cs) else {
+            return [0.0; 3];
+        };
+        let max_depth = self.max_depth as usize;
+        let mut camera_path = std::mem::take(&mut worker.camera_path);
+        let mut light_path = std::mem::take(&mut worker.light_path);
+        generate_camera_subpath(
+            scene,
+            camera,
+            cray.ray,
+            cray.weight,
+            &lambda,
+            rng,
+            max_depth + 2,
+            self.rr_depth,
+            &mut camera_path,
+            &mut worker.stats,
+        );
+        let start = generate_light_subpath(
+            scene,
+            &lambda,
+            rng,
+            max_depth + 1,
+            self.rr_depth,
+            &mut light_path,
+            &mut worker.stats,
+        );
+        if let LightStart::Beams { index, pmf } = start {
+            let mut max_y = worker.max_y;
+            let mut splat = |raster: Vec2, xyz: [f64; 3]| {
+                Self::record_splat(splats, strategies, &mut max_y, raster, xyz, None);
+            };
+            trace_beam(
+                scene,
+                camera,
+                sensor,
+                index,
+                pmf,
+                self.max_depth,
+                self.rr_depth,
+                rng,
+                &mut worker.stats,
+                &mut splat,
+            );
+            worker.max_y = max_y;
+        }
+        let pixel_center = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
+        let mut total = [0.0f64; 3];
+        let mut per_strategy: Vec<(usize, usize, [f64; 3])> = Vec::new();
+        for t in 1..=camera_path.len() {
+            for s in 0..=light_path.len() {
+                let depth = s as i64 + t as i64 - 2;
+                if depth < 0 || depth > max_depth as i64 || (s == 0 && t < 2) {
+                    continue;
+                }
+                let Some(c) = connect(
+                    scene,
+                    camera,
+                    &light_path,
+                    &camera_path,
+                    s,
+                    t,
+                    &lambda,
+                    rng,
+                    &mut worker.stats,
+                ) else {
+                    continue;
+                };
+                let xyz = weights.xyz(&(c.l * c.weight), c.dispersed);
+                if xyz.iter().any(|v| !v.is_finite()) {
+                    worker.non_finite += 1;
+                    continue;
+                }
+                match c.raster {
+                    Some(r) => {
+                        worker.max_y = worker.max_y.max(xyz[1].abs());
+                        Self::record_splat(splats, strategies, &mut 0.0, r, xyz, Some((s, t)));
+                    }
+                    None => {
+                        for k in 0..3 {
+                            total[k] += xyz[k];
+                        }
+                        if strategies.is_some() {
+                            per_strategy.push((s, t, xyz));
+                        }
+                    }
+                }
+            }
+        }
+        worker.camera_path = camera_path;
+        worker.light_path = light_path;
+        worker.max_y = worker.max_y.max(total[1].abs());
+        if let Some(sf) = strategies {
+            for (s, t, xyz) in per_strategy {
+                sf.film(s, t).splat(pixel_center.x, pixel_center.y, xyz);
+            }
+        }
+        total
+    }
+
+    fn record_splat(
+        splats: &SplatFilm,
+        strategies: Option<&StrategyFilms>,
+        max_y: &mut f64,
+        raster: Vec2,
+        xyz: [f64; 3],
+        st: Option<(usize, usize)>,
+    ) {
+        *max_y = max_y.max(xyz[1].abs());
+        splats.splat(raster.x, raster.y, xyz);
+        if let Some(sf) = strategies {
+            // Beams are light tracing with s = number of light vertices, t = 1; they are filed
+            // under the longer-path image unless their (s, t) is known.
+            let (s, t) = st.unwrap_or((usize::MAX / 4, 1));
+            sf.film(s, t).splat(raster.x, raster.y, xyz);
+        }
+    }
+}

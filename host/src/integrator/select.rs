@@ -1,0 +1,239 @@
+//! What a render samples: which integrator (`--integrator bdpt|pt|lt`), which wavelengths a
+//! camera/light path pair carries, and which light is handled by which strategies (for the
+//! render summary).
+//!
+//! # Wavelengths of a path pair (BDPT and light tracing)
+//! A connection joins a camera subpath and a light subpath, so both must carry the same
+//! wavelengths. Camera paths prefer the observer's sensitivity (the visible-importance density
+//! `p_vis`), light paths prefer what the lights emit (`p_emit = Σ_L P(L)·S_L(λ)`, the SPDs of
+//! the evaluable lights weighted by the power-proportional light pmf). One wavelength set per
+//! pair is drawn from the one-sample mixture `p(λ) = ½ p_vis(λ) + ½ p_emit(λ)` (a fair coin picks
+//! the component, then a light's SPD by power if it is the emission component; the hero and its
+//! rotations `frac(u + i/LANES)` come from that component's inverse CDF). Each lane's marginal
+//! density is exactly the mixture, which is stored as its pdf: this is the balance heuristic
+//! between the two spectral strategies. Because the wavelengths are drawn independently of the
+//! light chosen for the light subpath and shared by every (s, t) strategy of the pair, the
+//! wavelength density is a common factor of all strategies and cancels in their MIS weights.
+//! Lanes that land on a delta spectral line are dropped (pdf 0): lights evaluate only the
+//! continuous part of their SPD.
+
+use super::{render, RenderError, RenderResult, RenderSettings, SampleRng};
+use crate::light::LightFlags;
+use crate::scene::Scene;
+use crate::spectrum::wavelength_sampling::{visible_pdf, visible_sample};
+use crate::spectrum::{SampledWavelengths, Spd, LANES};
+use std::sync::Arc;
+
+/// The light transport algorithm of a render.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum IntegratorKind {
+    /// Bidirectional path tracing with power-heuristic MIS over all (s, t) strategies.
+    #[default]
+    Bdpt,
+    /// Unidirectional path tracing with next-event estimation.
+    Pt,
+    /// Light tracing: light paths connected to the camera (t = 1) only.
+    Lt,
+}
+
+impl std::str::FromStr for IntegratorKind {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.to_ascii_lowercase().as_str() {
+            "bdpt" => Ok(Self::Bdpt),
+            "pt" | "path" => Ok(Self::Pt),
+            "lt" | "light" => Ok(Self::Lt),
+            other => Err(format!(
+                "unknown integrator {other:?}: expected bdpt, pt or lt"
+            )),
+        }
+    }
+}
+
+impl std::fmt::Display for IntegratorKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::Bdpt => "bdpt",
+            Self::Pt => "pt",
+            Self::Lt => "lt",
+        })
+    }
+}
+
+/// `frac(u + i/LANES)`: lane `i`'s primary sample (each on its own uniform on [0, 1)).
+fn rotated(u: f64, i: usize) -> f64 {
+    let v = u + i as f64 / LANES as f64;
+    if v >= 1.0 {
+        v - 1.0
+    } else {
+        v
+    }
+}
+
+/// The one-sample mixture `½ p_vis + ½ p_emit` over wavelengths (see the module docs).
+#[derive(Clone, Debug)]
+pub struct WavelengthMixture {
+    /// Distinct SPDs of evaluable lights with their summed light-pmf weights (Σ = 1).
+    spds: Vec<(Arc<dyn Spd>, f64)>,
+    cdf: Vec<f64>,
+}
+
+impl WavelengthMixture {
+    /// The mixture for `scene`'s evaluable lights (beams-only lights bring their own
+    /// wavelengths and are left out). Without such lights it is `p_vis` alone.
+    pub fn new(scene: &Scene) -> Self {
+        let mut spds: Vec<(Arc<dyn Spd>, f64)> = Vec::new();
+        for (i, l) in scene.lights.lights().iter().enumerate() {
+            let pmf = scene.lights.pmf(i) as f64;
+            if l.flags().contains(LightFlags::BEAMS_ONLY) || !(pmf > 0.0) {
+                continue;
+            }
+            let spd = l.spd();
+            match spds.iter_mut().find(|(s, _)| Arc::ptr_eq(s, &spd)) {
+                Some(e) => e.1 += pmf,
+                None => spds.push((spd, pmf)),
+            }
+        }
+        let total: f64 = spds.iter().map(|e| e.1).sum();
+        let mut acc = 0.0;
+        let mut cdf = Vec::with_capacity(spds.len());
+        for e in &mut spds {
+            e.1 /= total;
+            acc += e.1;
+            cdf.push(acc);
+        }
+        if let Some(last) = cdf.last_mut() {
+            *last = 1.0;
+        }
+        Self { spds, cdf }
+    }
+
+    /// Mixture density (1/nm) at `lambda_nm` (continuous parts only).
+    pub fn pdf(&self, lambda_nm: f64) -> f64 {
+        let vis = visible_pdf(lambda_nm);
+        if self.spds.is_empty() {
+            return vis;
+        }
+        let emit: f64 = self.spds.iter().map(|(s, w)| w * s.pdf(lambda_nm)).sum();
+        0.5 * vis + 0.5 * emit
+    }
+
+    /// Draw the pair's wavelengths: three uniforms from `rng` (component, SPD, hero).
+    pub fn sample(&self, rng: &mut SampleRng) -> SampledWavelengths {
+        let u_comp = rng.next_1d();
+        let u_spd = rng.next_1d() as f64;
+        let u = rng.next_1d() as f64;
+        let mut lambda = [0.0f32; LANES];
+        let mut pdf = [0.0f32; LANES];
+        let emission = !self.spds.is_empty() && u_comp >= 0.5;
+        let spd = if emission {
+            let k = self
+                .cdf
+                .partition_point(|&c| c <= u_spd)
+                .min(self.spds.len() - 1);
+            Some(&self.spds[k].0)
+        } else {
+            None
+        };
+        for i in 0..LANES {
+            let ui = rotated(u, i);
+            let (l, on_line) = match spd {
+                Some(s) => {
+                    let d = s.sample(ui);
+                    (d.lambda as f32, d.is_delta)
+                }
+                None => (visible_sample(ui) as f32, false),
+            };
+            lambda[i] = l;
+            pdf[i] = if on_line {
+                0.0
+            } else {
+                self.pdf(l as f64) as f32
+            };
+        }
+        SampledWavelengths { lambda, pdf }
+    }
+}
+
+/// One line per light of the scene saying which strategies of `kind` render it.
+pub fn strategy_summary(scene: &Scene, kind: IntegratorKind) -> Vec<String> {
+    scene
+        .lights
+        .lights()
+        .iter()
+        .enumerate()
+        .map(|(i, l)| {
+            let f = l.flags();
+            let what = if f.contains(LightFlags::BEAMS_ONLY) {
+                "beams-only light"
+            } else if f.contains(LightFlags::DELTA_DIRECTION) {
+                "directional light"
+            } else if f.contains(LightFlags::DELTA_POSITION) {
+                "point-like light"
+            } else {
+                "area light"
+            };
+            let how = match (kind, f.contains(LightFlags::BEAMS_ONLY), f.is_delta()) {
+                (_, true, _) if kind == IntegratorKind::Pt => {
+                    "NOT rendered by pt (beams can only be light traced; use bdpt or lt)"
+                }
+                (_, true, _) => "light tracing of its beams (t = 1 splats, unweighted)",
+                (IntegratorKind::Pt, _, true) => "pt: next-event estimation only",
+                (IntegratorKind::Pt, _, false) => "pt: next-event estimation + BSDF hits (MIS)",
+                (IntegratorKind::Lt, _, _) => "lt: light paths connected to the camera (t = 1)",
+                (IntegratorKind::Bdpt, _, true) => {
+                    "bdpt: all strategies with s ≥ 1 (never hit by camera paths), power-heuristic MIS"
+                }
+                (IntegratorKind::Bdpt, _, false) => {
+                    "bdpt: all (s, t) strategies incl. s = 0 and t = 1, power-heuristic MIS"
+                }
+            };
+            format!(
+                "light {i} ({what}, {:.4} W, chosen with p = {:.4}): {how}",
+                l.power(),
+                scene.lights.pmf(i)
+            )
+        })
+        .collect()
+}
+
+/// A finished render with the integrator's extras.
+#[derive(Clone, Debug)]
+pub struct IntegratorOutput {
+    /// The image and the summary numbers.
+    pub result: RenderResult,
+    /// BDPT only, when asked for: each strategy's weighted contribution, labelled `(s, t)`;
+    /// the label `(u32::MAX, u32::MAX)` holds all longer paths together.
+    pub strategy_images: Vec<((u32, u32), crate::film::XyzImage)>,
+    /// Contributions dropped because they were NaN or infinite.
+    pub non_finite: u64,
+    /// Largest luminance Y of one sample's contribution to a pixel sum (before the 1/spp
+    /// scaling), for firefly checks.
+    pub max_sample_y: f64,
+}
+
+/// Render `scene` with the integrator `kind`. `strategy_images` asks BDPT for one image per
+/// (s, t) strategy (ignored by the other integrators).
+pub fn render_with(
+    scene: &Scene,
+    settings: &RenderSettings,
+    kind: IntegratorKind,
+    strategy_images: bool,
+    progress: &super::render::ProgressFn<'_>,
+    cancel: Option<&std::sync::atomic::AtomicBool>,
+) -> Result<IntegratorOutput, RenderError> {
+    match kind {
+        IntegratorKind::Pt => Ok(IntegratorOutput {
+            result: render(scene, settings, progress, cancel)?,
+            strategy_images: Vec::new(),
+            non_finite: 0,
+            max_sample_y: f64::NAN,
+        }),
+        IntegratorKind::Bdpt => {
+            super::bdpt::render_bdpt(scene, settings, strategy_images, progress, cancel)
+        }
+        IntegratorKind::Lt => {
+            super::light_tracer::render_light_tracing(scene, settings, progress, cancel)
+        }
+    }
+}

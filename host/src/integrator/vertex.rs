@@ -1,0 +1,369 @@
+//! Path vertices for bidirectional path tracing (Veach 1997, ch. 10): a point on the camera, on
+//! a light or on a surface, the throughput `beta` of the subpath that reached it, and the two
+//! area densities the MIS weights need: `pdf_fwd` (density with which *this* subpath generated
+//! the vertex) and `pdf_rev` (density with which the *other* direction would have generated it).
+//!
+//! Densities are in area measure (1/m², scene units) except where noted; `delta` marks vertices
+//! scattered by a Dirac lobe (mirror, smooth glass), where no connection can be made.
+
+use crate::camera::Camera;
+use crate::geometry::{spawn_ray_to, Ray};
+use crate::light::{Light, LightFlags};
+use crate::material::{Frame, Material, ShadingContext, TransportMode};
+use crate::scene::Scene;
+use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use glam::{Vec2, Vec3A};
+
+/// What a vertex lies on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum VertexKind {
+    /// The camera lens (first vertex of a camera subpath).
+    Camera,
+    /// A light's emitting point (first vertex of a light subpath, or a sampled light for s = 1).
+    Light {
+        /// Index in the scene's light manager.
+        light: u32,
+    },
+    /// A scene surface.
+    Surface {
+        /// Scene object index (material, and area light if emissive).
+        object: u32,
+    },
+}
+
+/// One vertex of a camera or light subpath.
+#[derive(Clone, Copy, Debug)]
+pub struct Vertex {
+    /// Where it lies.
+    pub kind: VertexKind,
+    /// Position (world).
+    pub p: Vec3A,
+    /// Error bound of `p`, for spawning connection rays.
+    pub p_error: Vec3A,
+    /// Geometric normal (zero for point-like lights and the camera).
+    pub ng: Vec3A,
+    /// Shading normal (equal to `ng` except on meshes with vertex normals).
+    pub ns: Vec3A,
+    /// Texture coordinates (surfaces).
+    pub uv: Vec2,
+    /// Unit direction towards the previous vertex of its own subpath (zero for the first).
+    pub wo: Vec3A,
+    /// Subpath throughput up to and including this vertex: radiance-like weight on camera
+    /// subpaths (1/(W·…) importance units), flux-like (W/nm) on light subpaths.
+    pub beta: SampledSpectrum,
+    /// Area density (1/m²) of this vertex under its own subpath's sampling.
+    pub pdf_fwd: f32,
+    /// Area density (1/m²) of this vertex if sampled from the other end.
+    pub pdf_rev: f32,
+    /// Scattered by a Dirac lobe: connections through it are impossible.
+    pub delta: bool,
+    /// A wavelength-dependent (dispersive) event happened on the subpath before this vertex:
+    /// only the hero wavelength stays valid for contributions that use it.
+    pub dispersed: bool,
+}
+
+/// `x` if non-zero, else 1: a zero density marks an unsampleable (delta) step, which cancels in
+/// the MIS ratio instead of producing 0/0.
+#[inline]
+pub fn remap0(x: f32) -> f32 {
+    if x != 0.0 {
+        x
+    } else {
+        1.0
+    }
+}
+
+/// Adjoint BSDF correction for shading normals on light subpaths (Veach 1997, §5.3):
+/// `|wo·ns||wi·ng| / (|wo·ng||wi·ns|)` in importance mode, 1 otherwise. Without it light tracing
+/// and path tracing disagree wherever interpolated normals differ from the true ones.
+#[inline]
+pub fn shading_normal_correction(
+    ng: Vec3A,
+    ns: Vec3A,
+    wo: Vec3A,
+    wi: Vec3A,
+    mode: TransportMode,
+) -> f32 {
+    if mode == TransportMode::Radiance {
+        return 1.0;
+    }
+    let num = wo.dot(ns).abs() * wi.dot(ng).abs();
+    let den = wo.dot(ng).abs() * wi.dot(ns).abs();
+    if den == 0.0 {
+        0.0
+    } else {
+        num / den
+    }
+}
+
+impl Vertex {
+    /// A camera vertex at lens point `p` looking along `forward`, with throughput `beta`.
+    pub fn camera(p: Vec3A, forward: Vec3A, beta: SampledSpectrum) -> Self {
+        Self {
+            kind: VertexKind::Camera,
+            p,
+            p_error: Vec3A::ZERO,
+            ng: forward,
+            ns: forward,
+            uv: Vec2::ZERO,
+            wo: Vec3A::ZERO,
+            beta,
+            pdf_fwd: 0.0,
+            pdf_rev: 0.0,
+            delta: false,
+            dispersed: false,
+        }
+    }
+
+    /// A light vertex of light `light` at `p` (normal `n`, zero for point-like lights).
+    pub fn light(light: u32, p: Vec3A, p_error: Vec3A, n: Vec3A, beta: SampledSpectrum) -> Self {
+        Self {
+            kind: VertexKind::Light { light },
+            p,
+            p_error,
+            ng: n,
+            ns: n,
+            uv: Vec2::ZERO,
+            wo: Vec3A::ZERO,
+            beta,
+            pdf_fwd: 0.0,
+            pdf_rev: 0.0,
+            delta: false,
+            dispersed: false,
+        }
+    }
+
+    /// True on a surface with a normal (area lights count): cosines at this vertex apply.
+    #[inline]
+    pub fn on_surface(&self) -> bool {
+        self.ng != Vec3A::ZERO && !matches!(self.kind, VertexKind::Camera)
+    }
+
+    /// The scene light this vertex emits from: the light of a light vertex, or the area light of
+    /// an emissive surface.
+    pub fn light_index(&self, scene: &Scene) -> Option<u32> {
+        match self.kind {
+            VertexKind::Light { light } => Some(light),
+            VertexKind::Surface { object } => scene.lights.light_of_object(object),
+            VertexKind::Camera => None,
+        }
+    }
+
+    /// True when a path can be connected here: not a delta-scattering vertex, and for lights
+    /// not a direction-only light reached from outside.
+    #[inline]
+    pub fn connectible(&self) -> bool {
+        !self.delta
+    }
+
+    fn material<'a>(&self, scene: &'a Scene) -> Option<&'a dyn Material> {
+        match self.kind {
+            VertexKind::Surface { object } => Some(scene.objects.material(object)),
+            _ => None,
+        }
+    }
+
+    /// Convert a solid-angle density `pdf` (1/sr) at this vertex towards `next` into an area
+    /// density (1/m²) at `next`: `pdf · |cos θ_next| / d²`.
+    pub fn convert_density(&self, pdf: f32, next: &Vertex) -> f32 {
+        let w = next.p - self.p;
+        let d2 = w.length_squared();
+        if !(d2 > 0.0) {
+            return 0.0;
+        }
+        let mut pdf = pdf / d2;
+        if next.on_surface() {
+            pdf *= (next.ng.dot(w) / d2.sqrt()).abs();
+        }
+        pdf
+    }
+
+    /// BSDF value (1/sr) for scattering from this vertex's `wo` towards `next`, with the adjoint
+    /// shading-normal correction in importance mode. Zero for non-surface vertices.
+    pub fn f(
+        &self,
+        scene: &Scene,
+        next: &Vertex,
+        lambda: &SampledWavelengths,
+        mode: TransportMode,
+    ) -> SampledSpectrum {
+        let Some(m) = self.material(scene) else {
+            return SampledSpectrum::zero();
+        };
+        let wi = next.p - self.p;
+        let len = wi.length();
+        if !(len > 0.0) {
+            return SampledSpectrum::zero();
+        }
+        let wi = wi / len;
+        let frame = Frame::from_normal(self.ns);
+        let ctx = ShadingContext { uv: self.uv };
+        let f = m.eval(
+            frame.to_local(self.wo),
+            frame.to_local(wi),
+            &ctx,
+            lambda,
+            mode,
+        );
+        f * shading_normal_correction(self.ng, self.ns, self.wo, wi, mode)
+    }
+
+    /// Area density (1/m²) at `next` of this vertex sampling `next`, having been reached from
+    /// `prev` (ignored at light and camera vertices). `mode` is the transport direction of that
+    /// sampling (importance when `prev` lies towards the light).
+    #[allow(clippy::too_many_arguments)]
+    pub fn pdf(
+        &self,
+        scene: &Scene,
+        camera: &dyn Camera,
+        prev: Option<&Vertex>,
+        next: &Vertex,
+        lambda: &SampledWavelengths,
+        mode: TransportMode,
+    ) -> f32 {
+        match self.kind {
+            VertexKind::Light { .. } => return self.pdf_light(scene, next),
+            VertexKind::Camera => {
+                let w = next.p - self.p;
+                if !(w.length_squared() > 0.0) {
+                    return 0.0;
+                }
+                let (_, pdf_dir) = camera.pdf_we(&Ray::new(self.p, w.normalize()));
+                return self.convert_density(pdf_dir, next);
+            }
+            VertexKind::Surface { .. } => {}
+        }
+        let Some(m) = self.material(scene) else {
+            return 0.0;
+        };
+        let Some(prev) = prev else {
+            return 0.0;
+        };
+        let wp = prev.p - self.p;
+        let wn = next.p - self.p;
+        if !(wp.length_squared() > 0.0 && wn.length_squared() > 0.0) {
+            return 0.0;
+        }
+        let frame = Frame::from_normal(self.ns);
+        let ctx = ShadingContext { uv: self.uv };
+        let pdf = m.pdf(
+            frame.to_local(wp.normalize()),
+            frame.to_local(wn.normalize()),
+            &ctx,
+            lambda,
+            mode,
+        );
+        self.convert_density(pdf, next)
+    }
+
+    /// Area density (1/m²) at `next` of the light at this vertex emitting towards `next`
+    /// (`sample_le`'s directional density, converted). Directional lights emit parallel rays
+    /// with positional density `pdf_pos` on a disk across the scene, so the density at `next`
+    /// is `pdf_pos · |cos θ_next|` whatever the distance.
+    pub fn pdf_light(&self, scene: &Scene, next: &Vertex) -> f32 {
+        let Some(li) = self.light_index(scene) else {
+            return 0.0;
+        };
+        let light = &scene.lights.lights()[li as usize];
+        let w = next.p - self.p;
+        let d2 = w.length_squared();
+        if !(d2 > 0.0) {
+            return 0.0;
+        }
+        let w = w / d2.sqrt();
+        let ray = Ray::new(self.p, w);
+        let (pdf_pos, pdf_dir) = light.pdf_le(&ray, self.ng);
+        let cos_next = if next.on_surface() {
+            next.ng.dot(w).abs()
+        } else {
+            1.0
+        };
+        if light.flags().contains(LightFlags::DELTA_DIRECTION) {
+            return pdf_pos * cos_next;
+        }
+        pdf_dir / d2 * cos_next
+    }
+
+    /// Density of choosing this light point as a light subpath's origin, with the subpath
+    /// leaving towards `next`: light pmf × positional density (1/m², or 1 for point lights).
+    pub fn pdf_light_origin(&self, scene: &Scene, next: &Vertex) -> f32 {
+        let Some(li) = self.light_index(scene) else {
+            return 0.0;
+        };
+        let light = &scene.lights.lights()[li as usize];
+        let w = next.p - self.p;
+        if !(w.length_squared() > 0.0) {
+            return 0.0;
+        }
+        let ray = Ray::new(self.p, w.normalize());
+        let (pdf_pos, _) = light.pdf_le(&ray, self.ng);
+        let pdf_pos = if light.flags().contains(LightFlags::DELTA_POSITION) {
+            1.0
+        } else {
+            pdf_pos
+        };
+        scene.lights.pmf(li as usize) * pdf_pos
+    }
+
+    /// Radiance (W/(m²·sr·nm)) this vertex emits towards `toward` (area lights only).
+    pub fn le(
+        &self,
+        scene: &Scene,
+        toward: &Vertex,
+        lambda: &SampledWavelengths,
+    ) -> SampledSpectrum {
+        let VertexKind::Surface { object } = self.kind else {
+            return SampledSpectrum::zero();
+        };
+        let m = scene.objects.material(object);
+        let w = toward.p - self.p;
+        if !(w.length_squared() > 0.0) {
+            return SampledSpectrum::zero();
+        }
+        let frame = Frame::from_normal(self.ng);
+        m.emitted(
+            frame.to_local(w.normalize()),
+            &ShadingContext { uv: self.uv },
+            lambda,
+        )
+    }
+
+    /// True when this light vertex's light is a delta light (point, spot, directional).
+    pub fn is_delta_light(&self, scene: &Scene) -> bool {
+        match self.kind {
+            VertexKind::Light { light } => scene.lights.lights()[light as usize].flags().is_delta(),
+            _ => false,
+        }
+    }
+}
+
+/// Mutual visibility of two vertices (a shadow ray between their offset positions).
+pub fn unoccluded(scene: &Scene, a: &Vertex, b: &Vertex) -> bool {
+    let (ray, t_max) = spawn_ray_to(a.p, a.p_error, a.ng, b.p, b.p_error, b.ng);
+    !scene.geometry.occluded(&ray, t_max)
+}
+
+/// Generalised geometry term between two vertices without visibility: `|cos_a||cos_b|/d²`, the
+/// cosines taken with the shading normals at surface vertices and omitted elsewhere.
+pub fn geometry_term(a: &Vertex, b: &Vertex) -> f32 {
+    let d = a.p - b.p;
+    let d2 = d.length_squared();
+    if !(d2 > 0.0) {
+        return 0.0;
+    }
+    let w = d / d2.sqrt();
+    let mut g = 1.0 / d2;
+    if a.on_surface() {
+        g *= a.ns.dot(w).abs();
+    }
+    if b.on_surface() {
+        g *= b.ns.dot(w).abs();
+    }
+    g
+}
+
+/// Shorthand used when a light needs the trait object.
+pub fn light_of<'a>(scene: &'a Scene, v: &Vertex) -> Option<&'a dyn Light> {
+    v.light_index(scene)
+        .map(|i| scene.lights.lights()[i as usize].as_ref())
+}
