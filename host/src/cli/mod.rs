@@ -1,7 +1,9 @@
 //! Command-line subcommands; each lives in its own file and `main.rs` only dispatches.
 
 pub mod blob;
+pub mod interrupt;
 pub mod color;
+pub mod compare;
 pub mod plugin_args;
 pub mod plugins;
 pub mod render;
@@ -32,6 +34,8 @@ pub enum Command {
     Color(color::ColorArgs),
     /// Render a scene (default: the measured spectral Cornell box) to OpenEXR and PNG.
     Render(render::RenderArgs),
+    /// Error of a render against a reference: RMSE, relative MSE, CIEDE2000, difference image.
+    Compare(compare::CompareArgs),
 }
 
 /// Parse `args`, run the chosen subcommand and return the process exit code.
@@ -57,6 +61,7 @@ where
         Some(Command::Blob(cmd)) => blob::run(&cmd, verbose),
         Some(Command::Color(args)) => color::run(&args),
         Some(Command::Render(args)) => render::run(&args),
+        Some(Command::Compare(args)) => compare::run(&args),
     };
     match result {
         Ok(()) => 0,

@@ -118,7 +118,8 @@ pub fn run_with_factories(
         bar.set_length(total);
         bar.set_position(done);
     };
-    let result = render(&scene, &settings, &progress, None).map_err(|e| e.to_string())?;
+    let cancel = super::interrupt::interrupt_flag();
+    let result = render(&scene, &settings, &progress, Some(cancel)).map_err(|e| e.to_string())?;
     bar.finish_and_clear();
 
     let png = args
