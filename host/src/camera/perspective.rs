@@ -37,6 +37,8 @@ impl PerspectiveCamera {
     /// A camera at `position` looking at `look_at` with `up` roughly up; `fov_deg` spans
     /// `fov_axis`; `lens_radius` (scene units, 0 = pinhole) and `focus_distance` (scene units along
     /// the view axis) make it a thin lens. Fails on degenerate input.
+    // Every argument is a distinct physical camera parameter; a builder would add nothing.
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         position: Vec3A,
         look_at: Vec3A,

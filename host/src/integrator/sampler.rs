@@ -193,8 +193,8 @@ mod ld_tests {
     #[test]
     fn prefixes_are_stratified() {
         for pixel in [0u64, 17, 12345] {
-            let mut grids = vec![[0u8; 16]; 6];
-            let mut strata = vec![[0u8; 16]; 6];
+            let mut grids = [[0u8; 16]; 6];
+            let mut strata = [[0u8; 16]; 6];
             for s in 0..16 {
                 let mut p = PixelSampler::new(9, pixel, s);
                 for d in 0..6 {
