@@ -106,8 +106,16 @@ pub fn cornell_box_description() -> Result<SceneDescription, SceneError> {
             }
             // Two triangles with the quad's winding (which fixes the front side).
             let int = |v: f64| Value::Number(Number::from(v as i64));
-            indices.push(Value::Seq(vec![int(base), int(base + 1.0), int(base + 2.0)]));
-            indices.push(Value::Seq(vec![int(base), int(base + 2.0), int(base + 3.0)]));
+            indices.push(Value::Seq(vec![
+                int(base),
+                int(base + 1.0),
+                int(base + 2.0),
+            ]));
+            indices.push(Value::Seq(vec![
+                int(base),
+                int(base + 2.0),
+                int(base + 3.0),
+            ]));
         }
         objects.push(ObjectDescription {
             name: name.clone(),
