@@ -106,12 +106,19 @@ fn main() {
     g.sample_size(10);
     g.throughput(Throughput::Elements(mesh.indices.len() as u64));
     g.bench_function("build", |b| {
-        b.iter_batched(desc, |d| Geometry::build(d).unwrap(), BatchSize::PerIteration)
+        b.iter_batched(
+            desc,
+            |d| Geometry::build(d).unwrap(),
+            BatchSize::PerIteration,
+        )
     });
 
     let coherent = camera_rays();
     let incoherent = random_rays();
-    let hits = coherent.iter().filter(|r| geometry.intersect(r, f32::INFINITY).is_some()).count();
+    let hits = coherent
+        .iter()
+        .filter(|r| geometry.intersect(r, f32::INFINITY).is_some())
+        .count();
     println!("coherent rays hitting: {hits} of {}", coherent.len());
     g.throughput(Throughput::Elements(coherent.len() as u64));
     g.bench_function("coherent", |b| {

@@ -328,6 +328,44 @@ fn append_shifted(out: &mut Vec<Node>, sub: Vec<Node>) {
 mod tests {
     use super::*;
 
+    // Determinism: the parallel build must produce the identical tree (same leaf order, same
+    // node bounds and offsets) on 1 and on 2 threads; compared exactly.
+    #[test]
+    fn build_is_independent_of_thread_count() {
+        let mut bounds = Vec::new();
+        let mut s = 777u64;
+        for _ in 0..(PARALLEL_THRESHOLD * 3) {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let p = Vec3A::new(
+                (s >> 40) as f32,
+                ((s >> 16) & 0xffffff) as f32,
+                (s & 0xffff) as f32,
+            );
+            bounds.push(Aabb {
+                min: p,
+                max: p + Vec3A::splat(3.0),
+            });
+        }
+        let build_on = |threads: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| Bvh::build(&bounds))
+        };
+        let (a, b) = (build_on(1), build_on(2));
+        assert_eq!(a.order, b.order);
+        assert_eq!(a.nodes.len(), b.nodes.len());
+        for (x, y) in a.nodes.iter().zip(&b.nodes) {
+            assert_eq!(
+                (x.min, x.max, x.offset, x.count, x.axis),
+                (y.min, y.max, y.offset, y.count, y.axis)
+            );
+        }
+    }
+
     // Every primitive must appear exactly once in the leaf order (a permutation), and every
     // leaf's box must contain its primitives' boxes.
     #[test]
