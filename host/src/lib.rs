@@ -4,6 +4,7 @@
 //! Each module below is one concept; the integrator only sees the host traits in [`light`] and
 //! [`material`], never whether an object came from a dynamic library, a blob or a built-in.
 
+pub mod analysis;
 pub mod camera;
 pub mod cli;
 pub mod color;

@@ -1,0 +1,39 @@
+//! Accuracy analysis: comparing renders with a reference (RMSE, relative MSE, CIEDE2000 and a
+//! false-colour difference image), long resumable reference renders, and error-versus-time
+//! benchmarks of renderer configurations.
+
+pub mod ciede2000;
+pub mod cielab;
+pub mod diff_image;
+pub mod error;
+pub mod metrics;
+pub mod rgb_image;
+
+pub use ciede2000::delta_e_2000;
+pub use cielab::{linear_srgb_to_lab, xyz_to_lab, Lab};
+pub use diff_image::{delta_e_color, write_delta_e_png};
+pub use error::AnalysisError;
+pub use metrics::{compare_images, light_mask, CompareOptions, Comparison, REL_MSE_EPSILON};
+pub use rgb_image::RgbImage;
+
+/// Read two EXRs and compare `test` against `reference`; errors name the file at fault.
+pub fn compare_files(
+    test: &std::path::Path,
+    reference: &std::path::Path,
+    options: CompareOptions,
+) -> Result<(Comparison, Vec<Option<f64>>, (u32, u32)), AnalysisError> {
+    let a = RgbImage::read_exr(test)?;
+    let b = RgbImage::read_exr(reference)?;
+    if (a.width, a.height) != (b.width, b.height) {
+        return Err(AnalysisError::SizeMismatch {
+            a: test.to_path_buf(),
+            aw: a.width,
+            ah: a.height,
+            b: reference.to_path_buf(),
+            bw: b.width,
+            bh: b.height,
+        });
+    }
+    let (c, per_pixel) = compare_images(&a, &b, options);
+    Ok((c, per_pixel, (a.width, a.height)))
+}

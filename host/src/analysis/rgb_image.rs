@@ -1,0 +1,78 @@
+//! A linear-RGB image read from OpenEXR (channels R, G, B), the form renders are compared in.
+
+use super::AnalysisError;
+use std::path::Path;
+
+/// Linear RGB per pixel, row-major from the top-left pixel.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RgbImage {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// `width·height` RGB triples.
+    pub rgb: Vec<[f64; 3]>,
+}
+
+impl RgbImage {
+    /// Read channels R, G and B of the first layer of `path` that has all three. Channel names
+    /// may carry a layer prefix (`layer.R`). Other channels (A, X, Y, Z) are ignored.
+    pub fn read_exr(path: &Path) -> Result<Self, AnalysisError> {
+        if !path.exists() {
+            return Err(AnalysisError::Read {
+                path: path.to_path_buf(),
+                message: "no such file".into(),
+            });
+        }
+        let image = exr::prelude::read_all_flat_layers_from_file(path).map_err(|e| {
+            AnalysisError::Read {
+                path: path.to_path_buf(),
+                message: format!("not a readable OpenEXR file ({e})"),
+            }
+        })?;
+        let mut seen = Vec::new();
+        for layer in &image.layer_data {
+            let find = |want: &str| {
+                layer.channel_data.list.iter().position(|c| {
+                    let name = c.name.to_string();
+                    name == want || name.rsplit('.').next() == Some(want)
+                })
+            };
+            seen.extend(layer.channel_data.list.iter().map(|c| c.name.to_string()));
+            let (Some(r), Some(g), Some(b)) = (find("R"), find("G"), find("B")) else {
+                continue;
+            };
+            let size = layer.size;
+            let (w, h) = (size.width(), size.height());
+            let chans = [r, g, b].map(|i| &layer.channel_data.list[i].sample_data);
+            let rgb = (0..w * h)
+                .map(|i| chans.map(|c| c.value_by_flat_index(i).to_f32() as f64))
+                .collect();
+            return Ok(Self {
+                width: w as u32,
+                height: h as u32,
+                rgb,
+            });
+        }
+        Err(AnalysisError::Content {
+            path: path.to_path_buf(),
+            message: format!(
+                "no layer has channels R, G and B (channels found: {})",
+                if seen.is_empty() {
+                    "none".to_string()
+                } else {
+                    seen.join(", ")
+                }
+            ),
+        })
+    }
+
+    /// Convert a film image to linear RGB in `space`.
+    pub fn from_xyz(image: &crate::film::XyzImage, space: &crate::color::RgbColorSpace) -> Self {
+        Self {
+            width: image.width,
+            height: image.height,
+            rgb: image.to_rgb(space),
+        }
+    }
+}
