@@ -4,21 +4,60 @@ use crate::color::Observer;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, LANES};
 use std::sync::Arc;
 
-/// The observer plus the normalisation `1/∫ȳ dλ` of the film convention.
+/// The observer plus the normalisation `1/∫ȳ dλ` of the film convention. The colour-matching
+/// functions are copied onto a 1 nm grid starting at the observer's first wavelength so the
+/// per-sample lookup is one index and one lerp (exact for the CIE tables, which are 1 nm data;
+/// other observers are linearly resampled).
 #[derive(Clone, Debug)]
 pub struct Sensor {
     observer: Arc<dyn Observer>,
     inv_integral_y: f64,
+    start: f64,
+    table: Vec<[f64; 3]>,
 }
 
 impl Sensor {
     /// A sensor with the given colour-matching functions.
     pub fn new(observer: Arc<dyn Observer>) -> Self {
         let iy = observer.integral_y();
+        let (lo, hi) = observer.range();
+        let start = lo.floor();
+        let n = if hi.is_finite() && hi >= start {
+            ((hi.ceil() - start) as usize + 1).min(100_000)
+        } else {
+            0
+        };
+        let table = (0..n).map(|i| observer.xyz_bar(start + i as f64)).collect();
         Self {
             observer,
             inv_integral_y: if iy > 0.0 { 1.0 / iy } else { 0.0 },
+            start,
+            table,
         }
+    }
+
+    /// `[x̄, ȳ, z̄]` at `lambda_nm` from the 1 nm copy (0 outside).
+    #[inline]
+    fn xyz_bar(&self, lambda_nm: f64) -> [f64; 3] {
+        let x = lambda_nm - self.start;
+        if !(x >= 0.0) || self.table.len() < 2 {
+            return [0.0; 3];
+        }
+        let i = x as usize;
+        if i + 1 >= self.table.len() {
+            return if i + 1 == self.table.len() && x == i as f64 {
+                self.table[i]
+            } else {
+                [0.0; 3]
+            };
+        }
+        let t = x - i as f64;
+        let (a, b) = (self.table[i], self.table[i + 1]);
+        [
+            a[0] + t * (b[0] - a[0]),
+            a[1] + t * (b[1] - a[1]),
+            a[2] + t * (b[2] - a[2]),
+        ]
     }
 
     /// The observer.
@@ -38,7 +77,7 @@ impl Sensor {
                 continue;
             }
             let w = l.0[i] as f64 / p as f64;
-            let bar = self.observer.xyz_bar(lambda.lambda[i] as f64);
+            let bar = self.xyz_bar(lambda.lambda[i] as f64);
             xyz[0] += w * bar[0];
             xyz[1] += w * bar[1];
             xyz[2] += w * bar[2];
@@ -69,5 +108,19 @@ mod tests {
         }
         y /= n as f64;
         assert!((y - 1.0).abs() < 2e-3, "{y}");
+    }
+
+    /// The 1 nm copy reproduces the observer exactly at and between CIE table nodes (1e-12).
+    #[test]
+    fn dense_copy_matches_observer() {
+        let obs: Arc<dyn Observer> = Arc::new(CieObserverKind::Cie1931_2.get().clone());
+        let s = Sensor::new(obs.clone());
+        for k in 0..5000 {
+            let l = 355.0 + k as f64 * 0.0951;
+            let (a, b) = (s.xyz_bar(l), obs.xyz_bar(l));
+            for c in 0..3 {
+                assert!((a[c] - b[c]).abs() < 1e-12, "{l}: {a:?} vs {b:?}");
+            }
+        }
     }
 }
