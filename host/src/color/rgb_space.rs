@@ -175,6 +175,21 @@ mod tests {
         assert!(close(&id, &diag([1.0; 3]), 1e-12));
     }
 
+    // The luminance rows (Y of each primary) are published: ITU-R BT.2020 gives 0.2627,
+    // 0.6780, 0.0593 for Rec.2020; SMPTE EG 432-1 gives 0.2290, 0.6917, 0.0793 for Display P3
+    // (4 decimals, so 1e-4).
+    #[test]
+    fn luminance_rows_match_standards() {
+        let rec = REC2020.rgb_to_xyz_matrix()[1];
+        let p3 = DISPLAY_P3.rgb_to_xyz_matrix()[1];
+        for (got, want) in rec.iter().zip([0.2627, 0.6780, 0.0593]) {
+            assert!((got - want).abs() < 1e-4, "{rec:?}");
+        }
+        for (got, want) in p3.iter().zip([0.2290, 0.6917, 0.0793]) {
+            assert!((got - want).abs() < 1e-4, "{p3:?}");
+        }
+    }
+
     // White maps to RGB (1,1,1) in every space (1e-12: matrix round trip).
     #[test]
     fn white_is_one() {

@@ -22,9 +22,10 @@ fn visible_tanh_bounds() -> (f64, f64) {
 }
 
 /// Density (1/nm) of visible-importance sampling: `p(λ) ∝ 1/cosh²(0.0072 (λ − 538))` on
-/// 360–830 nm, 0 outside. The shape is the fit to the CIE 1931 luminance-weighted observer
-/// used by pbrt-v4 (Pharr, Jakob & Humphreys, *Physically Based Rendering*, 4th ed., 2023,
-/// §4.6.5 "Sampling visible wavelengths"); the normalization is computed here exactly:
+/// 360–830 nm, 0 outside. The shape is the fit to the CIE 1931 observer's luminance response
+/// introduced by pbrt-v4 (Pharr, Jakob & Humphreys, *Physically Based Rendering*, 4th ed.,
+/// 2023, chapter "Cameras and Film"; `SampleVisibleWavelengths` in pbrt-v4's sampling code).
+/// Only the two shape constants are taken from there; the normalization is computed here exactly:
 /// `∫ sech²(a(λ−c)) dλ = [tanh(a(λ−c))/a]` over the range.
 pub fn visible_pdf(lambda_nm: f64) -> f64 {
     if !(lambda_nm >= VISIBLE_RANGE.0 && lambda_nm <= VISIBLE_RANGE.1) {
@@ -77,8 +78,12 @@ impl SampledWavelengths {
         let mut pdf = [0.0f32; LANES];
         for i in 0..LANES {
             let s = spd.sample(rotated(u as f64, i));
-            lambda[i] = s.lambda as f32;
-            pdf[i] = s.pdf as f32;
+            let l = s.lambda as f32;
+            lambda[i] = l;
+            // As for visible sampling, the pdf belongs to the stored (f32) wavelength; should
+            // rounding move λ onto a zero of the SPD, keep the draw's own (positive) pdf.
+            let p = if s.is_delta { 0.0 } else { spd.pdf(l as f64) };
+            pdf[i] = if p > 0.0 { p as f32 } else { s.pdf as f32 };
         }
         Self { lambda, pdf }
     }
