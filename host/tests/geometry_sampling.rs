@@ -184,3 +184,41 @@ fn object_transforms() {
         Err(GeometryError::InvalidObject { object: 0, .. })
     ));
 }
+
+// Regression (white-furnace finding): a reference point on the sphere's own surface must not
+// use cone sampling (its "cone" is a hemisphere whose nearest hit is the point itself, giving
+// zero-length connections). Quantity: fraction of samples that land within 1e-3·r of the
+// reference; area sampling makes that ~1e-6, the degenerate cone made it ~100%. Tolerance 1%.
+// Also pdf_solid_angle must agree with the sample's pdf (1e-4 relative).
+#[test]
+fn sphere_reference_on_its_own_surface_uses_area_sampling() {
+    let g = Geometry::build(vec![ShapeDesc {
+        shape: Shape::Sphere {
+            center: Vec3A::new(3.0, -2.0, 1.0),
+            radius: 1.0,
+        },
+        transform: Transform::IDENTITY,
+    }])
+    .unwrap();
+    let on_surface = g.sample_area(0, Vec2::new(0.3, 0.7)).unwrap().point;
+    let (mut near, mut total) = (0, 0);
+    for i in 0..64 {
+        for j in 0..64 {
+            let u = Vec2::new((i as f32 + 0.5) / 64.0, (j as f32 + 0.5) / 64.0);
+            let Some(s) = g.sample_solid_angle(0, on_surface, u) else {
+                continue;
+            };
+            total += 1;
+            if (s.point - on_surface).length() < 1e-3 {
+                near += 1;
+            }
+            let p = g.pdf_solid_angle(0, on_surface, s.point, s.normal);
+            assert!(((p - s.pdf) / s.pdf).abs() < 1e-4, "{p} vs {}", s.pdf);
+        }
+    }
+    assert!(total > 4000, "{total}");
+    assert!(
+        (near as f64) < 0.01 * total as f64,
+        "{near} of {total} samples at the reference"
+    );
+}
