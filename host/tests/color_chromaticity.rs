@@ -31,6 +31,18 @@ fn d65_chromaticity() {
     );
 }
 
+// D65 for the CIE 1964 10° observer: x = 0.31382, y = 0.33100 (CIE 15:2018 Table 3.3); 1e-4
+// as above. Checks that the observer choice really switches the tables.
+#[test]
+fn d65_chromaticity_10_degree() {
+    let spd = parse_spd_spec("d65").unwrap();
+    let (x, y) = chromaticity(emitter_xyz(&spd, CieObserverKind::Cie1964_10.get()));
+    assert!(
+        (x - 0.31382).abs() < 1e-4 && (y - 0.33100).abs() < 1e-4,
+        "{x} {y}"
+    );
+}
+
 // CIE 15 defines A by Planck's law at 2848 K with the old c₂ = 1.435e-2 m·K, the same curve
 // as 2856 K with today's c₂ = 1.438777e-2 m·K (2848 · 1.438777/1.435 = 2855.5 K). So our
 // blackbody:2856 must reproduce A's chromaticity; 1e-4 covers the 0.5 K difference (≈ 5e-6 in
