@@ -99,20 +99,45 @@ fn nested_uniform_scramble(x: u32, seed: u32) -> u32 {
     v.reverse_bits()
 }
 
-/// Second Sobol' dimension (the first is the bit-reversed index): direction numbers
-/// `v₁ = 2³¹`, `vₖ₊₁ = vₖ ⊕ (vₖ ≫ 1)`.
-#[inline]
-fn sobol_dim1(mut i: u32) -> u32 {
-    let mut v = 1u32 << 31;
-    let mut r = 0u32;
-    while i != 0 {
-        if i & 1 != 0 {
-            r ^= v;
-        }
-        i >>= 1;
-        v ^= v >> 1;
+/// Direction numbers of the second Sobol' dimension (the first is the bit-reversed index):
+/// `v₀ = 2³¹`, `vₖ₊₁ = vₖ ⊕ (vₖ ≫ 1)`, folded into four byte tables (`T_b[x]` = XOR of the
+/// `vₖ` for the set bits of byte `b`) so a point costs four lookups instead of 32 steps.
+const SOBOL1_TABLES: [[u32; 256]; 4] = {
+    let mut v = [0u32; 32];
+    v[0] = 1 << 31;
+    let mut k = 1;
+    while k < 32 {
+        v[k] = v[k - 1] ^ (v[k - 1] >> 1);
+        k += 1;
     }
-    r
+    let mut t = [[0u32; 256]; 4];
+    let mut b = 0;
+    while b < 4 {
+        let mut x = 0;
+        while x < 256 {
+            let mut r = 0u32;
+            let mut j = 0;
+            while j < 8 {
+                if x & (1 << j) != 0 {
+                    r ^= v[8 * b + j];
+                }
+                j += 1;
+            }
+            t[b][x] = r;
+            x += 1;
+        }
+        b += 1;
+    }
+    t
+};
+
+/// Second Sobol' dimension of index `i`.
+#[inline]
+fn sobol_dim1(i: u32) -> u32 {
+    SOBOL1_TABLES[0][(i & 0xFF) as usize]
+        ^ SOBOL1_TABLES[1][((i >> 8) & 0xFF) as usize]
+        ^ SOBOL1_TABLES[2][((i >> 16) & 0xFF) as usize]
+        ^ SOBOL1_TABLES[3][(i >> 24) as usize]
 }
 
 #[inline]
@@ -217,6 +242,26 @@ mod ld_tests {
                     strata[d]
                 );
             }
+        }
+    }
+
+    /// The byte tables reproduce the bit-serial definition of the second Sobol' dimension.
+    #[test]
+    fn sobol_tables_match_definition() {
+        let serial = |mut i: u32| {
+            let (mut v, mut r) = (1u32 << 31, 0u32);
+            while i != 0 {
+                if i & 1 != 0 {
+                    r ^= v;
+                }
+                i >>= 1;
+                v ^= v >> 1;
+            }
+            r
+        };
+        for k in 0..10_000u32 {
+            let i = k.wrapping_mul(0x9E37_79B9);
+            assert_eq!(sobol_dim1(i), serial(i));
         }
     }
 
