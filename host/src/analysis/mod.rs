@@ -7,6 +7,8 @@ pub mod cielab;
 pub mod diff_image;
 pub mod error;
 pub mod metrics;
+pub mod progressive;
+pub mod reference_state;
 pub mod rgb_image;
 
 pub use ciede2000::delta_e_2000;
@@ -14,6 +16,8 @@ pub use cielab::{linear_srgb_to_lab, xyz_to_lab, Lab};
 pub use diff_image::{delta_e_color, write_delta_e_png};
 pub use error::AnalysisError;
 pub use metrics::{compare_images, light_mask, CompareOptions, Comparison, REL_MSE_EPSILON};
+pub use progressive::{run_reference, state_path, ReferenceOutcome, ReferenceSettings};
+pub use reference_state::ReferenceState;
 pub use rgb_image::RgbImage;
 
 /// Read two EXRs and compare `test` against `reference`; errors name the file at fault.

@@ -6,6 +6,7 @@ pub mod color;
 pub mod compare;
 pub mod plugin_args;
 pub mod plugins;
+pub mod reference;
 pub mod render;
 
 use clap::{Parser, Subcommand};
@@ -36,6 +37,8 @@ pub enum Command {
     Render(render::RenderArgs),
     /// Error of a render against a reference: RMSE, relative MSE, CIEDE2000, difference image.
     Compare(compare::CompareArgs),
+    /// Long progressive reference render that can be stopped (Ctrl-C, --time) and resumed.
+    Reference(reference::ReferenceArgs),
 }
 
 /// Parse `args`, run the chosen subcommand and return the process exit code.
@@ -62,6 +65,7 @@ where
         Some(Command::Color(args)) => color::run(&args),
         Some(Command::Render(args)) => render::run(&args),
         Some(Command::Compare(args)) => compare::run(&args),
+        Some(Command::Reference(args)) => reference::run(&args),
     };
     match result {
         Ok(()) => 0,

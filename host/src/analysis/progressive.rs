@@ -1,0 +1,179 @@
+//! Long, resumable reference renders: the image is built from passes of a fixed number of
+//! samples per pixel; after each pass the f64 sums go to the sidecar state file
+//! ([`ReferenceState`]) and the EXR is rewritten, so stopping (Ctrl-C, time budget) loses at
+//! most the pass in flight and resuming continues exactly where it stopped.
+//!
+//! Pass `k` renders with seed `mix64(base_seed ⊕ mix64(k + 1))`: every pass draws fresh,
+//! independent sample streams, and the seeds depend only on `k`, so `N` passes followed by a
+//! resumed `N` passes give bitwise the same sums as `2N` passes in one run (the sums are added
+//! in the same pass order). (A renderer-side "first sample index" would let passes continue one
+//! low-discrepancy sequence instead; the render driver does not expose one.)
+
+use super::{AnalysisError, ReferenceState};
+use crate::film::write_exr;
+use crate::integrator::sampler::mix64;
+use crate::integrator::{render_with, IntegratorKind, PathTracer, RenderSettings, SampleBudget};
+use crate::scene::Scene;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+/// How to run (or continue) a reference render.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ReferenceSettings {
+    /// Samples per pixel of one pass (the unit that is saved).
+    pub pass_spp: u32,
+    /// Base seed (ignored when resuming: the state's is used).
+    pub seed: u64,
+    /// Light transport algorithm.
+    pub integrator: IntegratorKind,
+    /// Path tracer settings (depth, Russian roulette).
+    pub tracer: PathTracer,
+    /// Worker threads (`None`: one per core).
+    pub threads: Option<usize>,
+    /// Stop once this many samples per pixel are accumulated in total.
+    pub target_spp: Option<u64>,
+    /// Stop starting passes after this much time in this run.
+    pub time: Option<Duration>,
+    /// Description of the scene (file path or "default Cornell box"), part of the state's key.
+    pub scene_name: String,
+}
+
+impl ReferenceSettings {
+    /// The key stored in the state: everything that must not change between runs.
+    pub fn key(&self) -> String {
+        format!(
+            "scene={}; integrator={}; max_depth={}; rr_depth={}",
+            self.scene_name, self.integrator, self.tracer.max_depth, self.tracer.rr_depth
+        )
+    }
+}
+
+/// The state file beside `output`: `output` with `.state` appended.
+pub fn state_path(output: &Path) -> PathBuf {
+    let mut s = output.as_os_str().to_owned();
+    s.push(".state");
+    PathBuf::from(s)
+}
+
+/// The seed of pass `k` (see the module docs).
+pub fn pass_seed(base_seed: u64, pass: u64) -> u64 {
+    mix64(base_seed ^ mix64(pass.wrapping_add(1)))
+}
+
+/// What a run did.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ReferenceOutcome {
+    /// The accumulated state (also on disk).
+    pub state: ReferenceState,
+    /// Passes added in this run.
+    pub passes_added: u64,
+    /// Passes resumed from disk.
+    pub passes_resumed: u64,
+    /// Camera samples per second over this run's passes.
+    pub samples_per_second: f64,
+    /// True if the run ended because `cancel` was set.
+    pub interrupted: bool,
+}
+
+/// Render `scene` progressively into `output` (EXR) and its state file, resuming from the state
+/// file if it exists and matches. Stops at `target_spp`, after `time`, or when `cancel` is set
+/// (the pass in flight is then dropped: its pixels would have unequal sample counts).
+/// `on_pass` is told the state after each saved pass.
+pub fn run_reference(
+    scene: &Scene,
+    output: &Path,
+    settings: &ReferenceSettings,
+    cancel: Option<&AtomicBool>,
+    on_pass: &dyn Fn(&ReferenceState),
+) -> Result<ReferenceOutcome, AnalysisError> {
+    if settings.pass_spp == 0 {
+        return Err(AnalysisError::Render(
+            "pass size must be at least 1 spp".into(),
+        ));
+    }
+    let (width, height) = scene
+        .cameras
+        .get(None)
+        .map(|c| c.camera.resolution())
+        .map_err(AnalysisError::Render)?;
+    let spath = state_path(output);
+    let key = settings.key();
+    let mut state = if spath.exists() {
+        let s = ReferenceState::load(&spath)?;
+        if s.key != key || (s.width, s.height) != (width, height) {
+            return Err(AnalysisError::Content {
+                path: spath,
+                message: format!(
+                    "was made by a different render ({}, {}×{}); this run is ({key}, \
+                     {width}×{height}); delete the file or choose another output name",
+                    s.key, s.width, s.height
+                ),
+            });
+        }
+        s
+    } else {
+        ReferenceState::new(width, height, settings.seed, settings.pass_spp, key)
+    };
+    let resumed = state.passes;
+    let start = Instant::now();
+    let mut samples = 0u64;
+    let mut interrupted = false;
+    loop {
+        if settings.target_spp.is_some_and(|t| state.spp() >= t) {
+            break;
+        }
+        if settings.time.is_some_and(|t| start.elapsed() >= t) {
+            break;
+        }
+        if cancel.is_some_and(|c| c.load(Ordering::SeqCst)) {
+            interrupted = true;
+            break;
+        }
+        let render_settings = RenderSettings {
+            budget: SampleBudget::Spp(state.pass_spp),
+            seed: pass_seed(state.base_seed, state.passes),
+            threads: settings.threads,
+            camera: None,
+            tile_size: 16,
+            tracer: settings.tracer,
+        };
+        let out = render_with(
+            scene,
+            &render_settings,
+            settings.integrator,
+            false,
+            &|_, _| {},
+            cancel,
+        )
+        .map_err(|e| AnalysisError::Render(e.to_string()))?;
+        if cancel.is_some_and(|c| c.load(Ordering::SeqCst)) || out.result.spp != state.pass_spp {
+            interrupted = true;
+            break;
+        }
+        let n = state.pass_spp as f64;
+        for (s, m) in state.sums.iter_mut().zip(&out.result.image.xyz) {
+            for c in 0..3 {
+                s[c] += m[c] * n;
+            }
+        }
+        state.passes += 1;
+        samples += out.result.samples;
+        state.save(&spath)?;
+        write_exr(output, &state.image(), &scene.options.rgb_space).map_err(|e| {
+            AnalysisError::Write {
+                path: output.to_path_buf(),
+                message: e.to_string(),
+            }
+        })?;
+        on_pass(&state);
+    }
+    let secs = start.elapsed().as_secs_f64().max(1e-9);
+    Ok(ReferenceOutcome {
+        passes_added: state.passes - resumed,
+        passes_resumed: resumed,
+        samples_per_second: samples as f64 / secs,
+        interrupted,
+        state,
+    })
+}

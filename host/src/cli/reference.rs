@@ -1,0 +1,118 @@
+//! `spectrace reference [SCENE] -o REF.exr [--time S | --spp N] [--pass-spp N] [--integrator
+//! pt|bdpt|lt] [--seed N] [--threads N] [--max-depth N]`: a long progressive render that can be
+//! stopped (Ctrl-C, time budget) and resumed without losing samples; the f64 sums live in
+//! `REF.exr.state` (format in [`crate::analysis::reference_state`]).
+
+use crate::analysis::{run_reference, state_path, ReferenceSettings};
+use crate::integrator::{IntegratorKind, PathTracer};
+use crate::scene::{default_scene, load_scene_file, BuiltinFactory, ObjectFactory};
+use std::path::PathBuf;
+use std::time::Duration;
+
+/// Arguments of `spectrace reference`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct ReferenceArgs {
+    /// Scene file (RON). Without it the embedded measured Cornell box is rendered.
+    pub scene: Option<PathBuf>,
+    /// OpenEXR output; the resumable state goes beside it as OUTPUT.state.
+    #[arg(short = 'o', long = "output")]
+    pub output: PathBuf,
+    /// Stop after this many seconds in this run (the pass in flight is dropped).
+    #[arg(long)]
+    pub time: Option<f64>,
+    /// Stop once this many samples per pixel are accumulated in total (resumed ones included).
+    #[arg(long)]
+    pub spp: Option<u64>,
+    /// Samples per pixel per saved pass.
+    #[arg(long, default_value_t = 16)]
+    pub pass_spp: u32,
+    /// Light transport algorithm: pt, bdpt or lt.
+    #[arg(long, default_value = "pt")]
+    pub integrator: IntegratorKind,
+    /// Base seed of a new reference (a resumed one keeps its own).
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Worker threads (default: one per core).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Maximum path depth (default: the scene's).
+    #[arg(long)]
+    pub max_depth: Option<u32>,
+    /// Plugin libraries whose types the scene may use.
+    #[command(flatten)]
+    pub plugins: super::plugin_args::PluginArgs,
+}
+
+/// Run `spectrace reference`.
+pub fn run(args: &ReferenceArgs) -> Result<(), String> {
+    let registry = std::sync::Arc::new(args.plugins.registry(false)?);
+    let faults = crate::plugin::adapter::PluginFaults::new();
+    let plugins = crate::plugin::factory::PluginFactory::new(registry, faults.clone());
+    let factories: [&dyn ObjectFactory; 2] = [&BuiltinFactory, &plugins];
+    let scene = match &args.scene {
+        Some(p) => load_scene_file(p, &factories).map_err(|e| e.to_string())?,
+        None => default_scene().map_err(|e| e.to_string())?,
+    };
+    let time = match args.time {
+        Some(t) if t.is_finite() && t > 0.0 => Some(Duration::from_secs_f64(t)),
+        Some(t) => {
+            return Err(format!(
+                "--time must be a positive number of seconds, got {t}"
+            ))
+        }
+        None => None,
+    };
+    if args.pass_spp == 0 {
+        return Err("--pass-spp must be at least 1".into());
+    }
+    let settings = ReferenceSettings {
+        pass_spp: args.pass_spp,
+        seed: args.seed,
+        integrator: args.integrator,
+        tracer: PathTracer {
+            max_depth: args.max_depth.unwrap_or(scene.options.max_depth),
+            ..PathTracer::default()
+        },
+        threads: args.threads,
+        target_spp: args.spp,
+        time,
+        scene_name: match &args.scene {
+            Some(p) => p.display().to_string(),
+            None => "default Cornell box".into(),
+        },
+    };
+    if time.is_none() && args.spp.is_none() {
+        eprintln!("spectrace: no --time or --spp: rendering until Ctrl-C");
+    }
+    let cancel = super::interrupt::interrupt_flag();
+    let on_pass = |s: &crate::analysis::ReferenceState| {
+        eprint!("\r  {} spp accumulated ({} passes)   ", s.spp(), s.passes);
+    };
+    let outcome = run_reference(&scene, &args.output, &settings, Some(cancel), &on_pass)
+        .map_err(|e| e.to_string())?;
+    eprintln!();
+    println!(
+        "reference {}: {} spp in total ({} passes resumed, {} added{}), {:.3} M samples/s",
+        args.output.display(),
+        outcome.state.spp(),
+        outcome.passes_resumed,
+        outcome.passes_added,
+        if outcome.interrupted {
+            "; interrupted, the pass in flight was dropped"
+        } else {
+            ""
+        },
+        outcome.samples_per_second / 1e6
+    );
+    println!(
+        "  state in {} (run the same command again to continue)",
+        state_path(&args.output).display()
+    );
+    if let Some(first) = faults.first() {
+        return Err(format!(
+            "{} plugin call(s) failed during rendering; first: {first}",
+            faults.count()
+        ));
+    }
+    Ok(())
+}
