@@ -7,6 +7,7 @@ pub mod cielab;
 pub mod diff_image;
 pub mod error;
 pub mod metrics;
+pub mod plot;
 pub mod progressive;
 pub mod reference_state;
 pub mod rgb_image;
