@@ -40,6 +40,13 @@ pub struct RenderArgs {
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
+    /// Light transport algorithm: bdpt (bidirectional, MIS), pt (path tracing) or lt (light
+    /// tracing).
+    #[arg(long, default_value = "bdpt")]
+    pub integrator: crate::integrator::IntegratorKind,
+    /// Debug (bdpt): write each (s, t) strategy's weighted contribution as its own EXR here.
+    #[arg(long = "strategy-images")]
+    pub strategy_images: Option<PathBuf>,
     /// Plugin libraries whose types the scene may use.
     #[command(flatten)]
     pub plugins: super::plugin_args::PluginArgs,
@@ -119,8 +126,27 @@ pub fn run_with_factories(
         bar.set_position(done);
     };
     let cancel = super::interrupt::interrupt_flag();
-    let result = render(&scene, &settings, &progress, Some(cancel)).map_err(|e| e.to_string())?;
+    let _ = render;
+    let output = crate::integrator::render_with(
+        &scene,
+        &settings,
+        args.integrator,
+        args.strategy_images.is_some(),
+        &progress,
+        Some(cancel),
+    )
+    .map_err(|e| e.to_string())?;
+    let result = &output.result;
     bar.finish_and_clear();
+    println!("integrator {}:", args.integrator);
+    for line in crate::integrator::strategy_summary(&scene, args.integrator) {
+        println!("  {line}");
+    }
+    if let Some(dir) = &args.strategy_images {
+        for w in crate::integrator::select::write_strategy_images(dir, &output, &scene)? {
+            println!("  wrote {}", w.display());
+        }
+    }
 
     let png = args
         .png

@@ -126,7 +126,7 @@ pub fn connect_to_camera(
     );
     let c = if s == 1 {
         let light = &scene.lights.lights()[qs.light_index(scene)? as usize];
-        let w = -cs.wi;
+        let w = cs.wi;
         let le = light.radiance(qs.p, qs.ng, qs.uv, w, lambda);
         let origin = qs.pdf_light_origin(scene, &cam_v);
         if le.is_black() || !(origin > 0.0) {

@@ -237,3 +237,63 @@ pub fn render_with(
         }
     }
 }
+
+/// Write BDPT's strategy images as `DIR/strategy_s{s}_t{t}.exr` (and `strategy_longer.exr`),
+/// creating `DIR`; returns the files written.
+pub fn write_strategy_images(
+    dir: &std::path::Path,
+    output: &IntegratorOutput,
+    scene: &Scene,
+) -> Result<Vec<std::path::PathBuf>, String> {
+    if output.strategy_images.is_empty() {
+        return Ok(Vec::new());
+    }
+    std::fs::create_dir_all(dir).map_err(|e| {
+        format!(
+            "cannot create strategy image directory {}: {e}",
+            dir.display()
+        )
+    })?;
+    let mut written = Vec::new();
+    for ((s, t), image) in &output.strategy_images {
+        let name = if *s == u32::MAX {
+            "strategy_longer.exr".to_string()
+        } else {
+            format!("strategy_s{s}_t{t}.exr")
+        };
+        let path = dir.join(name);
+        crate::film::write_exr(&path, image, &scene.options.rgb_space)
+            .map_err(|e| e.to_string())?;
+        written.push(path);
+    }
+    Ok(written)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each lane's stored pdf is the density it was drawn with: the Monte Carlo estimate of
+    /// ∫_{400}^{700} 1 dλ = 300 nm from 2·10⁵ pair draws (×4 lanes) on the Cornell box (its
+    /// measured light SPD as the emission component) is within 1% (the estimator's relative
+    /// standard error here is below 0.2%).
+    #[test]
+    fn mixture_pdf_matches_its_draws() {
+        let scene = crate::scene::default_scene().unwrap();
+        let m = WavelengthMixture::new(&scene);
+        let n = 200_000;
+        let mut sum = 0.0f64;
+        for k in 0..n {
+            let mut rng = SampleRng::for_sample(3, k, 0);
+            let w = m.sample(&mut rng);
+            for i in 0..LANES {
+                let l = w.lambda[i] as f64;
+                if (400.0..700.0).contains(&l) && w.pdf[i] > 0.0 {
+                    sum += 1.0 / w.pdf[i] as f64;
+                }
+            }
+        }
+        let est = sum / (n as f64 * LANES as f64);
+        assert!((est / 300.0 - 1.0).abs() < 0.01, "{est}");
+    }
+}
