@@ -39,7 +39,8 @@ pub struct Comparison {
     pub delta_e_p99: f64,
     /// Largest per-pixel CIEDE2000.
     pub delta_e_max: f64,
-    /// Mean of the test image over the mean of the reference, per channel (R, G, B).
+    /// Mean of the test image over the mean of the reference over the compared pixels, per
+    /// channel (R, G, B).
     pub mean_ratio: [f64; 3],
 }
 

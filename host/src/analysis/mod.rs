@@ -2,6 +2,7 @@
 //! false-colour difference image), long resumable reference renders, and error-versus-time
 //! benchmarks of renderer configurations.
 
+pub mod accuracy_bench;
 pub mod ciede2000;
 pub mod cielab;
 pub mod diff_image;

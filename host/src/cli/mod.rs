@@ -1,5 +1,6 @@
 //! Command-line subcommands; each lives in its own file and `main.rs` only dispatches.
 
+pub mod bench;
 pub mod blob;
 pub mod interrupt;
 pub mod color;
@@ -39,6 +40,9 @@ pub enum Command {
     Compare(compare::CompareArgs),
     /// Long progressive reference render that can be stopped (Ctrl-C, --time) and resumed.
     Reference(reference::ReferenceArgs),
+    /// Benchmarks; `bench accuracy`: error versus time of renderer configurations.
+    #[command(subcommand)]
+    Bench(bench::BenchCommand),
 }
 
 /// Parse `args`, run the chosen subcommand and return the process exit code.
@@ -66,6 +70,7 @@ where
         Some(Command::Render(args)) => render::run(&args),
         Some(Command::Compare(args)) => compare::run(&args),
         Some(Command::Reference(args)) => reference::run(&args),
+        Some(Command::Bench(cmd)) => bench::run(&cmd),
     };
     match result {
         Ok(()) => 0,
