@@ -90,7 +90,11 @@ impl PathTracer {
 
             // Emission found by the path itself.
             if flags.contains(MaterialFlags::EMISSIVE) {
-                let le = material.emitted(wo, &sctx, lambda);
+                // Which side emits is a property of the surface (its geometric normal, as the
+                // area light sees it), not of an interpolated shading normal.
+                let wo_geo =
+                    Frame::from_normal(hit.geometric_normal).to_local(-ray.dir.normalize());
+                let le = material.emitted(wo_geo, &sctx, lambda);
                 if !le.is_black() {
                     if depth == 0 || specular_bounce {
                         l += beta * le;

@@ -122,8 +122,8 @@ pub fn render(
     let done = AtomicU64::new(0);
     let start = Instant::now();
     let mut spp_done = 0u32;
-    // Pass sizes: all at once for a fixed budget; doubling passes (1, 1, 2, 4, … capped at 64)
-    // for a time budget so the last pass overshoots little.
+    // Pass sizes: all at once for a fixed budget; for a time budget, passes sized from the
+    // measured cost per spp to fit the remaining time, so the last pass overshoots little.
     let mut pass = 0u32;
     loop {
         let pass_spp = match settings.budget {
@@ -134,10 +134,19 @@ pub fn render(
                 n - spp_done
             }
             SampleBudget::Time(t) => {
-                if pass > 0 && start.elapsed() >= t {
+                let elapsed = start.elapsed();
+                if pass > 0 && elapsed >= t {
                     break;
                 }
-                (1u32 << pass.saturating_sub(1).min(6)).max(1)
+                if spp_done == 0 {
+                    1
+                } else {
+                    // Fit the next pass into the remaining time from the measured cost per spp
+                    // (at most doubling, at most 64 spp per pass).
+                    let per_spp = elapsed.as_secs_f64() / spp_done as f64;
+                    let remaining = (t - elapsed).as_secs_f64();
+                    ((remaining / per_spp.max(1e-9)) as u32).clamp(1, spp_done.min(64))
+                }
             }
         };
         let total_units = match settings.budget {
