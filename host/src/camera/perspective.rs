@@ -298,6 +298,43 @@ mod tests {
         assert!((s.p_raster - p_film).length() < 1e-2, "{:?}", s.p_raster);
     }
 
+    /// Thin lens: every lens sample of a film position passes through the same point on the focus
+    /// plane (1e-3 relative: f32), and `sample_wi` from that point lands on the same raster
+    /// position whatever the lens sample (1e-2 px).
+    #[test]
+    fn thin_lens_focuses_on_its_focal_plane() {
+        let cam = PerspectiveCamera::new(
+            Vec3A::new(0.0, 1.0, 5.0),
+            Vec3A::new(0.0, 1.0, 0.0),
+            Vec3A::Y,
+            40.0,
+            FovAxis::X,
+            (64, 48),
+            0.1,
+            5.0,
+        )
+        .unwrap();
+        let p_film = Vec2::new(20.5, 11.25);
+        let focus_point = |lens: Vec2| {
+            let r = cam
+                .generate_ray(&CameraSample {
+                    p_film,
+                    p_lens: lens,
+                })
+                .unwrap()
+                .ray;
+            // The focus plane is z = 0 here (5 units in front of the camera along −z).
+            r.at(-r.origin.z / r.dir.z)
+        };
+        let a = focus_point(Vec2::new(0.1, 0.2));
+        let b = focus_point(Vec2::new(0.9, 0.7));
+        assert!((a - b).length() < 1e-3 * a.length().max(1.0), "{a} vs {b}");
+        for u in [Vec2::new(0.2, 0.3), Vec2::new(0.8, 0.9)] {
+            let s = cam.sample_wi(a, u).unwrap();
+            assert!((s.p_raster - p_film).length() < 1e-2, "{:?}", s.p_raster);
+        }
+    }
+
     /// ∫ We cos θ dω over the image = 1/A_lens for a pinhole: the importance is normalised so the
     /// whole image measures unit weight. Midpoint quadrature over the image plane (256² cells) is
     /// exact to ~1e-4 for this smooth integrand; tolerance 1e-3.
