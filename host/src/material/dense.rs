@@ -14,9 +14,15 @@ pub const DENSE_END: f32 = 830.0;
 const N: usize = (DENSE_END - DENSE_START) as usize + 1;
 
 /// A tabulated copy of a spectral function (values at 360, 361, …, 830 nm).
+///
+/// A cell whose linear interpolation does not reproduce the function at its midpoint (a step,
+/// such as where a tabulated spectrum ends and drops to zero, or a breakpoint off the integer
+/// grid) is marked and evaluated exactly instead, so the copy never smears a discontinuity.
 #[derive(Clone)]
 pub struct DenseSpectrum {
     values: Vec<f32>,
+    /// Per cell [i, i+1]: evaluate the original function instead of interpolating.
+    exact: Vec<bool>,
     outside: Arc<dyn Fn(f32) -> f32 + Send + Sync>,
 }
 
@@ -31,8 +37,22 @@ impl Debug for DenseSpectrum {
 impl DenseSpectrum {
     /// Tabulate `f` (nm → value).
     pub fn new(f: Arc<dyn Fn(f32) -> f32 + Send + Sync>) -> Self {
-        let values = (0..N).map(|i| f(DENSE_START + i as f32)).collect();
-        Self { values, outside: f }
+        let values: Vec<f32> = (0..N).map(|i| f(DENSE_START + i as f32)).collect();
+        let exact = (0..N - 1)
+            .map(|i| {
+                let mid = f(DENSE_START + i as f32 + 0.5);
+                let lerp = 0.5 * (values[i] + values[i + 1]);
+                // Smooth spectra interpolate to ~h²f''/8 (≲ 1e-4 relative for a 2000 K blackbody);
+                // a step (relative miss ~1) or an off-grid
+                // kink misses by far more.
+                (mid - lerp).abs() > 2e-4 * mid.abs().max(lerp.abs()) + 1e-30
+            })
+            .collect();
+        Self {
+            values,
+            exact,
+            outside: f,
+        }
     }
 
     /// `scale ·` the continuous part of a normalised SPD (1/nm).
@@ -46,6 +66,9 @@ impl DenseSpectrum {
         let x = lambda_nm - DENSE_START;
         if x >= 0.0 && x < (N - 1) as f32 {
             let i = x as usize;
+            if self.exact[i] {
+                return (self.outside)(lambda_nm);
+            }
             let t = x - i as f32;
             let (a, b) = (self.values[i], self.values[i + 1]);
             a + t * (b - a)
@@ -89,6 +112,9 @@ mod tests {
             let want = piecewise_linear_eval(&table, l);
             assert!((d.value(l) - want).abs() < 1e-4 * want.max(1.0), "{l}");
         }
+        // The step where the table ends (700 → 701 nm) is evaluated exactly, not smeared.
+        assert_eq!(d.value(700.5), 0.0);
+        assert_eq!(d.value(399.5), 0.0);
         let far = DenseSpectrum::new(Arc::new(|l| l));
         assert_eq!(far.value(900.0), 900.0);
         assert_eq!(far.value(830.0), 830.0);
