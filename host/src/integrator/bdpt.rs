@@ -349,7 +349,7 @@ pub fn connect(
         lv.pdf_fwd = lv.pdf_light_origin(scene, pt);
         let mut c = pt.beta * pt.f(scene, &lv, lambda, TransportMode::Radiance) * lv.beta;
         if pt.on_surface() {
-            c = c * ls.wi.dot(pt.ns).abs();
+            c *= ls.wi.dot(pt.ns).abs();
         }
         if c.is_black() {
             return None;
@@ -556,7 +556,7 @@ impl StrategyFilms {
             return &self.films[self.films.len() - 1].1;
         }
         // Films are ordered by total = s + t, then s.
-        let before: usize = (1..s + t).map(|n| n).sum::<usize>();
+        let before: usize = (1..s + t).sum::<usize>();
         &self.films[before + s].1
     }
 }

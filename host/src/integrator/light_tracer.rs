@@ -45,6 +45,7 @@ pub struct XyzWeights {
 
 impl XyzWeights {
     /// Factors for `lambda` under `sensor`'s observer.
+    #[allow(clippy::needless_range_loop)] // lanes index several arrays at once
     pub fn new(sensor: &Sensor, lambda: &SampledWavelengths) -> Self {
         let iy = sensor.observer().integral_y();
         let inv_iy = if iy > 0.0 { 1.0 / iy } else { 0.0 };
@@ -65,6 +66,7 @@ impl XyzWeights {
 
     /// XYZ of spectral sample `l`; `hero_only` after a dispersive event.
     #[inline]
+    #[allow(clippy::needless_range_loop)] // lanes index several arrays at once
     pub fn xyz(&self, l: &SampledSpectrum, hero_only: bool) -> [f64; 3] {
         if hero_only {
             let v = l.0[0] as f64;
@@ -136,7 +138,7 @@ pub fn connect_to_camera(
     } else {
         let mut c = qs.beta * qs.f(scene, &cam_v, lambda, TransportMode::Importance) * cam_v.beta;
         if qs.on_surface() {
-            c = c * cs.wi.dot(qs.ns).abs();
+            c *= cs.wi.dot(qs.ns).abs();
         }
         c
     };
