@@ -52,31 +52,40 @@ fn run(
     render_with(scene, &settings, kind, strat, &|_, _| {}, None).unwrap()
 }
 
-/// Firefly bound: no single sample's contribution to a pixel sum (luminance Y, before the 1/spp
-/// scaling) exceeds `FIREFLY_BOUND ×` the image's mean Y. A correctly weighted BDPT sample is
-/// at most a few hundred times the mean on these scenes (measured maximum ≈ 1e2–1e3: the
-/// caustic focus and the mirrored spot are bright, small regions); broken MIS weights (a
-/// low-density strategy given full weight, or a density ratio inverted) produce samples 10⁴ to
-/// 10⁸ times the mean, which this bound catches.
-const FIREFLY_BOUND: f64 = 1.0e4;
+/// Firefly bound: in every pixel whose mean Y is at least 1% of the image mean, no single
+/// sample's contribution (luminance Y, before the 1/spp scaling) exceeds `FIREFLY_BOUND ×` that
+/// pixel's mean. `FIREFLY_BOUND` = 200 with spp = 1000 means no sample makes up more than a
+/// fifth of such a pixel. Correct weights stay below it (measured maxima 50 on spot_mirror and
+/// 74 on the caustic at 1.2·10⁶ path pairs);
+/// broken MIS weights, e.g. full weight on a camera path that found the tiny caustic lamp
+/// through the glass (radiance 4.8·10⁵ against floor radiances of order 0.1–10), give samples
+/// 10³–10⁵ times the pixel mean. Darker pixels are skipped: there a single legitimate rare path
+/// can dominate the mean.
+const FIREFLY_BOUND: f64 = 200.0;
 
 fn check_paths(scene: &Scene, name: &str, kind: IntegratorKind, spp: u32) {
     let out = run(scene, kind, spp, 2, false);
     let img = &out.result.image;
     let mean_y = img.mean_xyz()[1];
     let paths = out.result.samples;
+    let mut worst = 0.0f64;
+    for (p, &m) in img.xyz.iter().zip(&out.max_sample_y) {
+        if p[1] >= 0.01 * mean_y {
+            worst = worst.max(m / p[1]);
+        }
+    }
     eprintln!(
-        "{name} {kind}: {paths} paths, non-finite {} , max sample Y / mean Y = {:.1}",
+        "{name} {kind}: {paths} paths, non-finite {}, max over pixels of (largest sample Y / pixel mean Y) = {worst:.1}",
         out.non_finite,
-        out.max_sample_y / mean_y
     );
     assert_eq!(out.non_finite, 0, "{name} {kind}: NaN/Inf contributions");
     assert_eq!(img.non_finite_count(), 0);
     assert!(mean_y > 0.0);
+    // Light tracing has no MIS weights to break, and its splats are legitimately sparse in
+    // pixels lit only by long paths: the bound applies to BDPT.
     assert!(
-        out.max_sample_y <= FIREFLY_BOUND * mean_y,
-        "{name} {kind}: a sample of {} vs mean {mean_y}",
-        out.max_sample_y
+        kind != IntegratorKind::Bdpt || worst <= FIREFLY_BOUND,
+        "{name} {kind}: a sample of {worst} × its pixel mean"
     );
 }
 

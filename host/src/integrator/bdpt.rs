@@ -14,7 +14,7 @@
 //! density is the camera's own), shading normals (adjoint correction on light subpaths).
 //! Wavelengths: one set per pair from [`WavelengthMixture`]; see `select.rs`.
 
-use super::light_tracer::{connect_to_camera, trace_beam, XyzWeights};
+use super::light_tracer::{connect_to_camera, trace_beam, PixelMaxY, XyzWeights};
 use super::render::ProgressFn;
 use super::select::{IntegratorOutput, WavelengthMixture};
 use super::vertex::{geometry_term, remap0, unoccluded, Vertex, VertexKind};
@@ -525,7 +525,6 @@ struct Worker {
     light_path: Vec<Vertex>,
     stats: PathStats,
     non_finite: u64,
-    max_y: f64,
 }
 
 /// Strategy images: one splat film per (s, t) up to [`STRATEGY_IMAGE_MAX_DEPTH`] bounces, and
@@ -595,7 +594,7 @@ pub fn render_bdpt(
     let strategies = strategy_images.then(|| StrategyFilms::new(width, height));
     let rays = AtomicU64::new(0);
     let non_finite = AtomicU64::new(0);
-    let max_y_bits = AtomicU64::new(0);
+    let pixel_max = PixelMaxY::new(width, height);
     let done = AtomicU64::new(0);
     let start = Instant::now();
     let mut spp_done = 0u32;
@@ -633,7 +632,6 @@ pub fn render_bdpt(
                         light_path: Vec::with_capacity(16),
                         stats: PathStats::default(),
                         non_finite: 0,
-                        max_y: 0.0,
                     };
                     for y in y0..y0 + h {
                         for x in x0..x0 + w {
@@ -649,6 +647,7 @@ pub fn render_bdpt(
                                     (x, y),
                                     &mut rng,
                                     &splats,
+                                    &pixel_max,
                                     strategies.as_ref(),
                                     &mut worker,
                                 );
@@ -661,7 +660,6 @@ pub fn render_bdpt(
                         Ordering::Relaxed,
                     );
                     non_finite.fetch_add(worker.non_finite, Ordering::Relaxed);
-                    max_y_bits.fetch_max(worker.max_y.to_bits(), Ordering::Relaxed);
                     let d = done.fetch_add(1, Ordering::Relaxed) + 1;
                     progress(d, total_units);
                     Some(buf)
@@ -712,7 +710,7 @@ pub fn render_bdpt(
         strategy_images,
         non_finite: non_finite.load(Ordering::Relaxed),
         // Non-negative f64 bit patterns order like the values.
-        max_sample_y: f64::from_bits(max_y_bits.load(Ordering::Relaxed)),
+        max_sample_y: pixel_max.values(),
     })
 }
 
@@ -729,6 +727,7 @@ impl Bdpt {
         (x, y): (u32, u32),
         rng: &mut SampleRng,
         splats: &SplatFilm,
+        pixel_max: &PixelMaxY,
         strategies: Option<&StrategyFilms>,
         worker: &mut Worker,
     ) -> [f64; 3] {
@@ -768,9 +767,8 @@ impl Bdpt {
             &mut worker.stats,
         );
         if let LightStart::Beams { index, pmf } = start {
-            let mut max_y = worker.max_y;
             let mut splat = |raster: Vec2, xyz: [f64; 3]| {
-                Self::record_splat(splats, strategies, &mut max_y, raster, xyz, None);
+                Self::record_splat(splats, strategies, pixel_max, raster, xyz, None);
             };
             trace_beam(
                 scene,
@@ -784,7 +782,6 @@ impl Bdpt {
                 &mut worker.stats,
                 &mut splat,
             );
-            worker.max_y = max_y;
         }
         let pixel_center = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
         let mut total = [0.0f64; 3];
@@ -815,8 +812,7 @@ impl Bdpt {
                 }
                 match c.raster {
                     Some(r) => {
-                        worker.max_y = worker.max_y.max(xyz[1].abs());
-                        Self::record_splat(splats, strategies, &mut 0.0, r, xyz, Some((s, t)));
+                        Self::record_splat(splats, strategies, pixel_max, r, xyz, Some((s, t)));
                     }
                     None => {
                         for k in 0..3 {
@@ -831,7 +827,7 @@ impl Bdpt {
         }
         worker.camera_path = camera_path;
         worker.light_path = light_path;
-        worker.max_y = worker.max_y.max(total[1].abs());
+        pixel_max.record(pixel_center.x, pixel_center.y, total[1]);
         if let Some(sf) = strategies {
             for (s, t, xyz) in per_strategy {
                 sf.film(s, t).splat(pixel_center.x, pixel_center.y, xyz);
@@ -843,12 +839,12 @@ impl Bdpt {
     fn record_splat(
         splats: &SplatFilm,
         strategies: Option<&StrategyFilms>,
-        max_y: &mut f64,
+        pixel_max: &PixelMaxY,
         raster: Vec2,
         xyz: [f64; 3],
         st: Option<(usize, usize)>,
     ) {
-        *max_y = max_y.max(xyz[1].abs());
+        pixel_max.record(raster.x, raster.y, xyz[1]);
         splats.splat(raster.x, raster.y, xyz);
         if let Some(sf) = strategies {
             // Beams are light tracing with s = number of light vertices, t = 1; they are filed

@@ -89,6 +89,50 @@ impl XyzWeights {
     }
 }
 
+/// Largest single-sample luminance Y (before the 1/spp scaling) that reached each pixel, kept
+/// with atomics so splats from any thread can record it (non-negative f64 bit patterns order
+/// like the values, so an integer `fetch_max` is exact).
+#[derive(Debug)]
+pub struct PixelMaxY {
+    width: u32,
+    height: u32,
+    bits: Vec<AtomicU64>,
+}
+
+impl PixelMaxY {
+    /// All zero.
+    pub fn new(width: u32, height: u32) -> Self {
+        Self {
+            width,
+            height,
+            bits: (0..width as usize * height as usize)
+                .map(|_| AtomicU64::new(0))
+                .collect(),
+        }
+    }
+
+    /// Record `|y|` at raster position (`px`, `py`) (ignored off the film or if not finite).
+    #[inline]
+    pub fn record(&self, px: f32, py: f32, y: f64) {
+        if !(px >= 0.0 && py >= 0.0 && y.is_finite()) {
+            return;
+        }
+        let (x, yy) = (px as u32, py as u32);
+        if x < self.width && yy < self.height {
+            self.bits[yy as usize * self.width as usize + x as usize]
+                .fetch_max(y.abs().to_bits(), Ordering::Relaxed);
+        }
+    }
+
+    /// The maxima, row-major.
+    pub fn values(&self) -> Vec<f64> {
+        self.bits
+            .iter()
+            .map(|b| f64::from_bits(b.load(Ordering::Relaxed)))
+            .collect()
+    }
+}
+
 /// A rayon pool with `threads` workers (default: one per core).
 pub fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool, RenderError> {
     let mut b = rayon::ThreadPoolBuilder::new();
@@ -285,7 +329,7 @@ pub fn render_light_tracing(
     let splats = SplatFilm::new(width, height);
     let rays = AtomicU64::new(0);
     let non_finite = AtomicU64::new(0);
-    let max_y_bits = AtomicU64::new(0);
+    let pixel_max = PixelMaxY::new(width, height);
     let done = AtomicU64::new(0);
     let start = Instant::now();
     let mut spp_done = 0u32;
@@ -320,13 +364,12 @@ pub fn render_light_tracing(
                     let mut stats = PathStats::default();
                     let mut path = Vec::with_capacity(16);
                     let mut bad = 0u64;
-                    let mut max_y = 0.0f64;
                     let mut splat = |raster: Vec2, xyz: [f64; 3]| {
                         if xyz.iter().any(|v| !v.is_finite()) {
                             bad += 1;
                             return;
                         }
-                        max_y = max_y.max(xyz[1].abs());
+                        pixel_max.record(raster.x, raster.y, xyz[1]);
                         splats.splat(raster.x, raster.y, xyz);
                     };
                     let lo = first + c * CHUNK;
@@ -340,7 +383,6 @@ pub fn render_light_tracing(
                     }
                     rays.fetch_add(stats.rays + stats.shadow_rays, Ordering::Relaxed);
                     non_finite.fetch_add(bad, Ordering::Relaxed);
-                    max_y_bits.fetch_max(max_y.to_bits(), Ordering::Relaxed);
                     let d = done.fetch_add(1, Ordering::Relaxed) + 1;
                     progress(d, total_units);
                     false
@@ -372,6 +414,6 @@ pub fn render_light_tracing(
         },
         strategy_images: Vec::new(),
         non_finite: non_finite.load(Ordering::Relaxed),
-        max_sample_y: f64::from_bits(max_y_bits.load(Ordering::Relaxed)),
+        max_sample_y: pixel_max.values(),
     })
 }

@@ -207,9 +207,9 @@ pub struct IntegratorOutput {
     pub strategy_images: Vec<((u32, u32), crate::film::XyzImage)>,
     /// Contributions dropped because they were NaN or infinite.
     pub non_finite: u64,
-    /// Largest luminance Y of one sample's contribution to a pixel sum (before the 1/spp
-    /// scaling), for firefly checks.
-    pub max_sample_y: f64,
+    /// Per pixel (row-major), the largest luminance Y of one sample's contribution to that
+    /// pixel's sum (before the 1/spp scaling), for firefly checks; empty for `pt`.
+    pub max_sample_y: Vec<f64>,
 }
 
 /// Render `scene` with the integrator `kind`. `strategy_images` asks BDPT for one image per
@@ -227,7 +227,7 @@ pub fn render_with(
             result: render(scene, settings, progress, cancel)?,
             strategy_images: Vec::new(),
             non_finite: 0,
-            max_sample_y: f64::NAN,
+            max_sample_y: Vec::new(),
         }),
         IntegratorKind::Bdpt => {
             super::bdpt::render_bdpt(scene, settings, strategy_images, progress, cancel)
