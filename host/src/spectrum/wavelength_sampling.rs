@@ -17,8 +17,13 @@ pub const VISIBLE_RANGE: (f64, f64) = (360.0, 830.0);
 
 /// `tanh(a(λ−c))` at the two ends of [`VISIBLE_RANGE`]: the CDF is linear in this quantity.
 fn visible_tanh_bounds() -> (f64, f64) {
-    let t = |l: f64| (VISIBLE_SHARPNESS * (l - VISIBLE_CENTRE)).tanh();
-    (t(VISIBLE_RANGE.0), t(VISIBLE_RANGE.1))
+    // Computed once: `sample_visible` runs for every camera path, and two `tanh` calls per path
+    // were a measurable share of path-tracing time.
+    static BOUNDS: std::sync::OnceLock<(f64, f64)> = std::sync::OnceLock::new();
+    *BOUNDS.get_or_init(|| {
+        let t = |l: f64| (VISIBLE_SHARPNESS * (l - VISIBLE_CENTRE)).tanh();
+        (t(VISIBLE_RANGE.0), t(VISIBLE_RANGE.1))
+    })
 }
 
 /// Density (1/nm) of visible-importance sampling: `p(λ) ∝ 1/cosh²(0.0072 (λ − 538))` on
