@@ -199,10 +199,21 @@ fn summary(args: &AccuracyArgs, configs: &[AccuracyConfig], points: &[AccuracyPo
     let rmse: fn(&AccuracyPoint) -> f64 = |p| p.rmse;
     let de: fn(&AccuracyPoint) -> f64 = |p| p.delta_e_mean;
     let fmt_slope = |s: Option<f64>| s.map_or("–".to_string(), |m| format!("{m:.2}"));
-    let reach = |r: Option<(f64, u32)>| {
-        r.map_or("not reached".to_string(), |(t, spp)| {
-            format!("{t:.2} s ({spp} spp)")
-        })
+    // Measured time if reached; otherwise the fitted power law's estimate, marked "≈ … (fit)".
+    let reach = |config: &str, metric: fn(&AccuracyPoint) -> f64, target: f64| {
+        if let Some((t, spp)) = time_to_reach(points, config, metric, target) {
+            return format!("{t:.2} s ({spp} spp)");
+        }
+        let pts: Vec<(f64, f64)> = converged(points, config)
+            .iter()
+            .map(|p| (p.seconds, metric(p)))
+            .collect();
+        match loglog_fit(&pts) {
+            Some((m, b)) if m < -0.05 => {
+                format!("≈ {:.0} s (fit)", 10f64.powf((target.log10() - b) / m))
+            }
+            _ => "not reached".to_string(),
+        }
     };
     let mut s = String::new();
     let _ = writeln!(
@@ -230,8 +241,8 @@ fn summary(args: &AccuracyArgs, configs: &[AccuracyConfig], points: &[AccuracyPo
             last.rmse,
             last.delta_e_mean,
             last.delta_e_p99,
-            reach(time_to_reach(points, &c.name, de, args.target_delta_e)),
-            reach(time_to_reach(points, &c.name, rmse, args.target_rmse)),
+            reach(&c.name, de, args.target_delta_e),
+            reach(&c.name, rmse, args.target_rmse),
         );
     }
     let _ = writeln!(s);
