@@ -250,11 +250,10 @@ fn cornell_box_bdpt_pt_lt_agree() {
     assert_agree("cornell bdpt/lt", &bdpt, &lt, &all, Some(0.005), true);
 }
 
-/// Glass-sphere caustic under a small area light: BDPT and PT on every pixel; LT on the pixels
-/// that do not look at the glass. `spp_scale` multiplies the sample counts.
+/// Glass-sphere caustic under a small area light, on the pixels that do not look at the glass
+/// (see below). `spp_scale` multiplies the sample counts.
 fn caustic(spp_scale: u32, mean_tol: Option<f64>) {
     let scene = small(include_str!("../../scenes/caustic.ron"));
-    let all = vec![true; 48 * 36];
     let mask = non_specular_mask(&scene);
     assert!(
         mask.iter().filter(|&&m| !m).count() > 20,
@@ -266,7 +265,12 @@ fn caustic(spp_scale: u32, mean_tol: Option<f64>) {
     let lt = render_seeds(&scene, IntegratorKind::Lt, 64 * spp_scale, K);
     assert_agree("caustic bdpt/lt", &bdpt, &lt, &mask, mean_tol, true);
     assert_agree("caustic pt/lt", &pt, &lt, &mask, None, false);
-    assert_agree("caustic bdpt/pt", &bdpt, &pt, &all, None, false);
+    // Off the glass too: pixels that see the floor through the sphere carry specular–diffuse–
+    // specular paths (a caustic seen through glass) that no connection can sample; PT and BDPT
+    // both find them only by camera paths hitting the 5 cm lamp, a heavy-tailed estimate whose
+    // typical sample mean lies below its expectation by an amount that depends on the sample
+    // count, so the two are not comparable there at test budgets.
+    assert_agree("caustic bdpt/pt", &bdpt, &pt, &mask, None, false);
 }
 
 /// Caustic, test-suite budget: means within 4 standard errors, tile z-test.

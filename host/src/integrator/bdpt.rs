@@ -473,7 +473,10 @@ pub fn mis_weight(
     };
     let light_v = |i: usize| -> &Vertex {
         if i + 1 == s {
-            qs.as_ref().unwrap_or(&light_path[i])
+            match &qs {
+                Some(q) => q,
+                None => &light_path[i],
+            }
         } else {
             &light_path[i]
         }
@@ -787,9 +790,16 @@ impl Bdpt {
         let mut total = [0.0f64; 3];
         let mut per_strategy: Vec<(usize, usize, [f64; 3])> = Vec::new();
         for t in 1..=camera_path.len() {
-            for s in 0..=light_path.len() {
+            // s = 1 with t ≥ 2 samples its own light point, so it runs even when this pair's
+            // light subpath is empty (a beams-only light was chosen, or sampling failed):
+            // skipping it there would darken next-event estimation by that probability.
+            for s in 0..=light_path.len().max(1) {
                 let depth = s as i64 + t as i64 - 2;
-                if depth < 0 || depth > max_depth as i64 || (s == 0 && t < 2) {
+                if depth < 0
+                    || depth > max_depth as i64
+                    || (s == 0 && t < 2)
+                    || (s > light_path.len() && t < 2)
+                {
                     continue;
                 }
                 let Some(c) = connect(
