@@ -256,6 +256,9 @@ pub fn write_strategy_images(
     })?;
     let mut written = Vec::new();
     for ((s, t), image) in &output.strategy_images {
+        if (*s, *t) == (0, 1) {
+            continue; // not a strategy (the lens is not in the scene); always black
+        }
         let name = if *s == u32::MAX {
             "strategy_longer.exr".to_string()
         } else {
