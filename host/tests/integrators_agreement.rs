@@ -9,7 +9,8 @@
 //!   check is at least a 2σ statement and cannot pass by noise alone (test-suite budgets use
 //!   "within 4 standard errors" where 0.5% would need minutes; the `--ignored` runs use 0.5%);
 //! * per 8×8 tile and per channel, `z = (Ā − B̄)/√(s²_A/K + s²_B/K)` with the sample variances
-//!   `s²` of the K seed means; at most 2% of tiles may have |z| > 4. With K = 8 the statistic is
+//!   `s²` of the K seed means; at most 2% of tiles (at least 2 tiles on small images) may have
+//!   |z| > 4. With K = 8 the statistic is
 //!   close to Student-t with ≥ 7 degrees of freedom, for which P(|t| > 4) ≈ 0.5%: a correct
 //!   pair passes, a bias of a few standard errors spread over many tiles fails. Not applied to
 //!   path tracing on the caustic: its estimator there is heavy-tailed (rare BSDF-sampled paths
@@ -217,7 +218,7 @@ fn assert_agree(
     }
     assert!(tiles > 0);
     assert!(
-        outliers as f64 <= 0.02 * tiles as f64,
+        outliers as f64 <= (0.02 * tiles as f64).max(2.0),
         "{name}: {outliers} of {tiles} tile-channels differ by more than 4σ"
     );
 }
@@ -316,4 +317,43 @@ fn spot_mirror_bdpt_lt_agree_and_pt_misses_the_reflection() {
 #[ignore = "long: run with --ignored in release"]
 fn spot_mirror_means_within_half_percent() {
     spot_mirror(8, Some(0.005));
+}
+
+/// A directional light (delta direction, positional density on a disk across the scene) seen
+/// through a thin-lens camera (finite aperture: the lens point is part of every strategy's
+/// density): all three estimators render every pixel; means within 0.5%, tile z-test.
+#[test]
+fn directional_light_thin_lens_bdpt_pt_lt_agree() {
+    let text = r#"(
+    observer: "cie1931-2",
+    output: (spp: 16, max_depth: 16, rgb_space: "srgb"),
+    materials: [
+        (name: "grey", type: "lambertian", params: (reflectance: 0.6)),
+        (name: "red", type: "lambertian", params: (reflectance: "colorchecker:15")),
+    ],
+    objects: [
+        (name: "floor", type: "quad", material: "grey",
+         params: (corner: (-2, 0, 2), edge0: (4, 0, 0), edge1: (0, 0, -4))),
+        (name: "back", type: "quad", material: "grey",
+         params: (corner: (-2, 0, -2), edge0: (4, 0, 0), edge1: (0, 3, 0))),
+        (name: "ball", type: "sphere", material: "red",
+         params: (center: (0.3, 0.4, -0.5), radius: 0.4)),
+    ],
+    lights: [
+        (name: "sun", type: "directional",
+         params: (direction: (-0.3, -1, -0.5), irradiance: 5, spd: "d65")),
+    ],
+    cameras: [
+        (name: "front", type: "thin_lens",
+         params: (position: (0, 1.2, 4), look_at: (0, 0.6, 0), fov: 45, resolution: (48, 32),
+                  lens_radius: 0.1, focus_distance: 3.0)),
+    ],
+)"#;
+    let scene = scene_from(text, "resolution: (48, 32)", "resolution: (48, 32)");
+    let all = vec![true; 48 * 32];
+    let bdpt = render_seeds(&scene, IntegratorKind::Bdpt, 64, K);
+    let pt = render_seeds(&scene, IntegratorKind::Pt, 128, K);
+    let lt = render_seeds(&scene, IntegratorKind::Lt, 128, K);
+    assert_agree("sun bdpt/pt", &bdpt, &pt, &all, Some(0.005), true);
+    assert_agree("sun lt/pt", &lt, &pt, &all, Some(0.005), true);
 }
