@@ -22,12 +22,15 @@ pub use progressive::{run_reference, state_path, ReferenceOutcome, ReferenceSett
 pub use reference_state::ReferenceState;
 pub use rgb_image::RgbImage;
 
+/// The metrics, the per-pixel ΔE00 (`None`: left out) and the image size (width, height).
+pub type FileComparison = (Comparison, Vec<Option<f64>>, (u32, u32));
+
 /// Read two EXRs and compare `test` against `reference`; errors name the file at fault.
 pub fn compare_files(
     test: &std::path::Path,
     reference: &std::path::Path,
     options: CompareOptions,
-) -> Result<(Comparison, Vec<Option<f64>>, (u32, u32)), AnalysisError> {
+) -> Result<FileComparison, AnalysisError> {
     let a = RgbImage::read_exr(test)?;
     let b = RgbImage::read_exr(reference)?;
     if (a.width, a.height) != (b.width, b.height) {
