@@ -21,7 +21,7 @@ use std::time::{Duration, Instant};
 /// How to run (or continue) a reference render.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ReferenceSettings {
-    /// Samples per pixel of one pass (the unit that is saved).
+    /// Samples per pixel of one pass (the unit that is saved; ignored when resuming).
     pub pass_spp: u32,
     /// Base seed (ignored when resuming: the state's is used).
     pub seed: u64,

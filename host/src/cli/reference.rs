@@ -23,7 +23,7 @@ pub struct ReferenceArgs {
     /// Stop once this many samples per pixel are accumulated in total (resumed ones included).
     #[arg(long)]
     pub spp: Option<u64>,
-    /// Samples per pixel per saved pass.
+    /// Samples per pixel per saved pass (a resumed reference keeps its own).
     #[arg(long, default_value_t = 16)]
     pub pass_spp: u32,
     /// Light transport algorithm: pt, bdpt or lt.
