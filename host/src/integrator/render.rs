@@ -122,17 +122,35 @@ pub fn render(
     let done = AtomicU64::new(0);
     let start = Instant::now();
     let mut spp_done = 0u32;
-    // Pass sizes: all at once for a fixed budget; for a time budget, passes sized from the
-    // measured cost per spp to fit the remaining time, so the last pass overshoots little.
+    // Pass sizes: for a fixed budget, growing passes (1, 1, 2, 4, 8, 16, 16, …) so that a
+    // cancel (Ctrl-C) stops within one pass and leaves every pixel with the same sample count;
+    // for a time budget, passes sized from the measured cost per spp to fit the remaining time,
+    // so the last pass overshoots little. Samples are indexed globally, so the pass split does
+    // not change the image.
+    let spp_passes: Vec<u32> = match settings.budget {
+        SampleBudget::Spp(n) => {
+            let mut v = Vec::new();
+            let mut left = n;
+            let mut size = 1u32;
+            while left > 0 {
+                let p = size.min(left);
+                v.push(p);
+                left -= p;
+                if v.len() > 1 {
+                    size = (size * 2).min(16);
+                }
+            }
+            v
+        }
+        SampleBudget::Time(_) => Vec::new(),
+    };
     let mut pass = 0u32;
     loop {
         let pass_spp = match settings.budget {
-            SampleBudget::Spp(n) => {
-                if spp_done >= n {
-                    break;
-                }
-                n - spp_done
-            }
+            SampleBudget::Spp(_) => match spp_passes.get(pass as usize) {
+                Some(&p) => p,
+                None => break,
+            },
             SampleBudget::Time(t) => {
                 let elapsed = start.elapsed();
                 if pass > 0 && elapsed >= t {
@@ -150,7 +168,7 @@ pub fn render(
             }
         };
         let total_units = match settings.budget {
-            SampleBudget::Spp(_) => tiles.len() as u64,
+            SampleBudget::Spp(_) => tiles.len() as u64 * spp_passes.len() as u64,
             SampleBudget::Time(_) => tiles.len() as u64 * (pass as u64 + 1),
         };
         let first = spp_done;
