@@ -2,9 +2,9 @@
 
 pub mod bench;
 pub mod blob;
-pub mod interrupt;
 pub mod color;
 pub mod compare;
+pub mod interrupt;
 pub mod plugin_args;
 pub mod plugins;
 pub mod reference;
@@ -61,7 +61,9 @@ where
     let verbose = cli.verbose;
     let result: Result<(), String> = match cli.command {
         None => {
-            eprintln!("spectrace: no subcommand given; try `spectrace render` or `spectrace --help`");
+            eprintln!(
+                "spectrace: no subcommand given; try `spectrace render` or `spectrace --help`"
+            );
             return 2;
         }
         Some(Command::Plugins(args)) => plugins::run(&args, verbose),
