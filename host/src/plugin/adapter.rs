@@ -16,6 +16,7 @@ use crate::material::{
 };
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spd, SpdSample, LANES};
 use glam::{Vec2, Vec3A};
+use spectrace_plugin_api::abi::std_types::RResult;
 use spectrace_plugin_api::{
     light_flags, material_flags, spd_flags, Beam, Flags, LightBox, MaterialBox, ObserverBox,
     PluginError, RandomSample, SpdBox, SpectralValues, TransportMode, Vec3, Wavelengths,
@@ -104,6 +105,22 @@ impl Origin {
         self.faults.record(&self.label, &e);
         fallback
     }
+
+    /// The call's value, or `fallback` with the error recorded.
+    fn or<T>(&self, r: RResult<T, PluginError>, fallback: T) -> T {
+        match r {
+            RResult::ROk(v) => v,
+            RResult::RErr(e) => self.fail(e, fallback),
+        }
+    }
+
+    /// `f` of the call's value, or `fallback` with the error recorded.
+    fn map<T, U>(&self, r: RResult<T, PluginError>, f: impl FnOnce(T) -> U, fallback: U) -> U {
+        match r {
+            RResult::ROk(v) => f(v),
+            RResult::RErr(e) => self.fail(e, fallback),
+        }
+    }
 }
 
 // ----------------------------------------------------------------------------------------------
@@ -139,10 +156,7 @@ impl fmt::Debug for PluginSpd {
 
 impl Spd for PluginSpd {
     fn value(&self, lambda_nm: f64) -> f64 {
-        self.spd
-            .value(lambda_nm)
-            .into_result()
-            .unwrap_or_else(|e| self.origin.fail(e, 0.0))
+        self.origin.or(self.spd.value(lambda_nm), 0.0)
     }
     fn sample(&self, u: f64) -> SpdSample {
         match self.spd.sample(u).into_result() {
@@ -163,10 +177,7 @@ impl Spd for PluginSpd {
         }
     }
     fn pdf(&self, lambda_nm: f64) -> f64 {
-        self.spd
-            .pdf(lambda_nm)
-            .into_result()
-            .unwrap_or_else(|e| self.origin.fail(e, 0.0))
+        self.origin.or(self.spd.pdf(lambda_nm), 0.0)
     }
     fn range(&self) -> (f64, f64) {
         self.range
@@ -214,10 +225,11 @@ impl Observer for PluginObserver {
         self.range
     }
     fn xyz_bar(&self, lambda_nm: f64) -> [f64; 3] {
-        match self.observer.xyz_bar(lambda_nm).into_result() {
-            Ok(v) => [v.x, v.y, v.z],
-            Err(e) => self.origin.fail(e, [0.0; 3]),
-        }
+        self.origin.map(
+            self.observer.xyz_bar(lambda_nm),
+            |v| [v.x, v.y, v.z],
+            [0.0; 3],
+        )
     }
 }
 
@@ -323,14 +335,8 @@ impl Material for PluginMaterial {
         lambda: &SampledWavelengths,
         m: HostMode,
     ) -> SampledSpectrum {
-        match self
-            .material
-            .eval(&Self::ctx(ctx), v3(wo), v3(wi), &lambdas(lambda), mode(m))
-            .into_result()
-        {
-            Ok(v) => spectrum(v),
-            Err(e) => self.origin.fail(e, SampledSpectrum::zero()),
-        }
+        let r = (self.material).eval(&Self::ctx(ctx), v3(wo), v3(wi), &lambdas(lambda), mode(m));
+        self.origin.map(r, spectrum, SampledSpectrum::zero())
     }
 
     fn pdf(
@@ -341,14 +347,8 @@ impl Material for PluginMaterial {
         lambda: &SampledWavelengths,
         m: HostMode,
     ) -> f32 {
-        match self
-            .material
-            .pdf(&Self::ctx(ctx), v3(wo), v3(wi), &lambdas(lambda), mode(m))
-            .into_result()
-        {
-            Ok(v) => v as f32,
-            Err(e) => self.origin.fail(e, 0.0),
-        }
+        let r = (self.material).pdf(&Self::ctx(ctx), v3(wo), v3(wi), &lambdas(lambda), mode(m));
+        self.origin.map(r, |v| v as f32, 0.0)
     }
 
     fn emitted(
@@ -360,14 +360,8 @@ impl Material for PluginMaterial {
         if !self.flags.contains(MaterialFlags::EMISSIVE) {
             return SampledSpectrum::zero();
         }
-        match self
-            .material
-            .emitted(&Self::ctx(ctx), v3(wo), &lambdas(lambda))
-            .into_result()
-        {
-            Ok(v) => spectrum(v),
-            Err(e) => self.origin.fail(e, SampledSpectrum::zero()),
-        }
+        let r = (self.material).emitted(&Self::ctx(ctx), v3(wo), &lambdas(lambda));
+        self.origin.map(r, spectrum, SampledSpectrum::zero())
     }
 }
 
@@ -408,10 +402,7 @@ impl Spd for LightSpectrum {
         }
     }
     fn pdf(&self, lambda_nm: f64) -> f64 {
-        self.light
-            .wavelength_pdf(lambda_nm)
-            .into_result()
-            .unwrap_or_else(|e| self.origin.fail(e, 0.0))
+        self.origin.or(self.light.wavelength_pdf(lambda_nm), 0.0)
     }
     fn range(&self) -> (f64, f64) {
         (360.0, 830.0)
@@ -442,10 +433,7 @@ impl PluginLight {
         if !caps.contains(light_flags::CONNECTABLE) {
             flags = flags | LightFlags::BEAMS_ONLY;
         }
-        let power = light
-            .total_power_w()
-            .into_result()
-            .unwrap_or_else(|e| origin.fail(e, 0.0));
+        let power = origin.or(light.total_power_w(), 0.0);
         let light = Arc::new(light);
         Self {
             spectrum: Arc::new(LightSpectrum {
@@ -510,10 +498,8 @@ impl Light for PluginLight {
             return 0.0;
         }
         let dir = (p_light - ctx.p).normalize_or_zero();
-        match self.light.incident_pdf(v3(ctx.p), v3(dir)).into_result() {
-            Ok(p) => p as f32,
-            Err(e) => self.origin.fail(e, 0.0),
-        }
+        let r = self.light.incident_pdf(v3(ctx.p), v3(dir));
+        self.origin.map(r, |p| p as f32, 0.0)
     }
 
     fn radiance(

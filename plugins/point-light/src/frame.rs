@@ -33,3 +33,32 @@ pub fn finite(name: &str, v: [f64; 3]) -> Result<Vec3, spectrace_plugin_api::Plu
         ))
     }
 }
+
+/// Light from a point source at `position` arriving at `receiver`: direction, distance, and the
+/// intensity toward the receiver (given the unit direction of travel from the source) divided by
+/// d², with pdf 1 as for every delta light.
+pub fn incident_from_point(
+    position: Vec3,
+    receiver: Vec3,
+    intensity: impl FnOnce(
+        Vec3,
+    )
+        -> spectrace_plugin_api::PluginResult<spectrace_plugin_api::SpectralValues>,
+) -> spectrace_plugin_api::PluginResult<spectrace_plugin_api::IncidentSample> {
+    let to_light = position - receiver;
+    let d2 = to_light.dot(to_light);
+    let d = d2.sqrt();
+    let direction = to_light * (1.0 / d);
+    let mut value = intensity(-direction)?;
+    for v in &mut value.v {
+        *v /= d2;
+    }
+    Ok(spectrace_plugin_api::IncidentSample {
+        point: position,
+        normal: Vec3::default(),
+        direction,
+        distance: d,
+        value,
+        pdf: 1.0,
+    })
+}

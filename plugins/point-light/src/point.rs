@@ -8,7 +8,7 @@
 //!
 //! Radiant intensity I(λ) = Φ · spd(λ) / 4π  W/(sr·nm) in every direction.
 
-use crate::frame::{finite, uniform_sphere};
+use crate::frame::{finite, incident_from_point, uniform_sphere};
 use serde::{Deserialize, Serialize};
 use spectrace_plugin_api::{
     light_flags, Beam, EmissionPdf, EmissionSample, Flags, Host, IncidentSample, LightSource,
@@ -143,20 +143,6 @@ impl LightSource for PointLight {
         _sample: &RandomSample,
         lambda: &Wavelengths,
     ) -> PluginResult<IncidentSample> {
-        let to_light = self.position - receiver;
-        let d2 = to_light.dot(to_light);
-        let d = d2.sqrt();
-        let mut value = self.intensity(lambda)?;
-        for v in &mut value.v {
-            *v /= d2;
-        }
-        Ok(IncidentSample {
-            point: self.position,
-            normal: Vec3::default(),
-            direction: to_light * (1.0 / d),
-            distance: d,
-            value,
-            pdf: 1.0,
-        })
+        incident_from_point(self.position, receiver, |_| self.intensity(lambda))
     }
 }

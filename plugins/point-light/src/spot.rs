@@ -13,7 +13,7 @@
 //! cos(falloff start). The flux Φ = I₀ · 2π [(1 − cos θs) + (cos θs − cos θc)/2] fixes I₀,
 //! because smoothstep integrates to half its interval.
 
-use crate::frame::{basis, finite};
+use crate::frame::{basis, finite, incident_from_point};
 use serde::{Deserialize, Serialize};
 use spectrace_plugin_api::{
     light_flags, Beam, EmissionPdf, EmissionSample, Flags, Host, IncidentSample, LightSource,
@@ -242,21 +242,8 @@ impl LightSource for SpotLight {
         _sample: &RandomSample,
         lambda: &Wavelengths,
     ) -> PluginResult<IncidentSample> {
-        let to_light = self.position - receiver;
-        let d2 = to_light.dot(to_light);
-        let d = d2.sqrt();
-        let direction = to_light * (1.0 / d);
-        let mut value = self.intensity((-direction).dot(self.axis), lambda)?;
-        for v in &mut value.v {
-            *v /= d2;
-        }
-        Ok(IncidentSample {
-            point: self.position,
-            normal: Vec3::default(),
-            direction,
-            distance: d,
-            value,
-            pdf: 1.0,
+        incident_from_point(self.position, receiver, |w| {
+            self.intensity(w.dot(self.axis), lambda)
         })
     }
 }
