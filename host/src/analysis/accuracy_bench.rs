@@ -80,6 +80,17 @@ pub fn available_configs(max_depth: u32) -> Vec<AccuracyConfig> {
             },
         ),
         cfg(
+            "pt-uniform-lambda",
+            "Path tracing with wavelengths drawn uniformly over 360–830 nm instead of for the \
+             observer's response: the same cost per sample, more colour noise, since many \
+             wavelengths land where the eye barely sees.",
+            IntegratorKind::Pt,
+            PathTracer {
+                wavelengths: crate::integrator::WavelengthSampling::Uniform,
+                ..base
+            },
+        ),
+        cfg(
             "pt-depth4",
             "Path tracing cut at 4 bounces: faster, but biased (the energy of longer paths is \
              missing), so its error stops falling at the bias.",
@@ -100,9 +111,9 @@ pub fn unavailable_configs() -> Vec<(&'static str, &'static str)> {
             "the number of hero-wavelength lanes is the compile-time constant spectrum::LANES = 4",
         ),
         (
-            "wavelength sampling uniform / light-SPD for pt",
-            "the path tracer's driver always uses visible-importance sampling \
-             (SampledWavelengths::sample_visible); bdpt/lt always use the observer/emission mixture",
+            "light-SPD wavelength sampling for pt",
+            "pt offers visible-importance and uniform sampling (pt, pt-uniform-lambda); \
+             bdpt/lt always use the observer/emission mixture",
         ),
         (
             "SPD representation (piecewise constant vs linear; measured vs RGB-uplifted)",

@@ -9,7 +9,7 @@ pub mod sampler;
 pub mod select;
 pub mod vertex;
 
-pub use path::{PathStats, PathTracer};
+pub use path::{PathStats, PathTracer, WavelengthSampling};
 pub use render::{render, RenderError, RenderResult, RenderSettings, SampleBudget};
 pub use sampler::{PixelSampler, SampleRng};
 pub use select::{render_with, strategy_summary, IntegratorKind, IntegratorOutput};

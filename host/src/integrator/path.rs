@@ -28,6 +28,8 @@ pub struct PathTracer {
     /// Only direct lighting (emission seen directly plus one bounce of NEE/BSDF sampling):
     /// used for analytic tests.
     pub direct_only: bool,
+    /// How camera paths draw their hero wavelength.
+    pub wavelengths: WavelengthSampling,
 }
 
 impl Default for PathTracer {
@@ -36,6 +38,29 @@ impl Default for PathTracer {
             max_depth: 64,
             rr_depth: 3,
             direct_only: false,
+            wavelengths: WavelengthSampling::Visible,
+        }
+    }
+}
+
+/// How camera paths draw their wavelengths (each lane's pdf is kept, so both are unbiased).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum WavelengthSampling {
+    /// Importance-sampled for the observer's luminance response (pbrt-v4's sech² fit):
+    /// fewer wavelengths wasted where x̄ȳz̄ are near zero.
+    #[default]
+    Visible,
+    /// Uniform over 360–830 nm: the plain baseline, more colour noise per sample.
+    Uniform,
+}
+
+impl WavelengthSampling {
+    /// Draw the path's wavelengths (hero plus rotations) from `u ∈ [0,1)`.
+    #[inline]
+    pub fn sample(self, u: f32) -> SampledWavelengths {
+        match self {
+            WavelengthSampling::Visible => SampledWavelengths::sample_visible(u),
+            WavelengthSampling::Uniform => SampledWavelengths::sample_uniform(u, 360.0, 830.0),
         }
     }
 }

@@ -6,7 +6,6 @@ use super::{PathStats, PathTracer, PixelSampler};
 use crate::camera::CameraSample;
 use crate::film::{PixelFilm, Sensor, TileBuffer, XyzImage};
 use crate::scene::Scene;
-use crate::spectrum::SampledWavelengths;
 use glam::Vec2;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -186,7 +185,7 @@ pub fn render(
                             let pixel = y as u64 * width as u64 + x as u64;
                             for s in first..first + pass_spp {
                                 let mut rng = PixelSampler::new(settings.seed, pixel, s);
-                                let mut lambda = SampledWavelengths::sample_visible(rng.next_1d());
+                                let mut lambda = settings.tracer.wavelengths.sample(rng.next_1d());
                                 let offset = cam.filter.sample(rng.next_2d());
                                 let sample = CameraSample {
                                     p_film: Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset,
