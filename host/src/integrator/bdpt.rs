@@ -15,7 +15,7 @@
 //! Wavelengths: one set per pair from [`WavelengthMixture`]; see `select.rs`.
 
 use super::light_tracer::{connect_to_camera, trace_beam, PixelMaxY, XyzWeights};
-use super::render::ProgressFn;
+use super::render::{fixed_budget_passes, ProgressFn};
 use super::select::{IntegratorOutput, WavelengthMixture};
 use super::vertex::{geometry_term, remap0, unoccluded, Vertex, VertexKind};
 use super::{PathStats, RenderError, RenderResult, RenderSettings, SampleBudget, SampleRng};
@@ -601,15 +601,14 @@ pub fn render_bdpt(
     let done = AtomicU64::new(0);
     let start = Instant::now();
     let mut spp_done = 0u32;
+    let spp_passes = fixed_budget_passes(settings.budget);
     let mut pass = 0u32;
     loop {
         let pass_spp = match settings.budget {
-            SampleBudget::Spp(n) => {
-                if spp_done >= n {
-                    break;
-                }
-                n - spp_done
-            }
+            SampleBudget::Spp(_) => match spp_passes.get(pass as usize) {
+                Some(&p) => p,
+                None => break,
+            },
             SampleBudget::Time(t) => {
                 if pass > 0 && start.elapsed() >= t {
                     break;
@@ -618,7 +617,7 @@ pub fn render_bdpt(
             }
         };
         let total_units = match settings.budget {
-            SampleBudget::Spp(_) => tiles.len() as u64,
+            SampleBudget::Spp(_) => tiles.len() as u64 * spp_passes.len() as u64,
             SampleBudget::Time(_) => tiles.len() as u64 * (pass as u64 + 1),
         };
         let first = spp_done;

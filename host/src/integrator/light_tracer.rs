@@ -12,7 +12,7 @@
 //! film sums in fixed point, so the image is identical for any thread count.
 
 use super::bdpt::{generate_light_subpath, random_walk, LightStart};
-use super::render::ProgressFn;
+use super::render::{fixed_budget_passes, ProgressFn};
 use super::select::{IntegratorOutput, WavelengthMixture};
 use super::vertex::{unoccluded, Vertex};
 use super::{PathStats, RenderError, RenderResult, RenderSettings, SampleBudget, SampleRng};
@@ -333,16 +333,15 @@ pub fn render_light_tracing(
     let done = AtomicU64::new(0);
     let start = Instant::now();
     let mut spp_done = 0u32;
+    let spp_passes = fixed_budget_passes(settings.budget);
     let mut pass = 0u32;
     let mut total_units = 0u64;
     loop {
         let pass_spp = match settings.budget {
-            SampleBudget::Spp(n) => {
-                if spp_done >= n {
-                    break;
-                }
-                n - spp_done
-            }
+            SampleBudget::Spp(_) => match spp_passes.get(pass as usize) {
+                Some(&p) => p,
+                None => break,
+            },
             SampleBudget::Time(t) => {
                 if pass > 0 && start.elapsed() >= t {
                     break;

@@ -85,6 +85,28 @@ pub struct RenderResult {
 /// budgets the total grows with each pass.
 pub type ProgressFn<'a> = dyn Fn(u64, u64) + Sync + 'a;
 
+/// The pass sizes (spp) that make up a fixed budget: growing passes 1, 1, 2, 4, 8, 16, 16, …
+/// so that a cancel (Ctrl-C) stops within one pass and leaves every pixel with the same sample
+/// count. Empty for a time budget. Every driver indexes samples globally, so how a budget is
+/// split into passes does not change the image.
+pub fn fixed_budget_passes(budget: SampleBudget) -> Vec<u32> {
+    let SampleBudget::Spp(n) = budget else {
+        return Vec::new();
+    };
+    let mut passes = Vec::new();
+    let mut left = n;
+    let mut size = 1u32;
+    while left > 0 {
+        let p = size.min(left);
+        passes.push(p);
+        left -= p;
+        if passes.len() > 1 {
+            size = (size * 2).min(16);
+        }
+    }
+    passes
+}
+
 /// Render `scene` with `settings`. `progress` may be called from several threads.
 /// `cancel`, when set, stops after the tiles in flight; the partial film is returned.
 pub fn render(
@@ -121,28 +143,10 @@ pub fn render(
     let done = AtomicU64::new(0);
     let start = Instant::now();
     let mut spp_done = 0u32;
-    // Pass sizes: for a fixed budget, growing passes (1, 1, 2, 4, 8, 16, 16, …) so that a
-    // cancel (Ctrl-C) stops within one pass and leaves every pixel with the same sample count;
-    // for a time budget, passes sized from the measured cost per spp to fit the remaining time,
-    // so the last pass overshoots little. Samples are indexed globally, so the pass split does
-    // not change the image.
-    let spp_passes: Vec<u32> = match settings.budget {
-        SampleBudget::Spp(n) => {
-            let mut v = Vec::new();
-            let mut left = n;
-            let mut size = 1u32;
-            while left > 0 {
-                let p = size.min(left);
-                v.push(p);
-                left -= p;
-                if v.len() > 1 {
-                    size = (size * 2).min(16);
-                }
-            }
-            v
-        }
-        SampleBudget::Time(_) => Vec::new(),
-    };
+    // Pass sizes: for a fixed budget, see [`fixed_budget_passes`]; for a time budget, passes
+    // sized from the measured cost per spp to fit the remaining time, so the last pass
+    // overshoots little.
+    let spp_passes = fixed_budget_passes(settings.budget);
     let mut pass = 0u32;
     loop {
         let pass_spp = match settings.budget {
