@@ -4,8 +4,9 @@
 
 use super::loader::{load_dir, load_library, LoadError, LoadedPlugin};
 use super::services::HostServices;
-use spectrace_plugin_api::abi::std_types::{RSlice, RStr};
+use spectrace_plugin_api::abi::std_types::{RResult, RSlice, RStr};
 use spectrace_plugin_api::module::ObjectSource;
+use spectrace_plugin_api::HostRef;
 use spectrace_plugin_api::{
     LightBox, MaterialBox, ObjectKind, ObserverBox, PluginError, SpdBox, TypeInfo,
 };
@@ -302,18 +303,30 @@ impl Registry {
         }
     }
 
+    /// Call `construct` on the root module of the plugin that provides (kind, name), with the
+    /// host's services lent for the call; the plugin's error is wrapped with type and provider.
+    fn call_plugin<T>(
+        &self,
+        kind: ObjectKind,
+        name: &str,
+        construct: impl FnOnce(&LoadedPlugin, HostRef<'_>) -> RResult<T, PluginError>,
+    ) -> Result<T, RegistryError> {
+        let (plugin, provider) = self.plugin_entry(kind, name)?;
+        let services = HostServices::new(self);
+        construct(&plugin, services.as_ref())
+            .into_result()
+            .map_err(|error| construct_error(kind, name, provider, error))
+    }
+
     /// Build a plugin light from parameters (RON text) or saved state.
     pub fn create_plugin_light(
         &self,
         name: &str,
         source: ObjectSource<'_>,
     ) -> Result<LightBox, RegistryError> {
-        let (plugin, provider) = self.plugin_entry(ObjectKind::Light, name)?;
-        let services = HostServices::new(self);
-        let host = services.as_ref();
-        (plugin.module.create_light())(RStr::from_str(name), source, host)
-            .into_result()
-            .map_err(|error| construct_error(ObjectKind::Light, name, provider, error))
+        self.call_plugin(ObjectKind::Light, name, |p, host| {
+            (p.module.create_light())(RStr::from_str(name), source, host)
+        })
     }
 
     /// Build a plugin SPD.
@@ -322,11 +335,9 @@ impl Registry {
         name: &str,
         source: ObjectSource<'_>,
     ) -> Result<SpdBox, RegistryError> {
-        let (plugin, provider) = self.plugin_entry(ObjectKind::Spd, name)?;
-        let services = HostServices::new(self);
-        (plugin.module.create_spd())(RStr::from_str(name), source, services.as_ref())
-            .into_result()
-            .map_err(|error| construct_error(ObjectKind::Spd, name, provider, error))
+        self.call_plugin(ObjectKind::Spd, name, |p, host| {
+            (p.module.create_spd())(RStr::from_str(name), source, host)
+        })
     }
 
     /// Build a plugin observer.
@@ -335,11 +346,9 @@ impl Registry {
         name: &str,
         source: ObjectSource<'_>,
     ) -> Result<ObserverBox, RegistryError> {
-        let (plugin, provider) = self.plugin_entry(ObjectKind::Observer, name)?;
-        let services = HostServices::new(self);
-        (plugin.module.create_observer())(RStr::from_str(name), source, services.as_ref())
-            .into_result()
-            .map_err(|error| construct_error(ObjectKind::Observer, name, provider, error))
+        self.call_plugin(ObjectKind::Observer, name, |p, host| {
+            (p.module.create_observer())(RStr::from_str(name), source, host)
+        })
     }
 
     /// Build a plugin material.
@@ -348,11 +357,9 @@ impl Registry {
         name: &str,
         source: ObjectSource<'_>,
     ) -> Result<MaterialBox, RegistryError> {
-        let (plugin, provider) = self.plugin_entry(ObjectKind::Material, name)?;
-        let services = HostServices::new(self);
-        (plugin.module.create_material())(RStr::from_str(name), source, services.as_ref())
-            .into_result()
-            .map_err(|error| construct_error(ObjectKind::Material, name, provider, error))
+        self.call_plugin(ObjectKind::Material, name, |p, host| {
+            (p.module.create_material())(RStr::from_str(name), source, host)
+        })
     }
 
     /// Decode a plugin type's saved state into RON parameters.
@@ -363,16 +370,15 @@ impl Registry {
         type_version: u32,
         bytes: &[u8],
     ) -> Result<String, RegistryError> {
-        let (plugin, provider) = self.plugin_entry(kind, name)?;
-        (plugin.module.describe_state())(
-            kind,
-            RStr::from_str(name),
-            type_version,
-            RSlice::from_slice(bytes),
-        )
-        .into_result()
+        self.call_plugin(kind, name, |p, _| {
+            (p.module.describe_state())(
+                kind,
+                RStr::from_str(name),
+                type_version,
+                RSlice::from_slice(bytes),
+            )
+        })
         .map(|s| s.into_string())
-        .map_err(|error| construct_error(kind, name, provider, error))
     }
 }
 

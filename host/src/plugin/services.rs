@@ -40,13 +40,11 @@ impl<'r> HostServices<'r> {
             Some(i) if spec.ends_with(')') => (spec[..i].trim(), &spec[i..]),
             _ => (spec, "()"),
         };
-        if self.registry.contains(ObjectKind::Spd, name) {
-            if let Ok(Some(_)) = self.registry.plugin_for(ObjectKind::Spd, name) {
-                return self
-                    .registry
-                    .create_plugin_spd(name, ObjectSource::Params(RStr::from_str(params)))
-                    .map_err(|e| PluginError::invalid_parameter(format!("spd `{spec}`: {e}")));
-            }
+        if let Ok(Some(_)) = self.registry.plugin_for(ObjectKind::Spd, name) {
+            return self
+                .registry
+                .create_plugin_spd(name, ObjectSource::Params(RStr::from_str(params)))
+                .map_err(|e| PluginError::invalid_parameter(format!("spd `{spec}`: {e}")));
         }
         let spd = parse_spd_spec(spec)
             .map_err(|e| PluginError::invalid_parameter(format!("spd `{spec}`: {e}")))?;
