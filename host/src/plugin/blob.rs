@@ -464,8 +464,8 @@ impl Blob {
 
 /// Built-in types: the payload is the parameters' RON text (bincode-encoded string), since the
 /// host itself reads it back.
-fn encode_builtin_params(text: &str) -> Vec<u8> {
-    spectrace_plugin_api::export::encode_state(&text.to_string()).unwrap_or_default()
+fn encode_builtin_params(text: &str) -> Result<Vec<u8>, String> {
+    spectrace_plugin_api::export::encode_state(&text.to_string()).map_err(|e| e.to_string())
 }
 
 impl Blob {
@@ -487,7 +487,7 @@ impl Blob {
             plugin_version: env!("CARGO_PKG_VERSION").to_string(),
             type_name: type_name.to_string(),
             type_version: 1,
-            payload: encode_builtin_params(&text),
+            payload: encode_builtin_params(&text)?,
         })
     }
 
