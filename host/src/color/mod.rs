@@ -3,12 +3,14 @@
 
 pub mod matrix3;
 pub mod observer;
+pub mod resampled_observer;
 pub mod rgb_space;
 pub mod srgb_transfer;
 pub mod uplift;
 pub mod xyz;
 
 pub use observer::{CieObserver, CieObserverKind, Observer};
+pub use resampled_observer::ResampledObserver;
 pub use rgb_space::{RgbColorSpace, ACES2065_1, DISPLAY_P3, REC2020, SRGB};
 pub use srgb_transfer::{linear_to_srgb8, quantize_8bit, srgb_decode, srgb_encode};
 pub use uplift::{uplift_srgb, RgbUplifter, SigmoidPolynomial};
