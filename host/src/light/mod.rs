@@ -145,3 +145,32 @@ pub fn sample_uniform_sphere(u: Vec2) -> Vec3A {
     let phi = 2.0 * std::f32::consts::PI * u.y;
     Vec3A::new(r * phi.cos(), r * phi.sin(), z)
 }
+
+/// Incident radiance at `ctx` from a point emitter at `position` whose intensity (W/(sr·nm) per
+/// lane) towards the unit emission direction `w` is `intensity(w)`: the inverse-square law
+/// `I(w)/d²`, as a delta sample (pdf 1). `None` when `ctx` sits on the emitter or nothing is
+/// emitted towards it. Shared by every point-like light so the geometry lives in one place.
+pub(crate) fn incident_from_point(
+    position: Vec3A,
+    ctx: &LightSampleContext,
+    intensity: impl FnOnce(Vec3A) -> SampledSpectrum,
+) -> Option<LightLiSample> {
+    let d = position - ctx.p;
+    let dist2 = d.length_squared();
+    if !(dist2 > 0.0) {
+        return None;
+    }
+    let wi = d / dist2.sqrt();
+    let radiance = intensity(-wi) / dist2;
+    if radiance.is_black() {
+        return None;
+    }
+    Some(LightLiSample {
+        radiance,
+        wi,
+        pdf: 1.0,
+        p_light: position,
+        p_light_error: Vec3A::ZERO,
+        n_light: Vec3A::ZERO,
+    })
+}

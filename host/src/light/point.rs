@@ -1,7 +1,8 @@
 //! An isotropic point light of given power.
 
 use super::{
-    sample_uniform_sphere, Light, LightFlags, LightLeSample, LightLiSample, LightSampleContext,
+    incident_from_point, sample_uniform_sphere, Light, LightFlags, LightLeSample, LightLiSample,
+    LightSampleContext,
 };
 use crate::geometry::Ray;
 use crate::spectrum::spd::spd_at;
@@ -52,19 +53,7 @@ impl Light for PointLight {
         _u: Vec2,
         lambda: &SampledWavelengths,
     ) -> Option<LightLiSample> {
-        let d = self.position - ctx.p;
-        let dist2 = d.length_squared();
-        if !(dist2 > 0.0) {
-            return None;
-        }
-        Some(LightLiSample {
-            radiance: self.intensity(lambda) / dist2,
-            wi: d / dist2.sqrt(),
-            pdf: 1.0,
-            p_light: self.position,
-            p_light_error: Vec3A::ZERO,
-            n_light: Vec3A::ZERO,
-        })
+        incident_from_point(self.position, ctx, |_| self.intensity(lambda))
     }
 
     fn pdf_li(&self, _ctx: &LightSampleContext, _p: Vec3A, _n: Vec3A) -> f32 {

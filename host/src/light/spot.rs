@@ -1,7 +1,9 @@
 //! A spot light: a point light restricted to a cone, with a smooth (smoothstep) falloff between
 //! the inner and outer cone angles.
 
-use super::{Light, LightFlags, LightLeSample, LightLiSample, LightSampleContext};
+use super::{
+    incident_from_point, Light, LightFlags, LightLeSample, LightLiSample, LightSampleContext,
+};
 use crate::geometry::Ray;
 use crate::material::Frame;
 use crate::spectrum::spd::spd_at;
@@ -95,24 +97,7 @@ impl Light for SpotLight {
         _u: Vec2,
         lambda: &SampledWavelengths,
     ) -> Option<LightLiSample> {
-        let d = self.position - ctx.p;
-        let dist2 = d.length_squared();
-        if !(dist2 > 0.0) {
-            return None;
-        }
-        let wi = d / dist2.sqrt();
-        let radiance = self.intensity(-wi, lambda) / dist2;
-        if radiance.is_black() {
-            return None;
-        }
-        Some(LightLiSample {
-            radiance,
-            wi,
-            pdf: 1.0,
-            p_light: self.position,
-            p_light_error: Vec3A::ZERO,
-            n_light: Vec3A::ZERO,
-        })
+        incident_from_point(self.position, ctx, |w| self.intensity(w, lambda))
     }
 
     fn pdf_li(&self, _ctx: &LightSampleContext, _p: Vec3A, _n: Vec3A) -> f32 {
