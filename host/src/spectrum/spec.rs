@@ -91,12 +91,20 @@ fn csv_spd(
 
 /// Parse one emission spec (see the module docs) into a normalized SPD.
 pub fn parse_spd_spec(spec: &str) -> Result<BuiltinSpd, SpectrumError> {
+    parse_spd_spec_with(spec, Interpolation::Linear)
+}
+
+/// [`parse_spd_spec`] with `tables` as the reconstruction of measured tables (CSV files and
+/// bundled spectra, also inside sums): `Step` gives the seed §5 piecewise-constant
+/// representation. `step:PATH` is always a step table; analytic SPDs (blackbody, Gaussian) are
+/// tabulated finely and stay linear; lines are unaffected.
+pub fn parse_spd_spec_with(spec: &str, tables: Interpolation) -> Result<BuiltinSpd, SpectrumError> {
     let s = spec.trim();
     if s.is_empty() {
         return Err(spec_err(spec, "empty spectrum spec"));
     }
     if Path::new(s).is_file() {
-        return csv_spd(spec, s, Interpolation::Linear);
+        return csv_spd(spec, s, tables);
     }
     if s.contains('+') {
         let parts = s
@@ -104,8 +112,11 @@ pub fn parse_spd_spec(spec: &str) -> Result<BuiltinSpd, SpectrumError> {
             .map(|term| {
                 let term = term.trim();
                 match term.split_once('*') {
-                    Some((w, rest)) => Ok((number(spec, w, "weight")?, parse_spd_spec(rest)?)),
-                    None => Ok((1.0, parse_spd_spec(term)?)),
+                    Some((w, rest)) => Ok((
+                        number(spec, w, "weight")?,
+                        parse_spd_spec_with(rest, tables)?,
+                    )),
+                    None => Ok((1.0, parse_spd_spec_with(term, tables)?)),
                 }
             })
             .collect::<Result<Vec<_>, SpectrumError>>()?;
@@ -113,7 +124,7 @@ pub fn parse_spd_spec(spec: &str) -> Result<BuiltinSpd, SpectrumError> {
     }
     if let Some((w, rest)) = s.split_once('*') {
         if let Ok(w) = number(spec, w, "weight") {
-            return BuiltinSpd::sum(vec![(w, parse_spd_spec(rest)?)]);
+            return BuiltinSpd::sum(vec![(w, parse_spd_spec_with(rest, tables)?)]);
         }
     }
     let (kind, args) = s.split_once(':').unwrap_or((s, ""));
@@ -140,14 +151,22 @@ pub fn parse_spd_spec(spec: &str) -> Result<BuiltinSpd, SpectrumError> {
             [l] => BuiltinSpd::line(number(spec, l, "wavelength")?),
             _ => Err(spec_err(spec, "expected line:LAMBDA_NM")),
         },
-        "csv" => csv_spd(spec, args, Interpolation::Linear),
+        "csv" => csv_spd(spec, args, tables),
         "step" => csv_spd(spec, args, Interpolation::Step),
         _ => {
-            if let Some(found) = bundled_spd(s) {
-                return found.map(BuiltinSpd::Tabulated);
+            if tables == Interpolation::Linear {
+                if let Some(found) = bundled_spd(s) {
+                    return found.map(BuiltinSpd::Tabulated);
+                }
+            } else if let Some(found) = bundled_table(s) {
+                return found
+                    .and_then(|(t, file)| {
+                        TabulatedSpd::new(file, &t.wavelengths, &t.columns[0], tables)
+                    })
+                    .map(BuiltinSpd::Tabulated);
             }
             if s.to_ascii_lowercase().ends_with(".csv") || s.contains('#') {
-                return csv_spd(spec, s, Interpolation::Linear);
+                return csv_spd(spec, s, tables);
             }
             Err(spec_err(
                 spec,
@@ -206,6 +225,34 @@ mod tests {
         assert!(
             (s.value(560.0) - 0.75 * parse_spd_spec("d65").unwrap().value(560.0)).abs() < 1e-12
         );
+    }
+
+    // Step tables (seed §5's piecewise-constant representation): the bundled D65 read with
+    // `parse_spd_spec_with(.., Step)` holds each 5 nm entry on [λᵢ, λᵢ₊₁) (equal values, exact,
+    // both are the same table entry over the same integral), differs from the linear reading
+    // between nodes, and is normalized by the step sum Σ fᵢ·Δλ (left rectangles) instead of the
+    // trapezoid sum: checked through value ratios to 1e-12 (two divisions). Sums pass the
+    // choice on; `Linear` is exactly `parse_spd_spec`.
+    #[test]
+    fn step_tables_for_bundled_and_sums() {
+        use crate::spectrum::bundled::bundled_table;
+        let lin = parse_spd_spec("d65").unwrap();
+        let step = parse_spd_spec_with("d65", Interpolation::Step).unwrap();
+        assert_eq!(
+            parse_spd_spec_with("d65", Interpolation::Linear).unwrap(),
+            lin
+        );
+        assert_eq!(step.value(562.0), step.value(560.0));
+        assert_eq!(step.value(564.9), step.value(560.0));
+        assert!(step.value(565.0) != step.value(560.0));
+        assert!((lin.value(562.0) - step.value(562.0)).abs() > 1e-6);
+        let (t, _) = bundled_table("d65").unwrap().unwrap();
+        let (x, f) = (&t.wavelengths, &t.columns[0]);
+        let left_sum: f64 = (0..x.len() - 1).map(|i| f[i] * (x[i + 1] - x[i])).sum();
+        let i560 = x.iter().position(|&l| l == 560.0).unwrap();
+        assert!((step.value(562.0) * left_sum / f[i560] - 1.0).abs() < 1e-12);
+        let sum = parse_spd_spec_with("0.5*d65 + 0.5*a", Interpolation::Step).unwrap();
+        assert_eq!(sum.value(561.0), sum.value(564.0));
     }
 
     // Bad specs must be errors naming the spec, never panics.
