@@ -476,6 +476,7 @@ impl Blob {
         let ctx = FactoryContext {
             base_dir: std::path::PathBuf::from("."),
             item: format!("light `{type_name}`"),
+            representation: Default::default(),
         };
         BuiltinFactory
             .light(type_name, params, &ctx)
@@ -552,6 +553,7 @@ impl Blob {
             let ctx = FactoryContext {
                 base_dir: std::path::PathBuf::from("."),
                 item: format!("light `{}`", self.type_name),
+                representation: Default::default(),
             };
             return BuiltinFactory
                 .light(&self.type_name, &params, &ctx)

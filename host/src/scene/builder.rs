@@ -3,10 +3,11 @@
 use super::description::{ObjectDescription, SceneDescription, TransformStep};
 use super::factory::{FactoryContext, FactoryError, ObjectFactory};
 use super::params::{as_f64_list, Params};
+use super::representation::RepresentationOptions;
 use super::{Scene, SceneError, SceneObject, SceneObjectManager, SceneOptions};
 use crate::camera::manager::NamedCamera;
 use crate::camera::{CameraManager, Filter, FovAxis, PerspectiveCamera};
-use crate::color::{CieObserverKind, Observer, RgbColorSpace};
+use crate::color::{CieObserverKind, Observer, ResampledObserver, RgbColorSpace};
 use crate::geometry::{
     load_obj, load_ply, Geometry, GeometryError, Shape, ShapeDesc, Transform, TriangleMesh,
 };
@@ -33,13 +34,22 @@ pub fn parse_scene_str(text: &str, file: &Path) -> Result<SceneDescription, Scen
 
 /// Read, parse and build a scene file; relative paths inside resolve against its directory.
 pub fn load_scene_file(path: &Path, factories: &[&dyn ObjectFactory]) -> Result<Scene, SceneError> {
+    load_scene_file_with(path, factories, &RepresentationOptions::default())
+}
+
+/// [`load_scene_file`] with the spectral representation switches `representation`.
+pub fn load_scene_file_with(
+    path: &Path,
+    factories: &[&dyn ObjectFactory],
+    representation: &RepresentationOptions,
+) -> Result<Scene, SceneError> {
     let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
         file: path.to_path_buf(),
         source,
     })?;
     let desc = parse_scene_str(&text, path)?;
     let base = path.parent().unwrap_or(Path::new("."));
-    build_scene(&desc, base, path, factories)
+    build_scene_with(&desc, base, path, factories, representation)
 }
 
 /// Ask each factory in turn; the first that knows the type builds it.
@@ -76,6 +86,25 @@ pub fn build_scene(
     file: &Path,
     factories: &[&dyn ObjectFactory],
 ) -> Result<Scene, SceneError> {
+    build_scene_with(
+        desc,
+        base_dir,
+        file,
+        factories,
+        &RepresentationOptions::default(),
+    )
+}
+
+/// [`build_scene`] with the spectral representation switches `representation`: they reach
+/// every item through [`FactoryContext::representation`], and a coarser observer step replaces
+/// the scene's observer by its [`ResampledObserver`].
+pub fn build_scene_with(
+    desc: &SceneDescription,
+    base_dir: &Path,
+    file: &Path,
+    factories: &[&dyn ObjectFactory],
+    representation: &RepresentationOptions,
+) -> Result<Scene, SceneError> {
     let item_err = |item: String, message: String| SceneError::Item {
         file: file.to_path_buf(),
         item,
@@ -84,6 +113,7 @@ pub fn build_scene(
     let ctx_for = |item: &str| FactoryContext {
         base_dir: base_dir.to_path_buf(),
         item: item.to_string(),
+        representation: *representation,
     };
 
     // Observer and options.
@@ -102,6 +132,8 @@ pub fn build_scene(
             )
         })?,
     };
+    let observer = ResampledObserver::wrap(observer, representation.observer_step_nm)
+        .map_err(|e| item_err("observer".into(), e.to_string()))?;
     let mut options = SceneOptions::default();
     if let Some(s) = desc.output.spp {
         options.spp = s.max(1);

@@ -5,7 +5,7 @@
 //! 39.31° horizontal field, 256×256. `scenes/cornell_box.ron` is the same description as a file.
 
 use super::description::{ItemDescription, ObjectDescription, OutputDescription, SceneDescription};
-use super::{build_scene, BuiltinFactory, Scene, SceneError};
+use super::{build_scene_with, BuiltinFactory, RepresentationOptions, Scene, SceneError};
 use ron::{Map, Number, Value};
 use std::path::Path;
 
@@ -163,12 +163,18 @@ pub fn cornell_box_description() -> Result<SceneDescription, SceneError> {
 
 /// The default scene, built with the built-in factory.
 pub fn default_scene() -> Result<Scene, SceneError> {
+    default_scene_with(&RepresentationOptions::default())
+}
+
+/// The default scene with the spectral representation switches `representation`.
+pub fn default_scene_with(representation: &RepresentationOptions) -> Result<Scene, SceneError> {
     let desc = cornell_box_description()?;
-    build_scene(
+    build_scene_with(
         &desc,
         Path::new("."),
         Path::new("<embedded cornell box>"),
         &[&BuiltinFactory],
+        representation,
     )
 }
 

@@ -5,6 +5,7 @@
 //! factory in turn; [`FactoryError::UnknownType`] means "not mine, ask the next one".
 
 use super::params::{as_f64, as_f64_list, kind_of, ParamError, Params};
+use super::representation::{reflectance_fn, RepresentationOptions};
 use crate::color::uplift_srgb;
 use crate::light::{DirectionalLight, Light, PointLight, SpotLight};
 use crate::material::metals::ComplexIorTable;
@@ -12,7 +13,8 @@ use crate::material::{
     ConstantTexture, CurveTexture, Emissive, Lambertian, Material, Mirror, RoughConductor,
     RoughDielectric, SmoothDielectric, SpectralIor, SpectralTexture,
 };
-use crate::spectrum::{parse_spd_spec, Interpolation, Spd, SpectralCurve, TabulatedSpd};
+use crate::spectrum::spec::parse_spd_spec_with;
+use crate::spectrum::{parse_spd_spec, Spd, SpectralCurve, TabulatedSpd};
 use ron::Value;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -24,6 +26,8 @@ pub struct FactoryContext {
     pub base_dir: PathBuf,
     /// The item being built, e.g. `material "red"`.
     pub item: String,
+    /// How spectral data are represented (defaults: as written).
+    pub representation: RepresentationOptions,
 }
 
 impl FactoryContext {
@@ -130,7 +134,8 @@ pub trait ObjectFactory: Send + Sync {
 #[derive(Clone, Copy, Debug, Default)]
 pub struct BuiltinFactory;
 
-/// Interpret a spectral reflectance-like parameter.
+/// Interpret a spectral reflectance-like parameter. Tables and curves follow
+/// `ctx.representation` (step reading, RGB uplift); `(rgb: ..)` values are uplifts already.
 pub fn spectral_texture(
     value: &Value,
     param: &str,
@@ -179,10 +184,11 @@ pub fn spectral_texture(
             ))
         }
     };
+    let f = reflectance_fn(curve, &ctx.representation);
     Ok(Arc::new(CurveTexture::new(
         param.to_string(),
         1.0,
-        Arc::new(move |l| curve.value(l as f64) as f32),
+        Arc::new(move |l| f(l as f64) as f32),
     )))
 }
 
@@ -211,7 +217,8 @@ fn pairs(value: &Value, param: &str) -> Result<(Vec<f64>, Vec<f64>), FactoryErro
 }
 
 /// An SPD parameter: the normalised SPD and, for tables, their raw integral (so absolute
-/// tabulated values can be reproduced as `integral · spd(λ)`).
+/// tabulated values can be reproduced as `integral · spd(λ)`). Tables (inline, CSV, bundled) are
+/// read with `ctx.representation.spd_interpolation`.
 pub fn spd_param(
     factory: &dyn ObjectFactory,
     value: &Value,
@@ -226,12 +233,18 @@ pub fn spd_param(
             } else {
                 s.clone()
             };
-            let spd = parse_spd_spec(&spec).map_err(|e| param_err(param, e))?;
+            let spd = parse_spd_spec_with(&spec, ctx.representation.spd_interpolation)
+                .map_err(|e| param_err(param, e))?;
             Ok((Arc::new(spd), None))
         }
         Value::Seq(_) => {
             let (l, v) = pairs(value, param)?;
-            let t = TabulatedSpd::new(&format!("{} {param}", ctx.item), &l, &v, Interpolation::Linear)
+            let t = TabulatedSpd::new(
+                &format!("{} {param}", ctx.item),
+                &l,
+                &v,
+                ctx.representation.spd_interpolation,
+            )
                 .map_err(|e| param_err(param, e))?;
             let raw = t.raw_integral();
             Ok((Arc::new(t), Some(raw)))

@@ -10,13 +10,19 @@ pub mod error;
 pub mod factory;
 pub mod objects;
 pub mod params;
+pub mod representation;
+pub mod source;
 
-pub use builder::{build_scene, load_scene_file, parse_scene_str};
-pub use cornell::{cornell_box_description, default_scene};
+pub use builder::{
+    build_scene, build_scene_with, load_scene_file, load_scene_file_with, parse_scene_str,
+};
+pub use cornell::{cornell_box_description, default_scene, default_scene_with};
 pub use description::SceneDescription;
 pub use error::SceneError;
 pub use factory::{BuiltinFactory, FactoryContext, FactoryError, ObjectFactory};
 pub use objects::{SceneObject, SceneObjectManager};
+pub use representation::{ReflectanceSource, RepresentationOptions};
+pub use source::SceneSource;
 
 use crate::camera::CameraManager;
 use crate::color::{Observer, RgbColorSpace};
