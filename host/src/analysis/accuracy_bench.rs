@@ -2,12 +2,40 @@
 //! 1, 2, 4, … samples per pixel (fresh renders, doubling) until its time budget is used, and
 //! every render is compared with a reference. A converged unbiased estimator's RMSE falls as
 //! time^−½, so the fitted log–log slope should approach −0.5; a biased configuration flattens
-//! out at its bias.
+//! out at its bias. Configurations that change the scene's spectral representation get their own
+//! scene, built from a [`SceneProvider`] (not timed).
 
 use super::{compare_images, AnalysisError, CompareOptions, RgbImage};
 use crate::integrator::{render_with, IntegratorKind, PathTracer, RenderSettings, SampleBudget};
-use crate::scene::Scene;
+use crate::scene::{ReflectanceSource, RepresentationOptions, Scene, SceneSource};
+use crate::spectrum::Interpolation;
 use std::time::{Duration, Instant};
+
+/// Builds the benchmark's scene for a configuration's representation switches.
+pub trait SceneProvider {
+    /// The scene built with `representation`.
+    fn scene_with(&self, representation: &RepresentationOptions) -> Result<Scene, String>;
+}
+
+/// An already built scene serves only the default representation (it cannot be rebuilt).
+impl SceneProvider for Scene {
+    fn scene_with(&self, representation: &RepresentationOptions) -> Result<Scene, String> {
+        if representation.is_default() {
+            Ok(self.clone())
+        } else {
+            Err(format!(
+                "a prebuilt scene cannot be rebuilt with {}; pass a SceneSource",
+                representation.label()
+            ))
+        }
+    }
+}
+
+impl SceneProvider for SceneSource {
+    fn scene_with(&self, representation: &RepresentationOptions) -> Result<Scene, String> {
+        self.build(representation).map_err(|e| e.to_string())
+    }
+}
 
 /// One renderer configuration of the benchmark.
 #[derive(Clone, Debug, PartialEq)]
@@ -20,6 +48,8 @@ pub struct AccuracyConfig {
     pub integrator: IntegratorKind,
     /// Path settings (depth, Russian roulette).
     pub tracer: PathTracer,
+    /// How the scene's spectra and observer are represented (default: as written, 1 nm CIE).
+    pub representation: RepresentationOptions,
 }
 
 /// The configurations the renderer really supports, for a scene whose default maximum depth is
@@ -34,7 +64,13 @@ pub fn available_configs(max_depth: u32) -> Vec<AccuracyConfig> {
         trade_off: trade_off.into(),
         integrator,
         tracer,
+        representation: RepresentationOptions::default(),
     };
+    let repr = |name: &str, trade_off: &str, representation| AccuracyConfig {
+        representation,
+        ..cfg(name, trade_off, IntegratorKind::Pt, base)
+    };
+    let as_written = RepresentationOptions::default();
     vec![
         cfg(
             "pt",
@@ -100,6 +136,47 @@ pub fn available_configs(max_depth: u32) -> Vec<AccuracyConfig> {
                 ..base
             },
         ),
+        repr(
+            "pt-spd-step",
+            "Path tracing with every tabulated spectrum (reflectances, emission, CSV and bundled \
+             tables) read as steps, seed §5's piecewise-constant representation, instead of \
+             linearly: the same cost, but coarse tables change shape and power, so the error \
+             flattens at that representation bias.",
+            RepresentationOptions {
+                spd_interpolation: Interpolation::Step,
+                ..as_written
+            },
+        ),
+        repr(
+            "pt-rgb-uplift",
+            "Path tracing with each measured reflectance replaced by the smooth spectrum uplifted \
+             from its linear sRGB colour under D65, as an RGB-authored scene stores it: the same \
+             cost and colours under D65, but other spectra under the scene's light and after \
+             inter-reflection, so the error flattens at that bias.",
+            RepresentationOptions {
+                reflectance: ReflectanceSource::RgbUplift,
+                ..as_written
+            },
+        ),
+        repr(
+            "pt-observer-5nm",
+            "Path tracing with the colour-matching functions known every 5 nm and interpolated \
+             linearly, as renderers storing 5 nm CIE tables do: a smaller table for a small \
+             colour bias at which the error flattens.",
+            RepresentationOptions {
+                observer_step_nm: 5,
+                ..as_written
+            },
+        ),
+        repr(
+            "pt-observer-10nm",
+            "Path tracing with the colour-matching functions known every 10 nm and interpolated \
+             linearly: the coarsest common table, whose colour bias is where the error flattens.",
+            RepresentationOptions {
+                observer_step_nm: 10,
+                ..as_written
+            },
+        ),
     ]
 }
 
@@ -114,14 +191,6 @@ pub fn unavailable_configs() -> Vec<(&'static str, &'static str)> {
             "light-SPD wavelength sampling for pt",
             "pt offers visible-importance and uniform sampling (pt, pt-uniform-lambda); \
              bdpt/lt always use the observer/emission mixture",
-        ),
-        (
-            "SPD representation (piecewise constant vs linear; measured vs RGB-uplifted)",
-            "chosen per scene file, not by a render switch",
-        ),
-        (
-            "observer integration step 1/5/10 nm",
-            "the film evaluates the CIE tables at each sampled wavelength; there is no step to vary",
         ),
     ]
 }
@@ -245,16 +314,29 @@ pub struct BenchSettings {
 }
 
 /// Run every configuration (see the module docs); `on_point` sees each measurement as it is
-/// made.
+/// made. `scenes` builds one scene per distinct representation (a prebuilt [`Scene`] serves
+/// configurations with the default representation; a [`SceneSource`] serves all).
 pub fn run_accuracy_bench(
-    scene: &Scene,
+    scenes: &dyn SceneProvider,
     reference: &RgbImage,
     configs: &[AccuracyConfig],
     settings: &BenchSettings,
     on_point: &dyn Fn(&AccuracyPoint),
 ) -> Result<Vec<AccuracyPoint>, AnalysisError> {
     let mut points = Vec::new();
+    let mut built: Vec<(RepresentationOptions, Scene)> = Vec::new();
     for cfg in configs {
+        let idx = match built.iter().position(|(r, _)| *r == cfg.representation) {
+            Some(i) => i,
+            None => {
+                let scene = scenes
+                    .scene_with(&cfg.representation)
+                    .map_err(|e| AnalysisError::Render(format!("{}: {e}", cfg.name)))?;
+                built.push((cfg.representation, scene));
+                built.len() - 1
+            }
+        };
+        let scene = &built[idx].1;
         let mut used = 0.0f64;
         let mut last = 0.0f64;
         let mut spp = 1u32;

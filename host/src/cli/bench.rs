@@ -5,11 +5,11 @@
 
 use crate::analysis::accuracy_bench::{
     available_configs, converged, loglog_fit, run_accuracy_bench, select_configs, time_to_reach,
-    to_csv, unavailable_configs, AccuracyConfig, AccuracyPoint, BenchSettings,
+    to_csv, unavailable_configs, AccuracyConfig, AccuracyPoint, BenchSettings, SceneProvider,
 };
 use crate::analysis::plot::{plot_loglog, PlotLabels, Series};
 use crate::analysis::RgbImage;
-use crate::scene::{default_scene, load_scene_file, BuiltinFactory};
+use crate::scene::SceneSource;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
@@ -66,14 +66,16 @@ pub fn run(cmd: &BenchCommand) -> Result<(), String> {
 }
 
 fn run_accuracy(args: &AccuracyArgs) -> Result<(), String> {
-    let scene = match &args.scene {
-        Some(p) => load_scene_file(p, &[&BuiltinFactory]).map_err(|e| e.to_string())?,
-        None => default_scene().map_err(|e| e.to_string())?,
-    };
+    let source = SceneSource::from_path(args.scene.clone());
+    // The scene as written: its depth sets the configurations' default, and it is the one the
+    // default-representation configurations render.
+    let scene = source
+        .build(&Default::default())
+        .map_err(|e| e.to_string())?;
     let all = available_configs(scene.options.max_depth);
     if args.list {
         for c in &all {
-            println!("{:10} {}", c.name, c.trade_off);
+            println!("{:18} {}", c.name, c.trade_off);
         }
         for (n, why) in unavailable_configs() {
             println!("not yet available: {n}: {why}");
@@ -97,10 +99,10 @@ fn run_accuracy(args: &AccuracyArgs) -> Result<(), String> {
         seed: args.seed,
         threads: args.threads,
     };
-    println!("config      spp   seconds  Msamples/s      RMSE   ΔE00 mean  ΔE00 p99");
+    println!("config              spp   seconds  Msamples/s      RMSE   ΔE00 mean  ΔE00 p99");
     let show = |p: &AccuracyPoint| {
         println!(
-            "{:10} {:4} {:9.3} {:11.3} {:9.5} {:11.4} {:9.4}",
+            "{:17} {:4} {:9.3} {:11.3} {:9.5} {:11.4} {:9.4}",
             p.config,
             p.spp,
             p.seconds,
@@ -110,13 +112,36 @@ fn run_accuracy(args: &AccuracyArgs) -> Result<(), String> {
             p.delta_e_p99
         );
     };
-    let points = run_accuracy_bench(&scene, &reference, &configs, &settings, &show)
+    let scenes = PrebuiltDefault {
+        scene: &scene,
+        source: &source,
+    };
+    let points = run_accuracy_bench(&scenes, &reference, &configs, &settings, &show)
         .map_err(|e| e.to_string())?;
     let written = write_outputs(args, &configs, &points)?;
     for w in written {
         println!("wrote {}", w.display());
     }
     Ok(())
+}
+
+/// The already loaded scene for the default representation, rebuilt from `source` otherwise.
+struct PrebuiltDefault<'a> {
+    scene: &'a crate::scene::Scene,
+    source: &'a SceneSource,
+}
+
+impl SceneProvider for PrebuiltDefault<'_> {
+    fn scene_with(
+        &self,
+        representation: &crate::scene::RepresentationOptions,
+    ) -> Result<crate::scene::Scene, String> {
+        if representation.is_default() {
+            Ok(self.scene.clone())
+        } else {
+            self.source.scene_with(representation)
+        }
+    }
 }
 
 fn write_file(path: &Path, text: &str) -> Result<PathBuf, String> {
