@@ -9,6 +9,7 @@ pub mod plugin_args;
 pub mod plugins;
 pub mod reference;
 pub mod render;
+pub mod representation_args;
 
 use clap::{Parser, Subcommand};
 use std::ffi::OsString;

@@ -4,7 +4,9 @@
 
 use crate::film::{write_exr, write_png, XyzImage};
 use crate::integrator::{render, PathTracer, RenderSettings, SampleBudget};
-use crate::scene::{default_scene, load_scene_file, BuiltinFactory, ObjectFactory, Scene};
+use crate::scene::{
+    default_scene_with, load_scene_file_with, BuiltinFactory, ObjectFactory, Scene,
+};
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
@@ -50,14 +52,19 @@ pub struct RenderArgs {
     /// Plugin libraries whose types the scene may use.
     #[command(flatten)]
     pub plugins: super::plugin_args::PluginArgs,
+    /// Spectral representation switches (step spectra, RGB-uplifted reflectances, observer step).
+    #[command(flatten)]
+    pub representation: super::representation_args::RepresentationArgs,
 }
 
 /// Load the scene named by `args` (or the default) with the given factories.
 pub fn load(args: &RenderArgs, factories: &[&dyn ObjectFactory]) -> Result<Scene, String> {
+    let repr = args.representation.options()?;
     match &args.scene {
-        Some(p) => load_scene_file(p, factories).map_err(|e| e.to_string()),
-        None => default_scene().map_err(|e| e.to_string()),
+        Some(p) => load_scene_file_with(p, factories, &repr),
+        None => default_scene_with(&repr),
     }
+    .map_err(|e| e.to_string())
 }
 
 /// Run `spectrace render` with the built-in types and the plugins named in `args`.
