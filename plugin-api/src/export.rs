@@ -268,87 +268,32 @@ macro_rules! export_plugin {
                 guarded("describe_state", || {
                     let name = type_name.as_str();
                     let bytes = bytes.as_slice();
-                    match kind {
-                        ObjectKind::Light => {
-                            $(if name == <$light as PluginType>::TYPE_NAME {
-                                return describe::<$light>(type_version, bytes).map(Into::into);
-                            })*
-                        }
-                        ObjectKind::Spd => {
-                            $(if name == <$spd as PluginType>::TYPE_NAME {
-                                return describe::<$spd>(type_version, bytes).map(Into::into);
-                            })*
-                        }
-                        ObjectKind::Observer => {
-                            $(if name == <$observer as PluginType>::TYPE_NAME {
-                                return describe::<$observer>(type_version, bytes).map(Into::into);
-                            })*
-                        }
-                        ObjectKind::Material => {
-                            $(if name == <$material as PluginType>::TYPE_NAME {
-                                return describe::<$material>(type_version, bytes).map(Into::into);
-                            })*
-                        }
+                    let known: &[&str] = match kind {
+                        ObjectKind::Light => &[$(<$light as PluginType>::TYPE_NAME),*],
+                        ObjectKind::Spd => &[$(<$spd as PluginType>::TYPE_NAME),*],
+                        ObjectKind::Observer => &[$(<$observer as PluginType>::TYPE_NAME),*],
+                        ObjectKind::Material => &[$(<$material as PluginType>::TYPE_NAME),*],
+                    };
+                    let describers: &[fn(u32, &[u8]) -> Result<::std::string::String, PluginError>] = match kind {
+                        ObjectKind::Light => &[$(describe::<$light>),*],
+                        ObjectKind::Spd => &[$(describe::<$spd>),*],
+                        ObjectKind::Observer => &[$(describe::<$observer>),*],
+                        ObjectKind::Material => &[$(describe::<$material>),*],
+                    };
+                    if let Some(i) = known.iter().position(|k| *k == name) {
+                        return describers[i](type_version, bytes).map(Into::into);
                     }
-                    Err(unknown_type(kind, name, &[]))
+                    Err(unknown_type(kind, name, known))
                 })
             }
-            extern "C" fn create_light(
-                type_name: RStr<'_>,
-                source: ObjectSource<'_>,
-                host: HostRef<'_>,
-            ) -> RResult<$crate::light::LightBox, PluginError> {
-                guarded("create_light", || {
-                    let name = type_name.as_str();
-                    $(if name == <$light as PluginType>::TYPE_NAME {
-                        let obj = construct::<$light>(source, &host)?;
-                        return Ok($crate::light::GuardedLight::boxed(obj, save::<$light>));
-                    })*
-                    Err(unknown_type(ObjectKind::Light, name, &[$(<$light as PluginType>::TYPE_NAME),*]))
-                })
-            }
-            extern "C" fn create_spd(
-                type_name: RStr<'_>,
-                source: ObjectSource<'_>,
-                host: HostRef<'_>,
-            ) -> RResult<$crate::spd::SpdBox, PluginError> {
-                guarded("create_spd", || {
-                    let name = type_name.as_str();
-                    $(if name == <$spd as PluginType>::TYPE_NAME {
-                        let obj = construct::<$spd>(source, &host)?;
-                        return Ok($crate::spd::GuardedSpd::boxed(obj, save::<$spd>));
-                    })*
-                    Err(unknown_type(ObjectKind::Spd, name, &[$(<$spd as PluginType>::TYPE_NAME),*]))
-                })
-            }
-            extern "C" fn create_observer(
-                type_name: RStr<'_>,
-                source: ObjectSource<'_>,
-                host: HostRef<'_>,
-            ) -> RResult<$crate::observer::ObserverBox, PluginError> {
-                guarded("create_observer", || {
-                    let name = type_name.as_str();
-                    $(if name == <$observer as PluginType>::TYPE_NAME {
-                        let obj = construct::<$observer>(source, &host)?;
-                        return Ok($crate::observer::GuardedObserver::boxed(obj, save::<$observer>));
-                    })*
-                    Err(unknown_type(ObjectKind::Observer, name, &[$(<$observer as PluginType>::TYPE_NAME),*]))
-                })
-            }
-            extern "C" fn create_material(
-                type_name: RStr<'_>,
-                source: ObjectSource<'_>,
-                host: HostRef<'_>,
-            ) -> RResult<$crate::material::MaterialBox, PluginError> {
-                guarded("create_material", || {
-                    let name = type_name.as_str();
-                    $(if name == <$material as PluginType>::TYPE_NAME {
-                        let obj = construct::<$material>(source, &host)?;
-                        return Ok($crate::material::GuardedMaterial::boxed(obj, save::<$material>));
-                    })*
-                    Err(unknown_type(ObjectKind::Material, name, &[$(<$material as PluginType>::TYPE_NAME),*]))
-                })
-            }
+            $crate::__plugin_create_fn!(create_light, Light, light, LightBox, GuardedLight, [$($light),*]);
+            $crate::__plugin_create_fn!(create_spd, Spd, spd, SpdBox, GuardedSpd, [$($spd),*]);
+            $crate::__plugin_create_fn!(
+                create_observer, Observer, observer, ObserverBox, GuardedObserver, [$($observer),*]
+            );
+            $crate::__plugin_create_fn!(
+                create_material, Material, material, MaterialBox, GuardedMaterial, [$($material),*]
+            );
             PluginModule {
                 info,
                 create_light,
@@ -364,6 +309,30 @@ macro_rules! export_plugin {
         #[$crate::__private::export_root_module]
         pub fn spectrace_plugin_root_module() -> $crate::module::PluginModuleRef {
             root_module()
+        }
+    };
+}
+
+/// One `create_*` entry of [`export_plugin!`]: build the named type of one kind from parameters
+/// or saved state, wrapped in that kind's guard. The four kinds differ only in these names, so
+/// one definition keeps them identical. Not public API.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __plugin_create_fn {
+    ($fn_name:ident, $kind:ident, $module:ident, $boxed:ident, $guard:ident, [$($t:ty),*]) => {
+        extern "C" fn $fn_name(
+            type_name: RStr<'_>,
+            source: ObjectSource<'_>,
+            host: HostRef<'_>,
+        ) -> RResult<$crate::$module::$boxed, PluginError> {
+            guarded(stringify!($fn_name), || {
+                let name = type_name.as_str();
+                $(if name == <$t as PluginType>::TYPE_NAME {
+                    let obj = construct::<$t>(source, &host)?;
+                    return Ok($crate::$module::$guard::boxed(obj, save::<$t>));
+                })*
+                Err(unknown_type(ObjectKind::$kind, name, &[$(<$t as PluginType>::TYPE_NAME),*]))
+            })
         }
     };
 }
