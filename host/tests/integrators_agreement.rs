@@ -326,13 +326,13 @@ fn caustic_long_run() {
     caustic(10);
 }
 
-/// The caustic scene with a 40 cm lamp of the same power: a still focused caustic that path
-/// tracing can resolve in the test budget (its standard error drops roughly in proportion to
-/// the lamp's width: 3.6%, 1.0%, 0.5% at 5, 20, 40 cm for 512 spp × 8 seeds). All three
-/// estimators agree within 0.5% off the glass, standard errors below 0.15% each, tile z-test
-/// for every pair; BDPT and PT also over all pixels (through and on the glass, where LT has no
-/// strategy and both use camera paths that hit the lamp). ~40 s in release on 2 cores, most of
-/// it PT's 4096 spp.
+/// The caustic scene with a 50 cm lamp of the same power (still a focused caustic under the
+/// sphere) that path tracing can resolve in the test budget: its standard error drops roughly
+/// in proportion to the lamp's width (3.6%, 1.0%, 0.5% at 5, 20, 40 cm for 512 spp × 8 seeds,
+/// off the glass). All three estimators agree within 0.5% off the glass, standard errors below
+/// 0.15% each, tile z-test for every pair; BDPT and PT also over all pixels (on and through the
+/// glass, where LT has no strategy and both rely on camera paths that hit the lamp). About 40 s
+/// of CPU in release, most of it PT's 4096 spp.
 #[test]
 fn caustic_larger_lamp_bdpt_pt_lt_within_half_percent() {
     let scene = caustic_scene(Some(0.5));
