@@ -46,6 +46,14 @@ pub struct RenderArgs {
     /// tracing).
     #[arg(long, default_value = "bdpt")]
     pub integrator: crate::integrator::IntegratorKind,
+    /// Path tracing only: wavelengths carried by one camera path, 1 or a multiple of 4 up to
+    /// 16 (default 4).
+    #[arg(long = "wavelengths-per-path")]
+    pub wavelengths_per_path: Option<u32>,
+    /// Path tracing only: how camera paths draw wavelengths: visible (observer importance,
+    /// default), uniform, or light (the scene's emission SPDs).
+    #[arg(long = "wavelength-sampling")]
+    pub wavelength_sampling: Option<crate::integrator::WavelengthSampling>,
     /// Debug (bdpt): write each (s, t) strategy's weighted contribution as its own EXR here.
     #[arg(long = "strategy-images")]
     pub strategy_images: Option<PathBuf>,
@@ -104,6 +112,15 @@ pub fn run_with_factories(
         (Some(n), _) => SampleBudget::Spp(n),
         (None, None) => SampleBudget::Spp(scene.options.spp),
     };
+    if args.integrator != crate::integrator::IntegratorKind::Pt
+        && (args.wavelengths_per_path.is_some() || args.wavelength_sampling.is_some())
+    {
+        return Err(format!(
+            "--wavelengths-per-path and --wavelength-sampling apply to --integrator pt only \
+             (got --integrator {})",
+            args.integrator
+        ));
+    }
     let settings = RenderSettings {
         budget,
         seed: args.seed,
@@ -112,6 +129,8 @@ pub fn run_with_factories(
         tile_size: 16,
         tracer: PathTracer {
             max_depth: args.max_depth.unwrap_or(scene.options.max_depth),
+            wavelengths: args.wavelength_sampling.unwrap_or_default(),
+            wavelengths_per_path: args.wavelengths_per_path.unwrap_or(4),
             ..PathTracer::default()
         },
     };

@@ -8,6 +8,7 @@ pub mod render;
 pub mod sampler;
 pub mod select;
 pub mod vertex;
+pub mod wavelength_groups;
 
 pub use path::{PathStats, PathTracer, WavelengthSampling};
 pub use render::{render, RenderError, RenderResult, RenderSettings, SampleBudget};

@@ -1,7 +1,10 @@
 //! A spectral unidirectional path tracer: next-event estimation with multiple importance
 //! sampling (power heuristic, β = 2) between light and BSDF sampling, Russian roulette, and hero
-//! wavelength sampling (all lanes share one path until a dispersive event keeps only the hero).
+//! wavelength sampling with several wavelength groups per path (see [`super::wavelength_groups`]):
+//! all groups share one geometric path, sampled with the hero group, until a dispersive event
+//! keeps only the hero wavelength.
 
+use super::wavelength_groups::{PathWavelengths, MAX_GROUPS};
 use super::PixelSampler;
 use crate::geometry::{spawn_ray, spawn_ray_to, Ray};
 use crate::light::LightSampleContext;
@@ -30,6 +33,11 @@ pub struct PathTracer {
     pub direct_only: bool,
     /// How camera paths draw their hero wavelength.
     pub wavelengths: WavelengthSampling,
+    /// Wavelengths carried by one camera path: 1, or a multiple of 4 up to
+    /// [`MAX_WAVELENGTHS_PER_PATH`](super::wavelength_groups::MAX_WAVELENGTHS_PER_PATH)
+    /// (4 = one hero group, the default). More wavelengths per path lower the colour noise of
+    /// one sample for the cost of evaluating materials and lights once more per group.
+    pub wavelengths_per_path: u32,
 }
 
 impl Default for PathTracer {
@@ -39,11 +47,12 @@ impl Default for PathTracer {
             rr_depth: 3,
             direct_only: false,
             wavelengths: WavelengthSampling::Visible,
+            wavelengths_per_path: 4,
         }
     }
 }
 
-/// How camera paths draw their wavelengths (each lane's pdf is kept, so both are unbiased).
+/// How camera paths draw their wavelengths (each lane's pdf is kept, so all are unbiased).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum WavelengthSampling {
     /// Importance-sampled for the observer's luminance response (pbrt-v4's sech² fit):
@@ -52,16 +61,34 @@ pub enum WavelengthSampling {
     Visible,
     /// Uniform over 360–830 nm: the plain baseline, more colour noise per sample.
     Uniform,
+    /// Importance-sampled from the scene's emission: the power-weighted mixture of the
+    /// evaluable lights' SPDs (continuous parts; see [`super::wavelength_groups`] for delta lines
+    /// and scenes without such lights). Unbiased for path tracing without fluorescence: where
+    /// no light emits, every contribution is 0, so a zero density there loses nothing.
+    LightSpd,
 }
 
-impl WavelengthSampling {
-    /// Draw the path's wavelengths (hero plus rotations) from `u ∈ [0,1)`.
-    #[inline]
-    pub fn sample(self, u: f32) -> SampledWavelengths {
-        match self {
-            WavelengthSampling::Visible => SampledWavelengths::sample_visible(u),
-            WavelengthSampling::Uniform => SampledWavelengths::sample_uniform(u, 360.0, 830.0),
+impl std::str::FromStr for WavelengthSampling {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.to_ascii_lowercase().as_str() {
+            "visible" => Ok(Self::Visible),
+            "uniform" => Ok(Self::Uniform),
+            "light" | "light-spd" | "lightspd" => Ok(Self::LightSpd),
+            other => Err(format!(
+                "unknown wavelength sampling {other:?}: expected visible, uniform or light"
+            )),
         }
+    }
+}
+
+impl std::fmt::Display for WavelengthSampling {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::Visible => "visible",
+            Self::Uniform => "uniform",
+            Self::LightSpd => "light",
+        })
     }
 }
 
@@ -79,20 +106,57 @@ pub fn power_heuristic(pdf_a: f32, pdf_b: f32) -> f32 {
     a / (a + b)
 }
 
+/// Radiance per wavelength group (W/(m²·sr·nm) per lane); entries past the path's group count
+/// are zero.
+pub type GroupRadiance = [SampledSpectrum; MAX_GROUPS];
+
+/// True when two sampled delta events are the same scattering event: same lobe and the same
+/// direction up to rounding (cos of the angle between them within 1e-6 of 1, about 0.08°).
+fn same_delta_event(a: &crate::material::BsdfSample, b: &crate::material::BsdfSample) -> bool {
+    let lobe = MaterialFlags::REFLECTION | MaterialFlags::TRANSMISSION | MaterialFlags::SPECULAR;
+    (a.flags & lobe) == (b.flags & lobe) && a.wi.dot(b.wi) >= 1.0 - 1e-6
+}
+
 impl PathTracer {
-    /// Radiance (W/(m²·sr·nm) per lane) arriving along `ray`. `lambda` may be modified (a
-    /// dispersive event terminates the secondary lanes); the caller must use the returned
+    /// Radiance (W/(m²·sr·nm) per lane) arriving along `ray` for one group of wavelengths
+    /// (ignores [`wavelengths_per_path`](Self::wavelengths_per_path)). `lambda` may be modified
+    /// (a dispersive event terminates the secondary lanes); the caller must use the returned
     /// wavelengths' pdfs for the film.
     pub fn li(
         &self,
         scene: &Scene,
-        mut ray: Ray,
+        ray: Ray,
         lambda: &mut SampledWavelengths,
         rng: &mut PixelSampler,
         stats: &mut PathStats,
     ) -> SampledSpectrum {
-        let mut l = SampledSpectrum::zero();
-        let mut beta = SampledSpectrum::splat(1.0);
+        let mut groups = PathWavelengths::from_groups(&[*lambda]);
+        let l = self.li_groups(scene, ray, &mut groups, rng, stats);
+        *lambda = groups.groups()[0];
+        l[0]
+    }
+
+    /// Radiance arriving along `ray` for every wavelength group of `lambdas` (entry `g` belongs
+    /// to group `g`). Directions are sampled with the hero group (group 0); the other groups
+    /// evaluate the same scattering events and light samples with their own wavelengths, which
+    /// is unbiased because the direction density does not depend on wavelength for
+    /// non-dispersive events. A dispersive event (or a delta event that turns out to choose a
+    /// different lobe for another group) keeps only the hero wavelength
+    /// ([`PathWavelengths::terminate_secondary`]); the caller must use the returned pdfs.
+    pub fn li_groups(
+        &self,
+        scene: &Scene,
+        mut ray: Ray,
+        lambdas: &mut PathWavelengths,
+        rng: &mut PixelSampler,
+        stats: &mut PathStats,
+    ) -> GroupRadiance {
+        let n = lambdas.len();
+        let mut l = [SampledSpectrum::zero(); MAX_GROUPS];
+        let mut beta = [SampledSpectrum::zero(); MAX_GROUPS];
+        for b in beta.iter_mut().take(n) {
+            *b = SampledSpectrum::splat(1.0);
+        }
         let mut specular_bounce = true;
         let mut prev_bsdf_pdf = 0.0f32;
         let mut prev_ctx = LightSampleContext {
@@ -112,6 +176,8 @@ impl PathTracer {
             let frame = Frame::from_normal(hit.shading_normal);
             let wo = frame.to_local(-ray.dir.normalize());
             let sctx = ShadingContext { uv: hit.uv };
+            // Groups still carrying wavelengths (all but the hero end at a dispersive event).
+            let active = lambdas.active_groups();
 
             // Emission found by the path itself.
             if flags.contains(MaterialFlags::EMISSIVE) {
@@ -119,17 +185,25 @@ impl PathTracer {
                 // area light sees it), not of an interpolated shading normal.
                 let wo_geo =
                     Frame::from_normal(hit.geometric_normal).to_local(-ray.dir.normalize());
-                let le = material.emitted(wo_geo, &sctx, lambda);
-                if !le.is_black() {
+                // One MIS weight for every group: both strategies sampled with the hero.
+                let mut weight: Option<f32> = None;
+                for g in 0..active {
+                    let le = material.emitted(wo_geo, &sctx, &lambdas.groups()[g]);
+                    if le.is_black() {
+                        continue;
+                    }
                     if depth == 0 || specular_bounce {
-                        l += beta * le;
+                        l[g] += beta[g] * le;
                     } else if let Some(li) = scene.lights.light_of_object(hit.object) {
-                        let light = &scene.lights.lights()[li as usize];
-                        let light_pdf = scene.lights.pmf(li as usize)
-                            * light.pdf_li(&prev_ctx, hit.point, hit.geometric_normal);
-                        l += beta * le * power_heuristic(prev_bsdf_pdf, light_pdf);
+                        let w = *weight.get_or_insert_with(|| {
+                            let light = &scene.lights.lights()[li as usize];
+                            let light_pdf = scene.lights.pmf(li as usize)
+                                * light.pdf_li(&prev_ctx, hit.point, hit.geometric_normal);
+                            power_heuristic(prev_bsdf_pdf, light_pdf)
+                        });
+                        l[g] += beta[g] * le * w;
                     } else {
-                        l += beta * le;
+                        l[g] += beta[g] * le;
                     }
                 }
             }
@@ -146,19 +220,49 @@ impl PathTracer {
                 p_error: hit.point_error,
                 n: hit.geometric_normal,
             };
+            let hero = lambdas.groups()[0];
 
-            // Next-event estimation.
+            // Next-event estimation: one light point (drawn for the hero), emission and BSDF per
+            // group, one shadow ray.
             let u_light = rng.next_1d();
             let u_light2 = rng.next_2d();
             if flags.has_non_specular() {
                 if let Some((li, pmf)) = scene.lights.sample(u_light) {
                     let light = &scene.lights.lights()[li];
-                    if let Some(ls) = light.sample_li(&ctx, u_light2, lambda) {
-                        if ls.pdf > 0.0 && !ls.radiance.is_black() {
+                    if let Some(ls) = light.sample_li(&ctx, u_light2, &hero) {
+                        if ls.pdf > 0.0 {
                             let wi = frame.to_local(ls.wi);
-                            let f = material.eval(wo, wi, &sctx, lambda, TransportMode::Radiance)
-                                * wi.z.abs();
-                            if !f.is_black() {
+                            // (f·|cos θ|, radiance) per group; zero where nothing arrives.
+                            let mut terms =
+                                [(SampledSpectrum::zero(), SampledSpectrum::zero()); MAX_GROUPS];
+                            let mut any = false;
+                            for (g, (term, lam)) in terms
+                                .iter_mut()
+                                .zip(lambdas.groups())
+                                .take(active)
+                                .enumerate()
+                            {
+                                let radiance = if g == 0 {
+                                    ls.radiance
+                                } else {
+                                    // The same light point for the group's wavelengths (light
+                                    // sampling is wavelength-independent for every built-in).
+                                    match light.sample_li(&ctx, u_light2, lam) {
+                                        Some(s) if s.p_light == ls.p_light => s.radiance,
+                                        _ => SampledSpectrum::zero(),
+                                    }
+                                };
+                                if radiance.is_black() {
+                                    continue;
+                                }
+                                let f = material.eval(wo, wi, &sctx, lam, TransportMode::Radiance)
+                                    * wi.z.abs();
+                                if !f.is_black() {
+                                    *term = (f, radiance);
+                                    any = true;
+                                }
+                            }
+                            if any {
                                 let (shadow, t_max) = spawn_ray_to(
                                     hit.point,
                                     hit.point_error,
@@ -177,12 +281,17 @@ impl PathTracer {
                                             wo,
                                             wi,
                                             &sctx,
-                                            lambda,
+                                            &hero,
                                             TransportMode::Radiance,
                                         );
                                         power_heuristic(light_pdf, bsdf_pdf)
                                     };
-                                    l += beta * f * ls.radiance * (w / light_pdf);
+                                    for g in 0..active {
+                                        let (f, radiance) = terms[g];
+                                        if !f.is_black() {
+                                            l[g] += beta[g] * f * radiance * (w / light_pdf);
+                                        }
+                                    }
                                 }
                             }
                         }
@@ -190,24 +299,66 @@ impl PathTracer {
                 }
             }
 
-            // Continue the path by sampling the BSDF.
+            // Continue the path by sampling the BSDF with the hero group.
             let u_lobe = rng.next_1d();
             let u_dir = rng.next_2d();
             let Some(bs) =
-                material.sample(wo, &sctx, lambda, u_lobe, u_dir, TransportMode::Radiance)
+                material.sample(wo, &sctx, &hero, u_lobe, u_dir, TransportMode::Radiance)
             else {
                 break;
             };
-            if !(bs.pdf > 0.0) || bs.f.is_black() {
+            if !(bs.pdf > 0.0) {
                 break;
             }
-            if bs.flags.contains(MaterialFlags::DISPERSIVE) {
-                lambda.terminate_secondary();
+            // f(wo, wi) of every group for this event (for a delta lobe: its weight over |cos|).
+            let mut f_groups = [SampledSpectrum::zero(); MAX_GROUPS];
+            f_groups[0] = bs.f;
+            let mut wavelength_dependent = bs.flags.contains(MaterialFlags::DISPERSIVE);
+            if !wavelength_dependent {
+                for (f_g, lam) in f_groups
+                    .iter_mut()
+                    .zip(lambdas.groups())
+                    .take(active)
+                    .skip(1)
+                {
+                    *f_g = if bs.flags.is_specular() {
+                        // A delta event cannot be evaluated: sample it again with the same
+                        // numbers and this group's wavelengths.
+                        let again =
+                            material.sample(wo, &sctx, lam, u_lobe, u_dir, TransportMode::Radiance);
+                        match again {
+                            Some(b) if same_delta_event(&b, &bs) => b.f,
+                            _ => {
+                                wavelength_dependent = true;
+                                break;
+                            }
+                        }
+                    } else {
+                        material.eval(wo, bs.wi, &sctx, lam, TransportMode::Radiance)
+                    };
+                }
             }
-            beta *= bs.f * (bs.wi.z.abs() / bs.pdf);
-            if beta.has_non_finite() {
+            let keep = if wavelength_dependent { 1 } else { active };
+            if f_groups[..keep].iter().all(|f| f.is_black()) {
                 break;
             }
+            if wavelength_dependent {
+                lambdas.terminate_secondary();
+            }
+            // Same direction density for every group: f_g·|cos θ|/pdf_hero.
+            let mut non_finite = false;
+            for g in 0..MAX_GROUPS {
+                if g < keep {
+                    beta[g] *= f_groups[g] * (bs.wi.z.abs() / bs.pdf);
+                    non_finite |= beta[g].has_non_finite();
+                } else {
+                    beta[g] = SampledSpectrum::zero();
+                }
+            }
+            if non_finite {
+                break;
+            }
+            let active = keep;
             specular_bounce = bs.flags.is_specular();
             prev_bsdf_pdf = bs.pdf;
             prev_ctx = ctx;
@@ -215,15 +366,20 @@ impl PathTracer {
             ray = spawn_ray(hit.point, hit.point_error, hit.geometric_normal, wi_world);
             depth += 1;
 
-            // Russian roulette on the throughput (the largest lane).
+            // Russian roulette on the throughput (the largest lane of all groups).
             if depth >= self.rr_depth {
-                let m = beta.max_value();
+                let m = beta[..active]
+                    .iter()
+                    .map(|b| b.max_value())
+                    .fold(f32::MIN, f32::max);
                 if m < 1.0 {
                     let q = (1.0 - m).max(0.05);
                     if rng.next_1d() < q {
                         break;
                     }
-                    beta = beta / (1.0 - q);
+                    for b in &mut beta[..active] {
+                        *b = *b / (1.0 - q);
+                    }
                 }
             }
         }

@@ -2,6 +2,7 @@
 //! merges them into the film in tile order. Each camera sample draws its random numbers from
 //! `(seed, pixel, sample index)` only, so the image is bitwise identical for any thread count.
 
+use super::wavelength_groups::{PathWavelengthSampler, PathWavelengths};
 use super::{PathStats, PathTracer, PixelSampler};
 use crate::camera::CameraSample;
 use crate::film::{PixelFilm, Sensor, TileBuffer, XyzImage};
@@ -107,6 +108,31 @@ pub fn fixed_budget_passes(budget: SampleBudget) -> Vec<u32> {
     passes
 }
 
+/// A camera sample's XYZ: the mean over wavelength groups of each group's sensor response to
+/// its radiance `l` (scaled by the camera weight). One group gives exactly `Sensor::to_xyz`.
+fn film_xyz(
+    sensor: &Sensor,
+    l: &super::path::GroupRadiance,
+    lambdas: &PathWavelengths,
+    camera_weight: f32,
+) -> [f64; 3] {
+    let groups = lambdas.groups();
+    let mut xyz = sensor.to_xyz(&(l[0] * camera_weight), &groups[0]);
+    if groups.len() > 1 {
+        for (lg, wg) in l.iter().zip(groups).skip(1) {
+            let x = sensor.to_xyz(&(*lg * camera_weight), wg);
+            for c in 0..3 {
+                xyz[c] += x[c];
+            }
+        }
+        let inv = 1.0 / groups.len() as f64;
+        for v in &mut xyz {
+            *v *= inv;
+        }
+    }
+    xyz
+}
+
 /// Render `scene` with `settings`. `progress` may be called from several threads.
 /// `cancel`, when set, stops after the tiles in flight; the partial film is returned.
 pub fn render(
@@ -137,6 +163,12 @@ pub fn render(
             message: e.to_string(),
         })?
     };
+    let wavelength_sampler = PathWavelengthSampler::new(
+        scene,
+        settings.tracer.wavelengths,
+        settings.tracer.wavelengths_per_path,
+    )
+    .map_err(RenderError::Setup)?;
     let sensor = Sensor::new(scene.observer.clone());
     let mut film = PixelFilm::new(width, height);
     let rays = AtomicU64::new(0);
@@ -189,7 +221,7 @@ pub fn render(
                             let pixel = y as u64 * width as u64 + x as u64;
                             for s in first..first + pass_spp {
                                 let mut rng = PixelSampler::new(settings.seed, pixel, s);
-                                let mut lambda = settings.tracer.wavelengths.sample(rng.next_1d());
+                                let mut lambdas = wavelength_sampler.sample(&mut rng);
                                 let offset = cam.filter.sample(rng.next_2d());
                                 let sample = CameraSample {
                                     p_film: Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset,
@@ -197,14 +229,14 @@ pub fn render(
                                 };
                                 let xyz = match cam.camera.generate_ray(&sample) {
                                     Some(r) => {
-                                        let l = settings.tracer.li(
+                                        let l = settings.tracer.li_groups(
                                             scene,
                                             r.ray,
-                                            &mut lambda,
+                                            &mut lambdas,
                                             &mut rng,
                                             &mut stats,
-                                        ) * r.weight;
-                                        sensor.to_xyz(&l, &lambda)
+                                        );
+                                        film_xyz(&sensor, &l, &lambdas, r.weight)
                                     }
                                     None => [0.0; 3],
                                 };

@@ -118,6 +118,44 @@ impl WavelengthMixture {
         0.5 * vis + 0.5 * emit
     }
 
+    /// True when the scene has evaluable lights, i.e. the emission component exists.
+    pub fn has_emission(&self) -> bool {
+        !self.spds.is_empty()
+    }
+
+    /// The emission component alone, `p_emit(λ) = Σ_L P(L)·S_L(λ)` (1/nm, continuous parts);
+    /// 0 everywhere without evaluable lights.
+    pub fn emission_pdf(&self, lambda_nm: f64) -> f64 {
+        self.spds.iter().map(|(s, w)| w * s.pdf(lambda_nm)).sum()
+    }
+
+    /// Wavelengths from the emission component alone (path tracing's light-SPD sampling):
+    /// `u_spd` picks a light SPD by power, lane `i` is its inverse CDF at `frac(u + i/LANES)`
+    /// and carries [`emission_pdf`](Self::emission_pdf), its marginal density; lanes on a delta
+    /// line get pdf 0. `None` without evaluable lights.
+    pub fn sample_emission(&self, u_spd: f64, u: f64) -> Option<SampledWavelengths> {
+        if self.spds.is_empty() {
+            return None;
+        }
+        let k = self
+            .cdf
+            .partition_point(|&c| c <= u_spd)
+            .min(self.spds.len() - 1);
+        let spd = &self.spds[k].0;
+        let mut lambda = [0.0f32; LANES];
+        let mut pdf = [0.0f32; LANES];
+        for i in 0..LANES {
+            let d = spd.sample(rotated(u, i));
+            lambda[i] = d.lambda as f32;
+            pdf[i] = if d.is_delta {
+                0.0
+            } else {
+                self.emission_pdf(lambda[i] as f64) as f32
+            };
+        }
+        Some(SampledWavelengths { lambda, pdf })
+    }
+
     /// Draw the pair's wavelengths: three uniforms from `rng` (component, SPD, hero).
     pub fn sample(&self, rng: &mut SampleRng) -> SampledWavelengths {
         let u_comp = rng.next_1d();
