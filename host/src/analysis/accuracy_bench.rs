@@ -127,6 +127,50 @@ pub fn available_configs(max_depth: u32) -> Vec<AccuracyConfig> {
             },
         ),
         cfg(
+            "pt-light-lambda",
+            "Path tracing with wavelengths drawn from the lights' emission spectra: no wavelength \
+             is spent where nothing is emitted, but where a light is strong and the eye is \
+             insensitive (deep red, violet) samples are wasted on dim colour.",
+            IntegratorKind::Pt,
+            PathTracer {
+                wavelengths: crate::integrator::WavelengthSampling::LightSpd,
+                ..base
+            },
+        ),
+        cfg(
+            "pt-lambda1",
+            "Path tracing with one wavelength per path instead of four: the classic spectral \
+             estimator, much more colour noise per sample for almost no time saved (the four \
+             lanes are computed as one vector).",
+            IntegratorKind::Pt,
+            PathTracer {
+                wavelengths_per_path: 1,
+                ..base
+            },
+        ),
+        cfg(
+            "pt-lambda8",
+            "Path tracing with eight wavelengths per path (two groups of four sharing the \
+             geometric path): less colour noise per sample, paid with twice the material and \
+             light evaluations.",
+            IntegratorKind::Pt,
+            PathTracer {
+                wavelengths_per_path: 8,
+                ..base
+            },
+        ),
+        cfg(
+            "pt-lambda16",
+            "Path tracing with sixteen wavelengths per path: colour noise nearly gone per \
+             sample, at four times the spectral work; worth it only where colour noise, not \
+             geometric noise, dominates.",
+            IntegratorKind::Pt,
+            PathTracer {
+                wavelengths_per_path: 16,
+                ..base
+            },
+        ),
+        cfg(
             "pt-depth4",
             "Path tracing cut at 4 bounces: faster, but biased (the energy of longer paths is \
              missing), so its error stops falling at the bias.",
@@ -182,17 +226,11 @@ pub fn available_configs(max_depth: u32) -> Vec<AccuracyConfig> {
 
 /// Configurations the issue asks for that the renderer has no switch for yet: (name, why).
 pub fn unavailable_configs() -> Vec<(&'static str, &'static str)> {
-    vec![
-        (
-            "wavelengths per path 1/8/16",
-            "the number of hero-wavelength lanes is the compile-time constant spectrum::LANES = 4",
-        ),
-        (
-            "light-SPD wavelength sampling for pt",
-            "pt offers visible-importance and uniform sampling (pt, pt-uniform-lambda); \
-             bdpt/lt always use the observer/emission mixture",
-        ),
-    ]
+    vec![(
+        "wavelengths per path and wavelength sampling for bdpt/lt",
+        "bdpt and lt always carry four wavelengths drawn from the observer/emission mixture; \
+         the wavelength switches are path-tracer settings",
+    )]
 }
 
 /// Select configurations by name (`None`: all); unknown names are an error listing the known.
