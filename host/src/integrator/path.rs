@@ -36,7 +36,8 @@ pub struct PathTracer {
     /// Wavelengths carried by one camera path: 1, or a multiple of 4 up to
     /// [`MAX_WAVELENGTHS_PER_PATH`](super::wavelength_groups::MAX_WAVELENGTHS_PER_PATH)
     /// (4 = one hero group, the default). More wavelengths per path lower the colour noise of
-    /// one sample for the cost of evaluating materials and lights once more per group.
+    /// one sample for the cost of evaluating materials and lights once more per group. N = 1
+    /// keeps only the hero lane but still computes 4-wide vectors, so it is no faster than 4.
     pub wavelengths_per_path: u32,
 }
 
@@ -347,13 +348,12 @@ impl PathTracer {
             }
             // Same direction density for every group: f_g·|cos θ|/pdf_hero.
             let mut non_finite = false;
-            for g in 0..MAX_GROUPS {
-                if g < keep {
-                    beta[g] *= f_groups[g] * (bs.wi.z.abs() / bs.pdf);
-                    non_finite |= beta[g].has_non_finite();
-                } else {
-                    beta[g] = SampledSpectrum::zero();
-                }
+            for (b, f) in beta.iter_mut().zip(&f_groups).take(keep) {
+                *b *= *f * (bs.wi.z.abs() / bs.pdf);
+                non_finite |= b.has_non_finite();
+            }
+            for b in beta.iter_mut().take(active).skip(keep) {
+                *b = SampledSpectrum::zero();
             }
             if non_finite {
                 break;
