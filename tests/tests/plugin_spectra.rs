@@ -193,3 +193,87 @@ fn a_scene_can_render_with_a_plugin_observer() {
         .to_string();
     assert!(e.contains("no_such_eye") && e.contains("cie1931-2"), "{e}");
 }
+
+// Built-in objects take a plugin's SPD type: a built-in `point` light given the `lorentzian`
+// spec string and a built-in `emissive` material given `(type: "lorentzian", params: …)` both
+// light a white floor with a 589.3 nm line 1.2 nm wide, so the floor's chromaticity must be the
+// spectral locus at 589.3 nm (CIE 1931 table, interpolated). Tolerance 0.01 in x and y: the
+// Lorentzian's tails hold ≈ 1.5% of its power beyond ±25 nm and pull the colour slightly inwards
+// (a tail-weighted estimate gives a shift of a few 1e-3); any other spectrum (a failed lookup
+// falling back to something else, a wrong normalisation of lanes) lands far away.
+#[test]
+fn builtin_light_and_material_take_a_plugin_spd() {
+    let scene = |light: &str, lamp_material: &str| {
+        format!(
+            r#"(
+    observer: "cie1931-2",
+    output: (spp: 4, max_depth: 4),
+    materials: [
+        (name: "white", type: "lambertian", params: (reflectance: 0.8)),
+        (name: "lamp", type: "emissive", params: {lamp_material}),
+    ],
+    objects: [
+        (name: "floor", type: "quad", material: "white",
+         params: (corner: (-1, 0, 1), edge0: (2, 0, 0), edge1: (0, 0, -2))),
+        (name: "panel", type: "quad", material: "lamp",
+         params: (corner: (-0.2, 1.5, -0.2), edge0: (0.4, 0, 0), edge1: (0, 0, 0.4))),
+    ],
+    lights: [{light}],
+    cameras: [(name: "c", type: "perspective",
+               params: (position: (0, 1, 2), look_at: (0, 0, 0), fov: 40, resolution: (24, 24)))],
+)"#
+        )
+    };
+    let line = "lorentzian(centre_nm: 589.3, fwhm_nm: 1.2)";
+    let cases = [
+        (
+            "point",
+            scene(
+                &format!(
+                    r#"(name: "p", type: "point", params: (position: (0, 1, 0), power: 50, spd: "{line}"))"#
+                ),
+                r#"(radiance: "d65", scale: 0)"#,
+            ),
+        ),
+        (
+            "emissive",
+            scene(
+                "",
+                r#"(radiance: (type: "lorentzian", params: (centre_nm: 589.3, fwhm_nm: 1.2)), scale: 40)"#,
+            ),
+        ),
+    ];
+    let cie = spectrace::color::CieObserverKind::Cie1931_2.get();
+    let bar = cie.xyz_bar(589.3);
+    let locus = [
+        bar[0] / (bar[0] + bar[1] + bar[2]),
+        bar[1] / (bar[0] + bar[1] + bar[2]),
+    ];
+    let faults = PluginFaults::new();
+    let plugins = PluginFactory::new(Arc::new(registry()), faults.clone());
+    let factories: [&dyn ObjectFactory; 2] = [&BuiltinFactory, &plugins];
+    for (what, text) in cases {
+        let path = std::env::temp_dir().join(format!(
+            "spectrace-builtin-plugin-spd-{what}-{}.ron",
+            std::process::id()
+        ));
+        std::fs::write(&path, text).unwrap();
+        let s = load_scene_file(&path, &factories).unwrap_or_else(|e| panic!("{what}: {e}"));
+        let settings = RenderSettings {
+            budget: SampleBudget::Spp(16),
+            threads: Some(2),
+            ..RenderSettings::default()
+        };
+        let m = render(&s, &settings, &|_, _| {}, None)
+            .unwrap()
+            .image
+            .mean_xyz();
+        let xy = [m[0] / (m[0] + m[1] + m[2]), m[1] / (m[0] + m[1] + m[2])];
+        assert!(
+            (xy[0] - locus[0]).abs() < 0.01 && (xy[1] - locus[1]).abs() < 0.01,
+            "{what}: xy {xy:?} vs spectral locus at 589.3 nm {locus:?}"
+        );
+        let _ = std::fs::remove_file(&path);
+    }
+    assert_eq!(faults.count(), 0, "{:?}", faults.first());
+}

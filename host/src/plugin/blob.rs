@@ -477,6 +477,7 @@ impl Blob {
             base_dir: std::path::PathBuf::from("."),
             item: format!("light `{type_name}`"),
             representation: Default::default(),
+            spd_factories: Default::default(),
         };
         BuiltinFactory
             .light(type_name, params, &ctx)
@@ -554,6 +555,7 @@ impl Blob {
                 base_dir: std::path::PathBuf::from("."),
                 item: format!("light `{}`", self.type_name),
                 representation: Default::default(),
+                spd_factories: Default::default(),
             };
             return BuiltinFactory
                 .light(&self.type_name, &params, &ctx)

@@ -160,6 +160,13 @@ impl ObjectFactory for PluginFactory {
         Ok(Arc::new(PluginSpd::new(s, origin)))
     }
 
+    fn shared_spd_factory(&self) -> Option<Arc<dyn ObjectFactory>> {
+        Some(Arc::new(PluginFactory {
+            registry: self.registry.clone(),
+            faults: self.faults.clone(),
+        }))
+    }
+
     fn observer(
         &self,
         type_name: &str,

@@ -1,7 +1,7 @@
 //! From a RON scene file (or a [`SceneDescription`]) to a renderable [`Scene`].
 
 use super::description::{ObjectDescription, SceneDescription, TransformStep};
-use super::factory::{FactoryContext, FactoryError, ObjectFactory};
+use super::factory::{FactoryContext, FactoryError, ObjectFactory, SpdFactories};
 use super::params::{as_f64_list, Params};
 use super::representation::RepresentationOptions;
 use super::{Scene, SceneError, SceneObject, SceneObjectManager, SceneOptions};
@@ -110,10 +110,17 @@ pub fn build_scene_with(
         item,
         message,
     };
+    let spd_factories = SpdFactories(
+        factories
+            .iter()
+            .filter_map(|f| f.shared_spd_factory())
+            .collect(),
+    );
     let ctx_for = |item: &str| FactoryContext {
         base_dir: base_dir.to_path_buf(),
         item: item.to_string(),
         representation: *representation,
+        spd_factories: spd_factories.clone(),
     };
 
     // Observer and options.

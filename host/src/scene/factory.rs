@@ -28,6 +28,63 @@ pub struct FactoryContext {
     pub item: String,
     /// How spectral data are represented (defaults: as written).
     pub representation: RepresentationOptions,
+    /// The scene's other factories that build SPD types, asked when the item's own factory does
+    /// not know an SPD type: how a built-in light or material takes a plugin's spectrum.
+    pub spd_factories: SpdFactories,
+}
+
+/// Factories asked for SPD types an item's own factory does not know (see
+/// [`FactoryContext::spd_factories`]); compared by identity.
+#[derive(Clone, Default)]
+pub struct SpdFactories(pub Vec<Arc<dyn ObjectFactory>>);
+
+impl std::fmt::Debug for SpdFactories {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let names: Vec<&str> = self.0.iter().map(|x| x.name()).collect();
+        write!(f, "SpdFactories({names:?})")
+    }
+}
+
+impl PartialEq for SpdFactories {
+    fn eq(&self, other: &Self) -> bool {
+        self.0.len() == other.0.len() && self.0.iter().zip(&other.0).all(|(a, b)| Arc::ptr_eq(a, b))
+    }
+}
+
+impl SpdFactories {
+    /// The first factory that knows SPD type `type_name` builds it; `None` when none does.
+    fn build(
+        &self,
+        type_name: &str,
+        params: &Value,
+        ctx: &FactoryContext,
+    ) -> Option<Result<Arc<dyn Spd>, FactoryError>> {
+        self.0
+            .iter()
+            .find_map(|f| match f.spd(type_name, params, ctx) {
+                Err(FactoryError::UnknownType { .. }) => None,
+                other => Some(other),
+            })
+    }
+
+    /// A spec string `name(param: value, …)` or `name` naming an SPD type of one of these
+    /// factories (the syntax plugins use with host services); `None` when it names none.
+    fn build_spec(
+        &self,
+        spec: &str,
+        ctx: &FactoryContext,
+    ) -> Option<Result<Arc<dyn Spd>, FactoryError>> {
+        if self.0.is_empty() {
+            return None;
+        }
+        let spec = spec.trim();
+        let (name, params) = match spec.find('(') {
+            Some(i) if spec.ends_with(')') => (spec[..i].trim(), &spec[i..]),
+            _ => (spec, "()"),
+        };
+        let params: Value = ron::from_str(params).ok()?;
+        self.build(name, &params, ctx)
+    }
 }
 
 impl FactoryContext {
@@ -100,6 +157,13 @@ pub trait ObjectFactory: Send + Sync {
         params: &Value,
         ctx: &FactoryContext,
     ) -> Result<Arc<dyn Spd>, FactoryError>;
+
+    /// This factory as a shared object for [`FactoryContext::spd_factories`], if it builds SPD
+    /// types other factories' items may use (plugins do; the built-in types are already
+    /// everywhere).
+    fn shared_spd_factory(&self) -> Option<Arc<dyn ObjectFactory>> {
+        None
+    }
 
     /// A colour observer of type `type_name`, for a scene's `observer` that is not one of the
     /// built-in CIE names (plugins can ship, say, a camera's sensor curves).
@@ -233,9 +297,14 @@ pub fn spd_param(
             } else {
                 s.clone()
             };
-            let spd = parse_spd_spec_with(&spec, ctx.representation.spd_interpolation)
-                .map_err(|e| param_err(param, e))?;
-            Ok((Arc::new(spd), None))
+            match parse_spd_spec_with(&spec, ctx.representation.spd_interpolation) {
+                Ok(spd) => Ok((Arc::new(spd), None)),
+                // Not a spec the spectrum module knows: perhaps another factory's SPD type.
+                Err(e) => match ctx.spd_factories.build_spec(s, ctx) {
+                    Some(r) => Ok((r.map_err(|e| param_err(param, e))?, None)),
+                    None => Err(param_err(param, e)),
+                },
+            }
         }
         Value::Seq(_) => {
             let (l, v) = pairs(value, param)?;
@@ -253,7 +322,15 @@ pub fn spd_param(
             let p = Params::new(value);
             let type_name = p.string("type").map_err(|e| param_err(param, e))?;
             let inner = p.get("params").cloned().unwrap_or(Value::Unit);
-            Ok((factory.spd(type_name, &inner, ctx)?, None))
+            match factory.spd(type_name, &inner, ctx) {
+                Err(unknown @ FactoryError::UnknownType { .. }) => {
+                    match ctx.spd_factories.build(type_name, &inner, ctx) {
+                        Some(r) => Ok((r?, None)),
+                        None => Err(unknown),
+                    }
+                }
+                other => Ok((other?, None)),
+            }
         }
         other => Err(param_err(
             param,

@@ -19,7 +19,7 @@ pub use builder::{
 pub use cornell::{cornell_box_description, default_scene, default_scene_with};
 pub use description::SceneDescription;
 pub use error::SceneError;
-pub use factory::{BuiltinFactory, FactoryContext, FactoryError, ObjectFactory};
+pub use factory::{BuiltinFactory, FactoryContext, FactoryError, ObjectFactory, SpdFactories};
 pub use objects::{SceneObject, SceneObjectManager};
 pub use representation::{ReflectanceSource, RepresentationOptions};
 pub use source::SceneSource;
