@@ -347,42 +347,34 @@ mod tests {
     // 200×400 cells: its error on this smooth integrand is < 1e-3, hence the 1 + 1e-3 bound. At
     // θo = 89.4° the albedo must be within 2% of 1 (the bracket's grazing limit is reached only
     // at exactly 90°).
+    /// Directional albedo of `m` (lane 0) towards `wo` by the midpoint rule on an `nt`×`np`
+    /// grid in (θi, φi).
+    fn directional_albedo(m: &OrenNayar, wo: Vec3, nt: usize, np: usize) -> f64 {
+        let (dt, dp) = (
+            FRAC_PI_2 / nt as f64,
+            2.0 * std::f64::consts::PI / np as f64,
+        );
+        let mut albedo = 0.0;
+        for i in 0..nt {
+            let t = (i as f64 + 0.5) * dt;
+            for j in 0..np {
+                let wi = dir(t, (j as f64 + 0.5) * dp);
+                albedo += m.value(wo, wi, &L).v[0] * wi.z * t.sin() * dt * dp;
+            }
+        }
+        albedo
+    }
+
     #[test]
     fn albedo_never_exceeds_one() {
         for sigma in [0.3, 0.7, 1.0] {
             let m = material(sigma);
             for k in 0..9 {
-                let wo = dir(0.01 + k as f64 * 0.19, 0.0);
-                let (nt, np) = (200, 400);
-                let (dt, dp) = (
-                    FRAC_PI_2 / nt as f64,
-                    2.0 * std::f64::consts::PI / np as f64,
-                );
-                let mut albedo = 0.0;
-                for i in 0..nt {
-                    let t = (i as f64 + 0.5) * dt;
-                    for j in 0..np {
-                        let wi = dir(t, (j as f64 + 0.5) * dp);
-                        albedo += m.value(wo, wi, &L).v[0] * wi.z * t.sin() * dt * dp;
-                    }
-                }
+                let albedo = directional_albedo(&m, dir(0.01 + k as f64 * 0.19, 0.0), 200, 400);
                 assert!(albedo <= 1.0 + 1e-3, "σ′={sigma}, θo #{k}: albedo {albedo}");
                 assert!(albedo > 0.5, "σ′={sigma}, θo #{k}: albedo {albedo}");
             }
-            let wo = dir(1.56, 0.3);
-            let (nt, np) = (400, 800);
-            let (dt, dp) = (
-                FRAC_PI_2 / nt as f64,
-                2.0 * std::f64::consts::PI / np as f64,
-            );
-            let mut albedo = 0.0;
-            for i in 0..nt {
-                let t = (i as f64 + 0.5) * dt;
-                for j in 0..np {
-                    let wi = dir(t, (j as f64 + 0.5) * dp);
-                    albedo += m.value(wo, wi, &L).v[0] * wi.z * t.sin() * dt * dp;
-                }
-            }
+            let albedo = directional_albedo(&m, dir(1.56, 0.3), 400, 800);
             assert!(
                 (albedo - 1.0).abs() < 0.02,
                 "σ′={sigma} at grazing: albedo {albedo}"
