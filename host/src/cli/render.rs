@@ -168,6 +168,32 @@ pub fn run_with_factories(
     for line in crate::integrator::strategy_summary(&scene, args.integrator) {
         println!("  {line}");
     }
+    if args.integrator == crate::integrator::IntegratorKind::Pt {
+        let (sampling, n) = (
+            settings.tracer.wavelengths,
+            settings.tracer.wavelengths_per_path,
+        );
+        let fell_back = sampling == crate::integrator::WavelengthSampling::LightSpd
+            && crate::integrator::wavelength_groups::PathWavelengthSampler::new(
+                &scene, sampling, n,
+            )
+            .is_ok_and(|s| s.light_spd_fell_back());
+        println!(
+            "  wavelengths: {n} per path, {}",
+            if fell_back {
+                "light-SPD sampling requested but no light has an evaluable spectrum: visible-importance used".to_string()
+            } else {
+                match sampling {
+                    crate::integrator::WavelengthSampling::Visible => "visible-importance sampling",
+                    crate::integrator::WavelengthSampling::Uniform => "uniform sampling",
+                    crate::integrator::WavelengthSampling::LightSpd => {
+                        "light-SPD importance sampling"
+                    }
+                }
+                .to_string()
+            }
+        );
+    }
     if let Some(dir) = &args.strategy_images {
         for w in crate::integrator::select::write_strategy_images(dir, &output, &scene)? {
             println!("  wrote {}", w.display());
