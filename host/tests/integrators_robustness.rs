@@ -56,7 +56,7 @@ fn run(
 /// not look at a delta BSDF (see [`sees_no_delta_bsdf`]), no single
 /// sample's contribution (luminance Y, before the 1/spp scaling) exceeds `FIREFLY_BOUND ×` that
 /// pixel's mean. Correct weights stay below it (measured maxima 50 / 64 on spot_mirror /
-/// caustic at 1.2·10⁶ path pairs, 74 / 68 at 10⁷; the maximum grows slowly with the number
+/// caustic at 1.2·10⁶ path pairs, 105 / 70 at 10⁷; the maximum grows slowly with the number
 /// of samples, as the tail of any Monte Carlo estimator does);
 /// broken MIS weights, e.g. full weight on a camera path that found the tiny caustic lamp
 /// through the glass (radiance 4.8·10⁵ against floor radiances of order 0.1–10), give samples
@@ -132,11 +132,12 @@ fn caustic_lamp_y(scene: &Scene) -> f64 {
 /// camera sees the lamp by s = 0 paths only (weight 1), whose value is the camera throughput
 /// (at most 1/(1 − 0.05) with Russian roulette that ignores refraction's 1/η², see
 /// `bdpt::tests`) times the lamp's radiance, times the colour noise of one 4-lane spectral
-/// estimate; measured 0.92× (1.2·10⁶ paths) and 1.20× (10⁷ paths), both the lamp's direct
+/// estimate; measured 0.89× (1.2·10⁶ paths) and 1.21× (10⁷ paths), both the lamp's direct
 /// reflection in the sphere. A roulette that counted the 1/η² of entering the glass as a loss
 /// gave samples of 2.7× the lamp's Y through the sphere at 160×120 (pixel (80, 26), seed 0,
 /// sample 92); at this test's 40×30 such paths happened not to be the largest sample, and the
-/// sign of that bug here is the relative bound above (149.7 before, 68.2 after, at 10⁷ paths).
+/// sign of that bug here is the relative bound above (149.7 before, 68.2 after, at 10⁷ paths,
+/// before BDPT took its first dimensions from the stratified sampler).
 const LAMP_Y_BOUND: f64 = 2.0;
 
 fn check_paths(scene: &Scene, name: &str, kind: IntegratorKind, spp: u32) {
