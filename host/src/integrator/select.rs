@@ -20,7 +20,7 @@
 use super::{render, RenderError, RenderResult, RenderSettings, SampleRng};
 use crate::light::LightFlags;
 use crate::scene::Scene;
-use crate::spectrum::wavelength_sampling::{visible_pdf, visible_sample};
+use crate::spectrum::wavelength_sampling::{rotated, visible_pdf, visible_sample};
 use crate::spectrum::{SampledWavelengths, Spd, LANES};
 use std::sync::Arc;
 
@@ -57,16 +57,6 @@ impl std::fmt::Display for IntegratorKind {
             Self::Pt => "pt",
             Self::Lt => "lt",
         })
-    }
-}
-
-/// `frac(u + i/LANES)`: lane `i`'s primary sample (each on its own uniform on [0, 1)).
-fn rotated(u: f64, i: usize) -> f64 {
-    let v = u + i as f64 / LANES as f64;
-    if v >= 1.0 {
-        v - 1.0
-    } else {
-        v
     }
 }
 
@@ -145,7 +135,7 @@ impl WavelengthMixture {
         let mut lambda = [0.0f32; LANES];
         let mut pdf = [0.0f32; LANES];
         for i in 0..LANES {
-            let d = spd.sample(rotated(u, i));
+            let d = spd.sample(rotated(u, i, LANES));
             lambda[i] = d.lambda as f32;
             pdf[i] = if d.is_delta {
                 0.0
@@ -180,7 +170,7 @@ impl WavelengthMixture {
             None
         };
         for i in 0..LANES {
-            let ui = rotated(u, i);
+            let ui = rotated(u, i, LANES);
             let (l, on_line) = match spd {
                 Some(s) => {
                     let d = s.sample(ui);

@@ -37,6 +37,7 @@
 use super::select::WavelengthMixture;
 use super::{PixelSampler, WavelengthSampling};
 use crate::scene::Scene;
+use crate::spectrum::wavelength_sampling::rotated;
 use crate::spectrum::{SampledWavelengths, LANES};
 
 /// Largest supported number of wavelengths per path.
@@ -133,20 +134,6 @@ impl PathWavelengths {
     }
 }
 
-/// `frac(u + k/n)` in f32: the primary sample of the k-th of n rotated lanes (exactly `u` for
-/// k = 0, so a one-group path draws what a plain 4-lane path draws).
-fn rotated(u: f32, k: usize, n: usize) -> f32 {
-    if k == 0 {
-        return u;
-    }
-    let v = u + k as f32 / n as f32;
-    if v >= 1.0 {
-        v - 1.0
-    } else {
-        v
-    }
-}
-
 /// Draws a camera path's wavelength groups for one render.
 #[derive(Clone, Debug)]
 pub struct PathWavelengthSampler {
@@ -196,7 +183,7 @@ impl PathWavelengthSampler {
             pdf: [0.0; LANES],
         }; MAX_GROUPS];
         for (g, group) in groups.iter_mut().enumerate().take(self.groups) {
-            let ug = rotated(u, g, n);
+            let ug = rotated(u as f64, g, n) as f32;
             *group = match (self.sampling, &self.emission) {
                 (WavelengthSampling::Uniform, _) => {
                     SampledWavelengths::sample_uniform(ug, 360.0, 830.0)
@@ -268,7 +255,7 @@ mod tests {
             for i in 0..n {
                 let u = (i as f32 + 0.5) / n as f32;
                 let groups: Vec<SampledWavelengths> = (0..g)
-                    .map(|k| SampledWavelengths::sample_visible(rotated(u, k, 4 * g)))
+                    .map(|k| SampledWavelengths::sample_visible(rotated(u as f64, k, 4 * g) as f32))
                     .collect();
                 let mut w = PathWavelengths::from_groups(&groups);
                 w.terminate_secondary();

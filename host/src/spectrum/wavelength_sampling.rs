@@ -49,9 +49,13 @@ pub fn visible_sample(u: f64) -> f64 {
     l.clamp(VISIBLE_RANGE.0, VISIBLE_RANGE.1)
 }
 
-/// `frac(u + i/LANES)`: lane `i`'s primary sample.
-fn rotated(u: f64, i: usize) -> f64 {
-    let v = u + i as f64 / LANES as f64;
+/// `frac(u + k/n)`: the primary sample of the k-th of `n` rotated lanes (exactly `u` for k = 0).
+/// Each is uniform on [0, 1) on its own, and together they stratify the range.
+pub fn rotated(u: f64, k: usize, n: usize) -> f64 {
+    if k == 0 {
+        return u;
+    }
+    let v = u + k as f64 / n as f64;
     if v >= 1.0 {
         v - 1.0
     } else {
@@ -67,7 +71,7 @@ impl SampledWavelengths {
         let mut pdf = [0.0f32; LANES];
         for i in 0..LANES {
             // The pdf is evaluated at the stored (f32) wavelength so the pair is consistent.
-            let l = visible_sample(rotated(u as f64, i)) as f32;
+            let l = visible_sample(rotated(u as f64, i, LANES)) as f32;
             lambda[i] = l;
             pdf[i] = visible_pdf(l as f64) as f32;
         }
@@ -82,7 +86,7 @@ impl SampledWavelengths {
         let mut lambda = [0.0f32; LANES];
         let mut pdf = [0.0f32; LANES];
         for i in 0..LANES {
-            let s = spd.sample(rotated(u as f64, i));
+            let s = spd.sample(rotated(u as f64, i, LANES));
             let l = s.lambda as f32;
             lambda[i] = l;
             // As for visible sampling, the pdf belongs to the stored (f32) wavelength; should
