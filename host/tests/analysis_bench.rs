@@ -45,6 +45,7 @@ fn bench_points_are_what_they_claim() {
         max_spp: 2,
         seed: 3,
         threads: Some(2),
+        exclude_specular: false,
     };
     let points = run_accuracy_bench(&scene, &reference, &configs, &settings, &|_| {}).unwrap();
     assert_eq!(points.iter().map(|p| p.spp).collect::<Vec<_>>(), [1, 2]);

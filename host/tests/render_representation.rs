@@ -318,6 +318,7 @@ fn bench_runs_a_representation_config_end_to_end() {
         max_spp: 2,
         seed: 3,
         threads: Some(2),
+        exclude_specular: false,
     };
     let points = run_accuracy_bench(&source, &reference, &configs, &settings, &|_| {}).unwrap();
     assert_eq!(points.iter().map(|p| p.spp).collect::<Vec<_>>(), [1, 2]);

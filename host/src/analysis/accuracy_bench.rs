@@ -5,7 +5,9 @@
 //! out at its bias. Configurations that change the scene's spectral representation get their own
 //! scene, built from a [`SceneProvider`] (not timed).
 
-use super::{compare_images, AnalysisError, CompareOptions, RgbImage};
+use super::{
+    compare_images_excluding, specular_view_mask, AnalysisError, CompareOptions, RgbImage,
+};
 use crate::integrator::{render_with, IntegratorKind, PathTracer, RenderSettings, SampleBudget};
 use crate::scene::{ReflectanceSource, RepresentationOptions, Scene, SceneSource};
 use crate::spectrum::Interpolation;
@@ -349,6 +351,9 @@ pub struct BenchSettings {
     pub seed: u64,
     /// Worker threads (`None`: one per core).
     pub threads: Option<usize>,
+    /// Leave out the pixels that show specular surfaces ([`specular_view_mask`]) besides the
+    /// light.
+    pub exclude_specular: bool,
 }
 
 /// Run every configuration (see the module docs); `on_point` sees each measurement as it is
@@ -362,19 +367,22 @@ pub fn run_accuracy_bench(
     on_point: &dyn Fn(&AccuracyPoint),
 ) -> Result<Vec<AccuracyPoint>, AnalysisError> {
     let mut points = Vec::new();
-    let mut built: Vec<(RepresentationOptions, Scene)> = Vec::new();
+    let mut built: Vec<(RepresentationOptions, Scene, Option<Vec<bool>>)> = Vec::new();
     for cfg in configs {
-        let idx = match built.iter().position(|(r, _)| *r == cfg.representation) {
+        let idx = match built.iter().position(|(r, _, _)| *r == cfg.representation) {
             Some(i) => i,
             None => {
                 let scene = scenes
                     .scene_with(&cfg.representation)
                     .map_err(|e| AnalysisError::Render(format!("{}: {e}", cfg.name)))?;
-                built.push((cfg.representation, scene));
+                let mask = settings
+                    .exclude_specular
+                    .then(|| specular_view_mask(&scene));
+                built.push((cfg.representation, scene, mask));
                 built.len() - 1
             }
         };
-        let scene = &built[idx].1;
+        let (scene, mask) = (&built[idx].1, built[idx].2.as_deref());
         let mut used = 0.0f64;
         let mut last = 0.0f64;
         let mut spp = 1u32;
@@ -402,12 +410,13 @@ pub fn run_accuracy_bench(
                     img.width, img.height, reference.width, reference.height
                 )));
             }
-            let (c, _) = compare_images(
+            let (c, _) = compare_images_excluding(
                 &img,
                 reference,
                 CompareOptions {
                     exclude_light: true,
                 },
+                mask,
             );
             let p = AccuracyPoint {
                 config: cfg.name.clone(),

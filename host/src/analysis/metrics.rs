@@ -25,6 +25,10 @@ pub struct Comparison {
     pub pixels: usize,
     /// Pixels left out as light (0 unless `exclude_light`).
     pub excluded_light: usize,
+    /// Pixels left out by the caller's mask (e.g. those showing specular surfaces), beyond the
+    /// light.
+    #[serde(default)]
+    pub excluded_other: usize,
     /// Pixels of the test image with a NaN or infinite channel (left out of every metric).
     pub non_finite: usize,
     /// √(mean over pixels and channels of (a − b)²), linear RGB units.
@@ -83,11 +87,26 @@ pub fn compare_images(
     reference: &RgbImage,
     options: CompareOptions,
 ) -> (Comparison, Vec<Option<f64>>) {
-    let mask = if options.exclude_light {
+    compare_images_excluding(test, reference, options, None)
+}
+
+/// [`compare_images`] that also leaves out the pixels where `exclude` is `true` (same length as
+/// the images; counted in [`Comparison::excluded_other`]).
+pub fn compare_images_excluding(
+    test: &RgbImage,
+    reference: &RgbImage,
+    options: CompareOptions,
+    exclude: Option<&[bool]>,
+) -> (Comparison, Vec<Option<f64>>) {
+    let light = if options.exclude_light {
         light_mask(reference)
     } else {
         vec![false; reference.rgb.len()]
     };
+    let other: Vec<bool> = (0..light.len())
+        .map(|i| !light[i] && exclude.is_some_and(|e| e.get(i).copied().unwrap_or(false)))
+        .collect();
+    let mask: Vec<bool> = light.iter().zip(&other).map(|(a, b)| *a || *b).collect();
     let mut sq = 0.0f64;
     let mut rel = 0.0f64;
     let mut sum_t = [0.0f64; 3];
@@ -132,7 +151,8 @@ pub fn compare_images(
     };
     let comparison = Comparison {
         pixels: n,
-        excluded_light: mask.iter().filter(|m| **m).count(),
+        excluded_light: light.iter().filter(|m| **m).count(),
+        excluded_other: other.iter().filter(|m| **m).count(),
         non_finite,
         rmse: (sq / values).sqrt(),
         rel_mse: rel / values,
@@ -149,4 +169,40 @@ pub fn compare_images(
         }),
     };
     (comparison, per_pixel)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    // Two 3×1 images that differ only in pixel 2 by 0.3 in every channel: with that pixel
+    // masked out the comparison is exact (RMSE 0, counted once in `excluded_other`); without the
+    // mask RMSE = √(0.3²/3) exactly (one of three pixels, all channels).
+    #[test]
+    fn excluded_pixels_do_not_count() {
+        let reference = RgbImage {
+            width: 3,
+            height: 1,
+            rgb: vec![[0.2; 3], [0.4; 3], [0.5; 3]],
+        };
+        let mut test = reference.clone();
+        test.rgb[2] = [0.8; 3];
+        let opts = CompareOptions {
+            exclude_light: false,
+        };
+        let (all, _) = compare_images(&test, &reference, opts);
+        assert!(
+            (all.rmse - (0.09f64 / 3.0).sqrt()).abs() < 1e-12,
+            "{}",
+            all.rmse
+        );
+        assert_eq!(all.excluded_other, 0);
+        let (masked, per_pixel) =
+            compare_images_excluding(&test, &reference, opts, Some(&[false, false, true]));
+        assert_eq!(
+            (masked.rmse, masked.pixels, masked.excluded_other),
+            (0.0, 2, 1)
+        );
+        assert!(per_pixel[2].is_none());
+    }
 }

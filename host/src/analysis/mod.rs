@@ -12,15 +12,20 @@ pub mod plot;
 pub mod progressive;
 pub mod reference_state;
 pub mod rgb_image;
+pub mod specular_mask;
 
 pub use ciede2000::delta_e_2000;
 pub use cielab::{linear_srgb_to_lab, xyz_to_lab, Lab};
 pub use diff_image::{delta_e_color, write_delta_e_png};
 pub use error::AnalysisError;
-pub use metrics::{compare_images, light_mask, CompareOptions, Comparison, REL_MSE_EPSILON};
+pub use metrics::{
+    compare_images, compare_images_excluding, light_mask, CompareOptions, Comparison,
+    REL_MSE_EPSILON,
+};
 pub use progressive::{run_reference, state_path, ReferenceOutcome, ReferenceSettings};
 pub use reference_state::ReferenceState;
 pub use rgb_image::RgbImage;
+pub use specular_mask::specular_view_mask;
 
 /// The metrics, the per-pixel ΔE00 (`None`: left out) and the image size (width, height).
 pub type FileComparison = (Comparison, Vec<Option<f64>>, (u32, u32));

@@ -56,6 +56,11 @@ pub struct AccuracyArgs {
     /// List the configurations and exit.
     #[arg(long)]
     pub list: bool,
+    /// Also leave out the pixels that show specular surfaces (glass, mirrors), whose sub-pixel
+    /// images of small lights dominate whole-image errors for a long time; the rest of the image
+    /// is where diffuse light and caustics are judged.
+    #[arg(long)]
+    pub exclude_specular: bool,
 }
 
 /// Run `spectrace bench …`.
@@ -98,6 +103,7 @@ fn run_accuracy(args: &AccuracyArgs) -> Result<(), String> {
         max_spp: args.max_spp.max(1),
         seed: args.seed,
         threads: args.threads,
+        exclude_specular: args.exclude_specular,
     };
     println!("config              spp   seconds  Msamples/s      RMSE   ΔE00 mean  ΔE00 p99");
     let show = |p: &AccuracyPoint| {
@@ -176,12 +182,20 @@ fn write_outputs(
         (
             rmse,
             "rmse_vs_time",
-            "RMSE vs reference (linear sRGB, light excluded)",
+            if args.exclude_specular {
+                "RMSE vs reference (linear sRGB, light and specular pixels excluded)"
+            } else {
+                "RMSE vs reference (linear sRGB, light excluded)"
+            },
         ),
         (
             de,
             "delta_e_vs_time",
-            "mean CIEDE2000 vs reference (light excluded)",
+            if args.exclude_specular {
+                "mean CIEDE2000 vs reference (light and specular pixels excluded)"
+            } else {
+                "mean CIEDE2000 vs reference (light excluded)"
+            },
         ),
     ] {
         let series: Vec<Series> = configs
