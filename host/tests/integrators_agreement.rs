@@ -31,7 +31,6 @@ use spectrace::film::XyzImage;
 use spectrace::integrator::{
     render_with, IntegratorKind, PathTracer, RenderSettings, SampleBudget,
 };
-use spectrace::material::MaterialFlags;
 use spectrace::scene::{build_scene, parse_scene_str, BuiltinFactory, Scene};
 use std::path::Path;
 
@@ -75,38 +74,10 @@ fn render_seeds(scene: &Scene, kind: IntegratorKind, spp: u32, k: u64) -> Vec<Xy
 /// Pixels whose whole footprint (a 3×3 grid over the pixel and half its neighbours, covering
 /// the reconstruction filter) sees a non-delta surface or nothing: LT can render those.
 fn non_specular_mask(scene: &Scene) -> Vec<bool> {
-    let cam = scene.cameras.get(None).unwrap();
-    let (w, h) = cam.camera.resolution();
-    let mut mask = vec![true; (w * h) as usize];
-    for y in 0..h {
-        for x in 0..w {
-            'grid: for j in 0..3 {
-                for i in 0..3 {
-                    let p = glam::Vec2::new(x as f32 - 0.5 + i as f32, y as f32 - 0.5 + j as f32);
-                    let s = spectrace::camera::CameraSample {
-                        p_film: p,
-                        p_lens: glam::Vec2::splat(0.5),
-                    };
-                    let Some(r) = cam.camera.generate_ray(&s) else {
-                        continue;
-                    };
-                    if let Some(hit) = scene.geometry.intersect(&r.ray, f32::INFINITY) {
-                        if scene.objects.material(hit.object).flags().is_specular()
-                            || scene
-                                .objects
-                                .material(hit.object)
-                                .flags()
-                                .contains(MaterialFlags::SPECULAR)
-                        {
-                            mask[(y * w + x) as usize] = false;
-                            break 'grid;
-                        }
-                    }
-                }
-            }
-        }
-    }
-    mask
+    spectrace::analysis::specular_view_mask(scene)
+        .into_iter()
+        .map(|specular| !specular)
+        .collect()
 }
 
 /// Mean over masked pixels of each seed's image, per channel.

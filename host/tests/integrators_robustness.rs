@@ -70,32 +70,10 @@ const FIREFLY_BOUND: f64 = 500.0;
 /// lamp), whose rare large samples are inherent to every unbiased estimator here; the firefly
 /// bound is about MIS weights and is checked elsewhere.
 fn sees_no_delta_bsdf(scene: &Scene) -> Vec<bool> {
-    let cam = scene.cameras.get(None).unwrap();
-    let (w, h) = cam.camera.resolution();
-    let mut mask = vec![true; (w * h) as usize];
-    for y in 0..h {
-        for x in 0..w {
-            for k in 0..9 {
-                let p = glam::Vec2::new(
-                    x as f32 - 0.5 + (k % 3) as f32,
-                    y as f32 - 0.5 + (k / 3) as f32,
-                );
-                let s = spectrace::camera::CameraSample {
-                    p_film: p,
-                    p_lens: glam::Vec2::splat(0.5),
-                };
-                let Some(r) = cam.camera.generate_ray(&s) else {
-                    continue;
-                };
-                if let Some(hit) = scene.geometry.intersect(&r.ray, f32::INFINITY) {
-                    if scene.objects.material(hit.object).flags().is_specular() {
-                        mask[(y * w + x) as usize] = false;
-                    }
-                }
-            }
-        }
-    }
-    mask
+    spectrace::analysis::specular_view_mask(scene)
+        .into_iter()
+        .map(|specular| !specular)
+        .collect()
 }
 
 /// Luminance Y (film convention: `∫ L ȳ dλ / ∫ ȳ dλ`) of the caustic scene's lamp (object 3 of
