@@ -15,23 +15,20 @@
 //! Wavelengths: one set per pair from [`WavelengthMixture`]; see `select.rs`.
 
 use super::light_tracer::{connect_to_camera, trace_beam, PixelMaxY, XyzWeights};
-use super::render::{fixed_budget_passes, ProgressFn};
+use super::render::ProgressFn;
 use super::select::{IntegratorOutput, WavelengthMixture};
+use super::tiled::render_tiles;
 use super::vertex::{geometry_term, remap0, unoccluded, Vertex, VertexKind};
-use super::{
-    PathStats, PixelSampler, RenderError, RenderResult, RenderSettings, SampleBudget, SampleRng,
-};
+use super::{PathStats, PixelSampler, RenderError, RenderResult, RenderSettings, SampleRng};
 use crate::camera::{Camera, CameraSample};
-use crate::film::{PixelFilm, Sensor, SplatFilm, TileBuffer};
+use crate::film::{Sensor, SplatFilm};
 use crate::geometry::{spawn_ray, Ray};
 use crate::light::{LightFlags, LightSampleContext};
 use crate::material::{Frame, MaterialFlags, ShadingContext, TransportMode};
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::Vec2;
-use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::time::Instant;
 
 /// Longest path (bounces) that gets its own strategy image; longer ones are summed into one.
 pub const STRATEGY_IMAGE_MAX_DEPTH: u32 = 5;
@@ -611,115 +608,61 @@ pub fn render_bdpt(
         .map_err(RenderError::Setup)?;
     let camera = cam.camera.as_ref();
     let (width, height) = camera.resolution();
-    let ts = settings.tile_size.max(1);
-    let mut tiles = Vec::new();
-    for y0 in (0..height).step_by(ts as usize) {
-        for x0 in (0..width).step_by(ts as usize) {
-            tiles.push((x0, y0, ts.min(width - x0), ts.min(height - y0)));
-        }
-    }
-    let pool = super::light_tracer::thread_pool(settings.threads)?;
     let sensor = Sensor::new(scene.observer.clone());
     let mixture = WavelengthMixture::new(scene);
     let bdpt = Bdpt {
         max_depth: settings.tracer.max_depth,
         rr_depth: settings.tracer.rr_depth,
     };
-    let mut film = PixelFilm::new(width, height);
     let splats = SplatFilm::new(width, height);
     let strategies = strategy_images.then(|| StrategyFilms::new(width, height));
     let rays = AtomicU64::new(0);
     let non_finite = AtomicU64::new(0);
     let pixel_max = PixelMaxY::new(width, height);
-    let done = AtomicU64::new(0);
-    let start = Instant::now();
-    let mut spp_done = 0u32;
-    let spp_passes = fixed_budget_passes(settings.budget);
-    let mut pass = 0u32;
-    loop {
-        let pass_spp = match settings.budget {
-            SampleBudget::Spp(_) => match spp_passes.get(pass as usize) {
-                Some(&p) => p,
-                None => break,
-            },
-            SampleBudget::Time(t) => {
-                if pass > 0 && start.elapsed() >= t {
-                    break;
+    let outcome = render_tiles(
+        (width, height),
+        settings,
+        progress,
+        cancel,
+        |buf, samples| {
+            let mut worker = Worker {
+                camera_path: Vec::with_capacity(16),
+                light_path: Vec::with_capacity(16),
+                stats: PathStats::default(),
+                non_finite: 0,
+            };
+            for y in buf.y0..buf.y0 + buf.h {
+                for x in buf.x0..buf.x0 + buf.w {
+                    let pixel = y as u64 * width as u64 + x as u64;
+                    for si in samples.clone() {
+                        let mut rng = SampleRng::for_sample(settings.seed, pixel, si as u64);
+                        let mut ld = PixelSampler::new(settings.seed, pixel, si);
+                        let xyz = bdpt.sample(
+                            scene,
+                            cam,
+                            &sensor,
+                            &mixture,
+                            (x, y),
+                            &mut ld,
+                            &mut rng,
+                            &splats,
+                            &pixel_max,
+                            strategies.as_ref(),
+                            &mut worker,
+                        );
+                        buf.add(x, y, xyz);
+                    }
                 }
-                (1u32 << pass.saturating_sub(1).min(6)).max(1)
             }
-        };
-        let total_units = match settings.budget {
-            SampleBudget::Spp(_) => tiles.len() as u64 * spp_passes.len() as u64,
-            SampleBudget::Time(_) => tiles.len() as u64 * (pass as u64 + 1),
-        };
-        let first = spp_done;
-        let buffers: Vec<Option<TileBuffer>> = pool.install(|| {
-            tiles
-                .par_iter()
-                .map(|&(x0, y0, w, h)| {
-                    if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
-                        return None;
-                    }
-                    let mut buf = TileBuffer::new(x0, y0, w, h);
-                    let mut worker = Worker {
-                        camera_path: Vec::with_capacity(16),
-                        light_path: Vec::with_capacity(16),
-                        stats: PathStats::default(),
-                        non_finite: 0,
-                    };
-                    for y in y0..y0 + h {
-                        for x in x0..x0 + w {
-                            let pixel = y as u64 * width as u64 + x as u64;
-                            for si in first..first + pass_spp {
-                                let mut rng =
-                                    SampleRng::for_sample(settings.seed, pixel, si as u64);
-                                let mut ld = PixelSampler::new(settings.seed, pixel, si);
-                                let xyz = bdpt.sample(
-                                    scene,
-                                    cam,
-                                    &sensor,
-                                    &mixture,
-                                    (x, y),
-                                    &mut ld,
-                                    &mut rng,
-                                    &splats,
-                                    &pixel_max,
-                                    strategies.as_ref(),
-                                    &mut worker,
-                                );
-                                buf.add(x, y, xyz);
-                            }
-                        }
-                    }
-                    rays.fetch_add(
-                        worker.stats.rays + worker.stats.shadow_rays,
-                        Ordering::Relaxed,
-                    );
-                    non_finite.fetch_add(worker.non_finite, Ordering::Relaxed);
-                    let d = done.fetch_add(1, Ordering::Relaxed) + 1;
-                    progress(d, total_units);
-                    Some(buf)
-                })
-                .collect()
-        });
-        let mut complete = true;
-        for b in &buffers {
-            match b {
-                Some(b) => film.merge(b),
-                None => complete = false,
-            }
-        }
-        if !complete {
-            break;
-        }
-        spp_done += pass_spp;
-        pass += 1;
-        if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
-            break;
-        }
-    }
-    let elapsed = start.elapsed();
+            rays.fetch_add(
+                worker.stats.rays + worker.stats.shadow_rays,
+                Ordering::Relaxed,
+            );
+            non_finite.fetch_add(worker.non_finite, Ordering::Relaxed);
+        },
+    )?;
+    let (film, spp_done) = (outcome.film, outcome.spp);
+    let elapsed = outcome.elapsed;
     let scale = 1.0 / spp_done.max(1) as f64;
     let mut image = film.image();
     let splat_image = splats.image(scale);

@@ -133,18 +133,6 @@ impl PixelMaxY {
     }
 }
 
-/// A rayon pool with `threads` workers (default: one per core).
-pub fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool, RenderError> {
-    let mut b = rayon::ThreadPoolBuilder::new();
-    if let Some(t) = threads {
-        b = b.num_threads(t.max(1));
-    }
-    b.build().map_err(|e| RenderError::Threads {
-        threads: threads.unwrap_or(0),
-        message: e.to_string(),
-    })
-}
-
 /// The t = 1 connection of light vertex `s − 1` (s ≥ 1) to a lens point sampled with `u`:
 /// the unweighted contribution, the raster position and the lens vertex. For s = 1 it is the
 /// light's own emission seen by the camera (area lights only).
@@ -323,7 +311,7 @@ pub fn render_light_tracing(
     let camera = cam.camera.as_ref();
     let (width, height) = camera.resolution();
     let pixels = width as u64 * height as u64;
-    let pool = thread_pool(settings.threads)?;
+    let pool = super::tiled::thread_pool(settings.threads)?;
     let sensor = Sensor::new(scene.observer.clone());
     let mixture = WavelengthMixture::new(scene);
     let splats = SplatFilm::new(width, height);

@@ -7,6 +7,7 @@ pub mod path;
 pub mod render;
 pub mod sampler;
 pub mod select;
+pub mod tiled;
 pub mod vertex;
 pub mod wavelength_groups;
 

@@ -2,15 +2,15 @@
 //! merges them into the film in tile order. Each camera sample draws its random numbers from
 //! `(seed, pixel, sample index)` only, so the image is bitwise identical for any thread count.
 
+use super::tiled::render_tiles;
 use super::wavelength_groups::{PathWavelengthSampler, PathWavelengths};
 use super::{PathStats, PathTracer, PixelSampler};
 use crate::camera::CameraSample;
-use crate::film::{PixelFilm, Sensor, TileBuffer, XyzImage};
+use crate::film::{Sensor, XyzImage};
 use crate::scene::Scene;
 use glam::Vec2;
-use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// How many samples to take.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -146,23 +146,6 @@ pub fn render(
         .get(settings.camera.as_deref())
         .map_err(RenderError::Setup)?;
     let (width, height) = cam.camera.resolution();
-    let ts = settings.tile_size.max(1);
-    let mut tiles = Vec::new();
-    for y0 in (0..height).step_by(ts as usize) {
-        for x0 in (0..width).step_by(ts as usize) {
-            tiles.push((x0, y0, ts.min(width - x0), ts.min(height - y0)));
-        }
-    }
-    let pool = {
-        let mut b = rayon::ThreadPoolBuilder::new();
-        if let Some(t) = settings.threads {
-            b = b.num_threads(t.max(1));
-        }
-        b.build().map_err(|e| RenderError::Threads {
-            threads: settings.threads.unwrap_or(0),
-            message: e.to_string(),
-        })?
-    };
     let wavelength_sampler = PathWavelengthSampler::new(
         scene,
         settings.tracer.wavelengths,
@@ -170,110 +153,53 @@ pub fn render(
     )
     .map_err(RenderError::Setup)?;
     let sensor = Sensor::new(scene.observer.clone());
-    let mut film = PixelFilm::new(width, height);
     let rays = AtomicU64::new(0);
-    let done = AtomicU64::new(0);
-    let start = Instant::now();
-    let mut spp_done = 0u32;
-    // Pass sizes: for a fixed budget, see [`fixed_budget_passes`]; for a time budget, passes
-    // sized from the measured cost per spp to fit the remaining time, so the last pass
-    // overshoots little.
-    let spp_passes = fixed_budget_passes(settings.budget);
-    let mut pass = 0u32;
-    loop {
-        let pass_spp = match settings.budget {
-            SampleBudget::Spp(_) => match spp_passes.get(pass as usize) {
-                Some(&p) => p,
-                None => break,
-            },
-            SampleBudget::Time(t) => {
-                let elapsed = start.elapsed();
-                if pass > 0 && elapsed >= t {
-                    break;
-                }
-                if spp_done == 0 {
-                    1
-                } else {
-                    // Fit the next pass into the remaining time from the measured cost per spp
-                    // (at most doubling, at most 64 spp per pass).
-                    let per_spp = elapsed.as_secs_f64() / spp_done as f64;
-                    let remaining = (t - elapsed).as_secs_f64();
-                    ((remaining / per_spp.max(1e-9)) as u32).clamp(1, spp_done.min(64))
-                }
-            }
-        };
-        let total_units = match settings.budget {
-            SampleBudget::Spp(_) => tiles.len() as u64 * spp_passes.len() as u64,
-            SampleBudget::Time(_) => tiles.len() as u64 * (pass as u64 + 1),
-        };
-        let first = spp_done;
-        let buffers: Vec<Option<TileBuffer>> = pool.install(|| {
-            tiles
-                .par_iter()
-                .map(|&(x0, y0, w, h)| {
-                    if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
-                        return None;
-                    }
-                    let mut buf = TileBuffer::new(x0, y0, w, h);
-                    let mut stats = PathStats::default();
-                    for y in y0..y0 + h {
-                        for x in x0..x0 + w {
-                            let pixel = y as u64 * width as u64 + x as u64;
-                            for s in first..first + pass_spp {
-                                let mut rng = PixelSampler::new(settings.seed, pixel, s);
-                                let mut lambdas = wavelength_sampler.sample(&mut rng);
-                                let offset = cam.filter.sample(rng.next_2d());
-                                let sample = CameraSample {
-                                    p_film: Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset,
-                                    p_lens: rng.next_2d(),
-                                };
-                                let xyz = match cam.camera.generate_ray(&sample) {
-                                    Some(r) => {
-                                        let l = settings.tracer.li_groups(
-                                            scene,
-                                            r.ray,
-                                            &mut lambdas,
-                                            &mut rng,
-                                            &mut stats,
-                                        );
-                                        film_xyz(&sensor, &l, &lambdas, r.weight)
-                                    }
-                                    None => [0.0; 3],
-                                };
-                                // A NaN/Inf sample would poison the pixel forever; drop it.
-                                if xyz.iter().all(|v| v.is_finite()) {
-                                    buf.add(x, y, xyz);
-                                } else {
-                                    buf.add(x, y, [0.0; 3]);
-                                }
+    let outcome = render_tiles(
+        (width, height),
+        settings,
+        progress,
+        cancel,
+        |buf, samples| {
+            let mut stats = PathStats::default();
+            for y in buf.y0..buf.y0 + buf.h {
+                for x in buf.x0..buf.x0 + buf.w {
+                    let pixel = y as u64 * width as u64 + x as u64;
+                    for s in samples.clone() {
+                        let mut rng = PixelSampler::new(settings.seed, pixel, s);
+                        let mut lambdas = wavelength_sampler.sample(&mut rng);
+                        let offset = cam.filter.sample(rng.next_2d());
+                        let sample = CameraSample {
+                            p_film: Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset,
+                            p_lens: rng.next_2d(),
+                        };
+                        let xyz = match cam.camera.generate_ray(&sample) {
+                            Some(r) => {
+                                let l = settings.tracer.li_groups(
+                                    scene,
+                                    r.ray,
+                                    &mut lambdas,
+                                    &mut rng,
+                                    &mut stats,
+                                );
+                                film_xyz(&sensor, &l, &lambdas, r.weight)
                             }
+                            None => [0.0; 3],
+                        };
+                        // A NaN/Inf sample would poison the pixel forever; drop it.
+                        if xyz.iter().all(|v| v.is_finite()) {
+                            buf.add(x, y, xyz);
+                        } else {
+                            buf.add(x, y, [0.0; 3]);
                         }
                     }
-                    rays.fetch_add(stats.rays + stats.shadow_rays, Ordering::Relaxed);
-                    let d = done.fetch_add(1, Ordering::Relaxed) + 1;
-                    progress(d, total_units);
-                    Some(buf)
-                })
-                .collect()
-        });
-        let mut complete = true;
-        for b in &buffers {
-            match b {
-                Some(b) => film.merge(b),
-                None => complete = false,
+                }
             }
-        }
-        if !complete {
-            // Cancelled mid-pass: keep what exists (pixel means stay unbiased per pixel).
-            break;
-        }
-        spp_done += pass_spp;
-        pass += 1;
-        if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
-            break;
-        }
-    }
-    let elapsed = start.elapsed();
+            rays.fetch_add(stats.rays + stats.shadow_rays, Ordering::Relaxed);
+        },
+    )?;
+    let film = outcome.film;
+    let spp_done = outcome.spp;
+    let elapsed = outcome.elapsed;
     Ok(RenderResult {
         image: film.image(),
         spp: spp_done,

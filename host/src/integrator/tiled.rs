@@ -1,0 +1,124 @@
+//! The pass loop shared by the camera-driven renderers (path tracing, BDPT): the image is cut
+//! into tiles rendered in parallel, and the sample budget into passes, so that Ctrl-C stops
+//! within one pass (the tiles it finished are kept; each pixel's mean stays unbiased with its
+//! own sample count). Samples are indexed globally
+//! (pixel, sample number), so neither the pass sizes nor the thread count change the image.
+
+use super::render::{fixed_budget_passes, ProgressFn, RenderError, RenderSettings, SampleBudget};
+use crate::film::{PixelFilm, TileBuffer};
+use rayon::prelude::*;
+use std::ops::Range;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::time::{Duration, Instant};
+
+/// A rayon pool with `threads` workers (`None`: one per core).
+pub fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool, RenderError> {
+    let mut b = rayon::ThreadPoolBuilder::new();
+    if let Some(t) = threads {
+        b = b.num_threads(t.max(1));
+    }
+    b.build().map_err(|e| RenderError::Threads {
+        threads: threads.unwrap_or(0),
+        message: e.to_string(),
+    })
+}
+
+/// What [`render_tiles`] produced.
+pub struct TiledOutcome {
+    /// The accumulated pixel film.
+    pub film: PixelFilm,
+    /// Samples per pixel completed by every pixel.
+    pub spp: u32,
+    /// Wall-clock time of the passes.
+    pub elapsed: Duration,
+}
+
+/// Render a `width`×`height` image tile by tile and pass by pass for `settings.budget`.
+/// `render_tile(buffer, samples)` adds the samples with global indices `samples` of every pixel
+/// of `buffer`'s tile. For a sample budget the passes are [`fixed_budget_passes`]; for a time
+/// budget the first pass is 1 spp and later ones are sized from the measured cost per spp to fit
+/// the remaining time (at most doubling, at most 64 spp), so the last one overshoots little.
+pub fn render_tiles(
+    (width, height): (u32, u32),
+    settings: &RenderSettings,
+    progress: &ProgressFn<'_>,
+    cancel: Option<&AtomicBool>,
+    render_tile: impl Fn(&mut TileBuffer, Range<u32>) + Sync,
+) -> Result<TiledOutcome, RenderError> {
+    let ts = settings.tile_size.max(1);
+    let mut tiles = Vec::new();
+    for y0 in (0..height).step_by(ts as usize) {
+        for x0 in (0..width).step_by(ts as usize) {
+            tiles.push((x0, y0, ts.min(width - x0), ts.min(height - y0)));
+        }
+    }
+    let pool = thread_pool(settings.threads)?;
+    let cancelled = || cancel.is_some_and(|c| c.load(Ordering::Relaxed));
+    let mut film = PixelFilm::new(width, height);
+    let done = AtomicU64::new(0);
+    let start = Instant::now();
+    let spp_passes = fixed_budget_passes(settings.budget);
+    let mut spp_done = 0u32;
+    let mut pass = 0u32;
+    loop {
+        let pass_spp = match settings.budget {
+            SampleBudget::Spp(_) => match spp_passes.get(pass as usize) {
+                Some(&p) => p,
+                None => break,
+            },
+            SampleBudget::Time(t) => {
+                let elapsed = start.elapsed();
+                if pass > 0 && elapsed >= t {
+                    break;
+                }
+                if spp_done == 0 {
+                    1
+                } else {
+                    let per_spp = elapsed.as_secs_f64() / spp_done as f64;
+                    let remaining = (t - elapsed).as_secs_f64();
+                    ((remaining / per_spp.max(1e-9)) as u32).clamp(1, spp_done.min(64))
+                }
+            }
+        };
+        let total_units = match settings.budget {
+            SampleBudget::Spp(_) => tiles.len() as u64 * spp_passes.len() as u64,
+            SampleBudget::Time(_) => tiles.len() as u64 * (pass as u64 + 1),
+        };
+        let samples = spp_done..spp_done + pass_spp;
+        let buffers: Vec<Option<TileBuffer>> = pool.install(|| {
+            tiles
+                .par_iter()
+                .map(|&(x0, y0, w, h)| {
+                    if cancelled() {
+                        return None;
+                    }
+                    let mut buf = TileBuffer::new(x0, y0, w, h);
+                    render_tile(&mut buf, samples.clone());
+                    progress(done.fetch_add(1, Ordering::Relaxed) + 1, total_units);
+                    Some(buf)
+                })
+                .collect()
+        });
+        let mut complete = true;
+        for b in &buffers {
+            match b {
+                Some(b) => film.merge(b),
+                None => complete = false,
+            }
+        }
+        if !complete {
+            // Cancelled mid-pass: keep the finished tiles (per-pixel counts keep means unbiased).
+            break;
+        }
+        spp_done += pass_spp;
+        pass += 1;
+        if cancelled() {
+            break;
+        }
+    }
+    Ok(TiledOutcome {
+        film,
+        spp: spp_done,
+        elapsed: start.elapsed(),
+    })
+}
