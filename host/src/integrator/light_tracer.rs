@@ -12,10 +12,10 @@
 //! film sums in fixed point, so the image is identical for any thread count.
 
 use super::bdpt::{generate_light_subpath, random_walk, LightStart};
-use super::render::{fixed_budget_passes, ProgressFn};
+use super::render::ProgressFn;
 use super::select::{IntegratorOutput, WavelengthMixture};
 use super::vertex::{unoccluded, Vertex};
-use super::{PathStats, RenderError, RenderResult, RenderSettings, SampleBudget, SampleRng};
+use super::{PathStats, RenderError, RenderResult, RenderSettings, SampleRng};
 use crate::camera::Camera;
 use crate::film::{Sensor, SplatFilm};
 use crate::geometry::Ray;
@@ -321,22 +321,9 @@ pub fn render_light_tracing(
     let done = AtomicU64::new(0);
     let start = Instant::now();
     let mut spp_done = 0u32;
-    let spp_passes = fixed_budget_passes(settings.budget);
-    let mut pass = 0u32;
+    let mut schedule = super::tiled::PassSchedule::new(settings.budget);
     let mut total_units = 0u64;
-    loop {
-        let pass_spp = match settings.budget {
-            SampleBudget::Spp(_) => match spp_passes.get(pass as usize) {
-                Some(&p) => p,
-                None => break,
-            },
-            SampleBudget::Time(t) => {
-                if pass > 0 && start.elapsed() >= t {
-                    break;
-                }
-                (1u32 << pass.saturating_sub(1).min(6)).max(1)
-            }
-        };
+    while let Some(pass_spp) = schedule.next(spp_done, start.elapsed()) {
         let first = spp_done as u64 * pixels;
         let count = pass_spp as u64 * pixels;
         let chunks = count.div_ceil(CHUNK);
@@ -384,7 +371,6 @@ pub fn render_light_tracing(
             break;
         }
         spp_done += pass_spp;
-        pass += 1;
         if cancel.is_some_and(|f| f.load(Ordering::Relaxed)) {
             break;
         }

@@ -23,6 +23,58 @@ pub fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool, RenderEr
     })
 }
 
+/// How a sample or time budget is cut into passes (spp per pass), shared by every driver so
+/// that all stop the same way. For a sample budget: [`fixed_budget_passes`]. For a time budget:
+/// 1 spp first, then passes sized from the measured cost per spp to fit the remaining time (at
+/// most doubling, at most 64 spp), so the last pass overshoots little.
+pub struct PassSchedule {
+    budget: SampleBudget,
+    fixed: Vec<u32>,
+    pass: usize,
+}
+
+impl PassSchedule {
+    /// The schedule for `budget`.
+    pub fn new(budget: SampleBudget) -> Self {
+        Self {
+            budget,
+            fixed: fixed_budget_passes(budget),
+            pass: 0,
+        }
+    }
+
+    /// Size of the next pass after `spp_done` samples per pixel took `elapsed`, or `None` when
+    /// the budget is spent.
+    pub fn next(&mut self, spp_done: u32, elapsed: Duration) -> Option<u32> {
+        let size = match self.budget {
+            SampleBudget::Spp(_) => *self.fixed.get(self.pass)?,
+            SampleBudget::Time(t) => {
+                if self.pass > 0 && elapsed >= t {
+                    return None;
+                }
+                if spp_done == 0 {
+                    1
+                } else {
+                    let per_spp = elapsed.as_secs_f64() / spp_done as f64;
+                    let remaining = t.saturating_sub(elapsed).as_secs_f64();
+                    ((remaining / per_spp.max(1e-9)) as u32).clamp(1, spp_done.min(64))
+                }
+            }
+        };
+        self.pass += 1;
+        Some(size)
+    }
+
+    /// Passes known so far, for progress: all of a sample budget, or those started of a time
+    /// budget.
+    pub fn passes_planned(&self) -> u64 {
+        match self.budget {
+            SampleBudget::Spp(_) => self.fixed.len() as u64,
+            SampleBudget::Time(_) => self.pass as u64,
+        }
+    }
+}
+
 /// What [`render_tiles`] produced.
 pub struct TiledOutcome {
     /// The accumulated pixel film.
@@ -35,9 +87,7 @@ pub struct TiledOutcome {
 
 /// Render a `width`×`height` image tile by tile and pass by pass for `settings.budget`.
 /// `render_tile(buffer, samples)` adds the samples with global indices `samples` of every pixel
-/// of `buffer`'s tile. For a sample budget the passes are [`fixed_budget_passes`]; for a time
-/// budget the first pass is 1 spp and later ones are sized from the measured cost per spp to fit
-/// the remaining time (at most doubling, at most 64 spp), so the last one overshoots little.
+/// of `buffer`'s tile; passes follow [`PassSchedule`].
 pub fn render_tiles(
     (width, height): (u32, u32),
     settings: &RenderSettings,
@@ -57,33 +107,10 @@ pub fn render_tiles(
     let mut film = PixelFilm::new(width, height);
     let done = AtomicU64::new(0);
     let start = Instant::now();
-    let spp_passes = fixed_budget_passes(settings.budget);
+    let mut schedule = PassSchedule::new(settings.budget);
     let mut spp_done = 0u32;
-    let mut pass = 0u32;
-    loop {
-        let pass_spp = match settings.budget {
-            SampleBudget::Spp(_) => match spp_passes.get(pass as usize) {
-                Some(&p) => p,
-                None => break,
-            },
-            SampleBudget::Time(t) => {
-                let elapsed = start.elapsed();
-                if pass > 0 && elapsed >= t {
-                    break;
-                }
-                if spp_done == 0 {
-                    1
-                } else {
-                    let per_spp = elapsed.as_secs_f64() / spp_done as f64;
-                    let remaining = (t - elapsed).as_secs_f64();
-                    ((remaining / per_spp.max(1e-9)) as u32).clamp(1, spp_done.min(64))
-                }
-            }
-        };
-        let total_units = match settings.budget {
-            SampleBudget::Spp(_) => tiles.len() as u64 * spp_passes.len() as u64,
-            SampleBudget::Time(_) => tiles.len() as u64 * (pass as u64 + 1),
-        };
+    while let Some(pass_spp) = schedule.next(spp_done, start.elapsed()) {
+        let total_units = tiles.len() as u64 * schedule.passes_planned();
         let samples = spp_done..spp_done + pass_spp;
         let buffers: Vec<Option<TileBuffer>> = pool.install(|| {
             tiles
@@ -111,7 +138,6 @@ pub fn render_tiles(
             break;
         }
         spp_done += pass_spp;
-        pass += 1;
         if cancelled() {
             break;
         }
