@@ -104,8 +104,7 @@ impl WavelengthMixture {
         if self.spds.is_empty() {
             return vis;
         }
-        let emit: f64 = self.spds.iter().map(|(s, w)| w * s.pdf(lambda_nm)).sum();
-        0.5 * vis + 0.5 * emit
+        0.5 * vis + 0.5 * self.emission_pdf(lambda_nm)
     }
 
     /// True when the scene has evaluable lights, i.e. the emission component exists.
@@ -119,56 +118,20 @@ impl WavelengthMixture {
         self.spds.iter().map(|(s, w)| w * s.pdf(lambda_nm)).sum()
     }
 
-    /// Wavelengths from the emission component alone (path tracing's light-SPD sampling):
-    /// `u_spd` picks a light SPD by power, lane `i` is its inverse CDF at `frac(u + i/LANES)`
-    /// and carries [`emission_pdf`](Self::emission_pdf), its marginal density; lanes on a delta
-    /// line get pdf 0. `None` without evaluable lights.
-    pub fn sample_emission(&self, u_spd: f64, u: f64) -> Option<SampledWavelengths> {
-        if self.spds.is_empty() {
-            return None;
-        }
+    /// The light SPD `u_spd` picks by power (the scene must have evaluable lights).
+    fn pick_spd(&self, u_spd: f64) -> &dyn Spd {
         let k = self
             .cdf
             .partition_point(|&c| c <= u_spd)
             .min(self.spds.len() - 1);
-        let spd = &self.spds[k].0;
-        let mut lambda = [0.0f32; LANES];
-        let mut pdf = [0.0f32; LANES];
-        for i in 0..LANES {
-            let d = spd.sample(rotated(u, i, LANES));
-            lambda[i] = d.lambda as f32;
-            pdf[i] = if d.is_delta {
-                0.0
-            } else {
-                self.emission_pdf(lambda[i] as f64) as f32
-            };
-        }
-        Some(SampledWavelengths { lambda, pdf })
+        self.spds[k].0.as_ref()
     }
 
-    /// Draw the pair's wavelengths: three uniforms from `rng` (component, SPD, hero).
-    pub fn sample(&self, rng: &mut SampleRng) -> SampledWavelengths {
-        let u_comp = rng.next_1d();
-        let u_spd = rng.next_1d() as f64;
-        let u = rng.next_1d() as f64;
-        self.sample_with(u_comp, u_spd, u)
-    }
-
-    /// [`sample`](Self::sample) from given uniforms: `u_comp` picks the component, `u_spd` the
-    /// light SPD, `u` the hero (for callers with stratified samples).
-    pub fn sample_with(&self, u_comp: f32, u_spd: f64, u: f64) -> SampledWavelengths {
+    /// Lane `i` at `frac(u + i/LANES)`, drawn from `spd` (visible importance without one) and
+    /// carrying `density` at its wavelength; a lane on a delta line gets pdf 0.
+    fn lanes(u: f64, spd: Option<&dyn Spd>, density: impl Fn(f64) -> f64) -> SampledWavelengths {
         let mut lambda = [0.0f32; LANES];
         let mut pdf = [0.0f32; LANES];
-        let emission = !self.spds.is_empty() && u_comp >= 0.5;
-        let spd = if emission {
-            let k = self
-                .cdf
-                .partition_point(|&c| c <= u_spd)
-                .min(self.spds.len() - 1);
-            Some(&self.spds[k].0)
-        } else {
-            None
-        };
         for i in 0..LANES {
             let ui = rotated(u, i, LANES);
             let (l, on_line) = match spd {
@@ -182,10 +145,39 @@ impl WavelengthMixture {
             pdf[i] = if on_line {
                 0.0
             } else {
-                self.pdf(l as f64) as f32
+                density(l as f64) as f32
             };
         }
         SampledWavelengths { lambda, pdf }
+    }
+
+    /// Wavelengths from the emission component alone (path tracing's light-SPD sampling):
+    /// `u_spd` picks a light SPD by power, lane `i` is its inverse CDF at `frac(u + i/LANES)`
+    /// and carries [`emission_pdf`](Self::emission_pdf), its marginal density; lanes on a delta
+    /// line get pdf 0. `None` without evaluable lights.
+    pub fn sample_emission(&self, u_spd: f64, u: f64) -> Option<SampledWavelengths> {
+        if self.spds.is_empty() {
+            return None;
+        }
+        let spd = self.pick_spd(u_spd);
+        Some(Self::lanes(u, Some(spd), |l| self.emission_pdf(l)))
+    }
+
+    /// Draw the pair's wavelengths: three uniforms from `rng` (component, SPD, hero).
+    pub fn sample(&self, rng: &mut SampleRng) -> SampledWavelengths {
+        let u_comp = rng.next_1d();
+        let u_spd = rng.next_1d() as f64;
+        let u = rng.next_1d() as f64;
+        self.sample_with(u_comp, u_spd, u)
+    }
+
+    /// [`sample`](Self::sample) from given uniforms: `u_comp` picks the component, `u_spd` the
+    /// light SPD, `u` the hero (for callers with stratified samples). Every lane carries the
+    /// mixture density [`pdf`](Self::pdf).
+    pub fn sample_with(&self, u_comp: f32, u_spd: f64, u: f64) -> SampledWavelengths {
+        let emission = !self.spds.is_empty() && u_comp >= 0.5;
+        let spd = emission.then(|| self.pick_spd(u_spd));
+        Self::lanes(u, spd, |l| self.pdf(l))
     }
 }
 

@@ -109,11 +109,6 @@ impl PathWavelengths {
         &self.groups[..self.count]
     }
 
-    /// True once only the hero lane is left.
-    pub fn hero_only(&self) -> bool {
-        self.hero_only
-    }
-
     /// Keep only the hero wavelength, as a wavelength-dependent event demands: every other lane
     /// of every group gets pdf 0 and the hero's pdf is divided by the 4G lanes the film averages
     /// over (see the module docs), so the sample stays unbiased. Idempotent.
