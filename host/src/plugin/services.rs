@@ -36,10 +36,7 @@ impl<'r> HostServices<'r> {
     /// Resolve a spec to an SPD behind the ABI.
     pub fn resolve_spd(&self, spec: &str) -> Result<SpdBox, PluginError> {
         let spec = spec.trim();
-        let (name, params) = match spec.find('(') {
-            Some(i) if spec.ends_with(')') => (spec[..i].trim(), &spec[i..]),
-            _ => (spec, "()"),
-        };
+        let (name, params) = crate::spectrum::spec::split_type_spec(spec);
         if let Ok(Some(_)) = self.registry.plugin_for(ObjectKind::Spd, name) {
             return self
                 .registry

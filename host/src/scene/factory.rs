@@ -77,11 +77,7 @@ impl SpdFactories {
         if self.0.is_empty() {
             return None;
         }
-        let spec = spec.trim();
-        let (name, params) = match spec.find('(') {
-            Some(i) if spec.ends_with(')') => (spec[..i].trim(), &spec[i..]),
-            _ => (spec, "()"),
-        };
+        let (name, params) = crate::spectrum::spec::split_type_spec(spec);
         let params: Value = ron::from_str(params).ok()?;
         self.build(name, &params, ctx)
     }

@@ -89,6 +89,17 @@ fn csv_spd(
     TabulatedSpd::new(path, &table.wavelengths, &values, interp).map(BuiltinSpd::Tabulated)
 }
 
+/// Split an SPD-type spec `name(param: value, …)` into the type name and its RON parameter
+/// text; a bare `name` gets `()` (defaults). This is the syntax plugins use to name another
+/// plugin's SPD type through host services, and scenes use for the same in spec strings.
+pub fn split_type_spec(spec: &str) -> (&str, &str) {
+    let spec = spec.trim();
+    match spec.find('(') {
+        Some(i) if spec.ends_with(')') => (spec[..i].trim(), &spec[i..]),
+        _ => (spec, "()"),
+    }
+}
+
 /// Parse one emission spec (see the module docs) into a normalized SPD.
 pub fn parse_spd_spec(spec: &str) -> Result<BuiltinSpd, SpectrumError> {
     parse_spd_spec_with(spec, Interpolation::Linear)
