@@ -173,11 +173,7 @@ fn write_outputs(
     let mut written = vec![write_file(&out.join("accuracy.csv"), &to_csv(points))?];
     let rmse: fn(&AccuracyPoint) -> f64 = |p| p.rmse;
     let de: fn(&AccuracyPoint) -> f64 = |p| p.delta_e_mean;
-    let scene_name = args
-        .scene
-        .as_ref()
-        .map(|p| p.display().to_string())
-        .unwrap_or_else(|| "Cornell box".into());
+    let scene_name = SceneSource::from_path(args.scene.clone()).describe();
     for (metric, file, ylabel) in [
         (
             rmse,
