@@ -13,6 +13,7 @@ pub mod geometry;
 pub mod integrator;
 pub mod light;
 pub mod material;
+pub mod photometry;
 pub mod plugin;
 pub mod scene;
 pub mod spectrum;
