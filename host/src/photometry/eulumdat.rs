@@ -110,6 +110,14 @@ pub fn parse_eulumdat(bytes: &[u8], path: &Path) -> Result<Luminaire, Photometry
         ));
     }
     let (isym, isym_line) = r.integer("Isym")?;
+    if !(0..=4).contains(&isym) {
+        return Err(PhotometryError::at(
+            path,
+            isym_line,
+            "Isym",
+            format!("{isym}; expected 0 to 4"),
+        ));
+    }
     let (mc, mc_line) = r.integer("Mc (number of C-planes)")?;
     let _dc = r.number("Dc (C-plane step)")?;
     let (ng, ng_line) = r.integer("Ng (intensities per C-plane)")?;

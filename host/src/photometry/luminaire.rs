@@ -236,17 +236,17 @@ impl Luminaire {
         match self.photometric_type {
             PhotometricType::C => {
                 let gamma = (-y).clamp(-1.0, 1.0).acos().to_degrees();
-                let c = (-z).atan2(x).to_degrees().rem_euclid(360.0);
+                let c = atan2_deg(-z, x).rem_euclid(360.0);
                 (c, gamma)
             }
             PhotometricType::B => {
                 let h = x.clamp(-1.0, 1.0).asin().to_degrees();
-                let v = (-z).atan2(-y).to_degrees();
+                let v = atan2_deg(-z, -y);
                 (h, v)
             }
             PhotometricType::A => {
                 let v = (-z).clamp(-1.0, 1.0).asin().to_degrees();
-                let h = x.atan2(-y).to_degrees();
+                let h = atan2_deg(x, -y);
                 (h, v)
             }
         }
@@ -416,6 +416,11 @@ impl Luminaire {
     pub fn max_cd(&self) -> f64 {
         self.candela.iter().copied().fold(0.0, f64::max)
     }
+}
+
+/// atan2 in degrees with −0 read as +0, so that a pole (both arguments zero) gives 0, not ±180.
+fn atan2_deg(y: f64, x: f64) -> f64 {
+    (y + 0.0).atan2(x + 0.0).to_degrees()
 }
 
 /// The segment of ascending `xs` holding `x`: index `i` and fraction `t` in [0, 1) of the way

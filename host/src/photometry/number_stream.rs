@@ -34,7 +34,12 @@ impl<'a> NumberStream<'a> {
                 }
             }
         }
-        let last_line = first_line + lines.len().saturating_sub(1);
+        // "The file ends" errors point at the last line that holds anything.
+        let last_line = tokens
+            .last()
+            .map_or(first_line + lines.len().saturating_sub(1), |t: &Token| {
+                t.line
+            });
         Self {
             file,
             tokens,
