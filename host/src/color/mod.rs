@@ -1,6 +1,9 @@
 //! Colour science: observers (x̄ȳz̄), XYZ integration, RGB spaces, the sRGB transfer function
 //! and RGB → reflectance-spectrum uplift.
 
+pub mod cct;
+pub mod cri;
+pub mod daylight;
 pub mod matrix3;
 pub mod observer;
 pub mod resampled_observer;
