@@ -401,7 +401,7 @@ fn color_command_light_figures() {
     };
     let r = spectrace::cli::color::compute(&args).unwrap();
     let l = r.light.unwrap();
-    assert!(l.cct_duv.is_some() && l.cri.is_some());
+    assert!(l.cct_duv.is_some() && l.cri.is_some() && l.tm30.is_some());
     let line = spectrace::cli::color::ColorArgs {
         spd: "line:520".into(),
         ..args
@@ -412,4 +412,38 @@ fn color_command_light_figures() {
         spectrace::cli::main_with_args(["spectrace", "color", "d65", "--json"]),
         0
     );
+}
+
+// ANSI/IES TM-30-18 Rf and Rg of the CIE illuminants and the measured lamps against
+// colour-science's `colour_fidelity_index(method="ANSI/IES TM-30-18")` (table above), within
+// 0.1 in both: same CES data (CIE 224 1 nm table), same CAM02-UCS and reference mixing; the
+// residue is colour-science's rounding of the daylight M1, M2 to 3 decimals, which this code
+// does not do. A and D65 are their own references: Rf = Rg = 100 within 0.01.
+#[test]
+fn tm30_matches_colour_science() {
+    use spectrace::color::tm30::tm30;
+    for row in COLOUR_SCIENCE {
+        let t = tm30(&parse_spd_spec(&spec(row.0)).unwrap()).unwrap();
+        assert!(
+            (t.rf - row.5).abs() < 0.1,
+            "{}: Rf {} vs {}",
+            row.0,
+            t.rf,
+            row.5
+        );
+        assert!(
+            (t.rg - row.6).abs() < 0.1,
+            "{}: Rg {} vs {}",
+            row.0,
+            t.rg,
+            row.6
+        );
+    }
+    for name in ["a", "d65"] {
+        let t = tm30(&parse_spd_spec(name).unwrap()).unwrap();
+        assert!(
+            (t.rf - 100.0).abs() < 0.01 && (t.rg - 100.0).abs() < 0.01,
+            "{name}: {t:?}"
+        );
+    }
 }

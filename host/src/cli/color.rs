@@ -26,7 +26,7 @@ pub struct ColorArgs {
     #[arg(long)]
     pub illuminant: Option<String>,
     /// Print one JSON object with the keys X, Y, Z, x, y, srgb_linear; for an emitter also
-    /// cct_k, duv, cri_ra and cri_r (R1–R14).
+    /// cct_k, duv, cri_ra, cri_r (R1–R14), tm30_rf and tm30_rg.
     #[arg(long)]
     pub json: bool,
 }
@@ -58,6 +58,8 @@ pub struct LightFigures {
     pub cct_duv: Option<(f64, f64)>,
     /// CIE 13.3 colour rendering (Ra, R1–R14); `None` without a CCT.
     pub cri: Option<crate::color::cri::ColorRendering>,
+    /// ANSI/IES TM-30 Rf and Rg; `None` without a CCT in 1000–25000 K.
+    pub tm30: Option<crate::color::tm30::Tm30>,
 }
 
 /// Compute the colour described by `args`; errors name the bad spec or file.
@@ -84,6 +86,7 @@ pub fn compute(args: &ColorArgs) -> Result<ColorReport, String> {
             light = Some(LightFigures {
                 cct_duv: cct_duv(u, v),
                 cri: color_rendering(&spd),
+                tm30: crate::color::tm30::tm30(&spd),
             });
             (xyz, SRGB.xyz_to_rgb_matrix())
         }
@@ -128,6 +131,8 @@ pub fn run(args: &ColorArgs) -> Result<(), String> {
             obj["duv"] = serde_json::json!(l.cct_duv.map(|c| c.1));
             obj["cri_ra"] = serde_json::json!(l.cri.map(|c| c.ra));
             obj["cri_r"] = serde_json::json!(l.cri.map(|c| c.r));
+            obj["tm30_rf"] = serde_json::json!(l.tm30.map(|t| t.rf));
+            obj["tm30_rg"] = serde_json::json!(l.tm30.map(|t| t.rg));
         }
         println!("{obj}");
     } else {
@@ -150,6 +155,12 @@ pub fn run(args: &ColorArgs) -> Result<(), String> {
                 println!("CRI Ra      {:.1}  (CIE 13.3)", c.ra);
                 let rs: Vec<String> = c.r.iter().map(|v| format!("{v:.1}")).collect();
                 println!("R1–R14      {}", rs.join(" "));
+            }
+            if let Some(t) = &l.tm30 {
+                println!(
+                    "TM-30       Rf {:.1} Rg {:.1}  (ANSI/IES TM-30-18)",
+                    t.rf, t.rg
+                );
             }
         }
     }

@@ -218,7 +218,7 @@ impl Luminaire {
             }
         }
         match segment(&self.h_deg, h) {
-            Some((ih, th)) if th == 0.0 => row(ih),
+            Some((ih, 0.0)) => row(ih),
             Some((ih, th)) => row(ih) + (row(ih + 1) - row(ih)) * th,
             None => 0.0,
         }
