@@ -7,21 +7,82 @@
 //! | `FILE` | an `.ies` or `.ldt` file |
 //! | `--at H,V` | file angles in degrees (type C: C-plane, γ from the nadir), repeatable |
 //! | `--json` | one JSON object; keys include `flux_lm` and `samples: [{h, v, cd}]` |
+//!
+//! `spectrace luminaire export FILE --format ies|ldt -o OUT` writes the luminaire as IES
+//! LM-63-2019 or EULUMDAT; reading OUT gives the same candela table.
 
+use crate::photometry::eulumdat_writer::write_eulumdat;
+use crate::photometry::ies_writer::write_ies_2019;
 use crate::photometry::{load_luminaire, Luminaire, PhotometricType};
 use std::path::PathBuf;
 
 /// Arguments of `spectrace luminaire`.
 #[derive(clap::Args, Debug)]
+#[command(args_conflicts_with_subcommands = true)]
 pub struct LuminaireArgs {
+    /// `export`: write the luminaire as IES LM-63-2019 or EULUMDAT.
+    #[command(subcommand)]
+    pub command: Option<LuminaireCommand>,
     /// An IES LM-63 (.ies) or EULUMDAT (.ldt) file.
-    pub file: PathBuf,
+    pub file: Option<PathBuf>,
     /// Angles `H,V` in degrees (type C: C-plane and gamma from the nadir) to print candela at.
     #[arg(long = "at", value_parser = parse_angles, value_name = "H,V")]
     pub at: Vec<(f64, f64)>,
     /// Print one JSON object (keys include flux_lm and samples: [{h, v, cd}]).
     #[arg(long)]
     pub json: bool,
+}
+
+/// Subcommands of `spectrace luminaire`.
+#[derive(clap::Subcommand, Debug)]
+pub enum LuminaireCommand {
+    /// Write a luminaire file as IES LM-63-2019 or EULUMDAT.
+    Export(ExportArgs),
+}
+
+/// Output formats of `spectrace luminaire export`.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ExportFormat {
+    /// IES LM-63-2019.
+    Ies,
+    /// EULUMDAT.
+    Ldt,
+}
+
+/// Arguments of `spectrace luminaire export`.
+#[derive(clap::Args, Debug)]
+pub struct ExportArgs {
+    /// The luminaire to read (.ies or .ldt).
+    pub file: PathBuf,
+    /// Output format.
+    #[arg(long, value_enum)]
+    pub format: ExportFormat,
+    /// Output file.
+    #[arg(short, long)]
+    pub output: PathBuf,
+}
+
+/// Run `spectrace luminaire export`.
+pub fn export(args: &ExportArgs) -> Result<(), String> {
+    let lum = load_luminaire(&args.file).map_err(|e| e.to_string())?;
+    let source = args.file.file_name().map_or_else(
+        || args.file.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    );
+    let text = match args.format {
+        ExportFormat::Ies => write_ies_2019(&lum, &source),
+        ExportFormat::Ldt => write_eulumdat(&lum, &source)
+            .map_err(|e| format!("{}: cannot write EULUMDAT: {e}", args.file.display()))?,
+    };
+    std::fs::write(&args.output, text)
+        .map_err(|e| format!("cannot write {}: {e}", args.output.display()))?;
+    if lum.tilt.is_some() && args.format == ExportFormat::Ldt {
+        eprintln!(
+            "warning: {}: EULUMDAT has no lamp tilt table; the tilt data was not written",
+            args.file.display()
+        );
+    }
+    Ok(())
 }
 
 fn parse_angles(s: &str) -> Result<(f64, f64), String> {
@@ -99,8 +160,14 @@ fn range(xs: &[f64]) -> String {
 
 /// Run `spectrace luminaire`.
 pub fn run(args: &LuminaireArgs) -> Result<(), String> {
-    let lum = load_luminaire(&args.file).map_err(|e| e.to_string())?;
-    let file = args.file.display().to_string();
+    if let Some(LuminaireCommand::Export(e)) = &args.command {
+        return export(e);
+    }
+    let Some(path) = &args.file else {
+        return Err("luminaire: give a file (.ies or .ldt), or `luminaire export`".into());
+    };
+    let lum = load_luminaire(path).map_err(|e| e.to_string())?;
+    let file = path.display().to_string();
     if args.json {
         println!("{}", report_json(&lum, &file, &args.at));
         return Ok(());

@@ -1,11 +1,13 @@
 //! Measured luminaires: IES LM-63 and EULUMDAT readers, the format-independent [`Luminaire`]
 //! model (candela table, symmetry, lamps, multipliers, flux) and a [`DirectionSampler`] that
-//! importance-samples its emission directions.
+//! importance-samples its emission directions; writers for IES LM-63-2019 and EULUMDAT.
 
 pub mod direction_sampler;
 pub mod error;
 pub mod eulumdat;
+pub mod eulumdat_writer;
 pub mod ies;
+pub mod ies_writer;
 pub mod luminaire;
 mod number_stream;
 
