@@ -168,12 +168,25 @@ pub fn run(args: &LuminaireArgs) -> Result<(), String> {
     };
     let lum = load_luminaire(path).map_err(|e| e.to_string())?;
     let file = path.display().to_string();
+    for w in &lum.warnings {
+        eprintln!("warning: {file}: {w}");
+    }
+    let flux = lum.flux_lm();
+    if !(flux > 0.0) {
+        eprintln!("warning: {file}: every candela value is 0: this luminaire emits nothing");
+    }
+    if let Some(rated) = lum.rated_lamp_lumens {
+        if flux > 1.05 * rated {
+            eprintln!(
+                "warning: {file}: the table integrates to {:.0} % of the rated lamp flux; a \
+                 luminaire gives at most its lamps' flux (wrong multiplier or lumens?)",
+                100.0 * flux / rated
+            );
+        }
+    }
     if args.json {
         println!("{}", report_json(&lum, &file, &args.at));
         return Ok(());
-    }
-    for w in &lum.warnings {
-        eprintln!("warning: {file}: {w}");
     }
     println!("file              {file}");
     println!("format            {}", lum.format.name());
@@ -213,7 +226,6 @@ pub fn run(args: &LuminaireArgs) -> Result<(), String> {
             t.source
         );
     }
-    let flux = lum.flux_lm();
     println!("flux              {flux:.2} lm (trapezoid over the sphere)");
     if let Some(rated) = lum.rated_lamp_lumens {
         println!(
