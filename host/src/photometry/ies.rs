@@ -70,7 +70,7 @@ pub fn parse_ies(bytes: &[u8], path: &Path) -> Result<Luminaire, PhotometryError
     let mut tilt_line = None;
     for (i, line) in lines.iter().enumerate().skip(header_start) {
         let t = line.trim();
-        if t.len() >= 5 && t[..5].eq_ignore_ascii_case("TILT=") {
+        if t.get(..5).is_some_and(|p| p.eq_ignore_ascii_case("TILT=")) {
             tilt_line = Some(i);
             break;
         }
@@ -140,6 +140,7 @@ pub fn parse_ies(bytes: &[u8], path: &Path) -> Result<Luminaire, PhotometryError
     };
 
     // The 10 + 3 header numbers.
+    let lamps_line = nums.line_of_next();
     let n_lamps = nums.integer("number of lamps")?;
     let lumens_line = nums.line_of_next();
     let lumens_per_lamp = nums.number("lumens per lamp")?;
@@ -192,7 +193,7 @@ pub fn parse_ies(bytes: &[u8], path: &Path) -> Result<Luminaire, PhotometryError
     if n_lamps < 1 {
         return Err(PhotometryError::at(
             path,
-            lumens_line,
+            lamps_line,
             "number of lamps",
             format!("{n_lamps}; at least 1 expected"),
         ));
@@ -315,7 +316,7 @@ pub fn parse_ies(bytes: &[u8], path: &Path) -> Result<Luminaire, PhotometryError
     let junk: Vec<&str> = trailing
         .iter()
         .copied()
-        .filter(|t| !t.eq_ignore_ascii_case("END") && *t != "\u{1a}")
+        .filter(|t| !t.eq_ignore_ascii_case("END"))
         .collect();
     if !junk.is_empty() {
         warnings.push(format!(

@@ -25,7 +25,8 @@ impl<'a> NumberStream<'a> {
     pub fn new(file: &'a Path, lines: &[&str], first_line: usize) -> Self {
         let mut tokens = Vec::new();
         for (i, line) in lines.iter().enumerate() {
-            for t in line.split(|c: char| c.is_whitespace() || c == ',') {
+            // 0x1A is the DOS end-of-file byte some files end with.
+            for t in line.split(|c: char| c.is_whitespace() || c == ',' || c == '\u{1a}') {
                 if !t.is_empty() {
                     tokens.push(Token {
                         text: t.to_string(),
