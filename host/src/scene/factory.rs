@@ -7,7 +7,9 @@
 use super::params::{as_f64, as_f64_list, kind_of, ParamError, Params};
 use super::representation::{reflectance_fn, RepresentationOptions};
 use crate::color::uplift_srgb;
-use crate::light::{DirectionalLight, Light, PointLight, SpotLight};
+use crate::light::{
+    ConstantEnvironment, DirectionalLight, EnvironmentLight, Light, PointLight, SpotLight,
+};
 use crate::material::metals::ComplexIorTable;
 use crate::material::{
     ConstantTexture, CurveTexture, Emissive, Lambertian, Material, Mirror, RoughConductor,
@@ -183,7 +185,8 @@ pub trait ObjectFactory: Send + Sync {
 /// tables, `roughness` or `alpha`), `emissive` (`radiance`, `scale`, `two_sided`).
 /// Lights: `point` (`position`, `power` W, `spd`), `spot` (`position`, `target`, `inner_angle`,
 /// `outer_angle` half-angles in degrees, `power` W, `spd`), `directional` (`direction`,
-/// `irradiance` W/m², `spd`). SPD types: `spec` (`spec` string), `table` (`values` pairs).
+/// `irradiance` W/m², `spd`), `environment` (`scale` W/(m²·sr), `radiance` SPD, default `"e"`).
+/// SPD types: `spec` (`spec` string), `table` (`values` pairs).
 ///
 /// Spectral values (`reflectance`): a number, a spec string (curve name, `colorchecker:N`, CSV
 /// path), a list of `(nm, value)` pairs, or `(rgb: (r, g, b))` uplifted from linear sRGB.
@@ -418,7 +421,7 @@ impl ObjectFactory for BuiltinFactory {
             "conductor",
             "emissive",
         ];
-        let l = ["point", "spot", "directional"];
+        let l = ["point", "spot", "directional", "environment"];
         let s = ["spec", "table"];
         m.iter()
             .map(|t| ("material", t.to_string()))
@@ -576,6 +579,26 @@ impl ObjectFactory for BuiltinFactory {
                     DirectionalLight::new(p.vec3("direction")?, spd(&p)?, positive("irradiance")?)
                         .map_err(|e| param_err("direction", e))?;
                 Ok(Arc::new(d))
+            }
+            "environment" => {
+                p.expect_only(&["radiance", "scale"])?;
+                // As for `emissive`: a table is absolute spectral radiance (× optional
+                // `scale`); a named SPD is normalised and `scale` is the integrated radiance.
+                let (spd, raw) = match p.get("radiance") {
+                    Some(v) => spd_param(self, v, "radiance", ctx)?,
+                    None => (
+                        Arc::new(parse_spd_spec("e").map_err(|e| param_err("radiance", e))?)
+                            as Arc<dyn Spd>,
+                        None,
+                    ),
+                };
+                let scale = match raw {
+                    Some(integral) => integral as f32 * p.f32_or("scale", 1.0)?,
+                    None => positive("scale")?,
+                };
+                let source =
+                    ConstantEnvironment::new(spd, scale).map_err(|e| param_err("scale", e))?;
+                Ok(Arc::new(EnvironmentLight::new(Arc::new(source))))
             }
             _ => Err(FactoryError::UnknownType {
                 kind: "light",
