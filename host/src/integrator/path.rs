@@ -287,7 +287,8 @@ impl PathTracer {
             let flags = material.flags();
             let frame = Frame::from_normal(hit.shading_normal);
             let wo = frame.to_local(-ray.dir.normalize());
-            let sctx = ShadingContext::at(hit.point, hit.geometric_normal, hit.shading_normal, hit.uv);
+            let sctx =
+                ShadingContext::at(hit.point, hit.geometric_normal, hit.shading_normal, hit.uv);
             // Groups still carrying wavelengths (all but the hero end at a dispersive event).
             let active = lambdas.active_groups();
 

@@ -22,8 +22,8 @@
 //! Power for light selection: `π R² · 4π · L̄`, the flux through the scene's bounding disc (as
 //! pbrt does), `L̄` the direction-averaged radiance integrated over wavelength.
 
-use super::{sample_uniform_sphere, Light, LightFlags, LightLeSample, LightLiSample};
 use super::LightSampleContext;
+use super::{sample_uniform_sphere, Light, LightFlags, LightLeSample, LightLiSample};
 use crate::geometry::{Aabb, Ray};
 use crate::material::dense::DenseSpectrum;
 use crate::material::{sample_cosine_hemisphere, Frame};

@@ -9,15 +9,14 @@
 //! was rendered, with the plugin's message.
 
 use crate::color::Observer;
-use crate::geometry::Ray;
 use crate::geometry::Aabb;
+use crate::geometry::Ray;
 use crate::light::{
     EnvironmentLight, EnvironmentRadiance, Light, LightFlags, LightLeSample, LightLiSample,
     LightSampleContext,
 };
 use crate::material::{
-    BsdfSample, EmissionProfile, Material, MaterialFlags, ShadingContext,
-    TransportMode as HostMode,
+    BsdfSample, EmissionProfile, Material, MaterialFlags, ShadingContext, TransportMode as HostMode,
 };
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spd, SpdSample, LANES};
 use glam::{Vec2, Vec3A};
@@ -302,17 +301,21 @@ impl PluginMaterial {
         let side = |z: f64| -> Vec<f64> {
             let mut out = Vec::with_capacity(nm.len());
             for chunk in nm.chunks(LANES) {
-                let mut w = Wavelengths { nm: [chunk[0]; LANES] };
+                let mut w = Wavelengths {
+                    nm: [chunk[0]; LANES],
+                };
                 w.nm[..chunk.len()].copy_from_slice(chunk);
                 let v = origin.or(
                     material.emitted(&ctx, Vec3::new(0.0, 0.0, z), &w),
                     SpectralValues::ZERO,
                 );
-                out.extend(
-                    v.v[..chunk.len()]
-                        .iter()
-                        .map(|x| if x.is_finite() { x.max(0.0) } else { 0.0 }),
-                );
+                out.extend(v.v[..chunk.len()].iter().map(|x| {
+                    if x.is_finite() {
+                        x.max(0.0)
+                    } else {
+                        0.0
+                    }
+                }));
             }
             out
         };
@@ -503,7 +506,9 @@ impl PluginEnvironment {
             let phi = k as f64 * std::f64::consts::PI * (3.0 - 5f64.sqrt());
             let d = Vec3::new(r * phi.cos(), r * phi.sin(), z);
             for chunk in nm.chunks(LANES) {
-                let mut w = Wavelengths { nm: [chunk[0]; LANES] };
+                let mut w = Wavelengths {
+                    nm: [chunk[0]; LANES],
+                };
                 w.nm[..chunk.len()].copy_from_slice(chunk);
                 let v = origin.or(light.radiance(d, &w), SpectralValues::ZERO);
                 for (i, &l) in chunk.iter().enumerate() {
