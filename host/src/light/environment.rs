@@ -260,7 +260,10 @@ mod tests {
         let (c, r) = l.sphere();
         for k in 0..200 {
             let u1 = Vec2::new((k as f32 * 0.618).fract(), (k as f32 * 0.414 + 0.1).fract());
-            let u2 = Vec2::new((k as f32 * 0.732).fract(), (k as f32 * 0.236 + 0.3).fract());
+            let u2 = Vec2::new(
+                (k as f32 * 0.732 + 0.05).fract(),
+                (k as f32 * 0.236 + 0.3).fract(),
+            );
             let s = l.sample_le(u1, u2, &lambda).unwrap();
             assert!(((s.ray.origin - c).length() / r - 1.0).abs() < 1e-4);
             assert!(s.normal.dot(s.ray.dir) > 0.0);
