@@ -1,12 +1,8 @@
-//! `environment`: light arriving from outside the scene in every direction (a sky), seen by every
-//! ray that leaves the scene.
-//!
-//! | parameter  | unit      | default | meaning                                                 |
-//! |------------|-----------|---------|---------------------------------------------------------|
-//! | `radiance` | SPD       | `"e"`   | named SPD (normalised), or a table of spectral radiance |
-//! | `scale`    | W/(m²·sr) | 1 with a table | integrated radiance (named SPD); factor (table)  |
-//!
-//! Radiance `scale · S(λ)` W/(m²·sr·nm) from every direction.
+//! Environment lights: light arriving from outside the scene in every direction (a sky), seen by
+//! every ray that leaves the scene. The built-in scene type `environment` (parameters in
+//! `builtin/light/environment.rs`) is a [`ConstantEnvironment`], radiance `scale · S(λ)`
+//! W/(m²·sr·nm) from every direction; plugin lights with the ENVIRONMENT capability give their
+//! own radiance through the same [`EnvironmentRadiance`] trait.
 //!
 //! # How integrators see it
 //! An environment is modelled as a sphere around the scene and every camera (centre and radius
