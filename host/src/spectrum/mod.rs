@@ -4,6 +4,7 @@
 //! to 1 and is both evaluated and sampled. Non-normalized spectral data (reflectance, IOR) are
 //! [`SpectralCurve`]s. Both read the same CSV format ([`csv_table`]).
 
+pub mod bandwidth;
 pub mod blackbody;
 pub mod builtin_spd;
 pub mod bundled;
