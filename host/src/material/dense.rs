@@ -88,7 +88,14 @@ impl DenseSpectrum {
             }
             let x = s.lambda - DENSE_START as f64;
             if x >= 0.0 && x < (N - 1) as f64 {
-                dense.exact[x as usize] = true;
+                // Flag only where the interpolation misses (same test as at the midpoints), so
+                // smooth SPDs keep their interpolated cells and their images do not change.
+                let l = s.lambda as f32;
+                let exact = (dense.outside)(l);
+                let lerp = dense.value(l);
+                if (exact - lerp).abs() > 2e-4 * exact.abs().max(lerp.abs()) + 1e-30 {
+                    dense.exact[x as usize] = true;
+                }
             }
         }
         dense.lines = lines;
