@@ -1,6 +1,7 @@
 //! Colour science: observers (x̄ȳz̄), XYZ integration, RGB spaces, the sRGB transfer function
 //! and RGB → reflectance-spectrum uplift.
 
+pub mod fluorescent_xyz;
 pub mod matrix3;
 pub mod observer;
 pub mod resampled_observer;
