@@ -5,6 +5,7 @@
 //! Both are unit vectors. BSDF values are in 1/sr, pdfs in 1/sr (solid angle), emitted radiance
 //! in W/(m²·sr·nm).
 
+pub mod complex;
 pub mod conductor;
 pub mod dense;
 pub mod dielectric;
@@ -19,6 +20,7 @@ pub mod microfacet;
 pub mod mirror;
 pub mod rough_dielectric;
 pub mod texture;
+pub mod thin_film;
 
 pub use conductor::RoughConductor;
 pub use dielectric::SmoothDielectric;
