@@ -11,6 +11,7 @@ pub mod dense;
 pub mod dielectric;
 pub mod emissive;
 pub mod flags;
+pub mod fluorescent;
 pub mod frame;
 pub mod fresnel;
 pub mod ior;
