@@ -8,6 +8,7 @@ pub mod analysis;
 pub mod camera;
 pub mod cli;
 pub mod color;
+pub mod effects;
 pub mod film;
 pub mod geometry;
 pub mod integrator;
