@@ -56,7 +56,7 @@ fn mean_xyz(scene: &Scene, kind: IntegratorKind) -> [f64; 3] {
 /// stimulus at 589 nm (x̄,ȳ,z̄ of the CIE 1931 observer) within 1e-4 (the image is one
 /// wavelength times a positive factor; only f32 accumulation separates them).
 #[test]
-#[ignore = "needs the integrator fix (delta-line lanes in WavelengthMixture, PT narrowband sampling)"]
+
 fn line_light_renders_in_all_integrators() {
     let scene = scene();
     let cmf = CieObserverKind::Cie1931_2.get().xyz_bar(589.0);
