@@ -6,7 +6,7 @@ use super::tiled::render_tiles;
 use super::wavelength_groups::{PathWavelengthSampler, PathWavelengths};
 use super::{PathStats, PathTracer, PixelSampler};
 use crate::camera::CameraSample;
-use crate::film::{Sensor, XyzImage};
+use crate::film::{FilmState, Sensor, XyzImage};
 use crate::scene::Scene;
 use glam::Vec2;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -19,6 +19,25 @@ pub enum SampleBudget {
     Spp(u32),
     /// Keep adding passes of samples until this much time has passed (the last pass finishes).
     Time(Duration),
+    /// Only the sample indices `start..end` of every pixel (light paths
+    /// `start·pixels..end·pixels` for light tracing): a slice of a larger render, or the rest of
+    /// an interrupted one. The image of such a part alone is its own `end − start` spp estimate.
+    Range {
+        /// First sample index.
+        start: u32,
+        /// One past the last.
+        end: u32,
+    },
+}
+
+impl SampleBudget {
+    /// The first sample index rendered (0 unless a [`Range`](Self::Range)).
+    pub fn first_sample(&self) -> u32 {
+        match *self {
+            Self::Range { start, .. } => start,
+            _ => 0,
+        }
+    }
 }
 
 /// What to render and how.
@@ -91,8 +110,10 @@ pub type ProgressFn<'a> = dyn Fn(u64, u64) + Sync + 'a;
 /// count. Empty for a time budget. Every driver indexes samples globally, so how a budget is
 /// split into passes does not change the image.
 pub fn fixed_budget_passes(budget: SampleBudget) -> Vec<u32> {
-    let SampleBudget::Spp(n) = budget else {
-        return Vec::new();
+    let n = match budget {
+        SampleBudget::Spp(n) => n,
+        SampleBudget::Range { start, end } => end.saturating_sub(start),
+        SampleBudget::Time(_) => return Vec::new(),
     };
     let mut passes = Vec::new();
     let mut left = n;
@@ -134,13 +155,24 @@ fn film_xyz(
 }
 
 /// Render `scene` with `settings`. `progress` may be called from several threads.
-/// `cancel`, when set, stops after the tiles in flight; the partial film is returned.
+/// `cancel`, when set, stops after the tiles in flight; the film of the whole passes done is
+/// returned.
 pub fn render(
     scene: &Scene,
     settings: &RenderSettings,
     progress: &ProgressFn<'_>,
     cancel: Option<&AtomicBool>,
 ) -> Result<RenderResult, RenderError> {
+    render_pt(scene, settings, progress, cancel).map(|(r, _)| r)
+}
+
+/// [`render`], also returning the exact film (for slices and checkpoints).
+pub fn render_pt(
+    scene: &Scene,
+    settings: &RenderSettings,
+    progress: &ProgressFn<'_>,
+    cancel: Option<&AtomicBool>,
+) -> Result<(RenderResult, FilmState), RenderError> {
     let cam = scene
         .cameras
         .get(settings.camera.as_deref())
@@ -159,7 +191,8 @@ pub fn render(
         settings,
         progress,
         cancel,
-        |buf, samples| {
+        false,
+        |buf, samples, _| {
             let mut stats = PathStats::default();
             for y in buf.y0..buf.y0 + buf.h {
                 for x in buf.x0..buf.x0 + buf.w {
@@ -185,12 +218,8 @@ pub fn render(
                             }
                             None => [0.0; 3],
                         };
-                        // A NaN/Inf sample would poison the pixel forever; drop it.
-                        if xyz.iter().all(|v| v.is_finite()) {
-                            buf.add(x, y, xyz);
-                        } else {
-                            buf.add(x, y, [0.0; 3]);
-                        }
+                        // The film's guard keeps NaN/Inf/negative samples out and counts them.
+                        buf.add(x, y, xyz, "pt camera path");
                     }
                 }
             }
@@ -198,13 +227,14 @@ pub fn render(
         },
     )?;
     let film = outcome.film;
-    let spp_done = outcome.spp;
-    let elapsed = outcome.elapsed;
-    Ok(RenderResult {
-        image: film.image(),
-        spp: spp_done,
-        samples: film.sample_count() as u64,
-        rays: rays.load(Ordering::Relaxed),
-        elapsed,
-    })
+    Ok((
+        RenderResult {
+            image: film.image(),
+            spp: outcome.spp,
+            samples: film.camera.sample_count(),
+            rays: rays.load(Ordering::Relaxed),
+            elapsed: outcome.elapsed,
+        },
+        film,
+    ))
 }

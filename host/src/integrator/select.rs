@@ -17,7 +17,7 @@
 //! Lanes that land on a delta spectral line are dropped (pdf 0): lights evaluate only the
 //! continuous part of their SPD.
 
-use super::{render, RenderError, RenderResult, RenderSettings, SampleRng};
+use super::{RenderError, RenderResult, RenderSettings, SampleRng};
 use crate::light::LightFlags;
 use crate::scene::Scene;
 use crate::spectrum::wavelength_sampling::{rotated, visible_pdf, visible_sample};
@@ -231,11 +231,14 @@ pub struct IntegratorOutput {
     /// BDPT only, when asked for: each strategy's weighted contribution, labelled `(s, t)`;
     /// the label `(u32::MAX, u32::MAX)` holds all longer paths together.
     pub strategy_images: Vec<((u32, u32), crate::film::XyzImage)>,
-    /// Contributions dropped because they were NaN or infinite.
+    /// Contributions refused by the film's guard (NaN, infinite or negative); details in
+    /// `film.rejected`.
     pub non_finite: u64,
     /// Per pixel (row-major), the largest luminance Y of one sample's contribution to that
     /// pixel's sum (before the 1/spp scaling), for firefly checks; empty for `pt`.
     pub max_sample_y: Vec<f64>,
+    /// The exact film the image was made from (whole passes only), for slices and checkpoints.
+    pub film: crate::film::FilmState,
 }
 
 /// Render `scene` with the integrator `kind`. `strategy_images` asks BDPT for one image per
@@ -249,12 +252,16 @@ pub fn render_with(
     cancel: Option<&std::sync::atomic::AtomicBool>,
 ) -> Result<IntegratorOutput, RenderError> {
     match kind {
-        IntegratorKind::Pt => Ok(IntegratorOutput {
-            result: render(scene, settings, progress, cancel)?,
-            strategy_images: Vec::new(),
-            non_finite: 0,
-            max_sample_y: Vec::new(),
-        }),
+        IntegratorKind::Pt => {
+            let (result, film) = super::render::render_pt(scene, settings, progress, cancel)?;
+            Ok(IntegratorOutput {
+                result,
+                strategy_images: Vec::new(),
+                non_finite: film.rejected.total(),
+                max_sample_y: Vec::new(),
+                film,
+            })
+        }
         IntegratorKind::Bdpt => {
             super::bdpt::render_bdpt(scene, settings, strategy_images, progress, cancel)
         }
