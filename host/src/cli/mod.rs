@@ -5,6 +5,7 @@ pub mod blob;
 pub mod color;
 pub mod compare;
 pub mod interrupt;
+pub mod merge;
 pub mod plugin_args;
 pub mod plugins;
 pub mod reference;
@@ -37,6 +38,8 @@ pub enum Command {
     Color(color::ColorArgs),
     /// Render a scene (default: the measured spectral Cornell box) to OpenEXR and PNG.
     Render(render::RenderArgs),
+    /// Merge the state files of a render's slices (`render --slice K/M`) into its image.
+    Merge(merge::MergeArgs),
     /// Error of a render against a reference: RMSE, relative MSE, CIEDE2000, difference image.
     Compare(compare::CompareArgs),
     /// Long progressive reference render that can be stopped (Ctrl-C, --time) and resumed.
@@ -71,6 +74,7 @@ where
         Some(Command::Blob(cmd)) => blob::run(&cmd, verbose),
         Some(Command::Color(args)) => color::run(&args),
         Some(Command::Render(args)) => render::run(&args),
+        Some(Command::Merge(args)) => merge::run(&args),
         Some(Command::Compare(args)) => compare::run(&args),
         Some(Command::Reference(args)) => reference::run(&args),
         Some(Command::Bench(cmd)) => bench::run(&cmd),

@@ -104,6 +104,10 @@ pub struct RenderState {
     pub slice: SliceSpec,
     /// Sample indices done: `slice.range(spp_total).start .. done_until`.
     pub done_until: u32,
+    /// The scene's output RGB space by name (`srgb`, …), for the merged EXR.
+    pub rgb_space: String,
+    /// The scene's PNG exposure, for the merged PNG.
+    pub png_exposure: f64,
     /// The accumulated film of those samples.
     pub film: FilmState,
 }
@@ -324,6 +328,8 @@ impl RenderState {
             spp_total: first.spp_total,
             slice: SliceSpec::WHOLE,
             done_until: first.spp_total,
+            rgb_space: first.rgb_space.clone(),
+            png_exposure: first.png_exposure,
             film,
         })
     }
@@ -401,6 +407,8 @@ mod tests {
             spp_total: 3,
             slice: SliceSpec::WHOLE,
             done_until: 3,
+            rgb_space: "srgb".into(),
+            png_exposure: 1.0,
             film,
         };
         let p = Path::new("part.state");
