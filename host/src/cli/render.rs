@@ -93,6 +93,10 @@ pub struct RenderArgs {
     /// chunks) are done.
     #[arg(long = "stop-after-units", hide = true)]
     pub stop_after_units: Option<u64>,
+    /// Testing hook: once this many progress units are done, print `waiting for a signal` to
+    /// stderr and wait (at most 60 s) for Ctrl-C or SIGTERM, so a test can signal mid-render.
+    #[arg(long = "wait-for-signal-after-units", hide = true)]
+    pub wait_for_signal_after_units: Option<u64>,
 }
 
 /// `spectrace render` arguments wrapped for re-parsing a stored command line.
@@ -342,9 +346,21 @@ pub fn run_with_factories(
     // Ctrl-C/SIGTERM (or the testing hook) stop the render through one flag.
     let interrupt = super::interrupt::interrupt_flag();
     let stop = std::sync::atomic::AtomicBool::new(false);
+    let waited = std::sync::atomic::AtomicBool::new(false);
     let progress = |done: u64, total: u64| {
         bar.set_length(total);
         bar.set_position(done);
+        if args.wait_for_signal_after_units.is_some_and(|k| done >= k)
+            && !waited.swap(true, std::sync::atomic::Ordering::SeqCst)
+        {
+            eprintln!("waiting for a signal");
+            let t = std::time::Instant::now();
+            while !interrupt.load(std::sync::atomic::Ordering::SeqCst)
+                && t.elapsed() < Duration::from_secs(60)
+            {
+                std::thread::sleep(Duration::from_millis(5));
+            }
+        }
         if interrupt.load(std::sync::atomic::Ordering::Relaxed)
             || args.stop_after_units.is_some_and(|k| done >= k)
         {
@@ -619,6 +635,7 @@ fn resumed_args(
     stored.threads = args.threads;
     stored.quiet = args.quiet;
     stored.stop_after_units = args.stop_after_units;
+    stored.wait_for_signal_after_units = args.wait_for_signal_after_units;
     stored.state = Some(path.to_path_buf());
     if stored.seed != state.seed || stored.spp != Some(state.spp_total) {
         return Err(format!(
