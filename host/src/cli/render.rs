@@ -392,16 +392,29 @@ pub fn run_with_factories(
         .map_err(|e| e.to_string())?
         .camera
         .resolution();
-    let mut film = match &resume {
-        Some((_, st)) => st.film.clone(),
+    let mut new_spp = 0;
+    let this_run = match &mut output {
+        Some(o) => {
+            new_spp = o.result.spp;
+            std::mem::replace(&mut o.film, FilmState::new(0, 0, false))
+        }
         None => FilmState::new(w, h, false),
     };
-    let mut new_spp = 0;
-    if let Some(o) = &output {
-        film.merge(&o.film);
-        new_spp = o.result.spp;
-    }
-    if let Some(r) = &range {
+    let film = match resume {
+        Some((_, st)) => {
+            let mut f = st.film;
+            f.merge(&this_run);
+            f
+        }
+        None => this_run,
+    };
+    // A slice, or an unfinished render (the checkpoint), is saved; a finished whole render
+    // needs no state file.
+    let done_until = first_sample + new_spp;
+    if let Some(r) = range
+        .as_ref()
+        .filter(|r| slice.is_some() || done_until != r.end)
+    {
         let state = RenderState {
             scene: args.scene.as_deref().map(absolute),
             fingerprint,
@@ -410,16 +423,15 @@ pub fn run_with_factories(
             seed: args.seed,
             spp_total: total_spp.unwrap_or(0),
             slice: slice.unwrap_or(SliceSpec::WHOLE),
-            done_until: first_sample + new_spp,
+            done_until,
             rgb_space: scene.options.rgb_space_name.clone(),
             png_exposure: scene.options.png_exposure,
-            film: film.clone(),
+            film,
         };
+        let film = &state.film;
         let state_path = args.state_path(slice);
         let complete = state.is_complete();
-        if slice.is_some() || !complete {
-            state.save(&state_path).map_err(|e| e.to_string())?;
-        }
+        state.save(&state_path).map_err(|e| e.to_string())?;
         if let Some(s) = slice {
             bar.finish_and_clear();
             for line in film.rejected.summary() {
@@ -447,7 +459,7 @@ pub fn run_with_factories(
             );
             return Ok(());
         }
-        if !complete {
+        {
             bar.finish_and_clear();
             let image = film.image();
             let png = args
