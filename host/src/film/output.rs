@@ -58,7 +58,12 @@ pub fn write_exr_with_layers(
     let layer = Layer::new(
         (image.width as usize, image.height as usize),
         LayerAttributes::named(""),
-        Encoding::FAST_LOSSLESS,
+        // Blocks in increasing order: the parallel encoder then writes the same bytes for the
+        // same image (with the default unspecified order the chunk table varies run to run).
+        Encoding {
+            line_order: LineOrder::Increasing,
+            ..Encoding::FAST_LOSSLESS
+        },
         AnyChannels::sort(channels),
     );
     Image::from_layer(layer)
