@@ -156,3 +156,36 @@ impl PixelFilm {
         self.pixels.iter().map(|p| p.count).sum()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::film::FilmState;
+
+    /// The guard: a NaN, an infinite and a negative sample each keep their place in the pixel's
+    /// sample count (they contribute zero) but never reach the sums; each is recorded with its
+    /// pixel and strategy, and the film's report and diagnostic layer show them. The mean is
+    /// exactly (1 + 2) / 5.
+    #[test]
+    fn refused_samples_are_counted_not_added() {
+        let mut tile = TileBuffer::new(2, 1, 2, 2);
+        tile.add(3, 2, [1.0, 1.0, 1.0], "pt camera path");
+        tile.add(3, 2, [f64::NAN, 0.0, 0.0], "pt camera path");
+        tile.add(3, 2, [f64::INFINITY, 0.0, 0.0], "pt camera path");
+        tile.add(3, 2, [0.0, -1e-9, 0.0], "bdpt camera film (t ≥ 2)");
+        tile.add(3, 2, [2.0, 2.0, 2.0], "pt camera path");
+        let mut film = FilmState::new(4, 3, false);
+        film.camera.merge(&tile);
+        film.record_rejected(&tile.rejected);
+        assert_eq!(film.image().xyz[2 * 4 + 3], [0.6; 3]);
+        assert_eq!(film.camera.sample_count(), 5);
+        assert_eq!(film.rejected.total(), 3);
+        assert_eq!(film.rejected.negative, 1);
+        assert_eq!(film.rejected.layer(12)[11], 3.0);
+        let report = film.rejected.summary().join("\n");
+        assert!(
+            report.contains("pt camera path: 2") && report.contains("(3, 2): 3"),
+            "{report}"
+        );
+    }
+}
