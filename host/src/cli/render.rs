@@ -418,7 +418,15 @@ pub fn run_with_factories(
             scene: args.scene.as_deref().map(absolute),
             fingerprint,
             settings: key.clone(),
-            args: args.to_command_line(),
+            args: {
+                // The sample count goes into the stored command line even when it came from
+                // the scene, so --resume aims at the same N.
+                let mut a = args.to_command_line();
+                if args.spp.is_none() {
+                    a.extend(["--spp".to_string(), total_spp.unwrap_or(0).to_string()]);
+                }
+                a
+            },
             seed: args.seed,
             spp_total: total_spp.unwrap_or(0),
             slice: slice.unwrap_or(SliceSpec::WHOLE),
