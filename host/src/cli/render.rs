@@ -473,13 +473,7 @@ pub fn run_with_factories(
                 .png
                 .clone()
                 .unwrap_or_else(|| args.output.with_extension("png"));
-            let written = save(
-                &image,
-                &args.output,
-                &png,
-                &scene,
-                extra_layers(args, &film),
-            )?;
+            let written = save(&image, &args.output, &png, &scene, extra_layers(args, film))?;
             for wr in written {
                 println!(
                     "  wrote {} (partial: {} spp)",
