@@ -7,6 +7,7 @@ pub mod compare;
 pub mod explain;
 pub mod interrupt;
 pub mod luminaire;
+pub mod merge;
 pub mod plugin_args;
 pub mod plugins;
 pub mod reference;
@@ -28,6 +29,8 @@ pub struct Cli {
 }
 
 /// The subcommands.
+// Parsed once per process: the size of the `render` variant (its many flags) does not matter.
+#[allow(clippy::large_enum_variant)]
 #[derive(Subcommand, Debug)]
 pub enum Command {
     /// List plugin libraries with their versions, API versions and types.
@@ -41,6 +44,8 @@ pub enum Command {
     Luminaire(luminaire::LuminaireArgs),
     /// Render a scene (default: the measured spectral Cornell box) to OpenEXR and PNG.
     Render(render::RenderArgs),
+    /// Merge the state files of a render's slices (`render --slice K/M`) into its image.
+    Merge(merge::MergeArgs),
     /// Error of a render against a reference: RMSE, relative MSE, CIEDE2000, difference image.
     Compare(compare::CompareArgs),
     /// Long progressive reference render that can be stopped (Ctrl-C, --time) and resumed.
@@ -78,6 +83,7 @@ where
         Some(Command::Color(args)) => color::run(&args),
         Some(Command::Luminaire(args)) => luminaire::run(&args),
         Some(Command::Render(args)) => render::run(&args),
+        Some(Command::Merge(args)) => merge::run(&args),
         Some(Command::Compare(args)) => compare::run(&args),
         Some(Command::Reference(args)) => reference::run(&args),
         Some(Command::Bench(cmd)) => bench::run(&cmd),
