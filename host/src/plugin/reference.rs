@@ -29,6 +29,7 @@ observers are left out so that a library providing them (the standard set,
 ```ron
 (
     observer: "cie1931-2",            // observer type (optional; default cie1931-2)
+                                       // or (type: "blob", params: (file: "eye.blob"))
     output: (                          // all optional
         spp: 64,                       // samples per pixel when the command line gives none
         max_depth: 64,                 // longest path (scattering events)
@@ -49,7 +50,7 @@ observers are left out so that a library providing them (the standard set,
 
 | section     | content                                                                          |
 |-------------|----------------------------------------------------------------------------------|
-| `observer`  | an observer type name (below, or from a plugin), built with default parameters   |
+| `observer`  | an observer type name (below, or from a plugin) with default parameters, or `(type: .., params: ..)` (e.g. a blob) |
 | `output`    | sampling and output defaults; the command line overrides them                    |
 | `materials` | named materials `(name, type, params)`; objects refer to them by name            |
 | `objects`   | geometry `(name, type, material, params, transform)`; a shape type below; an object whose material emits (`emissive`) is an area light |
