@@ -20,9 +20,11 @@ camera names its `type` and carries a `params` block; relative paths resolve aga
 file's folder. Types come from the registry: the built-in types below, types of plugin
 libraries loaded with `--plugin PATH` / `--plugins DIR` (`spectrace plugins` lists them), and
 `blob` files. A plugin type may not reuse a built-in name or alias: the registry refuses the
-plugin and names both providers. With `--no-builtins` the built-in materials, lights, SPDs and
-observers are left out so that a library providing them (the standard set,
-`plugins/standard`) is used instead; shapes, cameras and `blob` stay built in.
+plugin and names both providers. The standard set is also a plugin library
+(`plugins/standard`; so far its SPD types and observers): with `--replace-builtins` the types of
+the libraries given with `--plugin` replace the built-ins of the same name (and their aliases),
+and with `--no-builtins` the built-in materials, lights, SPDs and observers are left out
+altogether; shapes, cameras and `blob` stay built in.
 
 ## Top-level structure
 
