@@ -449,3 +449,43 @@ fn construct_error(kind: Kind, name: &str, provider: String, error: PluginError)
         error,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every built-in name and alias registers without a clash (names are unique), and a type
+    /// of another provider under an alias's name is refused naming both providers.
+    #[test]
+    fn builtin_names_are_unique_and_aliases_are_reserved() {
+        let mut r = Registry::new();
+        for ty in crate::builtin::all() {
+            r.register_builtin_type(ty).unwrap();
+        }
+        for (kind, alias, target) in [
+            (Kind::Material, "diffuse", "lambertian"),
+            (Kind::Material, "rough_conductor", "conductor"),
+            (Kind::Material, "area_light", "emissive"),
+            (Kind::Camera, "thin_lens", "perspective"),
+        ] {
+            let e = r.lookup(kind, alias).unwrap();
+            assert_eq!(e.info.alias_of.as_deref(), Some(target));
+            let err = r
+                .register_doc(TypeDoc {
+                    kind,
+                    name: alias.into(),
+                    version: 1,
+                    description: "another".into(),
+                    params: Vec::new(),
+                    alias_of: None,
+                })
+                .unwrap_err()
+                .to_string();
+            assert!(
+                err.contains(&format!("duplicate {kind} type `{alias}`"))
+                    && err.contains("already provided by built-in"),
+                "{err}"
+            );
+        }
+    }
+}
