@@ -6,6 +6,8 @@ use spectrace_plugin_api::ObjectKind;
 use std::path::PathBuf;
 
 /// The blob subcommands.
+// Parsed once per run: boxing the larger variant would buy nothing.
+#[allow(clippy::large_enum_variant)]
 #[derive(clap::Subcommand, Debug)]
 pub enum BlobCommand {
     /// Build a material, light, SPD or observer from a type name and parameters (or take one
