@@ -120,11 +120,15 @@ pub fn build_scene_with(
     };
 
     // Observer and options.
-    let obs_name = desc.observer.as_deref().unwrap_or("cie1931-2");
+    let (obs_name, obs_params) = desc
+        .observer
+        .as_ref()
+        .map(|o| o.type_and_params())
+        .unwrap_or(("cie1931-2", ron::Value::Unit));
     // Every observer, the CIE tables included, is a registered type built with default
     // parameters.
     let observer: Arc<dyn Observer> = first_known(factories, "observer", obs_name, |f| {
-        f.observer(obs_name, &ron::Value::Unit, &ctx_for("observer"))
+        f.observer(obs_name, &obs_params, &ctx_for("observer"))
     })
     .map_err(|e| item_err("observer".into(), e))?;
     let observer = ResampledObserver::wrap(observer, representation.observer_step_nm)
