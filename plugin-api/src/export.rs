@@ -5,6 +5,7 @@
 use crate::error::{ErrorKind, PluginError, PluginResult};
 use crate::host::{Host, HostRef};
 use crate::module::{ObjectKind, ObjectSource, ParamInfo, TypeInfo};
+use crate::representation::{BeamRepresentation, TypeRepresentation};
 use abi_stable::std_types::{ROption, RString, RVec};
 use serde::{de::DeserializeOwned, Serialize};
 
@@ -67,6 +68,10 @@ pub trait PluginType: Sized + Send + Sync + 'static {
     const TYPE_VERSION: u32;
     /// One line on what it is.
     const DESCRIPTION: &'static str;
+    /// Lights only: the representation of the type's beams (see
+    /// [`representation`](crate::representation)); other kinds ignore it. Anything but native
+    /// makes the host call `next_represented_beam` instead of `next_beam` and convert each beam.
+    const BEAM_REPRESENTATION: BeamRepresentation = BeamRepresentation::NATIVE;
     /// Constructor parameters, written in the scene as a RON struct; also the saved state.
     type Params: Serialize + DeserializeOwned;
     /// Parameter documentation (names, units, defaults).
@@ -97,6 +102,15 @@ pub fn type_info<T: PluginType>(kind: ObjectKind) -> TypeInfo {
                 description: p.description.into(),
             })
             .collect::<RVec<_>>(),
+    }
+}
+
+/// The beam representation of light type `T`, for the root module's `type_representations`.
+pub fn type_representation<T: PluginType>() -> TypeRepresentation {
+    TypeRepresentation {
+        kind: ObjectKind::Light,
+        name: T::TYPE_NAME.into(),
+        beams: T::BEAM_REPRESENTATION,
     }
 }
 
@@ -239,7 +253,10 @@ macro_rules! export_plugin {
         pub fn root_module() -> $crate::module::PluginModuleRef {
             use $crate::__private::PrefixTypeTrait as _;
             use $crate::__private::{RResult, RStr};
-            use $crate::export::{construct, describe, save, type_info, unknown_type, PluginType};
+            use $crate::export::{
+                construct, describe, save, type_info, type_representation, unknown_type,
+                PluginType,
+            };
             use $crate::guard::guarded;
             use $crate::host::HostRef;
             use $crate::module::{ObjectKind, ObjectSource, PluginInfo, PluginModule};
@@ -258,6 +275,15 @@ macro_rules! export_plugin {
                     ]
                     .into(),
                 }))
+            }
+            extern "C" fn type_representations(
+            ) -> RResult<$crate::__private::RVec<$crate::representation::TypeRepresentation>, PluginError> {
+                guarded("type_representations", || {
+                    Ok(::std::vec![$(type_representation::<$light>(),)*]
+                        .into_iter()
+                        .filter(|t| !t.beams.is_native())
+                        .collect())
+                })
             }
             extern "C" fn describe_state(
                 kind: ObjectKind,
@@ -301,6 +327,7 @@ macro_rules! export_plugin {
                 create_observer,
                 create_material,
                 describe_state,
+                type_representations,
             }
             .leak_into_prefix()
         }

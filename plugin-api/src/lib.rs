@@ -29,6 +29,7 @@ pub mod light;
 pub mod material;
 pub mod module;
 pub mod observer;
+pub mod representation;
 pub mod spd;
 pub mod types;
 
@@ -42,6 +43,10 @@ pub use light::{
 pub use material::{material_flags, Material, MaterialBox, ScatterSample, ShadingContext};
 pub use module::{ObjectKind, PluginInfo, PluginModuleRef, TypeInfo, API_VERSION};
 pub use observer::{ColorObserver, ObserverBox};
+pub use representation::{
+    BeamRepresentation, ColourEncoding, DirectionEncoding, Handedness, RepresentedBeam,
+    TypeRepresentation,
+};
 pub use spd::{spd_flags, Spd, SpdBox, SpdHandle};
 pub use types::{
     Beam, Flags, RandomSample, SpectralValues, TransportMode, Vec3, WavelengthRange, Wavelengths,
@@ -62,5 +67,5 @@ pub use abi_stable::library;
 pub mod __private {
     pub use abi_stable::export_root_module;
     pub use abi_stable::prefix_type::PrefixTypeTrait;
-    pub use abi_stable::std_types::{RResult, RSlice, RStr, RString};
+    pub use abi_stable::std_types::{RResult, RSlice, RStr, RString, RVec};
 }

@@ -4,7 +4,9 @@
 //! trait object, through a guard that catches panics and counts beams for `number_of_beams`.
 
 use crate::error::{PluginError, PluginResult};
+use crate::export::PluginType;
 use crate::guard::guarded;
+use crate::representation::{BeamRepresentation, RepresentedBeam};
 use crate::types::{Beam, Flags, RandomSample, SpectralValues, Vec3, Wavelengths};
 use abi_stable::{
     sabi_trait,
@@ -93,8 +95,14 @@ pub struct WavelengthSample {
 /// `CONNECTABLE` capability, declared through [`capabilities`](Self::capabilities).
 pub trait LightSource: Send + Sync + 'static {
     /// The seed's `getNextBeam`. Uses `sample.u[0..5]` at most: position (2), direction (2),
-    /// wavelength (1). Must be a pure function of `sample`.
+    /// wavelength (1); `u[5..8]` belong to the host. Must be a pure function of `sample`.
     fn next_beam(&self, sample: &RandomSample) -> PluginResult<Beam>;
+    /// `next_beam` in the type's declared
+    /// [`BEAM_REPRESENTATION`](crate::PluginType::BEAM_REPRESENTATION); same random numbers
+    /// (`u[0..5]`). Only called for non-native representations, and then `next_beam` never is.
+    fn next_represented_beam(&self, _sample: &RandomSample) -> PluginResult<RepresentedBeam> {
+        Err(PluginError::unsupported("next_represented_beam"))
+    }
     /// Total radiant flux, W (the host picks lights in proportion to it).
     fn total_power_w(&self) -> PluginResult<f64>;
     /// Capability bits ([`light_flags`]).
@@ -141,7 +149,8 @@ pub trait LightSource: Send + Sync + 'static {
 }
 
 /// The stable-ABI face of a light source. Hosts call this; authors implement [`LightSource`].
-/// Methods after `last_prefix_field` may be absent in plugins built against an older API.
+/// Methods after `last_prefix_field` may be absent in plugins built against an older API: each
+/// has a default body, which abi_stable calls in their place (see `module` for the rule).
 #[sabi_trait]
 pub trait AbiLightSource: Send + Sync {
     /// See [`LightSource::next_beam`]; also counts the beam.
@@ -182,6 +191,18 @@ pub trait AbiLightSource: Send + Sync {
     /// The object's state as bytes (bincode of its parameters), for blobs.
     #[sabi(last_prefix_field)]
     fn save_state(&self) -> RResult<RVec<u8>, PluginError>;
+    /// Added after the marker: the representation of this light's beams (a plugin built
+    /// before it existed gets the default, native).
+    fn beam_representation(&self) -> BeamRepresentation {
+        BeamRepresentation::NATIVE
+    }
+    /// Added after the marker: see [`LightSource::next_represented_beam`]; also counts the beam.
+    fn next_represented_beam(
+        &self,
+        _sample: &RandomSample,
+    ) -> RResult<RepresentedBeam, PluginError> {
+        RResult::RErr(PluginError::unsupported("next_represented_beam"))
+    }
 }
 
 /// A light source behind the stable ABI, owned.
@@ -194,7 +215,7 @@ pub struct GuardedLight<T> {
     state: fn(&T) -> PluginResult<Vec<u8>>,
 }
 
-impl<T: LightSource> GuardedLight<T> {
+impl<T: LightSource + PluginType> GuardedLight<T> {
     /// Box `inner` behind the ABI; `state` serialises it for blobs.
     pub fn boxed(inner: T, state: fn(&T) -> PluginResult<Vec<u8>>) -> LightBox {
         AbiLightSource_TO::from_value(
@@ -208,7 +229,7 @@ impl<T: LightSource> GuardedLight<T> {
     }
 }
 
-impl<T: LightSource> AbiLightSource for GuardedLight<T> {
+impl<T: LightSource + PluginType> AbiLightSource for GuardedLight<T> {
     fn next_beam(&self, sample: &RandomSample) -> RResult<Beam, PluginError> {
         let r = guarded("next_beam", || self.inner.next_beam(sample));
         if r.is_ok() {
@@ -272,5 +293,20 @@ impl<T: LightSource> AbiLightSource for GuardedLight<T> {
     }
     fn save_state(&self) -> RResult<RVec<u8>, PluginError> {
         guarded("save_state", || (self.state)(&self.inner).map(RVec::from))
+    }
+    fn beam_representation(&self) -> BeamRepresentation {
+        <T as PluginType>::BEAM_REPRESENTATION
+    }
+    fn next_represented_beam(
+        &self,
+        sample: &RandomSample,
+    ) -> RResult<RepresentedBeam, PluginError> {
+        let r = guarded("next_represented_beam", || {
+            self.inner.next_represented_beam(sample)
+        });
+        if r.is_ok() {
+            self.beams.fetch_add(1, Ordering::Relaxed);
+        }
+        r
     }
 }

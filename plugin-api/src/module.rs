@@ -1,18 +1,37 @@
 //! The root module each plugin library exports, and the metadata it reports.
 //!
-//! Compatibility rule (enforced by abi_stable when the host loads a library, from this crate's
-//! version): a plugin built against `spectrace-plugin-api` 0.y.z loads in a host built against
-//! 0.y.z' when y is the same and z ≥ z' (while the major version is 0, y counts as the major).
-//! Within one y, new methods and root-module fields are only ever added after the current
-//! `#[sabi(last_prefix_field)]` marker, so an older host keeps working with a newer plugin and
-//! never sees the additions. Removing or reordering anything needs a new y. On top of that the
-//! whole layout of the root module and of every type it reaches is checked at load time.
+//! # Compatibility rule
+//!
+//! Enforced by abi_stable when the host loads a library, and tested by the workspace test
+//! `api_growth` (a plugin built against a frozen copy of this crate's 0.1.0 source,
+//! `plugins/fixtures/api-0.1.0/`, must keep loading and rendering in the current host):
+//!
+//! 1. **Version.** A plugin built against `spectrace-plugin-api` 0.y.z loads in a host built
+//!    against 0.y.z' when y is the same and z ≥ z' (while the major version is 0, y counts as
+//!    the major). So growing the interface in a way old plugins survive does NOT bump z: a host
+//!    at 0.1.1 would refuse every plugin built at 0.1.0. Anything that breaks old plugins bumps y.
+//! 2. **Layout.** The whole layout of the root module and of every type it reaches is compared
+//!    at load time (names, packages, fields, sizes). Plain `#[repr(C)]` structs such as
+//!    [`TypeInfo`], [`PluginInfo`] and [`Beam`](crate::Beam) never change within one y.
+//! 3. **Growth only after the markers.** The root module ([`PluginModule`]) and the trait
+//!    vtables ([`AbiLightSource`](crate::light::AbiLightSource) and friends) are prefix types:
+//!    new fields and methods go after the `#[sabi(last_prefix_field)]` marker, which never
+//!    moves within one y. An older plugin simply lacks them, so every addition must say what the
+//!    host does then: a root-module field is declared `#[sabi(missing_field(option))]` and the
+//!    host treats `None` as "the old behaviour"; a trait method has a default body, which
+//!    abi_stable calls in place of the missing one. A newer plugin in an older host is refused by
+//!    rule 1, never half-used.
+//!
+//! Additions so far, all after the markers: [`PluginModule::type_representations`] and
+//! `AbiLightSource::{beam_representation, next_represented_beam}` (beams in another
+//! representation, see [`representation`](crate::representation)).
 
 use crate::error::PluginError;
 use crate::host::HostRef;
 use crate::light::LightBox;
 use crate::material::MaterialBox;
 use crate::observer::ObserverBox;
+use crate::representation::TypeRepresentation;
 use crate::spd::SpdBox;
 use abi_stable::{
     declare_root_module_statics,
@@ -172,6 +191,12 @@ pub struct PluginModule {
         type_version: u32,
         bytes: RSlice<'_, u8>,
     ) -> RResult<RString, PluginError>,
+    /// Added after the marker: the light types whose beams are NOT in the native
+    /// representation, with their declared one (type information that [`TypeInfo`] cannot carry
+    /// without breaking its layout). Absent in plugins built before it existed: all native.
+    #[sabi(missing_field(option))]
+    pub type_representations:
+        extern "C" fn() -> RResult<RVec<TypeRepresentation>, PluginError>,
 }
 
 impl RootModule for PluginModuleRef {
