@@ -195,8 +195,7 @@ pub struct PluginModule {
     /// representation, with their declared one (type information that [`TypeInfo`] cannot carry
     /// without breaking its layout). Absent in plugins built before it existed: all native.
     #[sabi(missing_field(option))]
-    pub type_representations:
-        extern "C" fn() -> RResult<RVec<TypeRepresentation>, PluginError>,
+    pub type_representations: extern "C" fn() -> RResult<RVec<TypeRepresentation>, PluginError>,
 }
 
 impl RootModule for PluginModuleRef {

@@ -4,9 +4,11 @@
 
 pub mod adapter;
 pub mod blob;
+pub mod checked;
 pub mod factory;
 pub mod loader;
 pub mod registry;
+pub mod representation;
 pub mod ron_text;
 pub mod services;
 
