@@ -279,10 +279,9 @@ macro_rules! export_plugin {
             extern "C" fn type_representations(
             ) -> RResult<$crate::__private::RVec<$crate::representation::TypeRepresentation>, PluginError> {
                 guarded("type_representations", || {
-                    Ok(::std::vec![$(type_representation::<$light>(),)*]
-                        .into_iter()
-                        .filter(|t| !t.beams.is_native())
-                        .collect())
+                    let all: ::std::vec::Vec<$crate::representation::TypeRepresentation> =
+                        ::std::vec![$(type_representation::<$light>(),)*];
+                    Ok(all.into_iter().filter(|t| !t.beams.is_native()).collect())
                 })
             }
             extern "C" fn describe_state(

@@ -128,6 +128,21 @@ impl PluginFaults {
         );
         lines
     }
+
+    /// How a command ends after rendering with plugins: `Err` when plugin calls failed (the
+    /// image was still written; the message lists each failing call site once, with its
+    /// count), else `Ok` with one warning line per (object, reason) whose results were dropped.
+    pub fn outcome(&self) -> Result<Vec<String>, String> {
+        if self.count() == 0 {
+            return Ok(self.report());
+        }
+        Err(format!(
+            "{} plugin call(s) failed during rendering (their samples contributed nothing; the \
+             image was still written):\n  {}",
+            self.count(),
+            self.report().join("\n  ")
+        ))
+    }
 }
 
 fn v3(v: Vec3A) -> Vec3 {
