@@ -105,7 +105,7 @@ pub fn type_info<T: PluginType>(kind: ObjectKind) -> TypeInfo {
     }
 }
 
-/// The beam representation of light type `T`, for the root module's `type_representations`.
+/// The beam representation of light type `T`, for extension module v1's `type_representations`.
 pub fn type_representation<T: PluginType>() -> TypeRepresentation {
     TypeRepresentation {
         kind: ObjectKind::Light,
@@ -253,10 +253,7 @@ macro_rules! export_plugin {
         pub fn root_module() -> $crate::module::PluginModuleRef {
             use $crate::__private::PrefixTypeTrait as _;
             use $crate::__private::{RResult, RStr};
-            use $crate::export::{
-                construct, describe, save, type_info, type_representation, unknown_type,
-                PluginType,
-            };
+            use $crate::export::{construct, describe, save, type_info, unknown_type, PluginType};
             use $crate::guard::guarded;
             use $crate::host::HostRef;
             use $crate::module::{ObjectKind, ObjectSource, PluginInfo, PluginModule};
@@ -275,14 +272,6 @@ macro_rules! export_plugin {
                     ]
                     .into(),
                 }))
-            }
-            extern "C" fn type_representations(
-            ) -> RResult<$crate::__private::RVec<$crate::representation::TypeRepresentation>, PluginError> {
-                guarded("type_representations", || {
-                    let all: ::std::vec::Vec<$crate::representation::TypeRepresentation> =
-                        ::std::vec![$(type_representation::<$light>(),)*];
-                    Ok(all.into_iter().filter(|t| !t.beams.is_native()).collect())
-                })
             }
             extern "C" fn describe_state(
                 kind: ObjectKind,
@@ -326,9 +315,57 @@ macro_rules! export_plugin {
                 create_observer,
                 create_material,
                 describe_state,
-                type_representations,
             }
             .leak_into_prefix()
+        }
+
+        /// This plugin's extension module, version 1 (see `spectrace_plugin_api::extension`).
+        pub fn extensions_v1() -> $crate::extension::ExtensionsV1Export {
+            use $crate::__private::PrefixTypeTrait as _;
+            use $crate::__private::{RResult, RStr, RVec, StableAbi as _};
+            use $crate::error::PluginError;
+            use $crate::export::{construct, save, type_representation, unknown_type, PluginType};
+            use $crate::extension::{ExtensionsV1, ExtensionsV1Export, ExtensionsV1Ref};
+            use $crate::guard::guarded;
+            use $crate::host::HostRef;
+            use $crate::module::{ObjectKind, ObjectSource};
+            use $crate::representation::TypeRepresentation;
+
+            extern "C" fn type_representations() -> RResult<RVec<TypeRepresentation>, PluginError> {
+                guarded("type_representations", || {
+                    let all: ::std::vec::Vec<TypeRepresentation> =
+                        ::std::vec![$(type_representation::<$light>(),)*];
+                    Ok(all.into_iter().filter(|t| !t.beams.is_native()).collect())
+                })
+            }
+            extern "C" fn create_represented_light(
+                type_name: RStr<'_>,
+                source: ObjectSource<'_>,
+                host: HostRef<'_>,
+            ) -> RResult<$crate::extension::RepresentedLightBox, PluginError> {
+                guarded("create_represented_light", || {
+                    let name = type_name.as_str();
+                    $(if name == <$light as PluginType>::TYPE_NAME {
+                        let obj = construct::<$light>(source, &host)?;
+                        return Ok($crate::light::GuardedLight::boxed_represented(obj, save::<$light>));
+                    })*
+                    Err(unknown_type(ObjectKind::Light, name, &[$(<$light as PluginType>::TYPE_NAME),*]))
+                })
+            }
+            ExtensionsV1Export {
+                layout: <ExtensionsV1Ref as $crate::__private::StableAbi>::LAYOUT,
+                module: ExtensionsV1 {
+                    type_representations,
+                    create_represented_light,
+                }
+                .leak_into_prefix(),
+            }
+        }
+
+        /// The exported extension module, version 1 (looked up by name by the host).
+        #[no_mangle]
+        pub extern "C" fn spectrace_plugin_extensions_v1() -> $crate::extension::ExtensionsV1Export {
+            extensions_v1()
         }
 
         /// The exported root module (what the host finds in the library).

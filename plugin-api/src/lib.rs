@@ -23,6 +23,7 @@
 
 pub mod error;
 pub mod export;
+pub mod extension;
 pub mod guard;
 pub mod host;
 pub mod light;
@@ -68,4 +69,5 @@ pub mod __private {
     pub use abi_stable::export_root_module;
     pub use abi_stable::prefix_type::PrefixTypeTrait;
     pub use abi_stable::std_types::{RResult, RSlice, RStr, RString, RVec};
+    pub use abi_stable::StableAbi;
 }

@@ -149,8 +149,8 @@ pub trait LightSource: Send + Sync + 'static {
 }
 
 /// The stable-ABI face of a light source. Hosts call this; authors implement [`LightSource`].
-/// Methods after `last_prefix_field` may be absent in plugins built against an older API: each
-/// has a default body, which abi_stable calls in their place (see `module` for the rule).
+/// Frozen within API 0.1 (see `module` for why growing it would break every existing plugin);
+/// later capabilities come through [`crate::extension`].
 #[sabi_trait]
 pub trait AbiLightSource: Send + Sync {
     /// See [`LightSource::next_beam`]; also counts the beam.
@@ -191,18 +191,6 @@ pub trait AbiLightSource: Send + Sync {
     /// The object's state as bytes (bincode of its parameters), for blobs.
     #[sabi(last_prefix_field)]
     fn save_state(&self) -> RResult<RVec<u8>, PluginError>;
-    /// Added after the marker: the representation of this light's beams (a plugin built
-    /// before it existed gets the default, native).
-    fn beam_representation(&self) -> BeamRepresentation {
-        BeamRepresentation::NATIVE
-    }
-    /// Added after the marker: see [`LightSource::next_represented_beam`]; also counts the beam.
-    fn next_represented_beam(
-        &self,
-        _sample: &RandomSample,
-    ) -> RResult<RepresentedBeam, PluginError> {
-        RResult::RErr(PluginError::unsupported("next_represented_beam"))
-    }
 }
 
 /// A light source behind the stable ABI, owned.
@@ -219,6 +207,22 @@ impl<T: LightSource + PluginType> GuardedLight<T> {
     /// Box `inner` behind the ABI; `state` serialises it for blobs.
     pub fn boxed(inner: T, state: fn(&T) -> PluginResult<Vec<u8>>) -> LightBox {
         AbiLightSource_TO::from_value(
+            Self {
+                inner,
+                beams: AtomicU64::new(0),
+                state,
+            },
+            abi_stable::sabi_trait::TD_Opaque,
+        )
+    }
+
+    /// Box `inner` behind the ABI as a light in its own representation
+    /// ([`crate::extension::AbiRepresentedLight`]).
+    pub fn boxed_represented(
+        inner: T,
+        state: fn(&T) -> PluginResult<Vec<u8>>,
+    ) -> crate::extension::RepresentedLightBox {
+        crate::extension::AbiRepresentedLight_TO::from_value(
             Self {
                 inner,
                 beams: AtomicU64::new(0),
@@ -294,8 +298,14 @@ impl<T: LightSource + PluginType> AbiLightSource for GuardedLight<T> {
     fn save_state(&self) -> RResult<RVec<u8>, PluginError> {
         guarded("save_state", || (self.state)(&self.inner).map(RVec::from))
     }
-    fn beam_representation(&self) -> BeamRepresentation {
+}
+
+impl<T: LightSource + PluginType> crate::extension::AbiRepresentedLight for GuardedLight<T> {
+    fn representation(&self) -> BeamRepresentation {
         <T as PluginType>::BEAM_REPRESENTATION
+    }
+    fn number_of_beams(&self) -> f64 {
+        self.beams.load(Ordering::Relaxed) as f64
     }
     fn next_represented_beam(
         &self,

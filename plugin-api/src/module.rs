@@ -2,36 +2,38 @@
 //!
 //! # Compatibility rule
 //!
-//! Enforced by abi_stable when the host loads a library, and tested by the workspace test
-//! `api_growth` (a plugin built against a frozen copy of this crate's 0.1.0 source,
-//! `plugins/fixtures/api-0.1.0/`, must keep loading and rendering in the current host):
+//! Tested by the workspace test `api_growth`: a plugin built against a frozen copy of this
+//! crate's 0.1.0 source (`plugins/fixtures/api-0.1.0/`) must keep loading and rendering in the
+//! current host.
 //!
 //! 1. **Version.** A plugin built against `spectrace-plugin-api` 0.y.z loads in a host built
-//!    against 0.y.z' when y is the same and z ≥ z' (while the major version is 0, y counts as
-//!    the major). So growing the interface in a way old plugins survive does NOT bump z: a host
-//!    at 0.1.1 would refuse every plugin built at 0.1.0. Anything that breaks old plugins bumps y.
-//! 2. **Layout.** The whole layout of the root module and of every type it reaches is compared
-//!    at load time (names, packages, fields, sizes). Plain `#[repr(C)]` structs such as
-//!    [`TypeInfo`], [`PluginInfo`] and [`Beam`](crate::Beam) never change within one y.
-//! 3. **Growth only after the markers.** The root module ([`PluginModule`]) and the trait
-//!    vtables ([`AbiLightSource`](crate::light::AbiLightSource) and friends) are prefix types:
-//!    new fields and methods go after the `#[sabi(last_prefix_field)]` marker, which never
-//!    moves within one y. An older plugin simply lacks them, so every addition must say what the
-//!    host does then: a root-module field is declared `#[sabi(missing_field(option))]` and the
-//!    host treats `None` as "the old behaviour"; a trait method has a default body, which
-//!    abi_stable calls in place of the missing one. A newer plugin in an older host is refused by
-//!    rule 1, never half-used.
+//!    against 0.y.z' when y is the same and z ≥ z' (abi_stable's rule; while the major version
+//!    is 0, y counts as the major). So an addition that old plugins survive does NOT bump z: a
+//!    host at 0.1.1 would refuse every plugin built at 0.1.0. Anything that breaks them bumps y.
+//! 2. **Layout.** When a library is loaded, abi_stable compares the whole layout of the root
+//!    module and of every type it reaches (names, packages, fields, sizes) with the host's. For
+//!    prefix types (this root module, the trait vtables) the library may have MORE fields than
+//!    the host, never fewer: abi_stable lets a newer plugin into an older host, not the reverse.
+//! 3. **Hence nothing the root module reaches ever grows within one y.** [`PluginModule`], the
+//!    `Abi*` traits and every `#[repr(C)]` type they use ([`TypeInfo`], [`PluginInfo`],
+//!    [`Beam`](crate::Beam), …) keep their 0.y.0 layout. Adding a field after a
+//!    `#[sabi(last_prefix_field)]` marker would be legal for abi_stable and still lock out every
+//!    existing plugin (the frozen-API test fails with "too many fields").
+//! 4. **Growth goes into extension modules.** Each is a separate, optional, versioned symbol
+//!    ([`crate::extension`]): a host looks it up after loading the root module, checks its
+//!    layout the same way, and treats a library without it as a plugin built before it existed
+//!    (today: every light type has native beams). A published extension version is frozen like
+//!    the root module; the next addition is a new version next to it, and plugins export all
+//!    the versions they support.
 //!
-//! Additions so far, all after the markers: [`PluginModule::type_representations`] and
-//! `AbiLightSource::{beam_representation, next_represented_beam}` (beams in another
-//! representation, see [`representation`](crate::representation)).
+//! Extensions so far: `spectrace_plugin_extensions_v1` (beams in another representation, see
+//! [`representation`](crate::representation)).
 
 use crate::error::PluginError;
 use crate::host::HostRef;
 use crate::light::LightBox;
 use crate::material::MaterialBox;
 use crate::observer::ObserverBox;
-use crate::representation::TypeRepresentation;
 use crate::spd::SpdBox;
 use abi_stable::{
     declare_root_module_statics,
@@ -191,11 +193,6 @@ pub struct PluginModule {
         type_version: u32,
         bytes: RSlice<'_, u8>,
     ) -> RResult<RString, PluginError>,
-    /// Added after the marker: the light types whose beams are NOT in the native
-    /// representation, with their declared one (type information that [`TypeInfo`] cannot carry
-    /// without breaking its layout). Absent in plugins built before it existed: all native.
-    #[sabi(missing_field(option))]
-    pub type_representations: extern "C" fn() -> RResult<RVec<TypeRepresentation>, PluginError>,
 }
 
 impl RootModule for PluginModuleRef {

@@ -17,10 +17,11 @@
 //!   draws the wavelength from it (normalised as an SPD) and keeps the expected flux per
 //!   wavelength: `E[power] · p(λ)` is the beam's spectral flux.
 //!
-//! Such a light implements [`LightSource::next_represented_beam`](crate::LightSource) and sets
-//! [`LightSource::BEAM_REPRESENTATION`](crate::LightSource); `next_beam` is then never called.
-//! The declaration also appears in the plugin's type information
-//! ([`PluginModule::type_representations`](crate::module::PluginModule)).
+//! Such a light sets [`PluginType::BEAM_REPRESENTATION`](crate::PluginType) and implements
+//! [`LightSource::next_represented_beam`](crate::LightSource); `next_beam` is then never
+//! called. [`export_plugin!`](crate::export_plugin) lists the declaration in the plugin's type
+//! information through extension module v1 ([`crate::extension`]), since the root module's
+//! [`TypeInfo`](crate::module::TypeInfo) is frozen.
 
 use crate::module::ObjectKind;
 use crate::types::Vec3;

@@ -19,6 +19,7 @@ use crate::material::{
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spd, SpdSample, LANES};
 use glam::{Vec2, Vec3A};
 use spectrace_plugin_api::abi::std_types::RResult;
+use spectrace_plugin_api::extension::RepresentedLightBox;
 use spectrace_plugin_api::{
     light_flags, material_flags, spd_flags, Beam, Flags, LightBox, MaterialBox, ObserverBox,
     PluginError, RandomSample, SpdBox, SpectralValues, TransportMode, Vec3, Wavelengths,
@@ -520,8 +521,9 @@ pub struct PluginLight {
     power: f64,
     spectrum: Arc<dyn Spd>,
     origin: Origin,
-    /// Converts each beam when the light's type declares a non-native representation.
-    converter: Option<BeamConverter>,
+    /// The object handing out beams in the type's own representation, with its converter,
+    /// when the type declares one (see [`super::representation`]).
+    represented: Option<(RepresentedLightBox, BeamConverter)>,
 }
 
 impl PluginLight {
@@ -541,13 +543,6 @@ impl PluginLight {
         let power = (origin)
             .checked(light.total_power_w(), |p| checked::scalar(*p))
             .unwrap_or(0.0);
-        let representation = light.beam_representation();
-        let converter = match representation.is_native() {
-            true => None,
-            false => BeamConverter::new(representation)
-                .map_err(|e| origin.fail(PluginError::invalid_parameter(e), ()))
-                .ok(),
-        };
         let light = Arc::new(light);
         Self {
             spectrum: Arc::new(LightSpectrum {
@@ -558,8 +553,16 @@ impl PluginLight {
             flags,
             power,
             origin,
-            converter,
+            represented: None,
         }
+    }
+
+    /// Hand out beams from `represented` (the same light, built in its own representation),
+    /// converted once per beam. An error says what in the declared representation is unusable.
+    pub fn with_represented(mut self, represented: RepresentedLightBox) -> Result<Self, String> {
+        let converter = BeamConverter::new(represented.representation())?;
+        self.represented = Some((represented, converter));
+        Ok(self)
     }
 }
 
@@ -650,10 +653,10 @@ impl Light for PluginLight {
     }
 
     fn next_beam(&self, u: &RandomSample) -> Option<Beam> {
-        let r = match &self.converter {
+        let r = match &self.represented {
             None => self.light.next_beam(u),
             // Another representation: converted here, once per beam (the seed's adapter).
-            Some(c) => match self.light.next_represented_beam(u) {
+            Some((light, c)) => match light.next_represented_beam(u) {
                 RResult::ROk(b) => match c.convert(&b, u) {
                     Ok(b) => RResult::ROk(b),
                     Err(reason) => {
@@ -670,7 +673,10 @@ impl Light for PluginLight {
     }
 
     fn number_of_beams(&self) -> f64 {
-        self.light.number_of_beams()
+        match &self.represented {
+            None => self.light.number_of_beams(),
+            Some((light, _)) => light.number_of_beams(),
+        }
     }
 
     fn pdf_le(&self, ray: &Ray, _n: Vec3A) -> (f32, f32) {

@@ -1,10 +1,9 @@
 //! What the host accepts from a plugin call: values it checks before they reach the renderer.
 //! A plugin that returns NaN or negative densities or values, non-unit directions or
-//! wavelengths outside the host's range gets that result dropped (as "no contribution") and
+//! wavelengths out of range gets that result dropped (as "no contribution") and
 //! counted per plugin object and reason; the render completes and its summary reports the counts
 //! (see `adapter::PluginFaults`). Each check returns the reason it failed.
 
-use crate::spectrum::wavelength_sampling::VISIBLE_RANGE;
 use spectrace_plugin_api::{
     Beam, EmissionSample, IncidentSample, ScatterSample, SpectralValues, Vec3, WavelengthSample,
 };
@@ -69,12 +68,17 @@ pub fn values(v: &SpectralValues) -> Result<(), Reason> {
     }
 }
 
-/// A wavelength inside the host's range (nm).
+/// Accepted wavelengths, nm: anything a spectrum could hold. Light outside the observers'
+/// 360–830 nm is legitimate (bundled SPDs start at 300 nm) and simply not seen; a wavelength
+/// that is zero, negative, NaN or beyond 0.1 mm is a plugin bug (a sign error, a unit mix-up).
+pub const WAVELENGTH_RANGE_NM: (f64, f64) = (1.0, 1e5);
+
+/// A wavelength inside [`WAVELENGTH_RANGE_NM`].
 pub fn wavelength(nm: f64) -> Result<(), Reason> {
-    if (VISIBLE_RANGE.0..=VISIBLE_RANGE.1).contains(&nm) {
+    if (WAVELENGTH_RANGE_NM.0..=WAVELENGTH_RANGE_NM.1).contains(&nm) {
         Ok(())
     } else {
-        Err("wavelength outside 360–830 nm")
+        Err("wavelength not finite or outside 1 nm – 0.1 mm")
     }
 }
 

@@ -139,11 +139,20 @@ impl ObjectFactory for PluginFactory {
             return self.blob_light(params, ctx);
         }
         let (text, origin) = self.prepare(ObjectKind::Light, "light", type_name, params)?;
+        let source = ObjectSource::Params(RStr::from_str(&text));
         let l = self
             .registry
-            .create_plugin_light(type_name, ObjectSource::Params(RStr::from_str(&text)))
+            .create_plugin_light(type_name, source)
             .map_err(construct_error)?;
-        Ok(Arc::new(PluginLight::new(l, origin)))
+        // A type whose beams are in another representation is wrapped in its adapters.
+        let light = super::representation::wrap_light(
+            &self.registry,
+            type_name,
+            source,
+            PluginLight::new(l, origin),
+        )
+        .map_err(FactoryError::Param)?;
+        Ok(Arc::new(light))
     }
 
     fn spd(
