@@ -6,8 +6,8 @@
 
 use serde::{Deserialize, Serialize};
 use spectrace_plugin_api::{
-    BeamRepresentation, ColourEncoding, DirectionEncoding, Handedness, Host, LightSource,
-    ParamDoc, PluginError, PluginResult, PluginType, RandomSample, RepresentedBeam, Vec3,
+    BeamRepresentation, ColourEncoding, DirectionEncoding, Handedness, Host, LightSource, ParamDoc,
+    PluginError, PluginResult, PluginType, RandomSample, RepresentedBeam, Vec3,
 };
 use std::f64::consts::PI;
 
@@ -41,7 +41,11 @@ pub struct RgbSpot {
 
 /// Unit vector of polar angle `theta` from +y and azimuth `phi` from +x towards +z (radians).
 fn from_angles(theta: f64, phi: f64) -> Vec3 {
-    Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin())
+    Vec3::new(
+        theta.sin() * phi.cos(),
+        theta.cos(),
+        theta.sin() * phi.sin(),
+    )
 }
 
 impl PluginType for RgbSpot {
@@ -61,7 +65,11 @@ impl PluginType for RgbSpot {
         vec![
             ParamDoc::required("position_mm", "mm", "position, left-handed axes"),
             ParamDoc::required("axis_polar_deg", "deg", "cone axis: angle from +y"),
-            ParamDoc::required("axis_azimuth_deg", "deg", "cone axis: azimuth from +x to +z"),
+            ParamDoc::required(
+                "axis_azimuth_deg",
+                "deg",
+                "cone axis: azimuth from +x to +z",
+            ),
             ParamDoc::required("cone_deg", "deg", "cone half-angle"),
             ParamDoc::required("rgb", "", "linear sRGB colour (chromaticity)"),
             ParamDoc::required("power_w", "W", "emitted flux"),
@@ -71,7 +79,9 @@ impl PluginType for RgbSpot {
     fn new(params: RgbSpotParams, _host: &Host<'_, '_>) -> PluginResult<Self> {
         let p = &params;
         if !p.position_mm.iter().all(|v| v.is_finite()) {
-            return Err(PluginError::invalid_parameter("`position_mm` must be finite"));
+            return Err(PluginError::invalid_parameter(
+                "`position_mm` must be finite",
+            ));
         }
         if !(p.axis_polar_deg.is_finite() && p.axis_azimuth_deg.is_finite()) {
             return Err(PluginError::invalid_parameter("axis angles must be finite"));
@@ -93,7 +103,10 @@ impl PluginType for RgbSpot {
                 p.power_w
             )));
         }
-        let axis = from_angles(p.axis_polar_deg.to_radians(), p.axis_azimuth_deg.to_radians());
+        let axis = from_angles(
+            p.axis_polar_deg.to_radians(),
+            p.axis_azimuth_deg.to_radians(),
+        );
         // Any two unit vectors perpendicular to the axis and to each other.
         let helper = if axis.x.abs() < 0.9 {
             Vec3::new(1.0, 0.0, 0.0)
