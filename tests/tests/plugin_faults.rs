@@ -86,14 +86,15 @@ fn render_fault(fault: &str, kind: IntegratorKind) -> (Arc<PluginFaults>, f64) {
 // light still lights the image. The control ("none") drops nothing.
 #[test]
 fn bad_values_from_a_plugin_are_dropped_counted_and_reported() {
-    use IntegratorKind::{Lt, Pt};
+    const LT: IntegratorKind = IntegratorKind::Lt;
+    const PT: IntegratorKind = IntegratorKind::Pt;
     let cases: [(&str, &[IntegratorKind], &str); 6] = [
-        ("nan_power", &[Lt], "power"),
-        ("negative_power", &[Lt], "power"),
-        ("bad_wavelength", &[Lt], "wavelength"),
-        ("non_unit", &[Lt, Pt], "direction"),
-        ("nan_pdf", &[Lt, Pt], "pdf"),
-        ("negative_value", &[Lt, Pt], "value"),
+        ("nan_power", &[LT], "power"),
+        ("negative_power", &[LT], "power"),
+        ("bad_wavelength", &[LT], "wavelength"),
+        ("non_unit", &[LT, PT], "direction"),
+        ("nan_pdf", &[LT, PT], "pdf"),
+        ("negative_value", &[LT, PT], "value"),
     ];
     for (fault, kinds, reason) in cases {
         for &kind in kinds {
@@ -125,7 +126,7 @@ fn bad_values_from_a_plugin_are_dropped_counted_and_reported() {
             assert!(mean > 0.0, "{fault}, {kind}: the good light still renders");
         }
     }
-    for kind in [Lt, Pt] {
+    for kind in [LT, PT] {
         let (faults, _) = render_fault("none", kind);
         assert_eq!(
             faults.count() + faults.invalid_count(),

@@ -146,11 +146,14 @@ mod tests {
             ..good
         })
         .is_ok());
-        assert!(beam(&Beam {
-            wavelength_nm: 360.0,
-            ..good
-        })
-        .is_ok());
+        // Outside the observers' 360–830 nm but legitimate (bundled SPDs start at 300 nm).
+        for nm in [300.0, 2000.0] {
+            assert!(beam(&Beam {
+                wavelength_nm: nm,
+                ..good
+            })
+            .is_ok());
+        }
         let cases = [
             (
                 Beam {
@@ -168,7 +171,14 @@ mod tests {
             ),
             (
                 Beam {
-                    wavelength_nm: 1000.0,
+                    wavelength_nm: -550.0,
+                    ..good
+                },
+                "wavelength",
+            ),
+            (
+                Beam {
+                    wavelength_nm: 2e5,
                     ..good
                 },
                 "wavelength",
