@@ -109,11 +109,8 @@ pub fn run(args: &ReferenceArgs) -> Result<(), String> {
         "  state in {} (run the same command again to continue)",
         state_path(&args.output).display()
     );
-    if let Some(first) = faults.first() {
-        return Err(format!(
-            "{} plugin call(s) failed during rendering; first: {first}",
-            faults.count()
-        ));
+    for line in faults.outcome()? {
+        println!("  warning: plugin {line}");
     }
     Ok(())
 }

@@ -230,15 +230,13 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     let plugins = crate::plugin::factory::PluginFactory::new(registry, faults.clone());
     // One way in: the registry builds every type, built-in, plugin or blob.
     let result = run_with_factories(args, &[&plugins]);
-    // Plugin calls that failed during rendering contributed nothing; say so, with the first cause.
-    if let Some(first) = faults.first() {
-        return Err(format!(
-            "{} plugin call(s) failed during rendering (their samples contributed nothing; the \
-             image was still written); first: {first}",
-            faults.count()
-        ));
+    // Plugin calls that failed or returned unusable values contributed nothing; say so, once per
+    // call site or reason, with counts.
+    result?;
+    for line in faults.outcome()? {
+        println!("  warning: plugin {line}");
     }
-    result
+    Ok(())
 }
 
 /// Run `spectrace render`, building scene items with `factories` (the registry's factory, or

@@ -4,10 +4,12 @@
 
 pub mod adapter;
 pub mod blob;
+pub mod checked;
 pub mod factory;
 pub mod loader;
 pub mod reference;
 pub mod registry;
+pub mod representation;
 pub mod ron_text;
 pub mod services;
 pub mod type_doc;
