@@ -261,9 +261,9 @@ impl Bvh {
                         // Hit children, sorted nearest first (insertion sort of ≤ 4).
                         let mut hits = [(0u32, 0u32, 0.0f32); WIDTH];
                         let mut k = 0;
-                        for i in 0..WIDTH {
+                        for (i, &d) in near.iter().enumerate() {
                             if mask & (1 << i) != 0 {
-                                let e = (n.child[i], n.count[i] as u32, near[i]);
+                                let e = (n.child[i], n.count[i] as u32, d);
                                 let mut j = k;
                                 while j > 0 && hits[j - 1].2 > e.2 {
                                     hits[j] = hits[j - 1];
