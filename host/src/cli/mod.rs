@@ -1,6 +1,7 @@
 //! Command-line subcommands; each lives in its own file and `main.rs` only dispatches.
 
 pub mod bench;
+pub mod bench_speed;
 pub mod blob;
 pub mod color;
 pub mod compare;
@@ -41,7 +42,8 @@ pub enum Command {
     Compare(compare::CompareArgs),
     /// Long progressive reference render that can be stopped (Ctrl-C, --time) and resumed.
     Reference(reference::ReferenceArgs),
-    /// Benchmarks; `bench accuracy`: error versus time of renderer configurations.
+    /// Benchmarks; `bench accuracy`: error versus time of renderer configurations; `bench speed`:
+    /// equal-time efficiency against Mitsuba 3 and LuxCore.
     #[command(subcommand)]
     Bench(bench::BenchCommand),
 }
