@@ -46,7 +46,10 @@ pub struct SpeedArgs {
     pub cornell_reference: PathBuf,
     /// Reference of the caustic (spectrace BDPT, 16,384 spp, checked against Mitsuba 3 in
     /// docs/accuracy.md; lower noise in the caustic than the path-traced Mitsuba reference).
-    #[arg(long, default_value = "docs/figures/caustic/reference_bdpt_16384spp.exr")]
+    #[arg(
+        long,
+        default_value = "docs/figures/caustic/reference_bdpt_16384spp.exr"
+    )]
     pub caustic_reference: PathBuf,
     /// Output directory for the images and speed.md.
     #[arg(long, default_value = "speed-out")]
