@@ -3,6 +3,11 @@
 //! build time on one and two threads, BVH memory per triangle, and closest-hit rays per second
 //! (camera rays and random rays, 262,144 of each) on one and two threads.
 //!
+//! Embree 3 is the hardware anchor: where `cc` and Debian's `libembree-dev` are present, the
+//! harness `scripts/embree/embree_rays.c` is compiled into the target directory and traces the
+//! same triangles and the same random rays (single rays, `rtcIntersect1`) on one and two
+//! threads; elsewhere the table says it was skipped. It is never part of the workspace build.
+//!
 //! A plain timing program, not criterion: each figure is the best of three runs, so that a
 //! shared machine's interruptions count less. Run:
 //! `cargo bench -p spectrace --bench scaling` (prints a Markdown table for docs/performance.md).
@@ -104,6 +109,66 @@ fn rays_per_second(g: &Geometry, rays: &[Ray], threads: usize) -> f64 {
     rays.len() as f64 / secs
 }
 
+/// Compiles the Embree harness next to the bench executable; `Err` says why it cannot run.
+fn build_embree_harness() -> Result<std::path::PathBuf, String> {
+    let src =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scripts/embree/embree_rays.c");
+    let exe = std::env::current_exe()
+        .map_err(|e| e.to_string())?
+        .with_file_name("embree_rays");
+    let out = std::process::Command::new("cc")
+        .args(["-O2", "-o"])
+        .arg(&exe)
+        .arg(&src)
+        .args(["-lembree3", "-lpthread", "-lm"])
+        .output()
+        .map_err(|e| format!("no C compiler ({e})"))?;
+    if !out.status.success() {
+        let err = String::from_utf8_lossy(&out.stderr);
+        return Err(format!(
+            "cannot build the harness (is libembree-dev installed?): {}",
+            err.lines().next().unwrap_or("")
+        ));
+    }
+    Ok(exe)
+}
+
+/// Embree on the same triangles and rays: (build s, hits, Mrays/s on 1 and 2 threads).
+fn embree(exe: &std::path::Path, mesh: &TriangleMesh, rays: &[Ray]) -> Result<String, String> {
+    let mut bytes = Vec::new();
+    bytes.extend((mesh.positions.len() as u32).to_le_bytes());
+    bytes.extend((mesh.indices.len() as u32).to_le_bytes());
+    for p in &mesh.positions {
+        for c in [p.x, p.y, p.z] {
+            bytes.extend(c.to_le_bytes());
+        }
+    }
+    for t in &mesh.indices {
+        for i in t {
+            bytes.extend(i.to_le_bytes());
+        }
+    }
+    bytes.extend((rays.len() as u32).to_le_bytes());
+    for r in rays {
+        for c in [
+            r.origin.x, r.origin.y, r.origin.z, r.dir.x, r.dir.y, r.dir.z,
+        ] {
+            bytes.extend(c.to_le_bytes());
+        }
+    }
+    let file = exe.with_file_name("embree_rays_input.bin");
+    std::fs::write(&file, bytes).map_err(|e| e.to_string())?;
+    let out = std::process::Command::new(exe)
+        .arg(&file)
+        .output()
+        .map_err(|e| e.to_string())?;
+    let _ = std::fs::remove_file(&file);
+    if !out.status.success() {
+        return Err(String::from_utf8_lossy(&out.stderr).into_owned());
+    }
+    Ok(String::from_utf8_lossy(&out.stdout).trim().to_string())
+}
+
 fn main() {
     let max: u32 = std::env::var("SPECTRACE_SCALING_MAX")
         .ok()
@@ -112,6 +177,8 @@ fn main() {
         .min(10);
     let camera = camera_rays();
     let random = random_rays();
+    let harness = build_embree_harness();
+    let mut embree_lines = Vec::new();
     println!(
         "| triangles | build 1 thread (s) | build 2 threads (s) | build speed-up | BVH bytes/triangle \
          | camera Mrays/s 1 thr | 2 thr | speed-up | random Mrays/s 1 thr | 2 thr | speed-up |"
@@ -163,5 +230,25 @@ fn main() {
             r2 / 1e6,
             r2 / r1
         );
+        let hits = random
+            .iter()
+            .filter(|r| g.intersect(r, f32::INFINITY).is_some())
+            .count();
+        embree_lines.push(match &harness {
+            Ok(exe) => match embree(exe, &mesh, &random) {
+                Ok(line) => format!(
+                    "{tris} triangles, random rays: spectrace {:.3} / {:.3} Mrays/s (1 / 2 threads), \
+                     {hits} hits; Embree: {line}",
+                    r1 / 1e6,
+                    r2 / 1e6
+                ),
+                Err(e) => format!("{tris} triangles: Embree failed: {e}"),
+            },
+            Err(why) => format!("{tris} triangles: Embree skipped: {why}"),
+        });
+    }
+    println!();
+    for l in embree_lines {
+        println!("{l}");
     }
 }
