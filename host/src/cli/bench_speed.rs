@@ -315,3 +315,54 @@ fn table(rows: &[SpeedRow], args: &SpeedArgs, notes: &[String]) -> String {
     }
     s
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::Parser;
+
+    #[derive(clap::Parser)]
+    struct Cli {
+        #[command(flatten)]
+        args: SpeedArgs,
+    }
+
+    fn parse(extra: &[&str]) -> SpeedArgs {
+        let mut argv = vec!["bench-speed"];
+        argv.extend_from_slice(extra);
+        Cli::parse_from(argv).args
+    }
+
+    // Bad input is refused before anything is rendered, with an error naming the option or
+    // the item: a non-positive budget, zero threads, an unknown scene name.
+    #[test]
+    fn bad_arguments_are_named() {
+        let dir = std::env::temp_dir().join("spectrace-bench-speed-args");
+        let out = dir.to_string_lossy().to_string();
+        let e = run_speed(&parse(&["--budget=-1", "--out", &out])).unwrap_err();
+        assert!(e.contains("--budget"), "{e}");
+        let e = run_speed(&parse(&["--threads", "0", "--out", &out])).unwrap_err();
+        assert!(e.contains("--threads"), "{e}");
+        let e = run_speed(&parse(&["--scenes", "kitchen", "--out", &out])).unwrap_err();
+        assert!(e.contains("kitchen"), "{e}");
+    }
+
+    // Efficiency is 1/(RMSE²·t): halving the RMSE at the same time quadruples it; samples/s
+    // counts every pixel's samples. Exact arithmetic on chosen numbers.
+    #[test]
+    fn efficiency_and_rate() {
+        let row = |rmse: f64| SpeedRow {
+            scene: "s".into(),
+            renderer: "r".into(),
+            integrator: "i".into(),
+            anchor: false,
+            spp: 10,
+            seconds: 2.0,
+            pixels: 100,
+            rmse,
+        };
+        assert_eq!(row(0.5).efficiency(), 2.0);
+        assert_eq!(row(0.25).efficiency(), 8.0);
+        assert_eq!(row(0.5).samples_per_second(), 500.0);
+    }
+}

@@ -120,8 +120,9 @@ struct Primitive {
 
 /// What the traversal tests at one leaf slot, stored in leaf order. A mesh triangle carries
 /// its three world-space vertices, so the innermost loop reads one contiguous 48-byte record
-/// instead of following object → mesh → index triple → three positions (measured in
-/// `docs/performance.md`); spheres and quads, rare in large scenes, go through their object.
+/// instead of following object → mesh → index triple → three positions (together with the
+/// four-wide BVH: −23% instructions on the Cornell box, `docs/performance.md`); spheres and
+/// quads, rare in large scenes, go through their object.
 #[derive(Clone, Copy, Debug)]
 struct LeafRecord {
     /// Triangle vertices (x, y, z of p0, p1, p2); unused for other shapes.
