@@ -5,11 +5,13 @@
 //! Both are unit vectors. BSDF values are in 1/sr, pdfs in 1/sr (solid angle), emitted radiance
 //! in W/(m²·sr·nm).
 
+pub mod complex;
 pub mod conductor;
 pub mod dense;
 pub mod dielectric;
 pub mod emissive;
 pub mod flags;
+pub mod fluorescent;
 pub mod frame;
 pub mod fresnel;
 pub mod ior;
@@ -19,6 +21,7 @@ pub mod microfacet;
 pub mod mirror;
 pub mod rough_dielectric;
 pub mod texture;
+pub mod thin_film;
 
 pub use conductor::RoughConductor;
 pub use dielectric::SmoothDielectric;
@@ -63,6 +66,20 @@ pub enum TransportMode {
 pub struct ShadingContext {
     /// Surface parameterisation (for textures).
     pub uv: Vec2,
+    /// World-space position (scene units), for procedural materials.
+    pub p: Vec3A,
+    /// Geometric normal (world, unit; zero when unknown).
+    pub ng: Vec3A,
+    /// Shading normal (world, unit; the `z` axis of the local frame; zero when unknown).
+    pub ns: Vec3A,
+}
+
+impl ShadingContext {
+    /// The context of surface point `p` with geometric normal `ng`, shading normal `ns` and
+    /// texture coordinates `uv`.
+    pub fn at(p: Vec3A, ng: Vec3A, ns: Vec3A, uv: Vec2) -> Self {
+        Self { uv, p, ng, ns }
+    }
 }
 
 /// A sampled scattering direction.
