@@ -1,6 +1,7 @@
 //! Command-line subcommands; each lives in its own file and `main.rs` only dispatches.
 
 pub mod bench;
+pub mod bench_speed;
 pub mod blob;
 pub mod color;
 pub mod compare;
@@ -52,7 +53,8 @@ pub enum Command {
     Reference(reference::ReferenceArgs),
     /// Optical effects the scene calls for, who calls for them, and what the render does.
     Explain(explain::ExplainArgs),
-    /// Benchmarks; `bench accuracy`: error versus time of renderer configurations.
+    /// Benchmarks; `bench accuracy`: error versus time of renderer configurations; `bench speed`:
+    /// equal-time efficiency against Mitsuba 3 and LuxCore.
     #[command(subcommand)]
     Bench(bench::BenchCommand),
 }
