@@ -12,6 +12,7 @@ pub mod film;
 pub mod geometry;
 pub mod integrator;
 pub mod light;
+pub mod limits;
 pub mod material;
 pub mod plugin;
 pub mod scene;

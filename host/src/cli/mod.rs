@@ -5,6 +5,7 @@ pub mod blob;
 pub mod color;
 pub mod compare;
 pub mod interrupt;
+pub mod output_paths;
 pub mod plugin_args;
 pub mod plugins;
 pub mod reference;

@@ -24,7 +24,7 @@ pub struct ReferenceArgs {
     #[arg(long)]
     pub spp: Option<u64>,
     /// Samples per pixel per saved pass (a resumed reference keeps its own).
-    #[arg(long, default_value_t = 16)]
+    #[arg(long, default_value_t = 16, value_parser = crate::limits::parse_spp)]
     pub pass_spp: u32,
     /// Light transport algorithm: pt, bdpt or lt.
     #[arg(long, default_value = "pt")]
@@ -33,7 +33,7 @@ pub struct ReferenceArgs {
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// Worker threads (default: one per core).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::limits::parse_threads)]
     pub threads: Option<usize>,
     /// Maximum path depth (default: the scene's).
     #[arg(long)]
@@ -45,6 +45,7 @@ pub struct ReferenceArgs {
 
 /// Run `spectrace reference`.
 pub fn run(args: &ReferenceArgs) -> Result<(), String> {
+    super::output_paths::check_not_directory(&args.output, "-o")?;
     let registry = std::sync::Arc::new(args.plugins.registry(false)?);
     let faults = crate::plugin::adapter::PluginFaults::new();
     let plugins = crate::plugin::factory::PluginFactory::new(registry, faults.clone());

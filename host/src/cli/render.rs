@@ -7,7 +7,7 @@ use crate::integrator::{render, PathTracer, RenderSettings, SampleBudget};
 use crate::scene::{
     default_scene_with, load_scene_file_with, BuiltinFactory, ObjectFactory, Scene,
 };
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Duration;
 
 /// Arguments of `spectrace render`.
@@ -15,14 +15,14 @@ use std::time::Duration;
 pub struct RenderArgs {
     /// Scene file (RON). Without it the embedded measured Cornell box is rendered.
     pub scene: Option<PathBuf>,
-    /// OpenEXR output (R, G, B linear + X, Y, Z).
+    /// OpenEXR output (R, G, B linear + X, Y, Z); a name ending in .png writes only the PNG.
     #[arg(short = 'o', long = "output", default_value = "render.exr")]
     pub output: PathBuf,
     /// sRGB PNG preview (default: the EXR name with .png).
     #[arg(long)]
     pub png: Option<PathBuf>,
     /// Samples per pixel (default: the scene's, 64 for the Cornell box).
-    #[arg(long, conflicts_with = "time")]
+    #[arg(long, conflicts_with = "time", value_parser = crate::limits::parse_spp)]
     pub spp: Option<u32>,
     /// Render for this many seconds instead of a fixed sample count.
     #[arg(long)]
@@ -31,7 +31,7 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// Worker threads (default: one per core).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::limits::parse_threads)]
     pub threads: Option<usize>,
     /// Camera name (default: the scene's first camera).
     #[arg(long)]
@@ -98,6 +98,7 @@ pub fn run_with_factories(
     args: &RenderArgs,
     factories: &[&dyn ObjectFactory],
 ) -> Result<(), String> {
+    let outputs = super::output_paths::output_paths(&args.output, args.png.as_deref())?;
     let t_load = std::time::Instant::now();
     let scene = load(args, factories)?;
     let load_s = t_load.elapsed().as_secs_f64();
@@ -200,11 +201,7 @@ pub fn run_with_factories(
         }
     }
 
-    let png = args
-        .png
-        .clone()
-        .unwrap_or_else(|| args.output.with_extension("png"));
-    let written = save(&result.image, &args.output, &png, &scene)?;
+    let written = save(&result.image, &outputs, &scene)?;
 
     let secs = result.elapsed.as_secs_f64().max(1e-9);
     let rgb = scene.options.rgb_space.xyz_to_rgb(result.image.mean_xyz());
@@ -236,12 +233,22 @@ pub fn run_with_factories(
 
 /// Write the EXR and PNG. If the EXR cannot be written where asked, the work is not lost: it
 /// goes to a rescue file in the temp directory and the error says where.
-fn save(image: &XyzImage, exr: &Path, png: &Path, scene: &Scene) -> Result<Vec<PathBuf>, String> {
+fn save(
+    image: &XyzImage,
+    outputs: &super::output_paths::OutputPaths,
+    scene: &Scene,
+) -> Result<Vec<PathBuf>, String> {
     let mut written = Vec::new();
     let mut errors = Vec::new();
-    match write_exr(exr, image, &scene.options.rgb_space) {
-        Ok(()) => written.push(exr.to_path_buf()),
-        Err(e) => {
+    let png = outputs.png.as_path();
+    match outputs
+        .exr
+        .as_deref()
+        .map(|exr| (exr, write_exr(exr, image, &scene.options.rgb_space)))
+    {
+        None => {}
+        Some((exr, Ok(()))) => written.push(exr.to_path_buf()),
+        Some((_, Err(e))) => {
             let rescue =
                 std::env::temp_dir().join(format!("spectrace-rescue-{}.exr", std::process::id()));
             match write_exr(&rescue, image, &scene.options.rgb_space) {

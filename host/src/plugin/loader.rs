@@ -82,20 +82,20 @@ impl LoadedPlugin {
     }
 }
 
-/// Load one plugin library, checking the abi_stable header, the interface version and the whole
-/// layout of the root module before calling anything in it.
+/// Load one plugin library: its file is checked whole ([`super::library_check`]) before it is
+/// mapped, then the abi_stable header, the interface version and the whole layout of the root
+/// module before anything in it is called.
 pub fn load_library(path: &Path) -> Result<LoadedPlugin, LoadError> {
-    if !path.exists() {
-        return Err(LoadError::new(path, "no such file", ""));
-    }
-    if path.is_dir() {
+    let file = resolve_library_path(path)?;
+    if file.is_dir() {
         return Err(LoadError::new(
             path,
             "is a directory, not a plugin library",
             "",
         ));
     }
-    let header = lib_header_from_path(path).map_err(|e| describe(path, e))?;
+    super::library_check::check_library_file(&file).map_err(|e| LoadError::new(path, e, ""))?;
+    let header = lib_header_from_path(&file).map_err(|e| describe(path, e))?;
     let module = header
         .init_root_module::<PluginModuleRef>()
         .map_err(|e| describe(path, e))?;
@@ -104,6 +104,46 @@ pub fn load_library(path: &Path) -> Result<LoadedPlugin, LoadError> {
         path: path.to_path_buf(),
         ..plugin
     })
+}
+
+/// The file to open for `path`. The system loader looks a name without a slash up on its own
+/// search path only, never in the current directory, so `--plugin libfoo.so` would miss the
+/// `libfoo.so` beside the user: such a name is tried in the current directory first, then in
+/// the directories of the loader's search variable (`LD_LIBRARY_PATH`, `DYLD_LIBRARY_PATH` or
+/// `PATH`), and the file found is what is checked and opened.
+pub fn resolve_library_path(path: &Path) -> Result<PathBuf, LoadError> {
+    let bare = path.components().count() == 1 && path.parent() == Some(Path::new(""));
+    if path.exists() {
+        return Ok(if bare {
+            Path::new(".").join(path)
+        } else {
+            path.to_path_buf()
+        });
+    }
+    let var = if cfg!(target_os = "macos") {
+        "DYLD_LIBRARY_PATH"
+    } else if cfg!(windows) {
+        "PATH"
+    } else {
+        "LD_LIBRARY_PATH"
+    };
+    if bare {
+        if let Some(dirs) = std::env::var_os(var) {
+            if let Some(found) = std::env::split_paths(&dirs)
+                .filter(|d| !d.as_os_str().is_empty())
+                .map(|d| d.join(path))
+                .find(|p| p.is_file())
+            {
+                return Ok(found);
+            }
+        }
+        return Err(LoadError::new(
+            path,
+            format!("no such file in the current directory or on {var}"),
+            "",
+        ));
+    }
+    Err(LoadError::new(path, "no such file", ""))
 }
 
 /// The file names a plugin library can have on this platform.

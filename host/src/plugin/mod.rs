@@ -5,6 +5,7 @@
 pub mod adapter;
 pub mod blob;
 pub mod factory;
+pub mod library_check;
 pub mod loader;
 pub mod registry;
 pub mod ron_text;

@@ -43,10 +43,12 @@ pub fn load_scene_file_with(
     factories: &[&dyn ObjectFactory],
     representation: &RepresentationOptions,
 ) -> Result<Scene, SceneError> {
-    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
-        file: path.to_path_buf(),
-        source,
-    })?;
+    let text =
+        crate::limits::read_text_limited(path, crate::limits::SCENE_FILE_MAX_BYTES, "scene file")
+            .map_err(|source| SceneError::Io {
+            file: path.to_path_buf(),
+            source,
+        })?;
     let desc = parse_scene_str(&text, path)?;
     let base = path.parent().unwrap_or(Path::new("."));
     build_scene_with(&desc, base, path, factories, representation)
@@ -427,6 +429,8 @@ fn build_camera(type_name: &str, params: &Value) -> Result<(PerspectiveCamera, F
                     .all(|v| *v >= 1.0 && *v <= 65536.0 && v.fract() == 0.0)
         })
         .ok_or("parameter `resolution`: expected (width, height) in pixels, 1..65536")?;
+    crate::limits::check_image_size(res[0] as u64, res[1] as u64)
+        .map_err(|e| format!("parameter `resolution`: {e}"))?;
     let fov_axis = match p.string_opt("fov_axis").map_err(pe)?.unwrap_or("x") {
         "x" => FovAxis::X,
         "y" => FovAxis::Y,
