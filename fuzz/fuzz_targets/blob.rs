@@ -1,5 +1,10 @@
-//! The blob reader: any bytes give a blob or an error, never a panic.
+//! The blob reader: any bytes give a blob or an error, never a panic; a blob that decodes is
+//! also instantiated (built-in lights; no plugins are loaded), which parses its payload.
 #![no_main]
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {
-    let _ = spectrace::plugin::blob::Blob::decode(data);
+    if let Ok(blob) = spectrace::plugin::blob::Blob::decode(data) {
+        let registry = spectrace::plugin::Registry::new();
+        let faults = spectrace::plugin::adapter::PluginFaults::new();
+        let _ = blob.instantiate_light(&registry, &faults);
+    }
 });

@@ -45,6 +45,12 @@ pub enum Command {
     /// Benchmarks; `bench accuracy`: error versus time of renderer configurations.
     #[command(subcommand)]
     Bench(bench::BenchCommand),
+    /// Internal: open one plugin library and report (run by the loader in a child process).
+    #[command(name = "probe-plugin", hide = true)]
+    ProbePlugin {
+        /// The library file.
+        file: std::path::PathBuf,
+    },
 }
 
 /// Parse `args`, run the chosen subcommand and return the process exit code.
@@ -75,6 +81,7 @@ where
         Some(Command::Compare(args)) => compare::run(&args),
         Some(Command::Reference(args)) => reference::run(&args),
         Some(Command::Bench(cmd)) => bench::run(&cmd),
+        Some(Command::ProbePlugin { file }) => return crate::plugin::loader::probe_main(&file),
     };
     match result {
         Ok(()) => 0,
