@@ -109,6 +109,19 @@ pub fn run(args: &ReferenceArgs) -> Result<(), String> {
         "  state in {} (run the same command again to continue)",
         state_path(&args.output).display()
     );
+    if let Some(secs) = outcome.pass_dropped_at_time_limit {
+        eprintln!(
+            "spectrace: warning: the time budget ran out {secs:.2} s into a pass of {} spp, which \
+             was stopped and dropped{}",
+            outcome.state.pass_spp,
+            if outcome.passes_added == 0 {
+                "; no pass fits in this budget: give more --time, or start a new reference with \
+                 a smaller --pass-spp"
+            } else {
+                ""
+            }
+        );
+    }
     if let Some(first) = faults.first() {
         return Err(format!(
             "{} plugin call(s) failed during rendering; first: {first}",
