@@ -5,6 +5,7 @@
 //! [`material`], never whether an object came from a dynamic library, a blob or a built-in.
 
 pub mod analysis;
+pub mod builtin;
 pub mod camera;
 pub mod cli;
 pub mod color;

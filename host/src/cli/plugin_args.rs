@@ -13,14 +13,23 @@ pub struct PluginArgs {
     /// SPECTRACE_PLUGIN_PATH environment variable (separated like PATH) are loaded too.
     #[arg(long = "plugins", visible_alias = "dir", value_name = "DIR")]
     pub directories: Vec<PathBuf>,
+    /// Leave the built-in materials, lights, SPDs and observers out of the registry, so that a
+    /// library providing them under the same names (the standard set, `plugins/standard`) is
+    /// used instead. Shapes, cameras and `blob` stay built in.
+    #[arg(long)]
+    pub no_builtins: bool,
 }
 
 impl PluginArgs {
-    /// A registry with the built-in types and the requested plugins. A library that cannot be
+    /// A registry with the built-in types (unless `--no-builtins`) and the requested plugins. A library that cannot be
     /// loaded is an error (the user named it); in a directory, bad libraries are reported as
     /// warnings and the good ones still load.
     pub fn registry(&self, verbose: bool) -> Result<Registry, String> {
-        let mut registry = crate::plugin::builtin_registry();
+        let mut registry = if self.no_builtins {
+            crate::plugin::core_registry()
+        } else {
+            crate::plugin::builtin_registry()
+        };
         let mut dirs = self.directories.clone();
         if let Some(paths) = std::env::var_os("SPECTRACE_PLUGIN_PATH") {
             dirs.extend(std::env::split_paths(&paths).filter(|p| !p.as_os_str().is_empty()));

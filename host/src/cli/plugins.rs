@@ -1,8 +1,8 @@
 //! `spectrace plugins`: what can be built, and who provides it.
 
 use super::plugin_args::PluginArgs;
-use crate::plugin::registry::Provider;
-use spectrace_plugin_api::abi::std_types::ROption;
+use crate::plugin::reference::{builtins_text, params_text, scene_format_markdown};
+use crate::plugin::TypeDoc;
 
 /// Arguments of `spectrace plugins`.
 #[derive(clap::Args, Debug)]
@@ -10,14 +10,21 @@ pub struct PluginsArgs {
     #[command(flatten)]
     /// Libraries and directories to load.
     pub plugins: PluginArgs,
-    /// Also list the built-in types.
+    /// Also list the built-in types with their parameter tables.
     #[arg(long)]
     pub builtins: bool,
+    /// Print the scene-format reference (docs/scene-format.md) as Markdown instead.
+    #[arg(long, requires = "builtins")]
+    pub markdown: bool,
 }
 
 /// List each loaded plugin with its version, API version and types (with parameters).
 pub fn run(args: &PluginsArgs, verbose: bool) -> Result<(), String> {
     let registry = args.plugins.registry(verbose)?;
+    if args.markdown {
+        println!("{}", scene_format_markdown(&registry));
+        return Ok(());
+    }
     if registry.plugins().is_empty() {
         println!(
             "no plugins loaded (use --plugin PATH or --dir DIR, or set SPECTRACE_PLUGIN_PATH)"
@@ -36,31 +43,11 @@ pub fn run(args: &PluginsArgs, verbose: bool) -> Result<(), String> {
                 "  {} `{}` v{}: {}",
                 t.kind, t.name, t.version, t.description
             );
-            for q in t.params.iter() {
-                let unit = if q.unit.is_empty() {
-                    String::new()
-                } else {
-                    format!(" [{}]", q.unit)
-                };
-                let default = match &q.default {
-                    ROption::RSome(d) => format!(" = {d}"),
-                    ROption::RNone => " (required)".to_string(),
-                };
-                println!("      {}{unit}{default}: {}", q.name, q.description);
-            }
+            print!("{}", params_text(&TypeDoc::from(t)));
         }
     }
     if args.builtins {
-        println!("built-in types:");
-        for t in registry
-            .types()
-            .filter(|t| matches!(t.provider, Provider::Builtin))
-        {
-            println!(
-                "  {} `{}`: {}",
-                t.info.kind, t.info.name, t.info.description
-            );
-        }
+        print!("{}", builtins_text(&registry));
     }
     Ok(())
 }

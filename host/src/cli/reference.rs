@@ -5,7 +5,7 @@
 
 use crate::analysis::{run_reference, state_path, ReferenceSettings};
 use crate::integrator::{IntegratorKind, PathTracer};
-use crate::scene::{default_scene, load_scene_file, BuiltinFactory, ObjectFactory};
+use crate::scene::{load_scene_file, ObjectFactory};
 use std::path::PathBuf;
 use std::time::Duration;
 
@@ -49,11 +49,12 @@ pub fn run(args: &ReferenceArgs) -> Result<(), String> {
     let registry = std::sync::Arc::new(args.plugins.registry(false)?);
     let faults = crate::plugin::adapter::PluginFaults::new();
     let plugins = crate::plugin::factory::PluginFactory::new(registry, faults.clone());
-    let factories: [&dyn ObjectFactory; 2] = [&BuiltinFactory, &plugins];
+    let factories: [&dyn ObjectFactory; 1] = [&plugins];
     let scene = match &args.scene {
-        Some(p) => load_scene_file(p, &factories).map_err(|e| e.to_string())?,
-        None => default_scene().map_err(|e| e.to_string())?,
-    };
+        Some(p) => load_scene_file(p, &factories),
+        None => crate::scene::cornell::cornell_box_with(&factories, &Default::default()),
+    }
+    .map_err(|e| e.to_string())?;
     let time = match args.time {
         Some(t) if t.is_finite() && t > 0.0 => Some(Duration::from_secs_f64(t)),
         Some(t) => {

@@ -4,9 +4,7 @@
 
 use crate::film::{write_exr, write_png, XyzImage};
 use crate::integrator::{render, PathTracer, RenderSettings, SampleBudget};
-use crate::scene::{
-    default_scene_with, load_scene_file_with, BuiltinFactory, ObjectFactory, Scene,
-};
+use crate::scene::{load_scene_file_with, ObjectFactory, Scene};
 use std::path::PathBuf;
 use std::time::Duration;
 
@@ -70,7 +68,7 @@ pub fn load(args: &RenderArgs, factories: &[&dyn ObjectFactory]) -> Result<Scene
     let repr = args.representation.options()?;
     match &args.scene {
         Some(p) => load_scene_file_with(p, factories, &repr),
-        None => default_scene_with(&repr),
+        None => crate::scene::cornell::cornell_box_with(factories, &repr),
     }
     .map_err(|e| e.to_string())
 }
@@ -80,7 +78,8 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     let registry = std::sync::Arc::new(args.plugins.registry(false)?);
     let faults = crate::plugin::adapter::PluginFaults::new();
     let plugins = crate::plugin::factory::PluginFactory::new(registry, faults.clone());
-    let result = run_with_factories(args, &[&BuiltinFactory, &plugins]);
+    // One way in: the registry builds every type, built-in, plugin or blob.
+    let result = run_with_factories(args, &[&plugins]);
     // Plugin calls that failed during rendering contributed nothing; say so, with the first cause.
     if let Some(first) = faults.first() {
         return Err(format!(
@@ -92,8 +91,8 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     result
 }
 
-/// Run `spectrace render`, building scene items with `factories` (plugins first, then
-/// [`BuiltinFactory`], typically).
+/// Run `spectrace render`, building scene items with `factories` (the registry's factory, or
+/// [`crate::scene::BuiltinFactory`] alone).
 pub fn run_with_factories(
     args: &RenderArgs,
     factories: &[&dyn ObjectFactory],

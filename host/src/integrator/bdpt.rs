@@ -12,23 +12,68 @@
 //! for them), delta BSDFs (no connection through them; their zero densities cancel), directional
 //! lights (positional density on a disk, see [`Vertex::pdf_light`]), finite apertures (the lens
 //! density is the camera's own), shading normals (adjoint correction on light subpaths).
-//! Wavelengths: one set per pair from [`WavelengthMixture`]; see `select.rs`.
+//! Wavelengths: one set per pair from [`WavelengthMixture`].
+//!
+//! | parameter   | unit     | default | meaning                                              |
+//! |-------------|----------|---------|------------------------------------------------------|
+//! | `max_depth` | bounces  | 64      | longest full path (`s + t − 2`), `--max-depth`       |
+//! | `rr_depth`  | vertices | 3       | subpath length from which Russian roulette may stop  |
 
-use super::light_tracer::{connect_to_camera, trace_beam, PixelMaxY, XyzWeights};
+use super::beam::trace_beam;
+use super::camera_connection::connect_to_camera;
+use super::driver::{Integrator, IntegratorInfo, IntegratorOutput, Registration};
+use super::light_subpath::{generate_light_subpath_with, LightStart};
+use super::pixel_max::PixelMaxY;
+use super::random_walk::generate_camera_subpath;
 use super::render::ProgressFn;
-use super::select::{IntegratorOutput, WavelengthMixture};
 use super::tiled::render_tiles;
-use super::vertex::{geometry_term, remap0, unoccluded, Vertex, VertexKind};
+use super::vertex::{geometry_term, remap0, unoccluded, Vertex};
+use super::wavelength_mixture::WavelengthMixture;
+use super::xyz_weights::XyzWeights;
 use super::{PathStats, PixelSampler, RenderError, RenderResult, RenderSettings, SampleRng};
 use crate::camera::{Camera, CameraSample};
 use crate::film::{Sensor, SplatFilm};
-use crate::geometry::{spawn_ray, Ray};
 use crate::light::{LightFlags, LightSampleContext};
-use crate::material::{Frame, MaterialFlags, ShadingContext, TransportMode};
+use crate::material::TransportMode;
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::Vec2;
+use spectrace_plugin_api::ParamDoc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+
+/// Type information of BDPT.
+pub const INFO: IntegratorInfo = IntegratorInfo {
+    name: "bdpt",
+    aliases: &[],
+    version: 1,
+    description: "bidirectional path tracing, power-heuristic MIS over all (s, t) strategies",
+    params: &[
+        ParamDoc::optional(
+            "max_depth",
+            "bounces",
+            "64",
+            "longest full path (s + t - 2); --max-depth or the scene's max_depth",
+        ),
+        ParamDoc::optional(
+            "rr_depth",
+            "vertices",
+            "3",
+            "subpath length from which Russian roulette may end a subpath",
+        ),
+    ],
+};
+
+/// BDPT's registration.
+pub const REGISTRATION: Registration = Registration {
+    info: &INFO,
+    build: |settings, options| {
+        Ok(Box::new(Bdpt {
+            max_depth: settings.tracer.max_depth,
+            rr_depth: settings.tracer.rr_depth,
+            strategy_images: options.strategy_images,
+        }))
+    },
+};
 
 /// Longest path (bounces) that gets its own strategy image; longer ones are summed into one.
 pub const STRATEGY_IMAGE_MAX_DEPTH: u32 = 5;
@@ -40,273 +85,8 @@ pub struct Bdpt {
     pub max_depth: u32,
     /// Subpath vertex count from which Russian roulette may end a subpath.
     pub rr_depth: u32,
-}
-
-/// Flip the transport direction.
-fn flip(mode: TransportMode) -> TransportMode {
-    match mode {
-        TransportMode::Radiance => TransportMode::Importance,
-        TransportMode::Importance => TransportMode::Radiance,
-    }
-}
-
-/// Extend `path` by up to `max_new` surface vertices, starting with `ray` leaving the last
-/// vertex of `path` with solid-angle density `pdf_dir` (1/sr) and throughput `beta`. Sets each
-/// new vertex's `pdf_fwd` and its predecessor's `pdf_rev`.
-#[allow(clippy::too_many_arguments)]
-pub fn random_walk(
-    scene: &Scene,
-    mut ray: Ray,
-    lambda: &SampledWavelengths,
-    rng: &mut SampleRng,
-    mut beta: SampledSpectrum,
-    pdf_dir: f32,
-    max_new: usize,
-    mode: TransportMode,
-    rr_depth: u32,
-    path: &mut Vec<Vertex>,
-    stats: &mut PathStats,
-) {
-    if max_new == 0 || path.is_empty() {
-        return;
-    }
-    let mut pdf_fwd = pdf_dir;
-    let mut dispersed = path[path.len() - 1].dispersed;
-    // Scattering-only throughput for Russian roulette (β of light paths carries watts), without
-    // the 1/η² radiance scaling of refraction: that factor is undone when the path leaves the
-    // medium again, so a roulette on it would kill camera paths inside glass with probability
-    // 1 − 1/η² and return the survivors with η² = 2.25× the throughput (fireflies through glass).
-    let mut scatter = 1.0f32;
-    let mut added = 0usize;
-    loop {
-        stats.rays += 1;
-        let Some(hit) = scene.geometry.intersect(&ray, f32::INFINITY) else {
-            break;
-        };
-        let wo_world = -ray.dir.normalize();
-        let prev = path[path.len() - 1];
-        let mut v = Vertex {
-            kind: VertexKind::Surface { object: hit.object },
-            p: hit.point,
-            p_error: hit.point_error,
-            ng: hit.geometric_normal,
-            ns: hit.shading_normal,
-            uv: hit.uv,
-            wo: wo_world,
-            beta,
-            pdf_fwd: 0.0,
-            pdf_rev: 0.0,
-            delta: false,
-            dispersed,
-        };
-        v.pdf_fwd = prev.convert_density(pdf_fwd, &v);
-        path.push(v);
-        added += 1;
-        if added >= max_new {
-            break;
-        }
-        let material = scene.objects.material(hit.object);
-        let frame = Frame::from_normal(hit.shading_normal);
-        let wo = frame.to_local(wo_world);
-        let ctx = ShadingContext { uv: hit.uv };
-        let u_lobe = rng.next_1d();
-        let u_dir = rng.next_2d();
-        let Some(bs) = material.sample(wo, &ctx, lambda, u_lobe, u_dir, mode) else {
-            break;
-        };
-        if !(bs.pdf > 0.0) || bs.f.is_black() {
-            break;
-        }
-        let wi_world = frame.to_world(bs.wi);
-        let mut pdf_rev = material.pdf(bs.wi, wo, &ctx, lambda, flip(mode));
-        pdf_fwd = bs.pdf;
-        let n = path.len();
-        if bs.flags.is_specular() {
-            path[n - 1].delta = true;
-            pdf_fwd = 0.0;
-            pdf_rev = 0.0;
-        }
-        if bs.flags.contains(MaterialFlags::DISPERSIVE) {
-            dispersed = true;
-        }
-        let correction = super::vertex::shading_normal_correction(
-            hit.geometric_normal,
-            hit.shading_normal,
-            wo_world,
-            wi_world,
-            mode,
-        );
-        let factor = bs.wi.z.abs() / bs.pdf * correction;
-        beta *= bs.f * factor;
-        scatter *= (bs.f * factor).max_value();
-        if mode == TransportMode::Radiance && bs.flags.contains(MaterialFlags::TRANSMISSION) {
-            scatter *= bs.eta * bs.eta;
-        }
-        if beta.has_non_finite() || beta.is_black() {
-            break;
-        }
-        path[n - 2].pdf_rev = path[n - 1].convert_density(pdf_rev, &path[n - 2]);
-        if added as u32 >= rr_depth && scatter < 1.0 {
-            let q = (1.0 - scatter).max(0.05);
-            if rng.next_1d() < q {
-                break;
-            }
-            beta = beta / (1.0 - q);
-            scatter /= 1.0 - q;
-        }
-        ray = spawn_ray(hit.point, hit.point_error, hit.geometric_normal, wi_world);
-    }
-}
-
-/// The camera subpath of one camera ray: the lens vertex plus up to `max_vertices − 1` more.
-#[allow(clippy::too_many_arguments)]
-pub fn generate_camera_subpath(
-    scene: &Scene,
-    camera: &dyn Camera,
-    ray: Ray,
-    weight: f32,
-    lambda: &SampledWavelengths,
-    rng: &mut SampleRng,
-    max_vertices: usize,
-    rr_depth: u32,
-    path: &mut Vec<Vertex>,
-    stats: &mut PathStats,
-) {
-    path.clear();
-    if max_vertices == 0 {
-        return;
-    }
-    let beta = SampledSpectrum::splat(weight);
-    path.push(Vertex::camera(ray.origin, camera.forward(), beta));
-    let (_, pdf_dir) = camera.pdf_we(&ray);
-    random_walk(
-        scene,
-        ray,
-        lambda,
-        rng,
-        beta,
-        pdf_dir,
-        max_vertices - 1,
-        TransportMode::Radiance,
-        rr_depth,
-        path,
-        stats,
-    );
-}
-
-/// How a light subpath started.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum LightStart {
-    /// No light could be sampled (no lights, or a zero-density sample).
-    None,
-    /// A subpath from an evaluable light is in the path buffer.
-    Path,
-    /// The chosen light is beams-only: light `index` chosen with probability `pmf`; the caller
-    /// traces one of its beams instead.
-    Beams {
-        /// Light index.
-        index: usize,
-        /// Its selection probability.
-        pmf: f32,
-    },
-}
-
-/// The light subpath: a light chosen by power, an emitted ray from `sample_le`, then a random
-/// walk in importance mode, up to `max_vertices` vertices.
-#[allow(clippy::too_many_arguments)]
-pub fn generate_light_subpath(
-    scene: &Scene,
-    lambda: &SampledWavelengths,
-    rng: &mut SampleRng,
-    max_vertices: usize,
-    rr_depth: u32,
-    path: &mut Vec<Vertex>,
-    stats: &mut PathStats,
-) -> LightStart {
-    let u_light = rng.next_1d();
-    let u1 = rng.next_2d();
-    let u2 = rng.next_2d();
-    generate_light_subpath_with(
-        scene,
-        lambda,
-        (u_light, u1, u2),
-        rng,
-        max_vertices,
-        rr_depth,
-        path,
-        stats,
-    )
-}
-
-/// [`generate_light_subpath`] with the start given: `u_light` picks the light, `u1` and `u2`
-/// go to its `sample_le` (for callers with stratified samples); `rng` drives the walk.
-#[allow(clippy::too_many_arguments)]
-pub fn generate_light_subpath_with(
-    scene: &Scene,
-    lambda: &SampledWavelengths,
-    (u_light, u1, u2): (f32, Vec2, Vec2),
-    rng: &mut SampleRng,
-    max_vertices: usize,
-    rr_depth: u32,
-    path: &mut Vec<Vertex>,
-    stats: &mut PathStats,
-) -> LightStart {
-    path.clear();
-    if max_vertices == 0 {
-        return LightStart::None;
-    }
-    let Some((li, pmf)) = scene.lights.sample(u_light) else {
-        return LightStart::None;
-    };
-    let light = &scene.lights.lights()[li];
-    let flags = light.flags();
-    if flags.contains(LightFlags::BEAMS_ONLY) {
-        return LightStart::Beams { index: li, pmf };
-    }
-    let Some(les) = light.sample_le(u1, u2, lambda) else {
-        return LightStart::None;
-    };
-    if !(les.pdf_pos > 0.0 && les.pdf_dir > 0.0) || les.radiance.is_black() {
-        return LightStart::None;
-    }
-    let cos = if les.normal != glam::Vec3A::ZERO {
-        les.normal.dot(les.ray.dir).abs()
-    } else {
-        1.0
-    };
-    let beta = les.radiance * (cos / (pmf * les.pdf_pos * les.pdf_dir));
-    let mut v0 = Vertex::light(
-        li as u32,
-        les.ray.origin,
-        glam::Vec3A::ZERO,
-        les.normal,
-        beta,
-    );
-    v0.pdf_fwd = pmf * les.pdf_pos;
-    path.push(v0);
-    random_walk(
-        scene,
-        les.ray,
-        lambda,
-        rng,
-        beta,
-        les.pdf_dir,
-        max_vertices - 1,
-        TransportMode::Importance,
-        rr_depth,
-        path,
-        stats,
-    );
-    // Parallel rays of a directional light: the density at the first hit is positional.
-    if flags.contains(LightFlags::DELTA_DIRECTION) && path.len() > 1 {
-        let cos1 = if path[1].on_surface() {
-            path[1].ng.dot(les.ray.dir).abs()
-        } else {
-            1.0
-        };
-        path[1].pdf_fwd = les.pdf_pos * cos1;
-    }
-    LightStart::Path
+    /// Also produce one image per (s, t) strategy.
+    pub strategy_images: bool,
 }
 
 /// One strategy's unweighted contribution and where it goes.
@@ -595,10 +375,10 @@ impl StrategyFilms {
 
 /// Render `scene` by BDPT with the tiles, passes and seeding of the path tracer's driver;
 /// t = 1 contributions (and beams-only lights) are splatted and scaled by 1/spp.
-pub fn render_bdpt(
+fn render_bdpt(
+    bdpt: &Bdpt,
     scene: &Scene,
     settings: &RenderSettings,
-    strategy_images: bool,
     progress: &ProgressFn<'_>,
     cancel: Option<&AtomicBool>,
 ) -> Result<IntegratorOutput, RenderError> {
@@ -610,12 +390,10 @@ pub fn render_bdpt(
     let (width, height) = camera.resolution();
     let sensor = Sensor::new(scene.observer.clone());
     let mixture = WavelengthMixture::new(scene);
-    let bdpt = Bdpt {
-        max_depth: settings.tracer.max_depth,
-        rr_depth: settings.tracer.rr_depth,
-    };
     let splats = SplatFilm::new(width, height);
-    let strategies = strategy_images.then(|| StrategyFilms::new(width, height));
+    let strategies = bdpt
+        .strategy_images
+        .then(|| StrategyFilms::new(width, height));
     let rays = AtomicU64::new(0);
     let non_finite = AtomicU64::new(0);
     let pixel_max = PixelMaxY::new(width, height);
@@ -692,6 +470,32 @@ pub fn render_bdpt(
         // Non-negative f64 bit patterns order like the values.
         max_sample_y: pixel_max.values(),
     })
+}
+
+impl Integrator for Bdpt {
+    fn info(&self) -> &'static IntegratorInfo {
+        &INFO
+    }
+
+    fn render(
+        &self,
+        scene: &Scene,
+        settings: &RenderSettings,
+        progress: &ProgressFn<'_>,
+        cancel: Option<&AtomicBool>,
+    ) -> Result<IntegratorOutput, RenderError> {
+        render_bdpt(self, scene, settings, progress, cancel)
+    }
+
+    fn light_strategy(&self, flags: LightFlags) -> &'static str {
+        if flags.contains(LightFlags::BEAMS_ONLY) {
+            "light tracing of its beams (t = 1 splats, unweighted)"
+        } else if flags.is_delta() {
+            "bdpt: all strategies with s ≥ 1 (never hit by camera paths), power-heuristic MIS"
+        } else {
+            "bdpt: all (s, t) strategies incl. s = 0 and t = 1, power-heuristic MIS"
+        }
+    }
 }
 
 impl Bdpt {
@@ -851,6 +655,7 @@ impl Bdpt {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::integrator::vertex::VertexKind;
     use crate::scene::{build_scene, parse_scene_str, BuiltinFactory};
     use std::path::Path;
 

@@ -1,17 +1,31 @@
-//! Integrators: the spectral path tracer ([`path`]) and the tiled, parallel, deterministic
-//! render driver ([`render`]) that feeds the film.
+//! Integrators and what they share. Each integrator is one file implementing
+//! [`driver::Integrator`] and one entry in [`select::registered`]: path tracing ([`path`]),
+//! bidirectional path tracing ([`bdpt`]) and light tracing ([`light_tracer`]). The path-building
+//! blocks they share live in files of their own ([`random_walk`], [`light_subpath`],
+//! [`camera_connection`], [`beam`], [`wavelength_mixture`], [`xyz_weights`], [`pixel_max`],
+//! [`vertex`], [`wavelength_groups`]), as do the render settings ([`render`]) and the tiled,
+//! parallel, deterministic pass loop ([`tiled`]). No integrator imports another.
 
 pub mod bdpt;
+pub mod beam;
+pub mod camera_connection;
+pub mod driver;
+pub mod light_subpath;
 pub mod light_tracer;
 pub mod path;
+pub mod pixel_max;
+pub mod random_walk;
 pub mod render;
 pub mod sampler;
 pub mod select;
 pub mod tiled;
 pub mod vertex;
 pub mod wavelength_groups;
+pub mod wavelength_mixture;
+pub mod xyz_weights;
 
-pub use path::{PathStats, PathTracer, WavelengthSampling};
-pub use render::{render, RenderError, RenderResult, RenderSettings, SampleBudget};
+pub use driver::{Integrator, IntegratorInfo, IntegratorOptions, IntegratorOutput, Registration};
+pub use path::{render, PathStats, PathTracer, WavelengthSampling};
+pub use render::{RenderError, RenderResult, RenderSettings, SampleBudget};
 pub use sampler::{PixelSampler, SampleRng};
-pub use select::{render_with, strategy_summary, IntegratorKind, IntegratorOutput};
+pub use select::{registered, render_with, strategy_summary, IntegratorKind};

@@ -4,13 +4,96 @@
 //! all groups share one geometric path, sampled with the hero group, until a dispersive event
 //! keeps only the hero wavelength.
 
-use super::wavelength_groups::{PathWavelengths, MAX_GROUPS};
-use super::PixelSampler;
+use super::driver::{Integrator, IntegratorInfo, IntegratorOutput, Registration};
+use super::render::ProgressFn;
+use super::tiled::render_tiles;
+use super::wavelength_groups::{PathWavelengthSampler, PathWavelengths, MAX_GROUPS};
+use super::{PixelSampler, RenderError, RenderResult, RenderSettings};
+use crate::camera::CameraSample;
+use crate::film::Sensor;
 use crate::geometry::{spawn_ray, spawn_ray_to, Ray};
-use crate::light::LightSampleContext;
+use crate::light::{LightFlags, LightSampleContext};
 use crate::material::{Frame, MaterialFlags, ShadingContext, TransportMode};
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use glam::Vec2;
+use spectrace_plugin_api::ParamDoc;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+
+/// Type information of path tracing.
+pub const INFO: IntegratorInfo = IntegratorInfo {
+    name: "pt",
+    aliases: &["path"],
+    version: 1,
+    description: "unidirectional path tracing, next-event estimation with power-heuristic MIS",
+    params: &[
+        ParamDoc::optional(
+            "max_depth",
+            "bounces",
+            "64",
+            "longest path; --max-depth or the scene's max_depth",
+        ),
+        ParamDoc::optional(
+            "rr_depth",
+            "bounces",
+            "3",
+            "bounce from which Russian roulette may end a path",
+        ),
+        ParamDoc::optional(
+            "wavelengths",
+            "",
+            "visible",
+            "how camera paths draw wavelengths: visible, uniform or light; --wavelength-sampling",
+        ),
+        ParamDoc::optional(
+            "wavelengths_per_path",
+            "",
+            "4",
+            "wavelengths one camera path carries: 1 or a multiple of 4 up to 16; --wavelengths-per-path",
+        ),
+    ],
+};
+
+/// Path tracing's registration.
+pub const REGISTRATION: Registration = Registration {
+    info: &INFO,
+    build: |settings, _| Ok(Box::new(settings.tracer)),
+};
+
+impl Integrator for PathTracer {
+    fn info(&self) -> &'static IntegratorInfo {
+        &INFO
+    }
+
+    fn render(
+        &self,
+        scene: &Scene,
+        settings: &RenderSettings,
+        progress: &ProgressFn<'_>,
+        cancel: Option<&AtomicBool>,
+    ) -> Result<IntegratorOutput, RenderError> {
+        let settings = RenderSettings {
+            tracer: *self,
+            ..settings.clone()
+        };
+        Ok(IntegratorOutput {
+            result: render(scene, &settings, progress, cancel)?,
+            strategy_images: Vec::new(),
+            non_finite: 0,
+            max_sample_y: Vec::new(),
+        })
+    }
+
+    fn light_strategy(&self, flags: LightFlags) -> &'static str {
+        if flags.contains(LightFlags::BEAMS_ONLY) {
+            "NOT rendered by pt (beams can only be light traced; use bdpt or lt)"
+        } else if flags.is_delta() {
+            "pt: next-event estimation only"
+        } else {
+            "pt: next-event estimation + BSDF hits (MIS)"
+        }
+    }
+}
 
 /// Counters for the render summary (per thread, summed afterwards).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -394,6 +477,108 @@ impl PathTracer {
         }
         l
     }
+}
+
+/// A camera sample's XYZ: the mean over wavelength groups of each group's sensor response to
+/// its radiance `l` (scaled by the camera weight). One group gives exactly `Sensor::to_xyz`.
+fn film_xyz(
+    sensor: &Sensor,
+    l: &GroupRadiance,
+    lambdas: &PathWavelengths,
+    camera_weight: f32,
+) -> [f64; 3] {
+    let groups = lambdas.groups();
+    let mut xyz = sensor.to_xyz(&(l[0] * camera_weight), &groups[0]);
+    if groups.len() > 1 {
+        for (lg, wg) in l.iter().zip(groups).skip(1) {
+            let x = sensor.to_xyz(&(*lg * camera_weight), wg);
+            for c in 0..3 {
+                xyz[c] += x[c];
+            }
+        }
+        let inv = 1.0 / groups.len() as f64;
+        for v in &mut xyz {
+            *v *= inv;
+        }
+    }
+    xyz
+}
+
+/// Render `scene` by path tracing with `settings` (the tracer's settings from
+/// `settings.tracer`). `progress` may be called from several threads.
+/// `cancel`, when set, stops after the tiles in flight; the partial film is returned.
+pub fn render(
+    scene: &Scene,
+    settings: &RenderSettings,
+    progress: &ProgressFn<'_>,
+    cancel: Option<&AtomicBool>,
+) -> Result<RenderResult, RenderError> {
+    let cam = scene
+        .cameras
+        .get(settings.camera.as_deref())
+        .map_err(RenderError::Setup)?;
+    let (width, height) = cam.camera.resolution();
+    let wavelength_sampler = PathWavelengthSampler::new(
+        scene,
+        settings.tracer.wavelengths,
+        settings.tracer.wavelengths_per_path,
+    )
+    .map_err(RenderError::Setup)?;
+    let sensor = Sensor::new(scene.observer.clone());
+    let rays = AtomicU64::new(0);
+    let outcome = render_tiles(
+        (width, height),
+        settings,
+        progress,
+        cancel,
+        |buf, samples| {
+            let mut stats = PathStats::default();
+            for y in buf.y0..buf.y0 + buf.h {
+                for x in buf.x0..buf.x0 + buf.w {
+                    let pixel = y as u64 * width as u64 + x as u64;
+                    for s in samples.clone() {
+                        let mut rng = PixelSampler::new(settings.seed, pixel, s);
+                        let mut lambdas = wavelength_sampler.sample(&mut rng);
+                        let offset = cam.filter.sample(rng.next_2d());
+                        let sample = CameraSample {
+                            p_film: Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset,
+                            p_lens: rng.next_2d(),
+                        };
+                        let xyz = match cam.camera.generate_ray(&sample) {
+                            Some(r) => {
+                                let l = settings.tracer.li_groups(
+                                    scene,
+                                    r.ray,
+                                    &mut lambdas,
+                                    &mut rng,
+                                    &mut stats,
+                                );
+                                film_xyz(&sensor, &l, &lambdas, r.weight)
+                            }
+                            None => [0.0; 3],
+                        };
+                        // A NaN/Inf sample would poison the pixel forever; drop it.
+                        if xyz.iter().all(|v| v.is_finite()) {
+                            buf.add(x, y, xyz);
+                        } else {
+                            buf.add(x, y, [0.0; 3]);
+                        }
+                    }
+                }
+            }
+            rays.fetch_add(stats.rays + stats.shadow_rays, Ordering::Relaxed);
+        },
+    )?;
+    let film = outcome.film;
+    let spp_done = outcome.spp;
+    let elapsed = outcome.elapsed;
+    Ok(RenderResult {
+        image: film.image(),
+        spp: spp_done,
+        samples: film.sample_count() as u64,
+        rays: rays.load(Ordering::Relaxed),
+        elapsed,
+    })
 }
 
 #[cfg(test)]

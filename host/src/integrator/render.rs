@@ -2,14 +2,8 @@
 //! merges them into the film in tile order. Each camera sample draws its random numbers from
 //! `(seed, pixel, sample index)` only, so the image is bitwise identical for any thread count.
 
-use super::tiled::render_tiles;
-use super::wavelength_groups::{PathWavelengthSampler, PathWavelengths};
-use super::{PathStats, PathTracer, PixelSampler};
-use crate::camera::CameraSample;
-use crate::film::{Sensor, XyzImage};
-use crate::scene::Scene;
-use glam::Vec2;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use super::PathTracer;
+use crate::film::XyzImage;
 use std::time::Duration;
 
 /// How many samples to take.
@@ -106,105 +100,4 @@ pub fn fixed_budget_passes(budget: SampleBudget) -> Vec<u32> {
         }
     }
     passes
-}
-
-/// A camera sample's XYZ: the mean over wavelength groups of each group's sensor response to
-/// its radiance `l` (scaled by the camera weight). One group gives exactly `Sensor::to_xyz`.
-fn film_xyz(
-    sensor: &Sensor,
-    l: &super::path::GroupRadiance,
-    lambdas: &PathWavelengths,
-    camera_weight: f32,
-) -> [f64; 3] {
-    let groups = lambdas.groups();
-    let mut xyz = sensor.to_xyz(&(l[0] * camera_weight), &groups[0]);
-    if groups.len() > 1 {
-        for (lg, wg) in l.iter().zip(groups).skip(1) {
-            let x = sensor.to_xyz(&(*lg * camera_weight), wg);
-            for c in 0..3 {
-                xyz[c] += x[c];
-            }
-        }
-        let inv = 1.0 / groups.len() as f64;
-        for v in &mut xyz {
-            *v *= inv;
-        }
-    }
-    xyz
-}
-
-/// Render `scene` with `settings`. `progress` may be called from several threads.
-/// `cancel`, when set, stops after the tiles in flight; the partial film is returned.
-pub fn render(
-    scene: &Scene,
-    settings: &RenderSettings,
-    progress: &ProgressFn<'_>,
-    cancel: Option<&AtomicBool>,
-) -> Result<RenderResult, RenderError> {
-    let cam = scene
-        .cameras
-        .get(settings.camera.as_deref())
-        .map_err(RenderError::Setup)?;
-    let (width, height) = cam.camera.resolution();
-    let wavelength_sampler = PathWavelengthSampler::new(
-        scene,
-        settings.tracer.wavelengths,
-        settings.tracer.wavelengths_per_path,
-    )
-    .map_err(RenderError::Setup)?;
-    let sensor = Sensor::new(scene.observer.clone());
-    let rays = AtomicU64::new(0);
-    let outcome = render_tiles(
-        (width, height),
-        settings,
-        progress,
-        cancel,
-        |buf, samples| {
-            let mut stats = PathStats::default();
-            for y in buf.y0..buf.y0 + buf.h {
-                for x in buf.x0..buf.x0 + buf.w {
-                    let pixel = y as u64 * width as u64 + x as u64;
-                    for s in samples.clone() {
-                        let mut rng = PixelSampler::new(settings.seed, pixel, s);
-                        let mut lambdas = wavelength_sampler.sample(&mut rng);
-                        let offset = cam.filter.sample(rng.next_2d());
-                        let sample = CameraSample {
-                            p_film: Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset,
-                            p_lens: rng.next_2d(),
-                        };
-                        let xyz = match cam.camera.generate_ray(&sample) {
-                            Some(r) => {
-                                let l = settings.tracer.li_groups(
-                                    scene,
-                                    r.ray,
-                                    &mut lambdas,
-                                    &mut rng,
-                                    &mut stats,
-                                );
-                                film_xyz(&sensor, &l, &lambdas, r.weight)
-                            }
-                            None => [0.0; 3],
-                        };
-                        // A NaN/Inf sample would poison the pixel forever; drop it.
-                        if xyz.iter().all(|v| v.is_finite()) {
-                            buf.add(x, y, xyz);
-                        } else {
-                            buf.add(x, y, [0.0; 3]);
-                        }
-                    }
-                }
-            }
-            rays.fetch_add(stats.rays + stats.shadow_rays, Ordering::Relaxed);
-        },
-    )?;
-    let film = outcome.film;
-    let spp_done = outcome.spp;
-    let elapsed = outcome.elapsed;
-    Ok(RenderResult {
-        image: film.image(),
-        spp: spp_done,
-        samples: film.sample_count() as u64,
-        rays: rays.load(Ordering::Relaxed),
-        elapsed,
-    })
 }

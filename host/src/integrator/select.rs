@@ -1,50 +1,74 @@
-//! What a render samples: which integrator (`--integrator bdpt|pt|lt`), which wavelengths a
-//! camera/light path pair carries, and which light is handled by which strategies (for the
-//! render summary).
-//!
-//! # Wavelengths of a path pair (BDPT and light tracing)
-//! A connection joins a camera subpath and a light subpath, so both must carry the same
-//! wavelengths. Camera paths prefer the observer's sensitivity (the visible-importance density
-//! `p_vis`), light paths prefer what the lights emit (`p_emit = Σ_L P(L)·S_L(λ)`, the SPDs of
-//! the evaluable lights weighted by the power-proportional light pmf). One wavelength set per
-//! pair is drawn from the one-sample mixture `p(λ) = ½ p_vis(λ) + ½ p_emit(λ)` (a fair coin picks
-//! the component, then a light's SPD by power if it is the emission component; the hero and its
-//! rotations `frac(u + i/LANES)` come from that component's inverse CDF). Each lane's marginal
-//! density is exactly the mixture, which is stored as its pdf: this is the balance heuristic
-//! between the two spectral strategies. Because the wavelengths are drawn independently of the
-//! light chosen for the light subpath and shared by every (s, t) strategy of the pair, the
-//! wavelength density is a common factor of all strategies and cancels in their MIS weights.
-//! Lanes that land on a delta spectral line are dropped (pdf 0): lights evaluate only the
-//! continuous part of their SPD.
+//! Which integrator renders (`--integrator bdpt|pt|lt`): a lookup in the list of registered
+//! integrator types ([`registered`]), the render summary of which light each one handles how,
+//! and BDPT's strategy images on disk.
 
-use super::{render, RenderError, RenderResult, RenderSettings, SampleRng};
+use super::driver::{Integrator, IntegratorOptions, IntegratorOutput, Registration};
+use super::render::ProgressFn;
+use super::{RenderError, RenderSettings};
 use crate::light::LightFlags;
 use crate::scene::Scene;
-use crate::spectrum::wavelength_sampling::{rotated, visible_pdf, visible_sample};
-use crate::spectrum::{SampledWavelengths, Spd, LANES};
-use std::sync::Arc;
 
-/// The light transport algorithm of a render.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum IntegratorKind {
+/// Every integrator type this build provides, the default first.
+pub fn registered() -> &'static [Registration] {
+    const ALL: [Registration; 3] = [
+        super::bdpt::REGISTRATION,
+        super::path::REGISTRATION,
+        super::light_tracer::REGISTRATION,
+    ];
+    &ALL
+}
+
+/// The registered integrator that answers to `name` (its name or an alias, any case).
+pub fn find(name: &str) -> Option<&'static Registration> {
+    registered().iter().find(|r| r.info.answers_to(name))
+}
+
+/// A registered integrator type, by name (`--integrator`); the default is the first
+/// registered one (BDPT).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct IntegratorKind(&'static str);
+
+// The three built-ins by the names callers have always used for them.
+#[allow(non_upper_case_globals)]
+impl IntegratorKind {
     /// Bidirectional path tracing with power-heuristic MIS over all (s, t) strategies.
-    #[default]
-    Bdpt,
+    pub const Bdpt: Self = Self(super::bdpt::INFO.name);
     /// Unidirectional path tracing with next-event estimation.
-    Pt,
+    pub const Pt: Self = Self(super::path::INFO.name);
     /// Light tracing: light paths connected to the camera (t = 1) only.
-    Lt,
+    pub const Lt: Self = Self(super::light_tracer::INFO.name);
+}
+
+impl IntegratorKind {
+    /// Its registration (every `IntegratorKind` names a registered type).
+    pub fn registration(self) -> &'static Registration {
+        find(self.0).expect("an IntegratorKind names a registered integrator")
+    }
+
+    /// Its name.
+    pub fn name(self) -> &'static str {
+        self.0
+    }
+}
+
+impl Default for IntegratorKind {
+    fn default() -> Self {
+        Self(registered()[0].info.name)
+    }
 }
 
 impl std::str::FromStr for IntegratorKind {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, String> {
-        match s.to_ascii_lowercase().as_str() {
-            "bdpt" => Ok(Self::Bdpt),
-            "pt" | "path" => Ok(Self::Pt),
-            "lt" | "light" => Ok(Self::Lt),
-            other => Err(format!(
-                "unknown integrator {other:?}: expected bdpt, pt or lt"
+        match find(s) {
+            Some(r) => Ok(Self(r.info.name)),
+            None => Err(format!(
+                "unknown integrator {s:?}: expected {}",
+                registered()
+                    .iter()
+                    .map(|r| r.info.name)
+                    .collect::<Vec<_>>()
+                    .join(", ")
             )),
         }
     }
@@ -52,137 +76,28 @@ impl std::str::FromStr for IntegratorKind {
 
 impl std::fmt::Display for IntegratorKind {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            Self::Bdpt => "bdpt",
-            Self::Pt => "pt",
-            Self::Lt => "lt",
-        })
+        f.write_str(self.0)
     }
 }
 
-/// The one-sample mixture `½ p_vis + ½ p_emit` over wavelengths (see the module docs).
-#[derive(Clone, Debug)]
-pub struct WavelengthMixture {
-    /// Distinct SPDs of evaluable lights with their summed light-pmf weights (Σ = 1).
-    spds: Vec<(Arc<dyn Spd>, f64)>,
-    cdf: Vec<f64>,
-}
-
-impl WavelengthMixture {
-    /// The mixture for `scene`'s evaluable lights (beams-only lights bring their own
-    /// wavelengths and are left out). Without such lights it is `p_vis` alone.
-    pub fn new(scene: &Scene) -> Self {
-        let mut spds: Vec<(Arc<dyn Spd>, f64)> = Vec::new();
-        for (i, l) in scene.lights.lights().iter().enumerate() {
-            let pmf = scene.lights.pmf(i) as f64;
-            if l.flags().contains(LightFlags::BEAMS_ONLY) || !(pmf > 0.0) {
-                continue;
-            }
-            let spd = l.spd();
-            match spds.iter_mut().find(|(s, _)| Arc::ptr_eq(s, &spd)) {
-                Some(e) => e.1 += pmf,
-                None => spds.push((spd, pmf)),
-            }
-        }
-        let total: f64 = spds.iter().map(|e| e.1).sum();
-        let mut acc = 0.0;
-        let mut cdf = Vec::with_capacity(spds.len());
-        for e in &mut spds {
-            e.1 /= total;
-            acc += e.1;
-            cdf.push(acc);
-        }
-        if let Some(last) = cdf.last_mut() {
-            *last = 1.0;
-        }
-        Self { spds, cdf }
-    }
-
-    /// Mixture density (1/nm) at `lambda_nm` (continuous parts only).
-    pub fn pdf(&self, lambda_nm: f64) -> f64 {
-        let vis = visible_pdf(lambda_nm);
-        if self.spds.is_empty() {
-            return vis;
-        }
-        0.5 * vis + 0.5 * self.emission_pdf(lambda_nm)
-    }
-
-    /// True when the scene has evaluable lights, i.e. the emission component exists.
-    pub fn has_emission(&self) -> bool {
-        !self.spds.is_empty()
-    }
-
-    /// The emission component alone, `p_emit(λ) = Σ_L P(L)·S_L(λ)` (1/nm, continuous parts);
-    /// 0 everywhere without evaluable lights.
-    pub fn emission_pdf(&self, lambda_nm: f64) -> f64 {
-        self.spds.iter().map(|(s, w)| w * s.pdf(lambda_nm)).sum()
-    }
-
-    /// The light SPD `u_spd` picks by power (the scene must have evaluable lights).
-    fn pick_spd(&self, u_spd: f64) -> &dyn Spd {
-        let k = self
-            .cdf
-            .partition_point(|&c| c <= u_spd)
-            .min(self.spds.len() - 1);
-        self.spds[k].0.as_ref()
-    }
-
-    /// Lane `i` at `frac(u + i/LANES)`, drawn from `spd` (visible importance without one) and
-    /// carrying `density` at its wavelength; a lane on a delta line gets pdf 0.
-    fn lanes(u: f64, spd: Option<&dyn Spd>, density: impl Fn(f64) -> f64) -> SampledWavelengths {
-        let mut lambda = [0.0f32; LANES];
-        let mut pdf = [0.0f32; LANES];
-        for i in 0..LANES {
-            let ui = rotated(u, i, LANES);
-            let (l, on_line) = match spd {
-                Some(s) => {
-                    let d = s.sample(ui);
-                    (d.lambda as f32, d.is_delta)
-                }
-                None => (visible_sample(ui) as f32, false),
-            };
-            lambda[i] = l;
-            pdf[i] = if on_line {
-                0.0
-            } else {
-                density(l as f64) as f32
-            };
-        }
-        SampledWavelengths { lambda, pdf }
-    }
-
-    /// Wavelengths from the emission component alone (path tracing's light-SPD sampling):
-    /// `u_spd` picks a light SPD by power, lane `i` is its inverse CDF at `frac(u + i/LANES)`
-    /// and carries [`emission_pdf`](Self::emission_pdf), its marginal density; lanes on a delta
-    /// line get pdf 0. `None` without evaluable lights.
-    pub fn sample_emission(&self, u_spd: f64, u: f64) -> Option<SampledWavelengths> {
-        if self.spds.is_empty() {
-            return None;
-        }
-        let spd = self.pick_spd(u_spd);
-        Some(Self::lanes(u, Some(spd), |l| self.emission_pdf(l)))
-    }
-
-    /// Draw the pair's wavelengths: three uniforms from `rng` (component, SPD, hero).
-    pub fn sample(&self, rng: &mut SampleRng) -> SampledWavelengths {
-        let u_comp = rng.next_1d();
-        let u_spd = rng.next_1d() as f64;
-        let u = rng.next_1d() as f64;
-        self.sample_with(u_comp, u_spd, u)
-    }
-
-    /// [`sample`](Self::sample) from given uniforms: `u_comp` picks the component, `u_spd` the
-    /// light SPD, `u` the hero (for callers with stratified samples). Every lane carries the
-    /// mixture density [`pdf`](Self::pdf).
-    pub fn sample_with(&self, u_comp: f32, u_spd: f64, u: f64) -> SampledWavelengths {
-        let emission = !self.spds.is_empty() && u_comp >= 0.5;
-        let spd = emission.then(|| self.pick_spd(u_spd));
-        Self::lanes(u, spd, |l| self.pdf(l))
-    }
+/// Build the integrator `kind` from `settings`.
+pub fn build(
+    kind: IntegratorKind,
+    settings: &RenderSettings,
+    options: IntegratorOptions,
+) -> Result<Box<dyn Integrator>, RenderError> {
+    (kind.registration().build)(settings, options).map_err(RenderError::Setup)
 }
 
 /// One line per light of the scene saying which strategies of `kind` render it.
 pub fn strategy_summary(scene: &Scene, kind: IntegratorKind) -> Vec<String> {
+    let Ok(integrator) = build(
+        kind,
+        &RenderSettings::default(),
+        IntegratorOptions::default(),
+    ) else {
+        return Vec::new();
+    };
     scene
         .lights
         .lights()
@@ -199,43 +114,14 @@ pub fn strategy_summary(scene: &Scene, kind: IntegratorKind) -> Vec<String> {
             } else {
                 "area light"
             };
-            let how = match (kind, f.contains(LightFlags::BEAMS_ONLY), f.is_delta()) {
-                (_, true, _) if kind == IntegratorKind::Pt => {
-                    "NOT rendered by pt (beams can only be light traced; use bdpt or lt)"
-                }
-                (_, true, _) => "light tracing of its beams (t = 1 splats, unweighted)",
-                (IntegratorKind::Pt, _, true) => "pt: next-event estimation only",
-                (IntegratorKind::Pt, _, false) => "pt: next-event estimation + BSDF hits (MIS)",
-                (IntegratorKind::Lt, _, _) => "lt: light paths connected to the camera (t = 1)",
-                (IntegratorKind::Bdpt, _, true) => {
-                    "bdpt: all strategies with s ≥ 1 (never hit by camera paths), power-heuristic MIS"
-                }
-                (IntegratorKind::Bdpt, _, false) => {
-                    "bdpt: all (s, t) strategies incl. s = 0 and t = 1, power-heuristic MIS"
-                }
-            };
             format!(
-                "light {i} ({what}, {:.4} W, chosen with p = {:.4}): {how}",
+                "light {i} ({what}, {:.4} W, chosen with p = {:.4}): {}",
                 l.power(),
-                scene.lights.pmf(i)
+                scene.lights.pmf(i),
+                integrator.light_strategy(f)
             )
         })
         .collect()
-}
-
-/// A finished render with the integrator's extras.
-#[derive(Clone, Debug)]
-pub struct IntegratorOutput {
-    /// The image and the summary numbers.
-    pub result: RenderResult,
-    /// BDPT only, when asked for: each strategy's weighted contribution, labelled `(s, t)`;
-    /// the label `(u32::MAX, u32::MAX)` holds all longer paths together.
-    pub strategy_images: Vec<((u32, u32), crate::film::XyzImage)>,
-    /// Contributions dropped because they were NaN or infinite.
-    pub non_finite: u64,
-    /// Per pixel (row-major), the largest luminance Y of one sample's contribution to that
-    /// pixel's sum (before the 1/spp scaling), for firefly checks; empty for `pt`.
-    pub max_sample_y: Vec<f64>,
 }
 
 /// Render `scene` with the integrator `kind`. `strategy_images` asks BDPT for one image per
@@ -245,23 +131,11 @@ pub fn render_with(
     settings: &RenderSettings,
     kind: IntegratorKind,
     strategy_images: bool,
-    progress: &super::render::ProgressFn<'_>,
+    progress: &ProgressFn<'_>,
     cancel: Option<&std::sync::atomic::AtomicBool>,
 ) -> Result<IntegratorOutput, RenderError> {
-    match kind {
-        IntegratorKind::Pt => Ok(IntegratorOutput {
-            result: render(scene, settings, progress, cancel)?,
-            strategy_images: Vec::new(),
-            non_finite: 0,
-            max_sample_y: Vec::new(),
-        }),
-        IntegratorKind::Bdpt => {
-            super::bdpt::render_bdpt(scene, settings, strategy_images, progress, cancel)
-        }
-        IntegratorKind::Lt => {
-            super::light_tracer::render_light_tracing(scene, settings, progress, cancel)
-        }
-    }
+    let integrator = build(kind, settings, IntegratorOptions { strategy_images })?;
+    integrator.render(scene, settings, progress, cancel)
 }
 
 /// Write BDPT's strategy images as `DIR/strategy_s{s}_t{t}.exr` (and `strategy_longer.exr`),
@@ -302,27 +176,28 @@ pub fn write_strategy_images(
 mod tests {
     use super::*;
 
-    /// Each lane's stored pdf is the density it was drawn with: the Monte Carlo estimate of
-    /// ∫_{400}^{700} 1 dλ = 300 nm from 2·10⁵ pair draws (×4 lanes) on the Cornell box (its
-    /// measured light SPD as the emission component) is within 1% (the estimator's relative
-    /// standard error here is below 0.2%).
+    /// Every registered integrator is found by its name and each alias, names do not clash,
+    /// and each builds from default settings into an integrator reporting the same info.
     #[test]
-    fn mixture_pdf_matches_its_draws() {
-        let scene = crate::scene::default_scene().unwrap();
-        let m = WavelengthMixture::new(&scene);
-        let n = 200_000;
-        let mut sum = 0.0f64;
-        for k in 0..n {
-            let mut rng = SampleRng::for_sample(3, k, 0);
-            let w = m.sample(&mut rng);
-            for i in 0..LANES {
-                let l = w.lambda[i] as f64;
-                if (400.0..700.0).contains(&l) && w.pdf[i] > 0.0 {
-                    sum += 1.0 / w.pdf[i] as f64;
-                }
+    fn registered_integrators_are_found_by_name() {
+        let mut names = Vec::new();
+        for r in registered() {
+            for n in std::iter::once(r.info.name).chain(r.info.aliases.iter().copied()) {
+                assert!(!names.contains(&n), "name {n} registered twice");
+                names.push(n);
+                let kind: IntegratorKind = n.to_ascii_uppercase().parse().unwrap();
+                assert_eq!(kind.name(), r.info.name);
             }
+            assert!(
+                !r.info.params.is_empty(),
+                "{} has no parameter table",
+                r.info.name
+            );
+            let built = (r.build)(&RenderSettings::default(), IntegratorOptions::default());
+            assert_eq!(built.unwrap().info().name, r.info.name);
         }
-        let est = sum / (n as f64 * LANES as f64);
-        assert!((est / 300.0 - 1.0).abs() < 0.01, "{est}");
+        assert_eq!(IntegratorKind::default(), IntegratorKind::Bdpt);
+        let err = "nope".parse::<IntegratorKind>().unwrap_err();
+        assert!(err.contains("bdpt, pt, lt"), "{err}");
     }
 }

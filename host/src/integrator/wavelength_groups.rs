@@ -34,7 +34,7 @@
 //! Beams-only lights are left out (`pt` cannot render them). A scene without evaluable lights
 //! has no emission to sample and falls back to visible-importance sampling.
 
-use super::select::WavelengthMixture;
+use super::wavelength_mixture::WavelengthMixture;
 use super::{PixelSampler, WavelengthSampling};
 use crate::scene::Scene;
 use crate::spectrum::wavelength_sampling::rotated;

@@ -370,38 +370,65 @@ impl fmt::Display for BlobLoadError {
 impl std::error::Error for BlobLoadError {}
 
 impl Blob {
-    /// Save a plugin light built from `params_ron` as a blob.
-    pub fn pack_plugin_light(
+    /// Save a plugin object of `kind` built from `params_ron` as a blob: its plugin's state.
+    pub fn pack_plugin(
         registry: &super::Registry,
+        kind: ObjectKind,
         type_name: &str,
         params_ron: &str,
     ) -> Result<Blob, super::RegistryError> {
         use spectrace_plugin_api::abi::std_types::RStr;
         use spectrace_plugin_api::module::ObjectSource;
-        let entry = registry.lookup(ObjectKind::Light, type_name)?.clone();
-        let plugin = registry
-            .plugin_for(ObjectKind::Light, type_name)?
-            .expect("plugin_for is Some for plugin types");
-        let light = registry
-            .create_plugin_light(type_name, ObjectSource::Params(RStr::from_str(params_ron)))?;
-        let payload =
-            light
-                .save_state()
-                .into_result()
-                .map_err(|error| super::RegistryError::Construct {
-                    kind: ObjectKind::Light,
-                    name: type_name.to_string(),
-                    provider: entry.provider.describe(),
-                    error,
-                })?;
+        let entry = registry.lookup(kind, type_name)?.clone();
+        let Some(plugin) = registry.plugin_for(kind, type_name)? else {
+            return Err(super::RegistryError::Construct {
+                kind: kind.into(),
+                name: type_name.to_string(),
+                provider: "built-in".into(),
+                error: spectrace_plugin_api::PluginError::unsupported(
+                    "a built-in type is packed with Blob::pack_item",
+                ),
+            });
+        };
+        let source = || ObjectSource::Params(RStr::from_str(params_ron));
+        let payload = match kind {
+            ObjectKind::Light => registry
+                .create_plugin_light(type_name, source())?
+                .save_state(),
+            ObjectKind::Material => registry
+                .create_plugin_material(type_name, source())?
+                .save_state(),
+            ObjectKind::Spd => registry
+                .create_plugin_spd(type_name, source())?
+                .save_state(),
+            ObjectKind::Observer => registry
+                .create_plugin_observer(type_name, source())?
+                .save_state(),
+        }
+        .into_result()
+        .map_err(|error| super::RegistryError::Construct {
+            kind: kind.into(),
+            name: type_name.to_string(),
+            provider: entry.provider.describe(),
+            error,
+        })?;
         Ok(Blob {
-            kind: ObjectKind::Light,
+            kind,
             plugin: plugin.info.name.to_string(),
             plugin_version: plugin.info.version.to_string(),
             type_name: type_name.to_string(),
             type_version: entry.info.version,
             payload: payload.into_vec(),
         })
+    }
+
+    /// Save a plugin light built from `params_ron` as a blob.
+    pub fn pack_plugin_light(
+        registry: &super::Registry,
+        type_name: &str,
+        params_ron: &str,
+    ) -> Result<Blob, super::RegistryError> {
+        Self::pack_plugin(registry, ObjectKind::Light, type_name, params_ron)
     }
 
     fn check_plugin(&self, registry: &super::Registry) -> Result<(), BlobLoadError> {
@@ -439,10 +466,43 @@ impl Blob {
             .map_err(BlobLoadError::Registry)
     }
 
-    /// The payload decoded into parameters (RON), by the plugin that wrote it.
+    /// The built-in type this blob holds, if it was written for one.
+    fn builtin_type(&self) -> Result<&'static crate::builtin::BuiltinType, String> {
+        let ty = crate::builtin::find(self.kind.into(), &self.type_name).ok_or_else(|| {
+            format!(
+                "written by the host for built-in {} type `{}`, which this host does not have",
+                self.kind, self.type_name
+            )
+        })?;
+        if self.type_version != ty.version {
+            return Err(format!(
+                "built-in {} `{}`: saved with type version {}, this host reads version {}",
+                self.kind, self.type_name, self.type_version, ty.version
+            ));
+        }
+        Ok(ty)
+    }
+
+    /// A built-in blob's parameters in scene syntax (decoded from its bincode payload).
+    fn builtin_params(&self) -> Result<String, String> {
+        let ty = self.builtin_type()?;
+        let state = ty
+            .state
+            .ok_or_else(|| format!("a {} cannot be a blob", self.kind))?;
+        (state.load)(&self.payload).map_err(|e| e.to_string())
+    }
+
+    /// The payload decoded into parameters (RON), by the host or the plugin that wrote it.
     pub fn describe(&self, registry: &super::Registry) -> Result<String, BlobLoadError> {
         if self.plugin == BUILTIN_PLUGIN {
-            let text = self.builtin_params()?;
+            let text = self.builtin_params().map_err(|e| {
+                BlobLoadError::Registry(super::RegistryError::Construct {
+                    kind: self.kind.into(),
+                    name: self.type_name.clone(),
+                    provider: "built-in".into(),
+                    error: spectrace_plugin_api::PluginError::invalid_parameter(e),
+                })
+            })?;
             return Ok(match ron::from_str::<ron::Value>(&text) {
                 Ok(v) => super::ron_text::to_scene_syntax(&v),
                 Err(_) => text,
@@ -464,35 +524,122 @@ impl Blob {
     }
 }
 
-/// Built-in types: the payload is the parameters' RON text (bincode-encoded string), since the
-/// host itself reads it back.
-fn encode_builtin_params(text: &str) -> Result<Vec<u8>, String> {
-    spectrace_plugin_api::export::encode_state(&text.to_string()).map_err(|e| e.to_string())
-}
-
 impl Blob {
-    /// Save a built-in light (type and RON parameters) as a blob. The light is built once first,
-    /// so a blob with bad parameters is never written.
-    pub fn pack_builtin_light(type_name: &str, params: &ron::Value) -> Result<Blob, String> {
-        use crate::scene::{BuiltinFactory, FactoryContext, ObjectFactory};
-        let ctx = FactoryContext {
-            base_dir: std::path::PathBuf::from("."),
-            item: format!("light `{type_name}`"),
-            representation: Default::default(),
-            spd_factories: Default::default(),
+    /// Save an object of `kind` (type and scene parameters, files relative to `base_dir`) as
+    /// a self-contained blob. The object is built once first, so a blob with bad parameters is
+    /// never written. Built-in types store their parameter struct as bincode with every file
+    /// they read embedded; plugin types store their plugin's state.
+    pub fn pack_item(
+        factory: &super::factory::RegistryFactory,
+        kind: ObjectKind,
+        type_name: &str,
+        params: &ron::Value,
+        base_dir: &Path,
+    ) -> Result<Blob, String> {
+        use super::factory::Source;
+        let registry = factory.registry();
+        let entry = registry
+            .lookup(kind, type_name)
+            .map_err(|e| e.to_string())?;
+        let Some(ty) = entry.builtin else {
+            if type_name == super::factory::BLOB_LIGHT {
+                return Err("a blob cannot be packed into a blob; copy the file instead".into());
+            }
+            let text = ron::to_string(params).map_err(|e| e.to_string())?;
+            return Self::pack_plugin(registry, kind, type_name, &text).map_err(|e| e.to_string());
         };
-        BuiltinFactory
-            .light(type_name, params, &ctx)
-            .map_err(|e| format!("built-in light `{type_name}`: {e}"))?;
-        let text = ron::to_string(params).map_err(|e| e.to_string())?;
+        let ctx = factory.context(base_dir, format!("{kind} `{type_name}`"));
+        factory
+            .build(kind.into(), type_name, Source::Params(params), &ctx)
+            .map_err(|e| format!("built-in {kind} `{type_name}`: {e}"))?;
+        let state = ty
+            .state
+            .ok_or_else(|| format!("a {kind} `{type_name}` cannot be a blob"))?;
+        let payload = (state.save)(params, &ctx)
+            .map_err(|e| format!("built-in {kind} `{type_name}`: {e}"))?;
         Ok(Blob {
-            kind: ObjectKind::Light,
+            kind,
             plugin: BUILTIN_PLUGIN.to_string(),
             plugin_version: env!("CARGO_PKG_VERSION").to_string(),
-            type_name: type_name.to_string(),
-            type_version: 1,
-            payload: encode_builtin_params(&text)?,
+            type_name: ty.name.to_string(),
+            type_version: ty.version,
+            payload,
         })
+    }
+
+    /// Save a built-in light (type and RON parameters) as a blob; relative files resolve
+    /// against the working directory.
+    pub fn pack_builtin_light(type_name: &str, params: &ron::Value) -> Result<Blob, String> {
+        let factory = super::factory::RegistryFactory::new(
+            std::sync::Arc::new(super::builtin_registry()),
+            super::adapter::PluginFaults::new(),
+        );
+        Self::pack_item(
+            &factory,
+            ObjectKind::Light,
+            type_name,
+            params,
+            Path::new("."),
+        )
+    }
+
+    /// Save the item `name` of `kind` of a scene file as a blob (built-in or plugin type). For
+    /// an observer, `name` is the scene's `observer` type name.
+    pub fn pack_scene_item(
+        registry: &super::Registry,
+        scene: &Path,
+        kind: ObjectKind,
+        name: &str,
+    ) -> Result<Blob, String> {
+        let text = std::fs::read_to_string(scene)
+            .map_err(|e| format!("{}: cannot read: {e}", scene.display()))?;
+        let desc = crate::scene::parse_scene_str(&text, scene).map_err(|e| e.to_string())?;
+        let (type_name, params) = match kind {
+            ObjectKind::Observer => {
+                let obs = desc.observer.clone().unwrap_or_else(|| "cie1931-2".into());
+                if obs != name {
+                    return Err(format!(
+                        "{}: the scene's observer is `{obs}`, not `{name}`",
+                        scene.display()
+                    ));
+                }
+                (obs, ron::Value::Unit)
+            }
+            _ => {
+                let items = match kind {
+                    ObjectKind::Light => &desc.lights,
+                    ObjectKind::Material => &desc.materials,
+                    _ => &Vec::new(),
+                };
+                let found = if kind == ObjectKind::Spd {
+                    find_scene_spd(&desc, name)
+                } else {
+                    items
+                        .iter()
+                        .find(|l| l.name == name)
+                        .map(|i| (i.type_name.clone(), i.params.clone()))
+                };
+                found.ok_or_else(|| {
+                    let names: Vec<String> = if kind == ObjectKind::Spd {
+                        scene_spd_names(&desc)
+                    } else {
+                        items.iter().map(|l| l.name.clone()).collect()
+                    };
+                    format!(
+                        "{}: no {kind} named `{name}` ({kind}s: {})",
+                        scene.display(),
+                        names.join(", ")
+                    )
+                })?
+            }
+        };
+        let factory = super::factory::RegistryFactory::new(
+            std::sync::Arc::new(registry.clone()),
+            super::adapter::PluginFaults::new(),
+        );
+        let base = scene.parent().unwrap_or(Path::new("."));
+        Self::pack_item(&factory, kind, &type_name, &params, base)
+            .map_err(|e| format!("{}: {kind} `{name}`: {e}", scene.display()))
     }
 
     /// Save the light named `light` of a scene file as a blob (built-in or plugin type).
@@ -501,82 +648,113 @@ impl Blob {
         scene: &Path,
         light: &str,
     ) -> Result<Blob, String> {
-        let text = std::fs::read_to_string(scene)
-            .map_err(|e| format!("{}: cannot read: {e}", scene.display()))?;
-        let desc = crate::scene::parse_scene_str(&text, scene).map_err(|e| e.to_string())?;
-        let item = desc
-            .lights
-            .iter()
-            .find(|l| l.name == light)
-            .ok_or_else(|| {
-                let names: Vec<&str> = desc.lights.iter().map(|l| l.name.as_str()).collect();
-                format!(
-                    "{}: no light named `{light}` (lights: {})",
-                    scene.display(),
-                    names.join(", ")
-                )
-            })?;
-        match registry.plugin_for(ObjectKind::Light, &item.type_name) {
-            Ok(Some(_)) => {
-                let params = ron::to_string(&item.params).map_err(|e| e.to_string())?;
-                Blob::pack_plugin_light(registry, &item.type_name, &params)
-                    .map_err(|e| format!("{}: light `{light}`: {e}", scene.display()))
-            }
-            _ => Blob::pack_builtin_light(&item.type_name, &item.params)
-                .map_err(|e| format!("{}: light `{light}`: {e}", scene.display())),
-        }
+        Self::pack_scene_item(registry, scene, ObjectKind::Light, light)
     }
 
-    fn builtin_params(&self) -> Result<String, BlobLoadError> {
-        spectrace_plugin_api::export::decode_state::<String>(&self.type_name, &self.payload)
-            .map_err(|error| {
-                BlobLoadError::Registry(super::RegistryError::Construct {
-                    kind: self.kind,
-                    name: self.type_name.clone(),
-                    provider: "built-in".into(),
-                    error,
-                })
-            })
-    }
-
-    /// Rebuild the light this blob holds as a renderer light, built-in or from its plugin.
-    pub fn instantiate_light(
+    /// Rebuild the object this blob holds, built-in or from its plugin, through `factory`.
+    pub fn instantiate(
         &self,
-        registry: &super::Registry,
-        faults: &std::sync::Arc<super::adapter::PluginFaults>,
-    ) -> Result<std::sync::Arc<dyn crate::light::Light>, String> {
-        use crate::scene::{BuiltinFactory, FactoryContext, ObjectFactory};
-        if self.kind != ObjectKind::Light {
-            return Err(format!("holds a {}, not a light", self.kind));
-        }
-        if self.plugin == BUILTIN_PLUGIN {
-            let text = self.builtin_params().map_err(|e| e.to_string())?;
-            let params: ron::Value =
-                ron::from_str(&text).map_err(|e| format!("bad parameters: {e}"))?;
-            let ctx = FactoryContext {
-                base_dir: std::path::PathBuf::from("."),
-                item: format!("light `{}`", self.type_name),
-                representation: Default::default(),
-                spd_factories: Default::default(),
-            };
-            return BuiltinFactory
-                .light(&self.type_name, &params, &ctx)
-                .map_err(|e| e.to_string());
-        }
-        let light = self
-            .load_plugin_light(registry)
-            .map_err(|e| e.to_string())?;
-        let origin = super::adapter::Origin {
-            label: format!(
-                "light `{}` (plugin {} {}, from a blob)",
-                self.type_name, self.plugin, self.plugin_version
-            ),
-            faults: faults.clone(),
+        factory: &super::factory::RegistryFactory,
+    ) -> Result<super::factory::Built, String> {
+        use super::factory::Source;
+        let kind = crate::plugin::Kind::from(self.kind);
+        let ctx = factory.context(
+            Path::new("."),
+            format!("{kind} `{}` (blob)", self.type_name),
+        );
+        let source = Source::State {
+            type_version: self.type_version,
+            bytes: &self.payload,
         };
-        Ok(std::sync::Arc::new(super::adapter::PluginLight::new(
-            light, origin,
-        )))
+        if self.plugin == BUILTIN_PLUGIN {
+            let ty = self.builtin_type()?;
+            // A built-in's state is built by the built-in itself, even in a registry where a
+            // library provides the same name.
+            let text = self.builtin_params()?;
+            let params: ron::Value =
+                ron::from_str(&text).map_err(|e| format!("bad saved state: {e}"))?;
+            let _ = source;
+            return build_builtin(ty, &params, &ctx).map_err(|e| e.to_string());
+        }
+        self.check_plugin(factory.registry())
+            .map_err(|e| e.to_string())?;
+        factory
+            .build(kind, &self.type_name, source, &ctx)
+            .map_err(|e| e.to_string())
     }
+}
+
+fn build_builtin(
+    ty: &crate::builtin::BuiltinType,
+    params: &ron::Value,
+    ctx: &crate::scene::FactoryContext,
+) -> Result<super::factory::Built, crate::scene::FactoryError> {
+    use super::factory::Built;
+    use crate::builtin::Build;
+    Ok(match ty.build {
+        Build::Material(f) => Built::Material(f(params, ctx)?),
+        Build::Light(f) => Built::Light(f(params, ctx)?),
+        Build::Spd(f) => Built::Spd(f(params, ctx)?),
+        Build::Observer(f) => Built::Observer(f(params, ctx)?),
+        Build::Shape(_) | Build::Camera(_) => {
+            return Err(crate::scene::FactoryError::Param(
+                "shapes and cameras are not blobs".into(),
+            ))
+        }
+    })
+}
+
+/// SPDs of a scene that can be packed by name: `LIGHT.spd` or `MATERIAL.radiance` (the
+/// spectral parameter of a light or emissive material), as `(type: "spec", params: (spec: ..))`
+/// or the item's own `(type: .., params: ..)`.
+fn find_scene_spd(
+    desc: &crate::scene::SceneDescription,
+    name: &str,
+) -> Option<(String, ron::Value)> {
+    let (item, param) = name.split_once('.')?;
+    let owner = desc
+        .lights
+        .iter()
+        .chain(desc.materials.iter())
+        .find(|i| i.name == item)?;
+    let value = crate::scene::params::Params::new(&owner.params)
+        .get(param)?
+        .clone();
+    let p = crate::scene::params::Params::new(&value);
+    if let (Some(ron::Value::String(t)), true) =
+        (p.get("type"), matches!(value, ron::Value::Map(_)))
+    {
+        return Some((
+            t.clone(),
+            p.get("params").cloned().unwrap_or(ron::Value::Unit),
+        ));
+    }
+    let key = if matches!(value, ron::Value::Seq(_)) {
+        "values"
+    } else {
+        "spec"
+    };
+    let mut m = ron::Map::new();
+    m.insert(ron::Value::String(key.into()), value);
+    Some((
+        if key == "values" { "table" } else { "spec" }.to_string(),
+        ron::Value::Map(m),
+    ))
+}
+
+fn scene_spd_names(desc: &crate::scene::SceneDescription) -> Vec<String> {
+    let mut out = Vec::new();
+    for (items, param) in [(&desc.lights, "spd"), (&desc.materials, "radiance")] {
+        for i in items {
+            if crate::scene::params::Params::new(&i.params)
+                .get(param)
+                .is_some()
+            {
+                out.push(format!("{}.{param}", i.name));
+            }
+        }
+    }
+    out
 }
 
 #[cfg(test)]

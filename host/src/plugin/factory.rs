@@ -1,24 +1,106 @@
-//! Plugin types in scenes: an [`ObjectFactory`] backed by the registry. The scene builder asks the
-//! built-in factory and this one in turn; since the registry refuses a plugin type whose name a
-//! built-in (or another plugin) already has, at most one of them knows any name.
+//! The registry as the scene's factory: one [`ObjectFactory`] that builds every registered type
+//! through the same call, whoever provides it — a built-in (its constructor in
+//! [`crate::builtin`]), a loaded plugin (through the ABI, wrapped by the adapters), or a blob
+//! file (`type: "blob"`, any blob kind). Since the registry refuses a second provider for any
+//! name, there is exactly one way to build each `(kind, type)`.
 
 use super::adapter::{
     Origin, PluginFaults, PluginLight, PluginMaterial, PluginObserver, PluginSpd,
 };
-use super::registry::{Registry, RegistryError};
+use super::blob::Blob;
+use super::registry::{Provider, Registry, RegistryError};
+use super::type_doc::{Kind, TypeDoc};
+use crate::builtin::Build;
+use crate::camera::{Filter, PerspectiveCamera};
+use crate::geometry::Shape;
 use crate::light::Light;
 use crate::material::Material;
 use crate::scene::{FactoryContext, FactoryError, ObjectFactory};
 use crate::spectrum::Spd;
 use spectrace_plugin_api::abi::std_types::RStr;
 use spectrace_plugin_api::module::ObjectSource;
-use spectrace_plugin_api::ObjectKind;
 use std::sync::Arc;
 
-/// Builds scene items whose type comes from a loaded plugin.
+/// The type name that loads a blob file, for each blob kind:
+/// `(type: "blob", params: (file: "lamp.blob"))`.
+pub const BLOB_LIGHT: &str = "blob";
+
+/// Kinds that can be saved as blobs.
+pub const BLOB_KINDS: [Kind; 4] = [Kind::Material, Kind::Light, Kind::Spd, Kind::Observer];
+
+/// The type information of the `blob` type of `kind`.
+pub fn blob_type_doc(kind: Kind) -> TypeDoc {
+    TypeDoc {
+        kind,
+        name: BLOB_LIGHT.to_string(),
+        version: 1,
+        description: format!(
+            "a {kind} saved with `spectrace blob pack` (self-contained; plugin types need their plugin loaded)"
+        ),
+        params: vec![super::type_doc::ParamDoc {
+            name: "file".into(),
+            unit: String::new(),
+            default: None,
+            description: "the blob file, relative to the scene file".into(),
+        }],
+        alias_of: None,
+    }
+}
+
+/// One object of any blob kind.
+#[derive(Clone)]
+pub enum Built {
+    /// A material.
+    Material(Arc<dyn Material>),
+    /// A light.
+    Light(Arc<dyn Light>),
+    /// An SPD.
+    Spd(Arc<dyn Spd>),
+    /// An observer.
+    Observer(Arc<dyn crate::color::Observer>),
+}
+
+impl std::fmt::Debug for Built {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let k = match self {
+            Built::Material(_) => "material",
+            Built::Light(_) => "light",
+            Built::Spd(_) => "spd",
+            Built::Observer(_) => "observer",
+        };
+        write!(f, "Built::{k}")
+    }
+}
+
+/// Where a constructor takes its values from.
+pub enum Source<'a> {
+    /// Scene parameters.
+    Params(&'a ron::Value),
+    /// A blob's saved state.
+    State {
+        /// State schema version.
+        type_version: u32,
+        /// The bytes.
+        bytes: &'a [u8],
+    },
+}
+
+/// Builds every registered type (built-in, plugin or blob) for scenes.
 pub struct PluginFactory {
     registry: Arc<Registry>,
     faults: Arc<PluginFaults>,
+}
+
+/// The registry's factory under the name that says what it is.
+pub type RegistryFactory = PluginFactory;
+
+fn construct_error(e: RegistryError) -> FactoryError {
+    match e {
+        RegistryError::Construct {
+            error, provider, ..
+        } => FactoryError::Param(format!("{} (from {provider})", error.message)),
+        other => FactoryError::Param(other.to_string()),
+    }
 }
 
 impl PluginFactory {
@@ -32,86 +114,164 @@ impl PluginFactory {
         &self.faults
     }
 
-    fn prepare(
-        &self,
-        kind: ObjectKind,
-        kind_name: &'static str,
-        type_name: &str,
-        params: &ron::Value,
-    ) -> Result<(String, Origin), FactoryError> {
-        match self.registry.plugin_for(kind, type_name) {
-            Ok(Some(plugin)) => {
-                let text = ron::to_string(params).map_err(|e| {
-                    FactoryError::Param(format!("cannot pass parameters to the plugin: {e}"))
-                })?;
-                let origin = Origin {
-                    label: format!(
-                        "{kind_name} `{type_name}` (plugin {} {})",
-                        plugin.info.name, plugin.info.version
-                    ),
-                    faults: self.faults.clone(),
-                };
-                Ok((text, origin))
-            }
-            _ => Err(FactoryError::UnknownType {
-                kind: kind_name,
-                type_name: type_name.to_string(),
-            }),
+    /// The registry.
+    pub fn registry(&self) -> &Arc<Registry> {
+        &self.registry
+    }
+
+    /// A context whose SPD lookups go through this factory's registry (for items built outside
+    /// a scene, such as blobs).
+    pub fn context(&self, base_dir: &std::path::Path, item: String) -> FactoryContext {
+        FactoryContext {
+            base_dir: base_dir.to_path_buf(),
+            item,
+            representation: Default::default(),
+            spd_factories: crate::scene::SpdFactories(
+                self.shared_spd_factory().into_iter().collect(),
+            ),
         }
     }
-}
 
-fn construct_error(e: RegistryError) -> FactoryError {
-    match e {
-        RegistryError::Construct {
-            error, provider, ..
-        } => FactoryError::Param(format!("{} (from {provider})", error.message)),
-        other => FactoryError::Param(other.to_string()),
-    }
-}
-
-fn kind_name(kind: ObjectKind) -> &'static str {
-    match kind {
-        ObjectKind::Material => "material",
-        ObjectKind::Light => "light",
-        ObjectKind::Spd => "spd",
-        ObjectKind::Observer => "observer",
-    }
-}
-
-/// The light type that loads a blob file: `(type: "blob", params: (file: "lamp.blob"))`.
-pub const BLOB_LIGHT: &str = "blob";
-
-impl PluginFactory {
-    fn blob_light(
+    /// Build `(kind, type_name)` from parameters or saved state, whoever provides it.
+    pub fn build(
         &self,
+        kind: Kind,
+        type_name: &str,
+        source: Source<'_>,
+        ctx: &FactoryContext,
+    ) -> Result<Built, FactoryError> {
+        let unknown = || FactoryError::UnknownType {
+            kind: kind.as_str(),
+            type_name: type_name.to_string(),
+        };
+        let entry = self
+            .registry
+            .lookup(kind, type_name)
+            .map_err(|_| unknown())?;
+        if let Some(ty) = entry.builtin {
+            let owned;
+            let params = match source {
+                Source::Params(v) => v,
+                Source::State { bytes, .. } => {
+                    let state = ty.state.ok_or_else(|| {
+                        FactoryError::Param(format!("a {kind} `{type_name}` cannot be a blob"))
+                    })?;
+                    let text = (state.load)(bytes)?;
+                    owned = ron::from_str::<ron::Value>(&text)
+                        .map_err(|e| FactoryError::Param(format!("bad saved state: {e}")))?;
+                    &owned
+                }
+            };
+            return Ok(match ty.build {
+                Build::Material(f) => Built::Material(f(params, ctx)?),
+                Build::Light(f) => Built::Light(f(params, ctx)?),
+                Build::Spd(f) => Built::Spd(f(params, ctx)?),
+                Build::Observer(f) => Built::Observer(f(params, ctx)?),
+                Build::Shape(_) | Build::Camera(_) => return Err(unknown()),
+            });
+        }
+        if type_name == BLOB_LIGHT && matches!(entry.provider, Provider::Builtin) {
+            let Source::Params(params) = source else {
+                return Err(FactoryError::Param("a blob cannot hold a blob".into()));
+            };
+            return self.blob(kind, params, ctx);
+        }
+        let Provider::Plugin(plugin) = &entry.provider else {
+            return Err(unknown());
+        };
+        let text;
+        let object_source = match source {
+            Source::Params(v) => {
+                text = ron::to_string(v).map_err(|e| {
+                    FactoryError::Param(format!("cannot pass parameters to the plugin: {e}"))
+                })?;
+                ObjectSource::Params(RStr::from_str(&text))
+            }
+            Source::State {
+                type_version,
+                bytes,
+            } => ObjectSource::State {
+                type_version,
+                bytes: spectrace_plugin_api::abi::std_types::RSlice::from_slice(bytes),
+            },
+        };
+        let origin = Origin {
+            label: format!(
+                "{kind} `{type_name}` (plugin {} {})",
+                plugin.info.name, plugin.info.version
+            ),
+            faults: self.faults.clone(),
+        };
+        let r = &self.registry;
+        Ok(match kind {
+            Kind::Material => Built::Material(Arc::new(PluginMaterial::new(
+                r.create_plugin_material(type_name, object_source)
+                    .map_err(construct_error)?,
+                origin,
+            ))),
+            Kind::Light => Built::Light(Arc::new(PluginLight::new(
+                r.create_plugin_light(type_name, object_source)
+                    .map_err(construct_error)?,
+                origin,
+            ))),
+            Kind::Spd => Built::Spd(Arc::new(PluginSpd::new(
+                r.create_plugin_spd(type_name, object_source)
+                    .map_err(construct_error)?,
+                origin,
+            ))),
+            Kind::Observer => Built::Observer(Arc::new(PluginObserver::new(
+                r.create_plugin_observer(type_name, object_source)
+                    .map_err(construct_error)?,
+                origin,
+            ))),
+            _ => return Err(unknown()),
+        })
+    }
+
+    /// `(type: "blob", params: (file: ..))` of `kind`.
+    fn blob(
+        &self,
+        kind: Kind,
         params: &ron::Value,
         ctx: &FactoryContext,
-    ) -> Result<Arc<dyn Light>, FactoryError> {
+    ) -> Result<Built, FactoryError> {
         let p = crate::scene::params::Params::new(params);
         p.expect_only(&["file"])?;
         let file = ctx.resolve(p.string("file")?);
-        let blob =
-            super::blob::Blob::read_file(&file).map_err(|e| FactoryError::Param(e.to_string()))?;
-        blob.instantiate_light(&self.registry, &self.faults)
+        let blob = Blob::read_file(&file).map_err(|e| FactoryError::Param(e.to_string()))?;
+        if Kind::from(blob.kind) != kind {
+            return Err(FactoryError::Param(format!(
+                "{}: holds a {}, not a {kind}",
+                file.display(),
+                blob.kind
+            )));
+        }
+        blob.instantiate(self)
             .map_err(|e| FactoryError::Param(format!("{}: {e}", file.display())))
     }
 }
 
+macro_rules! unwrap_built {
+    ($self:ident, $kind:ident, $type_name:ident, $params:ident, $ctx:ident) => {
+        match $self.build(Kind::$kind, $type_name, Source::Params($params), $ctx)? {
+            Built::$kind(x) => Ok(x),
+            _ => Err(FactoryError::UnknownType {
+                kind: Kind::$kind.as_str(),
+                type_name: $type_name.to_string(),
+            }),
+        }
+    };
+}
+
 impl ObjectFactory for PluginFactory {
     fn name(&self) -> &str {
-        "plugins"
+        "registry"
     }
 
     fn known_types(&self) -> Vec<(&'static str, String)> {
-        std::iter::once(("light", BLOB_LIGHT.to_string()))
-            .chain(
-                self.registry
-                    .plugins()
-                    .iter()
-                    .flat_map(|p| p.info.types.iter())
-                    .map(|t| (kind_name(t.kind), t.name.to_string())),
-            )
+        self.registry
+            .types()
+            .map(|t| (t.info.kind.as_str(), t.info.name.clone()))
             .collect()
     }
 
@@ -119,14 +279,9 @@ impl ObjectFactory for PluginFactory {
         &self,
         type_name: &str,
         params: &ron::Value,
-        _ctx: &FactoryContext,
+        ctx: &FactoryContext,
     ) -> Result<Arc<dyn Material>, FactoryError> {
-        let (text, origin) = self.prepare(ObjectKind::Material, "material", type_name, params)?;
-        let m = self
-            .registry
-            .create_plugin_material(type_name, ObjectSource::Params(RStr::from_str(&text)))
-            .map_err(construct_error)?;
-        Ok(Arc::new(PluginMaterial::new(m, origin)))
+        unwrap_built!(self, Material, type_name, params, ctx)
     }
 
     fn light(
@@ -135,29 +290,16 @@ impl ObjectFactory for PluginFactory {
         params: &ron::Value,
         ctx: &FactoryContext,
     ) -> Result<Arc<dyn Light>, FactoryError> {
-        if type_name == BLOB_LIGHT {
-            return self.blob_light(params, ctx);
-        }
-        let (text, origin) = self.prepare(ObjectKind::Light, "light", type_name, params)?;
-        let l = self
-            .registry
-            .create_plugin_light(type_name, ObjectSource::Params(RStr::from_str(&text)))
-            .map_err(construct_error)?;
-        Ok(Arc::new(PluginLight::new(l, origin)))
+        unwrap_built!(self, Light, type_name, params, ctx)
     }
 
     fn spd(
         &self,
         type_name: &str,
         params: &ron::Value,
-        _ctx: &FactoryContext,
+        ctx: &FactoryContext,
     ) -> Result<Arc<dyn Spd>, FactoryError> {
-        let (text, origin) = self.prepare(ObjectKind::Spd, "spd", type_name, params)?;
-        let s = self
-            .registry
-            .create_plugin_spd(type_name, ObjectSource::Params(RStr::from_str(&text)))
-            .map_err(construct_error)?;
-        Ok(Arc::new(PluginSpd::new(s, origin)))
+        unwrap_built!(self, Spd, type_name, params, ctx)
     }
 
     fn shared_spd_factory(&self) -> Option<Arc<dyn ObjectFactory>> {
@@ -171,13 +313,50 @@ impl ObjectFactory for PluginFactory {
         &self,
         type_name: &str,
         params: &ron::Value,
-        _ctx: &FactoryContext,
+        ctx: &FactoryContext,
     ) -> Result<Arc<dyn crate::color::Observer>, FactoryError> {
-        let (text, origin) = self.prepare(ObjectKind::Observer, "observer", type_name, params)?;
-        let o = self
-            .registry
-            .create_plugin_observer(type_name, ObjectSource::Params(RStr::from_str(&text)))
-            .map_err(construct_error)?;
-        Ok(Arc::new(PluginObserver::new(o, origin)))
+        unwrap_built!(self, Observer, type_name, params, ctx)
+    }
+
+    fn shape(
+        &self,
+        type_name: &str,
+        params: &ron::Value,
+        ctx: &FactoryContext,
+    ) -> Result<Shape, FactoryError> {
+        match self.registry.lookup(Kind::Shape, type_name) {
+            Ok(super::registry::TypeEntry {
+                builtin: Some(ty), ..
+            }) => match ty.build {
+                Build::Shape(f) => f(params, ctx),
+                _ => Err(FactoryError::Param(format!("`{type_name}` is not a shape"))),
+            },
+            _ => Err(FactoryError::UnknownType {
+                kind: "shape",
+                type_name: type_name.to_string(),
+            }),
+        }
+    }
+
+    fn camera(
+        &self,
+        type_name: &str,
+        params: &ron::Value,
+        ctx: &FactoryContext,
+    ) -> Result<(PerspectiveCamera, Filter), FactoryError> {
+        match self.registry.lookup(Kind::Camera, type_name) {
+            Ok(super::registry::TypeEntry {
+                builtin: Some(ty), ..
+            }) => match ty.build {
+                Build::Camera(f) => f(params, ctx),
+                _ => Err(FactoryError::Param(format!(
+                    "`{type_name}` is not a camera"
+                ))),
+            },
+            _ => Err(FactoryError::UnknownType {
+                kind: "camera",
+                type_name: type_name.to_string(),
+            }),
+        }
     }
 }

@@ -7,36 +7,42 @@ pub mod blob;
 pub mod factory;
 pub mod library_check;
 pub mod loader;
+pub mod reference;
 pub mod registry;
 pub mod ron_text;
 pub mod services;
+pub mod type_doc;
 
 pub use loader::{LoadError, LoadedPlugin};
 
-/// A registry holding every built-in type (as the built-in scene factory knows them), ready for
-/// plugins to be added: a plugin type with a built-in's name is then refused as a duplicate.
+/// A registry holding every built-in type of [`crate::builtin`] (with its aliases) and the
+/// host's `blob` type of each blob kind, ready for plugins to be added: a plugin type with a
+/// built-in's name (or alias) is then refused as a duplicate, naming both.
 pub fn builtin_registry() -> Registry {
-    use crate::scene::{BuiltinFactory, ObjectFactory};
+    let mut registry = core_registry();
+    for ty in crate::builtin::all().filter(|t| t.kind().object_kind().is_some()) {
+        // Built-in names are unique by construction (a test checks); a clash would be a
+        // programming error that the registry reports rather than hides.
+        if let Err(e) = registry.register_builtin_type(ty) {
+            eprintln!("spectrace: internal: {e}");
+        }
+    }
+    registry
+}
+
+/// A registry with only the types no plugin can provide: the built-in shapes and cameras and
+/// the host's `blob` type of each blob kind. This is what `--no-builtins` starts from, so that
+/// a library providing the standard materials, lights, SPDs and observers under the built-in
+/// names (`plugins/standard`) can be loaded instead.
+pub fn core_registry() -> Registry {
     let mut registry = Registry::new();
-    let blob = ("light", factory::BLOB_LIGHT.to_string());
-    for (kind, name) in BuiltinFactory
-        .known_types()
-        .into_iter()
-        .chain(std::iter::once(blob))
-    {
-        let Some(kind) = ObjectKind::parse(kind) else {
-            continue;
-        };
-        let info = spectrace_plugin_api::TypeInfo {
-            kind,
-            name: name.as_str().into(),
-            version: 1,
-            description: format!("built-in {kind} (see the scene format docs)").into(),
-            params: Default::default(),
-        };
-        // Built-in names are unique by construction; a clash would be a programming error that
-        // the registry reports rather than hides.
-        if let Err(e) = registry.register_builtin(info) {
+    for kind in factory::BLOB_KINDS {
+        if let Err(e) = registry.register_doc(factory::blob_type_doc(kind)) {
+            eprintln!("spectrace: internal: {e}");
+        }
+    }
+    for ty in crate::builtin::all().filter(|t| t.kind().object_kind().is_none()) {
+        if let Err(e) = registry.register_builtin_type(ty) {
             eprintln!("spectrace: internal: {e}");
         }
     }
@@ -44,3 +50,4 @@ pub fn builtin_registry() -> Registry {
 }
 pub use registry::{Registry, RegistryError};
 pub use spectrace_plugin_api::ObjectKind;
+pub use type_doc::{Kind, ParamDoc, TypeDoc};

@@ -4,6 +4,8 @@
 
 use super::loader::{load_dir, load_library, LoadError, LoadedPlugin};
 use super::services::HostServices;
+use super::type_doc::{Kind, TypeDoc};
+use crate::builtin::BuiltinType;
 use spectrace_plugin_api::abi::std_types::{RResult, RSlice, RStr};
 use spectrace_plugin_api::module::ObjectSource;
 use spectrace_plugin_api::HostRef;
@@ -42,10 +44,14 @@ impl Provider {
 /// One registered type.
 #[derive(Clone, Debug)]
 pub struct TypeEntry {
-    /// Its metadata: kind, name, version, parameters.
-    pub info: TypeInfo,
+    /// Its metadata: kind, name, version, parameters (and, for an alias, what it stands for).
+    pub info: TypeDoc,
     /// Who provides it.
     pub provider: Provider,
+    /// For built-ins: the type and its constructor (`None` for the host's own `blob` types,
+    /// which the registry's factory builds itself, and for types registered by information
+    /// only).
+    pub builtin: Option<&'static BuiltinType>,
 }
 
 /// Why a registry operation failed.
@@ -65,7 +71,7 @@ pub enum RegistryError {
     /// No provider for this (kind, name).
     UnknownType {
         /// Kind asked for.
-        kind: ObjectKind,
+        kind: Kind,
         /// Name asked for.
         name: String,
         /// Names of that kind that do exist.
@@ -74,7 +80,7 @@ pub enum RegistryError {
     /// The provider's constructor refused (the message names the parameter).
     Construct {
         /// Kind.
-        kind: ObjectKind,
+        kind: Kind,
         /// Type name.
         name: String,
         /// Provider description.
@@ -131,7 +137,7 @@ impl RegistryError {
 #[derive(Default, Clone)]
 pub struct Registry {
     plugins: Vec<Arc<LoadedPlugin>>,
-    types: BTreeMap<(ObjectKind, String), TypeEntry>,
+    types: BTreeMap<(Kind, String), TypeEntry>,
 }
 
 impl fmt::Debug for Registry {
@@ -149,16 +155,36 @@ impl Registry {
         Self::default()
     }
 
-    /// Register a built-in type; same duplicate rule as for plugins.
+    /// Register a type by its information only (no constructor); same duplicate rule as for
+    /// plugins. Used for names the host reserves and builds itself.
     pub fn register_builtin(&mut self, info: TypeInfo) -> Result<(), RegistryError> {
+        self.register_doc(TypeDoc::from(&info))
+    }
+
+    /// [`Registry::register_builtin`] with the host's own type information (any kind).
+    pub fn register_doc(&mut self, info: TypeDoc) -> Result<(), RegistryError> {
         self.insert(TypeEntry {
             info,
             provider: Provider::Builtin,
+            builtin: None,
         })
     }
 
+    /// Register a built-in type and each of its aliases (as entries of their own, so a plugin
+    /// type of an alias's name is refused too).
+    pub fn register_builtin_type(&mut self, ty: &'static BuiltinType) -> Result<(), RegistryError> {
+        for name in std::iter::once(ty.name).chain(ty.aliases.iter().copied()) {
+            self.insert(TypeEntry {
+                info: ty.doc(name),
+                provider: Provider::Builtin,
+                builtin: Some(ty),
+            })?;
+        }
+        Ok(())
+    }
+
     fn insert(&mut self, entry: TypeEntry) -> Result<(), RegistryError> {
-        let key = (entry.info.kind, entry.info.name.to_string());
+        let key = (entry.info.kind, entry.info.name.clone());
         if let Some(existing) = self.types.get(&key) {
             return Err(RegistryError::Duplicate {
                 what: format!("{} type `{}`", key.0, key.1),
@@ -188,7 +214,7 @@ impl Registry {
         }
         let mut seen = std::collections::BTreeSet::new();
         for t in plugin.info.types.iter() {
-            let key = (t.kind, t.name.to_string());
+            let key = (Kind::from(t.kind), t.name.to_string());
             if let Some(existing) = self.types.get(&key) {
                 return Err(RegistryError::Duplicate {
                     what: format!("{} type `{}`", t.kind, t.name),
@@ -206,10 +232,11 @@ impl Registry {
         }
         for t in plugin.info.types.iter() {
             self.types.insert(
-                (t.kind, t.name.to_string()),
+                (t.kind.into(), t.name.to_string()),
                 TypeEntry {
-                    info: t.clone(),
+                    info: TypeDoc::from(t),
                     provider: provider.clone(),
+                    builtin: None,
                 },
             );
         }
@@ -252,12 +279,13 @@ impl Registry {
     }
 
     /// Is (kind, name) registered?
-    pub fn contains(&self, kind: ObjectKind, name: &str) -> bool {
-        self.types.contains_key(&(kind, name.to_string()))
+    pub fn contains(&self, kind: impl Into<Kind>, name: &str) -> bool {
+        self.types.contains_key(&(kind.into(), name.to_string()))
     }
 
     /// Find (kind, name), or say what exists.
-    pub fn lookup(&self, kind: ObjectKind, name: &str) -> Result<&TypeEntry, RegistryError> {
+    pub fn lookup(&self, kind: impl Into<Kind>, name: &str) -> Result<&TypeEntry, RegistryError> {
+        let kind = kind.into();
         self.types
             .get(&(kind, name.to_string()))
             .ok_or_else(|| RegistryError::UnknownType {
@@ -275,7 +303,7 @@ impl Registry {
     /// The plugin that provides (kind, name); `None` for built-ins.
     pub fn plugin_for(
         &self,
-        kind: ObjectKind,
+        kind: impl Into<Kind>,
         name: &str,
     ) -> Result<Option<Arc<LoadedPlugin>>, RegistryError> {
         Ok(match &self.lookup(kind, name)?.provider {
@@ -293,7 +321,7 @@ impl Registry {
         match &entry.provider {
             Provider::Plugin(p) => Ok((p.clone(), entry.provider.describe())),
             Provider::Builtin => Err(RegistryError::Construct {
-                kind,
+                kind: kind.into(),
                 name: name.to_string(),
                 provider: "built-in".to_string(),
                 error: PluginError::unsupported(
@@ -315,7 +343,7 @@ impl Registry {
         let services = HostServices::new(self);
         construct(&plugin, services.as_ref())
             .into_result()
-            .map_err(|error| construct_error(kind, name, provider, error))
+            .map_err(|error| construct_error(kind.into(), name, provider, error))
     }
 
     /// Build a plugin light from parameters (RON text) or saved state.
@@ -382,12 +410,7 @@ impl Registry {
     }
 }
 
-fn construct_error(
-    kind: ObjectKind,
-    name: &str,
-    provider: String,
-    error: PluginError,
-) -> RegistryError {
+fn construct_error(kind: Kind, name: &str, provider: String, error: PluginError) -> RegistryError {
     RegistryError::Construct {
         kind,
         name: name.to_string(),

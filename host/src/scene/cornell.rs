@@ -168,12 +168,21 @@ pub fn default_scene() -> Result<Scene, SceneError> {
 
 /// The default scene with the spectral representation switches `representation`.
 pub fn default_scene_with(representation: &RepresentationOptions) -> Result<Scene, SceneError> {
+    cornell_box_with(&[&BuiltinFactory], representation)
+}
+
+/// The default scene with its types built by `factories` (e.g. the registry's factory, whose
+/// types may come from a library instead of the built-ins).
+pub fn cornell_box_with(
+    factories: &[&dyn super::ObjectFactory],
+    representation: &RepresentationOptions,
+) -> Result<Scene, SceneError> {
     let desc = cornell_box_description()?;
     build_scene_with(
         &desc,
         Path::new("."),
         Path::new("<embedded cornell box>"),
-        &[&BuiltinFactory],
+        factories,
         representation,
     )
 }

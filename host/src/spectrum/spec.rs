@@ -191,10 +191,10 @@ pub fn parse_spd_spec_with(spec: &str, tables: Interpolation) -> Result<BuiltinS
 }
 
 /// Wavelengths (nm) and raw values of a table.
-pub(crate) type RawTable = (Vec<f64>, Vec<f64>);
+pub type RawTable = (Vec<f64>, Vec<f64>);
 
 /// The raw (unnormalized) table behind a bundled name or CSV path, for use as a curve.
-pub(crate) fn raw_table_for_spec(spec: &str) -> Option<Result<RawTable, SpectrumError>> {
+pub fn raw_table_for_spec(spec: &str) -> Option<Result<RawTable, SpectrumError>> {
     if let Some(found) = bundled_table(spec) {
         return Some(found.map(|(t, _)| (t.wavelengths, t.columns[0].clone())));
     }

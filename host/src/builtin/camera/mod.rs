@@ -1,0 +1,3 @@
+//! Built-in cameras.
+
+pub mod perspective;

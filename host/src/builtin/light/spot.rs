@@ -1,0 +1,93 @@
+//! `spot`: a spot light with a smooth falloff between an inner and an outer cone.
+//!
+//! | parameter     | unit        | default | meaning                                        |
+//! |---------------|-------------|---------|------------------------------------------------|
+//! | `position`    | scene units | —       | where the light is                             |
+//! | `target`      | scene units | —       | a point on the cone's axis                     |
+//! | `inner_angle` | degrees     | `20`    | half-angle of full intensity                   |
+//! | `outer_angle` | degrees     | `30`    | half-angle where the intensity reaches zero    |
+//! | `power`       | W           | —       | total radiant flux, ≥ 0                        |
+//! | `spd`         | —           | `"e"`   | emission spectrum (SPD spectral value)         |
+
+use super::{light_spd, non_negative};
+use crate::builtin::spectral::Spectrum;
+use crate::builtin::{finite, finite3, from_value, state_fns, Build, BuiltinType, Embed};
+use crate::light::{Light, SpotLight};
+use crate::plugin::type_doc::Param;
+use crate::scene::{FactoryContext, FactoryError};
+use serde::{Deserialize, Serialize};
+use std::sync::Arc;
+
+/// The type.
+pub const TYPE: BuiltinType = BuiltinType {
+    name: "spot",
+    aliases: &[],
+    version: 1,
+    description: "spot light with a smooth falloff between two cones",
+    params: &[
+        Param::required("position", "scene units", "where the light is, (x, y, z)"),
+        Param::required("target", "scene units", "a point on the cone axis"),
+        Param::optional(
+            "inner_angle",
+            "degrees",
+            "20",
+            "half-angle of full intensity",
+        ),
+        Param::optional(
+            "outer_angle",
+            "degrees",
+            "30",
+            "half-angle where the intensity reaches zero",
+        ),
+        Param::required("power", "W", "total radiant flux, ≥ 0"),
+        Param::optional(
+            "spd",
+            "",
+            "\"e\"",
+            "emission spectrum: spec string, (nm, value) list or (type: .., params: ..)",
+        ),
+    ],
+    build: Build::Light(|v, ctx| build(&from_value(v)?, ctx)),
+    state: Some(state_fns::<SpotParams>()),
+};
+
+/// Parameters of [`TYPE`].
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpotParams {
+    /// Position, scene units.
+    pub position: [f64; 3],
+    /// A point on the axis, scene units.
+    pub target: [f64; 3],
+    /// Inner half-angle, degrees.
+    #[serde(default)]
+    pub inner_angle: Option<f64>,
+    /// Outer half-angle, degrees.
+    #[serde(default)]
+    pub outer_angle: Option<f64>,
+    /// Radiant flux, W.
+    pub power: f64,
+    /// Emission spectrum.
+    #[serde(default)]
+    pub spd: Option<Spectrum>,
+}
+
+impl Embed for SpotParams {
+    fn embed(&mut self, ctx: &FactoryContext) -> Result<(), FactoryError> {
+        self.spd.embed(ctx)
+    }
+}
+
+/// Build the light.
+pub fn build(p: &SpotParams, ctx: &FactoryContext) -> Result<Arc<dyn Light>, FactoryError> {
+    let s = SpotLight::new(
+        finite3("position", p.position)?,
+        finite3("target", p.target)?,
+        finite("inner_angle", p.inner_angle.unwrap_or(20.0))? as f32,
+        finite("outer_angle", p.outer_angle.unwrap_or(30.0))? as f32,
+        light_spd(&p.spd, ctx)?,
+        non_negative("power", p.power)?,
+    )
+    .map_err(FactoryError::Param)?;
+    Ok(Arc::new(s))
+}

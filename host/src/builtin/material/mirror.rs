@@ -1,0 +1,53 @@
+//! `mirror`: a perfect specular reflector.
+//!
+//! | parameter     | unit     | default | meaning                                        |
+//! |---------------|----------|---------|------------------------------------------------|
+//! | `reflectance` | unitless | `1`     | spectral reflectance in [0, 1] (spectral value) |
+
+use crate::builtin::spectral::{texture, Spectrum};
+use crate::builtin::{from_value, state_fns, Build, BuiltinType, Embed};
+use crate::material::{ConstantTexture, Material, Mirror};
+use crate::plugin::type_doc::Param;
+use crate::scene::{FactoryContext, FactoryError};
+use serde::{Deserialize, Serialize};
+use std::sync::Arc;
+
+/// The type.
+pub const TYPE: BuiltinType = BuiltinType {
+    name: "mirror",
+    aliases: &[],
+    version: 1,
+    description: "perfect specular reflector",
+    params: &[Param::optional(
+        "reflectance",
+        "",
+        "1",
+        "spectral reflectance in [0, 1]: number, spec, (nm, value) list or (rgb: ..)",
+    )],
+    build: Build::Material(|v, ctx| build(&from_value(v)?, ctx)),
+    state: Some(state_fns::<MirrorParams>()),
+};
+
+/// Parameters of [`TYPE`].
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MirrorParams {
+    /// Spectral reflectance.
+    #[serde(default)]
+    pub reflectance: Option<Spectrum>,
+}
+
+impl Embed for MirrorParams {
+    fn embed(&mut self, ctx: &FactoryContext) -> Result<(), FactoryError> {
+        self.reflectance.embed(ctx)
+    }
+}
+
+/// Build the material.
+pub fn build(p: &MirrorParams, ctx: &FactoryContext) -> Result<Arc<dyn Material>, FactoryError> {
+    let r = match &p.reflectance {
+        Some(v) => texture(v, "reflectance", ctx)?,
+        None => Arc::new(ConstantTexture(1.0)),
+    };
+    Ok(Arc::new(Mirror::new(r)))
+}

@@ -1,0 +1,8 @@
+//! Built-in materials, one per file.
+
+pub mod conductor;
+pub mod dielectric;
+pub mod emissive;
+pub mod lambertian;
+pub mod mirror;
+pub mod rough_dielectric;

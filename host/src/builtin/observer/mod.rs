@@ -1,0 +1,3 @@
+//! Built-in colour observers.
+
+pub mod cie;

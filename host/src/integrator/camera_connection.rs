@@ -1,0 +1,61 @@
+//! The t = 1 connection: a light-subpath vertex joined to a freshly sampled lens point, the
+//! contribution landing on whatever pixel that point projects to (BDPT and light tracing).
+
+use super::vertex::{unoccluded, Vertex};
+use super::PathStats;
+use crate::camera::Camera;
+use crate::material::TransportMode;
+use crate::scene::Scene;
+use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use glam::Vec2;
+
+/// The t = 1 connection of light vertex `s − 1` (s ≥ 1) to a lens point sampled with `u`:
+/// the unweighted contribution, the raster position and the lens vertex. For s = 1 it is the
+/// light's own emission seen by the camera (area lights only).
+pub fn connect_to_camera(
+    scene: &Scene,
+    camera: &dyn Camera,
+    light_path: &[Vertex],
+    s: usize,
+    lambda: &SampledWavelengths,
+    u: Vec2,
+    stats: &mut PathStats,
+) -> Option<(SampledSpectrum, Vec2, Vertex)> {
+    let qs = &light_path[s - 1];
+    if !qs.connectible() {
+        return None;
+    }
+    let cs = camera.sample_wi(qs.p, u)?;
+    if !(cs.pdf > 0.0 && cs.importance > 0.0) {
+        return None;
+    }
+    let cam_v = Vertex::camera(
+        cs.p_lens,
+        cs.n_lens,
+        SampledSpectrum::splat(cs.importance / cs.pdf),
+    );
+    let c = if s == 1 {
+        let light = &scene.lights.lights()[qs.light_index(scene)? as usize];
+        let w = cs.wi;
+        let le = light.radiance(qs.p, qs.ng, qs.uv, w, lambda);
+        let origin = qs.pdf_light_origin(scene, &cam_v);
+        if le.is_black() || !(origin > 0.0) {
+            return None;
+        }
+        le * (qs.ng.dot(w).abs() / origin) * cam_v.beta
+    } else {
+        let mut c = qs.beta * qs.f(scene, &cam_v, lambda, TransportMode::Importance) * cam_v.beta;
+        if qs.on_surface() {
+            c *= cs.wi.dot(qs.ns).abs();
+        }
+        c
+    };
+    if c.is_black() {
+        return None;
+    }
+    stats.shadow_rays += 1;
+    if !unoccluded(scene, qs, &cam_v) {
+        return None;
+    }
+    Some((c, cs.p_raster, cam_v))
+}

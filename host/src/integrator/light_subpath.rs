@@ -1,0 +1,126 @@
+//! The light subpath: a light chosen by power, an emitted ray, then the random walk in
+//! importance mode (BDPT and light tracing).
+
+use super::random_walk::random_walk;
+use super::vertex::Vertex;
+use super::{PathStats, SampleRng};
+use crate::light::LightFlags;
+use crate::material::TransportMode;
+use crate::scene::Scene;
+use crate::spectrum::SampledWavelengths;
+use glam::Vec2;
+
+/// How a light subpath started.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LightStart {
+    /// No light could be sampled (no lights, or a zero-density sample).
+    None,
+    /// A subpath from an evaluable light is in the path buffer.
+    Path,
+    /// The chosen light is beams-only: light `index` chosen with probability `pmf`; the caller
+    /// traces one of its beams instead.
+    Beams {
+        /// Light index.
+        index: usize,
+        /// Its selection probability.
+        pmf: f32,
+    },
+}
+
+/// The light subpath: a light chosen by power, an emitted ray from `sample_le`, then a random
+/// walk in importance mode, up to `max_vertices` vertices.
+#[allow(clippy::too_many_arguments)]
+pub fn generate_light_subpath(
+    scene: &Scene,
+    lambda: &SampledWavelengths,
+    rng: &mut SampleRng,
+    max_vertices: usize,
+    rr_depth: u32,
+    path: &mut Vec<Vertex>,
+    stats: &mut PathStats,
+) -> LightStart {
+    let u_light = rng.next_1d();
+    let u1 = rng.next_2d();
+    let u2 = rng.next_2d();
+    generate_light_subpath_with(
+        scene,
+        lambda,
+        (u_light, u1, u2),
+        rng,
+        max_vertices,
+        rr_depth,
+        path,
+        stats,
+    )
+}
+
+/// [`generate_light_subpath`] with the start given: `u_light` picks the light, `u1` and `u2`
+/// go to its `sample_le` (for callers with stratified samples); `rng` drives the walk.
+#[allow(clippy::too_many_arguments)]
+pub fn generate_light_subpath_with(
+    scene: &Scene,
+    lambda: &SampledWavelengths,
+    (u_light, u1, u2): (f32, Vec2, Vec2),
+    rng: &mut SampleRng,
+    max_vertices: usize,
+    rr_depth: u32,
+    path: &mut Vec<Vertex>,
+    stats: &mut PathStats,
+) -> LightStart {
+    path.clear();
+    if max_vertices == 0 {
+        return LightStart::None;
+    }
+    let Some((li, pmf)) = scene.lights.sample(u_light) else {
+        return LightStart::None;
+    };
+    let light = &scene.lights.lights()[li];
+    let flags = light.flags();
+    if flags.contains(LightFlags::BEAMS_ONLY) {
+        return LightStart::Beams { index: li, pmf };
+    }
+    let Some(les) = light.sample_le(u1, u2, lambda) else {
+        return LightStart::None;
+    };
+    if !(les.pdf_pos > 0.0 && les.pdf_dir > 0.0) || les.radiance.is_black() {
+        return LightStart::None;
+    }
+    let cos = if les.normal != glam::Vec3A::ZERO {
+        les.normal.dot(les.ray.dir).abs()
+    } else {
+        1.0
+    };
+    let beta = les.radiance * (cos / (pmf * les.pdf_pos * les.pdf_dir));
+    let mut v0 = Vertex::light(
+        li as u32,
+        les.ray.origin,
+        glam::Vec3A::ZERO,
+        les.normal,
+        beta,
+    );
+    v0.pdf_fwd = pmf * les.pdf_pos;
+    path.push(v0);
+    random_walk(
+        scene,
+        les.ray,
+        lambda,
+        rng,
+        beta,
+        les.pdf_dir,
+        max_vertices - 1,
+        TransportMode::Importance,
+        rr_depth,
+        path,
+        stats,
+    );
+    // Parallel rays of a directional light: the density at the first hit is positional.
+    if flags.contains(LightFlags::DELTA_DIRECTION) && path.len() > 1 {
+        let cos1 = if path[1].on_surface() {
+            path[1].ng.dot(les.ray.dir).abs()
+        } else {
+            1.0
+        };
+        path[1].pdf_fwd = les.pdf_pos * cos1;
+    }
+    LightStart::Path
+}

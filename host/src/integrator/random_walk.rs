@@ -1,0 +1,163 @@
+//! The random walk that extends camera and light subpaths surface by surface (BSDF sampling,
+//! Russian roulette, the forward/reverse area densities MIS needs), and the camera subpath
+//! built from it.
+
+use super::vertex::{Vertex, VertexKind};
+use super::{PathStats, SampleRng};
+use crate::camera::Camera;
+use crate::geometry::{spawn_ray, Ray};
+use crate::material::{Frame, MaterialFlags, ShadingContext, TransportMode};
+use crate::scene::Scene;
+use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+
+/// Flip the transport direction.
+fn flip(mode: TransportMode) -> TransportMode {
+    match mode {
+        TransportMode::Radiance => TransportMode::Importance,
+        TransportMode::Importance => TransportMode::Radiance,
+    }
+}
+
+/// Extend `path` by up to `max_new` surface vertices, starting with `ray` leaving the last
+/// vertex of `path` with solid-angle density `pdf_dir` (1/sr) and throughput `beta`. Sets each
+/// new vertex's `pdf_fwd` and its predecessor's `pdf_rev`.
+#[allow(clippy::too_many_arguments)]
+pub fn random_walk(
+    scene: &Scene,
+    mut ray: Ray,
+    lambda: &SampledWavelengths,
+    rng: &mut SampleRng,
+    mut beta: SampledSpectrum,
+    pdf_dir: f32,
+    max_new: usize,
+    mode: TransportMode,
+    rr_depth: u32,
+    path: &mut Vec<Vertex>,
+    stats: &mut PathStats,
+) {
+    if max_new == 0 || path.is_empty() {
+        return;
+    }
+    let mut pdf_fwd = pdf_dir;
+    let mut dispersed = path[path.len() - 1].dispersed;
+    // Scattering-only throughput for Russian roulette (β of light paths carries watts), without
+    // the 1/η² radiance scaling of refraction: that factor is undone when the path leaves the
+    // medium again, so a roulette on it would kill camera paths inside glass with probability
+    // 1 − 1/η² and return the survivors with η² = 2.25× the throughput (fireflies through glass).
+    let mut scatter = 1.0f32;
+    let mut added = 0usize;
+    loop {
+        stats.rays += 1;
+        let Some(hit) = scene.geometry.intersect(&ray, f32::INFINITY) else {
+            break;
+        };
+        let wo_world = -ray.dir.normalize();
+        let prev = path[path.len() - 1];
+        let mut v = Vertex {
+            kind: VertexKind::Surface { object: hit.object },
+            p: hit.point,
+            p_error: hit.point_error,
+            ng: hit.geometric_normal,
+            ns: hit.shading_normal,
+            uv: hit.uv,
+            wo: wo_world,
+            beta,
+            pdf_fwd: 0.0,
+            pdf_rev: 0.0,
+            delta: false,
+            dispersed,
+        };
+        v.pdf_fwd = prev.convert_density(pdf_fwd, &v);
+        path.push(v);
+        added += 1;
+        if added >= max_new {
+            break;
+        }
+        let material = scene.objects.material(hit.object);
+        let frame = Frame::from_normal(hit.shading_normal);
+        let wo = frame.to_local(wo_world);
+        let ctx = ShadingContext { uv: hit.uv };
+        let u_lobe = rng.next_1d();
+        let u_dir = rng.next_2d();
+        let Some(bs) = material.sample(wo, &ctx, lambda, u_lobe, u_dir, mode) else {
+            break;
+        };
+        if !(bs.pdf > 0.0) || bs.f.is_black() {
+            break;
+        }
+        let wi_world = frame.to_world(bs.wi);
+        let mut pdf_rev = material.pdf(bs.wi, wo, &ctx, lambda, flip(mode));
+        pdf_fwd = bs.pdf;
+        let n = path.len();
+        if bs.flags.is_specular() {
+            path[n - 1].delta = true;
+            pdf_fwd = 0.0;
+            pdf_rev = 0.0;
+        }
+        if bs.flags.contains(MaterialFlags::DISPERSIVE) {
+            dispersed = true;
+        }
+        let correction = super::vertex::shading_normal_correction(
+            hit.geometric_normal,
+            hit.shading_normal,
+            wo_world,
+            wi_world,
+            mode,
+        );
+        let factor = bs.wi.z.abs() / bs.pdf * correction;
+        beta *= bs.f * factor;
+        scatter *= (bs.f * factor).max_value();
+        if mode == TransportMode::Radiance && bs.flags.contains(MaterialFlags::TRANSMISSION) {
+            scatter *= bs.eta * bs.eta;
+        }
+        if beta.has_non_finite() || beta.is_black() {
+            break;
+        }
+        path[n - 2].pdf_rev = path[n - 1].convert_density(pdf_rev, &path[n - 2]);
+        if added as u32 >= rr_depth && scatter < 1.0 {
+            let q = (1.0 - scatter).max(0.05);
+            if rng.next_1d() < q {
+                break;
+            }
+            beta = beta / (1.0 - q);
+            scatter /= 1.0 - q;
+        }
+        ray = spawn_ray(hit.point, hit.point_error, hit.geometric_normal, wi_world);
+    }
+}
+
+/// The camera subpath of one camera ray: the lens vertex plus up to `max_vertices − 1` more.
+#[allow(clippy::too_many_arguments)]
+pub fn generate_camera_subpath(
+    scene: &Scene,
+    camera: &dyn Camera,
+    ray: Ray,
+    weight: f32,
+    lambda: &SampledWavelengths,
+    rng: &mut SampleRng,
+    max_vertices: usize,
+    rr_depth: u32,
+    path: &mut Vec<Vertex>,
+    stats: &mut PathStats,
+) {
+    path.clear();
+    if max_vertices == 0 {
+        return;
+    }
+    let beta = SampledSpectrum::splat(weight);
+    path.push(Vertex::camera(ray.origin, camera.forward(), beta));
+    let (_, pdf_dir) = camera.pdf_we(&ray);
+    random_walk(
+        scene,
+        ray,
+        lambda,
+        rng,
+        beta,
+        pdf_dir,
+        max_vertices - 1,
+        TransportMode::Radiance,
+        rr_depth,
+        path,
+        stats,
+    );
+}

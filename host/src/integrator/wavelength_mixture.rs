@@ -1,0 +1,174 @@
+//! The wavelengths of a camera/light path pair (BDPT and light tracing), drawn from
+//! [`WavelengthMixture`].
+//!
+//!
+//! A connection joins a camera subpath and a light subpath, so both must carry the same
+//! wavelengths. Camera paths prefer the observer's sensitivity (the visible-importance density
+//! `p_vis`), light paths prefer what the lights emit (`p_emit = Σ_L P(L)·S_L(λ)`, the SPDs of
+//! the evaluable lights weighted by the power-proportional light pmf). One wavelength set per
+//! pair is drawn from the one-sample mixture `p(λ) = ½ p_vis(λ) + ½ p_emit(λ)` (a fair coin picks
+//! the component, then a light's SPD by power if it is the emission component; the hero and its
+//! rotations `frac(u + i/LANES)` come from that component's inverse CDF). Each lane's marginal
+//! density is exactly the mixture, which is stored as its pdf: this is the balance heuristic
+//! between the two spectral strategies. Because the wavelengths are drawn independently of the
+//! light chosen for the light subpath and shared by every (s, t) strategy of the pair, the
+//! wavelength density is a common factor of all strategies and cancels in their MIS weights.
+//! Lanes that land on a delta spectral line are dropped (pdf 0): lights evaluate only the
+//! continuous part of their SPD.
+
+use super::SampleRng;
+use crate::light::LightFlags;
+use crate::scene::Scene;
+use crate::spectrum::wavelength_sampling::{rotated, visible_pdf, visible_sample};
+use crate::spectrum::{SampledWavelengths, Spd, LANES};
+use std::sync::Arc;
+
+/// The one-sample mixture `½ p_vis + ½ p_emit` over wavelengths (see the module docs).
+#[derive(Clone, Debug)]
+pub struct WavelengthMixture {
+    /// Distinct SPDs of evaluable lights with their summed light-pmf weights (Σ = 1).
+    spds: Vec<(Arc<dyn Spd>, f64)>,
+    cdf: Vec<f64>,
+}
+
+impl WavelengthMixture {
+    /// The mixture for `scene`'s evaluable lights (beams-only lights bring their own
+    /// wavelengths and are left out). Without such lights it is `p_vis` alone.
+    pub fn new(scene: &Scene) -> Self {
+        let mut spds: Vec<(Arc<dyn Spd>, f64)> = Vec::new();
+        for (i, l) in scene.lights.lights().iter().enumerate() {
+            let pmf = scene.lights.pmf(i) as f64;
+            if l.flags().contains(LightFlags::BEAMS_ONLY) || !(pmf > 0.0) {
+                continue;
+            }
+            let spd = l.spd();
+            match spds.iter_mut().find(|(s, _)| Arc::ptr_eq(s, &spd)) {
+                Some(e) => e.1 += pmf,
+                None => spds.push((spd, pmf)),
+            }
+        }
+        let total: f64 = spds.iter().map(|e| e.1).sum();
+        let mut acc = 0.0;
+        let mut cdf = Vec::with_capacity(spds.len());
+        for e in &mut spds {
+            e.1 /= total;
+            acc += e.1;
+            cdf.push(acc);
+        }
+        if let Some(last) = cdf.last_mut() {
+            *last = 1.0;
+        }
+        Self { spds, cdf }
+    }
+
+    /// Mixture density (1/nm) at `lambda_nm` (continuous parts only).
+    pub fn pdf(&self, lambda_nm: f64) -> f64 {
+        let vis = visible_pdf(lambda_nm);
+        if self.spds.is_empty() {
+            return vis;
+        }
+        0.5 * vis + 0.5 * self.emission_pdf(lambda_nm)
+    }
+
+    /// True when the scene has evaluable lights, i.e. the emission component exists.
+    pub fn has_emission(&self) -> bool {
+        !self.spds.is_empty()
+    }
+
+    /// The emission component alone, `p_emit(λ) = Σ_L P(L)·S_L(λ)` (1/nm, continuous parts);
+    /// 0 everywhere without evaluable lights.
+    pub fn emission_pdf(&self, lambda_nm: f64) -> f64 {
+        self.spds.iter().map(|(s, w)| w * s.pdf(lambda_nm)).sum()
+    }
+
+    /// The light SPD `u_spd` picks by power (the scene must have evaluable lights).
+    fn pick_spd(&self, u_spd: f64) -> &dyn Spd {
+        let k = self
+            .cdf
+            .partition_point(|&c| c <= u_spd)
+            .min(self.spds.len() - 1);
+        self.spds[k].0.as_ref()
+    }
+
+    /// Lane `i` at `frac(u + i/LANES)`, drawn from `spd` (visible importance without one) and
+    /// carrying `density` at its wavelength; a lane on a delta line gets pdf 0.
+    fn lanes(u: f64, spd: Option<&dyn Spd>, density: impl Fn(f64) -> f64) -> SampledWavelengths {
+        let mut lambda = [0.0f32; LANES];
+        let mut pdf = [0.0f32; LANES];
+        for i in 0..LANES {
+            let ui = rotated(u, i, LANES);
+            let (l, on_line) = match spd {
+                Some(s) => {
+                    let d = s.sample(ui);
+                    (d.lambda as f32, d.is_delta)
+                }
+                None => (visible_sample(ui) as f32, false),
+            };
+            lambda[i] = l;
+            pdf[i] = if on_line {
+                0.0
+            } else {
+                density(l as f64) as f32
+            };
+        }
+        SampledWavelengths { lambda, pdf }
+    }
+
+    /// Wavelengths from the emission component alone (path tracing's light-SPD sampling):
+    /// `u_spd` picks a light SPD by power, lane `i` is its inverse CDF at `frac(u + i/LANES)`
+    /// and carries [`emission_pdf`](Self::emission_pdf), its marginal density; lanes on a delta
+    /// line get pdf 0. `None` without evaluable lights.
+    pub fn sample_emission(&self, u_spd: f64, u: f64) -> Option<SampledWavelengths> {
+        if self.spds.is_empty() {
+            return None;
+        }
+        let spd = self.pick_spd(u_spd);
+        Some(Self::lanes(u, Some(spd), |l| self.emission_pdf(l)))
+    }
+
+    /// Draw the pair's wavelengths: three uniforms from `rng` (component, SPD, hero).
+    pub fn sample(&self, rng: &mut SampleRng) -> SampledWavelengths {
+        let u_comp = rng.next_1d();
+        let u_spd = rng.next_1d() as f64;
+        let u = rng.next_1d() as f64;
+        self.sample_with(u_comp, u_spd, u)
+    }
+
+    /// [`sample`](Self::sample) from given uniforms: `u_comp` picks the component, `u_spd` the
+    /// light SPD, `u` the hero (for callers with stratified samples). Every lane carries the
+    /// mixture density [`pdf`](Self::pdf).
+    pub fn sample_with(&self, u_comp: f32, u_spd: f64, u: f64) -> SampledWavelengths {
+        let emission = !self.spds.is_empty() && u_comp >= 0.5;
+        let spd = emission.then(|| self.pick_spd(u_spd));
+        Self::lanes(u, spd, |l| self.pdf(l))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each lane's stored pdf is the density it was drawn with: the Monte Carlo estimate of
+    /// ∫_{400}^{700} 1 dλ = 300 nm from 2·10⁵ pair draws (×4 lanes) on the Cornell box (its
+    /// measured light SPD as the emission component) is within 1% (the estimator's relative
+    /// standard error here is below 0.2%).
+    #[test]
+    fn mixture_pdf_matches_its_draws() {
+        let scene = crate::scene::default_scene().unwrap();
+        let m = WavelengthMixture::new(&scene);
+        let n = 200_000;
+        let mut sum = 0.0f64;
+        for k in 0..n {
+            let mut rng = SampleRng::for_sample(3, k, 0);
+            let w = m.sample(&mut rng);
+            for i in 0..LANES {
+                let l = w.lambda[i] as f64;
+                if (400.0..700.0).contains(&l) && w.pdf[i] > 0.0 {
+                    sum += 1.0 / w.pdf[i] as f64;
+                }
+            }
+        }
+        let est = sum / (n as f64 * LANES as f64);
+        assert!((est / 300.0 - 1.0).abs() < 0.01, "{est}");
+    }
+}
