@@ -3,8 +3,10 @@
 #![no_main]
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {
     if let Ok(blob) = spectrace::plugin::blob::Blob::decode(data) {
-        let registry = spectrace::plugin::Registry::new();
-        let faults = spectrace::plugin::adapter::PluginFaults::new();
-        let _ = blob.instantiate_light(&registry, &faults);
+        let factory = spectrace::plugin::factory::RegistryFactory::new(
+            std::sync::Arc::new(spectrace::plugin::builtin_registry()),
+            spectrace::plugin::adapter::PluginFaults::new(),
+        );
+        let _ = blob.instantiate(&factory);
     }
 });

@@ -179,9 +179,11 @@ proptest! {
             ron::from_str("(position: (0, 2, 0), power: 60, spd: \"d65\")").unwrap();
         let good = Blob::pack_builtin_light("point", &params).unwrap().encode().unwrap();
         if let Ok(blob) = Blob::decode(&apply(&good, &e)) {
-            let registry = spectrace::plugin::Registry::new();
-            let faults = spectrace::plugin::adapter::PluginFaults::new();
-            let _ = blob.instantiate_light(&registry, &faults);
+            let factory = spectrace::plugin::factory::RegistryFactory::new(
+                std::sync::Arc::new(spectrace::plugin::builtin_registry()),
+                spectrace::plugin::adapter::PluginFaults::new(),
+            );
+            let _ = blob.instantiate(&factory);
         }
     }
 
