@@ -143,3 +143,70 @@ fn total_internal_reflection_at_the_critical_angle() {
         }
     }
 }
+
+/// Degenerate and sliver triangles in an emitting mesh: a zero-area triangle picked by the
+/// area CDF would give a point with a NaN normal (its cross product is zero) and, as an emitter,
+/// light from nothing. Mesh: zero-area triangles first, in the middle and last (placed at
+/// x ≥ 100 so a sample on one is recognised), a unit triangle and a sliver 1e-7 wide. Checked
+/// over 64×64 stratified samples plus the extremes u = 0 and u = 1 − 2⁻²⁴: no point lies on a
+/// zero-area triangle, every normal is unit and finite, the pdf is 1/area.
+#[test]
+fn zero_area_triangles_of_an_emitter_are_never_sampled() {
+    use spectrace::geometry::{Geometry, Shape, ShapeDesc, Transform, TriangleMesh};
+    let p = |x: f32, y: f32| Vec3A::new(x, y, 0.0);
+    let mesh = TriangleMesh {
+        positions: vec![
+            p(100.0, 0.0),
+            p(101.0, 0.0),
+            p(102.0, 0.0), // collinear: zero area
+            p(0.0, 0.0),
+            p(1.0, 0.0),
+            p(0.0, 1.0),   // unit right triangle, area 0.5
+            p(200.0, 5.0), // a point: all three corners the same
+            p(0.0, 2.0),
+            p(1.0, 2.0),
+            p(0.5, 2.0 + 1e-7), // sliver, area 5e-8
+            p(300.0, 0.0),
+            p(300.0, 1.0), // repeated corner
+        ],
+        normals: None,
+        uvs: None,
+        indices: vec![[0, 1, 2], [3, 4, 5], [6, 6, 6], [7, 8, 9], [10, 11, 10]],
+    };
+    let geometry = Geometry::build(vec![ShapeDesc {
+        shape: Shape::Mesh(mesh),
+        transform: Transform::IDENTITY,
+    }])
+    .unwrap();
+    let area = geometry.object_area(0);
+    println!("emitter area {area} (unit triangle 0.5 + sliver 5e-8)");
+    assert!((area - 0.5).abs() < 1e-6, "{area}");
+    let mut us: Vec<Vec2> = (0..64 * 64)
+        .map(|k| {
+            Vec2::new(
+                ((k / 64) as f32 + 0.5) / 64.0,
+                ((k % 64) as f32 + 0.5) / 64.0,
+            )
+        })
+        .collect();
+    let last = 1.0 - f32::EPSILON / 2.0;
+    us.extend([
+        Vec2::ZERO,
+        Vec2::new(last, last),
+        Vec2::new(0.0, last),
+        Vec2::new(last, 0.0),
+    ]);
+    for u in us {
+        let s = geometry.sample_area(0, u).expect("the mesh has area");
+        assert!(
+            s.point.x < 50.0,
+            "u = {u}: sampled a zero-area triangle at {}",
+            s.point
+        );
+        assert!(
+            s.point.is_finite() && (s.normal.length() - 1.0).abs() < 1e-4,
+            "u = {u}: {s:?}"
+        );
+        assert!((s.pdf * area - 1.0).abs() < 1e-5, "u = {u}: pdf {}", s.pdf);
+    }
+}
