@@ -50,7 +50,8 @@ fn materials() -> Vec<(String, Box<dyn Material>)> {
     v
 }
 
-/// Grazing incidence, |cos θo| from 1e-8 to 1e-1, from both sides, in both transport modes:
+/// Grazing incidence, |cos θo| from 1e-8 to 1e-1, from both sides, in both transport modes, at
+/// mid-range wavelengths and with the hero at 360 nm and at 830 nm:
 /// 1/cos terms, Fresnel at 90° and microfacet masking at the horizon can turn into NaN, Inf or
 /// huge weights. Checked for 16×16 stratified samples each: the sampled `wi` is a unit vector
 /// (|‖wi‖ − 1| ≤ 1e-3: f32 normalisation), f, pdf and the throughput f·|cos θi|/pdf are finite
@@ -60,12 +61,21 @@ fn materials() -> Vec<(String, Box<dyn Material>)> {
 /// `eval` and `pdf` at the sampled direction are finite as well.
 #[test]
 fn grazing_incidence_on_every_material() {
-    let lambda = SampledWavelengths::sample_uniform(0.37, 360.0, 830.0);
+    // Mid-range wavelengths, and the hero exactly at each end of the range (tables of IOR and
+    // reflectance are read at their last node there).
+    let lambdas = [
+        SampledWavelengths::sample_uniform(0.37, 360.0, 830.0),
+        SampledWavelengths::sample_uniform(0.0, 360.0, 830.0),
+        SampledWavelengths::sample_uniform(1.0 - f32::EPSILON, 360.0, 830.0),
+    ];
     let ctx = ShadingContext::default();
     for (name, m) in materials() {
         let mut worst: f32 = 0.0;
         let mut samples = 0;
-        for cos in [1e-8f32, 1e-6, 1e-4, 1e-3, 1e-2, 1e-1] {
+        let cases = lambdas
+            .iter()
+            .flat_map(|l| [1e-8f32, 1e-6, 1e-4, 1e-3, 1e-2, 1e-1].map(|c| (l, c)));
+        for (lambda, cos) in cases {
             for side in [1.0f32, -1.0] {
                 let sin = (1.0 - cos * cos).sqrt();
                 let wo = Vec3A::new(sin, 0.0, side * cos);
@@ -74,11 +84,15 @@ fn grazing_incidence_on_every_material() {
                         for j in 0..16 {
                             let u = Vec2::new((i as f32 + 0.5) / 16.0, (j as f32 + 0.5) / 16.0);
                             let u_lobe = ((i * 16 + j) as f32 + 0.5) / 256.0;
-                            let Some(s) = m.sample(wo, &ctx, &lambda, u_lobe, u, mode) else {
+                            let Some(s) = m.sample(wo, &ctx, lambda, u_lobe, u, mode) else {
                                 continue;
                             };
                             samples += 1;
-                            let what = format!("{name}, cos θo = {}, {mode:?}", side * cos);
+                            let what = format!(
+                                "{name}, cos θo = {}, λ {:?}, {mode:?}",
+                                side * cos,
+                                lambda.lambda
+                            );
                             assert!((s.wi.length() - 1.0).abs() <= 1e-3, "{what}: wi {:?}", s.wi);
                             assert!(s.pdf.is_finite() && s.pdf >= 0.0, "{what}: pdf {}", s.pdf);
                             assert!(!s.f.has_non_finite(), "{what}: f {:?}", s.f);
@@ -88,8 +102,8 @@ fn grazing_incidence_on_every_material() {
                                 assert!(w.is_finite() && w <= 4.0, "{what}: weight {w}");
                                 worst = worst.max(w);
                             }
-                            let e = m.eval(wo, s.wi, &ctx, &lambda, mode);
-                            let p = m.pdf(wo, s.wi, &ctx, &lambda, mode);
+                            let e = m.eval(wo, s.wi, &ctx, lambda, mode);
+                            let p = m.pdf(wo, s.wi, &ctx, lambda, mode);
                             assert!(!e.has_non_finite() && p.is_finite(), "{what}: eval/pdf");
                         }
                     }
