@@ -12,6 +12,11 @@ libfuzzer_sys::fuzz_target!(|data: &[u8]| {
     let file = Path::new("fuzz.ron");
     if let Ok(desc) = parse_scene_str(text, file) {
         let factories: [&dyn ObjectFactory; 1] = [&BuiltinFactory];
-        let _ = build_scene(&desc, Path::new("/nonexistent-spectrace-fuzz"), file, &factories);
+        let _ = build_scene(
+            &desc,
+            Path::new("/nonexistent-spectrace-fuzz"),
+            file,
+            &factories,
+        );
     }
 });
