@@ -95,9 +95,7 @@ fn caustic_lamp_y(scene: &Scene) -> f64 {
         };
         let le = lamp.emitted(
             glam::Vec3A::Z,
-            &spectrace::material::ShadingContext {
-                uv: glam::Vec2::ZERO,
-            },
+            &spectrace::material::ShadingContext::default(),
             &lambda,
         );
         y += sensor.to_xyz(&le, &lambda)[1] / n as f64;

@@ -138,7 +138,7 @@ fn check(lights: &str, lamp: &str) {
         let f = mat.eval(
             wo,
             wi,
-            &ShadingContext { uv: Vec2::ZERO },
+            &ShadingContext::default(),
             &lambda,
             TransportMode::Importance,
         );

@@ -128,7 +128,7 @@ fn adapter_keeps_the_sampling_weights() {
     let (a, _) = OrenNayar::coefficients(1.0);
     let expected = (std::f64::consts::PI * a * 0.6) as f32;
     let lambda = SampledWavelengths::sample_visible(0.37);
-    let ctx = ShadingContext { uv: Vec2::ZERO };
+    let ctx = ShadingContext::default();
     let wo = Vec3A::Z;
     for i in 0..1000 {
         let u = Vec2::new(

@@ -196,7 +196,7 @@ pub fn types() -> &'static [BuiltinType] {
     &ALL
 }
 
-static ALL: [BuiltinType; 20] = [
+static ALL: [BuiltinType; 21] = [
     material::lambertian::TYPE,
     material::mirror::TYPE,
     material::dielectric::TYPE,
@@ -206,6 +206,7 @@ static ALL: [BuiltinType; 20] = [
     light::point::TYPE,
     light::spot::TYPE,
     light::directional::TYPE,
+    light::environment::TYPE,
     spd::spec::TYPE,
     spd::table::TYPE,
     observer::cie::CIE1931_2,

@@ -318,7 +318,7 @@ pub fn mis_weight(
         let delta_before = if i > 0 {
             light(i - 1).2
         } else {
-            light_v(0).is_delta_light(scene)
+            light_v(0).is_unhittable_light(scene)
         };
         if !delta && !delta_before {
             sum += ri;
@@ -490,7 +490,7 @@ impl Integrator for Bdpt {
     fn light_strategy(&self, flags: LightFlags) -> &'static str {
         if flags.contains(LightFlags::BEAMS_ONLY) {
             "light tracing of its beams (t = 1 splats, unweighted)"
-        } else if flags.is_delta() {
+        } else if !flags.can_be_hit() {
             "bdpt: all strategies with s ≥ 1 (never hit by camera paths), power-heuristic MIS"
         } else {
             "bdpt: all (s, t) strategies incl. s = 0 and t = 1, power-heuristic MIS"

@@ -87,7 +87,7 @@ impl Integrator for PathTracer {
     fn light_strategy(&self, flags: LightFlags) -> &'static str {
         if flags.contains(LightFlags::BEAMS_ONLY) {
             "NOT rendered by pt (beams can only be light traced; use bdpt or lt)"
-        } else if flags.is_delta() {
+        } else if !flags.can_be_hit() {
             "pt: next-event estimation only"
         } else {
             "pt: next-event estimation + BSDF hits (MIS)"
@@ -257,13 +257,38 @@ impl PathTracer {
         loop {
             stats.rays += 1;
             let Some(hit) = scene.geometry.intersect(&ray, f32::INFINITY) else {
+                // The path leaves the scene: the environment's radiance, weighted against its
+                // next-event estimation like an area light found by the path.
+                if let Some(ei) = scene.lights.environment() {
+                    let light = &scene.lights.lights()[ei as usize];
+                    if let Some((p_env, n_env)) = light.escape_point(&ray) {
+                        let w = if depth == 0 || specular_bounce {
+                            1.0
+                        } else {
+                            let light_pdf = scene.lights.pmf(ei as usize)
+                                * light.pdf_li(&prev_ctx, p_env, n_env);
+                            power_heuristic(prev_bsdf_pdf, light_pdf)
+                        };
+                        let back = -ray.dir.normalize();
+                        for (g, lam) in lambdas
+                            .groups()
+                            .iter()
+                            .enumerate()
+                            .take(lambdas.active_groups())
+                        {
+                            let le = light.radiance(p_env, n_env, glam::Vec2::ZERO, back, lam);
+                            l[g] += beta[g] * le * w;
+                        }
+                    }
+                }
                 break;
             };
             let material = scene.objects.material(hit.object);
             let flags = material.flags();
             let frame = Frame::from_normal(hit.shading_normal);
             let wo = frame.to_local(-ray.dir.normalize());
-            let sctx = ShadingContext { uv: hit.uv };
+            let sctx =
+                ShadingContext::at(hit.point, hit.geometric_normal, hit.shading_normal, hit.uv);
             // Groups still carrying wavelengths (all but the hero end at a dispersive event).
             let active = lambdas.active_groups();
 
@@ -362,7 +387,8 @@ impl PathTracer {
                                 stats.shadow_rays += 1;
                                 if !scene.geometry.occluded(&shadow, t_max) {
                                     let light_pdf = pmf * ls.pdf;
-                                    let w = if light.flags().is_delta() {
+                                    // No BSDF-hit term exists for a light rays cannot find.
+                                    let w = if !light.flags().can_be_hit() {
                                         1.0
                                     } else {
                                         let bsdf_pdf = material.pdf(

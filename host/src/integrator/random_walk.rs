@@ -49,6 +49,20 @@ pub fn random_walk(
     loop {
         stats.rays += 1;
         let Some(hit) = scene.geometry.intersect(&ray, f32::INFINITY) else {
+            // A camera path that leaves the scene ends on the environment light, if any.
+            if mode == TransportMode::Radiance {
+                if let Some(ei) = scene.lights.environment() {
+                    let light = &scene.lights.lights()[ei as usize];
+                    if let Some((p, n)) = light.escape_point(&ray) {
+                        let prev = path[path.len() - 1];
+                        let mut v = Vertex::light(ei, p, glam::Vec3A::ZERO, n, beta);
+                        v.wo = -ray.dir.normalize();
+                        v.dispersed = dispersed;
+                        v.pdf_fwd = prev.convert_density(pdf_fwd, &v);
+                        path.push(v);
+                    }
+                }
+            }
             break;
         };
         let wo_world = -ray.dir.normalize();
@@ -76,7 +90,7 @@ pub fn random_walk(
         let material = scene.objects.material(hit.object);
         let frame = Frame::from_normal(hit.shading_normal);
         let wo = frame.to_local(wo_world);
-        let ctx = ShadingContext { uv: hit.uv };
+        let ctx = ShadingContext::at(hit.point, hit.geometric_normal, hit.shading_normal, hit.uv);
         let u_lobe = rng.next_1d();
         let u_dir = rng.next_2d();
         let Some(bs) = material.sample(wo, &ctx, lambda, u_lobe, u_dir, mode) else {

@@ -111,8 +111,12 @@ pub fn strategy_summary(scene: &Scene, kind: IntegratorKind) -> Vec<String> {
                 "directional light"
             } else if f.contains(LightFlags::DELTA_POSITION) {
                 "point-like light"
-            } else {
+            } else if f.contains(LightFlags::ENVIRONMENT) {
+                "environment light"
+            } else if f.contains(LightFlags::AREA) {
                 "area light"
+            } else {
+                "light without a surface"
             };
             format!(
                 "light {i} ({what}, {:.4} W, chosen with p = {:.4}): {}",

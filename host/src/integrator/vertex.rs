@@ -133,6 +133,12 @@ impl Vertex {
         }
     }
 
+    /// What a material at this vertex may know about the surface point.
+    #[inline]
+    pub fn shading_context(&self) -> ShadingContext {
+        ShadingContext::at(self.p, self.ng, self.ns, self.uv)
+    }
+
     /// True on a surface with a normal (area lights count): cosines at this vertex apply.
     #[inline]
     pub fn on_surface(&self) -> bool {
@@ -197,7 +203,7 @@ impl Vertex {
         }
         let wi = wi / len;
         let frame = Frame::from_normal(self.ns);
-        let ctx = ShadingContext { uv: self.uv };
+        let ctx = self.shading_context();
         let f = m.eval(
             frame.to_local(self.wo),
             frame.to_local(wi),
@@ -245,7 +251,7 @@ impl Vertex {
             return 0.0;
         }
         let frame = Frame::from_normal(self.ns);
-        let ctx = ShadingContext { uv: self.uv };
+        let ctx = self.shading_context();
         let pdf = m.pdf(
             frame.to_local(wp.normalize()),
             frame.to_local(wn.normalize()),
@@ -305,33 +311,49 @@ impl Vertex {
         scene.lights.pmf(li as usize) * pdf_pos
     }
 
-    /// Radiance (W/(m²·sr·nm)) this vertex emits towards `toward` (area lights only).
+    /// Radiance (W/(m²·sr·nm)) this vertex emits towards `toward` (area lights, and the
+    /// environment where a camera path left the scene).
     pub fn le(
         &self,
         scene: &Scene,
         toward: &Vertex,
         lambda: &SampledWavelengths,
     ) -> SampledSpectrum {
-        let VertexKind::Surface { object } = self.kind else {
-            return SampledSpectrum::zero();
-        };
-        let m = scene.objects.material(object);
         let w = toward.p - self.p;
         if !(w.length_squared() > 0.0) {
             return SampledSpectrum::zero();
         }
+        let object = match self.kind {
+            VertexKind::Surface { object } => object,
+            // A camera path that left the scene ends on the environment light.
+            VertexKind::Light { light } => {
+                return scene.lights.lights()[light as usize].radiance(
+                    self.p,
+                    self.ng,
+                    self.uv,
+                    w.normalize(),
+                    lambda,
+                );
+            }
+            VertexKind::Camera => return SampledSpectrum::zero(),
+        };
+        let m = scene.objects.material(object);
         let frame = Frame::from_normal(self.ng);
         m.emitted(
             frame.to_local(w.normalize()),
-            &ShadingContext { uv: self.uv },
+            &self.shading_context(),
             lambda,
         )
     }
 
-    /// True when this light vertex's light is a delta light (point, spot, directional).
-    pub fn is_delta_light(&self, scene: &Scene) -> bool {
+    /// True when this light vertex's light cannot be found by a ray (delta lights, and
+    /// connectable plugin lights without a surface): no camera path ends on it, so s = 0 is no
+    /// strategy for it.
+    pub fn is_unhittable_light(&self, scene: &Scene) -> bool {
         match self.kind {
-            VertexKind::Light { light } => scene.lights.lights()[light as usize].flags().is_delta(),
+            VertexKind::Light { light } => {
+                !scene.lights.lights()[light as usize].flags().can_be_hit()
+            }
             _ => false,
         }
     }

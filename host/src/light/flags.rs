@@ -16,6 +16,8 @@ impl LightFlags {
     /// Only generates beams (the seed's `next_beam` / `number_of_beams`), cannot be evaluated:
     /// handled by light tracing alone.
     pub const BEAMS_ONLY: Self = Self(1 << 3);
+    /// Seen by rays that leave the scene (an environment): radiance on escape.
+    pub const ENVIRONMENT: Self = Self(1 << 4);
 
     /// True when every bit of `other` is set.
     pub fn contains(self, other: Self) -> bool {
@@ -25,6 +27,15 @@ impl LightFlags {
     /// True for point-like or directional lights (pdfs are discrete, MIS must not weight them).
     pub fn is_delta(self) -> bool {
         self.0 & (Self::DELTA_POSITION.0 | Self::DELTA_DIRECTION.0) != 0
+    }
+
+    /// True when a ray can find the light: a surface in the scene ([`AREA`](Self::AREA)) or
+    /// the environment. Only then do BSDF-sampled hits (PT) and camera paths ending on the light
+    /// (BDPT's s = 0) exist as strategies; for every other light, next-event estimation and the
+    /// light-subpath strategies are all there is, and MIS must give them the whole weight (a
+    /// connectable plugin light without a delta bit and without a surface is such a light).
+    pub fn can_be_hit(self) -> bool {
+        self.0 & (Self::AREA.0 | Self::ENVIRONMENT.0) != 0
     }
 }
 

@@ -13,6 +13,8 @@ pub struct LightSourceManager {
     pmf: Vec<f32>,
     /// `object_light[object]` = index of the area light on that object.
     object_light: Vec<Option<u32>>,
+    /// The environment light (rays leaving the scene see it); a scene has at most one.
+    environment: Option<u32>,
 }
 
 impl LightSourceManager {
@@ -53,11 +55,16 @@ impl LightSourceManager {
                 }
             }
         }
+        let environment = lights
+            .iter()
+            .position(|l| l.flags().contains(super::LightFlags::ENVIRONMENT))
+            .map(|i| i as u32);
         Self {
             lights,
             cdf,
             pmf,
             object_light,
+            environment,
         }
     }
 
@@ -94,6 +101,12 @@ impl LightSourceManager {
     #[inline]
     pub fn pmf(&self, index: usize) -> f32 {
         self.pmf.get(index).copied().unwrap_or(0.0)
+    }
+
+    /// The environment light, if the scene has one.
+    #[inline]
+    pub fn environment(&self) -> Option<u32> {
+        self.environment
     }
 
     /// The area light on scene object `object`, if it emits.

@@ -1,5 +1,5 @@
 //! Light sources as the integrators see them, the built-in lights (area, point, spot,
-//! directional) and the [`LightSourceManager`] that picks lights in proportion to their power.
+//! directional, environment) and the [`LightSourceManager`] that picks lights in proportion to their power.
 //!
 //! Every light has a normalised SPD `S(λ)` (1/nm) and an overall scale, so its emission is
 //! `scale · S(λ)`; light subpaths draw their wavelengths from `S`. Units: radiance
@@ -8,6 +8,7 @@
 
 pub mod area;
 pub mod directional;
+pub mod environment;
 pub mod flags;
 pub mod manager;
 pub mod point;
@@ -15,6 +16,7 @@ pub mod spot;
 
 pub use area::AreaLight;
 pub use directional::DirectionalLight;
+pub use environment::{ConstantEnvironment, EnvironmentLight, EnvironmentRadiance};
 pub use flags::LightFlags;
 pub use manager::LightSourceManager;
 pub use point::PointLight;
@@ -129,6 +131,13 @@ pub trait Light: Send + Sync + Debug {
         0.0
     }
 
+    /// For environment lights: where a ray leaving the scene meets the light (the point and the
+    /// light's normal there), so that the radiance it sees can be looked up with
+    /// [`radiance`](Self::radiance) and weighted like an area light's. `None` for other lights.
+    fn escape_point(&self, _ray: &Ray) -> Option<(Vec3A, Vec3A)> {
+        None
+    }
+
     /// The scene object whose surface this light is, for area lights.
     fn object(&self) -> Option<u32> {
         None
@@ -136,6 +145,10 @@ pub trait Light: Send + Sync + Debug {
 
     /// Called once the scene bounds are known (directional lights need them for `sample_le`).
     fn preprocess(&self, _scene_bounds: &Aabb) {}
+
+    /// Called after [`preprocess`](Self::preprocess) with the bounds of the scene and every
+    /// camera position (environment lights must enclose the cameras as well).
+    fn preprocess_view(&self, _view_bounds: &Aabb) {}
 }
 
 /// Uniform direction on the unit sphere.

@@ -63,6 +63,20 @@ pub enum TransportMode {
 pub struct ShadingContext {
     /// Surface parameterisation (for textures).
     pub uv: Vec2,
+    /// World-space position (scene units), for procedural materials.
+    pub p: Vec3A,
+    /// Geometric normal (world, unit; zero when unknown).
+    pub ng: Vec3A,
+    /// Shading normal (world, unit; the `z` axis of the local frame; zero when unknown).
+    pub ns: Vec3A,
+}
+
+impl ShadingContext {
+    /// The context of surface point `p` with geometric normal `ng`, shading normal `ns` and
+    /// texture coordinates `uv`.
+    pub fn at(p: Vec3A, ng: Vec3A, ns: Vec3A, uv: Vec2) -> Self {
+        Self { uv, p, ng, ns }
+    }
 }
 
 /// A sampled scattering direction.

@@ -9,10 +9,14 @@
 //! was rendered, with the plugin's message.
 
 use crate::color::Observer;
+use crate::geometry::Aabb;
 use crate::geometry::Ray;
-use crate::light::{Light, LightFlags, LightLeSample, LightLiSample, LightSampleContext};
+use crate::light::{
+    EnvironmentLight, EnvironmentRadiance, Light, LightFlags, LightLeSample, LightLiSample,
+    LightSampleContext,
+};
 use crate::material::{
-    BsdfSample, Material, MaterialFlags, ShadingContext, TransportMode as HostMode,
+    BsdfSample, EmissionProfile, Material, MaterialFlags, ShadingContext, TransportMode as HostMode,
 };
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spd, SpdSample, LANES};
 use glam::{Vec2, Vec3A};
@@ -259,10 +263,13 @@ fn material_bits(f: Flags, transmission_event: Option<bool>) -> MaterialFlags {
     out
 }
 
-/// A plugin material as a host [`Material`].
+/// A plugin material as a host [`Material`]. An EMISSIVE one also describes its emission
+/// ([`Material::emission`]), so the scene builds an area light on every object that uses it,
+/// sampled and MIS-weighted like the built-in `emissive`.
 pub struct PluginMaterial {
     material: MaterialBox,
     flags: MaterialFlags,
+    emission: Option<EmissionProfile>,
     origin: Origin,
 }
 
@@ -270,17 +277,72 @@ impl PluginMaterial {
     /// Wrap `material`.
     pub fn new(material: MaterialBox, origin: Origin) -> Self {
         let flags = material_bits(material.capabilities(), None);
+        let emission = if flags.contains(MaterialFlags::EMISSIVE) {
+            Self::probe_emission(&material, &origin)
+        } else {
+            None
+        };
         Self {
             material,
             flags,
+            emission,
             origin,
         }
+    }
+
+    /// The emission an area light on this material uses: `emitted` along the normal, at
+    /// 360, 361, …, 830 nm, as a normalised table (linear interpolation) and its integral in
+    /// W/(m²·sr); two-sided when anything leaves the back. Like the built-in area lights this
+    /// takes the emission to be the same at every point and in every direction of a side
+    /// (Lambertian); `None` when nothing leaves the front.
+    fn probe_emission(material: &MaterialBox, origin: &Origin) -> Option<EmissionProfile> {
+        let nm: Vec<f64> = (360..=830).map(f64::from).collect();
+        let ctx = spectrace_plugin_api::ShadingContext::default();
+        let side = |z: f64| -> Vec<f64> {
+            let mut out = Vec::with_capacity(nm.len());
+            for chunk in nm.chunks(LANES) {
+                let mut w = Wavelengths {
+                    nm: [chunk[0]; LANES],
+                };
+                w.nm[..chunk.len()].copy_from_slice(chunk);
+                let v = origin.or(
+                    material.emitted(&ctx, Vec3::new(0.0, 0.0, z), &w),
+                    SpectralValues::ZERO,
+                );
+                out.extend(v.v[..chunk.len()].iter().map(|x| {
+                    if x.is_finite() {
+                        x.max(0.0)
+                    } else {
+                        0.0
+                    }
+                }));
+            }
+            out
+        };
+        let front = side(1.0);
+        let integral: f64 = front.windows(2).map(|p| 0.5 * (p[0] + p[1])).sum();
+        if !(integral > 0.0 && integral.is_finite()) {
+            return None;
+        }
+        let spd = crate::spectrum::TabulatedSpd::new(
+            &origin.label,
+            &nm,
+            &front,
+            crate::spectrum::Interpolation::Linear,
+        )
+        .ok()?;
+        let two_sided = side(-1.0).iter().any(|&x| x > 0.0);
+        Some(EmissionProfile {
+            spd: Arc::new(spd),
+            scale: integral as f32,
+            two_sided,
+        })
     }
 
     fn ctx(ctx: &ShadingContext) -> spectrace_plugin_api::ShadingContext {
         spectrace_plugin_api::ShadingContext {
             uv: [ctx.uv.x as f64, ctx.uv.y as f64],
-            position: Vec3::default(),
+            position: v3(ctx.p),
         }
     }
 }
@@ -351,6 +413,10 @@ impl Material for PluginMaterial {
         self.origin.map(r, |v| v as f32, 0.0)
     }
 
+    fn emission(&self) -> Option<EmissionProfile> {
+        self.emission.clone()
+    }
+
     fn emitted(
         &self,
         wo: Vec3A,
@@ -409,14 +475,106 @@ impl Spd for LightSpectrum {
     }
 }
 
+/// A plugin light with the ENVIRONMENT capability, as the radiance source of a host
+/// [`EnvironmentLight`]: `radiance` on escape, and with CONNECTABLE also the plugin's own
+/// incident sampling (`sample_toward`, `incident_pdf`) for next-event estimation; without it
+/// the host samples directions uniformly.
+struct PluginEnvironment {
+    light: Arc<LightBox>,
+    spectrum: Arc<dyn Spd>,
+    mean_radiance: f64,
+    sampled: bool,
+    origin: Origin,
+}
+
+impl fmt::Debug for PluginEnvironment {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "PluginEnvironment({})", self.origin.label)
+    }
+}
+
+impl PluginEnvironment {
+    /// Radiance integrated over 360–830 nm (trapezoid, 10 nm) and averaged over 256 directions
+    /// of a Fibonacci sphere, W/(m²·sr): only the light-selection weight depends on it.
+    fn estimate_mean(light: &LightBox, origin: &Origin) -> f64 {
+        let n_dir = 256;
+        let nm: Vec<f64> = (0..48).map(|i| 360.0 + 10.0 * i as f64).collect();
+        let mut sum = 0.0;
+        for k in 0..n_dir {
+            let z = 1.0 - 2.0 * (k as f64 + 0.5) / n_dir as f64;
+            let r = (1.0 - z * z).max(0.0).sqrt();
+            let phi = k as f64 * std::f64::consts::PI * (3.0 - 5f64.sqrt());
+            let d = Vec3::new(r * phi.cos(), r * phi.sin(), z);
+            for chunk in nm.chunks(LANES) {
+                let mut w = Wavelengths {
+                    nm: [chunk[0]; LANES],
+                };
+                w.nm[..chunk.len()].copy_from_slice(chunk);
+                let v = origin.or(light.radiance(d, &w), SpectralValues::ZERO);
+                for (i, &l) in chunk.iter().enumerate() {
+                    let edge = l == nm[0] || l == nm[nm.len() - 1];
+                    sum += v.v[i] * if edge { 5.0 } else { 10.0 };
+                }
+            }
+        }
+        sum / n_dir as f64
+    }
+}
+
+impl EnvironmentRadiance for PluginEnvironment {
+    fn radiance(&self, dir: Vec3A, lambda: &SampledWavelengths) -> SampledSpectrum {
+        let r = self.light.radiance(v3(dir), &lambdas(lambda));
+        self.origin.map(r, spectrum, SampledSpectrum::zero())
+    }
+
+    fn spd(&self) -> Arc<dyn Spd> {
+        self.spectrum.clone()
+    }
+
+    fn mean_radiance(&self) -> f64 {
+        self.mean_radiance
+    }
+
+    fn sample_direction(&self, p: Vec3A, u: Vec2) -> Option<(Vec3A, f32)> {
+        if !self.sampled {
+            return Some((
+                crate::light::sample_uniform_sphere(u),
+                1.0 / (4.0 * std::f32::consts::PI),
+            ));
+        }
+        // The direction must not depend on the wavelengths: ask at 550 nm.
+        let w = Wavelengths { nm: [550.0; LANES] };
+        match self
+            .light
+            .sample_toward(v3(p), &sample_from(&[u.x, u.y]), &w)
+            .into_result()
+        {
+            Ok(s) if s.pdf > 0.0 => Some((va(s.direction).normalize_or_zero(), s.pdf as f32)),
+            Ok(_) => None,
+            Err(e) => self.origin.fail(e, None),
+        }
+    }
+
+    fn direction_pdf(&self, p: Vec3A, dir: Vec3A) -> f32 {
+        if !self.sampled {
+            return 1.0 / (4.0 * std::f32::consts::PI);
+        }
+        let r = self.light.incident_pdf(v3(p), v3(dir));
+        self.origin.map(r, |p| p as f32, 0.0)
+    }
+}
+
 /// A plugin light as a host [`Light`]. Without the CONNECTABLE capability it is BEAMS_ONLY:
-/// integrators can only trace the beams it hands out (see [`PluginLight::next_beam`]).
+/// integrators can only trace the beams it hands out (see [`PluginLight::next_beam`]). With the
+/// ENVIRONMENT capability it is an [`EnvironmentLight`] whose radiance the plugin gives (the
+/// plugin cannot know the scene's extent, so the host places and samples the emitting sphere).
 pub struct PluginLight {
     light: Arc<LightBox>,
     flags: LightFlags,
     power: f64,
     spectrum: Arc<dyn Spd>,
     origin: Origin,
+    environment: Option<EnvironmentLight>,
 }
 
 impl PluginLight {
@@ -430,20 +588,36 @@ impl PluginLight {
         if caps.contains(light_flags::DELTA_DIRECTION) {
             flags = flags | LightFlags::DELTA_DIRECTION;
         }
-        if !caps.contains(light_flags::CONNECTABLE) {
+        let is_environment = caps.contains(light_flags::ENVIRONMENT);
+        if is_environment {
+            flags = LightFlags::ENVIRONMENT;
+        } else if !caps.contains(light_flags::CONNECTABLE) {
             flags = flags | LightFlags::BEAMS_ONLY;
         }
-        let power = origin.or(light.total_power_w(), 0.0);
         let light = Arc::new(light);
-        Self {
-            spectrum: Arc::new(LightSpectrum {
+        let spectrum: Arc<dyn Spd> = Arc::new(LightSpectrum {
+            light: light.clone(),
+            origin: origin.clone(),
+        });
+        let (power, environment) = if is_environment {
+            let source = PluginEnvironment {
                 light: light.clone(),
+                spectrum: spectrum.clone(),
+                mean_radiance: PluginEnvironment::estimate_mean(&light, &origin),
+                sampled: caps.contains(light_flags::CONNECTABLE),
                 origin: origin.clone(),
-            }),
+            };
+            (0.0, Some(EnvironmentLight::new(Arc::new(source))))
+        } else {
+            (origin.or(light.total_power_w(), 0.0), None)
+        };
+        Self {
+            spectrum,
             light,
             flags,
             power,
             origin,
+            environment,
         }
     }
 }
@@ -460,7 +634,10 @@ impl Light for PluginLight {
     }
 
     fn power(&self) -> f64 {
-        self.power
+        match &self.environment {
+            Some(e) => e.power(),
+            None => self.power,
+        }
     }
 
     fn spd(&self) -> Arc<dyn Spd> {
@@ -473,6 +650,9 @@ impl Light for PluginLight {
         u: Vec2,
         lambda: &SampledWavelengths,
     ) -> Option<LightLiSample> {
+        if let Some(e) = &self.environment {
+            return e.sample_li(ctx, u, lambda);
+        }
         if self.flags.contains(LightFlags::BEAMS_ONLY) {
             return None;
         }
@@ -493,7 +673,10 @@ impl Light for PluginLight {
         }
     }
 
-    fn pdf_li(&self, ctx: &LightSampleContext, p_light: Vec3A, _n_light: Vec3A) -> f32 {
+    fn pdf_li(&self, ctx: &LightSampleContext, p_light: Vec3A, n_light: Vec3A) -> f32 {
+        if let Some(e) = &self.environment {
+            return e.pdf_li(ctx, p_light, n_light);
+        }
         if self.flags.is_delta() || self.flags.contains(LightFlags::BEAMS_ONLY) {
             return 0.0;
         }
@@ -504,17 +687,23 @@ impl Light for PluginLight {
 
     fn radiance(
         &self,
-        _p: Vec3A,
-        _n: Vec3A,
-        _uv: Vec2,
-        _w: Vec3A,
-        _lambda: &SampledWavelengths,
+        p: Vec3A,
+        n: Vec3A,
+        uv: Vec2,
+        w: Vec3A,
+        lambda: &SampledWavelengths,
     ) -> SampledSpectrum {
-        // Plugin lights have no surface in the scene; rays cannot hit them.
-        SampledSpectrum::zero()
+        match &self.environment {
+            Some(e) => e.radiance(p, n, uv, w, lambda),
+            // Other plugin lights have no surface in the scene; rays cannot hit them.
+            None => SampledSpectrum::zero(),
+        }
     }
 
     fn sample_le(&self, u1: Vec2, u2: Vec2, lambda: &SampledWavelengths) -> Option<LightLeSample> {
+        if let Some(e) = &self.environment {
+            return e.sample_le(u1, u2, lambda);
+        }
         if self.flags.contains(LightFlags::BEAMS_ONLY) {
             return None;
         }
@@ -535,6 +724,11 @@ impl Light for PluginLight {
     }
 
     fn next_beam(&self, u: &RandomSample) -> Option<Beam> {
+        if self.environment.is_some() {
+            // Where an environment's beams start depends on the scene, which the plugin does
+            // not know: the host's own emission sampling stands in for them.
+            return None;
+        }
         match self.light.next_beam(u).into_result() {
             Ok(b) => Some(b),
             Err(e) => self.origin.fail(e, None),
@@ -545,7 +739,10 @@ impl Light for PluginLight {
         self.light.number_of_beams()
     }
 
-    fn pdf_le(&self, ray: &Ray, _n: Vec3A) -> (f32, f32) {
+    fn pdf_le(&self, ray: &Ray, n: Vec3A) -> (f32, f32) {
+        if let Some(e) = &self.environment {
+            return e.pdf_le(ray, n);
+        }
         if self.flags.contains(LightFlags::BEAMS_ONLY) {
             return (0.0, 0.0);
         }
@@ -556,6 +753,16 @@ impl Light for PluginLight {
         {
             Ok(p) => (p.position as f32, p.direction as f32),
             Err(e) => self.origin.fail(e, (0.0, 0.0)),
+        }
+    }
+
+    fn escape_point(&self, ray: &Ray) -> Option<(Vec3A, Vec3A)> {
+        self.environment.as_ref()?.escape_point(ray)
+    }
+
+    fn preprocess_view(&self, view_bounds: &Aabb) {
+        if let Some(e) = &self.environment {
+            e.preprocess_view(view_bounds);
         }
     }
 }

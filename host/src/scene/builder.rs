@@ -8,7 +8,7 @@ use crate::camera::manager::NamedCamera;
 use crate::camera::CameraManager;
 use crate::color::{Observer, ResampledObserver, RgbColorSpace};
 use crate::geometry::{Geometry, GeometryError, ShapeDesc, Transform};
-use crate::light::{AreaLight, Light, LightSourceManager};
+use crate::light::{AreaLight, Light, LightFlags, LightSourceManager};
 use crate::material::Material;
 use glam::DVec3;
 use std::collections::HashMap;
@@ -232,12 +232,6 @@ pub fn build_scene_with(
         .map_err(|e| item_err(item.clone(), e))?;
         lights.push(light);
     }
-    let bounds = geometry.bounds();
-    for l in &lights {
-        l.preprocess(&bounds);
-    }
-    let lights = LightSourceManager::new(lights, objects.len());
-
     // Cameras.
     let mut cameras = CameraManager::new();
     for c in &desc.cameras {
@@ -261,6 +255,35 @@ pub fn build_scene_with(
             message: "the scene has no camera".into(),
         });
     }
+
+    // Lights learn the scene's extent; an environment light wraps every camera too.
+    let environments: Vec<usize> = (0..lights.len())
+        .filter(|&i| lights[i].flags().contains(LightFlags::ENVIRONMENT))
+        .collect();
+    if environments.len() > 1 {
+        let named = |i: usize| match i.checked_sub(lights.len() - desc.lights.len()) {
+            Some(k) => format!("light {:?}", desc.lights[k].name),
+            None => format!("light {i}"),
+        };
+        return Err(SceneError::Scene {
+            file: file.to_path_buf(),
+            message: format!(
+                "a scene can have one environment light, but {} and {} both are one",
+                named(environments[0]),
+                named(environments[1])
+            ),
+        });
+    }
+    let bounds = geometry.bounds();
+    let view_bounds = cameras
+        .cameras()
+        .iter()
+        .fold(bounds, |b, c| b.grow(c.camera.position()));
+    for l in &lights {
+        l.preprocess(&bounds);
+        l.preprocess_view(&view_bounds);
+    }
+    let lights = LightSourceManager::new(lights, objects.len());
 
     Ok(Scene {
         geometry,

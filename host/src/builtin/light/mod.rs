@@ -1,6 +1,7 @@
 //! Built-in lights (besides area lights, which are emissive objects), one per file.
 
 pub mod directional;
+pub mod environment;
 pub mod point;
 pub mod spot;
 
