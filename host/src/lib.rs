@@ -15,6 +15,7 @@ pub mod integrator;
 pub mod light;
 pub mod limits;
 pub mod material;
+pub mod photometry;
 pub mod plugin;
 pub mod scene;
 pub mod spectrum;

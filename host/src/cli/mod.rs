@@ -5,6 +5,7 @@ pub mod blob;
 pub mod color;
 pub mod compare;
 pub mod interrupt;
+pub mod luminaire;
 pub mod output_paths;
 pub mod plugin_args;
 pub mod plugins;
@@ -36,6 +37,8 @@ pub enum Command {
     Blob(blob::BlobCommand),
     /// Colour of a spectrum: XYZ, chromaticity and linear sRGB.
     Color(color::ColorArgs),
+    /// A measured luminaire (IES LM-63, EULUMDAT): header, flux in lm, candela at angles.
+    Luminaire(luminaire::LuminaireArgs),
     /// Render a scene (default: the measured spectral Cornell box) to OpenEXR and PNG.
     Render(render::RenderArgs),
     /// Error of a render against a reference: RMSE, relative MSE, CIEDE2000, difference image.
@@ -77,6 +80,7 @@ where
         Some(Command::Plugins(args)) => plugins::run(&args, verbose),
         Some(Command::Blob(cmd)) => blob::run(&cmd, verbose),
         Some(Command::Color(args)) => color::run(&args),
+        Some(Command::Luminaire(args)) => luminaire::run(&args),
         Some(Command::Render(args)) => render::run(&args),
         Some(Command::Compare(args)) => compare::run(&args),
         Some(Command::Reference(args)) => reference::run(&args),
