@@ -9,6 +9,7 @@ pub mod builtin;
 pub mod camera;
 pub mod cli;
 pub mod color;
+pub mod effects;
 pub mod film;
 pub mod geometry;
 pub mod integrator;

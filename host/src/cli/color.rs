@@ -116,6 +116,9 @@ pub fn compute(args: &ColorArgs) -> Result<ColorReport, String> {
 
 /// Run `spectrace color`: print the report as text or JSON.
 pub fn run(args: &ColorArgs) -> Result<(), String> {
+    if is_bfc_path(&args.spd) {
+        return run_bfc(args);
+    }
     let r = compute(args)?;
     if args.json {
         let mut obj = serde_json::json!({
@@ -163,6 +166,97 @@ pub fn run(args: &ColorArgs) -> Result<(), String> {
                 );
             }
         }
+    }
+    Ok(())
+}
+
+// ---------------------------------------------------------------------------------------------
+// Fluorescent samples: `spectrace color FILE.BFC --illuminant NAME [--json]`
+
+/// True when `spec` names a bispectral matrix file (`.BFC`, any case).
+fn is_bfc_path(spec: &str) -> bool {
+    std::path::Path::new(spec)
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("bfc"))
+}
+
+/// The colour of a bispectral matrix file under an illuminant: total, reflected and
+/// fluoresced XYZ (perfect white diffuser Y = 100), plus what the cleaning rule removed and
+/// the largest albedo. Errors name the file, line and field of bad data.
+pub fn compute_bfc(
+    args: &ColorArgs,
+) -> Result<
+    (
+        crate::color::fluorescent_xyz::FluorescentXyz,
+        crate::spectrum::bispectral_matrix::BispectralMatrix,
+    ),
+    String,
+> {
+    use crate::spectrum::bispectral_matrix::BispectralMatrix;
+    let ill = args.illuminant.as_deref().ok_or_else(|| {
+        format!(
+            "`{}` is a fluorescent sample (bispectral matrix): give the light it is seen under with --illuminant (for example d65)",
+            args.spd
+        )
+    })?;
+    let illuminant = parse_spd_spec(ill).map_err(|e| e.to_string())?;
+    let observer = args.observer.get();
+    if !(spd_tristimulus(&illuminant, observer)[1] > 0.0) {
+        return Err(format!(
+            "illuminant `{ill}` has no power visible to the {} observer",
+            observer.name()
+        ));
+    }
+    let m = BispectralMatrix::read(std::path::Path::new(&args.spd)).map_err(|e| e.to_string())?;
+    let c = crate::color::fluorescent_xyz::fluorescent_xyz(&m, &illuminant, observer);
+    Ok((c, m))
+}
+
+fn run_bfc(args: &ColorArgs) -> Result<(), String> {
+    let (c, m) = compute_bfc(args)?;
+    let xy = |v: [f64; 3]| chromaticity(v);
+    let (albedo, at) = m.max_albedo();
+    let cleaning = m.cleaning();
+    if args.json {
+        let part = |v: [f64; 3]| serde_json::json!({"X": v[0], "Y": v[1], "Z": v[2], "x": xy(v).0, "y": xy(v).1});
+        let obj = serde_json::json!({
+            "X": c.total[0],
+            "Y": c.total[1],
+            "Z": c.total[2],
+            "x": xy(c.total).0,
+            "y": xy(c.total).1,
+            "reflected": part(c.reflected),
+            "fluoresced": part(c.fluoresced),
+            "sample": m.sample(),
+            "max_albedo": albedo,
+            "max_albedo_excitation_nm": at,
+        });
+        println!("{obj}");
+    } else {
+        println!("sample      {}", m.sample());
+        println!("observer    {}", args.observer.name());
+        for (name, v) in [
+            ("total", c.total),
+            ("reflected", c.reflected),
+            ("fluoresced", c.fluoresced),
+        ] {
+            println!(
+                "{name:<11} X Y Z {:.4} {:.4} {:.4}  x y {:.5} {:.5}",
+                v[0],
+                v[1],
+                v[2],
+                xy(v).0,
+                xy(v).1
+            );
+        }
+        println!(
+            "cleaning    {} negative reflectances, {} negative fluorescence entries, {} anti-Stokes entries (sum of positives {:.4}) set to 0",
+            cleaning.negative_reflectance,
+            cleaning.negative_fluorescence,
+            cleaning.anti_stokes,
+            cleaning.anti_stokes_sum
+        );
+        println!("max albedo  {albedo:.4} (reflected + re-radiated) at excitation {at} nm");
     }
     Ok(())
 }

@@ -4,6 +4,7 @@ pub mod bench;
 pub mod blob;
 pub mod color;
 pub mod compare;
+pub mod explain;
 pub mod interrupt;
 pub mod luminaire;
 pub mod output_paths;
@@ -45,6 +46,8 @@ pub enum Command {
     Compare(compare::CompareArgs),
     /// Long progressive reference render that can be stopped (Ctrl-C, --time) and resumed.
     Reference(reference::ReferenceArgs),
+    /// Optical effects the scene calls for, who calls for them, and what the render does.
+    Explain(explain::ExplainArgs),
     /// Benchmarks; `bench accuracy`: error versus time of renderer configurations.
     #[command(subcommand)]
     Bench(bench::BenchCommand),
@@ -85,6 +88,7 @@ where
         Some(Command::Compare(args)) => compare::run(&args),
         Some(Command::Reference(args)) => reference::run(&args),
         Some(Command::Bench(cmd)) => bench::run(&cmd),
+        Some(Command::Explain(args)) => explain::run(&args),
         Some(Command::ProbePlugin { file }) => return crate::plugin::loader::probe_main(&file),
     };
     match result {

@@ -5,6 +5,7 @@
 pub mod cct;
 pub mod cri;
 pub mod daylight;
+pub mod fluorescent_xyz;
 pub mod matrix3;
 pub mod observer;
 pub mod resampled_observer;
