@@ -54,7 +54,7 @@ pub struct AccuracyArgs {
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// Worker threads (default: one per core).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::limits::parse_threads)]
     pub threads: Option<usize>,
     /// List the configurations and exit.
     #[arg(long)]

@@ -288,7 +288,9 @@ impl Blob {
                 meta.len()
             )));
         }
-        let bytes = std::fs::read(path).map_err(|e| err(format!("cannot read: {e}")))?;
+        // Not only the size above: a device or pipe (`/dev/zero`) has none and may never end.
+        let bytes = crate::limits::read_limited(path, limit, "blob")
+            .map_err(|e| err(format!("cannot read: {e}")))?;
         Blob::decode(&bytes).map_err(|e| err(e.to_string()))
     }
 

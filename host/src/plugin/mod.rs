@@ -6,6 +6,7 @@ pub mod adapter;
 pub mod blob;
 pub mod checked;
 pub mod factory;
+pub mod library_check;
 pub mod loader;
 pub mod reference;
 pub mod registry;

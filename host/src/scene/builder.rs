@@ -39,10 +39,12 @@ pub fn load_scene_file_with(
     factories: &[&dyn ObjectFactory],
     representation: &RepresentationOptions,
 ) -> Result<Scene, SceneError> {
-    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
-        file: path.to_path_buf(),
-        source,
-    })?;
+    let text =
+        crate::limits::read_text_limited(path, crate::limits::SCENE_FILE_MAX_BYTES, "scene file")
+            .map_err(|source| SceneError::Io {
+            file: path.to_path_buf(),
+            source,
+        })?;
     let desc = parse_scene_str(&text, path)?;
     let base = path.parent().unwrap_or(Path::new("."));
     build_scene_with(&desc, base, path, factories, representation)
