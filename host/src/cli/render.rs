@@ -15,7 +15,7 @@ use crate::film::{
 };
 use crate::integrator::{render, PathTracer, RenderSettings, SampleBudget};
 use crate::scene::{load_scene_file_with, ObjectFactory, Scene};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 /// Arguments of `spectrace render`.
