@@ -20,10 +20,22 @@ fn library_registry() -> Registry {
     r.load_plugin_replacing_builtins(&library()).unwrap();
     assert!(r.plugin_for(Kind::Spd, "spec").unwrap().is_some());
     assert!(r.plugin_for(Kind::Observer, "cie1931-2").unwrap().is_some());
-    assert!(r
-        .plugin_for(Kind::Material, "lambertian")
-        .unwrap()
-        .is_none());
+    for name in [
+        "lambertian",
+        "mirror",
+        "dielectric",
+        "rough_dielectric",
+        "conductor",
+        "emissive",
+    ] {
+        assert!(
+            r.plugin_for(Kind::Material, name).unwrap().is_some(),
+            "{name}"
+        );
+    }
+    for name in ["point", "spot"] {
+        assert!(r.plugin_for(Kind::Light, name).unwrap().is_some(), "{name}");
+    }
     r
 }
 

@@ -1,0 +1,216 @@
+//! The built-in materials (`host/src/builtin/material/`): `lambertian`, `mirror`, `dielectric`,
+//! `rough_dielectric`, `conductor`, `emissive`, same parameters, each built by the host's own
+//! constructor and called through the plugin interface (no physics here, only conversions).
+//!
+//! Conversions: directions, values and pdfs cross as f64 and come back to the host's f32
+//! exactly (f32 → f64 → f32 is the identity). What the interface does not carry: the surface
+//! normals of the shading context (the built-ins do not read them) and the wavelengths' sampling
+//! densities (every lane is passed as live, density 1/nm; only thin films read them, to skip
+//! terminated lanes).
+
+use crate::wrap::{context, params_doc, plugin_error, HostParams};
+use glam::{Vec2, Vec3A};
+use spectrace::builtin::material::{
+    conductor, dielectric, emissive, lambertian, mirror, rough_dielectric,
+};
+use spectrace::material::{
+    Material as HostMaterial, MaterialFlags, ShadingContext as HostContext,
+    TransportMode as HostMode,
+};
+use spectrace::spectrum::{SampledSpectrum, SampledWavelengths, LANES};
+use spectrace_plugin_api::{
+    material_flags, Flags, Host, Material, ParamDoc, PluginResult, PluginType, RandomSample,
+    ScatterSample, ShadingContext, SpectralValues, TransportMode, Vec3, Wavelengths,
+};
+use std::sync::Arc;
+
+/// Host vector (f32) from an interface vector (f64).
+pub(crate) fn va(v: Vec3) -> Vec3A {
+    Vec3A::new(v.x as f32, v.y as f32, v.z as f32)
+}
+
+/// Interface vector (f64) from a host vector (f32).
+pub(crate) fn v3(v: Vec3A) -> Vec3 {
+    Vec3::new(v.x as f64, v.y as f64, v.z as f64)
+}
+
+/// The host's wavelengths from the interface's: all lanes live (density 1/nm).
+pub(crate) fn host_lambdas(l: &Wavelengths) -> SampledWavelengths {
+    SampledWavelengths {
+        lambda: l.nm.map(|x| x as f32),
+        pdf: [1.0; LANES],
+    }
+}
+
+/// Interface values from a host spectrum.
+pub(crate) fn values(s: SampledSpectrum) -> SpectralValues {
+    SpectralValues {
+        v: s.0.map(f64::from),
+    }
+}
+
+fn host_mode(m: TransportMode) -> HostMode {
+    match m {
+        TransportMode::Radiance => HostMode::Radiance,
+        TransportMode::Importance => HostMode::Importance,
+    }
+}
+
+fn host_ctx(ctx: &ShadingContext) -> HostContext {
+    HostContext::at(
+        va(ctx.position),
+        Vec3A::ZERO,
+        Vec3A::ZERO,
+        Vec2::new(ctx.uv[0] as f32, ctx.uv[1] as f32),
+    )
+}
+
+/// The interface's bits for host material bits (REFLECTION has no bit there: it is implied
+/// unless TRANSMISSION is set for an event).
+fn bits(f: MaterialFlags) -> Flags {
+    let pairs = [
+        (MaterialFlags::DIFFUSE, material_flags::DIFFUSE),
+        (MaterialFlags::GLOSSY, material_flags::GLOSSY),
+        (MaterialFlags::SPECULAR, material_flags::SPECULAR),
+        (MaterialFlags::TRANSMISSION, material_flags::TRANSMISSION),
+        (MaterialFlags::DISPERSIVE, material_flags::DISPERSIVE),
+        (MaterialFlags::EMISSIVE, material_flags::EMISSIVE),
+        (MaterialFlags::FLUORESCENT, material_flags::FLUORESCENT),
+    ];
+    let mut out = Flags::NONE;
+    for (h, p) in pairs {
+        if f.contains(h) {
+            out = out | p;
+        }
+    }
+    out
+}
+
+/// Sample through the host material `m`.
+fn sample(
+    m: &dyn HostMaterial,
+    ctx: &ShadingContext,
+    wo: Vec3,
+    lambda: &Wavelengths,
+    u: &RandomSample,
+    mode: TransportMode,
+) -> Option<ScatterSample> {
+    let s = m.sample(
+        va(wo),
+        &host_ctx(ctx),
+        &host_lambdas(lambda),
+        u.u[0] as f32,
+        Vec2::new(u.u[1] as f32, u.u[2] as f32),
+        host_mode(mode),
+    )?;
+    Some(ScatterSample {
+        wi: v3(s.wi),
+        value: values(s.f),
+        pdf: s.pdf as f64,
+        flags: bits(s.flags),
+        eta: s.eta as f64,
+    })
+}
+
+macro_rules! material_type {
+    ($ty:ident, $module:ident, $params:ty) => {
+        /// The host's material of the same name.
+        pub struct $ty {
+            params: HostParams<$params>,
+            material: Arc<dyn HostMaterial>,
+        }
+
+        impl PluginType for $ty {
+            const TYPE_NAME: &'static str = $module::TYPE.name;
+            const TYPE_VERSION: u32 = $module::TYPE.version;
+            const DESCRIPTION: &'static str = $module::TYPE.description;
+            type Params = HostParams<$params>;
+
+            fn params_doc() -> Vec<ParamDoc> {
+                params_doc(&$module::TYPE)
+            }
+
+            fn new(params: Self::Params, _host: &Host<'_, '_>) -> PluginResult<Self> {
+                let material =
+                    $module::build(&params.0, &context(Self::TYPE_NAME)).map_err(plugin_error)?;
+                Ok(Self { params, material })
+            }
+
+            fn params(&self) -> &Self::Params {
+                &self.params
+            }
+        }
+
+        impl Material for $ty {
+            fn capabilities(&self) -> Flags {
+                bits(self.material.flags())
+            }
+            fn sample(
+                &self,
+                ctx: &ShadingContext,
+                wo: Vec3,
+                lambda: &Wavelengths,
+                u: &RandomSample,
+                mode: TransportMode,
+            ) -> PluginResult<Option<ScatterSample>> {
+                Ok(sample(&*self.material, ctx, wo, lambda, u, mode))
+            }
+            fn eval(
+                &self,
+                ctx: &ShadingContext,
+                wo: Vec3,
+                wi: Vec3,
+                lambda: &Wavelengths,
+                mode: TransportMode,
+            ) -> PluginResult<SpectralValues> {
+                let f = self.material.eval(
+                    va(wo),
+                    va(wi),
+                    &host_ctx(ctx),
+                    &host_lambdas(lambda),
+                    host_mode(mode),
+                );
+                Ok(values(f))
+            }
+            fn pdf(
+                &self,
+                ctx: &ShadingContext,
+                wo: Vec3,
+                wi: Vec3,
+                lambda: &Wavelengths,
+                mode: TransportMode,
+            ) -> PluginResult<f64> {
+                let p = self.material.pdf(
+                    va(wo),
+                    va(wi),
+                    &host_ctx(ctx),
+                    &host_lambdas(lambda),
+                    host_mode(mode),
+                );
+                Ok(p as f64)
+            }
+            fn emitted(
+                &self,
+                ctx: &ShadingContext,
+                wo: Vec3,
+                lambda: &Wavelengths,
+            ) -> PluginResult<SpectralValues> {
+                let e = self
+                    .material
+                    .emitted(va(wo), &host_ctx(ctx), &host_lambdas(lambda));
+                Ok(values(e))
+            }
+        }
+    };
+}
+
+material_type!(Lambertian, lambertian, lambertian::LambertianParams);
+material_type!(Mirror, mirror, mirror::MirrorParams);
+material_type!(Dielectric, dielectric, dielectric::DielectricParams);
+material_type!(
+    RoughDielectric,
+    rough_dielectric,
+    rough_dielectric::RoughDielectricParams
+);
+material_type!(Conductor, conductor, conductor::ConductorParams);
+material_type!(Emissive, emissive, emissive::EmissiveParams);
