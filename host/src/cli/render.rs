@@ -230,6 +230,9 @@ pub fn run_with_factories(
     for w in written {
         println!("  wrote {}", w.display());
     }
+    for w in scene.warnings() {
+        println!("  warning: {w}");
+    }
     Ok(())
 }
 
