@@ -356,8 +356,7 @@ fn non_finite_translation_is_refused() {
     let file = Path::new("test.ron");
     let desc = parse_scene_str(&text, file).unwrap();
     let e = build_scene(&desc, Path::new("."), file, &[&BuiltinFactory])
-        .err()
-        .expect("a NaN translation must be refused")
+        .expect_err("a NaN translation must be refused")
         .to_string();
     assert!(
         e.contains("object \"floor\"") && e.contains("translation"),

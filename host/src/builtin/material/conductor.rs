@@ -84,7 +84,7 @@ pub fn build(
                 }
             }
             for &(l, v) in k {
-                if !(v.is_finite() && v >= 0.0 && v <= crate::builtin::check::MAX_F32) {
+                if !(0.0..=crate::builtin::check::MAX_F32).contains(&v) {
                     return Err(param_err(
                         "k",
                         format!("value {v} at {l} nm must be finite and ≥ 0"),
