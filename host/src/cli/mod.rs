@@ -4,7 +4,10 @@ pub mod bench;
 pub mod blob;
 pub mod color;
 pub mod compare;
+pub mod explain;
 pub mod interrupt;
+pub mod luminaire;
+pub mod merge;
 pub mod plugin_args;
 pub mod plugins;
 pub mod reference;
@@ -26,6 +29,8 @@ pub struct Cli {
 }
 
 /// The subcommands.
+// Parsed once per process: the size of the `render` variant (its many flags) does not matter.
+#[allow(clippy::large_enum_variant)]
 #[derive(Subcommand, Debug)]
 pub enum Command {
     /// List plugin libraries with their versions, API versions and types.
@@ -35,12 +40,18 @@ pub enum Command {
     Blob(blob::BlobCommand),
     /// Colour of a spectrum: XYZ, chromaticity and linear sRGB.
     Color(color::ColorArgs),
+    /// A measured luminaire (IES LM-63, EULUMDAT): header, flux in lm, candela at angles.
+    Luminaire(luminaire::LuminaireArgs),
     /// Render a scene (default: the measured spectral Cornell box) to OpenEXR and PNG.
     Render(render::RenderArgs),
+    /// Merge the state files of a render's slices (`render --slice K/M`) into its image.
+    Merge(merge::MergeArgs),
     /// Error of a render against a reference: RMSE, relative MSE, CIEDE2000, difference image.
     Compare(compare::CompareArgs),
     /// Long progressive reference render that can be stopped (Ctrl-C, --time) and resumed.
     Reference(reference::ReferenceArgs),
+    /// Optical effects the scene calls for, who calls for them, and what the render does.
+    Explain(explain::ExplainArgs),
     /// Benchmarks; `bench accuracy`: error versus time of renderer configurations.
     #[command(subcommand)]
     Bench(bench::BenchCommand),
@@ -70,10 +81,13 @@ where
         Some(Command::Plugins(args)) => plugins::run(&args, verbose),
         Some(Command::Blob(cmd)) => blob::run(&cmd, verbose),
         Some(Command::Color(args)) => color::run(&args),
+        Some(Command::Luminaire(args)) => luminaire::run(&args),
         Some(Command::Render(args)) => render::run(&args),
+        Some(Command::Merge(args)) => merge::run(&args),
         Some(Command::Compare(args)) => compare::run(&args),
         Some(Command::Reference(args)) => reference::run(&args),
         Some(Command::Bench(cmd)) => bench::run(&cmd),
+        Some(Command::Explain(args)) => explain::run(&args),
     };
     match result {
         Ok(()) => 0,

@@ -438,6 +438,7 @@ impl Material for PluginMaterial {
 struct LightSpectrum {
     light: Arc<LightBox>,
     origin: Origin,
+    lines: std::sync::OnceLock<Vec<crate::spectrum::DeltaLine>>,
 }
 
 impl fmt::Debug for LightSpectrum {
@@ -455,7 +456,7 @@ impl Spd for LightSpectrum {
             Ok(s) => SpdSample {
                 lambda: s.nm,
                 pdf: s.pdf,
-                is_delta: false,
+                is_delta: s.pdf > 0.0 && self.pdf(s.nm) == 0.0,
             },
             Err(e) => self.origin.fail(
                 e,
@@ -472,6 +473,28 @@ impl Spd for LightSpectrum {
     }
     fn range(&self) -> (f64, f64) {
         (360.0, 830.0)
+    }
+    fn delta_lines(&self) -> Vec<crate::spectrum::DeltaLine> {
+        self.lines
+            .get_or_init(|| {
+                let n = 4096;
+                let mut lines: Vec<crate::spectrum::DeltaLine> = Vec::new();
+                for k in 0..n {
+                    let s = self.sample((k as f64 + 0.5) / n as f64);
+                    if !s.is_delta {
+                        continue;
+                    }
+                    match lines.iter_mut().find(|l| l.lambda == s.lambda) {
+                        Some(l) => l.weight += 1.0 / n as f64,
+                        None => lines.push(crate::spectrum::DeltaLine {
+                            lambda: s.lambda,
+                            weight: 1.0 / n as f64,
+                        }),
+                    }
+                }
+                lines
+            })
+            .clone()
     }
 }
 
@@ -598,6 +621,7 @@ impl PluginLight {
         let spectrum: Arc<dyn Spd> = Arc::new(LightSpectrum {
             light: light.clone(),
             origin: origin.clone(),
+            lines: std::sync::OnceLock::new(),
         });
         let (power, environment) = if is_environment {
             let source = PluginEnvironment {
