@@ -210,6 +210,15 @@ impl PathWavelengthSampler {
     }
 }
 
+/// True when some evaluable light's SPD is narrowband or has lines.
+fn narrowband(scene: &Scene) -> bool {
+    scene
+        .lights
+        .lights()
+        .iter()
+        .any(|l| crate::spectrum::bandwidth::is_narrowband(l.spd().as_ref()))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -299,13 +308,4 @@ mod tests {
         let est = sum / (n as f64 * 16.0);
         assert!((est / 300.0 - 1.0).abs() < 0.01, "{est}");
     }
-}
-
-/// True when some evaluable light's SPD is narrowband or has lines.
-fn narrowband(scene: &Scene) -> bool {
-    scene
-        .lights
-        .lights()
-        .iter()
-        .any(|l| crate::spectrum::bandwidth::is_narrowband(l.spd().as_ref()))
 }
