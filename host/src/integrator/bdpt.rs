@@ -36,7 +36,7 @@ use crate::film::{Sensor, SplatFilm};
 use crate::light::{LightFlags, LightSampleContext};
 use crate::material::TransportMode;
 use crate::scene::Scene;
-use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths};
 use glam::Vec2;
 use spectrace_plugin_api::ParamDoc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -98,8 +98,8 @@ pub struct Connection {
     pub weight: f32,
     /// For t = 1: the raster position to splat at.
     pub raster: Option<Vec2>,
-    /// Only the hero wavelength is valid (a dispersive event on either subpath).
-    pub dispersed: bool,
+    /// Lanes valid on both subpaths (only the hero after a dispersive event on either).
+    pub lanes: LaneMask,
 }
 
 /// Join the first `s` light vertices and the first `t` camera vertices (Veach's (s, t)
@@ -207,13 +207,15 @@ pub fn connect(
         t,
         lambda,
     );
-    let dispersed = camera_path[t - 1].dispersed
-        || (s > 0 && s <= light_path.len() && light_path[s - 1].dispersed);
+    let mut lanes = camera_path[t - 1].lanes;
+    if s > 0 && s <= light_path.len() {
+        lanes = lanes.intersect(light_path[s - 1].lanes);
+    }
     Some(Connection {
         l,
         weight,
         raster,
-        dispersed,
+        lanes,
     })
 }
 
@@ -602,7 +604,7 @@ impl Bdpt {
                 ) else {
                     continue;
                 };
-                let xyz = weights.xyz(&(c.l * c.weight), c.dispersed);
+                let xyz = weights.xyz(&(c.l * c.weight), c.lanes);
                 if xyz.iter().any(|v| !v.is_finite()) {
                     worker.non_finite += 1;
                     continue;

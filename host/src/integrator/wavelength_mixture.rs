@@ -20,7 +20,7 @@ use super::SampleRng;
 use crate::light::LightFlags;
 use crate::scene::Scene;
 use crate::spectrum::wavelength_sampling::{rotated, visible_pdf, visible_sample};
-use crate::spectrum::{SampledWavelengths, Spd, LANES};
+use crate::spectrum::{LaneMask, SampledWavelengths, Spd, LANES};
 use std::sync::Arc;
 
 /// The one-sample mixture `½ p_vis + ½ p_emit` over wavelengths (see the module docs).
@@ -111,7 +111,11 @@ impl WavelengthMixture {
                 density(l as f64) as f32
             };
         }
-        SampledWavelengths { lambda, pdf }
+        SampledWavelengths {
+            lambda,
+            pdf,
+            lanes: LaneMask::ALL,
+        }
     }
 
     /// Wavelengths from the emission component alone (path tracing's light-SPD sampling):
