@@ -67,7 +67,8 @@ fn line_lies_on_spectral_locus() {
     assert!((x - c[0] / s).abs() < 1e-12 && (y - c[1] / s).abs() < 1e-12);
 }
 
-// The CLI prints one JSON object with exactly the documented keys; D65's xy as above (1e-4),
+// The CLI prints one JSON object with exactly the documented keys (for an emitter the light
+// figures too, checked in color_light_figures.rs); D65's xy as above (1e-4),
 // Y = 100 by normalization (1e-9) and linear sRGB ≈ (1,1,1) because D65 is sRGB's white: the
 // CIE table's xy differs from sRGB's rounded (0.3127, 0.3290) by < 2e-5, worth < 1e-3 in RGB.
 #[test]
@@ -85,7 +86,23 @@ fn cli_json_output() {
     let obj = v.as_object().unwrap();
     let mut keys: Vec<&str> = obj.keys().map(|k| k.as_str()).collect();
     keys.sort();
-    assert_eq!(keys, ["X", "Y", "Z", "srgb_linear", "x", "y"]);
+    assert_eq!(
+        keys,
+        [
+            "X",
+            "Y",
+            "Z",
+            "cct_k",
+            "cri_r",
+            "cri_ra",
+            "duv",
+            "srgb_linear",
+            "tm30_rf",
+            "tm30_rg",
+            "x",
+            "y"
+        ]
+    );
     assert!((v["Y"].as_f64().unwrap() - 100.0).abs() < 1e-9);
     assert!((v["x"].as_f64().unwrap() - 0.31271).abs() < 1e-4);
     for c in v["srgb_linear"].as_array().unwrap() {

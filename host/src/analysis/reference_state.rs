@@ -16,9 +16,12 @@
 //!
 //! The file is written to `NAME.tmp` and renamed over `NAME`, so a crash mid-write leaves the
 //! previous state intact.
+//!
+//! A reference keeps f64 sums (a progressive reference only ever grows on one machine); renders
+//! that are split or resumed use the exact film in the render state file
+//! ([`crate::film::state_file`]), whose framing (magic, version, CRC-32, atomic write) is the same.
 
 use super::AnalysisError;
-use std::io::Write;
 use std::path::Path;
 
 const MAGIC: &[u8; 8] = b"SPTREF01";
@@ -166,28 +169,26 @@ impl ReferenceState {
 
     /// Read a state file.
     pub fn load(path: &Path) -> Result<Self, AnalysisError> {
-        let bytes = std::fs::read(path).map_err(|e| AnalysisError::Read {
-            path: path.to_path_buf(),
-            message: e.to_string(),
+        // Sums of a render that fits in memory: half the available memory at most.
+        let limit = crate::limits::available_memory_bytes() / 2;
+        let bytes = crate::limits::read_limited(path, limit, "reference state").map_err(|e| {
+            AnalysisError::Read {
+                path: path.to_path_buf(),
+                message: e.to_string(),
+            }
         })?;
         Self::from_bytes(&bytes, path)
     }
 
-    /// Write atomically: to `path.tmp`, flushed to disk, then renamed over `path`.
+    /// Write atomically: to `path.tmp`, flushed to disk, then renamed over `path` (the same
+    /// writer as the render state files of slices and checkpoints).
     pub fn save(&self, path: &Path) -> Result<(), AnalysisError> {
-        let mut tmp = path.as_os_str().to_owned();
-        tmp.push(".tmp");
-        let tmp = std::path::PathBuf::from(tmp);
-        let err = |e: std::io::Error| AnalysisError::Write {
-            path: path.to_path_buf(),
-            message: e.to_string(),
-        };
-        {
-            let mut f = std::fs::File::create(&tmp).map_err(err)?;
-            f.write_all(&self.to_bytes()).map_err(err)?;
-            f.sync_all().map_err(err)?;
-        }
-        std::fs::rename(&tmp, path).map_err(err)
+        crate::film::state_file::write_atomically(path, &self.to_bytes()).map_err(|e| {
+            AnalysisError::Write {
+                path: path.to_path_buf(),
+                message: e.to_string(),
+            }
+        })
     }
 }
 

@@ -1,6 +1,6 @@
-//! Ctrl-C during a render or reference run: the first press asks the renderer to stop after the
-//! tiles in flight (everything rendered so far is kept and written); a second press exits at
-//! once.
+//! Ctrl-C (SIGINT) or SIGTERM during a render or reference run: the first asks the renderer to
+//! stop after the tiles in flight (the whole passes rendered so far are written, with a
+//! checkpoint for `render --resume`); a second exits at once.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::OnceLock;
@@ -17,7 +17,7 @@ pub fn interrupt_flag() -> &'static AtomicBool {
                 eprintln!("\nspectrace: interrupted again, exiting without saving");
                 std::process::exit(130);
             }
-            eprintln!("\nspectrace: interrupted; finishing the tiles in flight and saving what is rendered (Ctrl-C again to quit at once)");
+            eprintln!("\nspectrace: interrupted; finishing the tiles in flight and saving what is rendered (interrupt again to quit at once)");
         })
         .is_ok()
     });

@@ -1,10 +1,15 @@
 //! Command-line subcommands; each lives in its own file and `main.rs` only dispatches.
 
 pub mod bench;
+pub mod bench_speed;
 pub mod blob;
 pub mod color;
 pub mod compare;
+pub mod explain;
 pub mod interrupt;
+pub mod luminaire;
+pub mod merge;
+pub mod output_paths;
 pub mod plugin_args;
 pub mod plugins;
 pub mod reference;
@@ -26,6 +31,8 @@ pub struct Cli {
 }
 
 /// The subcommands.
+// Parsed once per process: the size of the `render` variant (its many flags) does not matter.
+#[allow(clippy::large_enum_variant)]
 #[derive(Subcommand, Debug)]
 pub enum Command {
     /// List plugin libraries with their versions, API versions and types.
@@ -35,15 +42,28 @@ pub enum Command {
     Blob(blob::BlobCommand),
     /// Colour of a spectrum: XYZ, chromaticity and linear sRGB.
     Color(color::ColorArgs),
+    /// A measured luminaire (IES LM-63, EULUMDAT): header, flux in lm, candela at angles.
+    Luminaire(luminaire::LuminaireArgs),
     /// Render a scene (default: the measured spectral Cornell box) to OpenEXR and PNG.
     Render(render::RenderArgs),
+    /// Merge the state files of a render's slices (`render --slice K/M`) into its image.
+    Merge(merge::MergeArgs),
     /// Error of a render against a reference: RMSE, relative MSE, CIEDE2000, difference image.
     Compare(compare::CompareArgs),
     /// Long progressive reference render that can be stopped (Ctrl-C, --time) and resumed.
     Reference(reference::ReferenceArgs),
-    /// Benchmarks; `bench accuracy`: error versus time of renderer configurations.
+    /// Optical effects the scene calls for, who calls for them, and what the render does.
+    Explain(explain::ExplainArgs),
+    /// Benchmarks; `bench accuracy`: error versus time of renderer configurations; `bench speed`:
+    /// equal-time efficiency against Mitsuba 3 and LuxCore.
     #[command(subcommand)]
     Bench(bench::BenchCommand),
+    /// Internal: open one plugin library and report (run by the loader in a child process).
+    #[command(name = "probe-plugin", hide = true)]
+    ProbePlugin {
+        /// The library file.
+        file: std::path::PathBuf,
+    },
 }
 
 /// Parse `args`, run the chosen subcommand and return the process exit code.
@@ -70,10 +90,14 @@ where
         Some(Command::Plugins(args)) => plugins::run(&args, verbose),
         Some(Command::Blob(cmd)) => blob::run(&cmd, verbose),
         Some(Command::Color(args)) => color::run(&args),
+        Some(Command::Luminaire(args)) => luminaire::run(&args),
         Some(Command::Render(args)) => render::run(&args),
+        Some(Command::Merge(args)) => merge::run(&args),
         Some(Command::Compare(args)) => compare::run(&args),
         Some(Command::Reference(args)) => reference::run(&args),
         Some(Command::Bench(cmd)) => bench::run(&cmd),
+        Some(Command::Explain(args)) => explain::run(&args),
+        Some(Command::ProbePlugin { file }) => return crate::plugin::loader::probe_main(&file),
     };
     match result {
         Ok(()) => 0,

@@ -1,8 +1,18 @@
 //! `spectrace render [SCENE] [-o FILE.exr] [--png FILE.png] [--spp N | --time SECONDS] [--seed N]
-//! [--threads N] [--camera NAME]`: render a scene file, or the embedded measured Cornell box when
-//! no scene is given, with a progress bar and a summary.
+//! [--threads N] [--camera NAME] [--slice K/M] [--state FILE] [--resume FILE]
+//! [--diagnostic-layer]`: render a scene file, or the embedded measured Cornell box when no scene
+//! is given, with a progress bar and a summary.
+//!
+//! Slices and checkpoints (see `docs/distributed.md`): `--slice K/M` renders only the sample
+//! indices `⌊(K−1)·N/M⌋..⌊K·N/M⌋` of every pixel and writes the exact film to a state file
+//! (no image) for `spectrace merge`. Ctrl-C or SIGTERM during a sample-count render writes the
+//! image of the whole passes done and the same kind of state file; `--resume FILE` continues it
+//! to the image an uninterrupted run would have made, bit for bit.
 
-use crate::film::{write_exr, write_png, XyzImage};
+use crate::film::{
+    state_file::fnv1a64, write_exr_with_layers, write_png, FilmState, RenderState, SliceSpec,
+    XyzImage,
+};
 use crate::integrator::{render, PathTracer, RenderSettings, SampleBudget};
 use crate::scene::{load_scene_file_with, ObjectFactory, Scene};
 use std::path::{Path, PathBuf};
@@ -13,14 +23,14 @@ use std::time::Duration;
 pub struct RenderArgs {
     /// Scene file (RON). Without it the embedded measured Cornell box is rendered.
     pub scene: Option<PathBuf>,
-    /// OpenEXR output (R, G, B linear + X, Y, Z).
+    /// OpenEXR output (R, G, B linear + X, Y, Z); a name ending in .png writes only the PNG.
     #[arg(short = 'o', long = "output", default_value = "render.exr")]
     pub output: PathBuf,
     /// sRGB PNG preview (default: the EXR name with .png).
     #[arg(long)]
     pub png: Option<PathBuf>,
     /// Samples per pixel (default: the scene's, 64 for the Cornell box).
-    #[arg(long, conflicts_with = "time")]
+    #[arg(long, conflicts_with = "time", value_parser = crate::limits::parse_spp)]
     pub spp: Option<u32>,
     /// Render for this many seconds instead of a fixed sample count.
     #[arg(long)]
@@ -29,7 +39,7 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// Worker threads (default: one per core).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::limits::parse_threads)]
     pub threads: Option<usize>,
     /// Camera name (default: the scene's first camera).
     #[arg(long)]
@@ -61,6 +71,146 @@ pub struct RenderArgs {
     /// Spectral representation switches (step spectra, RGB-uplifted reflectances, observer step).
     #[command(flatten)]
     pub representation: super::representation_args::RepresentationArgs,
+    /// Render only slice K of M (1 ≤ K ≤ M) of the sample indices and write its state file
+    /// (see --state) for `spectrace merge` instead of an image.
+    #[arg(long, value_name = "K/M", conflicts_with = "time")]
+    pub slice: Option<String>,
+    /// State file of a slice or of an interrupted render (default: OUTPUT.state, for a slice
+    /// OUTPUT.slice-K-of-M.state).
+    #[arg(long, value_name = "FILE")]
+    pub state: Option<PathBuf>,
+    /// Continue an interrupted render or slice from its state file, with the settings stored
+    /// in it (only --threads and --quiet may be given anew).
+    #[arg(long, value_name = "FILE")]
+    pub resume: Option<PathBuf>,
+    /// Add a `rejected` channel to the EXR: per pixel, the samples the film refused (NaN,
+    /// infinite or negative).
+    #[arg(long = "diagnostic-layer")]
+    pub diagnostic_layer: bool,
+    /// Testing hook: stop as if interrupted once this many progress units (tiles or light-path
+    /// chunks) are done.
+    #[arg(long = "stop-after-units", hide = true)]
+    pub stop_after_units: Option<u64>,
+    /// Testing hook: once this many progress units are done, print `waiting for a signal` to
+    /// stderr and wait (at most 60 s) for Ctrl-C or SIGTERM, so a test can signal mid-render.
+    #[arg(long = "wait-for-signal-after-units", hide = true)]
+    pub wait_for_signal_after_units: Option<u64>,
+}
+
+/// `spectrace render` arguments wrapped for re-parsing a stored command line.
+#[derive(clap::Parser, Debug)]
+struct StoredRender {
+    #[command(flatten)]
+    args: RenderArgs,
+}
+
+/// A path made absolute against the current directory (left alone if that fails).
+fn absolute(p: &Path) -> PathBuf {
+    std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf())
+}
+
+impl RenderArgs {
+    /// The command line that renders the same image (absolute paths), as stored in state files
+    /// for `--resume`. Leaves out --threads, --quiet, --resume and the testing hook.
+    pub fn to_command_line(&self) -> Vec<String> {
+        let mut a = Vec::new();
+        let mut push = |k: &str, v: String| {
+            a.push(k.to_string());
+            a.push(v);
+        };
+        push("-o", absolute(&self.output).display().to_string());
+        if let Some(p) = &self.png {
+            push("--png", absolute(p).display().to_string());
+        }
+        if let Some(n) = self.spp {
+            push("--spp", n.to_string());
+        }
+        push("--seed", self.seed.to_string());
+        if let Some(c) = &self.camera {
+            push("--camera", c.clone());
+        }
+        if let Some(d) = self.max_depth {
+            push("--max-depth", d.to_string());
+        }
+        push("--integrator", self.integrator.to_string());
+        if let Some(n) = self.wavelengths_per_path {
+            push("--wavelengths-per-path", n.to_string());
+        }
+        if let Some(w) = self.wavelength_sampling {
+            push("--wavelength-sampling", w.to_string());
+        }
+        if let Some(d) = &self.strategy_images {
+            push("--strategy-images", absolute(d).display().to_string());
+        }
+        for l in &self.plugins.libraries {
+            push("--plugin", absolute(l).display().to_string());
+        }
+        for d in &self.plugins.directories {
+            push("--plugins", absolute(d).display().to_string());
+        }
+        let r = &self.representation;
+        if let Some(v) = &r.spd_interpolation {
+            push("--spd-interpolation", v.clone());
+        }
+        if let Some(v) = &r.reflectance {
+            push("--reflectance", v.clone());
+        }
+        if let Some(v) = r.observer_step {
+            push("--observer-step", v.to_string());
+        }
+        if let Some(s) = &self.slice {
+            push("--slice", s.clone());
+        }
+        if let Some(s) = &self.state {
+            push("--state", absolute(s).display().to_string());
+        }
+        if self.diagnostic_layer {
+            a.push("--diagnostic-layer".into());
+        }
+        if let Some(s) = &self.scene {
+            a.push(absolute(s).display().to_string());
+        }
+        a
+    }
+
+    /// Everything but the seed and the sample count that changes the image, as `name=value`
+    /// pairs: what the parts of one render must share.
+    fn settings_key(&self, scene: &Scene, max_depth: u32) -> String {
+        let r = &self.representation;
+        format!(
+            "integrator={} max_depth={max_depth} wavelengths_per_path={:?} \
+             wavelength_sampling={:?} camera={:?} spd_interpolation={:?} reflectance={:?} \
+             observer_step={:?} plugins={:?} plugin_dirs={:?} observer={} rgb_space={}",
+            self.integrator,
+            self.wavelengths_per_path,
+            self.wavelength_sampling.map(|w| w.to_string()),
+            self.camera,
+            r.spd_interpolation,
+            r.reflectance,
+            r.observer_step,
+            self.plugins
+                .libraries
+                .iter()
+                .map(|p| p.file_name().map(|n| n.to_string_lossy().into_owned()))
+                .collect::<Vec<_>>(),
+            self.plugins.directories.len(),
+            scene.observer.name(),
+            scene.options.rgb_space_name,
+        )
+    }
+
+    /// Where the state file goes.
+    fn state_path(&self, slice: Option<SliceSpec>) -> PathBuf {
+        if let Some(p) = &self.state {
+            return p.clone();
+        }
+        let mut name = self.output.as_os_str().to_owned();
+        if let Some(s) = slice {
+            name.push(format!(".slice-{}-of-{}", s.index, s.count));
+        }
+        name.push(".state");
+        PathBuf::from(name)
+    }
 }
 
 /// Load the scene named by `args` (or the default) with the given factories.
@@ -80,15 +230,13 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     let plugins = crate::plugin::factory::PluginFactory::new(registry, faults.clone());
     // One way in: the registry builds every type, built-in, plugin or blob.
     let result = run_with_factories(args, &[&plugins]);
-    // Plugin calls that failed during rendering contributed nothing; say so, with the first cause.
-    if let Some(first) = faults.first() {
-        return Err(format!(
-            "{} plugin call(s) failed during rendering (their samples contributed nothing; the \
-             image was still written); first: {first}",
-            faults.count()
-        ));
+    // Plugin calls that failed or returned unusable values contributed nothing; say so, once per
+    // call site or reason, with counts.
+    result?;
+    for line in faults.outcome()? {
+        println!("  warning: plugin {line}");
     }
-    result
+    Ok(())
 }
 
 /// Run `spectrace render`, building scene items with `factories` (the registry's factory, or
@@ -97,6 +245,12 @@ pub fn run_with_factories(
     args: &RenderArgs,
     factories: &[&dyn ObjectFactory],
 ) -> Result<(), String> {
+    let (args, resume) = match &args.resume {
+        Some(path) => resumed_args(args, path)?,
+        None => (args.clone(), None),
+    };
+    let args = &args;
+    let outputs = super::output_paths::output_paths(&args.output, args.png.as_deref())?;
     let t_load = std::time::Instant::now();
     let scene = load(args, factories)?;
     let load_s = t_load.elapsed().as_secs_f64();
@@ -120,6 +274,47 @@ pub fn run_with_factories(
             args.integrator
         ));
     }
+    let slice = args.slice.as_deref().map(SliceSpec::parse).transpose()?;
+    let total_spp = match budget {
+        SampleBudget::Spp(n) => Some(n),
+        _ => None,
+    };
+    if let (Some(s), Some(n)) = (slice, total_spp) {
+        if s.count > n {
+            return Err(format!(
+                "--slice {s}: {} slices of a {n} spp render would leave some empty; use at \
+                 most {n} slices",
+                s.count
+            ));
+        }
+    }
+    let max_depth = args.max_depth.unwrap_or(scene.options.max_depth);
+    let key = args.settings_key(&scene, max_depth);
+    let scene_bytes = match &args.scene {
+        Some(p) => std::fs::read(p).map_err(|e| format!("cannot read {}: {e}", p.display()))?,
+        None => Vec::new(),
+    };
+    let fingerprint = fnv1a64(&[&scene_bytes, key.as_bytes()]);
+    let range = total_spp.map(|n| slice.unwrap_or(SliceSpec::WHOLE).range(n));
+    let mut first_sample = range.as_ref().map_or(0, |r| r.start);
+    if let Some((path, st)) = &resume {
+        if st.fingerprint != fingerprint || st.settings != key {
+            return Err(format!(
+                "{}: the scene file or settings changed since this state was written \
+                 (fingerprint {:016x}, now {fingerprint:016x}); render again instead",
+                path.display(),
+                st.fingerprint
+            ));
+        }
+        first_sample = st.done_until;
+    }
+    let budget = match (&range, resume.is_some() || slice.is_some()) {
+        (Some(r), true) => SampleBudget::Range {
+            start: first_sample,
+            end: r.end,
+        },
+        _ => budget,
+    };
     let settings = RenderSettings {
         budget,
         seed: args.seed,
@@ -127,7 +322,7 @@ pub fn run_with_factories(
         camera: args.camera.clone(),
         tile_size: 16,
         tracer: PathTracer {
-            max_depth: args.max_depth.unwrap_or(scene.options.max_depth),
+            max_depth,
             wavelengths: args.wavelength_sampling.unwrap_or_default(),
             wavelengths_per_path: args.wavelengths_per_path.unwrap_or(4),
             ..PathTracer::default()
@@ -146,21 +341,165 @@ pub fn run_with_factories(
         );
         b
     };
+    // Ctrl-C/SIGTERM (or the testing hook) stop the render through one flag.
+    let interrupt = super::interrupt::interrupt_flag();
+    let stop = std::sync::atomic::AtomicBool::new(false);
+    let waited = std::sync::atomic::AtomicBool::new(false);
     let progress = |done: u64, total: u64| {
         bar.set_length(total);
         bar.set_position(done);
+        if args.wait_for_signal_after_units.is_some_and(|k| done >= k)
+            && !waited.swap(true, std::sync::atomic::Ordering::SeqCst)
+        {
+            eprintln!("waiting for a signal");
+            let t = std::time::Instant::now();
+            while !interrupt.load(std::sync::atomic::Ordering::SeqCst)
+                && t.elapsed() < Duration::from_secs(60)
+            {
+                std::thread::sleep(Duration::from_millis(5));
+            }
+        }
+        if interrupt.load(std::sync::atomic::Ordering::Relaxed)
+            || args.stop_after_units.is_some_and(|k| done >= k)
+        {
+            stop.store(true, std::sync::atomic::Ordering::Relaxed);
+        }
     };
-    let cancel = super::interrupt::interrupt_flag();
     let _ = render;
-    let output = crate::integrator::render_with(
-        &scene,
-        &settings,
-        args.integrator,
-        args.strategy_images.is_some(),
-        &progress,
-        Some(cancel),
-    )
-    .map_err(|e| e.to_string())?;
+    let already_done = range.as_ref().is_some_and(|r| first_sample >= r.end);
+    let mut output = if already_done {
+        None
+    } else {
+        Some(
+            crate::integrator::render_with(
+                &scene,
+                &settings,
+                args.integrator,
+                args.strategy_images.is_some(),
+                &progress,
+                Some(&stop),
+            )
+            .map_err(|e| e.to_string())?,
+        )
+    };
+    let stopped = stop.load(std::sync::atomic::Ordering::Relaxed);
+    // The whole film: the resumed state's plus this run's (exact, so the same bits as one run).
+    let (w, h) = scene
+        .cameras
+        .get(args.camera.as_deref())
+        .map_err(|e| e.to_string())?
+        .camera
+        .resolution();
+    let mut new_spp = 0;
+    let this_run = match &mut output {
+        Some(o) => {
+            new_spp = o.result.spp;
+            std::mem::replace(&mut o.film, FilmState::new(0, 0, false))
+        }
+        None => FilmState::new(w, h, false),
+    };
+    let film = match resume {
+        Some((_, st)) => {
+            let mut f = st.film;
+            f.merge(&this_run);
+            f
+        }
+        None => this_run,
+    };
+    // A slice, or an unfinished render (the checkpoint), is saved; a finished whole render
+    // needs no state file.
+    let done_until = first_sample + new_spp;
+    if let Some(r) = range
+        .as_ref()
+        .filter(|r| slice.is_some() || done_until != r.end)
+    {
+        let state = RenderState {
+            scene: args.scene.as_deref().map(absolute),
+            fingerprint,
+            settings: key.clone(),
+            args: {
+                // The sample count goes into the stored command line even when it came from
+                // the scene, so --resume aims at the same N.
+                let mut a = args.to_command_line();
+                if args.spp.is_none() {
+                    a.extend(["--spp".to_string(), total_spp.unwrap_or(0).to_string()]);
+                }
+                a
+            },
+            seed: args.seed,
+            spp_total: total_spp.unwrap_or(0),
+            slice: slice.unwrap_or(SliceSpec::WHOLE),
+            done_until,
+            rgb_space: scene.options.rgb_space_name.clone(),
+            png_exposure: scene.options.png_exposure,
+            film,
+        };
+        let film = &state.film;
+        let state_path = args.state_path(slice);
+        let complete = state.is_complete();
+        state.save(&state_path).map_err(|e| e.to_string())?;
+        if let Some(s) = slice {
+            bar.finish_and_clear();
+            for line in film.rejected.summary() {
+                println!("  {line}");
+            }
+            if !complete {
+                return Err(format!(
+                    "interrupted: slice {s} holds samples {}..{} of {}..{}; state written to \
+                     {}; continue with `spectrace render --resume {}`",
+                    r.start,
+                    state.done_until,
+                    r.start,
+                    r.end,
+                    state_path.display(),
+                    state_path.display()
+                ));
+            }
+            println!(
+                "slice {s}: samples {}..{} of every pixel ({} spp in all), {} rendered now; wrote {}",
+                r.start,
+                r.end,
+                state.spp_total,
+                new_spp,
+                state_path.display()
+            );
+            return Ok(());
+        }
+        {
+            bar.finish_and_clear();
+            let image = film.image();
+            let written = save(&image, &outputs, &scene, extra_layers(args, film))?;
+            for wr in written {
+                println!(
+                    "  wrote {} (partial: {} spp)",
+                    wr.display(),
+                    state.done_until
+                );
+            }
+            return Err(format!(
+                "interrupted after {} of {} spp; checkpoint written to {}; continue with \
+                 `spectrace render --resume {}`",
+                state.done_until,
+                state.spp_total,
+                state_path.display(),
+                state_path.display()
+            ));
+        }
+    }
+    // The image comes from the whole film (resumed part included).
+    if let Some(o) = &mut output {
+        o.result.image = film.image();
+        o.result.spp = range
+            .as_ref()
+            .map_or(o.result.spp, |r| first_sample + new_spp - r.start);
+    }
+    let Some(output) = output else {
+        let image = film.image();
+        for wr in save(&image, &outputs, &scene, extra_layers(args, &film))? {
+            println!("  wrote {}", wr.display());
+        }
+        return Ok(());
+    };
     let result = &output.result;
     bar.finish_and_clear();
     println!("integrator {}:", args.integrator);
@@ -199,11 +538,7 @@ pub fn run_with_factories(
         }
     }
 
-    let png = args
-        .png
-        .clone()
-        .unwrap_or_else(|| args.output.with_extension("png"));
-    let written = save(&result.image, &args.output, &png, &scene)?;
+    let written = save(&result.image, &outputs, &scene, extra_layers(args, &film))?;
 
     let secs = result.elapsed.as_secs_f64().max(1e-9);
     let rgb = scene.options.rgb_space.xyz_to_rgb(result.image.mean_xyz());
@@ -227,29 +562,121 @@ pub fn run_with_factories(
         rgb[2],
         result.image.non_finite_count()
     );
+    for line in film.rejected.summary() {
+        println!("  {line}");
+    }
     for w in written {
         println!("  wrote {}", w.display());
+    }
+    if stopped && range.is_none() {
+        return Err(format!(
+            "interrupted: the image holds the {} spp rendered before the stop (a time budget \
+             has no checkpoint; render with --spp to be able to resume)",
+            result.spp
+        ));
     }
     Ok(())
 }
 
+/// The optional diagnostic channels of the EXR.
+fn extra_layers(args: &RenderArgs, film: &FilmState) -> Vec<(String, Vec<f32>)> {
+    if !args.diagnostic_layer {
+        return Vec::new();
+    }
+    let (w, h) = film.resolution();
+    vec![(
+        "rejected".to_string(),
+        film.rejected.layer(w as usize * h as usize),
+    )]
+}
+
+/// For `--resume FILE`: the stored command line (with this run's --threads, --quiet and the
+/// testing hook) and the state.
+fn resumed_args(
+    args: &RenderArgs,
+    path: &Path,
+) -> Result<(RenderArgs, Option<(PathBuf, RenderState)>), String> {
+    if args.scene.is_some()
+        || args.spp.is_some()
+        || args.time.is_some()
+        || args.slice.is_some()
+        || args.state.is_some()
+    {
+        return Err(format!(
+            "--resume {} takes the scene, samples, slice and state file from that file; give \
+             only --threads and --quiet with it",
+            path.display()
+        ));
+    }
+    let state = RenderState::load(path).map_err(|e| e.to_string())?;
+    use clap::Parser;
+    let mut stored = StoredRender::try_parse_from(
+        std::iter::once("render".to_string()).chain(state.args.iter().cloned()),
+    )
+    .map_err(|e| {
+        format!(
+            "{}: the stored command line does not parse: {e}",
+            path.display()
+        )
+    })?
+    .args;
+    stored.threads = args.threads;
+    stored.quiet = args.quiet;
+    stored.stop_after_units = args.stop_after_units;
+    stored.wait_for_signal_after_units = args.wait_for_signal_after_units;
+    stored.state = Some(path.to_path_buf());
+    if stored.seed != state.seed || stored.spp != Some(state.spp_total) {
+        return Err(format!(
+            "{}: the stored command line does not match the state (seed, spp)",
+            path.display()
+        ));
+    }
+    Ok((stored, Some((path.to_path_buf(), state))))
+}
+
 /// Write the EXR and PNG. If the EXR cannot be written where asked, the work is not lost: it
 /// goes to a rescue file in the temp directory and the error says where.
-fn save(image: &XyzImage, exr: &Path, png: &Path, scene: &Scene) -> Result<Vec<PathBuf>, String> {
+fn save(
+    image: &XyzImage,
+    outputs: &super::output_paths::OutputPaths,
+    scene: &Scene,
+    extra: Vec<(String, Vec<f32>)>,
+) -> Result<Vec<PathBuf>, String> {
+    save_image(
+        image,
+        outputs.exr.as_deref(),
+        &outputs.png,
+        &scene.options.rgb_space,
+        scene.options.png_exposure,
+        extra,
+    )
+}
+
+/// [`save`] with the colour space and PNG exposure given (for `spectrace merge`); no EXR is
+/// written when `exr` is `None` (`-o x.png`).
+pub fn save_image(
+    image: &XyzImage,
+    exr: Option<&Path>,
+    png: &Path,
+    space: &crate::color::RgbColorSpace,
+    png_exposure: f64,
+    extra: Vec<(String, Vec<f32>)>,
+) -> Result<Vec<PathBuf>, String> {
     let mut written = Vec::new();
     let mut errors = Vec::new();
-    match write_exr(exr, image, &scene.options.rgb_space) {
-        Ok(()) => written.push(exr.to_path_buf()),
-        Err(e) => {
+    match exr.map(|exr| (exr, write_exr_with_layers(exr, image, space, extra.clone()))) {
+        None => {}
+        Some((exr, Ok(()))) => written.push(exr.to_path_buf()),
+        Some((_, Err(e))) => {
             let rescue =
                 std::env::temp_dir().join(format!("spectrace-rescue-{}.exr", std::process::id()));
-            match write_exr(&rescue, image, &scene.options.rgb_space) {
+            match write_exr_with_layers(&rescue, image, space, extra) {
                 Ok(()) => errors.push(format!("{e}; the image was saved to {}", rescue.display())),
                 Err(e2) => errors.push(format!("{e}; rescue copy failed too: {e2}")),
             }
         }
     }
-    match write_png(png, image, scene.options.png_exposure) {
+    match write_png(png, image, png_exposure) {
         Ok(()) => written.push(png.to_path_buf()),
         Err(e) => errors.push(e.to_string()),
     }

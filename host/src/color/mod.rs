@@ -1,11 +1,17 @@
-//! Colour science: observers (x̄ȳz̄), XYZ integration, RGB spaces, the sRGB transfer function
-//! and RGB → reflectance-spectrum uplift.
+//! Colour science: observers (x̄ȳz̄), XYZ integration, RGB spaces, the sRGB transfer function,
+//! RGB → reflectance-spectrum uplift, and the figures of a light source (CCT and Duv, CIE 13.3
+//! colour rendering, ANSI/IES TM-30 fidelity and gamut).
 
+pub mod cct;
+pub mod cri;
+pub mod daylight;
+pub mod fluorescent_xyz;
 pub mod matrix3;
 pub mod observer;
 pub mod resampled_observer;
 pub mod rgb_space;
 pub mod srgb_transfer;
+pub mod tm30;
 pub mod uplift;
 pub mod xyz;
 

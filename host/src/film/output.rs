@@ -28,22 +28,42 @@ pub enum OutputError {
 
 /// Write `image` as OpenEXR with channels R, G, B (linear `space`) and X, Y, Z (f32).
 pub fn write_exr(path: &Path, image: &XyzImage, space: &RgbColorSpace) -> Result<(), OutputError> {
+    write_exr_with_layers(path, image, space, Vec::new())
+}
+
+/// [`write_exr`] plus `extra` f32 channels (name, one value per pixel, row-major), e.g. the
+/// guard's `rejected` counts.
+pub fn write_exr_with_layers(
+    path: &Path,
+    image: &XyzImage,
+    space: &RgbColorSpace,
+    extra: Vec<(String, Vec<f32>)>,
+) -> Result<(), OutputError> {
     use exr::prelude::*;
     let rgb = image.to_rgb(space);
     let chan = |name: &str, vals: Vec<f32>| AnyChannel::new(name, FlatSamples::F32(vals));
     let pick = |data: &[[f64; 3]], c: usize| data.iter().map(|p| p[c] as f32).collect::<Vec<_>>();
-    let channels = SmallVec::from_vec(vec![
+    let mut list = vec![
         chan("R", pick(&rgb, 0)),
         chan("G", pick(&rgb, 1)),
         chan("B", pick(&rgb, 2)),
         chan("X", pick(&image.xyz, 0)),
         chan("Y", pick(&image.xyz, 1)),
         chan("Z", pick(&image.xyz, 2)),
-    ]);
+    ];
+    for (name, values) in extra {
+        list.push(chan(&name, values));
+    }
+    let channels = SmallVec::from_vec(list);
     let layer = Layer::new(
         (image.width as usize, image.height as usize),
         LayerAttributes::named(""),
-        Encoding::FAST_LOSSLESS,
+        // Blocks in increasing order: the parallel encoder then writes the same bytes for the
+        // same image (with the default unspecified order the chunk table varies run to run).
+        Encoding {
+            line_order: LineOrder::Increasing,
+            ..Encoding::FAST_LOSSLESS
+        },
         AnyChannels::sort(channels),
     );
     Image::from_layer(layer)

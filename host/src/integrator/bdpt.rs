@@ -32,7 +32,8 @@ use super::wavelength_mixture::WavelengthMixture;
 use super::xyz_weights::XyzWeights;
 use super::{PathStats, PixelSampler, RenderError, RenderResult, RenderSettings, SampleRng};
 use crate::camera::{Camera, CameraSample};
-use crate::film::{Sensor, SplatFilm};
+use crate::film::rejected::check_sample;
+use crate::film::{Rejection, Sensor, SplatFilm};
 use crate::light::{LightFlags, LightSampleContext};
 use crate::material::TransportMode;
 use crate::scene::Scene;
@@ -339,7 +340,6 @@ struct Worker {
     camera_path: Vec<Vertex>,
     light_path: Vec<Vertex>,
     stats: PathStats,
-    non_finite: u64,
 }
 
 /// Strategy images: one splat film per (s, t) up to [`STRATEGY_IMAGE_MAX_DEPTH`] bounces, and
@@ -392,24 +392,22 @@ fn render_bdpt(
     let (width, height) = camera.resolution();
     let sensor = Sensor::new(scene.observer.clone());
     let mixture = WavelengthMixture::new(scene);
-    let splats = SplatFilm::new(width, height);
     let strategies = bdpt
         .strategy_images
         .then(|| StrategyFilms::new(width, height));
     let rays = AtomicU64::new(0);
-    let non_finite = AtomicU64::new(0);
     let pixel_max = PixelMaxY::new(width, height);
     let outcome = render_tiles(
         (width, height),
         settings,
         progress,
         cancel,
-        |buf, samples| {
+        true,
+        |buf, samples, splats| {
             let mut worker = Worker {
                 camera_path: Vec::with_capacity(16),
                 light_path: Vec::with_capacity(16),
                 stats: PathStats::default(),
-                non_finite: 0,
             };
             for y in buf.y0..buf.y0 + buf.h {
                 for x in buf.x0..buf.x0 + buf.w {
@@ -425,12 +423,12 @@ fn render_bdpt(
                             (x, y),
                             &mut ld,
                             &mut rng,
-                            &splats,
+                            splats,
                             &pixel_max,
                             strategies.as_ref(),
                             &mut worker,
                         );
-                        buf.add(x, y, xyz);
+                        buf.add(x, y, xyz, "bdpt camera film (t ≥ 2)");
                     }
                 }
             }
@@ -438,19 +436,13 @@ fn render_bdpt(
                 worker.stats.rays + worker.stats.shadow_rays,
                 Ordering::Relaxed,
             );
-            non_finite.fetch_add(worker.non_finite, Ordering::Relaxed);
         },
     )?;
     let (film, spp_done) = (outcome.film, outcome.spp);
     let elapsed = outcome.elapsed;
     let scale = 1.0 / spp_done.max(1) as f64;
-    let mut image = film.image();
-    let splat_image = splats.image(scale);
-    for (p, s) in image.xyz.iter_mut().zip(&splat_image.xyz) {
-        for c in 0..3 {
-            p[c] += s[c];
-        }
-    }
+    // Pixel means plus splat sums / spp, from the exact film.
+    let image = film.image();
     let strategy_images = strategies
         .map(|sf| {
             sf.films
@@ -463,14 +455,15 @@ fn render_bdpt(
         result: RenderResult {
             image,
             spp: spp_done,
-            samples: film.sample_count() as u64,
+            samples: film.camera.sample_count(),
             rays: rays.load(Ordering::Relaxed),
             elapsed,
         },
         strategy_images,
-        non_finite: non_finite.load(Ordering::Relaxed),
+        non_finite: film.rejected.total(),
         // Non-negative f64 bit patterns order like the values.
         max_sample_y: pixel_max.values(),
+        film,
     })
 }
 
@@ -605,8 +598,14 @@ impl Bdpt {
                     continue;
                 };
                 let xyz = weights.xyz(&(c.l * c.weight), c.lanes);
-                if xyz.iter().any(|v| !v.is_finite()) {
-                    worker.non_finite += 1;
+                if let Some(kind) = check_sample(&xyz) {
+                    // Counted under this sample's pixel and strategy, never in the image.
+                    splats.reject(Rejection {
+                        x,
+                        y,
+                        strategy: format!("bdpt s={s} t={t}"),
+                        kind,
+                    });
                     continue;
                 }
                 match c.raster {
@@ -644,7 +643,7 @@ impl Bdpt {
         st: Option<(usize, usize)>,
     ) {
         pixel_max.record(raster.x, raster.y, xyz[1]);
-        splats.splat(raster.x, raster.y, xyz);
+        splats.splat_as(raster.x, raster.y, xyz, "bdpt t = 1 splat");
         if let Some(sf) = strategies {
             // Beams are light tracing with s = number of light vertices, t = 1; they are filed
             // under the longer-path image unless their (s, t) is known.

@@ -50,11 +50,14 @@ pub struct IntegratorOutput {
     /// BDPT only, when asked for: each strategy's weighted contribution, labelled `(s, t)`;
     /// the label `(u32::MAX, u32::MAX)` holds all longer paths together.
     pub strategy_images: Vec<((u32, u32), XyzImage)>,
-    /// Contributions dropped because they were NaN or infinite.
+    /// Contributions refused by the film's guard (NaN, infinite or negative); details in
+    /// `film.rejected`.
     pub non_finite: u64,
     /// Per pixel (row-major), the largest luminance Y of one sample's contribution to that
     /// pixel's sum (before the 1/spp scaling), for firefly checks; empty for `pt`.
     pub max_sample_y: Vec<f64>,
+    /// The exact film the image was made from (whole passes only), for slices and checkpoints.
+    pub film: crate::film::FilmState,
 }
 
 /// A light transport algorithm, configured from the render settings.

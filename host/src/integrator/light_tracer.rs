@@ -7,7 +7,10 @@
 //! [`trace_beam`].
 //!
 //! Determinism: light path `k` draws its random numbers from `(seed, k)` only, and the splat
-//! film sums in fixed point, so the image is identical for any thread count.
+//! film's sums are exact, so the image is identical for any thread count. Sample index `s`
+//! (the unit of slices and checkpoints) is the block of light paths `s·pixels .. (s+1)·pixels`:
+//! a slice of sample indices is a contiguous range of light paths, and the film of a whole
+//! render is the exact sum of its slices' films.
 //!
 //! | parameter   | unit     | default | meaning                                              |
 //! |-------------|----------|---------|------------------------------------------------------|
@@ -25,7 +28,7 @@ use super::wavelength_mixture::WavelengthMixture;
 use super::xyz_weights::XyzWeights;
 use super::{PathStats, RenderError, RenderResult, RenderSettings, SampleRng};
 use crate::camera::Camera;
-use crate::film::{Sensor, SplatFilm};
+use crate::film::{FilmState, Sensor, SplatFilm};
 use crate::light::LightFlags;
 use crate::scene::Scene;
 use glam::Vec2;
@@ -163,9 +166,8 @@ fn render_light_tracing(
     let pool = super::tiled::thread_pool(settings.threads)?;
     let sensor = Sensor::new(scene.observer.clone());
     let mixture = WavelengthMixture::new(scene);
-    let splats = SplatFilm::new(width, height);
+    let mut film = FilmState::new(width, height, true);
     let rays = AtomicU64::new(0);
-    let non_finite = AtomicU64::new(0);
     let pixel_max = PixelMaxY::new(width, height);
     let done = AtomicU64::new(0);
     let start = Instant::now();
@@ -173,7 +175,8 @@ fn render_light_tracing(
     let mut schedule = super::tiled::PassSchedule::new(settings.budget);
     let mut total_units = 0u64;
     while let Some(pass_spp) = schedule.next(spp_done, start.elapsed()) {
-        let first = spp_done as u64 * pixels;
+        let first = (settings.budget.first_sample() + spp_done) as u64 * pixels;
+        let splats = SplatFilm::new(width, height);
         let count = pass_spp as u64 * pixels;
         let chunks = count.div_ceil(CHUNK);
         total_units += chunks;
@@ -186,14 +189,10 @@ fn render_light_tracing(
                     }
                     let mut stats = PathStats::default();
                     let mut path = Vec::with_capacity(16);
-                    let mut bad = 0u64;
                     let mut splat = |raster: Vec2, xyz: [f64; 3]| {
-                        if xyz.iter().any(|v| !v.is_finite()) {
-                            bad += 1;
-                            return;
-                        }
                         pixel_max.record(raster.x, raster.y, xyz[1]);
-                        splats.splat(raster.x, raster.y, xyz);
+                        // The film's guard refuses and counts NaN/Inf/negative contributions.
+                        splats.splat_as(raster.x, raster.y, xyz, "lt light path (t = 1)");
                     };
                     let lo = first + c * CHUNK;
                     let hi = (lo + CHUNK).min(first + count);
@@ -205,7 +204,6 @@ fn render_light_tracing(
                         );
                     }
                     rays.fetch_add(stats.rays + stats.shadow_rays, Ordering::Relaxed);
-                    non_finite.fetch_add(bad, Ordering::Relaxed);
                     let d = done.fetch_add(1, Ordering::Relaxed) + 1;
                     progress(d, total_units);
                     false
@@ -215,17 +213,21 @@ fn render_light_tracing(
                 .any(|c| c)
         });
         if cancelled {
-            // A partial pass would leave some pixels short of paths: keep whole passes only
-            // (the splats already made are part of the film, a small bias of a cancelled run).
+            // A partial pass would leave some pixels short of paths: drop it, so the film
+            // holds whole sample indices (what a checkpoint resumes from).
             break;
         }
+        let (sums, rejected) = splats.into_sums();
+        film.add_splats(&sums);
+        film.record_rejected(&rejected);
+        film.spp += pass_spp as u64;
         spp_done += pass_spp;
         if cancel.is_some_and(|f| f.load(Ordering::Relaxed)) {
             break;
         }
     }
     let elapsed = start.elapsed();
-    let image = splats.image(1.0 / spp_done.max(1) as f64);
+    let image = film.image();
     Ok(IntegratorOutput {
         result: RenderResult {
             image,
@@ -235,7 +237,8 @@ fn render_light_tracing(
             elapsed,
         },
         strategy_images: Vec::new(),
-        non_finite: non_finite.load(Ordering::Relaxed),
+        non_finite: film.rejected.total(),
         max_sample_y: pixel_max.values(),
+        film,
     })
 }

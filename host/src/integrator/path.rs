@@ -10,7 +10,7 @@ use super::tiled::render_tiles;
 use super::wavelength_groups::{PathWavelengthSampler, PathWavelengths, MAX_GROUPS};
 use super::{PixelSampler, RenderError, RenderResult, RenderSettings};
 use crate::camera::CameraSample;
-use crate::film::Sensor;
+use crate::film::{FilmState, Sensor};
 use crate::geometry::{spawn_ray, spawn_ray_to, Ray};
 use crate::light::{LightFlags, LightSampleContext};
 use crate::material::{Frame, MaterialFlags, ShadingContext, TransportMode};
@@ -76,11 +76,13 @@ impl Integrator for PathTracer {
             tracer: *self,
             ..settings.clone()
         };
+        let (result, film) = render_film(scene, &settings, progress, cancel)?;
         Ok(IntegratorOutput {
-            result: render(scene, &settings, progress, cancel)?,
+            result,
             strategy_images: Vec::new(),
-            non_finite: 0,
+            non_finite: film.rejected.total(),
             max_sample_y: Vec::new(),
+            film,
         })
     }
 
@@ -532,13 +534,24 @@ fn film_xyz(
 
 /// Render `scene` by path tracing with `settings` (the tracer's settings from
 /// `settings.tracer`). `progress` may be called from several threads.
-/// `cancel`, when set, stops after the tiles in flight; the partial film is returned.
+/// `cancel`, when set, stops after the tiles in flight; the film of the whole passes done is
+/// returned.
 pub fn render(
     scene: &Scene,
     settings: &RenderSettings,
     progress: &ProgressFn<'_>,
     cancel: Option<&AtomicBool>,
 ) -> Result<RenderResult, RenderError> {
+    render_film(scene, settings, progress, cancel).map(|(r, _)| r)
+}
+
+/// [`render`], also returning the exact film (for slices and checkpoints).
+pub fn render_film(
+    scene: &Scene,
+    settings: &RenderSettings,
+    progress: &ProgressFn<'_>,
+    cancel: Option<&AtomicBool>,
+) -> Result<(RenderResult, FilmState), RenderError> {
     let cam = scene
         .cameras
         .get(settings.camera.as_deref())
@@ -557,7 +570,8 @@ pub fn render(
         settings,
         progress,
         cancel,
-        |buf, samples| {
+        false,
+        |buf, samples, _| {
             let mut stats = PathStats::default();
             for y in buf.y0..buf.y0 + buf.h {
                 for x in buf.x0..buf.x0 + buf.w {
@@ -583,12 +597,8 @@ pub fn render(
                             }
                             None => [0.0; 3],
                         };
-                        // A NaN/Inf sample would poison the pixel forever; drop it.
-                        if xyz.iter().all(|v| v.is_finite()) {
-                            buf.add(x, y, xyz);
-                        } else {
-                            buf.add(x, y, [0.0; 3]);
-                        }
+                        // The film's guard keeps NaN/Inf/negative samples out and counts them.
+                        buf.add(x, y, xyz, "pt camera path");
                     }
                 }
             }
@@ -596,15 +606,16 @@ pub fn render(
         },
     )?;
     let film = outcome.film;
-    let spp_done = outcome.spp;
-    let elapsed = outcome.elapsed;
-    Ok(RenderResult {
-        image: film.image(),
-        spp: spp_done,
-        samples: film.sample_count() as u64,
-        rays: rays.load(Ordering::Relaxed),
-        elapsed,
-    })
+    Ok((
+        RenderResult {
+            image: film.image(),
+            spp: outcome.spp,
+            samples: film.camera.sample_count(),
+            rays: rays.load(Ordering::Relaxed),
+            elapsed: outcome.elapsed,
+        },
+        film,
+    ))
 }
 
 #[cfg(test)]

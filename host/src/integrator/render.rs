@@ -13,6 +13,25 @@ pub enum SampleBudget {
     Spp(u32),
     /// Keep adding passes of samples until this much time has passed (the last pass finishes).
     Time(Duration),
+    /// Only the sample indices `start..end` of every pixel (light paths
+    /// `start·pixels..end·pixels` for light tracing): a slice of a larger render, or the rest of
+    /// an interrupted one. The image of such a part alone is its own `end − start` spp estimate.
+    Range {
+        /// First sample index.
+        start: u32,
+        /// One past the last.
+        end: u32,
+    },
+}
+
+impl SampleBudget {
+    /// The first sample index rendered (0 unless a [`Range`](Self::Range)).
+    pub fn first_sample(&self) -> u32 {
+        match *self {
+            Self::Range { start, .. } => start,
+            _ => 0,
+        }
+    }
 }
 
 /// What to render and how.
@@ -85,8 +104,10 @@ pub type ProgressFn<'a> = dyn Fn(u64, u64) + Sync + 'a;
 /// count. Empty for a time budget. Every driver indexes samples globally, so how a budget is
 /// split into passes does not change the image.
 pub fn fixed_budget_passes(budget: SampleBudget) -> Vec<u32> {
-    let SampleBudget::Spp(n) = budget else {
-        return Vec::new();
+    let n = match budget {
+        SampleBudget::Spp(n) => n,
+        SampleBudget::Range { start, end } => end.saturating_sub(start),
+        SampleBudget::Time(_) => return Vec::new(),
     };
     let mut passes = Vec::new();
     let mut left = n;

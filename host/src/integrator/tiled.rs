@@ -1,11 +1,13 @@
 //! The pass loop shared by the camera-driven renderers (path tracing, BDPT): the image is cut
 //! into tiles rendered in parallel, and the sample budget into passes, so that Ctrl-C stops
-//! within one pass (the tiles it finished are kept; each pixel's mean stays unbiased with its
-//! own sample count). Samples are indexed globally
-//! (pixel, sample number), so neither the pass sizes nor the thread count change the image.
+//! within one pass. A pass enters the film only when all its tiles are done (an interrupted
+//! pass is dropped), so the film always holds whole sample indices `start..start + spp` of
+//! every pixel: exactly what a checkpoint needs to resume. Samples are indexed globally
+//! (pixel, sample number) and the film's sums are exact, so neither the pass sizes, the thread
+//! count, nor a split into slices ([`SampleBudget::Range`]) change the image.
 
 use super::render::{fixed_budget_passes, ProgressFn, RenderError, RenderSettings, SampleBudget};
-use crate::film::{PixelFilm, TileBuffer};
+use crate::film::{FilmState, SplatFilm, TileBuffer};
 use rayon::prelude::*;
 use std::ops::Range;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -47,7 +49,7 @@ impl PassSchedule {
     /// the budget is spent.
     pub fn next(&mut self, spp_done: u32, elapsed: Duration) -> Option<u32> {
         let size = match self.budget {
-            SampleBudget::Spp(_) => *self.fixed.get(self.pass)?,
+            SampleBudget::Spp(_) | SampleBudget::Range { .. } => *self.fixed.get(self.pass)?,
             SampleBudget::Time(t) => {
                 if self.pass > 0 && elapsed >= t {
                     return None;
@@ -69,7 +71,7 @@ impl PassSchedule {
     /// budget.
     pub fn passes_planned(&self) -> u64 {
         match self.budget {
-            SampleBudget::Spp(_) => self.fixed.len() as u64,
+            SampleBudget::Spp(_) | SampleBudget::Range { .. } => self.fixed.len() as u64,
             SampleBudget::Time(_) => self.pass as u64,
         }
     }
@@ -77,8 +79,8 @@ impl PassSchedule {
 
 /// What [`render_tiles`] produced.
 pub struct TiledOutcome {
-    /// The accumulated pixel film.
-    pub film: PixelFilm,
+    /// The accumulated film (camera sums, and splat sums when asked for) of whole passes.
+    pub film: FilmState,
     /// Samples per pixel completed by every pixel.
     pub spp: u32,
     /// Wall-clock time of the passes.
@@ -86,14 +88,16 @@ pub struct TiledOutcome {
 }
 
 /// Render a `width`×`height` image tile by tile and pass by pass for `settings.budget`.
-/// `render_tile(buffer, samples)` adds the samples with global indices `samples` of every pixel
-/// of `buffer`'s tile; passes follow [`PassSchedule`].
+/// `render_tile(buffer, samples, splats)` adds the samples with global indices `samples` of
+/// every pixel of `buffer`'s tile, splatting into the pass's `splats` (kept only when `splats`
+/// is true); passes follow [`PassSchedule`] from the budget's first sample index.
 pub fn render_tiles(
     (width, height): (u32, u32),
     settings: &RenderSettings,
     progress: &ProgressFn<'_>,
     cancel: Option<&AtomicBool>,
-    render_tile: impl Fn(&mut TileBuffer, Range<u32>) + Sync,
+    splats: bool,
+    render_tile: impl Fn(&mut TileBuffer, Range<u32>, &SplatFilm) + Sync,
 ) -> Result<TiledOutcome, RenderError> {
     let ts = settings.tile_size.max(1);
     let mut tiles = Vec::new();
@@ -104,14 +108,17 @@ pub fn render_tiles(
     }
     let pool = thread_pool(settings.threads)?;
     let cancelled = || cancel.is_some_and(|c| c.load(Ordering::Relaxed));
-    let mut film = PixelFilm::new(width, height);
+    let mut film = FilmState::new(width, height, splats);
     let done = AtomicU64::new(0);
     let start = Instant::now();
     let mut schedule = PassSchedule::new(settings.budget);
+    let first = settings.budget.first_sample();
     let mut spp_done = 0u32;
     while let Some(pass_spp) = schedule.next(spp_done, start.elapsed()) {
         let total_units = tiles.len() as u64 * schedule.passes_planned();
-        let samples = spp_done..spp_done + pass_spp;
+        let samples = first + spp_done..first + spp_done + pass_spp;
+        let (sw, sh) = if splats { (width, height) } else { (0, 0) };
+        let pass_splats = SplatFilm::new(sw, sh);
         let buffers: Vec<Option<TileBuffer>> = pool.install(|| {
             tiles
                 .par_iter()
@@ -120,23 +127,26 @@ pub fn render_tiles(
                         return None;
                     }
                     let mut buf = TileBuffer::new(x0, y0, w, h);
-                    render_tile(&mut buf, samples.clone());
+                    render_tile(&mut buf, samples.clone(), &pass_splats);
                     progress(done.fetch_add(1, Ordering::Relaxed) + 1, total_units);
                     Some(buf)
                 })
                 .collect()
         });
-        let mut complete = true;
-        for b in &buffers {
-            match b {
-                Some(b) => film.merge(b),
-                None => complete = false,
-            }
-        }
-        if !complete {
-            // Cancelled mid-pass: keep the finished tiles (per-pixel counts keep means unbiased).
+        if buffers.iter().any(Option::is_none) {
+            // Cancelled mid-pass: drop the pass, so the film holds whole sample indices.
             break;
         }
+        for b in buffers.iter().flatten() {
+            film.camera.merge(b);
+            film.record_rejected(&b.rejected);
+        }
+        let (sums, rejected) = pass_splats.into_sums();
+        if splats {
+            film.add_splats(&sums);
+        }
+        film.record_rejected(&rejected);
+        film.spp += pass_spp as u64;
         spp_done += pass_spp;
         if cancelled() {
             break;

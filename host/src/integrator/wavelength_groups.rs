@@ -149,6 +149,8 @@ impl PathWavelengthSampler {
             WavelengthSampling::LightSpd => {
                 Some(WavelengthMixture::new(scene)).filter(|m| m.has_emission())
             }
+            WavelengthSampling::Visible => Some(WavelengthMixture::new(scene))
+                .filter(|m| m.has_emission() && narrowband(scene)),
             _ => None,
         };
         Ok(Self {
@@ -174,6 +176,10 @@ impl PathWavelengthSampler {
             Some(_) => rng.next_1d(),
             None => 0.0,
         };
+        let u_comp = match (&self.emission, self.sampling) {
+            (Some(_), WavelengthSampling::Visible) => rng.next_1d(),
+            _ => 0.0,
+        };
         let n = LANES * self.groups;
         let mut groups = [SampledWavelengths {
             lambda: [0.0; LANES],
@@ -189,6 +195,9 @@ impl PathWavelengthSampler {
                 (WavelengthSampling::LightSpd, Some(m)) => m
                     .sample_emission(u_spd as f64, ug as f64)
                     .unwrap_or_else(|| SampledWavelengths::sample_visible(ug)),
+                (WavelengthSampling::Visible, Some(m)) => {
+                    m.sample_with(u_comp, u_spd as f64, ug as f64)
+                }
                 _ => SampledWavelengths::sample_visible(ug),
             };
         }
@@ -292,4 +301,13 @@ mod tests {
         let est = sum / (n as f64 * 16.0);
         assert!((est / 300.0 - 1.0).abs() < 0.01, "{est}");
     }
+}
+
+/// True when some evaluable light's SPD is narrowband or has lines.
+fn narrowband(scene: &Scene) -> bool {
+    scene
+        .lights
+        .lights()
+        .iter()
+        .any(|l| crate::spectrum::bandwidth::is_narrowband(l.spd().as_ref()))
 }

@@ -19,8 +19,9 @@
 use super::SampleRng;
 use crate::light::LightFlags;
 use crate::scene::Scene;
+use crate::spectrum::spd::{line_mass_at_lane, off_lines};
 use crate::spectrum::wavelength_sampling::{rotated, visible_pdf, visible_sample};
-use crate::spectrum::{LaneMask, SampledWavelengths, Spd, LANES};
+use crate::spectrum::{DeltaLine, LaneMask, SampledWavelengths, Spd, LANES};
 use std::sync::Arc;
 
 /// The one-sample mixture `½ p_vis + ½ p_emit` over wavelengths (see the module docs).
@@ -29,6 +30,8 @@ pub struct WavelengthMixture {
     /// Distinct SPDs of evaluable lights with their summed light-pmf weights (Σ = 1).
     spds: Vec<(Arc<dyn Spd>, f64)>,
     cdf: Vec<f64>,
+    /// Every delta line of the emission component, weight = P(SPD) × line fraction.
+    lines: Vec<DeltaLine>,
 }
 
 impl WavelengthMixture {
@@ -58,7 +61,21 @@ impl WavelengthMixture {
         if let Some(last) = cdf.last_mut() {
             *last = 1.0;
         }
-        Self { spds, cdf }
+        let lines = spds
+            .iter()
+            .flat_map(|(s, w)| {
+                s.delta_lines().into_iter().map(move |l| DeltaLine {
+                    lambda: l.lambda,
+                    weight: l.weight * w,
+                })
+            })
+            .collect();
+        Self { spds, cdf, lines }
+    }
+
+    /// True when the emission component has delta lines.
+    pub fn has_lines(&self) -> bool {
+        !self.lines.is_empty()
     }
 
     /// Mixture density (1/nm) at `lambda_nm` (continuous parts only).
@@ -90,9 +107,16 @@ impl WavelengthMixture {
         self.spds[k].0.as_ref()
     }
 
-    /// Lane `i` at `frac(u + i/LANES)`, drawn from `spd` (visible importance without one) and
-    /// carrying `density` at its wavelength; a lane on a delta line gets pdf 0.
-    fn lanes(u: f64, spd: Option<&dyn Spd>, density: impl Fn(f64) -> f64) -> SampledWavelengths {
+    /// Lane `i` at `frac(u + i/LANES)`, drawn from `spd` (visible importance without one);
+    /// a continuous lane carries `density` at its wavelength, a lane on a delta line the
+    /// line's discrete probability `line_scale × P(line)`.
+    fn lanes(
+        &self,
+        u: f64,
+        spd: Option<&dyn Spd>,
+        line_scale: f64,
+        density: impl Fn(f64) -> f64,
+    ) -> SampledWavelengths {
         let mut lambda = [0.0f32; LANES];
         let mut pdf = [0.0f32; LANES];
         for i in 0..LANES {
@@ -104,12 +128,14 @@ impl WavelengthMixture {
                 }
                 None => (visible_sample(ui) as f32, false),
             };
-            lambda[i] = l;
-            pdf[i] = if on_line {
-                0.0
+            if on_line {
+                lambda[i] = l;
+                pdf[i] = (line_scale * line_mass_at_lane(&self.lines, l)) as f32;
             } else {
-                density(l as f64) as f32
-            };
+                let l = off_lines(l, &self.lines);
+                lambda[i] = l;
+                pdf[i] = density(l as f64) as f32;
+            }
         }
         SampledWavelengths {
             lambda,
@@ -127,7 +153,7 @@ impl WavelengthMixture {
             return None;
         }
         let spd = self.pick_spd(u_spd);
-        Some(Self::lanes(u, Some(spd), |l| self.emission_pdf(l)))
+        Some(self.lanes(u, Some(spd), 1.0, |l| self.emission_pdf(l)))
     }
 
     /// Draw the pair's wavelengths: three uniforms from `rng` (component, SPD, hero).
@@ -144,7 +170,7 @@ impl WavelengthMixture {
     pub fn sample_with(&self, u_comp: f32, u_spd: f64, u: f64) -> SampledWavelengths {
         let emission = !self.spds.is_empty() && u_comp >= 0.5;
         let spd = emission.then(|| self.pick_spd(u_spd));
-        Self::lanes(u, spd, |l| self.pdf(l))
+        self.lanes(u, spd, 0.5, |l| self.pdf(l))
     }
 }
 

@@ -3,7 +3,8 @@
 //! Piecewise-linear data with breakpoints on integer nm (all bundled data) is reproduced exactly;
 //! smooth curves to well below 1e-4 relative. Outside the grid the original function is used.
 
-use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spd, LANES};
+use crate::spectrum::spd::line_mass_at_lane;
+use crate::spectrum::{DeltaLine, SampledSpectrum, SampledWavelengths, Spd, LANES};
 use std::fmt::Debug;
 use std::sync::Arc;
 
@@ -12,6 +13,8 @@ pub const DENSE_START: f32 = 360.0;
 /// Last grid wavelength (nm).
 pub const DENSE_END: f32 = 830.0;
 const N: usize = (DENSE_END - DENSE_START) as usize + 1;
+/// Quantiles of an SPD's power probed by [`DenseSpectrum::from_spd`] to find sub-nm spikes.
+pub const SPIKE_PROBES: usize = 4096;
 
 /// A tabulated copy of a spectral function (values at 360, 361, …, 830 nm).
 ///
@@ -24,6 +27,9 @@ pub struct DenseSpectrum {
     /// Per cell [i, i+1]: evaluate the original function instead of interpolating.
     exact: Vec<bool>,
     outside: Arc<dyn Fn(f32) -> f32 + Send + Sync>,
+    /// Delta lines with their scaled power (see [`crate::spectrum::spd::spd_at`]): a lane on
+    /// a line's exact wavelength gets its power instead of the continuous value.
+    lines: Vec<DeltaLine>,
 }
 
 impl Debug for DenseSpectrum {
@@ -52,12 +58,48 @@ impl DenseSpectrum {
             values,
             exact,
             outside: f,
+            lines: Vec::new(),
         }
     }
 
-    /// `scale ·` the continuous part of a normalised SPD (1/nm).
+    /// `scale ·` a normalised SPD: its continuous part (1/nm) on the grid, its delta lines
+    /// (power fraction × `scale`) on the lanes that land on them.
+    ///
+    /// A peak narrower than the 1 nm grid (a tabulated spike of 0.01 nm) can fall between
+    /// nodes and cell midpoints and vanish from the copy; every cell that holds one of
+    /// [`SPIKE_PROBES`] equally spaced quantiles of the SPD's power (inverse CDF) is therefore
+    /// evaluated exactly too, so any feature holding more than 1/[`SPIKE_PROBES`] of the power
+    /// is kept.
     pub fn from_spd(spd: Arc<dyn Spd>, scale: f32) -> Self {
-        Self::new(Arc::new(move |l: f32| scale * spd.value(l as f64) as f32))
+        let lines: Vec<DeltaLine> = spd
+            .delta_lines()
+            .into_iter()
+            .map(|l| DeltaLine {
+                lambda: l.lambda,
+                weight: l.weight * scale as f64,
+            })
+            .collect();
+        let probe = spd.clone();
+        let mut dense = Self::new(Arc::new(move |l: f32| scale * spd.value(l as f64) as f32));
+        for k in 0..SPIKE_PROBES {
+            let s = probe.sample((k as f64 + 0.5) / SPIKE_PROBES as f64);
+            if s.is_delta {
+                continue;
+            }
+            let x = s.lambda - DENSE_START as f64;
+            if x >= 0.0 && x < (N - 1) as f64 {
+                // Flag only where the interpolation misses (same test as at the midpoints), so
+                // smooth SPDs keep their interpolated cells and their images do not change.
+                let l = s.lambda as f32;
+                let exact = (dense.outside)(l);
+                let lerp = dense.value(l);
+                if (exact - lerp).abs() > 2e-4 * exact.abs().max(lerp.abs()) + 1e-30 {
+                    dense.exact[x as usize] = true;
+                }
+            }
+        }
+        dense.lines = lines;
+        dense
     }
 
     /// Value at `lambda_nm`.
@@ -84,7 +126,16 @@ impl DenseSpectrum {
     pub fn eval(&self, lambda: &SampledWavelengths) -> SampledSpectrum {
         let mut out = [0.0; LANES];
         for (o, &l) in out.iter_mut().zip(lambda.lambda.iter()) {
-            *o = self.value(l);
+            let mass = if self.lines.is_empty() {
+                0.0
+            } else {
+                line_mass_at_lane(&self.lines, l)
+            };
+            *o = if mass > 0.0 {
+                mass as f32
+            } else {
+                self.value(l)
+            };
         }
         SampledSpectrum(out)
     }
@@ -118,5 +169,42 @@ mod tests {
         let far = DenseSpectrum::new(Arc::new(|l| l));
         assert_eq!(far.value(900.0), 900.0);
         assert_eq!(far.value(830.0), 830.0);
+    }
+}
+
+#[cfg(test)]
+mod spike_tests {
+    use super::*;
+    use crate::spectrum::{Interpolation, TabulatedSpd};
+
+    // A 0.02 nm wide spike at 589.3 nm lies between grid nodes and cell midpoints; the copy
+    // must still return the SPD's exact value at that f32 wavelength (about 100/nm for unit area; 1e-4 relative
+    // for f32) instead of 0, and a line SPD gives its mass × scale on a lane at the line.
+    #[test]
+    fn sub_nm_spike_and_lines_survive() {
+        let spd = TabulatedSpd::new(
+            "spike",
+            &[589.29, 589.3, 589.31],
+            &[0.0, 1.0, 0.0],
+            Interpolation::Linear,
+        )
+        .unwrap();
+        let peak = spd.value(589.3f32 as f64);
+        let d = DenseSpectrum::from_spd(Arc::new(spd), 2.0);
+        assert!(
+            (d.value(589.3) / (2.0 * peak as f32) - 1.0).abs() < 1e-4,
+            "{}",
+            d.value(589.3)
+        );
+        let line = DenseSpectrum::from_spd(
+            Arc::new(crate::spectrum::parse_spd_spec("line:589").unwrap()),
+            3.0,
+        );
+        let w = SampledWavelengths {
+            lambda: [589.0, 500.0, 589.5, 700.0],
+            pdf: [1.0; LANES],
+            lanes: crate::spectrum::LaneMask::ALL,
+        };
+        assert_eq!(line.eval(&w).0, [3.0, 0.0, 0.0, 0.0]);
     }
 }

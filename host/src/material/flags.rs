@@ -25,6 +25,12 @@ impl MaterialFlags {
     pub const DISPERSIVE: Self = Self(1 << 5);
     /// Emits light (an area light's surface).
     pub const EMISSIVE: Self = Self(1 << 6);
+    /// Re-emits light at other (longer) wavelengths: the path's wavelength changes at a
+    /// scattering event (see `spectrum::reradiation`).
+    pub const FLUORESCENT: Self = Self(1 << 7);
+    /// Reflectance varies quickly with wavelength and angle through thin-film interference
+    /// (no change of direction, so not dispersive; per-lane weights differ strongly).
+    pub const THIN_FILM: Self = Self(1 << 8);
 
     /// True when every bit of `other` is set.
     pub fn contains(self, other: Self) -> bool {

@@ -5,11 +5,13 @@
 //! Both are unit vectors. BSDF values are in 1/sr, pdfs in 1/sr (solid angle), emitted radiance
 //! in W/(m²·sr·nm).
 
+pub mod complex;
 pub mod conductor;
 pub mod dense;
 pub mod dielectric;
 pub mod emissive;
 pub mod flags;
+pub mod fluorescent;
 pub mod frame;
 pub mod fresnel;
 pub mod ior;
@@ -19,6 +21,7 @@ pub mod microfacet;
 pub mod mirror;
 pub mod rough_dielectric;
 pub mod texture;
+pub mod thin_film;
 
 pub use conductor::RoughConductor;
 pub use dielectric::SmoothDielectric;

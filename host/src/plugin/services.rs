@@ -60,7 +60,9 @@ struct LentSpd(Arc<dyn HostSpd>);
 
 impl Spd for LentSpd {
     fn value(&self, nm: f64) -> PluginResult<f64> {
-        Ok(self.0.value(nm))
+        let lines = self.0.delta_lines();
+        let mass = crate::spectrum::spd::line_mass_at_lane(&lines, nm as f32);
+        Ok(if mass > 0.0 { mass } else { self.0.value(nm) })
     }
     fn sample(&self, u: f64) -> PluginResult<WavelengthSample> {
         let s = self.0.sample(u);

@@ -4,6 +4,9 @@
 //! to 1 and is both evaluated and sampled. Non-normalized spectral data (reflectance, IOR) are
 //! [`SpectralCurve`]s. Both read the same CSV format ([`csv_table`]).
 
+pub mod bandwidth;
+pub mod bfc;
+pub mod bispectral_matrix;
 pub mod blackbody;
 pub mod builtin_spd;
 pub mod bundled;
@@ -11,10 +14,12 @@ pub mod csv_table;
 pub mod curve;
 pub mod discrete;
 pub mod error;
+pub mod fluorescence_model;
 pub mod lane_mask;
 pub mod line_spd;
 pub mod piecewise_constant;
 pub mod piecewise_linear;
+pub mod reradiation;
 pub mod sampled;
 pub mod spd;
 pub mod spec;

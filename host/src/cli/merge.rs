@@ -1,0 +1,82 @@
+//! `spectrace merge PARTS… -o OUT.exr [--png OUT.png] [--state OUT.state]`: combine the state
+//! files of the slices of one render (`render --slice K/M`) into its image. The parts must come
+//! from the same scene, settings, seed and sample count, with every slice present exactly once;
+//! the merged image is bit for bit the one `render --spp N` makes on one machine, because the
+//! film's sums are exact (see `docs/distributed.md`).
+
+use crate::color::RgbColorSpace;
+use crate::film::RenderState;
+use std::path::PathBuf;
+
+/// Arguments of `spectrace merge`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct MergeArgs {
+    /// State files of the slices (any order).
+    #[arg(required = true)]
+    pub parts: Vec<PathBuf>,
+    /// OpenEXR output (R, G, B linear + X, Y, Z).
+    #[arg(short = 'o', long = "output", default_value = "render.exr")]
+    pub output: PathBuf,
+    /// sRGB PNG preview (default: the EXR name with .png).
+    #[arg(long)]
+    pub png: Option<PathBuf>,
+    /// Also write the merged state (a whole-render state file).
+    #[arg(long)]
+    pub state: Option<PathBuf>,
+    /// Add the `rejected` diagnostic channel to the EXR.
+    #[arg(long = "diagnostic-layer")]
+    pub diagnostic_layer: bool,
+}
+
+/// Run `spectrace merge`.
+pub fn run(args: &MergeArgs) -> Result<(), String> {
+    let mut parts = Vec::with_capacity(args.parts.len());
+    for p in &args.parts {
+        let s = RenderState::load(p).map_err(|e| e.to_string())?;
+        parts.push((p.clone(), s));
+    }
+    let merged = RenderState::merge_parts(&parts)?;
+    let space = RgbColorSpace::by_name(&merged.rgb_space).ok_or_else(|| {
+        format!(
+            "{}: unknown RGB space {:?} in the state",
+            args.parts[0].display(),
+            merged.rgb_space
+        )
+    })?;
+    let image = merged.film.image();
+    let outputs = super::output_paths::output_paths(&args.output, args.png.as_deref())?;
+    let (w, h) = merged.film.resolution();
+    let extra = if args.diagnostic_layer {
+        vec![(
+            "rejected".to_string(),
+            merged.film.rejected.layer(w as usize * h as usize),
+        )]
+    } else {
+        Vec::new()
+    };
+    let written = super::render::save_image(
+        &image,
+        outputs.exr.as_deref(),
+        &outputs.png,
+        &space,
+        merged.png_exposure,
+        extra,
+    )?;
+    println!(
+        "merged {} slices: {w}×{h}, {} spp, seed {}",
+        parts.len(),
+        merged.spp_total,
+        merged.seed
+    );
+    for line in merged.film.rejected.summary() {
+        println!("  {line}");
+    }
+    if let Some(p) = &args.state {
+        merged.save(p).map_err(|e| e.to_string())?;
+        println!("  wrote {}", p.display());
+    }
+    for wr in written {
+        println!("  wrote {}", wr.display());
+    }
+    Ok(())
+}

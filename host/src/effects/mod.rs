@@ -1,0 +1,12 @@
+//! Scene analysis: which optical effects a scene calls for, found from every object's and
+//! light's capability flags and spectra (built-in and plugin objects alike, through the same
+//! `Material`/`Light` interfaces), each with the objects that call for it, and what the
+//! renderer does about each and what it skips (`spectrace explain SCENE`).
+//!
+//! Data flows one way: the [`crate::scene::Scene`] is only read.
+
+pub mod analysis;
+pub mod effect;
+
+pub use analysis::{analyze, Caller, EffectSet, Finding};
+pub use effect::Effect;

@@ -1,0 +1,154 @@
+//! EULUMDAT writer: a type C [`Luminaire`] as an `.ldt` file that reads back to the same table.
+//!
+//! | field | written as |
+//! |---|---|
+//! | Ityp | 1 for axial symmetry, 2 for a bilateral distribution, 3 otherwise |
+//! | Isym | from the symmetry: none 0, axial 1, C0–C180 2, C90–C270 3, quadrant 4 |
+//! | Mc, Dc, Ng, Dg | plane and angle counts; Dc and Dg the step when it is even, else 0 |
+//! | sizes | the luminaire size in mm (width, length, height as read) |
+//! | DFF, LORL | computed from the table: flux below the horizontal / total, total / rated lamp lumens |
+//! | lamp sets | as read; absolute photometry: −1 lamps and the table's flux |
+//! | direct ratios | 0: not computed (they need the utilisation-factor method of CIE 52) |
+//! | intensities | cd per 1000 lm of lamp set 1, shortest round-trip form |
+
+use super::luminaire::{Luminaire, PhotometricType, Symmetry};
+
+/// The EULUMDAT text of `lum`, or why it cannot be one (types A and B, a plane set that is
+/// not the regular one the symmetry indicator implies).
+pub fn write_eulumdat(lum: &Luminaire, source: &str) -> Result<String, String> {
+    if lum.photometric_type != PhotometricType::C {
+        return Err("EULUMDAT holds type C photometry only; this luminaire is type A or B".into());
+    }
+    let stored = &lum.h_deg;
+    let n = stored.len();
+    // The full list of C-planes, and where the stored ones sit in it.
+    let mut all = lum.expanded_h_deg();
+    let (isym, ityp) = match lum.symmetry {
+        Symmetry::None => (0, 3),
+        Symmetry::Axial => (1, 1),
+        Symmetry::BilateralC0C180 => (2, 2),
+        Symmetry::BilateralC90C270 => (3, 2),
+        Symmetry::Quadrant => (4, 3),
+        Symmetry::LateralH => unreachable!("type C has no lateral symmetry"),
+    };
+    if isym == 1 {
+        all = vec![0.0];
+    }
+    let mc = all.len();
+    let expected_stored = match isym {
+        0 => mc,
+        1 => 1,
+        2 | 3 => mc / 2 + 1,
+        _ => mc / 4 + 1,
+    };
+    let first = if isym == 3 { mc / 4 } else { 0 };
+    // A 0..360 table may hold C360 as a copy of C0; EULUMDAT stores [0, 360).
+    let stored_n = if isym == 0 && (stored[n - 1] - 360.0).abs() < 1e-9 {
+        n - 1
+    } else {
+        n
+    };
+    let fits = stored_n == expected_stored
+        && (0..stored_n).all(|i| (all[(first + i) % mc] - stored[i]).abs() < 1e-9);
+    if !fits {
+        return Err(format!(
+            "the stored C-planes {:?} are not the regular set EULUMDAT Isym {isym} needs",
+            stored
+        ));
+    }
+    let flux = lum.flux_lm();
+    let (set_flux, absolute) = match lum.rated_lamp_lumens {
+        Some(r) if !lum.absolute && r > 0.0 => (r, false),
+        _ => (flux, true),
+    };
+    if !(set_flux > 0.0) {
+        return Err("the luminaire emits nothing; EULUMDAT needs a positive flux".into());
+    }
+    let step = |xs: &[f64]| -> f64 {
+        if xs.len() < 2 {
+            return 0.0;
+        }
+        let d = xs[1] - xs[0];
+        if xs.windows(2).all(|w| ((w[1] - w[0]) - d).abs() < 1e-9) {
+            d
+        } else {
+            0.0
+        }
+    };
+    // Downward flux fraction: the table with everything above the horizontal cut.
+    let mut lower = lum.clone();
+    for (ih, _) in lum.h_deg.iter().enumerate() {
+        for (iv, &v) in lum.v_deg.iter().enumerate() {
+            if v > 90.0 {
+                lower.candela[ih * lum.v_deg.len() + iv] = 0.0;
+            }
+        }
+    }
+    let dff = if flux > 0.0 {
+        100.0 * lower.flux_lm() / flux
+    } else {
+        0.0
+    };
+    let lorl = 100.0 * flux / set_flux;
+    let mm = lum.size_m.map(|m| m * 1000.0);
+    let mut s = String::new();
+    let mut line = |t: String| {
+        s.push_str(&t);
+        s.push_str("\r\n");
+    };
+    line(format!("exported by spectrace from {source}"));
+    line(ityp.to_string());
+    line(isym.to_string());
+    line(mc.to_string());
+    line(format!("{}", step(&all)));
+    line(lum.v_deg.len().to_string());
+    line(format!("{}", step(&lum.v_deg)));
+    line(String::new());
+    line(String::new());
+    line(String::new());
+    line(String::new());
+    line(String::new());
+    line(format!("{}", mm[1]));
+    line(format!("{}", mm[0]));
+    line(format!("{}", mm[2]));
+    for _ in 0..6 {
+        line("0".into());
+    }
+    line(format!("{dff}"));
+    line(format!("{lorl}"));
+    line("1".into());
+    line("0".into());
+    let sets = lum.lamps.len().max(1);
+    line(sets.to_string());
+    for (i, l) in lum.lamps.iter().enumerate() {
+        let count = if absolute { -1 } else { l.count };
+        let set_lm = if i == 0 {
+            set_flux
+        } else {
+            // Only EULUMDAT sources have more sets, and there `lumens` is the set's total.
+            l.lumens.unwrap_or(0.0)
+        };
+        line(count.to_string());
+        line(l.description.clone());
+        line(format!("{set_lm}"));
+        line(String::new());
+        line(String::new());
+        line(format!("{}", l.watts.unwrap_or(0.0)));
+    }
+    for _ in 0..10 {
+        line("0".into());
+    }
+    for c in &all {
+        line(format!("{c}"));
+    }
+    for g in &lum.v_deg {
+        line(format!("{g}"));
+    }
+    let per_klm = 1000.0 / set_flux;
+    for ih in 0..stored_n {
+        for iv in 0..lum.v_deg.len() {
+            line(format!("{}", lum.stored_cd(ih, iv) * per_klm));
+        }
+    }
+    Ok(s)
+}
