@@ -19,8 +19,8 @@
 use super::SampleRng;
 use crate::light::LightFlags;
 use crate::scene::Scene;
-use crate::spectrum::wavelength_sampling::{rotated, visible_pdf, visible_sample};
 use crate::spectrum::spd::{line_mass_at_lane, off_lines};
+use crate::spectrum::wavelength_sampling::{rotated, visible_pdf, visible_sample};
 use crate::spectrum::{DeltaLine, SampledWavelengths, Spd, LANES};
 use std::sync::Arc;
 
