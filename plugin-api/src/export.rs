@@ -5,6 +5,7 @@
 use crate::error::{ErrorKind, PluginError, PluginResult};
 use crate::host::{Host, HostRef};
 use crate::module::{ObjectKind, ObjectSource, ParamInfo, TypeInfo};
+use crate::representation::{BeamRepresentation, TypeRepresentation};
 use abi_stable::std_types::{ROption, RString, RVec};
 use serde::{de::DeserializeOwned, Serialize};
 
@@ -67,6 +68,10 @@ pub trait PluginType: Sized + Send + Sync + 'static {
     const TYPE_VERSION: u32;
     /// One line on what it is.
     const DESCRIPTION: &'static str;
+    /// Lights only: the representation of the type's beams (see
+    /// [`representation`](crate::representation)); other kinds ignore it. Anything but native
+    /// makes the host call `next_represented_beam` instead of `next_beam` and convert each beam.
+    const BEAM_REPRESENTATION: BeamRepresentation = BeamRepresentation::NATIVE;
     /// Constructor parameters, written in the scene as a RON struct; also the saved state.
     type Params: Serialize + DeserializeOwned;
     /// Parameter documentation (names, units, defaults).
@@ -97,6 +102,15 @@ pub fn type_info<T: PluginType>(kind: ObjectKind) -> TypeInfo {
                 description: p.description.into(),
             })
             .collect::<RVec<_>>(),
+    }
+}
+
+/// The beam representation of light type `T`, for extension module v1's `type_representations`.
+pub fn type_representation<T: PluginType>() -> TypeRepresentation {
+    TypeRepresentation {
+        kind: ObjectKind::Light,
+        name: T::TYPE_NAME.into(),
+        beams: T::BEAM_REPRESENTATION,
     }
 }
 
@@ -303,6 +317,55 @@ macro_rules! export_plugin {
                 describe_state,
             }
             .leak_into_prefix()
+        }
+
+        /// This plugin's extension module, version 1 (see `spectrace_plugin_api::extension`).
+        pub fn extensions_v1() -> $crate::extension::ExtensionsV1Export {
+            use $crate::__private::PrefixTypeTrait as _;
+            use $crate::__private::{RResult, RStr, RVec, StableAbi as _};
+            use $crate::error::PluginError;
+            use $crate::export::{construct, save, type_representation, unknown_type, PluginType};
+            use $crate::extension::{ExtensionsV1, ExtensionsV1Export, ExtensionsV1Ref};
+            use $crate::guard::guarded;
+            use $crate::host::HostRef;
+            use $crate::module::{ObjectKind, ObjectSource};
+            use $crate::representation::TypeRepresentation;
+
+            extern "C" fn type_representations() -> RResult<RVec<TypeRepresentation>, PluginError> {
+                guarded("type_representations", || {
+                    let all: ::std::vec::Vec<TypeRepresentation> =
+                        ::std::vec![$(type_representation::<$light>(),)*];
+                    Ok(all.into_iter().filter(|t| !t.beams.is_native()).collect())
+                })
+            }
+            extern "C" fn create_represented_light(
+                type_name: RStr<'_>,
+                source: ObjectSource<'_>,
+                host: HostRef<'_>,
+            ) -> RResult<$crate::extension::RepresentedLightBox, PluginError> {
+                guarded("create_represented_light", || {
+                    let name = type_name.as_str();
+                    $(if name == <$light as PluginType>::TYPE_NAME {
+                        let obj = construct::<$light>(source, &host)?;
+                        return Ok($crate::light::GuardedLight::boxed_represented(obj, save::<$light>));
+                    })*
+                    Err(unknown_type(ObjectKind::Light, name, &[$(<$light as PluginType>::TYPE_NAME),*]))
+                })
+            }
+            ExtensionsV1Export {
+                layout: <ExtensionsV1Ref as $crate::__private::StableAbi>::LAYOUT,
+                module: ExtensionsV1 {
+                    type_representations,
+                    create_represented_light,
+                }
+                .leak_into_prefix(),
+            }
+        }
+
+        /// The exported extension module, version 1 (looked up by name by the host).
+        #[no_mangle]
+        pub extern "C" fn spectrace_plugin_extensions_v1() -> $crate::extension::ExtensionsV1Export {
+            extensions_v1()
         }
 
         /// The exported root module (what the host finds in the library).

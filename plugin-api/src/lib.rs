@@ -23,12 +23,14 @@
 
 pub mod error;
 pub mod export;
+pub mod extension;
 pub mod guard;
 pub mod host;
 pub mod light;
 pub mod material;
 pub mod module;
 pub mod observer;
+pub mod representation;
 pub mod spd;
 pub mod types;
 
@@ -42,6 +44,10 @@ pub use light::{
 pub use material::{material_flags, Material, MaterialBox, ScatterSample, ShadingContext};
 pub use module::{ObjectKind, PluginInfo, PluginModuleRef, TypeInfo, API_VERSION};
 pub use observer::{ColorObserver, ObserverBox};
+pub use representation::{
+    BeamRepresentation, ColourEncoding, DirectionEncoding, Handedness, RepresentedBeam,
+    TypeRepresentation,
+};
 pub use spd::{spd_flags, Spd, SpdBox, SpdHandle};
 pub use types::{
     Beam, Flags, RandomSample, SpectralValues, TransportMode, Vec3, WavelengthRange, Wavelengths,
@@ -62,5 +68,6 @@ pub use abi_stable::library;
 pub mod __private {
     pub use abi_stable::export_root_module;
     pub use abi_stable::prefix_type::PrefixTypeTrait;
-    pub use abi_stable::std_types::{RResult, RSlice, RStr, RString};
+    pub use abi_stable::std_types::{RResult, RSlice, RStr, RString, RVec};
+    pub use abi_stable::StableAbi;
 }

@@ -4,7 +4,9 @@
 //! trait object, through a guard that catches panics and counts beams for `number_of_beams`.
 
 use crate::error::{PluginError, PluginResult};
+use crate::export::PluginType;
 use crate::guard::guarded;
+use crate::representation::{BeamRepresentation, RepresentedBeam};
 use crate::types::{Beam, Flags, RandomSample, SpectralValues, Vec3, Wavelengths};
 use abi_stable::{
     sabi_trait,
@@ -93,8 +95,14 @@ pub struct WavelengthSample {
 /// `CONNECTABLE` capability, declared through [`capabilities`](Self::capabilities).
 pub trait LightSource: Send + Sync + 'static {
     /// The seed's `getNextBeam`. Uses `sample.u[0..5]` at most: position (2), direction (2),
-    /// wavelength (1). Must be a pure function of `sample`.
+    /// wavelength (1); `u[5..8]` belong to the host. Must be a pure function of `sample`.
     fn next_beam(&self, sample: &RandomSample) -> PluginResult<Beam>;
+    /// `next_beam` in the type's declared
+    /// [`BEAM_REPRESENTATION`](crate::PluginType::BEAM_REPRESENTATION); same random numbers
+    /// (`u[0..5]`). Only called for non-native representations, and then `next_beam` never is.
+    fn next_represented_beam(&self, _sample: &RandomSample) -> PluginResult<RepresentedBeam> {
+        Err(PluginError::unsupported("next_represented_beam"))
+    }
     /// Total radiant flux, W (the host picks lights in proportion to it).
     fn total_power_w(&self) -> PluginResult<f64>;
     /// Capability bits ([`light_flags`]).
@@ -141,7 +149,8 @@ pub trait LightSource: Send + Sync + 'static {
 }
 
 /// The stable-ABI face of a light source. Hosts call this; authors implement [`LightSource`].
-/// Methods after `last_prefix_field` may be absent in plugins built against an older API.
+/// Frozen within API 0.1 (see `module` for why growing it would break every existing plugin);
+/// later capabilities come through [`crate::extension`].
 #[sabi_trait]
 pub trait AbiLightSource: Send + Sync {
     /// See [`LightSource::next_beam`]; also counts the beam.
@@ -194,7 +203,7 @@ pub struct GuardedLight<T> {
     state: fn(&T) -> PluginResult<Vec<u8>>,
 }
 
-impl<T: LightSource> GuardedLight<T> {
+impl<T: LightSource + PluginType> GuardedLight<T> {
     /// Box `inner` behind the ABI; `state` serialises it for blobs.
     pub fn boxed(inner: T, state: fn(&T) -> PluginResult<Vec<u8>>) -> LightBox {
         AbiLightSource_TO::from_value(
@@ -206,9 +215,25 @@ impl<T: LightSource> GuardedLight<T> {
             abi_stable::sabi_trait::TD_Opaque,
         )
     }
+
+    /// Box `inner` behind the ABI as a light in its own representation
+    /// ([`crate::extension::AbiRepresentedLight`]).
+    pub fn boxed_represented(
+        inner: T,
+        state: fn(&T) -> PluginResult<Vec<u8>>,
+    ) -> crate::extension::RepresentedLightBox {
+        crate::extension::AbiRepresentedLight_TO::from_value(
+            Self {
+                inner,
+                beams: AtomicU64::new(0),
+                state,
+            },
+            abi_stable::sabi_trait::TD_Opaque,
+        )
+    }
 }
 
-impl<T: LightSource> AbiLightSource for GuardedLight<T> {
+impl<T: LightSource + PluginType> AbiLightSource for GuardedLight<T> {
     fn next_beam(&self, sample: &RandomSample) -> RResult<Beam, PluginError> {
         let r = guarded("next_beam", || self.inner.next_beam(sample));
         if r.is_ok() {
@@ -272,5 +297,26 @@ impl<T: LightSource> AbiLightSource for GuardedLight<T> {
     }
     fn save_state(&self) -> RResult<RVec<u8>, PluginError> {
         guarded("save_state", || (self.state)(&self.inner).map(RVec::from))
+    }
+}
+
+impl<T: LightSource + PluginType> crate::extension::AbiRepresentedLight for GuardedLight<T> {
+    fn representation(&self) -> BeamRepresentation {
+        <T as PluginType>::BEAM_REPRESENTATION
+    }
+    fn number_of_beams(&self) -> f64 {
+        self.beams.load(Ordering::Relaxed) as f64
+    }
+    fn next_represented_beam(
+        &self,
+        sample: &RandomSample,
+    ) -> RResult<RepresentedBeam, PluginError> {
+        let r = guarded("next_represented_beam", || {
+            self.inner.next_represented_beam(sample)
+        });
+        if r.is_ok() {
+            self.beams.fetch_add(1, Ordering::Relaxed);
+        }
+        r
     }
 }

@@ -1,12 +1,33 @@
 //! The root module each plugin library exports, and the metadata it reports.
 //!
-//! Compatibility rule (enforced by abi_stable when the host loads a library, from this crate's
-//! version): a plugin built against `spectrace-plugin-api` 0.y.z loads in a host built against
-//! 0.y.z' when y is the same and z ≥ z' (while the major version is 0, y counts as the major).
-//! Within one y, new methods and root-module fields are only ever added after the current
-//! `#[sabi(last_prefix_field)]` marker, so an older host keeps working with a newer plugin and
-//! never sees the additions. Removing or reordering anything needs a new y. On top of that the
-//! whole layout of the root module and of every type it reaches is checked at load time.
+//! # Compatibility rule
+//!
+//! Tested by the workspace test `api_growth`: a plugin built against a frozen copy of this
+//! crate's 0.1.0 source (`plugins/fixtures/api-0.1.0/`) must keep loading and rendering in the
+//! current host.
+//!
+//! 1. **Version.** A plugin built against `spectrace-plugin-api` 0.y.z loads in a host built
+//!    against 0.y.z' when y is the same and z ≥ z' (abi_stable's rule; while the major version
+//!    is 0, y counts as the major). So an addition that old plugins survive does NOT bump z: a
+//!    host at 0.1.1 would refuse every plugin built at 0.1.0. Anything that breaks them bumps y.
+//! 2. **Layout.** When a library is loaded, abi_stable compares the whole layout of the root
+//!    module and of every type it reaches (names, packages, fields, sizes) with the host's. For
+//!    prefix types (this root module, the trait vtables) the library may have MORE fields than
+//!    the host, never fewer: abi_stable lets a newer plugin into an older host, not the reverse.
+//! 3. **Hence nothing the root module reaches ever grows within one y.** [`PluginModule`], the
+//!    `Abi*` traits and every `#[repr(C)]` type they use ([`TypeInfo`], [`PluginInfo`],
+//!    [`Beam`](crate::Beam), …) keep their 0.y.0 layout. Adding a field after a
+//!    `#[sabi(last_prefix_field)]` marker would be legal for abi_stable and still lock out every
+//!    existing plugin (the frozen-API test fails with "too many fields").
+//! 4. **Growth goes into extension modules.** Each is a separate, optional, versioned symbol
+//!    ([`crate::extension`]): a host looks it up after loading the root module, checks its
+//!    layout the same way, and treats a library without it as a plugin built before it existed
+//!    (today: every light type has native beams). A published extension version is frozen like
+//!    the root module; the next addition is a new version next to it, and plugins export all
+//!    the versions they support.
+//!
+//! Extensions so far: `spectrace_plugin_extensions_v1` (beams in another representation, see
+//! [`representation`](crate::representation)).
 
 use crate::error::PluginError;
 use crate::host::HostRef;

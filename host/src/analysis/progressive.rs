@@ -33,7 +33,8 @@ pub struct ReferenceSettings {
     pub threads: Option<usize>,
     /// Stop once this many samples per pixel are accumulated in total.
     pub target_spp: Option<u64>,
-    /// Stop starting passes after this much time in this run.
+    /// Time budget of this run: no pass starts after it, and a pass still running when it ends
+    /// is stopped within the tiles in flight and dropped.
     pub time: Option<Duration>,
     /// Description of the scene (file path or "default Cornell box"), part of the state's key.
     pub scene_name: String,
@@ -74,6 +75,9 @@ pub struct ReferenceOutcome {
     pub samples_per_second: f64,
     /// True if the run ended because `cancel` was set.
     pub interrupted: bool,
+    /// True if the time budget ran out during a pass, which was then stopped and dropped; the
+    /// seconds that pass had run.
+    pub pass_dropped_at_time_limit: Option<f64>,
 }
 
 /// Render `scene` progressively into `output` (EXR) and its state file, resuming from the state
@@ -119,61 +123,93 @@ pub fn run_reference(
     let start = Instant::now();
     let mut samples = 0u64;
     let mut interrupted = false;
-    loop {
-        if settings.target_spp.is_some_and(|t| state.spp() >= t) {
-            break;
+    let mut dropped_at_limit = None;
+    // A pass is stopped by `stop`, which a watcher sets when the user cancels or the time budget
+    // ends: without it a pass of 1024 spp started just before the budget ran out overran it by
+    // a whole pass.
+    let stop = AtomicBool::new(false);
+    let finished = AtomicBool::new(false);
+    let deadline = settings.time.map(|t| start + t);
+    let user_cancelled = || cancel.is_some_and(|c| c.load(Ordering::SeqCst));
+    std::thread::scope(|scope| -> Result<(), AnalysisError> {
+        if deadline.is_some() || cancel.is_some() {
+            scope.spawn(|| {
+                while !finished.load(Ordering::SeqCst) {
+                    if user_cancelled() || deadline.is_some_and(|d| Instant::now() >= d) {
+                        stop.store(true, Ordering::SeqCst);
+                        break;
+                    }
+                    std::thread::sleep(Duration::from_millis(5));
+                }
+            });
         }
-        if settings.time.is_some_and(|t| start.elapsed() >= t) {
-            break;
-        }
-        if cancel.is_some_and(|c| c.load(Ordering::SeqCst)) {
-            interrupted = true;
-            break;
-        }
-        let render_settings = RenderSettings {
-            budget: SampleBudget::Spp(state.pass_spp),
-            seed: pass_seed(state.base_seed, state.passes),
-            threads: settings.threads,
-            camera: None,
-            tile_size: 16,
-            tracer: settings.tracer,
-        };
-        let out = render_with(
-            scene,
-            &render_settings,
-            settings.integrator,
-            false,
-            &|_, _| {},
-            cancel,
-        )
-        .map_err(|e| AnalysisError::Render(e.to_string()))?;
-        if cancel.is_some_and(|c| c.load(Ordering::SeqCst)) || out.result.spp != state.pass_spp {
-            interrupted = true;
-            break;
-        }
-        let n = state.pass_spp as f64;
-        for (s, m) in state.sums.iter_mut().zip(&out.result.image.xyz) {
-            for c in 0..3 {
-                s[c] += m[c] * n;
+        let result = (|| {
+            loop {
+                if settings.target_spp.is_some_and(|t| state.spp() >= t) {
+                    break;
+                }
+                if settings.time.is_some_and(|t| start.elapsed() >= t) {
+                    break;
+                }
+                if user_cancelled() {
+                    interrupted = true;
+                    break;
+                }
+                let render_settings = RenderSettings {
+                    budget: SampleBudget::Spp(state.pass_spp),
+                    seed: pass_seed(state.base_seed, state.passes),
+                    threads: settings.threads,
+                    camera: None,
+                    tile_size: 16,
+                    tracer: settings.tracer,
+                };
+                let pass_start = Instant::now();
+                let out = render_with(
+                    scene,
+                    &render_settings,
+                    settings.integrator,
+                    false,
+                    &|_, _| {},
+                    Some(&stop),
+                )
+                .map_err(|e| AnalysisError::Render(e.to_string()))?;
+                if stop.load(Ordering::SeqCst) || out.result.spp != state.pass_spp {
+                    if user_cancelled() {
+                        interrupted = true;
+                    } else {
+                        dropped_at_limit = Some(pass_start.elapsed().as_secs_f64());
+                    }
+                    break;
+                }
+                let n = state.pass_spp as f64;
+                for (s, m) in state.sums.iter_mut().zip(&out.result.image.xyz) {
+                    for c in 0..3 {
+                        s[c] += m[c] * n;
+                    }
+                }
+                state.passes += 1;
+                samples += out.result.samples;
+                state.save(&spath)?;
+                write_exr(output, &state.image(), &scene.options.rgb_space).map_err(|e| {
+                    AnalysisError::Write {
+                        path: output.to_path_buf(),
+                        message: e.to_string(),
+                    }
+                })?;
+                on_pass(&state);
             }
-        }
-        state.passes += 1;
-        samples += out.result.samples;
-        state.save(&spath)?;
-        write_exr(output, &state.image(), &scene.options.rgb_space).map_err(|e| {
-            AnalysisError::Write {
-                path: output.to_path_buf(),
-                message: e.to_string(),
-            }
-        })?;
-        on_pass(&state);
-    }
+            Ok(())
+        })();
+        finished.store(true, Ordering::SeqCst);
+        result
+    })?;
     let secs = start.elapsed().as_secs_f64().max(1e-9);
     Ok(ReferenceOutcome {
         passes_added: state.passes - resumed,
         passes_resumed: resumed,
         samples_per_second: samples as f64 / secs,
         interrupted,
+        pass_dropped_at_time_limit: dropped_at_limit,
         state,
     })
 }

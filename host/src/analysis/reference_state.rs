@@ -169,9 +169,13 @@ impl ReferenceState {
 
     /// Read a state file.
     pub fn load(path: &Path) -> Result<Self, AnalysisError> {
-        let bytes = std::fs::read(path).map_err(|e| AnalysisError::Read {
-            path: path.to_path_buf(),
-            message: e.to_string(),
+        // Sums of a render that fits in memory: half the available memory at most.
+        let limit = crate::limits::available_memory_bytes() / 2;
+        let bytes = crate::limits::read_limited(path, limit, "reference state").map_err(|e| {
+            AnalysisError::Read {
+                path: path.to_path_buf(),
+                message: e.to_string(),
+            }
         })?;
         Self::from_bytes(&bytes, path)
     }

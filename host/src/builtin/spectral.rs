@@ -295,7 +295,7 @@ pub fn texture(
 /// An SPD parameter: the normalised SPD and, for inline tables, their raw integral (so
 /// absolute tabulated values can be reproduced as `integral · spd(λ)`). Tables (inline, CSV,
 /// bundled) are read with `ctx.representation.spd_interpolation`. SPD types are looked up in
-/// the built-in types first, then in the scene's other factories (plugins).
+/// the scene's registry (built-in or plugin), else in the built-in table.
 pub fn spd(
     value: &Spectrum,
     param: &str,
@@ -332,14 +332,16 @@ pub fn spd(
             Ok((Arc::new(t), Some(raw)))
         }
         Spectrum::Typed { type_name, params } => {
-            let built = match super::find(crate::plugin::Kind::Spd, type_name) {
-                Some(super::BuiltinType {
-                    build: super::Build::Spd(f),
-                    ..
-                }) => f(params, ctx),
-                _ => match ctx.spd_factories.build(type_name, params, ctx) {
-                    Some(r) => r,
-                    None => {
+            // The scene's registry first (one way in: it may provide `spec` from a library),
+            // then the built-in table (scenes built with the built-in factory alone).
+            let built = match ctx.spd_factories.build(type_name, params, ctx) {
+                Some(r) => r,
+                None => match super::find(crate::plugin::Kind::Spd, type_name) {
+                    Some(super::BuiltinType {
+                        build: super::Build::Spd(f),
+                        ..
+                    }) => f(params, ctx),
+                    _ => {
                         return Err(FactoryError::UnknownType {
                             kind: "spd",
                             type_name: type_name.clone(),

@@ -19,6 +19,9 @@ use std::time::Duration;
 pub enum BenchCommand {
     /// Error versus time of renderer configurations against a reference image.
     Accuracy(AccuracyArgs),
+    /// Equal-time efficiency of spectrace against Mitsuba 3 and LuxCore on the Cornell box and
+    /// the caustic (see docs/performance.md).
+    Speed(super::bench_speed::SpeedArgs),
 }
 
 /// Arguments of `spectrace bench accuracy`.
@@ -51,7 +54,7 @@ pub struct AccuracyArgs {
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// Worker threads (default: one per core).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::limits::parse_threads)]
     pub threads: Option<usize>,
     /// List the configurations and exit.
     #[arg(long)]
@@ -67,6 +70,7 @@ pub struct AccuracyArgs {
 pub fn run(cmd: &BenchCommand) -> Result<(), String> {
     match cmd {
         BenchCommand::Accuracy(a) => run_accuracy(a),
+        BenchCommand::Speed(a) => super::bench_speed::run_speed(a),
     }
 }
 

@@ -2,23 +2,42 @@
 
 use super::plugin_args::PluginArgs;
 use crate::plugin::blob::{Blob, BlobLoadError};
+use spectrace_plugin_api::ObjectKind;
 use std::path::PathBuf;
 
 /// The blob subcommands.
+// Parsed once per run: boxing the larger variant would buy nothing.
+#[allow(clippy::large_enum_variant)]
 #[derive(clap::Subcommand, Debug)]
 pub enum BlobCommand {
-    /// Build a light from a type name and parameters (or take one from a scene file) and save
-    /// it as a blob.
+    /// Build a material, light, SPD or observer from a type name and parameters (or take one
+    /// from a scene file) and save it as a self-contained blob.
     Pack {
-        /// Light type name (as listed by `spectrace plugins --builtins`).
+        /// Type name (as listed by `spectrace plugins --builtins`), of kind --kind.
         #[arg(value_name = "TYPE", required_unless_present = "scene")]
         type_name: Option<String>,
-        /// Take the light from this scene file instead (with --light).
-        #[arg(long, requires = "light", conflicts_with = "type_name")]
+        /// Kind of TYPE: light, material, spd or observer.
+        #[arg(long, default_value = "light")]
+        kind: String,
+        /// Take the item from this scene file instead (with --light, --material, --spd,
+        /// --observer or --item).
+        #[arg(long, conflicts_with = "type_name")]
         scene: Option<PathBuf>,
-        /// Name of the light in --scene.
-        #[arg(long)]
+        /// Name of a light in --scene.
+        #[arg(long, requires = "scene")]
         light: Option<String>,
+        /// Name of a material in --scene.
+        #[arg(long, requires = "scene")]
+        material: Option<String>,
+        /// An SPD of --scene: `ITEM.PARAM`, e.g. `lamp.spd` or `ceiling.radiance`.
+        #[arg(long, requires = "scene")]
+        spd: Option<String>,
+        /// The observer of --scene (its type name, e.g. `cie1931-2`).
+        #[arg(long, requires = "scene")]
+        observer: Option<String>,
+        /// Any item of --scene as `KIND:NAME` (kind light, material, spd or observer).
+        #[arg(long, requires = "scene")]
+        item: Option<String>,
         /// Parameters in scene (RON) syntax, e.g. `(position: (0, 1, 0), power_w: 100)`.
         #[arg(long, default_value = "()")]
         params: String,
@@ -39,33 +58,70 @@ pub enum BlobCommand {
     },
 }
 
+fn blob_kind(s: &str) -> Result<ObjectKind, String> {
+    ObjectKind::ALL
+        .into_iter()
+        .find(|k| k.as_str() == s)
+        .ok_or_else(|| format!("unknown kind `{s}`; blobs hold a light, material, spd or observer"))
+}
+
 /// Run a blob subcommand.
 pub fn run(cmd: &BlobCommand, verbose: bool) -> Result<(), String> {
     match cmd {
         BlobCommand::Pack {
             type_name,
+            kind,
             scene,
             light,
+            material,
+            spd,
+            observer,
+            item,
             params,
             output,
             plugins,
         } => {
             let registry = plugins.registry(verbose)?;
-            let blob = match (scene, light, type_name) {
-                (Some(scene), Some(light), _) => Blob::pack_scene_light(&registry, scene, light)?,
-                (_, _, Some(type_name)) => {
-                    match registry.plugin_for(spectrace_plugin_api::ObjectKind::Light, type_name) {
-                        Ok(Some(_)) => Blob::pack_plugin_light(&registry, type_name, params)
-                            .map_err(|e| e.to_string())?,
-                        Ok(None) => {
-                            let value: ron::Value =
-                                ron::from_str(params).map_err(|e| format!("--params: {e}"))?;
-                            Blob::pack_builtin_light(type_name, &value)?
-                        }
-                        Err(e) => return Err(e.to_string()),
-                    }
+            let blob = match (scene, type_name) {
+                (Some(scene), _) => {
+                    let picked: Vec<(ObjectKind, String)> = [
+                        light.clone().map(|n| (ObjectKind::Light, n)),
+                        material.clone().map(|n| (ObjectKind::Material, n)),
+                        spd.clone().map(|n| (ObjectKind::Spd, n)),
+                        observer.clone().map(|n| (ObjectKind::Observer, n)),
+                    ]
+                    .into_iter()
+                    .flatten()
+                    .chain(
+                        item.iter()
+                            .map(|it| {
+                                let (k, n) = it.split_once(':').ok_or_else(|| {
+                                    format!("--item `{it}`: expected KIND:NAME, e.g. light:lamp")
+                                })?;
+                                Ok((blob_kind(k)?, n.to_string()))
+                            })
+                            .collect::<Result<Vec<_>, String>>()?,
+                    )
+                    .collect();
+                    let [(kind, name)] = picked.as_slice() else {
+                        return Err(
+                            "with --scene give exactly one of --light, --material, --spd, --observer or --item"
+                                .into(),
+                        );
+                    };
+                    Blob::pack_scene_item(&registry, scene, *kind, name)?
                 }
-                _ => return Err("give a light TYPE, or --scene FILE --light NAME".into()),
+                (None, Some(type_name)) => {
+                    let kind = blob_kind(kind)?;
+                    let value: ron::Value =
+                        ron::from_str(params).map_err(|e| format!("--params: {e}"))?;
+                    let factory = crate::plugin::factory::RegistryFactory::new(
+                        std::sync::Arc::new(registry),
+                        crate::plugin::adapter::PluginFaults::new(),
+                    );
+                    Blob::pack_item(&factory, kind, type_name, &value, std::path::Path::new("."))?
+                }
+                _ => return Err("give a TYPE, or --scene FILE with the item to pack".into()),
             };
             blob.write_file(output).map_err(|e| e.to_string())?;
             println!("{}", blob.header_text());

@@ -44,10 +44,7 @@ pub fn run(args: &MergeArgs) -> Result<(), String> {
         )
     })?;
     let image = merged.film.image();
-    let png = args
-        .png
-        .clone()
-        .unwrap_or_else(|| args.output.with_extension("png"));
+    let outputs = super::output_paths::output_paths(&args.output, args.png.as_deref())?;
     let (w, h) = merged.film.resolution();
     let extra = if args.diagnostic_layer {
         vec![(
@@ -59,8 +56,8 @@ pub fn run(args: &MergeArgs) -> Result<(), String> {
     };
     let written = super::render::save_image(
         &image,
-        &args.output,
-        &png,
+        outputs.exr.as_deref(),
+        &outputs.png,
         &space,
         merged.png_exposure,
         extra,

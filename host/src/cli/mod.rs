@@ -1,6 +1,7 @@
 //! Command-line subcommands; each lives in its own file and `main.rs` only dispatches.
 
 pub mod bench;
+pub mod bench_speed;
 pub mod blob;
 pub mod color;
 pub mod compare;
@@ -8,6 +9,7 @@ pub mod explain;
 pub mod interrupt;
 pub mod luminaire;
 pub mod merge;
+pub mod output_paths;
 pub mod plugin_args;
 pub mod plugins;
 pub mod reference;
@@ -52,9 +54,16 @@ pub enum Command {
     Reference(reference::ReferenceArgs),
     /// Optical effects the scene calls for, who calls for them, and what the render does.
     Explain(explain::ExplainArgs),
-    /// Benchmarks; `bench accuracy`: error versus time of renderer configurations.
+    /// Benchmarks; `bench accuracy`: error versus time of renderer configurations; `bench speed`:
+    /// equal-time efficiency against Mitsuba 3 and LuxCore.
     #[command(subcommand)]
     Bench(bench::BenchCommand),
+    /// Internal: open one plugin library and report (run by the loader in a child process).
+    #[command(name = "probe-plugin", hide = true)]
+    ProbePlugin {
+        /// The library file.
+        file: std::path::PathBuf,
+    },
 }
 
 /// Parse `args`, run the chosen subcommand and return the process exit code.
@@ -88,6 +97,7 @@ where
         Some(Command::Reference(args)) => reference::run(&args),
         Some(Command::Bench(cmd)) => bench::run(&cmd),
         Some(Command::Explain(args)) => explain::run(&args),
+        Some(Command::ProbePlugin { file }) => return crate::plugin::loader::probe_main(&file),
     };
     match result {
         Ok(()) => 0,

@@ -18,6 +18,11 @@ pub struct PluginArgs {
     /// used instead. Shapes, cameras and `blob` stay built in.
     #[arg(long)]
     pub no_builtins: bool,
+    /// Types of the libraries given with --plugin replace the built-in types of the same name
+    /// (and their aliases) instead of being refused as a clash: the standard set
+    /// (`plugins/standard`) then provides what it exports and the built-ins the rest.
+    #[arg(long, conflicts_with = "no_builtins")]
+    pub replace_builtins: bool,
 }
 
 impl PluginArgs {
@@ -43,9 +48,12 @@ impl PluginArgs {
             }
         }
         for lib in &self.libraries {
-            registry
-                .load_plugin(lib)
-                .map_err(|e| if verbose { e.verbose() } else { e.to_string() })?;
+            if self.replace_builtins {
+                registry.load_plugin_replacing_builtins(lib)
+            } else {
+                registry.load_plugin(lib)
+            }
+            .map_err(|e| if verbose { e.verbose() } else { e.to_string() })?;
         }
         Ok(registry)
     }

@@ -24,7 +24,7 @@ pub struct ReferenceArgs {
     #[arg(long)]
     pub spp: Option<u64>,
     /// Samples per pixel per saved pass (a resumed reference keeps its own).
-    #[arg(long, default_value_t = 16)]
+    #[arg(long, default_value_t = 16, value_parser = crate::limits::parse_spp)]
     pub pass_spp: u32,
     /// Light transport algorithm: pt, bdpt or lt.
     #[arg(long, default_value = "pt")]
@@ -33,7 +33,7 @@ pub struct ReferenceArgs {
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// Worker threads (default: one per core).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::limits::parse_threads)]
     pub threads: Option<usize>,
     /// Maximum path depth (default: the scene's).
     #[arg(long)]
@@ -45,6 +45,7 @@ pub struct ReferenceArgs {
 
 /// Run `spectrace reference`.
 pub fn run(args: &ReferenceArgs) -> Result<(), String> {
+    super::output_paths::check_not_directory(&args.output, "-o")?;
     let registry = std::sync::Arc::new(args.plugins.registry(false)?);
     let faults = crate::plugin::adapter::PluginFaults::new();
     let plugins = crate::plugin::factory::PluginFactory::new(registry, faults.clone());
@@ -109,11 +110,21 @@ pub fn run(args: &ReferenceArgs) -> Result<(), String> {
         "  state in {} (run the same command again to continue)",
         state_path(&args.output).display()
     );
-    if let Some(first) = faults.first() {
-        return Err(format!(
-            "{} plugin call(s) failed during rendering; first: {first}",
-            faults.count()
-        ));
+    if let Some(secs) = outcome.pass_dropped_at_time_limit {
+        eprintln!(
+            "spectrace: warning: the time budget ran out {secs:.2} s into a pass of {} spp, which \
+             was stopped and dropped{}",
+            outcome.state.pass_spp,
+            if outcome.passes_added == 0 {
+                "; no pass fits in this budget: give more --time, or start a new reference with \
+                 a smaller --pass-spp"
+            } else {
+                ""
+            }
+        );
+    }
+    for line in faults.outcome()? {
+        println!("  warning: plugin {line}");
     }
     Ok(())
 }

@@ -23,14 +23,14 @@ use std::time::Duration;
 pub struct RenderArgs {
     /// Scene file (RON). Without it the embedded measured Cornell box is rendered.
     pub scene: Option<PathBuf>,
-    /// OpenEXR output (R, G, B linear + X, Y, Z).
+    /// OpenEXR output (R, G, B linear + X, Y, Z); a name ending in .png writes only the PNG.
     #[arg(short = 'o', long = "output", default_value = "render.exr")]
     pub output: PathBuf,
     /// sRGB PNG preview (default: the EXR name with .png).
     #[arg(long)]
     pub png: Option<PathBuf>,
     /// Samples per pixel (default: the scene's, 64 for the Cornell box).
-    #[arg(long, conflicts_with = "time")]
+    #[arg(long, conflicts_with = "time", value_parser = crate::limits::parse_spp)]
     pub spp: Option<u32>,
     /// Render for this many seconds instead of a fixed sample count.
     #[arg(long)]
@@ -39,7 +39,7 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// Worker threads (default: one per core).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::limits::parse_threads)]
     pub threads: Option<usize>,
     /// Camera name (default: the scene's first camera).
     #[arg(long)]
@@ -242,15 +242,13 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     let plugins = crate::plugin::factory::PluginFactory::new(registry, faults.clone());
     // One way in: the registry builds every type, built-in, plugin or blob.
     let result = run_with_factories(args, &[&plugins]);
-    // Plugin calls that failed during rendering contributed nothing; say so, with the first cause.
-    if let Some(first) = faults.first() {
-        return Err(format!(
-            "{} plugin call(s) failed during rendering (their samples contributed nothing; the \
-             image was still written); first: {first}",
-            faults.count()
-        ));
+    // Plugin calls that failed or returned unusable values contributed nothing; say so, once per
+    // call site or reason, with counts.
+    result?;
+    for line in faults.outcome()? {
+        println!("  warning: plugin {line}");
     }
-    result
+    Ok(())
 }
 
 /// Run `spectrace render`, building scene items with `factories` (the registry's factory, or
@@ -264,6 +262,7 @@ pub fn run_with_factories(
         None => (args.clone(), None),
     };
     let args = &args;
+    let outputs = super::output_paths::output_paths(&args.output, args.png.as_deref())?;
     let t_load = std::time::Instant::now();
     let scene = load(args, factories)?;
     let load_s = t_load.elapsed().as_secs_f64();
@@ -526,11 +525,7 @@ pub fn run_with_factories(
         {
             bar.finish_and_clear();
             let image = film.image();
-            let png = args
-                .png
-                .clone()
-                .unwrap_or_else(|| args.output.with_extension("png"));
-            let written = save(&image, &args.output, &png, &scene, extra_layers(args, film))?;
+            let written = save(&image, &outputs, &scene, extra_layers(args, film))?;
             for wr in written {
                 println!(
                     "  wrote {} (partial: {} spp)",
@@ -557,17 +552,7 @@ pub fn run_with_factories(
     }
     let Some(output) = output else {
         let image = film.image();
-        let png = args
-            .png
-            .clone()
-            .unwrap_or_else(|| args.output.with_extension("png"));
-        for wr in save(
-            &image,
-            &args.output,
-            &png,
-            &scene,
-            extra_layers(args, &film),
-        )? {
+        for wr in save(&image, &outputs, &scene, extra_layers(args, &film))? {
             println!("  wrote {}", wr.display());
         }
         return Ok(());
@@ -610,17 +595,7 @@ pub fn run_with_factories(
         }
     }
 
-    let png = args
-        .png
-        .clone()
-        .unwrap_or_else(|| args.output.with_extension("png"));
-    let written = save(
-        &result.image,
-        &args.output,
-        &png,
-        &scene,
-        extra_layers(args, &film),
-    )?;
+    let written = save(&result.image, &outputs, &scene, extra_layers(args, &film))?;
     if let (Some(sf), Some(path)) = (&spectral_film, &args.spectral_exr) {
         let image = sf.image();
         image.write_exr(path)?;
@@ -740,25 +715,25 @@ fn resumed_args(
 /// goes to a rescue file in the temp directory and the error says where.
 fn save(
     image: &XyzImage,
-    exr: &Path,
-    png: &Path,
+    outputs: &super::output_paths::OutputPaths,
     scene: &Scene,
     extra: Vec<(String, Vec<f32>)>,
 ) -> Result<Vec<PathBuf>, String> {
     save_image(
         image,
-        exr,
-        png,
+        outputs.exr.as_deref(),
+        &outputs.png,
         &scene.options.rgb_space,
         scene.options.png_exposure,
         extra,
     )
 }
 
-/// [`save`] with the colour space and PNG exposure given (for `spectrace merge`).
+/// [`save`] with the colour space and PNG exposure given (for `spectrace merge`); no EXR is
+/// written when `exr` is `None` (`-o x.png`).
 pub fn save_image(
     image: &XyzImage,
-    exr: &Path,
+    exr: Option<&Path>,
     png: &Path,
     space: &crate::color::RgbColorSpace,
     png_exposure: f64,
@@ -766,9 +741,10 @@ pub fn save_image(
 ) -> Result<Vec<PathBuf>, String> {
     let mut written = Vec::new();
     let mut errors = Vec::new();
-    match write_exr_with_layers(exr, image, space, extra.clone()) {
-        Ok(()) => written.push(exr.to_path_buf()),
-        Err(e) => {
+    match exr.map(|exr| (exr, write_exr_with_layers(exr, image, space, extra.clone()))) {
+        None => {}
+        Some((exr, Ok(()))) => written.push(exr.to_path_buf()),
+        Some((_, Err(e))) => {
             let rescue =
                 std::env::temp_dir().join(format!("spectrace-rescue-{}.exr", std::process::id()));
             match write_exr_with_layers(&rescue, image, space, extra) {

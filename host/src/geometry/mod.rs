@@ -28,6 +28,7 @@ pub mod generate;
 pub mod mesh;
 pub mod obj;
 pub mod ply;
+pub mod polygon;
 pub mod quad;
 pub mod ray;
 pub mod scene_geometry;

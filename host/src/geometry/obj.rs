@@ -1,4 +1,4 @@
-//! Wavefront OBJ loader: `v`, `vt`, `vn` and `f` (polygons fan-triangulated; `v`, `v/vt`,
+//! Wavefront OBJ loader: `v`, `vt`, `vn` and `f` (polygons triangulated by [`super::polygon`]; `v`, `v/vt`,
 //! `v//vn`, `v/vt/vn`; negative indices count back from the latest element). Other statements
 //! (`o`, `g`, `s`, `usemtl`, `mtllib`, `l`, `p`, ...) are ignored.
 //!
@@ -15,9 +15,12 @@ use super::{GeometryError, TriangleMesh};
 
 /// Reads and parses an OBJ file.
 pub fn load_obj(path: &Path) -> Result<TriangleMesh, GeometryError> {
-    let bytes = std::fs::read(path).map_err(|source| GeometryError::Io {
-        path: path.to_path_buf(),
-        source,
+    let limit = crate::limits::mesh_file_max_bytes();
+    let bytes = crate::limits::read_limited(path, limit, "mesh file").map_err(|source| {
+        GeometryError::Io {
+            path: path.to_path_buf(),
+            source,
+        }
     })?;
     let text = String::from_utf8_lossy(&bytes);
     parse_obj(&text, path)
@@ -39,6 +42,7 @@ pub fn parse_obj(text: &str, path: &Path) -> Result<TriangleMesh, GeometryError>
     let mut all_uv = true;
     let mut all_n = true;
     let mut merge: HashMap<(u32, u32, u32), u32> = HashMap::new();
+    let max_triangles = crate::limits::max_triangles();
 
     let mut lines = text.lines().enumerate().peekable();
     while let Some((ln0, raw)) = lines.next() {
@@ -110,8 +114,16 @@ pub fn parse_obj(text: &str, path: &Path) -> Result<TriangleMesh, GeometryError>
                         format!("face has {} corners, needs at least 3", face.len()),
                     ));
                 }
-                for k in 1..face.len() - 1 {
-                    mesh.indices.push([face[0], face[k], face[k + 1]]);
+                super::polygon::triangulate_convex(&face, &mut mesh.indices);
+                if mesh.indices.len() as u64 > max_triangles {
+                    return Err(err(
+                        line_no,
+                        format!(
+                            "more than {max_triangles} triangles, the limit for one mesh on \
+                             this machine (its available memory at {} bytes a triangle)",
+                            crate::limits::BYTES_PER_TRIANGLE
+                        ),
+                    ));
                 }
             }
             _ => {}

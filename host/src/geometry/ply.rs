@@ -2,7 +2,7 @@
 //!
 //! Reads element `vertex` (`x y z`, optional `nx ny nz`, optional `u v` / `s t` /
 //! `texture_u texture_v`) and element `face` (`vertex_indices` or `vertex_index`, a list of any
-//! integer type; polygons are fan-triangulated). Other elements and properties are skipped.
+//! integer type; polygons are triangulated by [`super::polygon`]). Other elements and properties are skipped.
 //! Counts in the header are untrusted: before anything is allocated they are checked against
 //! the bytes (binary) or lines (ascii) actually left in the file.
 
@@ -14,9 +14,12 @@ use super::{GeometryError, TriangleMesh};
 
 /// Reads and parses a PLY file.
 pub fn load_ply(path: &Path) -> Result<TriangleMesh, GeometryError> {
-    let bytes = std::fs::read(path).map_err(|source| GeometryError::Io {
-        path: path.to_path_buf(),
-        source,
+    let limit = crate::limits::mesh_file_max_bytes();
+    let bytes = crate::limits::read_limited(path, limit, "mesh file").map_err(|source| {
+        GeometryError::Io {
+            path: path.to_path_buf(),
+            source,
+        }
     })?;
     parse_ply(&bytes, path)
 }
@@ -488,6 +491,7 @@ fn read_faces<S: Source>(
         .position(|p| p.name() == "vertex_indices" || p.name() == "vertex_index")
         .ok_or_else(|| src.error("element `face` has no list property `vertex_indices`".into()))?;
     mesh.indices.reserve(e.count);
+    let max_triangles = crate::limits::max_triangles();
     let mut vals = Vec::new();
     for _ in 0..e.count {
         src.begin_record()?;
@@ -508,8 +512,13 @@ fn read_faces<S: Source>(
             }
             idx.push(f as u32);
         }
-        for k in 1..idx.len() - 1 {
-            mesh.indices.push([idx[0], idx[k], idx[k + 1]]);
+        super::polygon::triangulate_convex(&idx, &mut mesh.indices);
+        if mesh.indices.len() as u64 > max_triangles {
+            return Err(src.error(format!(
+                "more than {max_triangles} triangles, the limit for one mesh on this machine \
+                 (its available memory at {} bytes a triangle)",
+                crate::limits::BYTES_PER_TRIANGLE
+            )));
         }
     }
     Ok(())

@@ -8,6 +8,8 @@
 //! shared [`PluginFaults`]; the renderer checks it between passes and stops cleanly, keeping what
 //! was rendered, with the plugin's message.
 
+use super::checked;
+use super::representation::BeamConverter;
 use crate::color::Observer;
 use crate::geometry::Aabb;
 use crate::geometry::Ray;
@@ -21,20 +23,31 @@ use crate::material::{
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spd, SpdSample, LANES};
 use glam::{Vec2, Vec3A};
 use spectrace_plugin_api::abi::std_types::RResult;
+use spectrace_plugin_api::extension::RepresentedLightBox;
 use spectrace_plugin_api::{
     light_flags, material_flags, spd_flags, Beam, Flags, LightBox, MaterialBox, ObserverBox,
     PluginError, RandomSample, SpdBox, SpectralValues, TransportMode, Vec3, Wavelengths,
 };
+use std::collections::BTreeMap;
 use std::fmt;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
-/// Errors raised by plugin calls while rendering: the first message and how many there were.
+/// Errors raised by plugin calls while rendering: the first message and how many there were;
+/// per call site, how many and the first message; per object and reason, how many results
+/// were dropped as invalid (see [`super::checked`]).
 #[derive(Default, Debug)]
 pub struct PluginFaults {
     first: Mutex<Option<String>>,
     count: AtomicU64,
+    sites: Mutex<BTreeMap<(String, String), (u64, String)>>,
+    invalid: Mutex<BTreeMap<(String, &'static str), u64>>,
+    invalid_count: AtomicU64,
 }
+
+/// Distinct call sites remembered; beyond, failures are counted under one "other" entry, so a
+/// plugin whose messages vary per call cannot grow the table without bound.
+const MAX_SITES: usize = 64;
 
 impl PluginFaults {
     /// A new, empty collector shared by every adapter of one scene.
@@ -42,12 +55,29 @@ impl PluginFaults {
         Arc::new(Self::default())
     }
 
-    /// Record `error` raised by `who`.
+    /// Record `error` raised by `who`. The call site is the message up to its first `": "`
+    /// (for a caught panic: the call and the panic's file:line, see the API's `guard`).
     pub fn record(&self, who: &str, error: &PluginError) {
         if self.count.fetch_add(1, Ordering::Relaxed) == 0 {
             if let Ok(mut first) = self.first.lock() {
                 first.get_or_insert_with(|| format!("{who}: {error}"));
             }
+        }
+        let site = error.message.split(": ").next().unwrap_or_default();
+        if let Ok(mut sites) = self.sites.lock() {
+            let mut key = (who.to_string(), site.chars().take(200).collect::<String>());
+            if !sites.contains_key(&key) && sites.len() >= MAX_SITES {
+                key = (who.to_string(), "(other call sites)".to_string());
+            }
+            sites.entry(key).or_insert_with(|| (0, error.to_string())).0 += 1;
+        }
+    }
+
+    /// Record that a result of `who` was dropped as invalid, for `reason`.
+    pub fn record_invalid(&self, who: &str, reason: &'static str) {
+        self.invalid_count.fetch_add(1, Ordering::Relaxed);
+        if let Ok(mut invalid) = self.invalid.lock() {
+            *invalid.entry((who.to_string(), reason)).or_insert(0) += 1;
         }
     }
 
@@ -59,6 +89,64 @@ impl PluginFaults {
     /// How many errors were recorded.
     pub fn count(&self) -> u64 {
         self.count.load(Ordering::Relaxed)
+    }
+
+    /// How many results were dropped as invalid.
+    pub fn invalid_count(&self) -> u64 {
+        self.invalid_count.load(Ordering::Relaxed)
+    }
+
+    /// Failed calls per (object, call site): `(who, site, count, first message)`, sorted.
+    pub fn sites(&self) -> Vec<(String, String, u64, String)> {
+        self.sites
+            .lock()
+            .map(|s| {
+                s.iter()
+                    .map(|((w, site), (n, msg))| (w.clone(), site.clone(), *n, msg.clone()))
+                    .collect()
+            })
+            .unwrap_or_default()
+    }
+
+    /// Dropped results per (object, reason): `(who, reason, count)`, sorted.
+    pub fn invalid(&self) -> Vec<(String, &'static str, u64)> {
+        self.invalid
+            .lock()
+            .map(|s| s.iter().map(|((w, r), n)| (w.clone(), *r, *n)).collect())
+            .unwrap_or_default()
+    }
+
+    /// The render summary's lines: one per call site that failed and one per (object, reason)
+    /// whose results were dropped, each with its count. Empty when all went well.
+    pub fn report(&self) -> Vec<String> {
+        let mut lines: Vec<String> = self
+            .sites()
+            .into_iter()
+            .map(|(who, site, n, first)| {
+                format!("{who}: {n} failed call(s) at `{site}`; first: {first}")
+            })
+            .collect();
+        lines.extend(
+            self.invalid()
+                .into_iter()
+                .map(|(who, reason, n)| format!("{who}: {n} result(s) dropped: {reason}")),
+        );
+        lines
+    }
+
+    /// How a command ends after rendering with plugins: `Err` when plugin calls failed (the
+    /// image was still written; the message lists each failing call site once, with its
+    /// count), else `Ok` with one warning line per (object, reason) whose results were dropped.
+    pub fn outcome(&self) -> Result<Vec<String>, String> {
+        if self.count() == 0 {
+            return Ok(self.report());
+        }
+        Err(format!(
+            "{} plugin call(s) failed during rendering (their samples contributed nothing; the \
+             image was still written):\n  {}",
+            self.count(),
+            self.report().join("\n  ")
+        ))
     }
 }
 
@@ -110,19 +198,22 @@ impl Origin {
         fallback
     }
 
-    /// The call's value, or `fallback` with the error recorded.
-    fn or<T>(&self, r: RResult<T, PluginError>, fallback: T) -> T {
+    /// The call's value if it passes `check`; otherwise `None`, with the error or the
+    /// dropped result recorded.
+    pub(crate) fn checked<T>(
+        &self,
+        r: RResult<T, PluginError>,
+        check: impl FnOnce(&T) -> Result<(), super::checked::Reason>,
+    ) -> Option<T> {
         match r {
-            RResult::ROk(v) => v,
-            RResult::RErr(e) => self.fail(e, fallback),
-        }
-    }
-
-    /// `f` of the call's value, or `fallback` with the error recorded.
-    fn map<T, U>(&self, r: RResult<T, PluginError>, f: impl FnOnce(T) -> U, fallback: U) -> U {
-        match r {
-            RResult::ROk(v) => f(v),
-            RResult::RErr(e) => self.fail(e, fallback),
+            RResult::ROk(v) => match check(&v) {
+                Ok(()) => Some(v),
+                Err(reason) => {
+                    self.faults.record_invalid(&self.label, reason);
+                    None
+                }
+            },
+            RResult::RErr(e) => self.fail(e, None),
         }
     }
 }
@@ -160,28 +251,29 @@ impl fmt::Debug for PluginSpd {
 
 impl Spd for PluginSpd {
     fn value(&self, lambda_nm: f64) -> f64 {
-        self.origin.or(self.spd.value(lambda_nm), 0.0)
+        (self.origin)
+            .checked(self.spd.value(lambda_nm), |v| checked::scalar(*v))
+            .unwrap_or(0.0)
     }
     fn sample(&self, u: f64) -> SpdSample {
-        match self.spd.sample(u).into_result() {
-            Ok(s) => SpdSample {
+        match (self.origin).checked(self.spd.sample(u), checked::wavelength_sample) {
+            Some(s) => SpdSample {
                 lambda: s.nm,
                 pdf: s.pdf,
                 // A line carries probability, not density: its continuous pdf is zero there.
                 is_delta: self.has_lines && self.pdf(s.nm) == 0.0,
             },
-            Err(e) => self.origin.fail(
-                e,
-                SpdSample {
-                    lambda: 0.5 * (self.range.0 + self.range.1),
-                    pdf: 0.0,
-                    is_delta: false,
-                },
-            ),
+            None => SpdSample {
+                lambda: 0.5 * (self.range.0 + self.range.1),
+                pdf: 0.0,
+                is_delta: false,
+            },
         }
     }
     fn pdf(&self, lambda_nm: f64) -> f64 {
-        self.origin.or(self.spd.pdf(lambda_nm), 0.0)
+        (self.origin)
+            .checked(self.spd.pdf(lambda_nm), |p| checked::density(*p))
+            .unwrap_or(0.0)
     }
     fn range(&self) -> (f64, f64) {
         self.range
@@ -229,11 +321,11 @@ impl Observer for PluginObserver {
         self.range
     }
     fn xyz_bar(&self, lambda_nm: f64) -> [f64; 3] {
-        self.origin.map(
-            self.observer.xyz_bar(lambda_nm),
-            |v| [v.x, v.y, v.z],
-            [0.0; 3],
-        )
+        (self.origin)
+            .checked(self.observer.xyz_bar(lambda_nm), |v| {
+                checked::finite([v.x, v.y, v.z])
+            })
+            .map_or([0.0; 3], |v| [v.x, v.y, v.z])
     }
 }
 
@@ -305,10 +397,12 @@ impl PluginMaterial {
                     nm: [chunk[0]; LANES],
                 };
                 w.nm[..chunk.len()].copy_from_slice(chunk);
-                let v = origin.or(
-                    material.emitted(&ctx, Vec3::new(0.0, 0.0, z), &w),
-                    SpectralValues::ZERO,
-                );
+                // Non-finite and negative values are sanitised below, not dropped.
+                let v = (origin)
+                    .checked(material.emitted(&ctx, Vec3::new(0.0, 0.0, z), &w), |_| {
+                        Ok(())
+                    })
+                    .unwrap_or(SpectralValues::ZERO);
                 out.extend(v.v[..chunk.len()].iter().map(|x| {
                     if x.is_finite() {
                         x.max(0.0)
@@ -374,8 +468,12 @@ impl Material for PluginMaterial {
             &sample_from(&[u_lobe, u.x, u.y]),
             mode(m),
         );
-        match r.into_result() {
-            Ok(s) => s.into_option().map(|s| BsdfSample {
+        let r = self.origin.checked(r, |s| match s {
+            spectrace_plugin_api::abi::std_types::ROption::RSome(s) => checked::scatter(s),
+            spectrace_plugin_api::abi::std_types::ROption::RNone => Ok(()),
+        });
+        match r {
+            Some(s) => s.into_option().map(|s| BsdfSample {
                 wi: va(s.wi),
                 f: spectrum(s.value),
                 pdf: s.pdf as f32,
@@ -385,7 +483,7 @@ impl Material for PluginMaterial {
                 ),
                 eta: s.eta as f32,
             }),
-            Err(e) => self.origin.fail(e, None),
+            None => None,
         }
     }
 
@@ -398,7 +496,9 @@ impl Material for PluginMaterial {
         m: HostMode,
     ) -> SampledSpectrum {
         let r = (self.material).eval(&Self::ctx(ctx), v3(wo), v3(wi), &lambdas(lambda), mode(m));
-        self.origin.map(r, spectrum, SampledSpectrum::zero())
+        (self.origin)
+            .checked(r, checked::values)
+            .map_or(SampledSpectrum::zero(), spectrum)
     }
 
     fn pdf(
@@ -410,7 +510,9 @@ impl Material for PluginMaterial {
         m: HostMode,
     ) -> f32 {
         let r = (self.material).pdf(&Self::ctx(ctx), v3(wo), v3(wi), &lambdas(lambda), mode(m));
-        self.origin.map(r, |v| v as f32, 0.0)
+        (self.origin)
+            .checked(r, |p| checked::density(*p))
+            .map_or(0.0, |v| v as f32)
     }
 
     fn emission(&self) -> Option<EmissionProfile> {
@@ -427,7 +529,9 @@ impl Material for PluginMaterial {
             return SampledSpectrum::zero();
         }
         let r = (self.material).emitted(&Self::ctx(ctx), v3(wo), &lambdas(lambda));
-        self.origin.map(r, spectrum, SampledSpectrum::zero())
+        (self.origin)
+            .checked(r, checked::values)
+            .map_or(SampledSpectrum::zero(), spectrum)
     }
 }
 
@@ -452,24 +556,26 @@ impl Spd for LightSpectrum {
         self.pdf(lambda_nm)
     }
     fn sample(&self, u: f64) -> SpdSample {
-        match self.light.sample_wavelength(u).into_result() {
-            Ok(s) => SpdSample {
+        let r = self.light.sample_wavelength(u);
+        match self.origin.checked(r, checked::wavelength_sample) {
+            Some(s) => SpdSample {
                 lambda: s.nm,
                 pdf: s.pdf,
                 is_delta: s.pdf > 0.0 && self.pdf(s.nm) == 0.0,
             },
-            Err(e) => self.origin.fail(
-                e,
-                SpdSample {
-                    lambda: 550.0,
-                    pdf: 0.0,
-                    is_delta: false,
-                },
-            ),
+            None => SpdSample {
+                lambda: 550.0,
+                pdf: 0.0,
+                is_delta: false,
+            },
         }
     }
     fn pdf(&self, lambda_nm: f64) -> f64 {
-        self.origin.or(self.light.wavelength_pdf(lambda_nm), 0.0)
+        (self.origin)
+            .checked(self.light.wavelength_pdf(lambda_nm), |p| {
+                checked::density(*p)
+            })
+            .unwrap_or(0.0)
     }
     fn range(&self) -> (f64, f64) {
         (360.0, 830.0)
@@ -533,7 +639,9 @@ impl PluginEnvironment {
                     nm: [chunk[0]; LANES],
                 };
                 w.nm[..chunk.len()].copy_from_slice(chunk);
-                let v = origin.or(light.radiance(d, &w), SpectralValues::ZERO);
+                let v = (origin)
+                    .checked(light.radiance(d, &w), checked::values)
+                    .unwrap_or(SpectralValues::ZERO);
                 for (i, &l) in chunk.iter().enumerate() {
                     let edge = l == nm[0] || l == nm[nm.len() - 1];
                     sum += v.v[i] * if edge { 5.0 } else { 10.0 };
@@ -547,7 +655,9 @@ impl PluginEnvironment {
 impl EnvironmentRadiance for PluginEnvironment {
     fn radiance(&self, dir: Vec3A, lambda: &SampledWavelengths) -> SampledSpectrum {
         let r = self.light.radiance(v3(dir), &lambdas(lambda));
-        self.origin.map(r, spectrum, SampledSpectrum::zero())
+        (self.origin)
+            .checked(r, checked::values)
+            .map_or(SampledSpectrum::zero(), spectrum)
     }
 
     fn spd(&self) -> Arc<dyn Spd> {
@@ -583,7 +693,9 @@ impl EnvironmentRadiance for PluginEnvironment {
             return 1.0 / (4.0 * std::f32::consts::PI);
         }
         let r = self.light.incident_pdf(v3(p), v3(dir));
-        self.origin.map(r, |p| p as f32, 0.0)
+        (self.origin)
+            .checked(r, |p| checked::density(*p))
+            .map_or(0.0, |p| p as f32)
     }
 }
 
@@ -598,6 +710,9 @@ pub struct PluginLight {
     spectrum: Arc<dyn Spd>,
     origin: Origin,
     environment: Option<EnvironmentLight>,
+    /// The object handing out beams in the type's own representation, with its converter,
+    /// when the type declares one (see [`super::representation`]).
+    represented: Option<(RepresentedLightBox, BeamConverter)>,
 }
 
 impl PluginLight {
@@ -633,7 +748,10 @@ impl PluginLight {
             };
             (0.0, Some(EnvironmentLight::new(Arc::new(source))))
         } else {
-            (origin.or(light.total_power_w(), 0.0), None)
+            let power = (origin)
+                .checked(light.total_power_w(), |p| checked::scalar(*p))
+                .unwrap_or(0.0);
+            (power, None)
         };
         Self {
             spectrum,
@@ -642,7 +760,16 @@ impl PluginLight {
             power,
             origin,
             environment,
+            represented: None,
         }
+    }
+
+    /// Hand out beams from `represented` (the same light, built in its own representation),
+    /// converted once per beam. An error says what in the declared representation is unusable.
+    pub fn with_represented(mut self, represented: RepresentedLightBox) -> Result<Self, String> {
+        let converter = BeamConverter::new(represented.representation())?;
+        self.represented = Some((represented, converter));
+        Ok(self)
     }
 }
 
@@ -683,8 +810,8 @@ impl Light for PluginLight {
         let r = self
             .light
             .sample_toward(v3(ctx.p), &sample_from(&[u.x, u.y]), &lambdas(lambda));
-        match r.into_result() {
-            Ok(s) if s.pdf > 0.0 => Some(LightLiSample {
+        match self.origin.checked(r, checked::incident) {
+            Some(s) if s.pdf > 0.0 => Some(LightLiSample {
                 radiance: spectrum(s.value),
                 wi: va(s.direction),
                 pdf: s.pdf as f32,
@@ -692,8 +819,7 @@ impl Light for PluginLight {
                 p_light_error: Vec3A::ZERO,
                 n_light: va(s.normal),
             }),
-            Ok(_) => None,
-            Err(e) => self.origin.fail(e, None),
+            _ => None,
         }
     }
 
@@ -706,7 +832,9 @@ impl Light for PluginLight {
         }
         let dir = (p_light - ctx.p).normalize_or_zero();
         let r = self.light.incident_pdf(v3(ctx.p), v3(dir));
-        self.origin.map(r, |p| p as f32, 0.0)
+        (self.origin)
+            .checked(r, |p| checked::density(*p))
+            .map_or(0.0, |p| p as f32)
     }
 
     fn radiance(
@@ -734,16 +862,15 @@ impl Light for PluginLight {
         let r = self
             .light
             .sample_emission(&sample_from(&[u1.x, u1.y, u2.x, u2.y]), &lambdas(lambda));
-        match r.into_result() {
-            Ok(s) if s.pdf_position > 0.0 && s.pdf_direction > 0.0 => Some(LightLeSample {
+        match self.origin.checked(r, checked::emission) {
+            Some(s) if s.pdf_position > 0.0 && s.pdf_direction > 0.0 => Some(LightLeSample {
                 ray: Ray::new(va(s.origin), va(s.direction)),
                 radiance: spectrum(s.value),
                 pdf_pos: s.pdf_position as f32,
                 pdf_dir: s.pdf_direction as f32,
                 normal: va(s.normal),
             }),
-            Ok(_) => None,
-            Err(e) => self.origin.fail(e, None),
+            _ => None,
         }
     }
 
@@ -753,14 +880,30 @@ impl Light for PluginLight {
             // not know: the host's own emission sampling stands in for them.
             return None;
         }
-        match self.light.next_beam(u).into_result() {
-            Ok(b) => Some(b),
-            Err(e) => self.origin.fail(e, None),
-        }
+        let r = match &self.represented {
+            None => self.light.next_beam(u),
+            // Another representation: converted here, once per beam (the seed's adapter).
+            Some((light, c)) => match light.next_represented_beam(u) {
+                RResult::ROk(b) => match c.convert(&b, u) {
+                    Ok(b) => RResult::ROk(b),
+                    Err(reason) => {
+                        self.origin
+                            .faults
+                            .record_invalid(&self.origin.label, reason);
+                        return None;
+                    }
+                },
+                RResult::RErr(e) => RResult::RErr(e),
+            },
+        };
+        self.origin.checked(r, checked::beam)
     }
 
     fn number_of_beams(&self) -> f64 {
-        self.light.number_of_beams()
+        match &self.represented {
+            None => self.light.number_of_beams(),
+            Some((light, _)) => light.number_of_beams(),
+        }
     }
 
     fn pdf_le(&self, ray: &Ray, n: Vec3A) -> (f32, f32) {
@@ -770,13 +913,12 @@ impl Light for PluginLight {
         if self.flags.contains(LightFlags::BEAMS_ONLY) {
             return (0.0, 0.0);
         }
-        match self
-            .light
-            .emission_pdf(v3(ray.origin), v3(ray.dir))
-            .into_result()
-        {
-            Ok(p) => (p.position as f32, p.direction as f32),
-            Err(e) => self.origin.fail(e, (0.0, 0.0)),
+        let r = self.light.emission_pdf(v3(ray.origin), v3(ray.dir));
+        match self.origin.checked(r, |p| {
+            checked::density(p.position).and(checked::density(p.direction))
+        }) {
+            Some(p) => (p.position as f32, p.direction as f32),
+            None => (0.0, 0.0),
         }
     }
 

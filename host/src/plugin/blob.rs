@@ -1,13 +1,13 @@
-//! Serialized objects ("blobs"): a light source (or any plugin object) saved to a file, to be
-//! loaded later by whichever host has its plugin. bincode is not self-describing, so the header
-//! says exactly what the payload is and who can read it.
+//! Serialized objects ("blobs"): a material, light, SPD or observer — built in or from a
+//! plugin — saved to a file, to be loaded later by whichever host has its type. bincode is not
+//! self-describing, so the header says exactly what the payload is and who can read it.
 //!
 //! Layout (all integers little-endian):
 //!
 //! | offset | size | field                                                                |
 //! |--------|------|----------------------------------------------------------------------|
 //! | 0      | 8    | magic `SPECBLOB`                                                     |
-//! | 8      | 2    | format version, currently 1                                          |
+//! | 8      | 2    | format version, currently 2                                          |
 //! | 10     | 1    | kind: 0 light, 1 spd, 2 observer, 3 material                         |
 //! | 11     | 1    | reserved, 0                                                          |
 //! | 12     | 4    | type version (the plugin type's state schema)                        |
@@ -20,7 +20,13 @@
 //!
 //! Names are at most [`MAX_NAME`] bytes, payloads at most [`MAX_PAYLOAD`] and never longer than
 //! what the file holds: a corrupted length can neither cause a huge allocation nor a panic.
-//! Nothing may follow the payload. For built-in types the payload is the parameters' RON text.
+//! Nothing may follow the payload.
+//!
+//! For plugin types the payload is the plugin's saved state. For built-in types (plugin name
+//! `builtin`) it is the type's parameter struct (`host/src/builtin/…`) in bincode, with the data
+//! of every file it reads (CSV spectra) embedded at pack time, so the blob loads to the same
+//! object after it is moved and its source files are gone. Format 1 stored built-in parameters
+//! as RON text with file references; such files are refused with a message to re-pack them.
 
 use spectrace_plugin_api::ObjectKind;
 use std::fmt;
@@ -29,7 +35,7 @@ use std::path::{Path, PathBuf};
 /// The 8 bytes every blob starts with.
 pub const MAGIC: &[u8; 8] = b"SPECBLOB";
 /// The format version this host writes and reads.
-pub const FORMAT_VERSION: u16 = 1;
+pub const FORMAT_VERSION: u16 = 2;
 /// Longest name field, bytes.
 pub const MAX_NAME: usize = 255;
 /// Largest payload, bytes (the same bound plugins use when decoding state).
@@ -106,6 +112,10 @@ impl fmt::Display for BlobError {
         match self {
             BlobError::TooShort(n) => write!(f, "truncated: {n} bytes is shorter than a blob header"),
             BlobError::BadMagic => write!(f, "not a spectrace blob (bad magic; expected `SPECBLOB`)"),
+            BlobError::UnsupportedFormat(1) => write!(
+                f,
+                "blob format version 1 (older spectrace; built-in types as RON text with file references) is no longer read (this host reads version {FORMAT_VERSION}); pack the object again with `spectrace blob pack`"
+            ),
             BlobError::UnsupportedFormat(v) => write!(
                 f,
                 "blob format version {v} is not supported (this host reads version {FORMAT_VERSION})"
@@ -278,7 +288,9 @@ impl Blob {
                 meta.len()
             )));
         }
-        let bytes = std::fs::read(path).map_err(|e| err(format!("cannot read: {e}")))?;
+        // Not only the size above: a device or pipe (`/dev/zero`) has none and may never end.
+        let bytes = crate::limits::read_limited(path, limit, "blob")
+            .map_err(|e| err(format!("cannot read: {e}")))?;
         Blob::decode(&bytes).map_err(|e| err(e.to_string()))
     }
 
@@ -594,14 +606,18 @@ impl Blob {
         let desc = crate::scene::parse_scene_str(&text, scene).map_err(|e| e.to_string())?;
         let (type_name, params) = match kind {
             ObjectKind::Observer => {
-                let obs = desc.observer.clone().unwrap_or_else(|| "cie1931-2".into());
+                let (obs, params) = desc
+                    .observer
+                    .as_ref()
+                    .map(|o| o.type_and_params())
+                    .unwrap_or(("cie1931-2", ron::Value::Unit));
                 if obs != name {
                     return Err(format!(
                         "{}: the scene's observer is `{obs}`, not `{name}`",
                         scene.display()
                     ));
                 }
-                (obs, ron::Value::Unit)
+                (obs.to_string(), params)
             }
             _ => {
                 let items = match kind {

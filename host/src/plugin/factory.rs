@@ -209,11 +209,20 @@ impl PluginFactory {
                     .map_err(construct_error)?,
                 origin,
             ))),
-            Kind::Light => Built::Light(Arc::new(PluginLight::new(
-                r.create_plugin_light(type_name, object_source)
-                    .map_err(construct_error)?,
-                origin,
-            ))),
+            // A type whose beams are in another representation is wrapped in its adapters.
+            Kind::Light => Built::Light(Arc::new(
+                super::representation::wrap_light(
+                    r,
+                    type_name,
+                    object_source,
+                    PluginLight::new(
+                        r.create_plugin_light(type_name, object_source)
+                            .map_err(construct_error)?,
+                        origin,
+                    ),
+                )
+                .map_err(FactoryError::Param)?,
+            )),
             Kind::Spd => Built::Spd(Arc::new(PluginSpd::new(
                 r.create_plugin_spd(type_name, object_source)
                     .map_err(construct_error)?,

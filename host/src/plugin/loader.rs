@@ -10,6 +10,8 @@ use spectrace_plugin_api::abi::library::{lib_header_from_path, LibraryError};
 use spectrace_plugin_api::{PluginInfo, PluginModuleRef};
 use std::fmt;
 use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+use std::time::{Duration, Instant};
 
 /// Why a library was refused, in one line; the full report (for `--verbose`) in `detail`.
 #[derive(Debug, Clone)]
@@ -82,20 +84,133 @@ impl LoadedPlugin {
     }
 }
 
-/// Load one plugin library, checking the abi_stable header, the interface version and the whole
-/// layout of the root module before calling anything in it.
+/// Load one plugin library: its file is checked whole ([`super::library_check`]) before it is
+/// mapped, then the abi_stable header, the interface version and the whole layout of the root
+/// module before anything in it is called.
 pub fn load_library(path: &Path) -> Result<LoadedPlugin, LoadError> {
-    if !path.exists() {
-        return Err(LoadError::new(path, "no such file", ""));
-    }
-    if path.is_dir() {
+    let file = resolve_library_path(path)?;
+    if file.is_dir() {
         return Err(LoadError::new(
             path,
             "is a directory, not a plugin library",
             "",
         ));
     }
-    let header = lib_header_from_path(path).map_err(|e| describe(path, e))?;
+    super::library_check::check_library_file(&file).map_err(|e| LoadError::new(path, e, ""))?;
+    if let Some(exe) = PROBE_EXE.get() {
+        probe_in_child(exe, path, &file)?;
+    }
+    load_checked_file(path, &file)
+}
+
+/// The hidden subcommand a probe process runs: `spectrace probe-plugin FILE`.
+pub const PROBE_SUBCOMMAND: &str = "probe-plugin";
+
+/// How long a probe process may take to open a library before it is killed.
+pub const PROBE_TIMEOUT: Duration = Duration::from_secs(30);
+
+static PROBE_EXE: OnceLock<PathBuf> = OnceLock::new();
+
+/// From now on, open each library first in a child process (`exe probe-plugin FILE`, `exe`
+/// being the `spectrace` command itself) so that a library whose loading crashes — damage the
+/// structure check cannot see, or start-up code that aborts — costs the child, not this process.
+/// The `spectrace` command turns this on; a program that embeds the library may too.
+pub fn enable_child_probe(exe: PathBuf) {
+    let _ = PROBE_EXE.set(exe);
+}
+
+/// What a probe process does: open the library (structure-checked) and report, exit code 0 or 1.
+pub fn probe_main(file: &Path) -> i32 {
+    match super::library_check::check_library_file(file)
+        .map_err(|e| LoadError::new(file, e, ""))
+        .and_then(|()| load_checked_file(file, file))
+    {
+        Ok(p) => {
+            println!("ok {} {}", p.info.name, p.info.version);
+            0
+        }
+        Err(e) => {
+            println!("refused {e}");
+            1
+        }
+    }
+}
+
+/// Open `file` in a probe process; only a crash (a signal) or a hang is an error here: a refusal
+/// the child survived is reproduced in-process, with its full detail, by the caller.
+fn probe_in_child(exe: &Path, path: &Path, file: &Path) -> Result<(), LoadError> {
+    use std::process::{Command, Stdio};
+    let Ok(mut child) = Command::new(exe)
+        .arg(PROBE_SUBCOMMAND)
+        .arg(file)
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+    else {
+        // No probe process to be had (for example the executable was removed): the structure
+        // check above is all there is.
+        return Ok(());
+    };
+    let start = Instant::now();
+    let status = loop {
+        match child.try_wait() {
+            Ok(Some(status)) => break status,
+            Ok(None) if start.elapsed() < PROBE_TIMEOUT => {
+                std::thread::sleep(Duration::from_millis(2))
+            }
+            Ok(None) => {
+                let _ = child.kill();
+                let _ = child.wait();
+                return Err(LoadError::new(
+                    path,
+                    format!(
+                        "opening it did not finish within {} s in a probe process; its start-up \
+                         code hangs",
+                        PROBE_TIMEOUT.as_secs()
+                    ),
+                    "",
+                ));
+            }
+            Err(_) => return Ok(()),
+        }
+    };
+    if status.code().is_some() {
+        return Ok(());
+    }
+    Err(LoadError::new(
+        path,
+        format!(
+            "opening it crashed a probe process ({}); the library is damaged or its start-up \
+             code is broken, so it was not opened here",
+            describe_signal(&status)
+        ),
+        "",
+    ))
+}
+
+#[cfg(unix)]
+fn describe_signal(status: &std::process::ExitStatus) -> String {
+    use std::os::unix::process::ExitStatusExt;
+    match status.signal() {
+        Some(6) => "SIGABRT".into(),
+        Some(7) => "SIGBUS".into(),
+        Some(11) => "SIGSEGV".into(),
+        Some(4) => "SIGILL".into(),
+        Some(8) => "SIGFPE".into(),
+        Some(n) => format!("signal {n}"),
+        None => status.to_string(),
+    }
+}
+
+#[cfg(not(unix))]
+fn describe_signal(status: &std::process::ExitStatus) -> String {
+    status.to_string()
+}
+
+/// Open a library whose file passed the structure check. `path` names it in errors.
+fn load_checked_file(path: &Path, file: &Path) -> Result<LoadedPlugin, LoadError> {
+    let header = lib_header_from_path(file).map_err(|e| describe(path, e))?;
     let module = header
         .init_root_module::<PluginModuleRef>()
         .map_err(|e| describe(path, e))?;
@@ -104,6 +219,46 @@ pub fn load_library(path: &Path) -> Result<LoadedPlugin, LoadError> {
         path: path.to_path_buf(),
         ..plugin
     })
+}
+
+/// The file to open for `path`. The system loader looks a name without a slash up on its own
+/// search path only, never in the current directory, so `--plugin libfoo.so` would miss the
+/// `libfoo.so` beside the user: such a name is tried in the current directory first, then in
+/// the directories of the loader's search variable (`LD_LIBRARY_PATH`, `DYLD_LIBRARY_PATH` or
+/// `PATH`), and the file found is what is checked and opened.
+pub fn resolve_library_path(path: &Path) -> Result<PathBuf, LoadError> {
+    let bare = path.components().count() == 1 && path.parent() == Some(Path::new(""));
+    if path.exists() {
+        return Ok(if bare {
+            Path::new(".").join(path)
+        } else {
+            path.to_path_buf()
+        });
+    }
+    let var = if cfg!(target_os = "macos") {
+        "DYLD_LIBRARY_PATH"
+    } else if cfg!(windows) {
+        "PATH"
+    } else {
+        "LD_LIBRARY_PATH"
+    };
+    if bare {
+        if let Some(dirs) = std::env::var_os(var) {
+            if let Some(found) = std::env::split_paths(&dirs)
+                .filter(|d| !d.as_os_str().is_empty())
+                .map(|d| d.join(path))
+                .find(|p| p.is_file())
+            {
+                return Ok(found);
+            }
+        }
+        return Err(LoadError::new(
+            path,
+            format!("no such file in the current directory or on {var}"),
+            "",
+        ));
+    }
+    Err(LoadError::new(path, "no such file", ""))
 }
 
 /// The file names a plugin library can have on this platform.

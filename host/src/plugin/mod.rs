@@ -4,10 +4,13 @@
 
 pub mod adapter;
 pub mod blob;
+pub mod checked;
 pub mod factory;
+pub mod library_check;
 pub mod loader;
 pub mod reference;
 pub mod registry;
+pub mod representation;
 pub mod ron_text;
 pub mod services;
 pub mod type_doc;
@@ -43,6 +46,37 @@ pub fn core_registry() -> Registry {
     for ty in crate::builtin::all().filter(|t| t.kind().object_kind().is_none()) {
         if let Err(e) = registry.register_builtin_type(ty) {
             eprintln!("spectrace: internal: {e}");
+        }
+    }
+    // Integrators are built from the render settings by `integrator::select`; the registry
+    // holds their type information (names and aliases reserved, listed, documented).
+    for r in crate::integrator::select::registered() {
+        for name in std::iter::once(r.info.name).chain(r.info.aliases.iter().copied()) {
+            let doc = TypeDoc {
+                kind: Kind::Integrator,
+                name: name.to_string(),
+                version: r.info.version,
+                description: if name == r.info.name {
+                    r.info.description.to_string()
+                } else {
+                    format!("alias of `{}`", r.info.name)
+                },
+                params: r
+                    .info
+                    .params
+                    .iter()
+                    .map(|p| ParamDoc {
+                        name: p.name.into(),
+                        unit: p.unit.into(),
+                        default: p.default.map(Into::into),
+                        description: p.description.into(),
+                    })
+                    .collect(),
+                alias_of: (name != r.info.name).then(|| r.info.name.to_string()),
+            };
+            if let Err(e) = registry.register_doc(doc) {
+                eprintln!("spectrace: internal: {e}");
+            }
         }
     }
     registry

@@ -20,15 +20,18 @@ camera names its `type` and carries a `params` block; relative paths resolve aga
 file's folder. Types come from the registry: the built-in types below, types of plugin
 libraries loaded with `--plugin PATH` / `--plugins DIR` (`spectrace plugins` lists them), and
 `blob` files. A plugin type may not reuse a built-in name or alias: the registry refuses the
-plugin and names both providers. With `--no-builtins` the built-in materials, lights, SPDs and
-observers are left out so that a library providing them (the standard set,
-`plugins/standard`) is used instead; shapes, cameras and `blob` stay built in.
+plugin and names both providers. The standard set is also a plugin library
+(`plugins/standard`; so far its SPD types and observers): with `--replace-builtins` the types of
+the libraries given with `--plugin` replace the built-ins of the same name (and their aliases),
+and with `--no-builtins` the built-in materials, lights, SPDs and observers are left out
+altogether; shapes, cameras and `blob` stay built in.
 
 ## Top-level structure
 
 ```ron
 (
     observer: "cie1931-2",            // observer type (optional; default cie1931-2)
+                                       // or (type: "blob", params: (file: "eye.blob"))
     output: (                          // all optional
         spp: 64,                       // samples per pixel when the command line gives none
         max_depth: 64,                 // longest path (scattering events)
@@ -49,7 +52,7 @@ observers are left out so that a library providing them (the standard set,
 
 | section     | content                                                                          |
 |-------------|----------------------------------------------------------------------------------|
-| `observer`  | an observer type name (below, or from a plugin), built with default parameters   |
+| `observer`  | an observer type name (below, or from a plugin) with default parameters, or `(type: .., params: ..)` (e.g. a blob) |
 | `output`    | sampling and output defaults; the command line overrides them                    |
 | `materials` | named materials `(name, type, params)`; objects refer to them by name            |
 | `objects`   | geometry `(name, type, material, params, transform)`; a shape type below; an object whose material emits (`emissive`) is an area light |

@@ -250,6 +250,37 @@ impl Registry {
         self.add_plugin(plugin)
     }
 
+    /// Load a library whose types replace the built-in types of the same kind and name (with
+    /// those types' aliases) instead of clashing with them: how the standard set from a library
+    /// (`plugins/standard`) is used in place of the built-ins (`--replace-builtins`). Clashes
+    /// with other plugins and with the host's `blob` types are still refused; all or nothing.
+    pub fn load_plugin_replacing_builtins(&mut self, path: &Path) -> Result<(), RegistryError> {
+        let plugin = load_library(path).map_err(RegistryError::Load)?;
+        let mut next = self.clone();
+        for t in plugin.info.types.iter() {
+            let kind = Kind::from(t.kind);
+            let Some(entry) = next.types.get(&(kind, t.name.to_string())) else {
+                continue;
+            };
+            if entry.builtin.is_none() {
+                continue;
+            }
+            let canonical = entry
+                .info
+                .alias_of
+                .clone()
+                .unwrap_or_else(|| t.name.to_string());
+            next.types.retain(|(k, n), e| {
+                !(*k == kind
+                    && e.builtin.is_some()
+                    && (*n == canonical || e.info.alias_of.as_deref() == Some(&canonical)))
+            });
+        }
+        next.add_plugin(plugin)?;
+        *self = next;
+        Ok(())
+    }
+
     /// Load every library of a directory; the errors of those refused are returned, the rest
     /// are registered.
     pub fn load_plugin_dir(&mut self, dir: &Path) -> Vec<RegistryError> {
@@ -416,5 +447,45 @@ fn construct_error(kind: Kind, name: &str, provider: String, error: PluginError)
         name: name.to_string(),
         provider,
         error,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every built-in name and alias registers without a clash (names are unique), and a type
+    /// of another provider under an alias's name is refused naming both providers.
+    #[test]
+    fn builtin_names_are_unique_and_aliases_are_reserved() {
+        let mut r = Registry::new();
+        for ty in crate::builtin::all() {
+            r.register_builtin_type(ty).unwrap();
+        }
+        for (kind, alias, target) in [
+            (Kind::Material, "diffuse", "lambertian"),
+            (Kind::Material, "rough_conductor", "conductor"),
+            (Kind::Material, "area_light", "emissive"),
+            (Kind::Camera, "thin_lens", "perspective"),
+        ] {
+            let e = r.lookup(kind, alias).unwrap();
+            assert_eq!(e.info.alias_of.as_deref(), Some(target));
+            let err = r
+                .register_doc(TypeDoc {
+                    kind,
+                    name: alias.into(),
+                    version: 1,
+                    description: "another".into(),
+                    params: Vec::new(),
+                    alias_of: None,
+                })
+                .unwrap_err()
+                .to_string();
+            assert!(
+                err.contains(&format!("duplicate {kind} type `{alias}`"))
+                    && err.contains("already provided by built-in"),
+                "{err}"
+            );
+        }
     }
 }

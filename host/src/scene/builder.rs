@@ -39,10 +39,12 @@ pub fn load_scene_file_with(
     factories: &[&dyn ObjectFactory],
     representation: &RepresentationOptions,
 ) -> Result<Scene, SceneError> {
-    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
-        file: path.to_path_buf(),
-        source,
-    })?;
+    let text =
+        crate::limits::read_text_limited(path, crate::limits::SCENE_FILE_MAX_BYTES, "scene file")
+            .map_err(|source| SceneError::Io {
+            file: path.to_path_buf(),
+            source,
+        })?;
     let desc = parse_scene_str(&text, path)?;
     let base = path.parent().unwrap_or(Path::new("."));
     build_scene_with(&desc, base, path, factories, representation)
@@ -120,11 +122,15 @@ pub fn build_scene_with(
     };
 
     // Observer and options.
-    let obs_name = desc.observer.as_deref().unwrap_or("cie1931-2");
+    let (obs_name, obs_params) = desc
+        .observer
+        .as_ref()
+        .map(|o| o.type_and_params())
+        .unwrap_or(("cie1931-2", ron::Value::Unit));
     // Every observer, the CIE tables included, is a registered type built with default
     // parameters.
     let observer: Arc<dyn Observer> = first_known(factories, "observer", obs_name, |f| {
-        f.observer(obs_name, &ron::Value::Unit, &ctx_for("observer"))
+        f.observer(obs_name, &obs_params, &ctx_for("observer"))
     })
     .map_err(|e| item_err("observer".into(), e))?;
     let observer = ResampledObserver::wrap(observer, representation.observer_step_nm)

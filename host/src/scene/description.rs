@@ -26,10 +26,11 @@ fn unit() -> ron::Value {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SceneDescription {
-    /// Colour-matching functions of the film: `cie1931-2` (default), `cie1964-10`, `cie2015-2`,
-    /// `cie2015-10`.
+    /// Colour-matching functions of the film: an observer type name — `cie1931-2` (default),
+    /// `cie1964-10`, `cie2015-2`, `cie2015-10` or a plugin's — or `(type: .., params: ..)`
+    /// (e.g. a blob).
     #[serde(default)]
-    pub observer: Option<String>,
+    pub observer: Option<ObserverDescription>,
     /// Sampling and output defaults.
     #[serde(default)]
     pub output: OutputDescription,
@@ -45,6 +46,39 @@ pub struct SceneDescription {
     /// Cameras; the first is the default.
     #[serde(default)]
     pub cameras: Vec<ItemDescription>,
+}
+
+/// The scene's observer: a type name with default parameters, or a type with parameters.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum ObserverDescription {
+    /// `observer: "cie1931-2"`.
+    Name(String),
+    /// `observer: (type: "blob", params: (file: "eye.blob"))`.
+    Typed {
+        /// Type name.
+        #[serde(rename = "type")]
+        type_name: String,
+        /// Parameters (a RON struct).
+        #[serde(default = "unit")]
+        params: ron::Value,
+    },
+}
+
+impl From<&str> for ObserverDescription {
+    fn from(name: &str) -> Self {
+        ObserverDescription::Name(name.to_string())
+    }
+}
+
+impl ObserverDescription {
+    /// Type name and parameters.
+    pub fn type_and_params(&self) -> (&str, ron::Value) {
+        match self {
+            ObserverDescription::Name(n) => (n, ron::Value::Unit),
+            ObserverDescription::Typed { type_name, params } => (type_name, params.clone()),
+        }
+    }
 }
 
 /// Output and sampling defaults of a scene.

@@ -158,9 +158,12 @@ pub fn parse_csv_table(text: &str, file: &str) -> Result<CsvTable, SpectrumError
 /// Read and parse the CSV file at `path`; I/O errors name the path.
 pub fn read_csv_table(path: &std::path::Path) -> Result<CsvTable, SpectrumError> {
     let name = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| SpectrumError::Io {
-        file: name.clone(),
-        what: e.to_string(),
+    let limit = crate::limits::TABLE_FILE_MAX_BYTES;
+    let text = crate::limits::read_text_limited(path, limit, "spectrum table").map_err(|e| {
+        SpectrumError::Io {
+            file: name.clone(),
+            what: e.to_string(),
+        }
     })?;
     parse_csv_table(&text, &name)
 }

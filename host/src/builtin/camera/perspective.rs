@@ -146,6 +146,8 @@ pub fn build(
         .ok_or_else(|| {
             err("parameter `resolution`: expected (width, height) in pixels, 1..65536")
         })?;
+    crate::limits::check_image_size(res[0] as u64, res[1] as u64)
+        .map_err(|e| err(format!("parameter `resolution`: {e}")))?;
     let fov_axis = match p.fov_axis.as_deref().unwrap_or("x") {
         "x" => FovAxis::X,
         "y" => FovAxis::Y,

@@ -1,0 +1,254 @@
+//! BVH scaling: generated meshes of about 1k, 100k, 1M and 5M triangles (bumpy icosphere, 3, 6,
+//! 8 and 9 subdivisions; 10 subdivisions, 21M triangles, with `SPECTRACE_SCALING_MAX=10`):
+//! build time on one and two threads, BVH memory per triangle, and closest-hit rays per second
+//! (camera rays and random rays, 262,144 of each) on one and two threads.
+//!
+//! Embree 3 is the hardware anchor: where `cc` and Debian's `libembree-dev` are present, the
+//! harness `scripts/embree/embree_rays.c` is compiled into the target directory and traces the
+//! same triangles and the same random rays (single rays, `rtcIntersect1`) on one and two
+//! threads; elsewhere the table says it was skipped. It is never part of the workspace build.
+//!
+//! A plain timing program, not criterion: each figure is the best of three runs, so that a
+//! shared machine's interruptions count less. Run:
+//! `cargo bench -p spectrace --bench scaling` (prints a Markdown table for docs/performance.md).
+
+use std::time::Instant;
+
+use glam::Vec3A;
+use rayon::prelude::*;
+use spectrace::geometry::generate::icosphere;
+use spectrace::geometry::{Geometry, Ray, Shape, ShapeDesc, Transform, TriangleMesh};
+
+const RAYS: usize = 262_144;
+const RUNS: usize = 3;
+
+fn bumpy_sphere(subdivisions: u32) -> TriangleMesh {
+    let mut m = icosphere(subdivisions);
+    for p in &mut m.positions {
+        let bump = 0.05 * (13.0 * p.x).sin() * (11.0 * p.y).sin() * (17.0 * p.z).sin()
+            + 0.02 * (41.0 * p.x + 37.0 * p.z).sin();
+        *p *= 1.0 + bump;
+    }
+    m.normals = None;
+    m
+}
+
+/// SplitMix64 → uniform f32 in [0, 1).
+struct Rng(u64);
+impl Rng {
+    fn f(&mut self) -> f32 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
+    }
+}
+
+/// A 512×512 pinhole camera looking at the sphere from z = 3.
+fn camera_rays() -> Vec<Ray> {
+    let n = (RAYS as f64).sqrt() as usize;
+    let origin = Vec3A::new(0.0, 0.0, 3.0);
+    (0..n * n)
+        .map(|i| {
+            let (x, y) = ((i % n) as f32 + 0.5, (i / n) as f32 + 0.5);
+            let d = Vec3A::new(x / n as f32 - 0.5, 0.5 - y / n as f32, -1.0);
+            Ray::new(origin, d.normalize())
+        })
+        .collect()
+}
+
+/// Rays from random points of the bounding cube in random directions.
+fn random_rays() -> Vec<Ray> {
+    let mut rng = Rng(42);
+    (0..RAYS)
+        .map(|_| {
+            let o = Vec3A::new(rng.f(), rng.f(), rng.f()) * 2.4 - 1.2;
+            let d = loop {
+                let v = Vec3A::new(rng.f(), rng.f(), rng.f()) * 2.0 - 1.0;
+                if v.length_squared() > 1e-3 && v.length_squared() <= 1.0 {
+                    break v.normalize();
+                }
+            };
+            Ray::new(o, d)
+        })
+        .collect()
+}
+
+fn pool(threads: usize) -> rayon::ThreadPool {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("thread pool")
+}
+
+/// Best of `RUNS` wall-clock seconds of `f`.
+fn best_of<T>(mut f: impl FnMut() -> T) -> f64 {
+    (0..RUNS)
+        .map(|_| {
+            let t = Instant::now();
+            std::hint::black_box(f());
+            t.elapsed().as_secs_f64()
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+fn rays_per_second(g: &Geometry, rays: &[Ray], threads: usize) -> f64 {
+    let p = pool(threads);
+    let secs = best_of(|| {
+        p.install(|| {
+            rays.par_chunks(1024)
+                .map(|c| {
+                    c.iter()
+                        .filter(|r| g.intersect(r, f32::INFINITY).is_some())
+                        .count()
+                })
+                .sum::<usize>()
+        })
+    });
+    rays.len() as f64 / secs
+}
+
+/// Compiles the Embree harness next to the bench executable; `Err` says why it cannot run.
+fn build_embree_harness() -> Result<std::path::PathBuf, String> {
+    let src =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scripts/embree/embree_rays.c");
+    let exe = std::env::current_exe()
+        .map_err(|e| e.to_string())?
+        .with_file_name("embree_rays");
+    let out = std::process::Command::new("cc")
+        .args(["-O2", "-o"])
+        .arg(&exe)
+        .arg(&src)
+        .args(["-lembree3", "-lpthread", "-lm"])
+        .output()
+        .map_err(|e| format!("no C compiler ({e})"))?;
+    if !out.status.success() {
+        let err = String::from_utf8_lossy(&out.stderr);
+        return Err(format!(
+            "cannot build the harness (is libembree-dev installed?): {}",
+            err.lines().next().unwrap_or("")
+        ));
+    }
+    Ok(exe)
+}
+
+/// Embree on the same triangles and rays: (build s, hits, Mrays/s on 1 and 2 threads).
+fn embree(exe: &std::path::Path, mesh: &TriangleMesh, rays: &[Ray]) -> Result<String, String> {
+    let mut bytes = Vec::new();
+    bytes.extend((mesh.positions.len() as u32).to_le_bytes());
+    bytes.extend((mesh.indices.len() as u32).to_le_bytes());
+    for p in &mesh.positions {
+        for c in [p.x, p.y, p.z] {
+            bytes.extend(c.to_le_bytes());
+        }
+    }
+    for t in &mesh.indices {
+        for i in t {
+            bytes.extend(i.to_le_bytes());
+        }
+    }
+    bytes.extend((rays.len() as u32).to_le_bytes());
+    for r in rays {
+        for c in [
+            r.origin.x, r.origin.y, r.origin.z, r.dir.x, r.dir.y, r.dir.z,
+        ] {
+            bytes.extend(c.to_le_bytes());
+        }
+    }
+    let file = exe.with_file_name("embree_rays_input.bin");
+    std::fs::write(&file, bytes).map_err(|e| e.to_string())?;
+    let out = std::process::Command::new(exe)
+        .arg(&file)
+        .output()
+        .map_err(|e| e.to_string())?;
+    let _ = std::fs::remove_file(&file);
+    if !out.status.success() {
+        return Err(String::from_utf8_lossy(&out.stderr).into_owned());
+    }
+    Ok(String::from_utf8_lossy(&out.stdout).trim().to_string())
+}
+
+fn main() {
+    let max: u32 = std::env::var("SPECTRACE_SCALING_MAX")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(9)
+        .min(10);
+    let camera = camera_rays();
+    let random = random_rays();
+    let harness = build_embree_harness();
+    let mut embree_lines = Vec::new();
+    println!(
+        "| triangles | build 1 thread (s) | build 2 threads (s) | build speed-up | BVH bytes/triangle \
+         | camera Mrays/s 1 thr | 2 thr | speed-up | random Mrays/s 1 thr | 2 thr | speed-up |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
+    for subdivisions in [3u32, 6, 8, 9, 10] {
+        if subdivisions > max {
+            continue;
+        }
+        let mesh = bumpy_sphere(subdivisions);
+        let tris = mesh.indices.len();
+        let desc = || {
+            vec![ShapeDesc {
+                shape: Shape::Mesh(mesh.clone()),
+                transform: Transform::IDENTITY,
+            }]
+        };
+        let build = |threads: usize| {
+            let p = pool(threads);
+            (0..RUNS)
+                .map(|_| {
+                    let d = desc();
+                    let t = Instant::now();
+                    let g = p.install(|| Geometry::build(d).expect("valid mesh"));
+                    let s = t.elapsed().as_secs_f64();
+                    drop(g);
+                    s
+                })
+                .fold(f64::INFINITY, f64::min)
+        };
+        let (b1, b2) = (build(1), build(2));
+        let g = Geometry::build(desc()).expect("valid mesh");
+        let bytes = g.bvh_memory_bytes() as f64 / tris as f64;
+        let (c1, c2) = (
+            rays_per_second(&g, &camera, 1),
+            rays_per_second(&g, &camera, 2),
+        );
+        let (r1, r2) = (
+            rays_per_second(&g, &random, 1),
+            rays_per_second(&g, &random, 2),
+        );
+        println!(
+            "| {tris} | {b1:.3} | {b2:.3} | {:.2} | {bytes:.0} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} |",
+            b1 / b2,
+            c1 / 1e6,
+            c2 / 1e6,
+            c2 / c1,
+            r1 / 1e6,
+            r2 / 1e6,
+            r2 / r1
+        );
+        let hits = random
+            .iter()
+            .filter(|r| g.intersect(r, f32::INFINITY).is_some())
+            .count();
+        embree_lines.push(match &harness {
+            Ok(exe) => match embree(exe, &mesh, &random) {
+                Ok(line) => format!(
+                    "{tris} triangles, random rays: spectrace {:.3} / {:.3} Mrays/s (1 / 2 threads), \
+                     {hits} hits; Embree: {line}",
+                    r1 / 1e6,
+                    r2 / 1e6
+                ),
+                Err(e) => format!("{tris} triangles: Embree failed: {e}"),
+            },
+            Err(why) => format!("{tris} triangles: Embree skipped: {why}"),
+        });
+    }
+    println!();
+    for l in embree_lines {
+        println!("{l}");
+    }
+}

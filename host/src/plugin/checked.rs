@@ -1,0 +1,226 @@
+//! What the host accepts from a plugin call: values it checks before they reach the renderer.
+//! A plugin that returns NaN or negative densities or values, non-unit directions or
+//! wavelengths out of range gets that result dropped (as "no contribution") and
+//! counted per plugin object and reason; the render completes and its summary reports the counts
+//! (see `adapter::PluginFaults`). Each check returns the reason it failed.
+
+use spectrace_plugin_api::{
+    Beam, EmissionSample, IncidentSample, ScatterSample, SpectralValues, Vec3, WavelengthSample,
+};
+
+/// Largest accepted deviation of a "unit" direction's length from 1. Plugins compute in f64;
+/// 1e-3 leaves room for single-precision plugin arithmetic and still catches unnormalised
+/// vectors, which would silently scale every cosine.
+pub const UNIT_TOLERANCE: f64 = 1e-3;
+
+/// Why a result was refused.
+pub type Reason = &'static str;
+
+fn unit(v: Vec3) -> Result<(), Reason> {
+    if v.is_finite() && (v.length() - 1.0).abs() <= UNIT_TOLERANCE {
+        Ok(())
+    } else {
+        Err("direction not a finite unit vector")
+    }
+}
+
+fn finite_point(p: Vec3) -> Result<(), Reason> {
+    if p.is_finite() {
+        Ok(())
+    } else {
+        Err("position not finite")
+    }
+}
+
+/// A density (1/sr, 1/m², 1/nm): finite and ≥ 0.
+pub fn density(p: f64) -> Result<(), Reason> {
+    if p.is_finite() && p >= 0.0 {
+        Ok(())
+    } else {
+        Err("pdf NaN, infinite or negative")
+    }
+}
+
+/// A plain value (an SPD's value, a power in W): finite and ≥ 0.
+pub fn scalar(v: f64) -> Result<(), Reason> {
+    if v.is_finite() && v >= 0.0 {
+        Ok(())
+    } else {
+        Err("value NaN, infinite or negative")
+    }
+}
+
+/// Colour-matching values: finite (sensor curves may dip below 0).
+pub fn finite(v: [f64; 3]) -> Result<(), Reason> {
+    if v.iter().all(|x| x.is_finite()) {
+        Ok(())
+    } else {
+        Err("value NaN or infinite")
+    }
+}
+
+/// Spectral values (radiance, BSDF, …): finite and ≥ 0 in every lane.
+pub fn values(v: &SpectralValues) -> Result<(), Reason> {
+    if v.v.iter().all(|x| x.is_finite() && *x >= 0.0) {
+        Ok(())
+    } else {
+        Err("value NaN, infinite or negative")
+    }
+}
+
+/// Accepted wavelengths, nm: anything a spectrum could hold. Light outside the observers'
+/// 360–830 nm is legitimate (bundled SPDs start at 300 nm) and simply not seen; a wavelength
+/// that is zero, negative, NaN or beyond 0.1 mm is a plugin bug (a sign error, a unit mix-up).
+pub const WAVELENGTH_RANGE_NM: (f64, f64) = (1.0, 1e5);
+
+/// A wavelength inside [`WAVELENGTH_RANGE_NM`].
+pub fn wavelength(nm: f64) -> Result<(), Reason> {
+    if (WAVELENGTH_RANGE_NM.0..=WAVELENGTH_RANGE_NM.1).contains(&nm) {
+        Ok(())
+    } else {
+        Err("wavelength not finite or outside 1 nm – 0.1 mm")
+    }
+}
+
+/// A beam: finite origin, unit direction, wavelength in range, power finite and ≥ 0.
+pub fn beam(b: &Beam) -> Result<(), Reason> {
+    finite_point(b.origin)?;
+    unit(b.direction)?;
+    wavelength(b.wavelength_nm)?;
+    if b.power_w.is_finite() && b.power_w >= 0.0 {
+        Ok(())
+    } else {
+        Err("beam power NaN, infinite or negative")
+    }
+}
+
+/// A drawn wavelength: in range, density finite and ≥ 0.
+pub fn wavelength_sample(s: &WavelengthSample) -> Result<(), Reason> {
+    wavelength(s.nm)?;
+    density(s.pdf)
+}
+
+/// An emission sample (light subpaths).
+pub fn emission(s: &EmissionSample) -> Result<(), Reason> {
+    finite_point(s.origin)?;
+    unit(s.direction)?;
+    density(s.pdf_position)?;
+    density(s.pdf_direction)?;
+    values(&s.value)
+}
+
+/// An incident sample (next-event estimation).
+pub fn incident(s: &IncidentSample) -> Result<(), Reason> {
+    finite_point(s.point)?;
+    unit(s.direction)?;
+    if !(s.distance > 0.0) {
+        return Err("distance not > 0");
+    }
+    density(s.pdf)?;
+    values(&s.value)
+}
+
+/// A BSDF sample.
+pub fn scatter(s: &ScatterSample) -> Result<(), Reason> {
+    unit(s.wi)?;
+    density(s.pdf)?;
+    values(&s.value)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    // Each rule refuses its bad value and accepts the boundary of the good range.
+    #[test]
+    fn each_rule_refuses_what_it_names() {
+        let good = Beam {
+            direction: Vec3::new(0.0, 0.0, 1.0),
+            wavelength_nm: 550.0,
+            power_w: 1.0,
+            ..Beam::default()
+        };
+        assert!(beam(&good).is_ok());
+        assert!(beam(&Beam {
+            power_w: 0.0,
+            ..good
+        })
+        .is_ok());
+        // Outside the observers' 360–830 nm but legitimate (bundled SPDs start at 300 nm).
+        for nm in [300.0, 2000.0] {
+            assert!(beam(&Beam {
+                wavelength_nm: nm,
+                ..good
+            })
+            .is_ok());
+        }
+        let cases = [
+            (
+                Beam {
+                    power_w: f64::NAN,
+                    ..good
+                },
+                "power",
+            ),
+            (
+                Beam {
+                    power_w: -1.0,
+                    ..good
+                },
+                "power",
+            ),
+            (
+                Beam {
+                    wavelength_nm: -550.0,
+                    ..good
+                },
+                "wavelength",
+            ),
+            (
+                Beam {
+                    wavelength_nm: 2e5,
+                    ..good
+                },
+                "wavelength",
+            ),
+            (
+                Beam {
+                    wavelength_nm: f64::NAN,
+                    ..good
+                },
+                "wavelength",
+            ),
+            (
+                Beam {
+                    direction: Vec3::new(0.0, 0.0, 2.0),
+                    ..good
+                },
+                "direction",
+            ),
+            (
+                Beam {
+                    direction: Vec3::new(f64::NAN, 0.0, 1.0),
+                    ..good
+                },
+                "direction",
+            ),
+            (
+                Beam {
+                    origin: Vec3::new(f64::INFINITY, 0.0, 0.0),
+                    ..good
+                },
+                "position",
+            ),
+        ];
+        for (b, what) in cases {
+            let e = beam(&b).unwrap_err();
+            assert!(e.contains(what), "{b:?}: {e}");
+        }
+        assert!(density(0.0).is_ok() && density(-1e-30).is_err() && density(f64::NAN).is_err());
+        assert!(values(&SpectralValues::splat(0.0)).is_ok());
+        assert!(values(&SpectralValues {
+            v: [1.0, -0.5, 0.0, 0.0]
+        })
+        .is_err());
+    }
+}

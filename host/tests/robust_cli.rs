@@ -1,0 +1,170 @@
+//! Small traps and resource limits of the command line, run through the real `spectrace`
+//! binary: each request that used to overwrite a file, write beside a directory, abort on an
+//! allocation or run for minutes is now refused before any work, with the limit and the request.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// A lit quad seen by a 4×4 pinhole camera: renders in milliseconds.
+const TINY_SCENE: &str = r#"(
+    materials: [
+        (name: "floor", type: "lambertian", params: (reflectance: 0.5)),
+        (name: "lamp", type: "emissive", params: (radiance: "d65", scale: 10.0)),
+    ],
+    objects: [
+        (name: "floor", type: "quad", material: "floor",
+         params: (corner: (-1, -1, 0), edge0: (2, 0, 0), edge1: (0, 2, 0))),
+        (name: "lamp", type: "quad", material: "lamp",
+         params: (corner: (-0.2, -0.2, 2), edge0: (0, 0.4, 0), edge1: (0.4, 0, 0))),
+    ],
+    cameras: [(name: "c", type: "pinhole",
+               params: (position: (0, 0, 5), look_at: (0, 0, 0), resolution: (RES))) ],
+)"#;
+
+fn tmp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!(
+        "spectrace-robust-cli-{}-{name}",
+        std::process::id()
+    ));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn scene(dir: &Path, resolution: &str) -> PathBuf {
+    let p = dir.join("tiny.ron");
+    std::fs::write(&p, TINY_SCENE.replace("RES", resolution)).unwrap();
+    p
+}
+
+fn spectrace(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_spectrace"))
+        .args(args)
+        .output()
+        .expect("run spectrace")
+}
+
+fn text(o: &Output) -> String {
+    format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    )
+}
+
+/// `-o x.png` wrote the EXR into x.png and then the PNG over it ("wrote x.png" twice). Now the
+/// PNG alone is written, once, and it is a PNG.
+#[test]
+fn png_output_name_writes_one_png() {
+    let dir = tmp_dir("png");
+    let s = scene(&dir, "4, 4");
+    let out = dir.join("x.png");
+    let o = spectrace(&[
+        "render",
+        s.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--spp",
+        "1",
+        "--quiet",
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let wrote = String::from_utf8_lossy(&o.stdout)
+        .lines()
+        .filter(|l| l.contains("wrote"))
+        .map(str::to_string)
+        .collect::<Vec<_>>();
+    assert_eq!(wrote.len(), 1, "{wrote:?}");
+    assert!(wrote[0].ends_with("x.png"), "{wrote:?}");
+    let bytes = std::fs::read(&out).unwrap();
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
+    assert!(!dir.join("x.exr").exists());
+}
+
+/// `-o DIR` wrote DIR.png beside the directory (and the EXR failed into a rescue file). Now it
+/// is refused before rendering, naming the directory, and nothing is written.
+#[test]
+fn directory_output_is_refused() {
+    let dir = tmp_dir("dir");
+    let s = scene(&dir, "4, 4");
+    let target = dir.join("outdir");
+    std::fs::create_dir_all(&target).unwrap();
+    let o = spectrace(&[
+        "render",
+        s.to_str().unwrap(),
+        "-o",
+        target.to_str().unwrap(),
+        "--spp",
+        "1",
+        "--quiet",
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    let t = text(&o);
+    assert!(
+        t.contains(target.to_str().unwrap()) && t.contains("is a directory"),
+        "{t}"
+    );
+    assert!(!dir.join("outdir.png").exists());
+}
+
+/// `resolution: (65536, 65536)` passed validation and aborted the process on a 103 GB
+/// allocation. Now the scene is refused with the image's need and the memory limit.
+#[test]
+fn huge_resolution_is_refused_with_the_limit() {
+    let dir = tmp_dir("res");
+    let s = scene(&dir, "65536, 65536");
+    let o = spectrace(&[
+        "render",
+        s.to_str().unwrap(),
+        "-o",
+        dir.join("a.exr").to_str().unwrap(),
+        "--spp",
+        "1",
+        "--quiet",
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    let t = text(&o);
+    assert!(
+        t.contains("65536×65536") && t.contains("limit") && t.contains("resolution"),
+        "{t}"
+    );
+}
+
+/// `--spp 4294967295` took 1 GB at once for its pass list; `--threads 100000` started threads for
+/// minutes. Both are refused by the argument parser (exit code 2) with the limit.
+#[test]
+fn sample_and_thread_counts_are_bounded() {
+    let o = spectrace(&["render", "--spp", "4294967295", "-o", "/nonexistent/a.exr"]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(
+        text(&o).contains("4294967295") && text(&o).contains("16777216"),
+        "{}",
+        text(&o)
+    );
+    let o = spectrace(&["render", "--threads", "100000", "-o", "/nonexistent/a.exr"]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(
+        text(&o).contains("100000") && text(&o).contains("limit"),
+        "{}",
+        text(&o)
+    );
+    let o = spectrace(&[
+        "reference",
+        "--pass-spp",
+        "4294967295",
+        "-o",
+        "/nonexistent/a.exr",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+}
+
+/// `/dev/zero` as a scene was read until memory ran out; now the read stops at the scene-file
+/// limit (64 MiB) with an error saying so.
+#[test]
+#[cfg(unix)]
+fn endless_scene_file_is_cut_at_the_limit() {
+    let o = spectrace(&["render", "/dev/zero", "-o", "/nonexistent/a.exr"]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    let t = text(&o);
+    assert!(t.contains("/dev/zero") && t.contains("64.00 MiB"), "{t}");
+}

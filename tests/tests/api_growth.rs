@@ -1,0 +1,160 @@
+//! API growth without breaking plugins (the compatibility rule in `plugin-api/src/module.rs`).
+//!
+//! `plugins/fixtures/api-0.1.0/` is a frozen, verbatim copy of the plugin API's source as it was
+//! before the interface grew (extension module v1: beams in other representations).
+//! `plugins/fixtures/api-0.1.0-light/` is a plugin built against that copy. This test builds it
+//! with cargo as its own project, loads it into the current host, and renders it: it must load
+//! (the layout check passes because the root module and its vtables did not change), the
+//! missing extension must read as absent (its lights are native), its call back into the host
+//! (an SPD lent by the host) must work, and its light must render like the built-in point light
+//! of the same emission.
+//!
+//! This test is what showed that growing the root module or a trait vtable after its
+//! `last_prefix_field` marker, as abi_stable allows, still locks every older plugin out: the
+//! layout check accepts a library with MORE prefix fields than the host, never fewer.
+
+mod support;
+
+use spectrace::integrator::{
+    render_with, IntegratorKind, PathTracer, RenderSettings, SampleBudget,
+};
+use spectrace::plugin::adapter::PluginFaults;
+use spectrace::plugin::factory::PluginFactory;
+use spectrace::scene::{load_scene_file, BuiltinFactory, ObjectFactory};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use support::{build_external, mean_and_se};
+
+fn scene_text(light: &str) -> String {
+    format!(
+        r#"(
+    observer: "cie1931-2",
+    output: (spp: 8, max_depth: 3, rgb_space: "srgb"),
+    materials: [
+        (name: "floor", type: "lambertian", params: (reflectance: "colorchecker:19")),
+    ],
+    objects: [
+        (name: "floor", type: "quad", material: "floor",
+         params: (corner: (-2, 0, 2), edge0: (4, 0, 0), edge1: (0, 0, -4))),
+    ],
+    lights: [{light}],
+    cameras: [
+        (name: "front", type: "perspective",
+         params: (position: (0, 1.5, 2.5), look_at: (0, 0, 0), fov: 50, resolution: (32, 32))),
+    ],
+)"#
+    )
+}
+
+fn tmp(name: &str) -> PathBuf {
+    std::env::temp_dir().join(format!(
+        "spectrace-api-growth-{}-{name}",
+        std::process::id()
+    ))
+}
+
+fn render_mean(
+    scene: &Path,
+    registry: &Arc<spectrace::plugin::Registry>,
+    seed: u64,
+) -> (f64, Arc<PluginFaults>) {
+    let faults = PluginFaults::new();
+    let plugins = PluginFactory::new(registry.clone(), faults.clone());
+    let factories: [&dyn ObjectFactory; 2] = [&BuiltinFactory, &plugins];
+    let scene = load_scene_file(scene, &factories).unwrap_or_else(|e| panic!("{e}"));
+    let settings = RenderSettings {
+        budget: SampleBudget::Spp(256),
+        seed,
+        threads: Some(2),
+        tracer: PathTracer {
+            max_depth: 3,
+            ..PathTracer::default()
+        },
+        ..RenderSettings::default()
+    };
+    let out = render_with(
+        &scene,
+        &settings,
+        IntegratorKind::Lt,
+        false,
+        &|_, _| {},
+        None,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(out.result.image.non_finite_count(), 0);
+    (out.result.image.mean_xyz()[1], faults)
+}
+
+#[test]
+fn a_plugin_built_against_the_frozen_0_1_0_api_loads_and_renders() {
+    let lib = build_external(
+        "plugins/fixtures/api-0.1.0-light",
+        "spectrace_fixture_api_0_1_0_light",
+    );
+    let mut registry = spectrace::plugin::builtin_registry();
+    registry
+        .load_plugin(&lib)
+        .unwrap_or_else(|e| panic!("the 0.1.0 plugin must load: {}", e.verbose()));
+    let plugin = registry
+        .plugins()
+        .iter()
+        .find(|p| p.info.name.as_str() == "api-0.1.0-light")
+        .expect("loaded")
+        .clone();
+    assert_eq!(plugin.info.api_version.as_str(), "0.1.0");
+    assert!(
+        spectrace::plugin::representation::extension::extensions_v1(&plugin.path)
+            .unwrap()
+            .is_none(),
+        "a library built before extension module v1 existed does not export it"
+    );
+    assert!(
+        spectrace::plugin::representation::declared(&registry, "frozen_point")
+            .unwrap()
+            .is_none(),
+        "and its lights are then native"
+    );
+    let registry = Arc::new(registry);
+
+    let plugin_scene = tmp("plugin.ron");
+    std::fs::write(
+        &plugin_scene,
+        scene_text(r#"(name: "bulb", type: "frozen_point", params: (position: (0, 1, 0), power_w: 20, spd: "d65"))"#),
+    )
+    .unwrap();
+    let native_scene = tmp("native.ron");
+    std::fs::write(
+        &native_scene,
+        scene_text(r#"(name: "bulb", type: "point", params: (position: (0, 1, 0), power: 20, spd: "d65"))"#),
+    )
+    .unwrap();
+
+    // Same emission, two implementations: the mean Y over the image agrees within 4 standard
+    // errors of the difference (estimated from 4 seeds each), and the test is sharp enough that
+    // 4σ stays below 2% (a broken old-API path, e.g. lost power or a wrong SPD, is far larger).
+    let mut p = Vec::new();
+    let mut n = Vec::new();
+    for seed in 0..4 {
+        let (m, faults) = render_mean(&plugin_scene, &registry, seed);
+        assert_eq!(faults.count(), 0, "{:?}", faults.report());
+        assert_eq!(faults.invalid_count(), 0, "{:?}", faults.report());
+        p.push(m);
+        n.push(render_mean(&native_scene, &registry, 100 + seed).0);
+    }
+    let ((mp, sp), (mn, sn)) = (mean_and_se(&p), mean_and_se(&n));
+    let se = (sp * sp + sn * sn).sqrt();
+    eprintln!(
+        "old-API plugin {mp:.6} ± {sp:.2e}, built-in point {mn:.6} ± {sn:.2e} ({:+.3}%, {:+.1} σ)",
+        100.0 * (mp - mn) / mn,
+        (mp - mn) / se
+    );
+    assert!(mp > 0.0);
+    assert!(
+        4.0 * se < 0.02 * mn,
+        "σ {se} too large for the test to be sharp"
+    );
+    assert!((mp - mn).abs() < 4.0 * se, "plugin {mp} vs built-in {mn}");
+    for f in [plugin_scene, native_scene] {
+        let _ = std::fs::remove_file(f);
+    }
+}
