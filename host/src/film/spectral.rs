@@ -373,6 +373,7 @@ mod tests {
             let mut lambda = SampledWavelengths {
                 lambda: [0.0; LANES],
                 pdf: [0.0; LANES],
+                lanes: crate::spectrum::LaneMask::ALL,
             };
             for i in 0..LANES {
                 lambda.lambda[i] = bins.center((s * 7 + i * 19) % bins.count) as f32;
