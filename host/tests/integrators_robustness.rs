@@ -92,6 +92,7 @@ fn caustic_lamp_y(scene: &Scene) -> f64 {
         let lambda = spectrace::spectrum::SampledWavelengths {
             lambda: [l; spectrace::spectrum::LANES],
             pdf: [1.0 / (hi - lo); spectrace::spectrum::LANES],
+            lanes: spectrace::spectrum::LaneMask::ALL,
         };
         let le = lamp.emitted(
             glam::Vec3A::Z,

@@ -179,6 +179,7 @@ fn material_weights_each_lane_by_its_own_film_response() {
     let lambda = SampledWavelengths {
         lambda: [420.0, 500.0, 580.0, 660.0],
         pdf: [1.0; LANES],
+        lanes: spectrace::spectrum::LaneMask::ALL,
     };
     let th = 30f32.to_radians();
     let wo = glam::Vec3A::new(th.sin(), 0.0, th.cos());

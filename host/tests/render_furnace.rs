@@ -117,6 +117,7 @@ fn furnace(albedo: f32, scale: f32, spd: Arc<dyn Spd>) -> Scene {
         lights: LightSourceManager::new(vec![light], 1),
         observer: Arc::new(CieObserverKind::Cie1931_2.get().clone()),
         options: SceneOptions::default(),
+        warnings: Vec::new(),
     }
 }
 

@@ -13,6 +13,7 @@
 //! name is refused as a clash.
 
 pub mod camera;
+pub mod check;
 pub mod light;
 pub mod material;
 pub mod observer;
@@ -246,13 +247,10 @@ pub fn param_err(param: &str, message: impl std::fmt::Display) -> FactoryError {
     FactoryError::Param(format!("parameter `{param}`: {message}"))
 }
 
-/// `v` if every component is finite, else an error naming `param`.
+/// `v` if every component is finite and within the `f32` range the geometry uses, else an
+/// error naming `param`.
 pub fn finite3(param: &str, v: [f64; 3]) -> Result<glam::Vec3A, FactoryError> {
-    if v.iter().all(|x| x.is_finite()) {
-        Ok(glam::Vec3A::new(v[0] as f32, v[1] as f32, v[2] as f32))
-    } else {
-        Err(param_err(param, "expected three finite numbers (x, y, z)"))
-    }
+    check::position(param, v)
 }
 
 /// `x` if finite, else an error naming `param`.

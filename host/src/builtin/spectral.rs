@@ -16,7 +16,7 @@
 //! An **IOR** ([`Ior`]) is a number, a glass name (`N-BK7`, `N-SF11`, `F2`, `fused-silica`),
 //! `(cauchy: (a, b))` (b in µm²) or `(sellmeier: (b: (..), c: (..)))` (c in µm²).
 
-use super::{param_err, Embed};
+use super::{check, param_err, Embed};
 use crate::color::uplift_srgb;
 use crate::material::{ConstantTexture, CurveTexture, SpectralIor, SpectralTexture};
 use crate::scene::params::{as_f64, as_f64_list, kind_of, Params};
@@ -255,7 +255,10 @@ pub fn texture(
     ctx: &FactoryContext,
 ) -> Result<Arc<dyn SpectralTexture>, FactoryError> {
     let curve = match value {
-        Spectrum::Number(x) => return Ok(Arc::new(ConstantTexture(*x as f32))),
+        Spectrum::Number(x) => {
+            check::unit_interval(param, *x, None)?;
+            return Ok(Arc::new(ConstantTexture(*x as f32)));
+        }
         Spectrum::Spec(s) => SpectralCurve::parse(&Spectrum::resolved_spec(s, ctx))
             .map_err(|e| param_err(param, e))?,
         Spectrum::Pairs(p) => {
@@ -271,6 +274,7 @@ pub fn texture(
             }
             let rgb = rgb.to_vec();
             let poly = uplift_srgb([rgb[0], rgb[1], rgb[2]]);
+            check::reflectance_curve(param, &[], &|l| poly.value(l))?;
             return Ok(Arc::new(CurveTexture::new(
                 format!("rgb {rgb:?}"),
                 1.0,
@@ -284,7 +288,18 @@ pub fn texture(
             ))
         }
     };
+    // Every tabulated entry, and the curve as the renderer will read it, within [0, 1].
+    let table: Vec<(f64, f64)> = match &curve {
+        SpectralCurve::Tabulated { lambda, value } => {
+            lambda.iter().copied().zip(value.iter().copied()).collect()
+        }
+        SpectralCurve::Constant(c) => vec![(f64::NAN, *c)],
+    };
+    for &(nm, v) in &table {
+        check::unit_interval(param, v, (!nm.is_nan()).then_some(nm))?;
+    }
     let f = reflectance_fn(curve, &ctx.representation);
+    check::reflectance_curve(param, &[], f.as_ref())?;
     Ok(Arc::new(CurveTexture::new(
         param.to_string(),
         1.0,
@@ -491,15 +506,46 @@ fn ior_from_value(value: &Value) -> Result<Ior, String> {
 }
 
 impl Ior {
-    /// The renderer's IOR.
+    /// The renderer's IOR: finite and > 0 at every whole nm of the renderer's range (a
+    /// Sellmeier pole or a negative Cauchy value inside the range is refused).
     pub fn build(&self) -> Result<SpectralIor, FactoryError> {
-        Ok(match self {
-            Ior::Number(x) => {
-                if !(*x > 0.0) {
-                    return Err(param_err("ior", "must be positive"));
-                }
-                SpectralIor::Constant(*x as f32)
+        let finite_all = |xs: &[f64]| {
+            xs.iter()
+                .all(|x| x.is_finite() && x.abs() <= check::MAX_F32)
+        };
+        match self {
+            Ior::Number(x) if !(finite_all(&[*x]) && *x > 0.0) => {
+                return Err(param_err(
+                    "ior",
+                    format!("must be a finite number > 0, got {x}"),
+                ))
             }
+            Ior::Cauchy(a, b) if !finite_all(&[*a, *b]) => {
+                return Err(param_err("ior", "`cauchy` coefficients must be finite"))
+            }
+            Ior::Sellmeier { b, c } if !finite_all(b) || !finite_all(c) => {
+                return Err(param_err("ior", "`sellmeier` coefficients must be finite"))
+            }
+            Ior::Cauchy(a, b) => {
+                // n(λ) = a + b/λ², λ in µm.
+                check::ior_curve("ior", &|nm| a + b / (nm * 1e-3).powi(2))?;
+            }
+            Ior::Sellmeier { b, c } => {
+                // n²(λ) = 1 + Σ Bᵢλ²/(λ² − Cᵢ), λ in µm; a pole or n² ≤ 0 is not a real index.
+                check::ior_curve("ior", &|nm| {
+                    let l2 = (nm * 1e-3).powi(2);
+                    let n2 = 1.0 + (0..3).map(|i| b[i] * l2 / (l2 - c[i])).sum::<f64>();
+                    if n2 > 0.0 {
+                        n2.sqrt()
+                    } else {
+                        n2
+                    }
+                })?;
+            }
+            _ => {}
+        }
+        Ok(match self {
+            Ior::Number(x) => SpectralIor::Constant(*x as f32),
             Ior::Glass(s) => SpectralIor::glass(s).map_err(|e| param_err("ior", e))?,
             Ior::Cauchy(a, b) => SpectralIor::Cauchy {
                 a: *a as f32,
@@ -523,8 +569,16 @@ pub fn alpha(alpha: Option<f64>, roughness: Option<f64>) -> Result<f32, FactoryE
         }
         (None, None) => 0.1,
     };
-    if !(a >= 0.0) {
-        return Err(param_err("roughness", "must be ≥ 0"));
+    if !(a >= 0.0 && a.is_finite()) {
+        let which = if alpha.is_some() {
+            "alpha"
+        } else {
+            "roughness"
+        };
+        return Err(param_err(
+            which,
+            format!("must give a finite GGX α ≥ 0, got α = {a}"),
+        ));
     }
     Ok(a)
 }

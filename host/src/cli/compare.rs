@@ -1,6 +1,7 @@
 //! `spectrace compare A.exr B.exr [--diff OUT.png] [--exclude-light] [--json]`: error of render
 //! A against reference B (RMSE, relative MSE, CIEDE2000 mean and 99th percentile) and an
-//! optional false-colour ΔE00 map.
+//! optional false-colour ΔE00 map. With `--spectral`, two spectral EXRs (`S0.<λ>nm` channels)
+//! are compared bin by bin.
 
 use crate::analysis::{
     compare_files, diff_image::DELTA_E_STOPS, write_delta_e_png, CompareOptions,
@@ -23,10 +24,96 @@ pub struct CompareArgs {
     /// Print one JSON object instead of text.
     #[arg(long)]
     pub json: bool,
+    /// Compare two spectral EXRs (`S0.<λ>nm` channels, Fichet–Pacanowski–Wilkie 2021 layout)
+    /// instead: RMSE over all bins, the worst bin's RMSE (W/(m²·sr·nm)) and the RMSE of the XYZ
+    /// integrated from the bins (CIE 1931 2°).
+    #[arg(long, conflicts_with_all = ["diff", "exclude_light"])]
+    pub spectral: bool,
+}
+
+/// `compare --spectral`: per-bin errors of spectral image A against B.
+fn run_spectral(args: &CompareArgs) -> Result<(), String> {
+    use crate::film::spectral::SpectralImage;
+    let a = SpectralImage::read_exr(&args.test)?;
+    let b = SpectralImage::read_exr(&args.reference)?;
+    if (a.width, a.height) != (b.width, b.height) {
+        return Err(format!(
+            "{} is {}×{} but {} is {}×{}",
+            args.test.display(),
+            a.width,
+            a.height,
+            args.reference.display(),
+            b.width,
+            b.height
+        ));
+    }
+    if a.wavelengths.len() != b.wavelengths.len()
+        || a.wavelengths
+            .iter()
+            .zip(&b.wavelengths)
+            .any(|(x, y)| (x - y).abs() > 1e-6)
+    {
+        return Err(format!(
+            "{} and {} have different wavelength bins ({} and {} channels, {}–{} nm and {}–{} nm)",
+            args.test.display(),
+            args.reference.display(),
+            a.wavelengths.len(),
+            b.wavelengths.len(),
+            a.wavelengths.first().unwrap_or(&0.0),
+            a.wavelengths.last().unwrap_or(&0.0),
+            b.wavelengths.first().unwrap_or(&0.0),
+            b.wavelengths.last().unwrap_or(&0.0)
+        ));
+    }
+    let n = a.wavelengths.len().max(1);
+    let pixels = (a.width as usize * a.height as usize).max(1);
+    let mut per_bin = vec![0.0f64; n];
+    for (i, (x, y)) in a.values.iter().zip(&b.values).enumerate() {
+        per_bin[i % n] += (x - y) * (x - y);
+    }
+    let total: f64 = per_bin.iter().sum();
+    let rmse = (total / (pixels * n) as f64).sqrt();
+    let (worst_bin, worst) = per_bin
+        .iter()
+        .enumerate()
+        .map(|(k, s)| (k, (s / pixels as f64).sqrt()))
+        .fold((0, 0.0), |m, v| if v.1 > m.1 { v } else { m });
+    let obs = crate::color::CieObserverKind::Cie1931_2.get();
+    let (xa, xb) = (a.to_xyz(obs), b.to_xyz(obs));
+    let xyz_rmse = (xa
+        .iter()
+        .zip(&xb)
+        .map(|(p, q)| (0..3).map(|c| (p[c] - q[c]).powi(2)).sum::<f64>())
+        .sum::<f64>()
+        / (3 * pixels) as f64)
+        .sqrt();
+    let worst_nm = a.wavelengths.get(worst_bin).copied().unwrap_or(0.0);
+    if args.json {
+        println!(
+            "{{\"bins\":{n},\"rmse\":{rmse},\"worst_bin_nm\":{worst_nm},\"worst_bin_rmse\":{worst},\"xyz_rmse\":{xyz_rmse}}}"
+        );
+        return Ok(());
+    }
+    println!(
+        "{} vs {} ({}×{}, {} bins of {} nm)",
+        args.test.display(),
+        args.reference.display(),
+        a.width,
+        a.height,
+        n,
+        a.step
+    );
+    println!("  RMSE over all bins   {rmse:.6} W/(m²·sr·nm)");
+    println!("  worst bin            {worst_nm} nm: RMSE {worst:.6}");
+    println!("  XYZ from bins RMSE   {xyz_rmse:.6}");
+    Ok(())
 }
 
 /// Run `spectrace compare`.
 pub fn run(args: &CompareArgs) -> Result<(), String> {
+    if args.spectral {
+        return run_spectral(args);
+    }
     let options = CompareOptions {
         exclude_light: args.exclude_light,
     };

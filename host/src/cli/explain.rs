@@ -40,5 +40,8 @@ pub fn run(args: &ExplainArgs) -> Result<(), String> {
     );
     println!("{}", effects.summary_line());
     print!("{}", effects.report());
+    for w in scene.warnings() {
+        println!("warning: {w}");
+    }
     Ok(())
 }

@@ -83,6 +83,10 @@ pub fn run(args: &ReferenceArgs) -> Result<(), String> {
             None => "default Cornell box".into(),
         },
     };
+    // Before the long run, not after it: a scene that renders black should not take hours.
+    for w in scene.warnings() {
+        eprintln!("spectrace: warning: {w}");
+    }
     if time.is_none() && args.spp.is_none() {
         eprintln!("spectrace: no --time or --spp: rendering until Ctrl-C");
     }

@@ -87,6 +87,18 @@ pub struct RenderArgs {
     /// infinite or negative).
     #[arg(long = "diagnostic-layer")]
     pub diagnostic_layer: bool,
+    /// Path tracing only: also write the spectral radiance per pixel (W/(m²·sr·nm), histogram
+    /// over --bins) as an OpenEXR in the Fichet–Pacanowski–Wilkie 2021 layout (`S0.<λ>nm`).
+    #[arg(long = "spectral-exr", value_name = "OUT.exr")]
+    pub spectral_exr: Option<PathBuf>,
+    /// Wavelength bins of --spectral-exr, START:END:STEP in nm.
+    #[arg(
+        long,
+        value_name = "START:END:STEP",
+        default_value = "380:780:5",
+        requires = "spectral_exr"
+    )]
+    pub bins: String,
     /// Testing hook: stop as if interrupted once this many progress units (tiles or light-path
     /// chunks) are done.
     #[arg(long = "stop-after-units", hide = true)]
@@ -274,6 +286,23 @@ pub fn run_with_factories(
             args.integrator
         ));
     }
+    let spectral_bins = match &args.spectral_exr {
+        Some(_) if args.integrator != crate::integrator::IntegratorKind::Pt => {
+            return Err(format!(
+                "--spectral-exr is written by --integrator pt only for now (got --integrator {})",
+                args.integrator
+            ))
+        }
+        Some(_) if args.slice.is_some() || args.resume.is_some() => {
+            return Err(
+                "--spectral-exr cannot be combined with --slice or --resume (the \
+                        spectral film is not part of the state file)"
+                    .into(),
+            )
+        }
+        Some(_) => Some(crate::film::spectral::SpectralBins::parse(&args.bins)?),
+        None => None,
+    };
     let slice = args.slice.as_deref().map(SliceSpec::parse).transpose()?;
     let total_spp = match budget {
         SampleBudget::Spp(n) => Some(n),
@@ -367,8 +396,36 @@ pub fn run_with_factories(
     };
     let _ = render;
     let already_done = range.as_ref().is_some_and(|r| first_sample >= r.end);
+    let spectral_film = match spectral_bins {
+        Some(b) => {
+            let (w, h) = scene
+                .cameras
+                .get(args.camera.as_deref())
+                .map_err(|e| e.to_string())?
+                .camera
+                .resolution();
+            Some(crate::film::spectral::SpectralFilm::new(b, w, h))
+        }
+        None => None,
+    };
     let mut output = if already_done {
         None
+    } else if let Some(sf) = &spectral_film {
+        let (result, film) = crate::integrator::path::render_film_spectral(
+            &scene,
+            &settings,
+            &progress,
+            Some(&stop),
+            Some(sf),
+        )
+        .map_err(|e| e.to_string())?;
+        Some(crate::integrator::IntegratorOutput {
+            result,
+            strategy_images: Vec::new(),
+            non_finite: film.rejected.total(),
+            max_sample_y: Vec::new(),
+            film,
+        })
     } else {
         Some(
             crate::integrator::render_with(
@@ -539,6 +596,26 @@ pub fn run_with_factories(
     }
 
     let written = save(&result.image, &outputs, &scene, extra_layers(args, &film))?;
+    if let (Some(sf), Some(path)) = (&spectral_film, &args.spectral_exr) {
+        let image = sf.image();
+        image.write_exr(path)?;
+        let bins_y: f64 = image
+            .to_xyz(scene.observer.as_ref())
+            .iter()
+            .map(|p| p[1])
+            .sum();
+        let film_y: f64 = result.image.xyz.iter().map(|p| p[1]).sum();
+        let n = result.image.xyz.len().max(1) as f64;
+        println!(
+            "  wrote {} ({} bins of {} nm); mean Y from the bins {:.6}, film Y {:.6} (they \
+             differ by the binning of x̄ȳz̄ and by wavelengths outside the bins)",
+            path.display(),
+            image.wavelengths.len(),
+            image.step,
+            bins_y / n,
+            film_y / n
+        );
+    }
 
     let secs = result.elapsed.as_secs_f64().max(1e-9);
     let rgb = scene.options.rgb_space.xyz_to_rgb(result.image.mean_xyz());
@@ -567,6 +644,9 @@ pub fn run_with_factories(
     }
     for w in written {
         println!("  wrote {}", w.display());
+    }
+    for w in scene.warnings() {
+        println!("  warning: {w}");
     }
     if stopped && range.is_none() {
         return Err(format!(

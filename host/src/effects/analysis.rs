@@ -178,6 +178,7 @@ fn material_is_flat(m: &dyn Material) -> bool {
         let mut lambda = SampledWavelengths {
             lambda: [chunk[0] as f32; LANES],
             pdf: [1.0; LANES],
+            lanes: crate::spectrum::LaneMask::ALL,
         };
         for (i, &l) in chunk.iter().enumerate() {
             lambda.lambda[i] = l as f32;

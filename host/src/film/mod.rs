@@ -13,6 +13,7 @@ pub mod output;
 pub mod pixel_film;
 pub mod rejected;
 pub mod sensor;
+pub mod spectral;
 pub mod splat;
 pub mod state_file;
 

@@ -66,14 +66,15 @@ impl Sensor {
     }
 
     /// Monte Carlo estimate of `∫ L x̄ȳz̄ dλ / ∫ȳ dλ` from one path: the mean over lanes of
-    /// `L(λᵢ)·x̄ȳz̄(λᵢ)/pdf(λᵢ)`. Lanes with pdf 0 (terminated by dispersion) contribute nothing;
-    /// the hero's pdf already accounts for that (`terminate_secondary`).
+    /// `L(λᵢ)·x̄ȳz̄(λᵢ)/pdf(λᵢ)`. Lanes outside `lambda.lanes` (terminated by dispersion) and
+    /// lanes with pdf 0 contribute nothing; the hero's pdf already accounts for that
+    /// (`terminate_secondary`).
     #[inline]
     pub fn to_xyz(&self, l: &SampledSpectrum, lambda: &SampledWavelengths) -> [f64; 3] {
         let mut xyz = [0.0f64; 3];
         for i in 0..LANES {
             let p = lambda.pdf[i];
-            if p == 0.0 || l.0[i] == 0.0 {
+            if p == 0.0 || l.0[i] == 0.0 || !lambda.lanes.contains(i) {
                 continue;
             }
             let w = l.0[i] as f64 / p as f64;

@@ -37,7 +37,7 @@ use crate::film::{Rejection, Sensor, SplatFilm};
 use crate::light::{LightFlags, LightSampleContext};
 use crate::material::TransportMode;
 use crate::scene::Scene;
-use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths};
 use glam::Vec2;
 use spectrace_plugin_api::ParamDoc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -99,8 +99,8 @@ pub struct Connection {
     pub weight: f32,
     /// For t = 1: the raster position to splat at.
     pub raster: Option<Vec2>,
-    /// Only the hero wavelength is valid (a dispersive event on either subpath).
-    pub dispersed: bool,
+    /// Lanes valid on both subpaths (only the hero after a dispersive event on either).
+    pub lanes: LaneMask,
 }
 
 /// Join the first `s` light vertices and the first `t` camera vertices (Veach's (s, t)
@@ -208,13 +208,15 @@ pub fn connect(
         t,
         lambda,
     );
-    let dispersed = camera_path[t - 1].dispersed
-        || (s > 0 && s <= light_path.len() && light_path[s - 1].dispersed);
+    let mut lanes = camera_path[t - 1].lanes;
+    if s > 0 && s <= light_path.len() {
+        lanes = lanes.intersect(light_path[s - 1].lanes);
+    }
     Some(Connection {
         l,
         weight,
         raster,
-        dispersed,
+        lanes,
     })
 }
 
@@ -595,7 +597,7 @@ impl Bdpt {
                 ) else {
                     continue;
                 };
-                let xyz = weights.xyz(&(c.l * c.weight), c.dispersed);
+                let xyz = weights.xyz(&(c.l * c.weight), c.lanes);
                 if let Some(kind) = check_sample(&xyz) {
                     // Counted under this sample's pixel and strategy, never in the image.
                     splats.reject(Rejection {

@@ -12,7 +12,7 @@ use crate::film::Sensor;
 use crate::geometry::Ray;
 use crate::material::TransportMode;
 use crate::scene::Scene;
-use crate::spectrum::{SampledSpectrum, SampledWavelengths, LANES};
+use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths, LANES};
 use glam::{Vec2, Vec3A};
 
 /// Trace one beam of beams-only light `index` (chosen with probability `pmf`) and hand every
@@ -53,6 +53,7 @@ pub fn trace_beam(
     let lambda = SampledWavelengths {
         lambda: [nm; LANES],
         pdf: [1.0, 0.0, 0.0, 0.0],
+        lanes: LaneMask::HERO,
     };
     let iy = sensor.observer().integral_y();
     let bar = sensor.observer().xyz_bar(beam.wavelength_nm);

@@ -140,7 +140,7 @@ fn trace_light_path(
                 if let Some((c, raster, _)) =
                     connect_to_camera(scene, camera, path, s, &lambda, rng.next_2d(), stats)
                 {
-                    splat(raster, weights.xyz(&c, path[s - 1].dispersed));
+                    splat(raster, weights.xyz(&c, path[s - 1].lanes));
                 }
             }
         }

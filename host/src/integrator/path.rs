@@ -10,7 +10,7 @@ use super::tiled::render_tiles;
 use super::wavelength_groups::{PathWavelengthSampler, PathWavelengths, MAX_GROUPS};
 use super::{PixelSampler, RenderError, RenderResult, RenderSettings};
 use crate::camera::CameraSample;
-use crate::film::{FilmState, Sensor};
+use crate::film::{spectral::SpectralFilm, FilmState, Sensor};
 use crate::geometry::{spawn_ray, spawn_ray_to, Ray};
 use crate::light::{LightFlags, LightSampleContext};
 use crate::material::{Frame, MaterialFlags, ShadingContext, TransportMode};
@@ -552,6 +552,18 @@ pub fn render_film(
     progress: &ProgressFn<'_>,
     cancel: Option<&AtomicBool>,
 ) -> Result<(RenderResult, FilmState), RenderError> {
+    render_film_spectral(scene, settings, progress, cancel, None)
+}
+
+/// [`render_film`], also filling `spectral` (a per-pixel spectral histogram) from the same
+/// camera samples when given; without it nothing extra is computed.
+pub fn render_film_spectral(
+    scene: &Scene,
+    settings: &RenderSettings,
+    progress: &ProgressFn<'_>,
+    cancel: Option<&AtomicBool>,
+    spectral: Option<&SpectralFilm>,
+) -> Result<(RenderResult, FilmState), RenderError> {
     let cam = scene
         .cameras
         .get(settings.camera.as_deref())
@@ -593,9 +605,18 @@ pub fn render_film(
                                     &mut rng,
                                     &mut stats,
                                 );
-                                film_xyz(&sensor, &l, &lambdas, r.weight)
+                                let xyz = film_xyz(&sensor, &l, &lambdas, r.weight);
+                                if let Some(sf) = spectral {
+                                    sf.add(x, y, &l[..], lambdas.groups(), r.weight, &xyz);
+                                }
+                                xyz
                             }
-                            None => [0.0; 3],
+                            None => {
+                                if let Some(sf) = spectral {
+                                    sf.add(x, y, &[], &[], 0.0, &[0.0; 3]);
+                                }
+                                [0.0; 3]
+                            }
                         };
                         // The film's guard keeps NaN/Inf/negative samples out and counts them.
                         buf.add(x, y, xyz, "pt camera path");

@@ -39,7 +39,7 @@ pub fn random_walk(
         return;
     }
     let mut pdf_fwd = pdf_dir;
-    let mut dispersed = path[path.len() - 1].dispersed;
+    let mut lanes = path[path.len() - 1].lanes.intersect(lambda.lanes);
     // Scattering-only throughput for Russian roulette (β of light paths carries watts), without
     // the 1/η² radiance scaling of refraction: that factor is undone when the path leaves the
     // medium again, so a roulette on it would kill camera paths inside glass with probability
@@ -57,7 +57,7 @@ pub fn random_walk(
                         let prev = path[path.len() - 1];
                         let mut v = Vertex::light(ei, p, glam::Vec3A::ZERO, n, beta);
                         v.wo = -ray.dir.normalize();
-                        v.dispersed = dispersed;
+                        v.lanes = lanes;
                         v.pdf_fwd = prev.convert_density(pdf_fwd, &v);
                         path.push(v);
                     }
@@ -79,7 +79,7 @@ pub fn random_walk(
             pdf_fwd: 0.0,
             pdf_rev: 0.0,
             delta: false,
-            dispersed,
+            lanes,
         };
         v.pdf_fwd = prev.convert_density(pdf_fwd, &v);
         path.push(v);
@@ -109,7 +109,7 @@ pub fn random_walk(
             pdf_rev = 0.0;
         }
         if bs.flags.contains(MaterialFlags::DISPERSIVE) {
-            dispersed = true;
+            lanes = lanes.terminate_secondary();
         }
         let correction = super::vertex::shading_normal_correction(
             hit.geometric_normal,

@@ -11,7 +11,7 @@ use crate::geometry::{spawn_ray_to, Ray};
 use crate::light::{Light, LightFlags};
 use crate::material::{Frame, Material, ShadingContext, TransportMode};
 use crate::scene::Scene;
-use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths};
 use glam::{Vec2, Vec3A};
 
 /// What a vertex lies on.
@@ -57,9 +57,9 @@ pub struct Vertex {
     pub pdf_rev: f32,
     /// Scattered by a Dirac lobe: connections through it are impossible.
     pub delta: bool,
-    /// A wavelength-dependent (dispersive) event happened on the subpath before this vertex:
-    /// only the hero wavelength stays valid for contributions that use it.
-    pub dispersed: bool,
+    /// Wavelength lanes still valid at this vertex of its own subpath: every lane until a
+    /// wavelength-dependent (dispersive) event before it leaves only the hero.
+    pub lanes: LaneMask,
 }
 
 /// `x` if non-zero, else 1: a zero density marks an unsampleable (delta) step, which cancels in
@@ -111,7 +111,7 @@ impl Vertex {
             pdf_fwd: 0.0,
             pdf_rev: 0.0,
             delta: false,
-            dispersed: false,
+            lanes: LaneMask::ALL,
         }
     }
 
@@ -129,7 +129,7 @@ impl Vertex {
             pdf_fwd: 0.0,
             pdf_rev: 0.0,
             delta: false,
-            dispersed: false,
+            lanes: LaneMask::ALL,
         }
     }
 

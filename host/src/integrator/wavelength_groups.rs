@@ -38,7 +38,7 @@ use super::wavelength_mixture::WavelengthMixture;
 use super::{PixelSampler, WavelengthSampling};
 use crate::scene::Scene;
 use crate::spectrum::wavelength_sampling::rotated;
-use crate::spectrum::{SampledWavelengths, LANES};
+use crate::spectrum::{LaneMask, SampledWavelengths, LANES};
 
 /// Largest supported number of wavelengths per path.
 pub const MAX_WAVELENGTHS_PER_PATH: u32 = 16;
@@ -66,27 +66,28 @@ pub fn groups_for(n: u32) -> Result<usize, String> {
 pub struct PathWavelengths {
     groups: [SampledWavelengths; MAX_GROUPS],
     count: usize,
-    /// Only the hero lane is left (explicit, since lanes on delta lines also have pdf 0).
-    hero_only: bool,
 }
 
 impl PathWavelengths {
     /// A path carrying `groups` (1 to [`MAX_GROUPS`] of them; extra ones are ignored). A single
-    /// group whose secondary lanes already have pdf 0 counts as hero-only, as
-    /// [`SampledWavelengths::terminate_secondary`] sees it.
+    /// group whose lane mask holds only the hero counts as hero-only, as
+    /// [`SampledWavelengths::terminate_secondary`] leaves it.
     pub fn from_groups(groups: &[SampledWavelengths]) -> Self {
         let count = groups.len().clamp(1, MAX_GROUPS);
         let empty = SampledWavelengths {
             lambda: [0.0; LANES],
             pdf: [0.0; LANES],
+            lanes: LaneMask::NONE,
         };
         let mut g = [empty; MAX_GROUPS];
         g[..count].copy_from_slice(&groups[..count]);
-        Self {
-            groups: g,
-            count,
-            hero_only: count == 1 && g[0].secondary_terminated(),
-        }
+        Self { groups: g, count }
+    }
+
+    /// Only the hero lane is left: the hero group's lane mask says so (lanes on delta lines
+    /// also have pdf 0, so the pdfs cannot).
+    fn hero_only(&self) -> bool {
+        self.groups[0].lanes.count() <= 1
     }
 
     /// Number of groups the path started with.
@@ -97,7 +98,7 @@ impl PathWavelengths {
 
     /// Groups that still carry wavelengths: all of them, or 1 once only the hero is left.
     pub fn active_groups(&self) -> usize {
-        if self.hero_only {
+        if self.hero_only() {
             1
         } else {
             self.count
@@ -113,7 +114,7 @@ impl PathWavelengths {
     /// of every group gets pdf 0 and the hero's pdf is divided by the 4G lanes the film averages
     /// over (see the module docs), so the sample stays unbiased. Idempotent.
     pub fn terminate_secondary(&mut self) {
-        if self.hero_only {
+        if self.hero_only() {
             return;
         }
         let lanes = (LANES * self.count) as f32;
@@ -122,10 +123,11 @@ impl PathWavelengths {
             *p = 0.0;
         }
         hero.pdf[0] /= lanes;
+        hero.lanes = hero.lanes.terminate_secondary();
         for g in &mut self.groups[1..self.count] {
             g.pdf = [0.0; LANES];
+            g.lanes = LaneMask::NONE;
         }
-        self.hero_only = true;
     }
 }
 
@@ -182,6 +184,7 @@ impl PathWavelengthSampler {
         let mut groups = [SampledWavelengths {
             lambda: [0.0; LANES],
             pdf: [0.0; LANES],
+            lanes: LaneMask::NONE,
         }; MAX_GROUPS];
         for (g, group) in groups.iter_mut().enumerate().take(self.groups) {
             let ug = rotated(u as f64, g, n) as f32;
@@ -201,13 +204,21 @@ impl PathWavelengthSampler {
         let mut w = PathWavelengths {
             groups,
             count: self.groups,
-            hero_only: false,
         };
         if self.single_lane {
             w.terminate_secondary();
         }
         w
     }
+}
+
+/// True when some evaluable light's SPD is narrowband or has lines.
+fn narrowband(scene: &Scene) -> bool {
+    scene
+        .lights
+        .lights()
+        .iter()
+        .any(|l| crate::spectrum::bandwidth::is_narrowband(l.spd().as_ref()))
 }
 
 #[cfg(test)]
@@ -299,13 +310,4 @@ mod tests {
         let est = sum / (n as f64 * 16.0);
         assert!((est / 300.0 - 1.0).abs() < 0.01, "{est}");
     }
-}
-
-/// True when some evaluable light's SPD is narrowband or has lines.
-fn narrowband(scene: &Scene) -> bool {
-    scene
-        .lights
-        .lights()
-        .iter()
-        .any(|l| crate::spectrum::bandwidth::is_narrowband(l.spd().as_ref()))
 }

@@ -21,7 +21,7 @@ use crate::light::LightFlags;
 use crate::scene::Scene;
 use crate::spectrum::spd::{line_mass_at_lane, off_lines};
 use crate::spectrum::wavelength_sampling::{rotated, visible_pdf, visible_sample};
-use crate::spectrum::{DeltaLine, SampledWavelengths, Spd, LANES};
+use crate::spectrum::{DeltaLine, LaneMask, SampledWavelengths, Spd, LANES};
 use std::sync::Arc;
 
 /// The one-sample mixture `½ p_vis + ½ p_emit` over wavelengths (see the module docs).
@@ -137,7 +137,11 @@ impl WavelengthMixture {
                 pdf[i] = density(l as f64) as f32;
             }
         }
-        SampledWavelengths { lambda, pdf }
+        SampledWavelengths {
+            lambda,
+            pdf,
+            lanes: LaneMask::ALL,
+        }
     }
 
     /// Wavelengths from the emission component alone (path tracing's light-SPD sampling):

@@ -2,7 +2,7 @@
 //! splat (BDPT, light tracing).
 
 use crate::film::Sensor;
-use crate::spectrum::{SampledSpectrum, SampledWavelengths, LANES};
+use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths, LANES};
 
 /// Per-lane factors turning a spectral sample into film XYZ (`x̄ȳz̄(λ)/(pdf(λ)·LANES·∫ȳ)`), for
 /// all lanes and for the hero alone (after a dispersive event: pdf/LANES, see
@@ -34,11 +34,13 @@ impl XyzWeights {
         Self { full, hero }
     }
 
-    /// XYZ of spectral sample `l`; `hero_only` after a dispersive event.
+    /// XYZ of spectral sample `l` whose valid lanes are `lanes` (the mask its subpath
+    /// vertices carry): the mean over the live lanes of `L(λᵢ)·x̄ȳz̄(λᵢ)/pdf(λᵢ)`, each live
+    /// lane an unbiased estimate on its own (every lane is marginally drawn with its pdf).
     #[inline]
     #[allow(clippy::needless_range_loop)] // lanes index several arrays at once
-    pub fn xyz(&self, l: &SampledSpectrum, hero_only: bool) -> [f64; 3] {
-        if hero_only {
+    pub fn xyz(&self, l: &SampledSpectrum, lanes: LaneMask) -> [f64; 3] {
+        if lanes == LaneMask::HERO {
             let v = l.0[0] as f64;
             return if v == 0.0 {
                 [0.0; 3]
@@ -46,14 +48,24 @@ impl XyzWeights {
                 self.hero.map(|h| h * v)
             };
         }
+        // LANES/|live|: 1 for a full mask (skipped so the sum is the plain one).
+        let live = lanes.count();
+        let scale = if live == 0 {
+            return [0.0; 3];
+        } else {
+            LANES as f64 / live as f64
+        };
         let mut out = [0.0; 3];
         for i in 0..LANES {
             let v = l.0[i] as f64;
-            if v != 0.0 {
+            if v != 0.0 && lanes.contains(i) {
                 for c in 0..3 {
                     out[c] += self.full[i][c] * v;
                 }
             }
+        }
+        if !lanes.is_all() {
+            out = out.map(|x| x * scale);
         }
         out
     }

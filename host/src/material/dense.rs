@@ -203,6 +203,7 @@ mod spike_tests {
         let w = SampledWavelengths {
             lambda: [589.0, 500.0, 589.5, 700.0],
             pdf: [1.0; LANES],
+            lanes: crate::spectrum::LaneMask::ALL,
         };
         assert_eq!(line.eval(&w).0, [3.0, 0.0, 0.0, 0.0]);
     }

@@ -213,6 +213,7 @@ mod tests {
                 let lambda = SampledWavelengths {
                     lambda: [li as f32; LANES],
                     pdf: [1.0; LANES],
+                    lanes: crate::spectrum::LaneMask::ALL,
                 };
                 let wo = Vec3A::new(0.0, 0.6, 0.8);
                 let s = m

@@ -215,7 +215,10 @@ pub fn build_scene_with(
     })?);
 
     // Lights: area lights from emissive objects, then the listed lights.
+    let mut warnings = Vec::new();
     let mut lights: Vec<Arc<dyn Light>> = Vec::new();
+    // The scene item each light came from, for messages.
+    let mut light_items: Vec<String> = Vec::new();
     for (i, o) in objects.iter().enumerate() {
         if let Some(profile) = o.material.emission() {
             if geometry.object_area(i as u32) > 0.0 {
@@ -224,6 +227,12 @@ pub fn build_scene_with(
                     i as u32,
                     profile,
                 )));
+                light_items.push(format!("object {:?}", o.name));
+            } else {
+                warnings.push(format!(
+                    "object {:?} has an emissive material but zero area: it emits nothing",
+                    o.name
+                ));
             }
         }
     }
@@ -235,6 +244,7 @@ pub fn build_scene_with(
         })
         .map_err(|e| item_err(item.clone(), e))?;
         lights.push(light);
+        light_items.push(item);
     }
     // Cameras.
     let mut cameras = CameraManager::new();
@@ -287,6 +297,22 @@ pub fn build_scene_with(
         l.preprocess(&bounds);
         l.preprocess_view(&view_bounds);
     }
+    // Total powers (known once the lights know the scene's extent): finite or refused, and
+    // what makes a light or the whole scene contribute nothing is a warning.
+    let mut powers = Vec::with_capacity(lights.len());
+    for (l, item) in lights.iter().zip(&light_items) {
+        let power = l.power();
+        super::warnings::light_power(item, power, &mut warnings)
+            .map_err(|e| item_err(item.clone(), e))?;
+        powers.push(power);
+    }
+    warnings.extend(super::warnings::no_light(&powers));
+    warnings.extend(super::warnings::all_black(&objects));
+    warnings.extend(super::warnings::blind_cameras(
+        &geometry,
+        cameras.cameras(),
+        !environments.is_empty(),
+    ));
     let lights = LightSourceManager::new(lights, objects.len());
 
     Ok(Scene {
@@ -296,6 +322,7 @@ pub fn build_scene_with(
         lights,
         observer,
         options,
+        warnings,
     })
 }
 
@@ -303,6 +330,9 @@ fn build_transform(steps: &[TransformStep]) -> Result<Transform, String> {
     let mut t = Transform::IDENTITY;
     for s in steps {
         let next = match s {
+            TransformStep::Translate(v) if !v.iter().all(|x| x.is_finite()) => {
+                return Err(format!("translation must be finite, got {v:?}"))
+            }
             TransformStep::Translate(v) => Ok(Transform::translate(DVec3::from_array(*v))),
             TransformStep::Scale(v) => Transform::scale(DVec3::from_array(*v)),
             TransformStep::Rotate { axis, degrees } => {

@@ -12,6 +12,7 @@ pub mod objects;
 pub mod params;
 pub mod representation;
 pub mod source;
+pub mod warnings;
 
 pub use builder::{
     build_scene, build_scene_with, load_scene_file, load_scene_file_with, parse_scene_str,
@@ -72,4 +73,14 @@ pub struct Scene {
     pub observer: Arc<dyn Observer>,
     /// Output and sampling defaults.
     pub options: SceneOptions,
+    /// What in the scene probably does not render as meant (lights that emit nothing, no
+    /// light, powers near the renderer's limits, …); see [`warnings`]. Printed by `render`.
+    pub warnings: Vec<String>,
+}
+
+impl Scene {
+    /// The scene's warnings (see [`Scene::warnings`](Scene#structfield.warnings)).
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
+    }
 }

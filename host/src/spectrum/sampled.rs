@@ -4,6 +4,7 @@
 //! range, so one path estimates several wavelengths at once (Wilkie et al. 2014). Each lane keeps
 //! its own pdf (1/nm) so estimators divide by the density the wavelength was actually drawn with.
 
+use super::LaneMask;
 use std::ops::{Add, AddAssign, Div, Index, IndexMut, Mul, MulAssign, Sub};
 
 /// Number of wavelengths traced together along one path.
@@ -125,8 +126,12 @@ impl MulAssign<f32> for SampledSpectrum {
 pub struct SampledWavelengths {
     /// Wavelengths in nm; lane 0 is the hero.
     pub lambda: [f32; LANES],
-    /// Sampling density of each lane in 1/nm; 0 marks a terminated lane.
+    /// Sampling density of each lane in 1/nm (0 for a terminated lane, and for a lane on a
+    /// delta line, whose weight is a discrete probability).
     pub pdf: [f32; LANES],
+    /// Lanes still carrying light; a dispersive event leaves only the hero
+    /// ([`terminate_secondary`](Self::terminate_secondary)).
+    pub lanes: LaneMask,
 }
 
 impl SampledWavelengths {
@@ -146,12 +151,14 @@ impl SampledWavelengths {
         Self {
             lambda,
             pdf: [1.0 / span; LANES],
+            lanes: LaneMask::ALL,
         }
     }
 
     /// Drop every lane but the hero, as a wavelength-dependent event (dispersion) demands: the
     /// other lanes would have scattered in other directions. The hero's pdf becomes the average
     /// over the rotations, which is the density with which the hero's wavelength was produced.
+    /// The mask records it, so the film and every integrator see the same state.
     pub fn terminate_secondary(&mut self) {
         if self.secondary_terminated() {
             return;
@@ -160,10 +167,11 @@ impl SampledWavelengths {
             *p = 0.0;
         }
         self.pdf[0] /= LANES as f32;
+        self.lanes = self.lanes.terminate_secondary();
     }
 
     /// True once [`terminate_secondary`](Self::terminate_secondary) has run.
     pub fn secondary_terminated(&self) -> bool {
-        self.pdf[1..].iter().all(|&p| p == 0.0)
+        self.lanes.count() <= 1
     }
 }

@@ -129,6 +129,7 @@ mod tests {
         let w = SampledWavelengths {
             lambda: [589.0, 500.0, 589.0f32.next_up(), 600.0],
             pdf: [1.0; LANES],
+            lanes: crate::spectrum::LaneMask::ALL,
         };
         let v = spd_at(&s, &w);
         assert_eq!(v[0], 0.25);

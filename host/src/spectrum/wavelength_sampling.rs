@@ -6,7 +6,7 @@
 //! stored for the lane. The rotation keeps the lanes stratified across the spectrum.
 
 use super::spd::Spd;
-use super::{SampledWavelengths, LANES};
+use super::{LaneMask, SampledWavelengths, LANES};
 
 /// Shape parameter (1/nm) of the visible-wavelength importance density.
 pub const VISIBLE_SHARPNESS: f64 = 0.0072;
@@ -148,7 +148,11 @@ impl SampledWavelengths {
             // rounding moves λ across a knot.
             pdf[i] = visible_pdf_near(table, l as f64, k) as f32;
         }
-        Self { lambda, pdf }
+        Self {
+            lambda,
+            pdf,
+            lanes: LaneMask::ALL,
+        }
     }
 
     /// Wavelengths importance-sampled from a light's SPD: lane `i` is `spd.sample(frac(u +
@@ -167,7 +171,11 @@ impl SampledWavelengths {
             let p = if s.is_delta { 0.0 } else { spd.pdf(l as f64) };
             pdf[i] = if p > 0.0 { p as f32 } else { s.pdf as f32 };
         }
-        Self { lambda, pdf }
+        Self {
+            lambda,
+            pdf,
+            lanes: LaneMask::ALL,
+        }
     }
 }
 

@@ -8,7 +8,7 @@
 
 use super::{light_spd, non_negative};
 use crate::builtin::spectral::Spectrum;
-use crate::builtin::{finite3, from_value, param_err, state_fns, Build, BuiltinType, Embed};
+use crate::builtin::{from_value, param_err, state_fns, Build, BuiltinType, Embed};
 use crate::light::{DirectionalLight, Light};
 use crate::plugin::type_doc::Param;
 use crate::scene::{FactoryContext, FactoryError};
@@ -65,9 +65,9 @@ impl Embed for DirectionalParams {
 /// Build the light.
 pub fn build(p: &DirectionalParams, ctx: &FactoryContext) -> Result<Arc<dyn Light>, FactoryError> {
     let d = DirectionalLight::new(
-        finite3("direction", p.direction)?,
+        crate::builtin::check::direction("direction", p.direction)?,
         light_spd(&p.spd, ctx)?,
-        non_negative("irradiance", p.irradiance)?,
+        non_negative("irradiance", p.irradiance, "W/m²")?,
     )
     .map_err(|e| param_err("direction", e))?;
     Ok(Arc::new(d))

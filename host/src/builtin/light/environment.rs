@@ -80,6 +80,8 @@ pub fn build(p: &EnvironmentParams, ctx: &FactoryContext) -> Result<Arc<dyn Ligh
             })?,
         )?,
     };
-    let source = ConstantEnvironment::new(spd, scale as f32).map_err(|e| param_err("scale", e))?;
+    // Held as f32 by the renderer: refuse what would become infinite.
+    let scale = crate::builtin::check::radiometric("scale", scale, "W/(m²·sr)")?;
+    let source = ConstantEnvironment::new(spd, scale).map_err(|e| param_err("scale", e))?;
     Ok(Arc::new(EnvironmentLight::new(Arc::new(source))))
 }

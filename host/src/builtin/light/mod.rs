@@ -24,11 +24,8 @@ pub fn light_spd(
     }
 }
 
-/// A finite `value` ≥ 0 of parameter `name`, as f32.
-pub fn non_negative(name: &str, value: f64) -> Result<f32, FactoryError> {
-    let v = crate::builtin::finite(name, value)? as f32;
-    if !(v >= 0.0) {
-        return Err(param_err(name, "must be ≥ 0"));
-    }
-    Ok(v)
+/// A finite `value` ≥ 0 of parameter `name` in `unit`, representable as the f32 the light
+/// stores (see [`crate::builtin::check::radiometric`]).
+pub fn non_negative(name: &str, value: f64, unit: &str) -> Result<f32, FactoryError> {
+    crate::builtin::check::radiometric(name, value, unit)
 }

@@ -61,6 +61,6 @@ pub fn build(p: &PointParams, ctx: &FactoryContext) -> Result<Arc<dyn Light>, Fa
     Ok(Arc::new(PointLight::new(
         finite3("position", p.position)?,
         light_spd(&p.spd, ctx)?,
-        non_negative("power", p.power)?,
+        non_negative("power", p.power, "W")?,
     )))
 }

@@ -11,7 +11,9 @@
 
 use super::{light_spd, non_negative};
 use crate::builtin::spectral::Spectrum;
-use crate::builtin::{finite, finite3, from_value, state_fns, Build, BuiltinType, Embed};
+use crate::builtin::{
+    finite, finite3, from_value, param_err, state_fns, Build, BuiltinType, Embed,
+};
 use crate::light::{Light, SpotLight};
 use crate::plugin::type_doc::Param;
 use crate::scene::{FactoryContext, FactoryError};
@@ -80,13 +82,35 @@ impl Embed for SpotParams {
 
 /// Build the light.
 pub fn build(p: &SpotParams, ctx: &FactoryContext) -> Result<Arc<dyn Light>, FactoryError> {
+    let position = finite3("position", p.position)?;
+    let target = finite3("target", p.target)?;
+    if !((target - position).length() > 0.0) {
+        return Err(param_err(
+            "target",
+            format!("must differ from `position`, both are {:?}", p.position),
+        ));
+    }
+    let inner = finite("inner_angle", p.inner_angle.unwrap_or(20.0))?;
+    let outer = finite("outer_angle", p.outer_angle.unwrap_or(30.0))?;
+    if !(outer > 0.0 && outer < 180.0) {
+        return Err(param_err(
+            "outer_angle",
+            format!("{outer}° is outside (0, 180) degrees"),
+        ));
+    }
+    if !(inner >= 0.0 && inner <= outer) {
+        return Err(param_err(
+            "inner_angle",
+            format!("{inner}° is outside [0, outer_angle = {outer}] degrees"),
+        ));
+    }
     let s = SpotLight::new(
-        finite3("position", p.position)?,
-        finite3("target", p.target)?,
-        finite("inner_angle", p.inner_angle.unwrap_or(20.0))? as f32,
-        finite("outer_angle", p.outer_angle.unwrap_or(30.0))? as f32,
+        position,
+        target,
+        inner as f32,
+        outer as f32,
         light_spd(&p.spd, ctx)?,
-        non_negative("power", p.power)?,
+        non_negative("power", p.power, "W")?,
     )
     .map_err(FactoryError::Param)?;
     Ok(Arc::new(s))

@@ -74,6 +74,23 @@ pub fn build(
             if ln != lk {
                 return Err(param_err("k", "must use the same wavelengths as `n`"));
             }
+            // n > 0 and k ≥ 0, finite and representable: anything else is not a metal.
+            for &(l, v) in n {
+                if !(v.is_finite() && v > 0.0 && v <= crate::builtin::check::MAX_F32) {
+                    return Err(param_err(
+                        "n",
+                        format!("value {v} at {l} nm must be finite and > 0"),
+                    ));
+                }
+            }
+            for &(l, v) in k {
+                if !(0.0..=crate::builtin::check::MAX_F32).contains(&v) {
+                    return Err(param_err(
+                        "k",
+                        format!("value {v} at {l} nm must be finite and ≥ 0"),
+                    ));
+                }
+            }
             let rows: Vec<(f32, f32, f32)> = n
                 .iter()
                 .zip(k)

@@ -67,8 +67,7 @@ pub fn build(p: &EmissiveParams, ctx: &FactoryContext) -> Result<Arc<dyn Materia
             })?,
         )?,
     };
-    if !(scale >= 0.0) {
-        return Err(param_err("scale", "must be ≥ 0"));
-    }
-    Ok(Arc::new(Emissive::new(spd, scale as f32, p.two_sided)))
+    // The renderer holds the integrated radiance as f32: refuse what would become infinite.
+    let scale = crate::builtin::check::radiometric("scale", scale, "W/(m²·sr)")?;
+    Ok(Arc::new(Emissive::new(spd, scale, p.two_sided)))
 }

@@ -1,0 +1,73 @@
+//! Which wavelength lanes of a path still carry light.
+//!
+//! A path starts with every lane live. A wavelength-dependent (dispersive) scattering event
+//! sends each wavelength in its own direction, so only the hero lane (lane 0), whose wavelength
+//! chose the direction, stays valid; the event terminates the other lanes. The mask travels with
+//! the wavelengths ([`SampledWavelengths::lanes`](super::SampledWavelengths)) and with every
+//! subpath vertex, and the film weighting reads it: a lane outside the mask contributes nothing,
+//! and the estimate becomes the mean over the live lanes only (for the hero alone:
+//! `L(λ₀)/pdf(λ₀)`, i.e. the hero's pdf becomes the single-lane pdf).
+
+use super::LANES;
+
+/// A set of live lanes, one bit per lane (bit `i` = lane `i`; lane 0 is the hero).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct LaneMask(u8);
+
+const _: () = assert!(LANES <= 8, "LaneMask stores one bit per lane in a u8");
+
+impl LaneMask {
+    /// Every lane live (no wavelength-dependent event yet).
+    pub const ALL: Self = Self(((1u16 << LANES) - 1) as u8);
+    /// Only the hero lane live (after a dispersive event).
+    pub const HERO: Self = Self(1);
+    /// No lane live.
+    pub const NONE: Self = Self(0);
+
+    /// True when lane `i` is live.
+    #[inline]
+    pub fn contains(self, i: usize) -> bool {
+        i < LANES && self.0 & (1 << i) != 0
+    }
+
+    /// Number of live lanes.
+    #[inline]
+    pub fn count(self) -> u32 {
+        self.0.count_ones()
+    }
+
+    /// True when every lane is live.
+    #[inline]
+    pub fn is_all(self) -> bool {
+        self == Self::ALL
+    }
+
+    /// Lanes live in both (a BDPT connection joins two subpaths: a lane is valid only if it is
+    /// valid on both).
+    #[inline]
+    pub fn intersect(self, other: Self) -> Self {
+        Self(self.0 & other.0)
+    }
+
+    /// The mask after a dispersive event: the hero alone, if it was live.
+    #[inline]
+    pub fn terminate_secondary(self) -> Self {
+        self.intersect(Self::HERO)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn masks_compose() {
+        assert_eq!(LaneMask::ALL.count(), LANES as u32);
+        assert!(LaneMask::ALL.is_all());
+        assert_eq!(LaneMask::ALL.terminate_secondary(), LaneMask::HERO);
+        assert_eq!(LaneMask::NONE.terminate_secondary(), LaneMask::NONE);
+        assert_eq!(LaneMask::ALL.intersect(LaneMask::HERO), LaneMask::HERO);
+        assert!(LaneMask::HERO.contains(0) && !LaneMask::HERO.contains(1));
+        assert!(!LaneMask::ALL.contains(LANES));
+    }
+}
