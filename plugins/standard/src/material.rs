@@ -39,6 +39,7 @@ pub(crate) fn host_lambdas(l: &Wavelengths) -> SampledWavelengths {
     SampledWavelengths {
         lambda: l.nm.map(|x| x as f32),
         pdf: [1.0; LANES],
+        lanes: spectrace::spectrum::LaneMask::ALL,
     }
 }
 
