@@ -1,10 +1,8 @@
 //! A light whose spectrum is one delta line (`spd: "line:589"`, a sodium-like lamp) must render
 //! with every integrator, all three agreeing, at the colour of the spectral locus at 589 nm.
-//! Needs the wavelength-mixture change in `integrator/select.rs` (a lane drawn on a delta line
-//! carries the line's discrete probability instead of 0) and path tracing drawing its
-//! wavelengths from the lights' spectra when they are narrowband: until that lands every
-//! integrator returns a black image, so the test is ignored.
-//! Run: `cargo test --release -p spectrace --test render_line_emitters -- --ignored`.
+//! Before the wavelength mixture gave a lane drawn on a delta line the line's discrete
+//! probability (instead of 0), and before path tracing drew from the lights' spectra when they
+//! are narrowband, every integrator returned a black image here.
 
 use spectrace::color::xyz::chromaticity;
 use spectrace::color::{CieObserverKind, Observer};

@@ -79,9 +79,11 @@ impl Effect {
             }
             Self::NarrowbandEmission => {
                 "bdpt and lt draw wavelengths half from the lights' spectra, half from the \
-                 observer's sensitivity"
+                 observer's sensitivity; pt does the same when a light is narrowband"
             }
-            Self::LineEmission => "nothing yet",
+            Self::LineEmission => {
+                "a lane drawn on a line carries the line's discrete probability (pt, bdpt, lt)"
+            }
             Self::DeltaLights => {
                 "pt: next-event estimation; bdpt: strategies with s ≥ 1; lt: light paths"
             }
@@ -108,14 +110,6 @@ impl Effect {
                 "the re-radiated light (the wavelength shift is not in the integrators yet): \
                  fluorescent objects show their reflectance-only colour",
             ),
-            Self::NarrowbandEmission => Some(
-                "pt draws observer-importance wavelengths unless --wavelength-sampling light: \
-                 it finds a narrow band rarely (noise and fireflies)",
-            ),
-            Self::LineEmission => Some(
-                "the power in delta lines is lost by all three integrators (no wavelength lane \
-                 carries a line's discrete probability yet): those lights render black",
-            ),
             Self::DeltaLights => Some("camera paths never hit them (no s = 0 strategy)"),
             Self::DeltaBsdfs => Some(
                 "lt cannot show them where the camera sees them directly (t = 1 needs an \
@@ -132,9 +126,6 @@ impl Effect {
 
     /// True when what is skipped is probably not what the user wants (printed as a warning).
     pub fn is_warning(self) -> bool {
-        matches!(
-            self,
-            Self::Fluorescence | Self::LineEmission | Self::NarrowbandEmission
-        )
+        matches!(self, Self::Fluorescence)
     }
 }
