@@ -149,8 +149,10 @@ impl PathWavelengthSampler {
             WavelengthSampling::LightSpd => {
                 Some(WavelengthMixture::new(scene)).filter(|m| m.has_emission())
             }
-            WavelengthSampling::Visible => Some(WavelengthMixture::new(scene))
-                .filter(|m| m.has_emission() && narrowband(scene)),
+            // The mixture is built only where it will be used: a narrowband light present.
+            WavelengthSampling::Visible => narrowband(scene)
+                .then(|| WavelengthMixture::new(scene))
+                .filter(|m| m.has_emission()),
             _ => None,
         };
         Ok(Self {
