@@ -168,3 +168,22 @@ fn endless_scene_file_is_cut_at_the_limit() {
     let t = text(&o);
     assert!(t.contains("/dev/zero") && t.contains("64.00 MiB"), "{t}");
 }
+
+/// `/dev/zero` as a luminaire, or named by an IES file's `TILT=` line, was read until memory
+/// ran out; now both reads stop at the luminaire-file limit (64 MiB) with an error naming the
+/// file and the limit.
+#[test]
+#[cfg(unix)]
+fn endless_luminaire_and_tilt_files_are_cut_at_the_limit() {
+    use spectrace::photometry::{ies::parse_ies, load_luminaire};
+    let e = load_luminaire(std::path::Path::new("/dev/zero"))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("/dev/zero") && e.contains("64.00 MiB"), "{e}");
+    let ies =
+        b"IES:LM-63-2019\n[TEST] x\nTILT=/dev/zero\n1 1000 1 1 1 1 2 0 0 0\n1 1 10\n0\n0\n100\n";
+    let e = parse_ies(ies, std::path::Path::new("/tmp/x.ies"))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("/dev/zero") && e.contains("64.00 MiB"), "{e}");
+}
