@@ -187,3 +187,31 @@ fn endless_luminaire_and_tilt_files_are_cut_at_the_limit() {
         .to_string();
     assert!(e.contains("/dev/zero") && e.contains("64.00 MiB"), "{e}");
 }
+
+/// `spectrace … | head`: output to a pipe whose reader has gone made `println!` panic ("failed
+/// printing to stdout: Broken pipe", exit 101, a panic message on stderr). Now the process ends
+/// quietly, by SIGPIPE as other command-line tools do. The read end is closed before the child
+/// starts, so its first write always meets the broken pipe. Checked for two commands that print
+/// with `println!` (a list and a computed table): no panic message, ended by SIGPIPE.
+#[test]
+#[cfg(unix)]
+fn writing_into_a_closed_pipe_ends_quietly() {
+    use std::os::unix::process::ExitStatusExt;
+    for args in [&["plugins"][..], &["color", "d65"][..]] {
+        let (reader, writer) = std::io::pipe().unwrap();
+        drop(reader);
+        let o = Command::new(env!("CARGO_BIN_EXE_spectrace"))
+            .args(args)
+            .stdout(writer)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+        assert_eq!(
+            o.status.signal(),
+            Some(libc::SIGPIPE),
+            "{args:?}: {:?} {stderr}",
+            o.status
+        );
+    }
+}
