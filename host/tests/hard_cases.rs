@@ -533,3 +533,193 @@ fn unrepresentable_scales_and_positions_are_warned_about() {
         }
     }
 }
+
+/// Y of the spectral radiance `k · spd(λ)` (film convention: Y-weighted mean over the observer's
+/// range), by a plain 1 nm sum.
+fn y_of(k: f64, spd: &dyn spectrace::spectrum::Spd) -> f64 {
+    use spectrace::color::{CieObserverKind, Observer};
+    let obs = CieObserverKind::Cie1931_2.get();
+    let (lo, hi) = obs.range();
+    let (mut num, mut den) = (0.0, 0.0);
+    let mut l = lo;
+    while l <= hi {
+        let y = obs.xyz_bar(l)[1];
+        num += k * spd.value(l) * y;
+        den += y;
+        l += 1.0;
+    }
+    num / den
+}
+
+/// Build a scene from RON text (built-in types only).
+fn scene_of(text: &str) -> spectrace::scene::Scene {
+    let file = std::path::Path::new("hard-case.ron");
+    let desc = spectrace::scene::parse_scene_str(text, file).unwrap();
+    spectrace::scene::build_scene(
+        &desc,
+        std::path::Path::new("."),
+        file,
+        &[&spectrace::scene::BuiltinFactory],
+    )
+    .unwrap()
+}
+
+/// Render `scene` with `kind`, `spp` samples per pixel and `seed`; the XYZ image, checked to
+/// hold no NaN or Inf.
+fn render_image(
+    scene: &spectrace::scene::Scene,
+    kind: spectrace::integrator::IntegratorKind,
+    spp: u32,
+    seed: u64,
+    direct_only: bool,
+) -> spectrace::film::XyzImage {
+    use spectrace::integrator::{render_with, PathTracer, RenderSettings, SampleBudget};
+    let settings = RenderSettings {
+        budget: SampleBudget::Spp(spp),
+        seed,
+        threads: None,
+        tracer: PathTracer {
+            max_depth: scene.options.max_depth,
+            direct_only,
+            ..PathTracer::default()
+        },
+        ..RenderSettings::default()
+    };
+    let out = render_with(scene, &settings, kind, false, &|_, _| {}, None).unwrap();
+    assert_eq!(
+        out.result.image.non_finite_count(),
+        0,
+        "{kind}: NaN or Inf pixels"
+    );
+    out.result.image
+}
+
+/// A sphere light shrinking to a point: a Lambertian floor (ρ = 0.5) seen straight down over a
+/// 0.5° field, an emitting sphere of radius r centred h = 2 above the viewed spot, radiance scale
+/// P/(4π²r²) so its power is P = 100 W. On the axis the irradiance of a uniform sphere is exactly
+/// π L (r/h)² = P/(4πh²): the point light's closed form, for every r. What could go wrong as
+/// r → 1e-6 (half the f32 spacing at 2 is 1.2e-7, 12% of the radius): cone sampling
+/// (1 − cos θmax ≈ 1e-13 cancels in f32), the shadow ray's end offset by the hit point's error
+/// bound (larger than a tenth of the sphere), a radiance of 2.5e12 × the SPD. Checked for r = 0.1
+/// … 1e-6: the PT image mean (direct light, 4×4 pixels, 1024 spp) equals ρ/π·P/(4πh²) in Y within
+/// 1e-3: the noise is that of stratified wavelength and cone sampling over 16 384 paths
+/// (measured error 7.5e-6 at every radius), the irradiance varies by < 1e-4 over the viewed
+/// patch, and a lost or doubled contribution is far larger. Printed: the error per radius.
+#[test]
+fn shrinking_sphere_light_converges_to_the_point_light() {
+    use spectrace::integrator::IntegratorKind;
+    use std::f64::consts::PI;
+    let spd = spectrace::spectrum::parse_spd_spec("d65").unwrap();
+    let (rho, h, power) = (0.5, 2.0, 100.0);
+    let want = y_of(rho / PI * power / (4.0 * PI * h * h), &spd);
+    for r in [1e-1f64, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6] {
+        let scale = power / (4.0 * PI * PI * r * r);
+        let scene = scene_of(&format!(
+            r#"(
+            materials: [(name: "white", type: "lambertian", params: (reflectance: 0.5)),
+                        (name: "bulb", type: "emissive", params: (radiance: "d65", scale: {scale:e}))],
+            objects: [(name: "floor", type: "quad", material: "white",
+                       params: (corner: (-50, 0, 50), edge0: (100, 0, 0), edge1: (0, 0, -100))),
+                      (name: "bulb", type: "sphere", material: "bulb",
+                       params: (center: (0, {h}, 0), radius: {r:e}))],
+            cameras: [(name: "down", type: "pinhole",
+                       params: (position: (0, 1, 0.001), look_at: (0, 0, 0), fov: 0.5, resolution: (4, 4)))],
+        )"#
+        ));
+        let y = render_image(&scene, IntegratorKind::Pt, 1024, 11, true).mean_xyz()[1];
+        let err = y / want - 1.0;
+        println!("sphere light r = {r:e}: mean Y {y:.6e} vs point light {want:.6e}: {err:+.2e}");
+        assert!(err.abs() < 1e-3, "r = {r:e}: {y} vs {want}");
+    }
+}
+
+/// A point light seen only through a mirror by a diffuse floor: delta light and delta BSDF on
+/// one path, which neither next-event estimation nor BSDF sampling can find; BDPT must get it
+/// from its light-tracing strategy (t = 1), whose MIS weight involves the pdfs of both delta
+/// events (0/0, ∞·0 and NaN are what could go wrong). Scene: floor (ρ = 0.5) at y = 0, a mirror
+/// (reflectance 1) facing down at y = H = 3, a 100 W point light at y = h = 2, at most 2
+/// scattering events (floor, or mirror then floor), a pinhole camera at y = 1 looking straight
+/// down over 40°. Closed form: the floor's radiance is ρ/π·I·(cos θ₁/d₁² + cos θ₂/d₂²) with the
+/// light and its mirror image at y = 2H − h = 4 (I = P/4π); the image mean is its average over
+/// the film plane (box filter), computed on a 400×400 midpoint grid (error ≤ 1e-5 relative:
+/// PT, whose noise here is ~2e-7, lands 2e-6 from it). Checked, K = 16 seeds of 8×8 pixels at
+/// 1024 spp each: BDPT and LT image means (Y) within 3 standard errors (from the seed spread,
+/// with the quadrature error added) of the closed form, and of each other per channel; PT
+/// within 3 of the direct part alone (it cannot sample the mirror path, whose share here is
+/// 20%: hundreds of its standard errors). No NaN or Inf anywhere. Why 16 seeds: the t = 1
+/// splats of the mirror path are heavy-tailed, and 4 seeds underestimated BDPT's spread (one
+/// 4-seed run gave z = −8.7 for a mean 0.5% low; 16 seeds of the same renders: z = −1.1).
+#[test]
+fn point_light_via_mirror_in_bdpt_and_light_tracing() {
+    use spectrace::integrator::IntegratorKind;
+    use std::f64::consts::PI;
+    let spd = spectrace::spectrum::parse_spd_spec("d65").unwrap();
+    let scene = scene_of(
+        r#"(
+        output: (max_depth: 2),
+        materials: [(name: "white", type: "lambertian", params: (reflectance: 0.5)),
+                    (name: "mirror", type: "mirror", params: (reflectance: 1.0))],
+        objects: [(name: "floor", type: "quad", material: "white",
+                   params: (corner: (-50, 0, 50), edge0: (100, 0, 0), edge1: (0, 0, -100))),
+                  (name: "mirror", type: "quad", material: "mirror",
+                   params: (corner: (-50, 3, 50), edge0: (0, 0, -100), edge1: (100, 0, 0)))],
+        lights: [(name: "p", type: "point", params: (position: (0, 2, 0), power: 100, spd: "d65"))],
+        cameras: [(name: "down", type: "pinhole",
+                   params: (position: (0, 1, 0), look_at: (0, 0, 0), up: (0, 0, 1), fov: 40, resolution: (8, 8)))],
+    )"#,
+    );
+    // Closed form: film-plane average of the floor's radiance factor cos θ/d² summed over both
+    // sources (the camera looks straight down, so film (u, v) maps to floor (u, −v)·1 m).
+    let i = 100.0 / (4.0 * PI);
+    let t = (20f64).to_radians().tan();
+    let n = 400;
+    let (mut direct, mut mirrored) = (0.0, 0.0);
+    for a in 0..n {
+        for b in 0..n {
+            let x = (2.0 * (a as f64 + 0.5) / n as f64 - 1.0) * t;
+            let z = (2.0 * (b as f64 + 0.5) / n as f64 - 1.0) * t;
+            for (height, acc) in [(2.0, &mut direct), (4.0, &mut mirrored)] {
+                let d2: f64 = x * x + z * z + height * height;
+                *acc += height / d2.powf(1.5);
+            }
+        }
+    }
+    let norm = (n * n) as f64;
+    let direct = y_of(0.5 / PI * i * direct / norm, &spd);
+    let mirrored = y_of(0.5 / PI * i * mirrored / norm, &spd);
+    const K: u64 = 16;
+    let means = |kind| -> Vec<[f64; 3]> {
+        (0..K)
+            .map(|s| render_image(&scene, kind, 1024, 20 + s, false).mean_xyz())
+            .collect()
+    };
+    let (b, l, p) = (
+        means(IntegratorKind::Bdpt),
+        means(IntegratorKind::Lt),
+        means(IntegratorKind::Pt),
+    );
+    let mut failures = Vec::new();
+    let stats = |m: &[[f64; 3]], c: usize| mean_var(&m.iter().map(|m| m[c]).collect::<Vec<_>>());
+    for (name, m, want) in [
+        ("BDPT", &b, direct + mirrored),
+        ("LT", &l, direct + mirrored),
+        ("PT", &p, direct),
+    ] {
+        let (mean, var) = stats(m, 1);
+        // The closed form's quadrature error (≤ 1e-5 relative) joins the standard error.
+        let se = (var / K as f64 + (1e-5 * want).powi(2)).sqrt();
+        let z = (mean - want) / se;
+        println!(
+            "point light via mirror, {name}: mean Y {mean:.5e} vs {want:.5e} ({:+.2e}, z = {z:+.2})",
+            mean / want - 1.0
+        );
+        failures.extend((z.abs() > 3.0).then(|| format!("{name}: {mean} vs {want} (se {se})")));
+    }
+    for c in 0..3 {
+        let ((mb, vb), (ml, vl)) = (stats(&b, c), stats(&l, c));
+        let z = (mb - ml) / ((vb + vl) / K as f64).sqrt();
+        println!("channel {c}: BDPT {mb:.5e}, LT {ml:.5e}, z = {z:+.2}");
+        failures.extend((z.abs() > 3.0).then(|| format!("channel {c}: BDPT {mb} vs LT {ml}")));
+    }
+    assert!(failures.is_empty(), "{failures:?}");
+}
