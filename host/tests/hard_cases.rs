@@ -791,3 +791,92 @@ fn dispersion_with_terminated_wavelengths_keeps_the_hero_energy() {
         }
     }
 }
+
+/// Wavelengths at the ends of the range, 360 nm and 830 nm, their f32 neighbours inside and
+/// (as rounding can produce) just outside: tables are read at or past their last node, Cauchy
+/// and Sellmeier indices at their extremes, and out-of-range lookups must give 0 or the edge
+/// value, never NaN, a negative value or an index out of bounds. Checked: the CIE 1931 observer
+/// (finite, ≥ 0), the bundled SPDs d65, a, fl11, led_b1 and blackbody:3000 (finite, ≥ 0), the indices of
+/// the glasses (finite, in [1, 3]), and every built-in material (sample, eval, pdf at normal and
+/// 60° incidence in both transport modes: finite and non-negative, unit directions) with all
+/// four lanes at these wavelengths. Printed: the observer's ȳ and N-BK7's index at each.
+#[test]
+fn wavelengths_at_the_ends_of_the_range() {
+    use spectrace::color::{CieObserverKind, Observer};
+    use spectrace::spectrum::{LaneMask, Spd};
+    let up = |x: f32| f32::from_bits(x.to_bits() + 1);
+    let down = |x: f32| f32::from_bits(x.to_bits() - 1);
+    let ends = [down(360.0), 360.0, up(360.0), down(830.0), 830.0, up(830.0)];
+    let obs = CieObserverKind::Cie1931_2.get();
+    let spds: Vec<_> = ["d65", "a", "fl11", "led_b1", "blackbody:3000"]
+        .iter()
+        .map(|n| (n, spectrace::spectrum::parse_spd_spec(n).unwrap()))
+        .collect();
+    let glasses = [
+        ("cauchy 1.5 0.01", SpectralIor::Cauchy { a: 1.5, b: 0.01 }),
+        ("constant 1.5", SpectralIor::Constant(1.5)),
+        ("N-BK7", SpectralIor::glass("N-BK7").unwrap()),
+        ("N-SF11", SpectralIor::glass("N-SF11").unwrap()),
+        ("fused-silica", SpectralIor::glass("fused-silica").unwrap()),
+    ];
+    for &l in &ends {
+        let xyz = obs.xyz_bar(l as f64);
+        assert!(
+            xyz.iter().all(|v| v.is_finite() && *v >= 0.0),
+            "{l}: {xyz:?}"
+        );
+        for (name, spd) in &spds {
+            let v = spd.value(l as f64);
+            assert!(v.is_finite() && v >= 0.0, "{name} at {l}: {v}");
+        }
+        for (name, ior) in &glasses {
+            let n = ior.eval(l);
+            assert!(
+                n.is_finite() && (1.0..=3.0).contains(&n),
+                "{name} at {l}: {n}"
+            );
+        }
+        println!(
+            "λ = {l:.6} nm: ȳ = {:.3e}, N-BK7 n = {:.6}",
+            xyz[1],
+            glasses[2].1.eval(l)
+        );
+    }
+    let sets = [
+        [ends[0], ends[1], ends[2], ends[3]],
+        [ends[4], ends[5], ends[1], ends[4]],
+    ];
+    let ctx = ShadingContext::default();
+    for (name, m) in materials() {
+        for lambda in sets {
+            let lambdas = SampledWavelengths {
+                lambda,
+                pdf: [1.0 / 470.0; 4],
+                lanes: LaneMask::ALL,
+            };
+            for wo in [
+                Vec3A::Z,
+                Vec3A::new(0.866, 0.0, 0.5),
+                Vec3A::new(0.0, 0.6, -0.8),
+            ] {
+                for mode in [TransportMode::Radiance, TransportMode::Importance] {
+                    for k in 0..16 {
+                        let u = Vec2::new((k % 4) as f32 / 4.0 + 0.1, (k / 4) as f32 / 4.0 + 0.1);
+                        let u_lobe = (k as f32 + 0.5) / 16.0;
+                        let what = format!("{name}, λ {lambda:?}, wo {wo}, {mode:?}");
+                        let Some(s) = m.sample(wo, &ctx, &lambdas, u_lobe, u, mode) else {
+                            continue;
+                        };
+                        assert!((s.wi.length() - 1.0).abs() < 1e-3, "{what}: {s:?}");
+                        assert!(!s.f.has_non_finite() && s.pdf.is_finite(), "{what}: {s:?}");
+                        assert!(s.f.0.iter().all(|&x| x >= 0.0) && s.pdf >= 0.0, "{what}");
+                        let e = m.eval(wo, s.wi, &ctx, &lambdas, mode);
+                        let p = m.pdf(wo, s.wi, &ctx, &lambdas, mode);
+                        assert!(!e.has_non_finite() && p.is_finite() && p >= 0.0, "{what}");
+                        assert!(e.0.iter().all(|&x| x >= 0.0), "{what}: {e:?}");
+                    }
+                }
+            }
+        }
+    }
+}
