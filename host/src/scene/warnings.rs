@@ -159,8 +159,8 @@ pub const QUANTISATION_WARN: f32 = 1e-3;
 
 /// Warnings for geometry the f32 numbers cannot represent faithfully: objects with
 /// coordinates beyond [`MAX_COORDINATE`], a whole scene smaller than [`MIN_SCENE_EXTENT`], and
-/// objects so far from the origin relative to their size that f32 spacing there is more than
-/// [`QUANTISATION_WARN`] of the size (a 0.5 m box translated by 1e5 m: spacing 8 mm).
+/// meshes and quads so far from the origin relative to their size that f32 spacing there is
+/// more than [`QUANTISATION_WARN`] of the size (a 0.55 m box translated by 1e5 m: 1.2 cm).
 /// `names[i]` names geometry object `i`.
 pub fn coordinate_precision(geometry: &Geometry, names: &[&str]) -> Vec<String> {
     use crate::geometry::{Aabb, WorldShape};
@@ -170,6 +170,8 @@ pub fn coordinate_precision(geometry: &Geometry, names: &[&str]) -> Vec<String> 
         let Some(shape) = geometry.shape(i as u32) else {
             continue;
         };
+        // A sphere is solved in f64 about its centre: only its position is quantised.
+        let vertices = !matches!(shape, WorldShape::Sphere(_));
         let b = match shape {
             WorldShape::Mesh(m) => m
                 .positions
@@ -191,7 +193,8 @@ pub fn coordinate_precision(geometry: &Geometry, names: &[&str]) -> Vec<String> 
         let extent = (b.max - b.min).max_element();
         if magnitude > MAX_COORDINATE {
             too_far.push((name, magnitude));
-        } else if extent > 0.0 && magnitude * f32::EPSILON > QUANTISATION_WARN * extent {
+        } else if vertices && extent > 0.0 && magnitude * f32::EPSILON > QUANTISATION_WARN * extent
+        {
             quantised.push((name, magnitude, magnitude * f32::EPSILON, extent));
         }
     }
