@@ -41,17 +41,19 @@ pub use light::{
     light_flags, EmissionPdf, EmissionSample, IncidentSample, LightBox, LightSource,
     WavelengthSample,
 };
-pub use material::{material_flags, Material, MaterialBox, ScatterSample, ShadingContext};
+pub use material::{
+    material_flags, Emission, Material, MaterialBox, ScatterSample, ShadingContext, SurfaceContext,
+};
 pub use module::{ObjectKind, PluginInfo, PluginModuleRef, TypeInfo, API_VERSION};
 pub use observer::{ColorObserver, ObserverBox};
 pub use representation::{
     BeamRepresentation, ColourEncoding, DirectionEncoding, Handedness, RepresentedBeam,
     TypeRepresentation,
 };
-pub use spd::{spd_flags, Spd, SpdBox, SpdHandle};
+pub use spd::{spd_flags, Spd, SpdBox, SpdHandle, SpectralLine};
 pub use types::{
-    Beam, Flags, RandomSample, SpectralValues, TransportMode, Vec3, WavelengthRange, Wavelengths,
-    Xyz, LANES,
+    Beam, Flags, RandomSample, SceneBounds, SpectralValues, TransportMode, Vec3, WavelengthRange,
+    Wavelengths, Xyz, LANES,
 };
 
 /// Re-exported so plugins and the host use the very same abi_stable.
