@@ -12,7 +12,10 @@
 //! Authors implement those plain Rust traits plus [`PluginType`] and list their types in
 //! [`export_plugin!`]. The macro puts each object behind a guard (panics are caught on the
 //! plugin's side and come back as [`PluginError`]s) and behind an abi_stable trait object.
-//! See `module` for the compatibility rule between host and plugin versions.
+//! See `module` for the compatibility rule between host and plugin versions, and `extension`
+//! for what later versions added (v2: scene bounds and emission spectra for lights, the
+//! surface's normals and exact emission for materials, spectral lines for SPDs): provided
+//! methods of the same traits, so a plugin uses them by overriding them.
 //!
 //! Units: lengths in scene units, wavelengths in nm, power in W, solid angle in sr.
 
