@@ -10,6 +10,7 @@ pub mod area;
 pub mod directional;
 pub mod environment;
 pub mod flags;
+pub mod luminous;
 pub mod manager;
 pub mod point;
 pub mod spot;
