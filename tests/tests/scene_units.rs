@@ -140,7 +140,11 @@ fn same_image(light: &str, unit: &str, m: f64, kind: IntegratorKind, spp: u32) {
         (pa / pb - 1.0).abs() < 1e-5,
         "{light} in {unit}: power {pb} W, in m {pa} W"
     );
-    assert!(ma[1] > 1e-4, "{light}: the metre scene is lit (mean Y {})", ma[1]);
+    assert!(
+        ma[1] > 1e-4,
+        "{light}: the metre scene is lit (mean Y {})",
+        ma[1]
+    );
     let mut abs_diff = 0.0;
     for (p, q) in a.iter().zip(&b) {
         abs_diff += (p[1] - q[1]).abs() / a.len() as f64;

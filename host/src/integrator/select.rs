@@ -119,7 +119,11 @@ pub fn strategy_summary(scene: &Scene, kind: IntegratorKind) -> Vec<String> {
             } else {
                 "light without a surface"
             };
-            let item = scene.options.light_items.get(i).map_or(String::new(), |n| format!("{n}, "));
+            let item = scene
+                .options
+                .light_items
+                .get(i)
+                .map_or(String::new(), |n| format!("{n}, "));
             format!(
                 "light {i} ({item}{what}, {}, chosen with p = {:.4}): {}",
                 crate::light::luminous::flux_text(

@@ -40,11 +40,7 @@ pub fn luminous_efficacy_lm_per_w(spd: &dyn Spd) -> f64 {
 /// light's spectrum: `value / K` (e.g. lm → W, cd → W/sr, lx → W/m², cd/m² → W/(m²·sr)). An
 /// error when the spectrum has no visible part (K = 0), which no photometric value can
 /// describe.
-pub fn radiometric_from_photometric(
-    param: &str,
-    value: f64,
-    spd: &dyn Spd,
-) -> Result<f64, String> {
+pub fn radiometric_from_photometric(param: &str, value: f64, spd: &dyn Spd) -> Result<f64, String> {
     if !(value.is_finite() && value >= 0.0) {
         return Err(format!(
             "parameter `{param}`: must be finite and ≥ 0, got {value}"
@@ -78,7 +74,11 @@ fn sig4(x: f64) -> String {
 /// the scene's power (`relative emission: 42.0% of the scene's power`), never watts.
 pub fn flux_text(power_w: f64, spd: &dyn Spd, relative: bool, total_w: f64) -> String {
     if relative {
-        let share = if total_w > 0.0 { power_w / total_w } else { 0.0 };
+        let share = if total_w > 0.0 {
+            power_w / total_w
+        } else {
+            0.0
+        };
         return format!(
             "relative emission: {:.1}% of the scene's power",
             100.0 * share
@@ -141,7 +141,10 @@ mod tests {
             }
             let expect = KM_LM_PER_W * num / den;
             println!("{t} K: {k} lm/W, Planck {expect} lm/W");
-            assert!((k / expect - 1.0).abs() < 1e-4, "{t} K: {k} vs {expect} lm/W");
+            assert!(
+                (k / expect - 1.0).abs() < 1e-4,
+                "{t} K: {k} vs {expect} lm/W"
+            );
         }
         let uv = parse_spd_spec("line:300").unwrap();
         let e = radiometric_from_photometric("flux_lm", 1.0, &uv).unwrap_err();

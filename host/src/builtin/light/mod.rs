@@ -50,8 +50,7 @@ pub fn exactly_one(given: &[(&str, Option<f64>)]) -> Result<(usize, f64), Factor
             given[several[1]].0,
             format!(
                 "give exactly one of {names}, not both `{}` and `{}`",
-                given[several[0]].0,
-                given[several[1]].0
+                given[several[0]].0, given[several[1]].0
             ),
         )),
     }

@@ -30,9 +30,24 @@ pub const TYPE: BuiltinType = BuiltinType {
     description: "isotropic point light",
     params: &[
         Param::required("position", "scene units", "where the light is, (x, y, z)"),
-        Param::optional("power", "W", "—", "total radiant flux, ≥ 0; exactly one of `power`, `flux_lm`, `intensity_cd`"),
-        Param::optional("flux_lm", "lm", "—", "or: total luminous flux, ≥ 0 (CIE 1931 V(λ), 683.002 lm/W)"),
-        Param::optional("intensity_cd", "cd", "—", "or: luminous intensity in every direction, ≥ 0"),
+        Param::optional(
+            "power",
+            "W",
+            "—",
+            "total radiant flux, ≥ 0; exactly one of `power`, `flux_lm`, `intensity_cd`",
+        ),
+        Param::optional(
+            "flux_lm",
+            "lm",
+            "—",
+            "or: total luminous flux, ≥ 0 (CIE 1931 V(λ), 683.002 lm/W)",
+        ),
+        Param::optional(
+            "intensity_cd",
+            "cd",
+            "—",
+            "or: luminous intensity in every direction, ≥ 0",
+        ),
         Param::optional(
             "spd",
             "",

@@ -48,9 +48,24 @@ pub const TYPE: BuiltinType = BuiltinType {
             "30",
             "half-angle where the intensity reaches zero",
         ),
-        Param::optional("power", "W", "—", "total radiant flux, ≥ 0; exactly one of `power`, `flux_lm`, `intensity_cd`"),
-        Param::optional("flux_lm", "lm", "—", "or: total luminous flux, ≥ 0 (CIE 1931 V(λ), 683.002 lm/W)"),
-        Param::optional("intensity_cd", "cd", "—", "or: luminous intensity on the axis (inside the inner cone), ≥ 0"),
+        Param::optional(
+            "power",
+            "W",
+            "—",
+            "total radiant flux, ≥ 0; exactly one of `power`, `flux_lm`, `intensity_cd`",
+        ),
+        Param::optional(
+            "flux_lm",
+            "lm",
+            "—",
+            "or: total luminous flux, ≥ 0 (CIE 1931 V(λ), 683.002 lm/W)",
+        ),
+        Param::optional(
+            "intensity_cd",
+            "cd",
+            "—",
+            "or: luminous intensity on the axis (inside the inner cone), ≥ 0",
+        ),
         Param::optional(
             "spd",
             "",

@@ -74,7 +74,9 @@ pub fn build(p: &EmissiveParams, ctx: &FactoryContext) -> Result<Arc<dyn Materia
         (_, Some(cd_m2)) => {
             crate::builtin::light::from_photometric("luminance_cd_m2", cd_m2, spd.as_ref())?
         }
-        (Some(integral), None) => integral * crate::builtin::finite("scale", p.scale.unwrap_or(1.0))?,
+        (Some(integral), None) => {
+            integral * crate::builtin::finite("scale", p.scale.unwrap_or(1.0))?
+        }
         (None, None) => crate::builtin::finite(
             "scale",
             p.scale.ok_or_else(|| {
