@@ -40,15 +40,22 @@ pub fn load_scene_file_with(
     factories: &[&dyn ObjectFactory],
     representation: &RepresentationOptions,
 ) -> Result<Scene, SceneError> {
+    let desc = read_scene_file(path)?;
+    let base = path.parent().unwrap_or(Path::new("."));
+    build_scene_with(&desc, base, path, factories, representation)
+}
+
+/// Read and parse a scene file (within the scene-file size limit) without building it, for
+/// callers that change the description first (e.g. `render --resolution`); build it with
+/// [`build_scene_with`] and the file's directory as base.
+pub fn read_scene_file(path: &Path) -> Result<SceneDescription, SceneError> {
     let text =
         crate::limits::read_text_limited(path, crate::limits::SCENE_FILE_MAX_BYTES, "scene file")
             .map_err(|source| SceneError::Io {
             file: path.to_path_buf(),
             source,
         })?;
-    let desc = parse_scene_str(&text, path)?;
-    let base = path.parent().unwrap_or(Path::new("."));
-    build_scene_with(&desc, base, path, factories, representation)
+    parse_scene_str(&text, path)
 }
 
 /// Ask each factory in turn; the first that knows the type builds it.

@@ -17,6 +17,7 @@ pub mod warnings;
 
 pub use builder::{
     build_scene, build_scene_with, load_scene_file, load_scene_file_with, parse_scene_str,
+    read_scene_file,
 };
 pub use cornell::{cornell_box_description, default_scene, default_scene_with};
 pub use description::SceneDescription;
