@@ -353,6 +353,10 @@ pub fn build_scene_with(
             .map_err(|e| item_err(item.clone(), e))?;
         powers.push(power);
     }
+    warnings.extend(super::units::undeclared_unit_warning(
+        desc.units.is_some(),
+        f64::from((bounds.max - bounds.min).max_element()),
+    ));
     warnings.extend(super::warnings::no_light(&powers));
     warnings.extend(super::warnings::all_black(&objects));
     warnings.extend(super::warnings::blind_cameras(

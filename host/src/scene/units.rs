@@ -143,6 +143,22 @@ pub fn params_in_metres(params: &Value, docs: &[ParamDoc], metres_per_unit: f64)
     Value::Map(map)
 }
 
+/// Largest extent (m) of a scene that does not declare `units` before a warning asks whether
+/// its lengths are millimetres: rooms, buildings and streets fit; a Cornell box written in mm
+/// (556 "m" across) does not.
+pub const UNDECLARED_EXTENT_WARNING_M: f64 = 200.0;
+
+/// A warning for a scene that declares no unit but is `extent_m` metres across: probably
+/// written in millimetres or centimetres, which makes every point, spot and plugin light 10⁴–10⁶×
+/// too dark against emissive surfaces.
+pub fn undeclared_unit_warning(declared: bool, extent_m: f64) -> Option<String> {
+    (!declared && extent_m > UNDECLARED_EXTENT_WARNING_M).then(|| {
+        format!(
+            "the scene declares no `units`, so its lengths are metres, and it is {extent_m:.0} m              across; if they are millimetres or centimetres, add `units: \"mm\"` (or \"cm\")"
+        )
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -154,6 +170,16 @@ mod tests {
             default: default.map(String::from),
             description: String::new(),
         }
+    }
+
+    // The warning comes only for undeclared units and more than 200 m.
+    #[test]
+    fn large_scene_without_units_is_warned() {
+        assert!(undeclared_unit_warning(false, 560.0)
+            .unwrap()
+            .contains("units: \"mm\""));
+        assert_eq!(undeclared_unit_warning(true, 560.0), None);
+        assert_eq!(undeclared_unit_warning(false, 150.0), None);
     }
 
     // Every name parses to its unit and back; factors are the exact definitions.
