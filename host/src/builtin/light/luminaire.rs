@@ -207,31 +207,12 @@ pub fn build(p: &LuminaireParams, ctx: &FactoryContext) -> Result<Arc<dyn Light>
     Ok(Arc::new(build_luminaire(p, ctx)?))
 }
 
-/// Build the light as its own type (for callers that need its table or flux).
-pub fn build_luminaire(
-    p: &LuminaireParams,
-    ctx: &FactoryContext,
-) -> Result<LuminaireLight, FactoryError> {
-    let position = check::position("position", p.position)?;
-    let axes = frame_axes(p.aim, p.c0)?;
-    let mut lum = luminaire_of(p, ctx)?;
+/// The factor `flux_lm` and `multiplier` put on the table (tilt not included).
+fn user_factor(p: &LuminaireParams, lum: &Luminaire, tilt: f64) -> Result<f64, FactoryError> {
     let mut factor = 1.0;
-    if let Some(t) = &lum.tilt {
-        let angle = match p.tilt_deg {
-            Some(a) if a.is_finite() => a,
-            Some(a) => return Err(param_err("tilt_deg", format!("{a} is not finite"))),
-            None => tilt_angle_deg(t.geometry, &axes),
-        };
-        factor *= t.factor_at(angle);
-    } else if p.tilt_deg.is_some() {
-        return Err(param_err(
-            "tilt_deg",
-            "the luminaire has no TILT table (TILT=NONE), so a tilt angle changes nothing",
-        ));
-    }
     if let Some(flux) = p.flux_lm {
         let flux = check::radiometric("flux_lm", flux, "lm")? as f64;
-        let table = lum.flux_lm();
+        let table = lum.flux_lm() * tilt;
         if !(table > 0.0) {
             return Err(param_err(
                 "flux_lm",
@@ -244,6 +225,54 @@ pub fn build_luminaire(
     if let Some(m) = p.multiplier {
         factor *= check::radiometric("multiplier", m, "")? as f64;
     }
+    Ok(factor)
+}
+
+/// The lamp tilt factor of `lum` for `p`'s orientation or `tilt_deg`.
+fn tilt_factor(
+    p: &LuminaireParams,
+    lum: &Luminaire,
+    axes: &[Vec3A; 3],
+) -> Result<f64, FactoryError> {
+    match (&lum.tilt, p.tilt_deg) {
+        (Some(t), Some(a)) if a.is_finite() => Ok(t.factor_at(a)),
+        (Some(_), Some(a)) => Err(param_err("tilt_deg", format!("{a} is not finite"))),
+        (Some(t), None) => Ok(t.factor_at(tilt_angle_deg(t.geometry, axes))),
+        (None, Some(_)) => Err(param_err(
+            "tilt_deg",
+            "the luminaire has no TILT table (TILT=NONE), so a tilt angle changes nothing",
+        )),
+        (None, None) => Ok(1.0),
+    }
+}
+
+/// The luminaire as a file would describe it: the table with `flux_lm` and `multiplier`
+/// applied, the lamp tilt table kept (not applied), for export.
+pub fn exported_luminaire(
+    p: &LuminaireParams,
+    ctx: &FactoryContext,
+) -> Result<Luminaire, FactoryError> {
+    let axes = frame_axes(p.aim, p.c0)?;
+    let lum = luminaire_of(p, ctx)?;
+    let tilt = tilt_factor(p, &lum, &axes)?;
+    let factor = user_factor(p, &lum, tilt)?;
+    Ok(if factor == 1.0 {
+        lum
+    } else {
+        lum.scaled(factor)
+    })
+}
+
+/// Build the light as its own type (for callers that need its table or flux).
+pub fn build_luminaire(
+    p: &LuminaireParams,
+    ctx: &FactoryContext,
+) -> Result<LuminaireLight, FactoryError> {
+    let position = check::position("position", p.position)?;
+    let axes = frame_axes(p.aim, p.c0)?;
+    let mut lum = luminaire_of(p, ctx)?;
+    let tilt = tilt_factor(p, &lum, &axes)?;
+    let factor = tilt * user_factor(p, &lum, tilt)?;
     if factor != 1.0 {
         lum = lum.scaled(factor);
     }
