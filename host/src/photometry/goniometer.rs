@@ -9,7 +9,8 @@
 //!   like a goniophotometer's reading.
 //! - **Lights that only hand out beams** (`next_beam`): `samples` beams are binned by direction
 //!   into cells centred on the grid nodes; I = Σ power / (N · cell solid angle), the cell mean.
-//!   Power per beam is its flux estimate (the seed's contract), so Σ power / N is the flux.
+//!   Power per beam is its flux estimate (the seed's contract), so Σ power / N is the flux, and
+//!   the table is scaled so that its integral (trapezoid, like a file's) is exactly that flux.
 //!
 //! Intensities are per unit of the normalised emission spectrum: the spectrum is the light's own
 //! SPD tabulated at 1 nm (delta lines put into their 1 nm bin), or for beam-only lights the
@@ -97,10 +98,10 @@ pub fn measure(light: &dyn Light, settings: &GoniometerSettings) -> Result<Measu
     let v_deg: Vec<f64> = (0..=nv).map(|j| j as f64 * step).collect();
     let h_deg: Vec<f64> = (0..=nh).map(|i| i as f64 * step).collect();
     let beams_only = flags.contains(LightFlags::BEAMS_ONLY);
-    let (intensity_w, spectrum, centre, size) = if beams_only {
+    let ((intensity_w, spectrum, centre, size), beam_flux_w) = if beams_only {
         measure_beams(light, settings, &h_deg, &v_deg)?
     } else {
-        measure_evaluated(light, settings, &h_deg, &v_deg)?
+        (measure_evaluated(light, settings, &h_deg, &v_deg)?, None)
     };
     let nm: Vec<f64> = spectrum.iter().map(|p| p.0).collect();
     let values: Vec<f64> = spectrum.iter().map(|p| p.1).collect();
@@ -135,7 +136,23 @@ pub fn measure(light: &dyn Light, settings: &GoniometerSettings) -> Result<Measu
         )],
         warnings: Vec::new(),
     };
-    let flux_lm = luminaire.flux_lm();
+    let mut luminaire = luminaire;
+    let mut flux_lm = luminaire.flux_lm();
+    if let Some(beam_flux_w) = beam_flux_w {
+        // Cell means sampled at the nodes integrate (trapezoid, as files are integrated) to
+        // the beams' flux only up to the grid's resolution; the beams' flux is the measurement,
+        // so the table is scaled to it.
+        if !(flux_lm > 0.0) {
+            return Err(format!(
+                "the beams all leave within {:.3}° of straight up or down, where a table sampled \
+                 every {step}° integrates to 0; use a smaller --step or measure the light aimed \
+                 sideways",
+                step / 2.0
+            ));
+        }
+        luminaire = luminaire.scaled(beam_flux_w * k / flux_lm);
+        flux_lm = luminaire.flux_lm();
+    }
     Ok(Measurement {
         flux_w: flux_lm / k,
         flux_lm,
@@ -282,12 +299,13 @@ fn measure_evaluated(
     Ok((intensity, tabulate(spd.as_ref()), centre, size))
 }
 
+/// The beams' table and their flux (W, Σ power / N).
 fn measure_beams(
     light: &dyn Light,
     settings: &GoniometerSettings,
     h_deg: &[f64],
     v_deg: &[f64],
-) -> Result<Measured, String> {
+) -> Result<(Measured, Option<f64>), String> {
     let step = h_deg[1] - h_deg[0];
     let (nh, nv) = (h_deg.len() - 1, v_deg.len());
     // Power per (h node 0..nh, v node), cells centred on the nodes; h = 360 copies h = 0.
@@ -358,5 +376,5 @@ fn measure_beams(
     let table = (lo..=hi)
         .map(|i| (i as f64 + 0.5, spectrum[i] / total))
         .collect();
-    Ok((intensity, table, centre, size))
+    Ok(((intensity, table, centre, size), Some(total / n as f64)))
 }
