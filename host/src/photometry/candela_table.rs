@@ -291,7 +291,8 @@ mod tests {
             rated_lamp_lumens: None,
         };
         assert!(good.to_luminaire().is_ok());
-        let cases: [(fn(&mut CandelaTable), &str); 5] = [
+        type Mutation = fn(&mut CandelaTable);
+        let cases: [(Mutation, &str); 5] = [
             (|t| t.photometric_type = "D".into(), "photometric_type"),
             (|t| t.symmetry = "radial".into(), "symmetry"),
             (|t| t.v_deg = vec![90.0, 0.0], "v_deg"),
