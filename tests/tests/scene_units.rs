@@ -1,7 +1,8 @@
 //! Scene units: the same scene written in metres and in millimetres (every length × 1000,
 //! `units: "mm"`) renders the same image, for every kind of light: built-in point, spot,
 //! directional and area (emissive) lights, a connectable plugin light (`smooth_spot`) and a
-//! beam-only plugin light (`laser`, light tracing only). Also: `units: "cm"`, `"in"` and `"ft"`
+//! beam-only plugin light (`laser`, light tracing only), and a measured luminaire (`luminaire`,
+//! an IES LM-63 file). Also: `units: "cm"`, `"in"` and `"ft"`
 //! for the point light, whose image depends on distances through 1/d².
 //!
 //! Why the images are bit-identical: both scenes are built in metres (the millimetre one
@@ -67,6 +68,10 @@ fn scene_text(light: &str, unit: &str, m: f64) -> String {
             "smooth_spot" => {
                 r#"(name: "plugin", type: "smooth_spot", params: (position: (L(-0.5), L(1.8), L(1)), direction: (0.5, -1.8, -1), cone_angle_deg: 35, falloff_start_deg: 15, power_w: 80, spd: "fl11"))"#
             }
+            "luminaire" => {
+                // A real IES file (scenes/luminaires/), path made absolute below.
+                r#"(name: "downlight", type: "luminaire", params: (file: "IES_FILE", position: (L(0.2), L(1.8), L(0.3)), spd: "a"))"#
+            }
             "laser" => {
                 r#"(name: "laser", type: "laser", params: (origin: (L(-0.5), L(1.5), L(1)), direction: (0.4, -1.5, -1.2), radius: L(0.15), wavelength_nm: 532, power_w: 2))"#
             }
@@ -84,7 +89,9 @@ fn scene_text(light: &str, unit: &str, m: f64) -> String {
         rest = &rest[j + 1..];
     }
     out.push_str(rest);
-    out
+    let ies = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../scenes/luminaires/erco_downlight_lm63-1986_onevalperline.ies");
+    out.replace("IES_FILE", &ies.display().to_string())
 }
 
 fn factory() -> PluginFactory {
@@ -160,8 +167,8 @@ fn same_image(light: &str, unit: &str, m: f64, kind: IntegratorKind, spp: u32) {
 }
 
 #[test]
-fn point_spot_directional_and_area_lights_in_mm_and_m() {
-    for light in ["point", "spot", "directional", "area"] {
+fn point_spot_directional_area_and_ies_lights_in_mm_and_m() {
+    for light in ["point", "spot", "directional", "area", "luminaire"] {
         same_image(light, "mm", 1e-3, IntegratorKind::Pt, 8);
     }
 }

@@ -1,39 +1,16 @@
-//! Radiometric ↔ photometric conversion of a light's emission: the luminous efficacy of its
-//! spectrum, K = Km · ∫ S(λ) V(λ) dλ in lm/W for a normalised SPD S (1/nm), and a light's
-//! luminous flux Φv = K · Φe.
-//!
-//! V(λ) is the photopic luminous efficiency function, the ȳ of the CIE 1931 2° standard
-//! observer (CIE 015:2018; table `host/data/cie/cie1931_2deg.csv`, 1 nm, 360–830 nm), whatever
-//! observer the scene's film uses: lumens, candelas, lux and cd/m² are defined with it.
-//! Km = 683.002 lm/W is the maximum luminous efficacy of that V(λ) (at 555 nm; the SI fixes
-//! 683 lm/W at 540 THz, where V = 1.000 02, CIE 015:2018 §1.5 / BIPM SI brochure 2019).
-//!
-//! The integral is a 1 nm sum over the table's wavelengths (where every built-in spectrum is
-//! evaluated anyway), plus each delta line's power fraction times V at its wavelength.
+//! Radiometric ↔ photometric values of a light: a photometric parameter (lm, cd, lx, cd/m²)
+//! as its radiometric equivalent, and the render summary's statement of a light's flux (W and
+//! lm), both with the luminous efficacy of the light's spectrum,
+//! K = Km · ∫ S(λ) V(λ) dλ in lm/W ([`crate::photometry::efficacy`]: Km = 683.002 lm/W, V = ȳ of
+//! the CIE 1931 2° observer, the 1 nm table in `host/data/cie/`).
 
 use crate::color::{CieObserverKind, Observer};
+pub use crate::photometry::efficacy::{luminous_efficacy_lm_per_w, KM_LM_PER_W};
 use crate::spectrum::Spd;
-
-/// Maximum luminous efficacy of photopic vision, lm/W (see the module docs).
-pub const KM_LM_PER_W: f64 = 683.002;
 
 /// V(λ), the CIE 1931 2° ȳ (dimensionless, 0 outside 360–830 nm).
 pub fn photopic_v(lambda_nm: f64) -> f64 {
     CieObserverKind::Cie1931_2.get().xyz_bar(lambda_nm)[1]
-}
-
-/// Luminous efficacy of radiation with normalised spectrum `spd`, lm/W: the lumens of 1 W.
-pub fn luminous_efficacy_lm_per_w(spd: &dyn Spd) -> f64 {
-    let obs = CieObserverKind::Cie1931_2.get();
-    let continuous: f64 = crate::color::observer::integration_grid(obs)
-        .map(|l| spd.value(l) * obs.xyz_bar(l)[1])
-        .sum();
-    let lines: f64 = spd
-        .delta_lines()
-        .iter()
-        .map(|l| l.weight * obs.xyz_bar(l.lambda)[1])
-        .sum();
-    KM_LM_PER_W * (continuous + lines)
 }
 
 /// A photometric value given for a light, converted to its radiometric equivalent with the
