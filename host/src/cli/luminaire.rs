@@ -9,12 +9,31 @@
 //! | `--json` | one JSON object; keys include `flux_lm` and `samples: [{h, v, cd}]` |
 //!
 //! `spectrace luminaire export FILE --format ies|ldt -o OUT` writes the luminaire as IES
-//! LM-63-2019 or EULUMDAT; reading OUT gives the same candela table.
+//! LM-63-2019 or EULUMDAT; reading OUT gives the same candela table. FILE may also be a light
+//! blob, and `--scene S --light NAME` exports a light of a scene: a `luminaire` light exports
+//! its table (with `flux_lm` and `multiplier` applied, the tilt table kept); any other light is
+//! measured first, as `bake` does.
+//!
+//! `spectrace luminaire bake SCENE --light NAME -o OUT.blob [--step DEG] [--samples N]`
+//! measures a light of a scene like a goniophotometer (see [`crate::photometry::goniometer`]):
+//! its spectrum, a type C intensity table every `--step` degrees (default 2.5) and its size,
+//! and writes a blob of a built-in `luminaire` light that renders without the light's plugin.
+//! NAME is a light of the scene's `lights` or an object with an emissive material.
 
+use super::plugin_args::PluginArgs;
+use crate::builtin::light::luminaire::{exported_luminaire, LuminaireParams};
+use crate::builtin::spectral::Spectrum;
+use crate::light::Light;
 use crate::photometry::eulumdat_writer::write_eulumdat;
+use crate::photometry::goniometer::{measure, GoniometerSettings, Measurement};
 use crate::photometry::ies_writer::write_ies_2019;
 use crate::photometry::{load_luminaire, Luminaire, PhotometricType};
-use std::path::PathBuf;
+use crate::plugin::blob::{Blob, BUILTIN_PLUGIN};
+use crate::plugin::factory::{Built, PluginFactory};
+use crate::scene::{FactoryContext, ObjectFactory};
+use spectrace_plugin_api::ObjectKind;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// Arguments of `spectrace luminaire`.
 #[derive(clap::Args, Debug)]
@@ -36,8 +55,42 @@ pub struct LuminaireArgs {
 /// Subcommands of `spectrace luminaire`.
 #[derive(clap::Subcommand, Debug)]
 pub enum LuminaireCommand {
-    /// Write a luminaire file as IES LM-63-2019 or EULUMDAT.
+    /// Write a luminaire file, a light blob or a light of a scene as IES LM-63-2019 or EULUMDAT.
     Export(ExportArgs),
+    /// Measure a light of a scene (any kind, plugin lights included) and save it as a blob of
+    /// a `luminaire` light: spectrum, goniometric table, size.
+    Bake(BakeArgs),
+}
+
+/// How finely to measure a light.
+#[derive(clap::Args, Debug, Clone)]
+pub struct MeasureArgs {
+    /// Angular step of the measured table, degrees (divides 180).
+    #[arg(long, default_value_t = 2.5)]
+    pub step: f64,
+    /// Samples per direction (lights that can be evaluated; default 64) or beams in all
+    /// (lights that only hand out beams; default 4000000).
+    #[arg(long)]
+    pub samples: Option<u64>,
+}
+
+/// Arguments of `spectrace luminaire bake`.
+#[derive(clap::Args, Debug)]
+pub struct BakeArgs {
+    /// The scene file.
+    pub scene: PathBuf,
+    /// Name of the light (or emissive object) to measure.
+    #[arg(long)]
+    pub light: String,
+    /// Output blob.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    #[command(flatten)]
+    /// Measurement resolution.
+    pub measure: MeasureArgs,
+    #[command(flatten)]
+    /// Plugins to load.
+    pub plugins: PluginArgs,
 }
 
 /// Output formats of `spectrace luminaire export`.
@@ -52,36 +105,264 @@ pub enum ExportFormat {
 /// Arguments of `spectrace luminaire export`.
 #[derive(clap::Args, Debug)]
 pub struct ExportArgs {
-    /// The luminaire to read (.ies or .ldt).
-    pub file: PathBuf,
+    /// The luminaire to read (.ies or .ldt), or a light blob (.blob).
+    #[arg(required_unless_present = "scene")]
+    pub file: Option<PathBuf>,
+    /// Export a light of this scene instead (with --light).
+    #[arg(long, conflicts_with = "file", requires = "light")]
+    pub scene: Option<PathBuf>,
+    /// Name of the light (or emissive object) of --scene.
+    #[arg(long, requires = "scene")]
+    pub light: Option<String>,
     /// Output format.
     #[arg(long, value_enum)]
     pub format: ExportFormat,
     /// Output file.
     #[arg(short, long)]
     pub output: PathBuf,
+    #[command(flatten)]
+    /// Measurement resolution (lights that are not luminaires).
+    pub measure: MeasureArgs,
+    #[command(flatten)]
+    /// Plugins to load.
+    pub plugins: PluginArgs,
+}
+
+impl MeasureArgs {
+    fn settings(&self, beams_only: bool) -> GoniometerSettings {
+        GoniometerSettings {
+            step_deg: self.step,
+            samples: self
+                .samples
+                .unwrap_or(if beams_only { 4_000_000 } else { 64 }),
+            seed: 1,
+        }
+    }
+}
+
+/// A light to export or bake: a `luminaire` light's parameters (its table is exported as is),
+/// or any light (measured).
+enum Source {
+    Luminaire(Box<LuminaireParams>, FactoryContext),
+    Light(Arc<dyn Light>),
+}
+
+fn factory(plugins: &PluginArgs) -> Result<PluginFactory, String> {
+    let registry = Arc::new(plugins.registry(false)?);
+    Ok(PluginFactory::new(
+        registry,
+        crate::plugin::adapter::PluginFaults::new(),
+    ))
+}
+
+/// The light `name` of the scene file `path`: a listed light or an emissive object.
+fn scene_light(path: &Path, name: &str, factory: &PluginFactory) -> Result<Source, String> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+    let desc = crate::scene::parse_scene_str(&text, path).map_err(|e| e.to_string())?;
+    let base = path.parent().unwrap_or(Path::new(".")).to_path_buf();
+    if let Some(item) = desc.lights.iter().find(|l| l.name == name) {
+        if item.type_name == "luminaire" {
+            let p: LuminaireParams = crate::builtin::from_value(&item.params)
+                .map_err(|e| format!("{}: light `{name}`: {e}", path.display()))?;
+            let ctx = factory.context(&base, format!("light `{name}`"));
+            return Ok(Source::Luminaire(Box::new(p), ctx));
+        }
+    }
+    let factories: [&dyn ObjectFactory; 1] = [factory];
+    let scene = crate::scene::load_scene_file(path, &factories).map_err(|e| e.to_string())?;
+    let lights = scene.lights.lights();
+    let areas = lights.iter().filter(|l| l.object().is_some()).count();
+    if let Some(i) = desc.lights.iter().position(|l| l.name == name) {
+        return Ok(Source::Light(lights[areas + i].clone()));
+    }
+    let emissive = lights.iter().find(|l| {
+        l.object()
+            .and_then(|o| scene.objects.get(o))
+            .is_some_and(|o| o.name == name)
+    });
+    match emissive {
+        Some(l) => Ok(Source::Light(l.clone())),
+        None => {
+            let mut names: Vec<String> = desc.lights.iter().map(|l| l.name.clone()).collect();
+            names.extend(
+                lights
+                    .iter()
+                    .filter_map(|l| l.object().and_then(|o| scene.objects.get(o)))
+                    .map(|o| o.name.clone()),
+            );
+            Err(format!(
+                "{}: no light or emissive object named `{name}` (lights: {})",
+                path.display(),
+                names.join(", ")
+            ))
+        }
+    }
+}
+
+/// The light a blob holds.
+fn blob_light(path: &Path, factory: &PluginFactory) -> Result<Source, String> {
+    let blob = Blob::read_file(path).map_err(|e| e.to_string())?;
+    if blob.kind != ObjectKind::Light {
+        return Err(format!(
+            "{}: holds a {}, not a light",
+            path.display(),
+            blob.kind
+        ));
+    }
+    if blob.plugin == BUILTIN_PLUGIN && blob.type_name == "luminaire" {
+        let (p, _): (LuminaireParams, usize) =
+            bincode::serde::decode_from_slice(&blob.payload, bincode::config::standard())
+                .map_err(|e| format!("{}: bad luminaire state: {e}", path.display()))?;
+        let ctx = factory.context(Path::new("."), format!("blob {}", path.display()));
+        return Ok(Source::Luminaire(Box::new(p), ctx));
+    }
+    match blob
+        .instantiate(factory)
+        .map_err(|e| format!("{}: {e}", path.display()))?
+    {
+        Built::Light(l) => Ok(Source::Light(l)),
+        _ => Err(format!("{}: not a light", path.display())),
+    }
+}
+
+fn measured(light: &dyn Light, m: &MeasureArgs) -> Result<Measurement, String> {
+    let beams = light.flags().contains(crate::light::LightFlags::BEAMS_ONLY);
+    measure(light, &m.settings(beams))
 }
 
 /// Run `spectrace luminaire export`.
 pub fn export(args: &ExportArgs) -> Result<(), String> {
-    let lum = load_luminaire(&args.file).map_err(|e| e.to_string())?;
-    let source = args.file.file_name().map_or_else(
-        || args.file.display().to_string(),
-        |n| n.to_string_lossy().into_owned(),
-    );
+    let (lum, source, what) = match (&args.file, &args.scene, &args.light) {
+        (Some(file), _, _) if file.extension().is_some_and(|e| e == "blob") => {
+            let f = factory(&args.plugins)?;
+            let src = blob_light(file, &f)?;
+            let name = file.display().to_string();
+            let lum = source_luminaire(src, &args.measure, &name)?;
+            (lum, name.clone(), name)
+        }
+        (Some(file), _, _) => {
+            let lum = load_luminaire(file).map_err(|e| e.to_string())?;
+            let source = file.file_name().map_or_else(
+                || file.display().to_string(),
+                |n| n.to_string_lossy().into_owned(),
+            );
+            (lum, source, file.display().to_string())
+        }
+        (None, Some(scene), Some(light)) => {
+            let f = factory(&args.plugins)?;
+            let src = scene_light(scene, light, &f)?;
+            let name = format!("light `{light}` of {}", scene.display());
+            let lum = source_luminaire(src, &args.measure, &name)?;
+            (lum, name.clone(), name)
+        }
+        _ => return Err("luminaire export: give a FILE, or --scene and --light".into()),
+    };
     let text = match args.format {
         ExportFormat::Ies => write_ies_2019(&lum, &source),
         ExportFormat::Ldt => write_eulumdat(&lum, &source)
-            .map_err(|e| format!("{}: cannot write EULUMDAT: {e}", args.file.display()))?,
+            .map_err(|e| format!("{what}: cannot write EULUMDAT: {e}"))?,
     };
     std::fs::write(&args.output, text)
         .map_err(|e| format!("cannot write {}: {e}", args.output.display()))?;
     if lum.tilt.is_some() && args.format == ExportFormat::Ldt {
         eprintln!(
-            "warning: {}: EULUMDAT has no lamp tilt table; the tilt data was not written",
-            args.file.display()
+            "warning: {what}: EULUMDAT has no lamp tilt table; the tilt data was not written"
         );
     }
+    Ok(())
+}
+
+/// The table of a light: a luminaire's own, any other light's measured.
+fn source_luminaire(src: Source, m: &MeasureArgs, name: &str) -> Result<Luminaire, String> {
+    match src {
+        Source::Luminaire(p, ctx) => {
+            exported_luminaire(&p, &ctx).map_err(|e| format!("{name}: {e}"))
+        }
+        Source::Light(l) => {
+            let m = measured(l.as_ref(), m).map_err(|e| format!("{name}: {e}"))?;
+            Ok(m.luminaire)
+        }
+    }
+}
+
+/// Run `spectrace luminaire bake`.
+pub fn bake(args: &BakeArgs) -> Result<(), String> {
+    let f = factory(&args.plugins)?;
+    let name = format!("light `{}` of {}", args.light, args.scene.display());
+    let light: Arc<dyn Light> = match scene_light(&args.scene, &args.light, &f)? {
+        Source::Light(l) => l,
+        Source::Luminaire(p, ctx) => Arc::new(
+            crate::builtin::light::luminaire::build_luminaire(&p, &ctx)
+                .map_err(|e| format!("{name}: {e}"))?,
+        ),
+    };
+    let m = measured(light.as_ref(), &args.measure).map_err(|e| format!("{name}: {e}"))?;
+    let source = format!(
+        "baked from light `{}` of {}",
+        args.light,
+        args.scene.file_name().map_or_else(
+            || args.scene.display().to_string(),
+            |n| n.to_string_lossy().into_owned()
+        )
+    );
+    let params = LuminaireParams {
+        file: None,
+        table: Some(m.table(&source)),
+        position: m.centre,
+        aim: None,
+        c0: None,
+        spd: Some(Spectrum::Pairs(m.spectrum.clone())),
+        flux_lm: None,
+        multiplier: None,
+        tilt_deg: None,
+    };
+    let payload = bincode::serde::encode_to_vec(&params, bincode::config::standard())
+        .map_err(|e| format!("cannot encode the baked light: {e}"))?;
+    let ty = crate::builtin::light::luminaire::TYPE;
+    let blob = Blob {
+        kind: ObjectKind::Light,
+        plugin: BUILTIN_PLUGIN.to_string(),
+        plugin_version: env!("CARGO_PKG_VERSION").to_string(),
+        type_name: ty.name.to_string(),
+        type_version: ty.version,
+        payload,
+    };
+    // The blob must load with the built-in types alone (no plugin).
+    let builtins = PluginFactory::new(
+        Arc::new(crate::plugin::builtin_registry()),
+        crate::plugin::adapter::PluginFaults::new(),
+    );
+    let baked = match blob.instantiate(&builtins)? {
+        Built::Light(l) => l,
+        _ => return Err("the baked blob is not a light".into()),
+    };
+    blob.write_file(&args.output).map_err(|e| e.to_string())?;
+    let k = crate::photometry::efficacy::luminous_efficacy_lm_per_w(baked.spd().as_ref());
+    println!("baked             {name}");
+    println!(
+        "grid              type C, {}° steps ({} × {} angles)",
+        args.measure.step,
+        m.luminaire.h_deg.len(),
+        m.luminaire.v_deg.len()
+    );
+    println!("stated power      {:.6} W", m.stated_power_w);
+    println!(
+        "measured flux     {:.6} W, {:.3} lm ({:+.3} % of the stated power)",
+        m.flux_w,
+        m.flux_lm,
+        100.0 * (m.flux_w / m.stated_power_w - 1.0)
+    );
+    println!(
+        "baked light       {:.6} W, {:.3} lm",
+        baked.power(),
+        baked.power() * k
+    );
+    println!(
+        "emitter           centre ({:.4}, {:.4}, {:.4}), size {:.4} × {:.4} × {:.4} (x, z, y; scene units)",
+        m.centre[0], m.centre[1], m.centre[2], m.size[0], m.size[1], m.size[2]
+    );
+    println!("wrote             {}", args.output.display());
     Ok(())
 }
 
@@ -160,8 +441,10 @@ fn range(xs: &[f64]) -> String {
 
 /// Run `spectrace luminaire`.
 pub fn run(args: &LuminaireArgs) -> Result<(), String> {
-    if let Some(LuminaireCommand::Export(e)) = &args.command {
-        return export(e);
+    match &args.command {
+        Some(LuminaireCommand::Export(e)) => return export(e),
+        Some(LuminaireCommand::Bake(b)) => return bake(b),
+        None => {}
     }
     let Some(path) = &args.file else {
         return Err("luminaire: give a file (.ies or .ldt), or `luminaire export`".into());

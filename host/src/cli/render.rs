@@ -51,6 +51,15 @@ pub struct RenderArgs {
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
+    /// PNG exposure in EV: the PNG shows the image × 2^EV (the EXR is never scaled). Overrides
+    /// the scene's `png_exposure`; without either, an image that would be nearly black or
+    /// mostly clipped gets an automatic exposure, said in the summary.
+    #[arg(long, value_name = "EV", allow_negative_numbers = true, value_parser = parse_ev)]
+    pub exposure: Option<f64>,
+    /// Image size WxH in pixels, replacing every camera's `resolution` (the field of view
+    /// along the camera's `fov_axis` is kept; the other follows the aspect ratio).
+    #[arg(long, value_name = "WxH", value_parser = parse_resolution)]
+    pub resolution: Option<(u32, u32)>,
     /// Light transport algorithm: bdpt (bidirectional, MIS), pt (path tracing) or lt (light
     /// tracing).
     #[arg(long, default_value = "bdpt")]
@@ -146,6 +155,12 @@ impl RenderArgs {
             push("--max-depth", d.to_string());
         }
         push("--integrator", self.integrator.to_string());
+        if let Some(ev) = self.exposure {
+            push("--exposure", ev.to_string());
+        }
+        if let Some((w, h)) = self.resolution {
+            push("--resolution", format!("{w}x{h}"));
+        }
         if let Some(n) = self.wavelengths_per_path {
             push("--wavelengths-per-path", n.to_string());
         }
@@ -193,7 +208,7 @@ impl RenderArgs {
         format!(
             "integrator={} max_depth={max_depth} wavelengths_per_path={:?} \
              wavelength_sampling={:?} camera={:?} spd_interpolation={:?} reflectance={:?} \
-             observer_step={:?} plugins={:?} plugin_dirs={:?} observer={} rgb_space={}",
+             observer_step={:?} plugins={:?} plugin_dirs={:?} observer={} rgb_space={}{}",
             self.integrator,
             self.wavelengths_per_path,
             self.wavelength_sampling.map(|w| w.to_string()),
@@ -209,6 +224,9 @@ impl RenderArgs {
             self.plugins.directories.len(),
             scene.observer.name(),
             scene.options.rgb_space_name,
+            // Only when given, so state files written before the flag existed still match.
+            self.resolution
+                .map_or(String::new(), |(w, h)| format!(" resolution={w}x{h}")),
         )
     }
 
@@ -229,11 +247,90 @@ impl RenderArgs {
 /// Load the scene named by `args` (or the default) with the given factories.
 pub fn load(args: &RenderArgs, factories: &[&dyn ObjectFactory]) -> Result<Scene, String> {
     let repr = args.representation.options()?;
-    match &args.scene {
-        Some(p) => load_scene_file_with(p, factories, &repr),
-        None => crate::scene::cornell::cornell_box_with(factories, &repr),
+    let Some((w, h)) = args.resolution else {
+        return match &args.scene {
+            Some(p) => load_scene_file_with(p, factories, &repr),
+            None => crate::scene::cornell::cornell_box_with(factories, &repr),
+        }
+        .map_err(|e| e.to_string());
+    };
+    // --resolution: every camera's `resolution` replaced before the scene is built.
+    let (mut desc, base, file) = match &args.scene {
+        Some(p) => (
+            crate::scene::read_scene_file(p).map_err(|e| e.to_string())?,
+            p.parent().unwrap_or(Path::new(".")).to_path_buf(),
+            p.clone(),
+        ),
+        None => (
+            crate::scene::cornell_box_description().map_err(|e| e.to_string())?,
+            PathBuf::from("."),
+            PathBuf::from("<embedded cornell box>"),
+        ),
+    };
+    for c in &mut desc.cameras {
+        let size: ron::Value = ron::from_str(&format!("({w}, {h})")).map_err(|e| e.to_string())?;
+        match &mut c.params {
+            ron::Value::Map(m) => {
+                m.insert(ron::Value::String("resolution".into()), size);
+            }
+            p @ ron::Value::Unit => {
+                let mut m = ron::Map::new();
+                m.insert(ron::Value::String("resolution".into()), size);
+                *p = ron::Value::Map(m);
+            }
+            _ => {}
+        }
     }
-    .map_err(|e| e.to_string())
+    crate::scene::build_scene_with(&desc, &base, &file, factories, &repr).map_err(|e| e.to_string())
+}
+
+/// An exposure in EV: finite, within ±100 (2^100 already turns any renderable value white).
+pub fn parse_ev(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(ev) if ev.is_finite() && ev.abs() <= 100.0 => Ok(ev),
+        _ => Err(format!(
+            "expected an exposure in EV between -100 and 100, got `{s}`"
+        )),
+    }
+}
+
+/// `WxH` (e.g. `640x480`), each 1..65536 pixels.
+pub fn parse_resolution(s: &str) -> Result<(u32, u32), String> {
+    let bad = || format!("expected WIDTHxHEIGHT in pixels, e.g. 640x480, got `{s}`");
+    let (w, h) = s.split_once(['x', 'X', '×']).ok_or_else(bad)?;
+    let w: u32 = w.trim().parse().map_err(|_| bad())?;
+    let h: u32 = h.trim().parse().map_err(|_| bad())?;
+    if !(1..=65536).contains(&w) || !(1..=65536).contains(&h) {
+        return Err(format!("each side must be 1..65536 pixels, got {w}x{h}"));
+    }
+    Ok((w, h))
+}
+
+/// The PNG's exposure multiplier and, when it was picked automatically, a line for the summary.
+fn png_exposure(args: &RenderArgs, scene: &Scene, image: &XyzImage) -> (f64, Option<String>) {
+    if let Some(ev) = args.exposure {
+        return (2f64.powf(ev), None);
+    }
+    if scene.options.png_exposure_given {
+        return (scene.options.png_exposure, None);
+    }
+    match crate::film::exposure::auto_exposure(image) {
+        Some(a) => (
+            a.multiplier,
+            Some(format!(
+                "PNG exposure chosen automatically: {:+.1} EV (×{:.4e}), because at 0 EV the image \
+                 would be {}; the EXR is unscaled; set it with --exposure EV or `png_exposure`",
+                a.ev(),
+                a.multiplier,
+                if a.was_dark {
+                    "nearly black"
+                } else {
+                    "mostly clipped"
+                }
+            )),
+        ),
+        None => (scene.options.png_exposure, None),
+    }
 }
 
 /// Run `spectrace render` with the built-in types and the plugins named in `args`.
@@ -526,7 +623,7 @@ pub fn run_with_factories(
         {
             bar.finish_and_clear();
             let image = film.image();
-            let written = save(&image, &outputs, &scene, extra_layers(args, film))?;
+            let written = save(&image, &outputs, &scene, extra_layers(args, film), args)?;
             for wr in written {
                 println!(
                     "  wrote {} (partial: {} spp)",
@@ -553,7 +650,7 @@ pub fn run_with_factories(
     }
     let Some(output) = output else {
         let image = film.image();
-        for wr in save(&image, &outputs, &scene, extra_layers(args, &film))? {
+        for wr in save(&image, &outputs, &scene, extra_layers(args, &film), args)? {
             println!("  wrote {}", wr.display());
         }
         return Ok(());
@@ -596,7 +693,14 @@ pub fn run_with_factories(
         }
     }
 
-    let written = save(&result.image, &outputs, &scene, extra_layers(args, &film))?;
+    let written = save(
+        &result.image,
+        &outputs,
+        &scene,
+        extra_layers(args, &film),
+        args,
+    )?;
+    let exposure_note = png_exposure(args, &scene, &result.image).1;
     if let (Some(sf), Some(path)) = (&spectral_film, &args.spectral_exr) {
         let image = sf.image();
         image.write_exr(path)?;
@@ -654,6 +758,15 @@ pub fn run_with_factories(
     }
     for w in written {
         println!("  wrote {}", w.display());
+    }
+    if let Some(note) = exposure_note {
+        println!("  {note}");
+    }
+    if scene.options.length_unit != crate::scene::LengthUnit::Metre {
+        println!(
+            "  scene units: {} (lengths converted to metres when the scene was built)",
+            scene.options.length_unit
+        );
     }
     for w in scene.warnings() {
         println!("  warning: {w}");
@@ -731,13 +844,14 @@ fn save(
     outputs: &super::output_paths::OutputPaths,
     scene: &Scene,
     extra: Vec<(String, Vec<f32>)>,
+    args: &RenderArgs,
 ) -> Result<Vec<PathBuf>, String> {
     save_image(
         image,
         outputs.exr.as_deref(),
         &outputs.png,
         &scene.options.rgb_space,
-        scene.options.png_exposure,
+        png_exposure(args, scene, image).0,
         extra,
     )
 }

@@ -7,6 +7,7 @@
 //! constant radiance of 1 W/(m²·sr·nm) gives Y = 1.
 
 pub mod exact_sum;
+pub mod exposure;
 pub mod film_state;
 pub mod image;
 pub mod output;

@@ -98,6 +98,7 @@ pub fn strategy_summary(scene: &Scene, kind: IntegratorKind) -> Vec<String> {
     ) else {
         return Vec::new();
     };
+    let total_w: f64 = scene.lights.lights().iter().map(|l| l.power()).sum();
     scene
         .lights
         .lights()
@@ -118,9 +119,19 @@ pub fn strategy_summary(scene: &Scene, kind: IntegratorKind) -> Vec<String> {
             } else {
                 "light without a surface"
             };
+            let item = scene
+                .options
+                .light_items
+                .get(i)
+                .map_or(String::new(), |n| format!("{n}, "));
             format!(
-                "light {i} ({what}, {:.4} W, chosen with p = {:.4}): {}",
-                l.power(),
+                "light {i} ({item}{what}, {}, chosen with p = {:.4}): {}",
+                crate::light::luminous::flux_text(
+                    l.power(),
+                    l.spd().as_ref(),
+                    scene.options.relative_emission,
+                    total_w,
+                ),
                 scene.lights.pmf(i),
                 integrator.light_strategy(f)
             )

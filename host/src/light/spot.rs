@@ -12,6 +12,14 @@ use glam::{Vec2, Vec3A};
 use std::f32::consts::PI;
 use std::sync::Arc;
 
+/// Solid angle (sr) of the falloff of a spot with half-angles `inner_deg` ≤ `outer_deg`:
+/// ∫ falloff dω = 2π[(1 − cos inner) + (cos inner − cos outer)/2] (smoothstep averages ½ over
+/// cos θ), so that power = peak intensity × this.
+pub fn falloff_solid_angle_sr(inner_deg: f64, outer_deg: f64) -> f64 {
+    let (ci, co) = (inner_deg.to_radians().cos(), outer_deg.to_radians().cos());
+    2.0 * std::f64::consts::PI * ((1.0 - ci) + 0.5 * (ci - co))
+}
+
 /// Spot light of total power `P` W: intensity `I₀·falloff(cos θ)·S(λ)` with `I₀` chosen so the
 /// emitted flux is exactly `P`.
 #[derive(Debug, Clone)]
@@ -48,7 +56,6 @@ impl SpotLight {
         }
         let cos_inner = inner_deg.to_radians().cos();
         let cos_outer = outer_deg.to_radians().cos();
-        // ∫ falloff dω = 2π[(1 − cos_inner) + (cos_inner − cos_outer)/2]: smoothstep averages ½.
         let solid = 2.0 * PI * ((1.0 - cos_inner) + 0.5 * (cos_inner - cos_outer));
         Ok(Self {
             position,

@@ -118,9 +118,20 @@ pub fn write_eulumdat(lum: &Luminaire, source: &str) -> Result<String, String> {
     line(format!("{lorl}"));
     line("1".into());
     line("0".into());
-    let sets = lum.lamps.len().max(1);
-    line(sets.to_string());
-    for (i, l) in lum.lamps.iter().enumerate() {
+    // A table without lamp data (measured from a light, or written inline) gets one set.
+    let unnamed = [super::luminaire::LampSet {
+        count: 1,
+        lumens: None,
+        description: String::new(),
+        watts: None,
+    }];
+    let lamps: &[super::luminaire::LampSet] = if lum.lamps.is_empty() {
+        &unnamed
+    } else {
+        &lum.lamps
+    };
+    line(lamps.len().to_string());
+    for (i, l) in lamps.iter().enumerate() {
         let count = if absolute { -1 } else { l.count };
         let set_lm = if i == 0 {
             set_flux

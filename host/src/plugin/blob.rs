@@ -651,6 +651,18 @@ impl Blob {
             std::sync::Arc::new(registry.clone()),
             super::adapter::PluginFaults::new(),
         );
+        // A blob's lengths are metres: a light's parameters in the scene's unit are converted
+        // as the scene builder converts them.
+        let params = if kind == ObjectKind::Light {
+            let unit = crate::scene::LengthUnit::parse(desc.units.as_deref().unwrap_or("m"))
+                .map_err(|e| format!("{}: units: {e}", scene.display()))?;
+            match crate::scene::ObjectFactory::param_docs(&factory, "light", &type_name) {
+                Some(docs) => crate::scene::units::params_in_metres(&params, &docs, unit.metres()),
+                None => params,
+            }
+        } else {
+            params
+        };
         let base = scene.parent().unwrap_or(Path::new("."));
         Self::pack_item(&factory, kind, &type_name, &params, base)
             .map_err(|e| format!("{}: {kind} `{name}`: {e}", scene.display()))

@@ -31,13 +31,15 @@ altogether; shapes, cameras and `blob` stay built in.
 
 ```ron
 (
+    units: "m",                        // length unit: m (default), cm, mm, in, ft
+    emission_units: "absolute",        // or "relative" (lights right in proportion only)
     observer: "cie1931-2",            // observer type (optional; default cie1931-2)
                                        // or (type: "blob", params: (file: "eye.blob"))
     output: (                          // all optional
         spp: 64,                       // samples per pixel when the command line gives none
         max_depth: 64,                 // longest path (scattering events)
         rgb_space: "srgb",             // srgb, rec2020, display-p3, aces2065-1
-        png_exposure: 1.0,             // PNG preview exposure multiplier
+        png_exposure: 1.0,             // PNG exposure: linear multiplier (1 = 0 EV)
     ),
     materials: [ (name: "white", type: "lambertian", params: (reflectance: 0.8)) ],
     objects: [ (name: "ball", type: "sphere", material: "white",
@@ -53,8 +55,10 @@ altogether; shapes, cameras and `blob` stay built in.
 
 | section     | content                                                                          |
 |-------------|----------------------------------------------------------------------------------|
+| `units`     | the length unit of every position, size and distance in the file: `m` (default), `cm`, `mm`, `in` (0.0254 m), `ft` (0.3048 m); see below |
+| `emission_units` | `absolute` (default): light values are physical; `relative`: only their proportions are known (a measured spectrum of unknown scale, as in the Cornell box), so the render summary gives each light's share of the power instead of W and lm |
 | `observer`  | an observer type name (below, or from a plugin) with default parameters, or `(type: .., params: ..)` (e.g. a blob) |
-| `output`    | sampling and output defaults; the command line overrides them                    |
+| `output`    | sampling and output defaults; the command line overrides them (`png_exposure`: the PNG shows the image × this; `render --exposure EV` overrides it with 2^EV; with neither, `render` picks an exposure when the image would be nearly black or mostly clipped, and says so) |
 | `materials` | named materials `(name, type, params)`; objects refer to them by name            |
 | `objects`   | geometry `(name, type, material, params, transform)`; a shape type below; an object whose material emits (`emissive`) is an area light |
 | `lights`    | lights that are not surfaces `(name, type, params)`                              |
@@ -65,6 +69,22 @@ altogether; shapes, cameras and `blob` stay built in.
 (right-handed), `Matrix(((..4..), (..4..), (..4..), (..4..)))` (row-major, acting on column
 vectors).
 
+**Units.** Lengths are converted to metres once, when the scene is built: every object gets a
+final uniform scale, and every light or camera parameter whose unit below is `scene units` (its
+default too) is multiplied by the unit's size in metres — for plugin types as well, by the unit
+in their parameter tables. Nothing else changes: W, W/sr, W/m², W/(m²·sr·nm), lm, cd, lx and
+cd/m² are per metre and per square metre in every unit, so a scene written in mm and the same
+scene in m render the same image. A plugin light that declares its own beam representation
+(`metres_per_unit`) keeps its own unit for its parameters. The render summary names the unit.
+
+**Photometric values.** Lights take lumens, candelas, lux or cd/m² instead of W-based values
+(`point`, `spot`: `flux_lm` or `intensity_cd` instead of `power`; `directional`:
+`illuminance_lx` instead of `irradiance`; `emissive`: `luminance_cd_m2` instead of `scale`;
+exactly one of each group). They are converted with the light's own spectrum S (normalised):
+radiometric = photometric / K with K = 683.002 lm/W × ∫ S(λ)·V(λ) dλ, V = ȳ of the CIE 1931 2°
+observer (whatever observer the film uses). A spectrum with nothing visible cannot take a
+photometric value. Powers in W are what the renderer emits within 360–830 nm.
+
 Geometry is stored and traced in 32-bit floats; images do not depend on the scale of a scene
 (a box of any size from 1e-12 to 1e9 units renders the same image). Outside that the scene gets
 a warning: coordinates beyond 1e12 units (the ray–triangle test overflows), a scene smaller than
@@ -74,7 +94,8 @@ from the origin: details below 1.2 cm merge); move such a scene nearer the origi
 
 ## Parameter values
 
-- **Vectors** are tuples `(x, y, z)`; units are the scene's (the Cornell box uses mm).
+- **Vectors** are tuples `(x, y, z)`; lengths are in the scene's `units` (the Cornell box uses
+  mm).
 - **Spectral values** (reflectances, emission spectra) take any of these forms:
   - a number (a constant; reflectances only);
   - a spec string: a bundled spectrum (`d65`, `a`, `e`, `fl11`, `led_b1`, `mercury`, …),

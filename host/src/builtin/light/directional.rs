@@ -5,8 +5,11 @@
 //! | `direction`  | —    | —       | direction the light travels, (x, y, z), non-zero |
 //! | `irradiance` | W/m² | —       | irradiance on a surface facing the light, ≥ 0    |
 //! | `spd`        | —    | `"e"`   | emission spectrum (SPD spectral value)           |
+//!
+//! Exactly one of `irradiance` and `illuminance_lx`; E = illuminance_lx / K with K the
+//! spectrum's luminous efficacy (lm/W, [`crate::light::luminous`]).
 
-use super::{light_spd, non_negative};
+use super::{exactly_one, from_photometric, light_spd, non_negative};
 use crate::builtin::spectral::Spectrum;
 use crate::builtin::{from_value, param_err, state_fns, Build, BuiltinType, Embed};
 use crate::light::{DirectionalLight, Light};
@@ -19,7 +22,7 @@ use std::sync::Arc;
 pub const TYPE: BuiltinType = BuiltinType {
     name: "directional",
     aliases: &[],
-    version: 1,
+    version: 2,
     description: "distant light with parallel rays",
     params: &[
         Param::required(
@@ -27,10 +30,17 @@ pub const TYPE: BuiltinType = BuiltinType {
             "",
             "direction the light travels, (x, y, z), non-zero",
         ),
-        Param::required(
+        Param::optional(
             "irradiance",
             "W/m²",
-            "irradiance on a surface facing the light, ≥ 0",
+            "—",
+            "irradiance on a surface facing the light, ≥ 0; exactly one of `irradiance`, `illuminance_lx`",
+        ),
+        Param::optional(
+            "illuminance_lx",
+            "lx",
+            "—",
+            "or: illuminance on a surface facing the light, ≥ 0 (CIE 1931 V(λ), 683.002 lm/W)",
         ),
         Param::optional(
             "spd",
@@ -50,7 +60,11 @@ pub struct DirectionalParams {
     /// Travel direction.
     pub direction: [f64; 3],
     /// Irradiance, W/m².
-    pub irradiance: f64,
+    #[serde(default)]
+    pub irradiance: Option<f64>,
+    /// Illuminance, lx.
+    #[serde(default)]
+    pub illuminance_lx: Option<f64>,
     /// Emission spectrum.
     #[serde(default)]
     pub spd: Option<Spectrum>,
@@ -64,10 +78,18 @@ impl Embed for DirectionalParams {
 
 /// Build the light.
 pub fn build(p: &DirectionalParams, ctx: &FactoryContext) -> Result<Arc<dyn Light>, FactoryError> {
+    let spd = light_spd(&p.spd, ctx)?;
+    let irradiance = match exactly_one(&[
+        ("irradiance", p.irradiance),
+        ("illuminance_lx", p.illuminance_lx),
+    ])? {
+        (0, e) => e,
+        (_, lx) => from_photometric("illuminance_lx", lx, spd.as_ref())?,
+    };
     let d = DirectionalLight::new(
         crate::builtin::check::direction("direction", p.direction)?,
-        light_spd(&p.spd, ctx)?,
-        non_negative("irradiance", p.irradiance, "W/m²")?,
+        spd,
+        non_negative("irradiance", irradiance, "W/m²")?,
     )
     .map_err(|e| param_err("direction", e))?;
     Ok(Arc::new(d))

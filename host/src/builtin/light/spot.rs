@@ -7,9 +7,16 @@
 //! | `inner_angle` | degrees     | `20`    | half-angle of full intensity                   |
 //! | `outer_angle` | degrees     | `30`    | half-angle where the intensity reaches zero    |
 //! | `power`       | W           | —       | total radiant flux, ≥ 0                        |
+//! | `flux_lm`     | lm          | —       | or: total luminous flux, ≥ 0                   |
+//! | `intensity_cd`| cd          | —       | or: luminous intensity on the axis, ≥ 0        |
 //! | `spd`         | —           | `"e"`   | emission spectrum (SPD spectral value)         |
+//!
+//! Exactly one of `power`, `flux_lm` and `intensity_cd`, converted with the spectrum's
+//! luminous efficacy K (lm/W, [`crate::light::luminous`]): Φ = flux_lm / K, or the peak
+//! intensity I₀ = intensity_cd / K W/sr and Φ = I₀ · Ω, Ω the falloff's solid angle
+//! ([`crate::light::spot::falloff_solid_angle_sr`]).
 
-use super::{light_spd, non_negative};
+use super::{exactly_one, from_photometric, light_spd, non_negative};
 use crate::builtin::spectral::Spectrum;
 use crate::builtin::{
     finite, finite3, from_value, param_err, state_fns, Build, BuiltinType, Embed,
@@ -24,7 +31,7 @@ use std::sync::Arc;
 pub const TYPE: BuiltinType = BuiltinType {
     name: "spot",
     aliases: &[],
-    version: 1,
+    version: 2,
     description: "spot light with a smooth falloff between two cones",
     params: &[
         Param::required("position", "scene units", "where the light is, (x, y, z)"),
@@ -41,7 +48,24 @@ pub const TYPE: BuiltinType = BuiltinType {
             "30",
             "half-angle where the intensity reaches zero",
         ),
-        Param::required("power", "W", "total radiant flux, ≥ 0"),
+        Param::optional(
+            "power",
+            "W",
+            "—",
+            "total radiant flux, ≥ 0; exactly one of `power`, `flux_lm`, `intensity_cd`",
+        ),
+        Param::optional(
+            "flux_lm",
+            "lm",
+            "—",
+            "or: total luminous flux, ≥ 0 (CIE 1931 V(λ), 683.002 lm/W)",
+        ),
+        Param::optional(
+            "intensity_cd",
+            "cd",
+            "—",
+            "or: luminous intensity on the axis (inside the inner cone), ≥ 0",
+        ),
         Param::optional(
             "spd",
             "",
@@ -68,7 +92,14 @@ pub struct SpotParams {
     #[serde(default)]
     pub outer_angle: Option<f64>,
     /// Radiant flux, W.
-    pub power: f64,
+    #[serde(default)]
+    pub power: Option<f64>,
+    /// Luminous flux, lm.
+    #[serde(default)]
+    pub flux_lm: Option<f64>,
+    /// Luminous intensity on the axis, cd.
+    #[serde(default)]
+    pub intensity_cd: Option<f64>,
     /// Emission spectrum.
     #[serde(default)]
     pub spd: Option<Spectrum>,
@@ -104,13 +135,26 @@ pub fn build(p: &SpotParams, ctx: &FactoryContext) -> Result<Arc<dyn Light>, Fac
             format!("{inner}° is outside [0, outer_angle = {outer}] degrees"),
         ));
     }
+    let spd = light_spd(&p.spd, ctx)?;
+    let power_w = match exactly_one(&[
+        ("power", p.power),
+        ("flux_lm", p.flux_lm),
+        ("intensity_cd", p.intensity_cd),
+    ])? {
+        (0, w) => w,
+        (1, lm) => from_photometric("flux_lm", lm, spd.as_ref())?,
+        (_, cd) => {
+            from_photometric("intensity_cd", cd, spd.as_ref())?
+                * crate::light::spot::falloff_solid_angle_sr(inner, outer)
+        }
+    };
     let s = SpotLight::new(
         position,
         target,
         inner as f32,
         outer as f32,
-        light_spd(&p.spd, ctx)?,
-        non_negative("power", p.power, "W")?,
+        spd,
+        non_negative("power", power_w, "W")?,
     )
     .map_err(FactoryError::Param)?;
     Ok(Arc::new(s))

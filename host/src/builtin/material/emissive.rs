@@ -5,7 +5,12 @@
 //! |-------------|--------------|---------|------------------------------------------------------------|
 //! | `radiance`  | W/(m²·sr·nm) | —       | spectral radiance: a `(nm, value)` table (absolute), or an SPD spec/type (normalised, then `scale` is required) |
 //! | `scale`     | W/(m²·sr)    | `1` for tables | multiplier of a table; integrated radiance for a named SPD |
+//! | `luminance_cd_m2` | cd/m² | —     | instead of `scale`: the luminance the surface has (the spectrum gives the shape) |
 //! | `two_sided` | —            | `false` | emit from both faces                                       |
+//!
+//! At most one of `scale` and `luminance_cd_m2` (one is required with a named SPD). The
+//! luminance sets the integrated radiance to luminance_cd_m2 / K, K the spectrum's luminous
+//! efficacy (lm/W, [`crate::light::luminous`]).
 
 use crate::builtin::spectral::{spd, Spectrum};
 use crate::builtin::{from_value, param_err, state_fns, Build, BuiltinType, Embed};
@@ -19,11 +24,12 @@ use std::sync::Arc;
 pub const TYPE: BuiltinType = BuiltinType {
     name: "emissive",
     aliases: &["area_light"],
-    version: 1,
+    version: 2,
     description: "light-emitting surface (its object becomes an area light)",
     params: &[
         Param::required("radiance", "W/(m²·sr·nm)", "spectral radiance: (nm, value) table (absolute) or an SPD spec/type (normalised; needs `scale`)"),
         Param::optional("scale", "W/(m²·sr)", "1 for tables", "multiplier of a table; the integrated radiance for a named SPD"),
+        Param::optional("luminance_cd_m2", "cd/m²", "—", "instead of `scale`: the surface's luminance (CIE 1931 V(λ), 683.002 lm/W); the spectrum gives the shape"),
         Param::optional("two_sided", "", "false", "emit from both faces"),
     ],
     build: Build::Material(|v, ctx| build(&from_value(v)?, ctx)),
@@ -39,6 +45,9 @@ pub struct EmissiveParams {
     /// Multiplier / integrated radiance.
     #[serde(default)]
     pub scale: Option<f64>,
+    /// Luminance, cd/m² (instead of `scale`).
+    #[serde(default)]
+    pub luminance_cd_m2: Option<f64>,
     /// Emit from both faces.
     #[serde(default)]
     pub two_sided: bool,
@@ -55,14 +64,26 @@ pub fn build(p: &EmissiveParams, ctx: &FactoryContext) -> Result<Arc<dyn Materia
     let (spd, raw) = spd(&p.radiance, "radiance", ctx)?;
     // Tables are absolute spectral radiance (× optional scale); named SPDs are normalised and
     // need `scale` = integrated radiance in W/(m²·sr).
-    let scale = match raw {
-        Some(integral) => integral * crate::builtin::finite("scale", p.scale.unwrap_or(1.0))?,
-        None => crate::builtin::finite(
+    if let (Some(_), Some(_)) = (p.scale, p.luminance_cd_m2) {
+        return Err(param_err(
+            "luminance_cd_m2",
+            "give at most one of `scale` and `luminance_cd_m2`, not both",
+        ));
+    }
+    let scale = match (raw, p.luminance_cd_m2) {
+        (_, Some(cd_m2)) => {
+            crate::builtin::light::from_photometric("luminance_cd_m2", cd_m2, spd.as_ref())?
+        }
+        (Some(integral), None) => {
+            integral * crate::builtin::finite("scale", p.scale.unwrap_or(1.0))?
+        }
+        (None, None) => crate::builtin::finite(
             "scale",
             p.scale.ok_or_else(|| {
                 param_err(
                     "scale",
-                    "required with a named SPD: integrated radiance in W/(m²·sr)",
+                    "required with a named SPD: integrated radiance in W/(m²·sr) (or give \
+                     `luminance_cd_m2`)",
                 )
             })?,
         )?,
