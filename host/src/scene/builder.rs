@@ -314,6 +314,8 @@ pub fn build_scene_with(
         !environments.is_empty(),
     ));
     let lights = LightSourceManager::new(lights, objects.len());
+    let sensors =
+        crate::sensor::build_sensors(&desc.sensors).map_err(|(item, e)| item_err(item, e))?;
 
     Ok(Scene {
         geometry,
@@ -323,6 +325,7 @@ pub fn build_scene_with(
         observer,
         options,
         warnings,
+        sensors,
     })
 }
 
