@@ -63,7 +63,8 @@ pub fn measure_sensors(
             );
         }
         if hi <= 0.0 {
-            let n = grid.normal();
+            // + 0.0 prints −0 as 0.
+            let n = grid.normal() + glam::DVec3::ZERO;
             println!(
                 "  warning: sensor {:?} reads 0 lx everywhere: its normal edge0 × edge1 = \
                  ({:.3}, {:.3}, {:.3}) may face away from the light (swap edge0 and edge1)",
