@@ -284,6 +284,31 @@ impl ObjectFactory for PluginFactory {
             .collect()
     }
 
+    fn param_docs(
+        &self,
+        kind: &'static str,
+        type_name: &str,
+    ) -> Option<Vec<super::type_doc::ParamDoc>> {
+        let kind = Kind::parse(kind)?;
+        // A light type with its own declared beam representation converts its own lengths.
+        if kind == Kind::Light
+            && matches!(
+                super::representation::declared(&self.registry, type_name),
+                Ok(Some(_))
+            )
+        {
+            return Some(Vec::new());
+        }
+        Some(
+            self.registry
+                .lookup(kind, type_name)
+                .ok()?
+                .info
+                .params
+                .clone(),
+        )
+    }
+
     fn material(
         &self,
         type_name: &str,

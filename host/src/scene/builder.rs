@@ -3,6 +3,7 @@
 use super::description::{SceneDescription, TransformStep};
 use super::factory::{FactoryContext, FactoryError, ObjectFactory, SpdFactories};
 use super::representation::RepresentationOptions;
+use super::units::{params_in_metres, LengthUnit};
 use super::{Scene, SceneError, SceneObject, SceneObjectManager, SceneOptions};
 use crate::camera::manager::NamedCamera;
 use crate::camera::CameraManager;
@@ -143,8 +144,38 @@ pub fn build_scene_with(
         options.max_depth = d;
     }
     if let Some(e) = desc.output.png_exposure {
+        if !(e.is_finite() && e > 0.0) {
+            return Err(item_err(
+                "output".into(),
+                format!("parameter `png_exposure`: a linear multiplier, finite and > 0, got {e}"),
+            ));
+        }
         options.png_exposure = e;
+        options.png_exposure_given = true;
     }
+    if let Some(u) = &desc.units {
+        options.length_unit = LengthUnit::parse(u).map_err(|e| item_err("units".into(), e))?;
+    }
+    let metres = options.length_unit.metres();
+    options.relative_emission = match desc.emission_units.as_deref() {
+        None | Some("absolute") => false,
+        Some("relative") => true,
+        Some(other) => {
+            return Err(item_err(
+                "emission_units".into(),
+                format!("unknown value `{other}`; expected \"absolute\" or \"relative\""),
+            ))
+        }
+    };
+    // Lengths of lights and cameras in metres: the parameters their type documents in scene
+    // units (see `units`).
+    let in_metres = |kind: &'static str, type_name: &str, params: &ron::Value| match factories
+        .iter()
+        .find_map(|f| f.param_docs(kind, type_name))
+    {
+        Some(docs) => params_in_metres(params, &docs, metres),
+        None => params.clone(),
+    };
     if let Some(name) = &desc.output.rgb_space {
         options.rgb_space = RgbColorSpace::by_name(name).ok_or_else(|| {
             item_err(
@@ -190,8 +221,15 @@ pub fn build_scene_with(
             f.shape(&o.type_name, &o.params, &ctx)
         })
         .map_err(|e| item_err(item.clone(), e))?;
-        let transform = build_transform(&o.transform)
+        let mut transform = build_transform(&o.transform)
             .map_err(|e| item_err(item.clone(), format!("transform: {e}")))?;
+        if metres != 1.0 {
+            // Last step: the object in metres.
+            transform = transform.then(
+                &Transform::scale(DVec3::splat(metres))
+                    .map_err(|e| item_err(item.clone(), e.to_string()))?,
+            );
+        }
         shapes.push(ShapeDesc { shape, transform });
         objects.push(SceneObject {
             name: o.name.clone(),
@@ -239,8 +277,9 @@ pub fn build_scene_with(
     for l in &desc.lights {
         let item = format!("light {:?}", l.name);
         let ctx = ctx_for(&item);
+        let params = in_metres("light", &l.type_name, &l.params);
         let light = first_known(factories, "light", &l.type_name, |f| {
-            f.light(&l.type_name, &l.params, &ctx)
+            f.light(&l.type_name, &params, &ctx)
         })
         .map_err(|e| item_err(item.clone(), e))?;
         lights.push(light);
@@ -251,8 +290,9 @@ pub fn build_scene_with(
     for c in &desc.cameras {
         let item = format!("camera {:?}", c.name);
         let ctx = ctx_for(&item);
+        let params = in_metres("camera", &c.type_name, &c.params);
         let cam = first_known(factories, "camera", &c.type_name, |f| {
-            f.camera(&c.type_name, &c.params, &ctx)
+            f.camera(&c.type_name, &params, &ctx)
         })
         .map_err(|e| item_err(item.clone(), e))?;
         cameras
@@ -314,8 +354,9 @@ pub fn build_scene_with(
         !environments.is_empty(),
     ));
     let lights = LightSourceManager::new(lights, objects.len());
-    let sensors =
-        crate::sensor::build_sensors(&desc.sensors).map_err(|(item, e)| item_err(item, e))?;
+    options.light_items = light_items;
+    let sensors = crate::sensor::build_sensors(&desc.sensors, metres)
+        .map_err(|(item, e)| item_err(item, e))?;
 
     Ok(Scene {
         geometry,

@@ -2,7 +2,8 @@
 //! `host/data/scenes/cornell_box.json` (Cornell Program of Computer Graphics, "Cornell Box
 //! Data"; see the file's `sources`): geometry in mm, measured white/red/green reflectances
 //! (400–700 nm), the light's spectral radiance, the camera at (278, 273, −800) looking +z with a
-//! 39.31° horizontal field, 256×256. `scenes/cornell_box.ron` is the same description as a file.
+//! 39.31° horizontal field, 256×256. The scene says `units: "mm"` (it is built in metres) and
+//! `emission_units: "relative"`: the emission spectrum's shape is measured, its scale is not. `scenes/cornell_box.ron` is the same description as a file.
 
 use super::description::{ItemDescription, ObjectDescription, OutputDescription, SceneDescription};
 use super::{build_scene_with, BuiltinFactory, RepresentationOptions, Scene, SceneError};
@@ -147,6 +148,9 @@ pub fn cornell_box_description() -> Result<SceneDescription, SceneError> {
         ]),
     };
     Ok(SceneDescription {
+        // The data are in millimetres; the light's spectrum is measured in shape only.
+        units: Some("mm".into()),
+        emission_units: Some("relative".into()),
         observer: Some("cie1931-2".into()),
         output: OutputDescription {
             spp: Some(64),
@@ -205,7 +209,7 @@ mod tests {
                 .separate_tuple_members(false)
                 .enumerate_arrays(false);
             let text = ron::ser::to_string_pretty(&desc, cfg).unwrap();
-            let header = "// The measured spectral Cornell box (Cornell Program of Computer Graphics, \"Cornell Box Data\"),\n// generated from host/data/scenes/cornell_box.json; identical to `spectrace render` with no scene.\n// Units: mm; reflectances unitless; emission as spectral radiance (W/(m²·sr·nm), relative).\n";
+            let header = "// The measured spectral Cornell box (Cornell Program of Computer Graphics, \"Cornell Box Data\"),\n// generated from host/data/scenes/cornell_box.json; identical to `spectrace render` with no scene.\n// Units: mm (declared by `units`); reflectances unitless; emission as spectral radiance\n// (W/(m²·sr·nm)) of measured shape but unknown scale, hence `emission_units: \"relative\"`.\n";
             std::fs::write(&path, format!("{header}{text}\n")).unwrap();
         }
         let text = std::fs::read_to_string(&path).unwrap();

@@ -4,6 +4,7 @@
 //!
 //! ```ron
 //! (
+//!     units: "m",
 //!     observer: "cie1931-2",
 //!     output: (spp: 64, max_depth: 64, rgb_space: "srgb"),
 //!     materials: [ (name: "white", type: "lambertian", params: (reflectance: 0.8)) ],
@@ -26,6 +27,16 @@ fn unit() -> ron::Value {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SceneDescription {
+    /// Length unit of every position, size and distance in the file: `m` (default), `cm`,
+    /// `mm`, `in` or `ft`. Lengths are converted to metres when the scene is built; W, W/sr,
+    /// W/m², W/(m²·sr·nm), lm, cd, lx and cd/m² are per metre whatever the unit.
+    #[serde(default)]
+    pub units: Option<String>,
+    /// `absolute` (default): the lights' values are physical (W, lm, …); `relative`: they only
+    /// have the right proportions (a measured spectrum of unknown scale, as in the Cornell box),
+    /// so the render summary gives each light's share of the power instead of watts.
+    #[serde(default)]
+    pub emission_units: Option<String>,
     /// Colour-matching functions of the film: an observer type name — `cie1931-2` (default),
     /// `cie1964-10`, `cie2015-2`, `cie2015-10` or a plugin's — or `(type: .., params: ..)`
     /// (e.g. a blob).
@@ -98,7 +109,9 @@ pub struct OutputDescription {
     /// RGB space of the EXR: `srgb` (default), `rec2020`, `display-p3`, `aces2065-1`.
     #[serde(default)]
     pub rgb_space: Option<String>,
-    /// PNG preview exposure multiplier (default 1).
+    /// PNG preview exposure: a linear multiplier of the image before the sRGB encoding (default
+    /// 1, i.e. 0 EV; `render --exposure EV` overrides it with 2^EV). Without either, `render`
+    /// picks an exposure for the PNG when the image would be nearly black or mostly clipped.
     #[serde(default)]
     pub png_exposure: Option<f64>,
 }

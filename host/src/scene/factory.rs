@@ -155,6 +155,17 @@ pub trait ObjectFactory: Send + Sync {
         None
     }
 
+    /// The parameter table of `(kind, type_name)` when this factory builds it: the scene
+    /// builder converts the parameters documented in `scene units` to metres (see
+    /// [`super::units`]). `None` when the type is not this factory's.
+    fn param_docs(
+        &self,
+        _kind: &'static str,
+        _type_name: &str,
+    ) -> Option<Vec<crate::plugin::type_doc::ParamDoc>> {
+        None
+    }
+
     /// A colour observer of type `type_name`, for a scene's `observer` that is not one of the
     /// built-in CIE names (plugins can ship, say, a camera's sensor curves).
     fn observer(
@@ -225,6 +236,15 @@ macro_rules! build_as {
 impl ObjectFactory for BuiltinFactory {
     fn name(&self) -> &str {
         "builtin"
+    }
+
+    fn param_docs(
+        &self,
+        kind: &'static str,
+        type_name: &str,
+    ) -> Option<Vec<crate::plugin::type_doc::ParamDoc>> {
+        let ty = crate::builtin::find(Kind::parse(kind)?, type_name)?;
+        Some(ty.doc(type_name).params)
     }
 
     fn known_types(&self) -> Vec<(&'static str, String)> {

@@ -12,6 +12,7 @@ pub mod objects;
 pub mod params;
 pub mod representation;
 pub mod source;
+pub mod units;
 pub mod warnings;
 
 pub use builder::{
@@ -24,6 +25,7 @@ pub use factory::{BuiltinFactory, FactoryContext, FactoryError, ObjectFactory, S
 pub use objects::{SceneObject, SceneObjectManager};
 pub use representation::{ReflectanceSource, RepresentationOptions};
 pub use source::SceneSource;
+pub use units::LengthUnit;
 
 use crate::camera::CameraManager;
 use crate::color::{Observer, RgbColorSpace};
@@ -44,6 +46,16 @@ pub struct SceneOptions {
     pub rgb_space_name: String,
     /// Exposure multiplier of the PNG preview.
     pub png_exposure: f64,
+    /// True when the scene file set `png_exposure` (then `render` never picks an exposure).
+    pub png_exposure_given: bool,
+    /// The length unit the scene file was written in (lengths are metres once built).
+    pub length_unit: LengthUnit,
+    /// The scene declared `emission_units: "relative"`: its lights have the right proportions
+    /// but no physical scale, so watts and lumens are not reported.
+    pub relative_emission: bool,
+    /// The scene item each light of [`Scene::lights`] came from (`object "lamp"`,
+    /// `light "sun"`), in the same order, for messages.
+    pub light_items: Vec<String>,
 }
 
 impl Default for SceneOptions {
@@ -54,6 +66,10 @@ impl Default for SceneOptions {
             rgb_space: crate::color::SRGB,
             rgb_space_name: "srgb".into(),
             png_exposure: 1.0,
+            png_exposure_given: false,
+            length_unit: LengthUnit::Metre,
+            relative_emission: false,
+            light_items: Vec::new(),
         }
     }
 }

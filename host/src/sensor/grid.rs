@@ -12,9 +12,9 @@
 //!
 //! | parameter    | unit          | default               | meaning                                        |
 //! |--------------|---------------|-----------------------|------------------------------------------------|
-//! | `corner`     | m (scene)     | —                     | one corner of the grid, (x, y, z)              |
-//! | `edge0`      | m (scene)     | —                     | first edge; `nx` cells along it                |
-//! | `edge1`      | m (scene)     | —                     | second edge; `ny` cells; normal edge0 × edge1  |
+//! | `corner`     | scene units   | —                     | one corner of the grid, (x, y, z)              |
+//! | `edge0`      | scene units   | —                     | first edge; `nx` cells along it                |
+//! | `edge1`      | scene units   | —                     | second edge; `ny` cells; normal edge0 × edge1  |
 //! | `resolution` | points        | —                     | (nx, ny), each ≥ 1, nx·ny ≤ 1 000 000          |
 //! | `samples`    | per point     | the render's spp      | estimator samples per point (≥ 1)              |
 //!
@@ -48,7 +48,8 @@ pub struct GridParams {
     pub samples: Option<u32>,
 }
 
-/// A built illuminance grid: its name and geometry in scene units (metres).
+/// A built illuminance grid: its name and geometry in metres (converted from the scene's units
+/// by [`build_sensors`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct IlluminanceGrid {
     /// Unique name (the output file stem).
@@ -143,9 +144,11 @@ impl IlluminanceGrid {
     }
 }
 
-/// Build the scene's `sensors` items; an error names the item and what is wrong.
+/// Build the scene's `sensors` items, their lengths converted to metres (`metres` per scene
+/// unit, see the scene's `units`); an error names the item and what is wrong.
 pub fn build_sensors(
     items: &[crate::scene::description::ItemDescription],
+    metres: f64,
 ) -> Result<Vec<IlluminanceGrid>, (String, String)> {
     let mut out: Vec<IlluminanceGrid> = Vec::with_capacity(items.len());
     for it in items {
@@ -172,7 +175,11 @@ pub fn build_sensors(
         if out.iter().any(|g| g.name == it.name) {
             return Err((item, "duplicate sensor name".into()));
         }
-        out.push(IlluminanceGrid::from_params(&it.name, &it.params).map_err(|e| (item, e))?);
+        let mut g = IlluminanceGrid::from_params(&it.name, &it.params).map_err(|e| (item, e))?;
+        g.corner *= metres;
+        g.edge0 *= metres;
+        g.edge1 *= metres;
+        out.push(g);
     }
     Ok(out)
 }
