@@ -197,7 +197,7 @@ pub fn types() -> &'static [BuiltinType] {
     &ALL
 }
 
-static ALL: [BuiltinType; 21] = [
+static ALL: [BuiltinType; 22] = [
     material::lambertian::TYPE,
     material::mirror::TYPE,
     material::dielectric::TYPE,
@@ -208,6 +208,7 @@ static ALL: [BuiltinType; 21] = [
     light::spot::TYPE,
     light::directional::TYPE,
     light::environment::TYPE,
+    light::luminaire::TYPE,
     spd::spec::TYPE,
     spd::table::TYPE,
     observer::cie::CIE1931_2,

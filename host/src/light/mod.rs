@@ -1,5 +1,5 @@
 //! Light sources as the integrators see them, the built-in lights (area, point, spot,
-//! directional, environment) and the [`LightSourceManager`] that picks lights in proportion to their power.
+//! directional, environment, luminaire) and the [`LightSourceManager`] that picks lights in proportion to their power.
 //!
 //! Every light has a normalised SPD `S(λ)` (1/nm) and an overall scale, so its emission is
 //! `scale · S(λ)`; light subpaths draw their wavelengths from `S`. Units: radiance
@@ -10,6 +10,7 @@ pub mod area;
 pub mod directional;
 pub mod environment;
 pub mod flags;
+pub mod luminaire;
 pub mod manager;
 pub mod point;
 pub mod spot;
@@ -18,6 +19,7 @@ pub use area::AreaLight;
 pub use directional::DirectionalLight;
 pub use environment::{ConstantEnvironment, EnvironmentLight, EnvironmentRadiance};
 pub use flags::LightFlags;
+pub use luminaire::LuminaireLight;
 pub use manager::LightSourceManager;
 pub use point::PointLight;
 pub use spot::SpotLight;

@@ -33,6 +33,9 @@ pub enum SourceFormat {
     Ies(IesVersion),
     /// EULUMDAT (`.ldt`).
     Eulumdat,
+    /// A table written out in a scene or blob ([`super::CandelaTable`]), or measured from a
+    /// light ([`super::goniometer`]).
+    Table,
 }
 
 /// LM-63 header versions.
@@ -60,6 +63,7 @@ impl SourceFormat {
             SourceFormat::Ies(IesVersion::Lm63_2002) => "IES LM-63-2002",
             SourceFormat::Ies(IesVersion::Lm63_2019) => "IES LM-63-2019",
             SourceFormat::Eulumdat => "EULUMDAT",
+            SourceFormat::Table => "candela table",
         }
     }
 }
@@ -143,6 +147,40 @@ pub struct TiltTable {
     pub factors: Vec<f64>,
     /// Where the table came from: `INCLUDE` or the tilt file's path.
     pub source: String,
+}
+
+impl TiltTable {
+    /// The multiplying factor for a lamp tilted by `angle_deg` from its measured orientation:
+    /// linear between the table's angles (sorted first: files list them ascending, but nothing
+    /// checks it), the end value beyond either end (the table says nothing there; the nearest
+    /// measured factor is the best guess). 1 for an empty table.
+    pub fn factor_at(&self, angle_deg: f64) -> f64 {
+        let mut pairs: Vec<(f64, f64)> = self
+            .angles_deg
+            .iter()
+            .copied()
+            .zip(self.factors.iter().copied())
+            .collect();
+        pairs.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let (Some(first), Some(last)) = (pairs.first(), pairs.last()) else {
+            return 1.0;
+        };
+        if angle_deg <= first.0 {
+            return first.1;
+        }
+        if angle_deg >= last.0 {
+            return last.1;
+        }
+        let i = pairs
+            .partition_point(|p| p.0 <= angle_deg)
+            .clamp(1, pairs.len() - 1);
+        let ((a0, f0), (a1, f1)) = (pairs[i - 1], pairs[i]);
+        if a1 > a0 {
+            f0 + (f1 - f0) * (angle_deg - a0) / (a1 - a0)
+        } else {
+            f1
+        }
+    }
 }
 
 /// A measured luminaire: see the module docs for angles and frame.
@@ -410,6 +448,16 @@ impl Luminaire {
                 sum
             }
         }
+    }
+
+    /// The same luminaire with every candela value multiplied by `factor` (a lamp tilt factor,
+    /// a user multiplier or a flux override).
+    pub fn scaled(&self, factor: f64) -> Luminaire {
+        let mut out = self.clone();
+        for c in &mut out.candela {
+            *c *= factor;
+        }
+        out
     }
 
     /// Largest candela value of the table.

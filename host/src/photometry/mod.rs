@@ -2,7 +2,9 @@
 //! model (candela table, symmetry, lamps, multipliers, flux) and a [`DirectionSampler`] that
 //! importance-samples its emission directions; writers for IES LM-63-2019 and EULUMDAT.
 
+pub mod candela_table;
 pub mod direction_sampler;
+pub mod efficacy;
 pub mod error;
 pub mod eulumdat;
 pub mod eulumdat_writer;
@@ -11,6 +13,7 @@ pub mod ies_writer;
 pub mod luminaire;
 mod number_stream;
 
+pub use candela_table::CandelaTable;
 pub use direction_sampler::DirectionSampler;
 pub use error::PhotometryError;
 pub use luminaire::{
