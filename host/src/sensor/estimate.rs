@@ -48,8 +48,7 @@ use std::sync::Arc;
 
 use super::grid::IlluminanceGrid;
 
-/// Luminous efficacy of radiation at 555 nm, K_m (lm/W): photometric = 683 × ∫ radiometric·ȳ.
-pub const KM_LM_PER_W: f64 = 683.0;
+pub use crate::photometry::efficacy::KM_LM_PER_W;
 
 /// Which estimator measures the grid (see the module docs).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -121,15 +120,18 @@ pub struct SensorReading {
     pub samples: u32,
     /// Non-finite samples dropped (counted, not added).
     pub non_finite: u64,
+    /// Standard error of the mean over the points, lx. Not `√Σσ²/n` for light tracing: one
+    /// light path adds to every point, so the points' errors are correlated; the estimator
+    /// measures the spread of each path's mean over the points instead.
+    pub mean_stderr: f64,
 }
 
 impl SensorReading {
-    /// Mean illuminance over the points, lx, and its standard error.
+    /// Mean illuminance over the points (the average illuminance of the grid), lx, and its
+    /// standard error.
     pub fn mean(&self) -> (f64, f64) {
         let n = self.lux.len().max(1) as f64;
-        let m = self.lux.iter().sum::<f64>() / n;
-        let v: f64 = self.stderr.iter().map(|s| s * s).sum::<f64>() / (n * n);
-        (m, v.sqrt())
+        (self.lux.iter().sum::<f64>() / n, self.mean_stderr)
     }
 
     /// Smallest and largest illuminance, lx.
@@ -158,6 +160,13 @@ impl Sums {
         } else {
             self.non_finite += 1;
         }
+    }
+
+    /// Add another set of sums (of other samples).
+    fn merge(&mut self, o: &Sums) {
+        self.sum += o.sum;
+        self.sum2 += o.sum2;
+        self.non_finite += o.non_finite;
     }
 
     /// (mean, standard error of the mean) over `n` samples.
@@ -250,7 +259,7 @@ pub fn measure(
     let n = settings.samples.max(1);
     // Each sensor draws its own random numbers (two grids in one scene are independent).
     let seed = settings.seed ^ crate::film::state_file::fnv1a64(&[grid.name.as_bytes()]);
-    let (lux, stderr, non_finite) = match settings.estimator {
+    let (lux, stderr, non_finite, mean_stderr) = match settings.estimator {
         Estimator::SensorPathTracing => {
             let sums: Vec<Sums> = pool.install(|| {
                 sp.par_iter()
@@ -285,7 +294,10 @@ pub fn measure(
                 se.push(e);
                 nf += s.non_finite;
             }
-            (lux, se, nf)
+            // Independent points: the variances of the mean add.
+            let p = se.len().max(1) as f64;
+            let mean_se = se.iter().map(|e| e * e).sum::<f64>().sqrt() / p;
+            (lux, se, nf, mean_se)
         }
         Estimator::LightTracing => {
             light_tracing(scene, &sp, n, seed, &settings.tracer, &photo, &pool)
@@ -300,6 +312,7 @@ pub fn measure(
         estimator: settings.estimator,
         samples: n,
         non_finite,
+        mean_stderr,
     })
 }
 
@@ -443,7 +456,7 @@ fn light_tracing(
     tracer: &PathTracer,
     photo: &Photometric,
     pool: &rayon::ThreadPool,
-) -> (Vec<f64>, Vec<f64>, u64) {
+) -> (Vec<f64>, Vec<f64>, u64, f64) {
     // Direct light: next-event estimation at each point, without MIS (the only strategy here).
     let direct: Vec<Sums> = pool.install(|| {
         sp.par_iter()
@@ -470,11 +483,13 @@ fn light_tracing(
         tracer.max_depth
     };
     let rr = tracer.rr_depth;
-    let parts: Vec<Vec<Sums>> = pool.install(|| {
+    let parts: Vec<(Vec<Sums>, Sums)> = pool.install(|| {
         (0..chunks)
             .into_par_iter()
             .map(|c| {
                 let mut acc = vec![Sums::default(); sp.len()];
+                // The path's mean over the points (for the grid mean's standard error).
+                let mut acc_mean = Sums::default();
                 let mut cur = vec![0.0f64; sp.len()];
                 let mut path = Vec::with_capacity(16);
                 let mut stats = PathStats::default();
@@ -496,18 +511,19 @@ fn light_tracing(
                     for (a, v) in acc.iter_mut().zip(&cur) {
                         a.add(*v);
                     }
+                    acc_mean.add(cur.iter().sum::<f64>() / sp.len().max(1) as f64);
                 }
-                acc
+                (acc, acc_mean)
             })
             .collect()
     });
     let mut lt = vec![Sums::default(); sp.len()];
-    for part in &parts {
+    let mut lt_mean = Sums::default();
+    for (part, part_mean) in &parts {
         for (a, p) in lt.iter_mut().zip(part) {
-            a.sum += p.sum;
-            a.sum2 += p.sum2;
-            a.non_finite += p.non_finite;
+            a.merge(p);
         }
+        lt_mean.merge(part_mean);
     }
     let mut lux = Vec::with_capacity(sp.len());
     let mut se = Vec::with_capacity(sp.len());
@@ -519,7 +535,16 @@ fn light_tracing(
         se.push((sd * sd + sl * sl).sqrt());
         nf += d.non_finite + l.non_finite;
     }
-    (lux, se, nf)
+    // The direct parts of the points are independent; the light-traced part is one estimate
+    // of the grid mean per path.
+    let p = sp.len().max(1) as f64;
+    let direct_var: f64 = direct
+        .iter()
+        .map(|d| d.mean_se(n as f64).1.powi(2))
+        .sum::<f64>()
+        / (p * p);
+    let lt_se = lt_mean.mean_se(n as f64).1;
+    (lux, se, nf, (direct_var + lt_se * lt_se).sqrt())
 }
 
 /// The generator stream of sensor light paths (apart from the camera's and the image's light
