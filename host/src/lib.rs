@@ -19,4 +19,5 @@ pub mod material;
 pub mod photometry;
 pub mod plugin;
 pub mod scene;
+pub mod sensor;
 pub mod spectrum;

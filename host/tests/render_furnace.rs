@@ -118,6 +118,7 @@ fn furnace(albedo: f32, scale: f32, spd: Arc<dyn Spd>) -> Scene {
         observer: Arc::new(CieObserverKind::Cie1931_2.get().clone()),
         options: SceneOptions::default(),
         warnings: Vec::new(),
+        sensors: Vec::new(),
     }
 }
 

@@ -34,7 +34,8 @@ pub struct PlotLabels {
 /// Plot size in pixels (SVG user units and PNG pixels).
 const SIZE: (u32, u32) = (900, 600);
 
-fn register_font() {
+/// Register the embedded font under "sans-serif", once (also used by the sensor maps).
+pub(crate) fn register_font() {
     static ONCE: Once = Once::new();
     ONCE.call_once(|| {
         // The bytes are a valid TrueType font (checked by the plot test); if registration

@@ -15,6 +15,7 @@ pub mod plugins;
 pub mod reference;
 pub mod render;
 pub mod representation_args;
+pub mod sensors;
 
 use clap::{Parser, Subcommand};
 use std::ffi::OsString;

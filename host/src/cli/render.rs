@@ -109,6 +109,13 @@ pub struct RenderArgs {
         requires = "spectral_exr"
     )]
     pub bins: String,
+    /// Write each scene sensor's illuminance as DIR/NAME.csv (x,y,z,lux,stderr) and a
+    /// false-colour DIR/NAME.png with isolux contours.
+    #[arg(long = "sensors-out", value_name = "DIR")]
+    pub sensors_out: Option<PathBuf>,
+    /// Write the image's luminance per pixel (cd/m²) as a CSV (x,y,cd_m2).
+    #[arg(long = "luminance-out", value_name = "F.csv")]
+    pub luminance_out: Option<PathBuf>,
     /// Testing hook: stop as if interrupted once this many progress units (tiles or light-path
     /// chunks) are done.
     #[arg(long = "stop-after-units", hide = true)]
@@ -169,6 +176,12 @@ impl RenderArgs {
         }
         if let Some(d) = &self.strategy_images {
             push("--strategy-images", absolute(d).display().to_string());
+        }
+        if let Some(d) = &self.sensors_out {
+            push("--sensors-out", absolute(d).display().to_string());
+        }
+        if let Some(f) = &self.luminance_out {
+            push("--luminance-out", absolute(f).display().to_string());
         }
         for l in &self.plugins.libraries {
             push("--plugin", absolute(l).display().to_string());
@@ -767,6 +780,18 @@ pub fn run_with_factories(
             "  scene units: {} (lengths converted to metres when the scene was built)",
             scene.options.length_unit
         );
+    }
+    if let Some(path) = &args.luminance_out {
+        super::sensors::write_luminance(&scene, &result.image, path)?;
+    }
+    if !stopped {
+        super::sensors::measure_sensors(
+            &scene,
+            &settings,
+            args.integrator,
+            total_spp.unwrap_or(scene.options.spp),
+            args.sensors_out.as_deref(),
+        )?;
     }
     for w in scene.warnings() {
         println!("  warning: {w}");

@@ -63,6 +63,14 @@ altogether; shapes, cameras and `blob` stay built in.
 | `objects`   | geometry `(name, type, material, params, transform)`; a shape type below; an object whose material emits (`emissive`) is an area light |
 | `lights`    | lights that are not surfaces `(name, type, params)`                              |
 | `cameras`   | `(name, type, params)`; the first is the default (`--camera NAME` picks another) |
+| `sensors`   | illuminance sensors measured by the render, `(name, type: "illuminance_grid", params)`, see below |
+
+A sensor `(name: "floor", type: "illuminance_grid", params: (corner: (x, y, z), edge0: (..),
+edge1: (..), resolution: (nx, ny)))` measures the illuminance in lux at the `nx × ny` cell
+centres of the parallelogram `corner + s·edge0 + t·edge1`, on the side `edge0 × edge1` faces
+(the `quad` convention); it is not geometry and blocks no light. Optional `samples` (per point,
+default the render's spp). `render --sensors-out DIR` writes `DIR/NAME.csv` (`x,y,z,lux,stderr`)
+and `DIR/NAME.png`; the estimators are described in `docs/photometry.md`.
 
 `transform` is a list of steps applied in order (the first acts on the object first):
 `Translate((x, y, z))`, `Scale((x, y, z))` (non-zero), `Rotate(axis: (x, y, z), degrees: d)`

@@ -368,6 +368,8 @@ pub fn build_scene_with(
     ));
     let lights = LightSourceManager::new(lights, objects.len());
     options.light_items = light_items;
+    let sensors = crate::sensor::build_sensors(&desc.sensors, metres)
+        .map_err(|(item, e)| item_err(item, e))?;
 
     Ok(Scene {
         geometry,
@@ -377,6 +379,7 @@ pub fn build_scene_with(
         observer,
         options,
         warnings,
+        sensors,
     })
 }
 

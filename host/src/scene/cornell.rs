@@ -162,6 +162,7 @@ pub fn cornell_box_description() -> Result<SceneDescription, SceneError> {
         objects,
         lights: Vec::new(),
         cameras: vec![camera],
+        sensors: Vec::new(),
     })
 }
 

@@ -57,6 +57,10 @@ pub struct SceneDescription {
     /// Cameras; the first is the default.
     #[serde(default)]
     pub cameras: Vec<ItemDescription>,
+    /// Illuminance sensors measured by the render (`illuminance_grid`, see
+    /// [`crate::sensor::grid`]).
+    #[serde(default)]
+    pub sensors: Vec<ItemDescription>,
 }
 
 /// The scene's observer: a type name with default parameters, or a type with parameters.

@@ -93,6 +93,8 @@ pub struct Scene {
     /// What in the scene probably does not render as meant (lights that emit nothing, no
     /// light, powers near the renderer's limits, …); see [`warnings`]. Printed by `render`.
     pub warnings: Vec<String>,
+    /// Illuminance sensors (the scene's `sensors`), measured after the image.
+    pub sensors: Vec<crate::sensor::IlluminanceGrid>,
 }
 
 impl Scene {
