@@ -294,7 +294,22 @@ pub fn run_with_factories(
         ));
     }
     let spectral_bins = match &args.spectral_exr {
-        Some(_) => Some(crate::film::spectral::SpectralBins::parse(&args.bins)?),
+        Some(_) => {
+            let b = crate::film::spectral::SpectralBins::parse(&args.bins)?;
+            let (w, h) = scene
+                .cameras
+                .get(args.camera.as_deref())
+                .map_err(|e| e.to_string())?
+                .camera
+                .resolution();
+            crate::film::spectral_film::check_memory(
+                b,
+                w,
+                h,
+                crate::limits::available_memory_bytes(),
+            )?;
+            Some(b)
+        }
         None => None,
     };
     if let (Some((path, st)), Some(b)) = (&resume, spectral_bins) {

@@ -150,6 +150,39 @@ impl SpectralSums {
     }
 }
 
+/// Bytes per node and pixel a spectral render holds: the sums and the pass accumulator.
+pub const BYTES_PER_NODE_AND_PIXEL: u64 = 2 * std::mem::size_of::<ExactSum>() as u64;
+
+/// Refuse a spectral image whose sums would not fit in half of `available` bytes, naming what
+/// would fit.
+pub fn check_memory(
+    bins: SpectralBins,
+    width: u32,
+    height: u32,
+    available: u64,
+) -> Result<(), String> {
+    use crate::limits::human_bytes;
+    let pixels = width as u64 * height as u64;
+    let need = pixels
+        .saturating_mul(bins.count as u64)
+        .saturating_mul(BYTES_PER_NODE_AND_PIXEL);
+    let limit = available / 2;
+    if need > limit {
+        let nodes = limit / (pixels.max(1) * BYTES_PER_NODE_AND_PIXEL);
+        return Err(format!(
+            "--spectral-exr with {} nodes ({}) on {width}×{height} pixels needs about {} for its \
+             exact sums, more than the limit of {} (half the available memory of {}); use at \
+             most {nodes} nodes (a larger --bins step) or a smaller image",
+            bins.count,
+            bins.spec(),
+            human_bytes(need),
+            human_bytes(limit),
+            human_bytes(available)
+        ));
+    }
+    Ok(())
+}
+
 /// Thread-safe accumulator of one pass: any thread adds camera samples or splats at any pixel.
 #[derive(Debug)]
 pub struct SpectralFilm {
@@ -223,10 +256,13 @@ impl SpectralFilm {
             if p.is_empty() {
                 continue;
             }
-            for (a, b) in sums.sums[i * n..(i + 1) * n].iter_mut().zip(p.iter()) {
-                a.merge(b);
+            for (a, b) in sums.sums[i * n..(i + 1) * n].iter_mut().zip(p.iter_mut()) {
+                if !b.is_zero() {
+                    a.merge(b);
+                    // Emptied in place: the next pass reuses the allocation.
+                    *b = ExactSum::default();
+                }
             }
-            *p = Vec::new();
         }
     }
 
@@ -349,6 +385,12 @@ mod tests {
         }
         film.drain_into(&mut sums);
         let img = sums.image(1);
+        assert!(check_memory(b, 256, 256, 1 << 30).is_ok());
+        let e = check_memory(b, 4096, 4096, 1 << 30).unwrap_err();
+        assert!(
+            e.contains("81 nodes") && e.contains("at most 0 nodes"),
+            "{e}"
+        );
         for (k, v) in img.values.iter().enumerate() {
             assert!((v - 1.0).abs() < 1e-3, "node {k}: {v}");
         }
