@@ -1,6 +1,6 @@
 //! `spectrace render [SCENE] [-o FILE.exr] [--png FILE.png] [--spp N | --time SECONDS] [--seed N]
 //! [--threads N] [--camera NAME] [--slice K/M] [--state FILE] [--resume FILE]
-//! [--diagnostic-layer]`: render a scene file, or the embedded measured Cornell box when no scene
+//! [--diagnostic-layer] [--spectral-exr S.exr [--bins START:END:STEP]]`: render a scene file, or the embedded measured Cornell box when no scene
 //! is given, with a progress bar and a summary.
 //!
 //! Slices and checkpoints (see `docs/distributed.md`): `--slice K/M` renders only the sample
