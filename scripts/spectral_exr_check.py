@@ -56,7 +56,7 @@ def main(path):
             mean = cube.reshape(-1, len(bins)).mean(axis=0)
             k = int(np.argmax(mean))
             print(
-                f"{path}: {cube.shape[1]}x{cube.shape[0]} pixels, {len(bins)} bins "
+                f"{path}: {cube.shape[1]}x{cube.shape[0]} pixels, {len(bins)} wavelengths "
                 f"{lam[0]}..{lam[-1]} nm, image-mean radiance peak {mean[k]:.6g} W/(m^2 sr nm) at {lam[k]} nm"
             )
     for e in errors:

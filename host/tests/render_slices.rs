@@ -1,12 +1,15 @@
 //! Slices, merges and checkpoints give the single render's image bit for bit: merging 1, 2, 3
 //! and 7 slices, and stopping after some passes then resuming, for path tracing, BDPT and light
 //! tracing; parts that do not belong together are refused with errors naming them; a real
-//! SIGTERM to the binary writes a checkpoint that resumes to the uninterrupted image.
+//! SIGTERM to the binary writes a checkpoint that resumes to the uninterrupted image. The
+//! spectral image (`--spectral-exr`) travels with the film and is held to the same standard.
 //! Run: `cargo test --release -p spectrace --test render_slices`
 
+use spectrace::film::spectral::SpectralBins;
 use spectrace::film::{FilmState, RenderState, SliceSpec};
 use spectrace::integrator::{
-    render_with, IntegratorKind, PathTracer, RenderSettings, SampleBudget,
+    render_with_options, IntegratorKind, IntegratorOptions, IntegratorOutput, PathTracer,
+    RenderSettings, SampleBudget,
 };
 use spectrace::scene::{build_scene, parse_scene_str, BuiltinFactory, Scene};
 use std::path::{Path, PathBuf};
@@ -64,10 +67,30 @@ fn settings(budget: SampleBudget, threads: usize) -> RenderSettings {
     }
 }
 
+/// The render with a spectral film (nodes 380:780:5, the default).
+fn render_with(
+    scene: &Scene,
+    settings: &RenderSettings,
+    kind: IntegratorKind,
+    progress: &(dyn Fn(u64, u64) + Sync),
+    cancel: Option<&AtomicBool>,
+) -> IntegratorOutput {
+    let options = IntegratorOptions {
+        strategy_images: false,
+        spectral: Some(SpectralBins::parse("380:780:5").unwrap()),
+    };
+    render_with_options(scene, settings, kind, options, progress, cancel).unwrap()
+}
+
 fn film(scene: &Scene, kind: IntegratorKind, budget: SampleBudget) -> FilmState {
-    render_with(scene, &settings(budget, 2), kind, false, &|_, _| {}, None)
-        .unwrap()
-        .film
+    render_with(scene, &settings(budget, 2), kind, &|_, _| {}, None).film
+}
+
+/// The film's spectral image, as f64 bits.
+fn spectral_bits(f: &FilmState) -> Vec<u64> {
+    let img = f.spectral_image().expect("spectral sums");
+    assert!(img.values.iter().any(|v| *v > 0.0), "black spectral image");
+    img.values.iter().map(|v| v.to_bits()).collect()
 }
 
 fn state(film: FilmState, slice: SliceSpec, seed: u64, settings: &str) -> RenderState {
@@ -87,8 +110,9 @@ fn state(film: FilmState, slice: SliceSpec, seed: u64, settings: &str) -> Render
 }
 
 /// Quantity: every pixel's XYZ (f64 bits) of the merged image against the single 7 spp render,
-/// for 1, 2, 3 and 7 slices, each slice rendered on its own (the parts given in reverse order).
-/// Tolerance 0: the sums are exact, so neither the split nor the merge order changes a bit.
+/// for 1, 2, 3 and 7 slices, each slice rendered on its own (the parts given in reverse order),
+/// and every pixel's spectral image value (f64 bits, 81 nodes). Tolerance 0: the sums are
+/// exact, so neither the split nor the merge order changes a bit.
 #[test]
 fn merged_slices_equal_the_single_render_bit_for_bit() {
     let scene = scene();
@@ -97,11 +121,9 @@ fn merged_slices_equal_the_single_render_bit_for_bit() {
             &scene,
             &settings(SampleBudget::Spp(SPP), 2),
             kind,
-            false,
             &|_, _| {},
             None,
-        )
-        .unwrap();
+        );
         assert!(whole.result.image.mean_xyz()[1] > 0.0, "{kind}: black");
         for m in [1, 2, 3, 7] {
             let mut parts = Vec::new();
@@ -123,6 +145,10 @@ fn merged_slices_equal_the_single_render_bit_for_bit() {
                 merged.film.image(),
                 whole.result.image,
                 "{kind}: {m} slices differ from the single render"
+            );
+            assert!(
+                spectral_bits(&merged.film) == spectral_bits(&whole.film),
+                "{kind}: {m} slices' spectral image differs from the single render's"
             );
         }
     }
@@ -167,7 +193,8 @@ fn mismatched_missing_repeated_and_foreign_parts_are_refused() {
 fn stopped_and_resumed_equals_uninterrupted() {
     let scene = scene();
     for kind in KINDS {
-        let whole = film(&scene, kind, SampleBudget::Spp(SPP)).image();
+        let whole_film = film(&scene, kind, SampleBudget::Spp(SPP));
+        let whole = whole_film.image();
         // Progress units: 6 tiles per pass for pt/bdpt, one light-path chunk per pass for lt.
         let stops: &[u64] = if kind == IntegratorKind::Lt {
             &[1, 2, 3]
@@ -185,11 +212,9 @@ fn stopped_and_resumed_equals_uninterrupted() {
                 &scene,
                 &settings(SampleBudget::Spp(SPP), 1),
                 kind,
-                false,
                 &progress,
                 Some(&stop),
-            )
-            .unwrap();
+            );
             let done = out.result.spp;
             assert!(done < SPP, "{kind}: the hook did not stop the render");
             let mut f = out.film;
@@ -204,6 +229,10 @@ fn stopped_and_resumed_equals_uninterrupted() {
             );
             f.merge(&rest);
             assert_eq!(f.image(), whole, "{kind}: stopped after {k} units");
+            assert!(
+                spectral_bits(&f) == spectral_bits(&whole_film),
+                "{kind}: spectral image, stopped after {k} units"
+            );
         }
     }
 }
@@ -216,7 +245,7 @@ fn temp_dir(name: &str) -> PathBuf {
 
 /// A real SIGTERM to the binary mid-render: it exits non-zero naming the checkpoint, writes the
 /// partial image and the checkpoint, and `render --resume` finishes to an EXR whose bytes equal
-/// those of an uninterrupted run (same seed and spp). Tolerance 0.
+/// those of an uninterrupted run (same seed and spp), the spectral EXR too. Tolerance 0.
 #[cfg(unix)]
 #[test]
 fn sigterm_writes_a_checkpoint_that_resumes_bit_for_bit() {
@@ -240,7 +269,9 @@ fn sigterm_writes_a_checkpoint_that_resumes_bit_for_bit() {
                 "--quiet",
             ])
             .arg("-o")
-            .arg(out);
+            .arg(out)
+            .arg("--spectral-exr")
+            .arg(out.with_extension("spectral.exr"));
         c
     };
     let full = dir.join("full.exr");
@@ -292,12 +323,18 @@ fn sigterm_writes_a_checkpoint_that_resumes_bit_for_bit() {
         std::fs::read(&part).unwrap(),
         "resumed EXR differs from the uninterrupted one"
     );
+    assert!(
+        std::fs::read(full.with_extension("spectral.exr")).unwrap()
+            == std::fs::read(part.with_extension("spectral.exr")).unwrap(),
+        "resumed spectral EXR differs from the uninterrupted one"
+    );
     std::fs::remove_dir_all(&dir).ok();
 }
 
 /// Through the command line: `render --slice` parts merged with `spectrace merge` give the EXR
-/// bytes of the single render (light tracing, 3 slices); merging with a slice missing fails and
-/// names it.
+/// bytes of the single render (light tracing, 3 slices), and the merged spectral EXR (written
+/// beside the output as `merged.spectral.exr`) the bytes of the single render's; merging with a
+/// slice missing fails and names it.
 #[test]
 fn cli_slices_and_merge() {
     use std::process::Command;
@@ -310,6 +347,8 @@ fn cli_slices_and_merge() {
             .arg("render")
             .arg(&scene_file)
             .args(["--integrator", "lt", "--spp", "5", "--quiet"])
+            .arg("--spectral-exr")
+            .arg(dir.join("full.spectral.exr"))
             .args(extra)
             .arg("-o")
             .arg(out)
@@ -340,6 +379,11 @@ fn cli_slices_and_merge() {
     assert_eq!(
         std::fs::read(&full).unwrap(),
         std::fs::read(&merged).unwrap()
+    );
+    assert!(
+        std::fs::read(dir.join("full.spectral.exr")).unwrap()
+            == std::fs::read(dir.join("merged.spectral.exr")).unwrap(),
+        "merged spectral EXR differs from the single render's"
     );
     let o = Command::new(exe)
         .arg("merge")

@@ -1,7 +1,7 @@
 //! `spectrace compare A.exr B.exr [--diff OUT.png] [--exclude-light] [--json]`: error of render
 //! A against reference B (RMSE, relative MSE, CIEDE2000 mean and 99th percentile) and an
 //! optional false-colour ΔE00 map. With `--spectral`, two spectral EXRs (`S0.<λ>nm` channels)
-//! are compared bin by bin.
+//! are compared channel by channel.
 
 use crate::analysis::{
     compare_files, diff_image::DELTA_E_STOPS, write_delta_e_png, CompareOptions,
@@ -25,8 +25,9 @@ pub struct CompareArgs {
     #[arg(long)]
     pub json: bool,
     /// Compare two spectral EXRs (`S0.<λ>nm` channels, Fichet–Pacanowski–Wilkie 2021 layout)
-    /// instead: RMSE over all bins, the worst bin's RMSE (W/(m²·sr·nm)) and the RMSE of the XYZ
-    /// integrated from the bins (CIE 1931 2°).
+    /// instead: RMSE over all wavelength channels, the worst channel's RMSE (W/(m²·sr·nm)) and
+    /// the RMSE of the XYZ integrated from them by the trapezoid rule (CIE 1931 2°; see
+    /// docs/spectral.md).
     #[arg(long, conflicts_with_all = ["diff", "exclude_light"])]
     pub spectral: bool,
 }

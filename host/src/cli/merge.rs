@@ -1,5 +1,8 @@
-//! `spectrace merge PARTS… -o OUT.exr [--png OUT.png] [--state OUT.state]`: combine the state
-//! files of the slices of one render (`render --slice K/M`) into its image. The parts must come
+//! `spectrace merge PARTS… -o OUT.exr [--png OUT.png] [--state OUT.state]
+//! [--spectral-exr OUT.spectral.exr]`: combine the state files of the slices of one render
+//! (`render --slice K/M`) into its image, and its spectral image when the slices carry spectral
+//! sums (`render --spectral-exr`; written to `--spectral-exr`, by default beside the output as
+//! `NAME.spectral.exr`). The parts must come
 //! from the same scene, settings, seed and sample count, with every slice present exactly once;
 //! the merged image is bit for bit the one `render --spp N` makes on one machine, because the
 //! film's sums are exact (see `docs/distributed.md`).
@@ -26,6 +29,15 @@ pub struct MergeArgs {
     /// Add the `rejected` diagnostic channel to the EXR.
     #[arg(long = "diagnostic-layer")]
     pub diagnostic_layer: bool,
+    /// Where the merged spectral image goes when the slices carry spectral sums (default: the
+    /// output's name with `.spectral.exr`).
+    #[arg(long = "spectral-exr", value_name = "OUT.exr")]
+    pub spectral_exr: Option<PathBuf>,
+}
+
+/// The default spectral output beside `output`: `NAME.spectral.exr`.
+fn spectral_path(output: &std::path::Path) -> PathBuf {
+    output.with_extension("spectral.exr")
 }
 
 /// Run `spectrace merge`.
@@ -44,6 +56,16 @@ pub fn run(args: &MergeArgs) -> Result<(), String> {
         )
     })?;
     let image = merged.film.image();
+    let spectral = merged.film.spectral_image();
+    if spectral.is_none() {
+        if let Some(p) = &args.spectral_exr {
+            return Err(format!(
+                "--spectral-exr {}: the slices carry no spectral sums (render them with \
+                 --spectral-exr)",
+                p.display()
+            ));
+        }
+    }
     let outputs = super::output_paths::output_paths(&args.output, args.png.as_deref())?;
     let (w, h) = merged.film.resolution();
     let extra = if args.diagnostic_layer {
@@ -70,6 +92,27 @@ pub fn run(args: &MergeArgs) -> Result<(), String> {
     );
     for line in merged.film.rejected.summary() {
         println!("  {line}");
+    }
+    if let Some(sp) = &spectral {
+        let path = args
+            .spectral_exr
+            .clone()
+            .unwrap_or_else(|| spectral_path(&args.output));
+        sp.write_exr(&path)?;
+        // The scene's observer is named in the settings (`observer=NAME`); a plugin observer
+        // is not available here, so the XYZ comparison is left out for it.
+        let observer = merged
+            .settings
+            .split_whitespace()
+            .find_map(|kv| kv.strip_prefix("observer="))
+            .and_then(crate::color::CieObserverKind::from_name);
+        match observer {
+            Some(o) => println!(
+                "{}",
+                super::render::spectral_summary(&path, sp, &image, o.get())
+            ),
+            None => println!("  wrote {}", path.display()),
+        }
     }
     if let Some(p) = &args.state {
         merged.save(p).map_err(|e| e.to_string())?;

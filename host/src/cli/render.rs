@@ -1,6 +1,6 @@
 //! `spectrace render [SCENE] [-o FILE.exr] [--png FILE.png] [--spp N | --time SECONDS] [--seed N]
 //! [--threads N] [--camera NAME] [--slice K/M] [--state FILE] [--resume FILE]
-//! [--diagnostic-layer]`: render a scene file, or the embedded measured Cornell box when no scene
+//! [--diagnostic-layer] [--spectral-exr S.exr [--bins START:END:STEP]]`: render a scene file, or the embedded measured Cornell box when no scene
 //! is given, with a progress bar and a summary.
 //!
 //! Slices and checkpoints (see `docs/distributed.md`): `--slice K/M` renders only the sample
@@ -97,11 +97,14 @@ pub struct RenderArgs {
     /// infinite or negative).
     #[arg(long = "diagnostic-layer")]
     pub diagnostic_layer: bool,
-    /// Path tracing only: also write the spectral radiance per pixel (W/(m²·sr·nm), histogram
-    /// over --bins) as an OpenEXR in the Fichet–Pacanowski–Wilkie 2021 layout (`S0.<λ>nm`).
+    /// Also write the spectral radiance per pixel (W/(m²·sr·nm) at the --bins nodes, tent
+    /// weighted; XYZ by the trapezoid rule, see docs/spectral.md) as an OpenEXR in the
+    /// Fichet–Pacanowski–Wilkie 2021 layout (`S0.<λ>nm`). Slices and checkpoints carry its
+    /// exact sums; `spectrace merge` writes the merged one.
     #[arg(long = "spectral-exr", value_name = "OUT.exr")]
     pub spectral_exr: Option<PathBuf>,
-    /// Wavelength bins of --spectral-exr, START:END:STEP in nm.
+    /// Wavelength nodes of --spectral-exr, START:END:STEP in nm (360:830:1 reproduces the
+    /// film's XYZ of a CIE observer exactly).
     #[arg(
         long,
         value_name = "START:END:STEP",
@@ -204,6 +207,10 @@ impl RenderArgs {
         }
         if let Some(s) = &self.state {
             push("--state", absolute(s).display().to_string());
+        }
+        if let Some(p) = &self.spectral_exr {
+            push("--spectral-exr", absolute(p).display().to_string());
+            push("--bins", self.bins.clone());
         }
         if self.diagnostic_layer {
             a.push("--diagnostic-layer".into());
@@ -398,22 +405,34 @@ pub fn run_with_factories(
         ));
     }
     let spectral_bins = match &args.spectral_exr {
-        Some(_) if args.integrator != crate::integrator::IntegratorKind::Pt => {
-            return Err(format!(
-                "--spectral-exr is written by --integrator pt only for now (got --integrator {})",
-                args.integrator
-            ))
+        Some(_) => {
+            let b = crate::film::spectral::SpectralBins::parse(&args.bins)?;
+            let (w, h) = scene
+                .cameras
+                .get(args.camera.as_deref())
+                .map_err(|e| e.to_string())?
+                .camera
+                .resolution();
+            crate::film::spectral_film::check_memory(
+                b,
+                w,
+                h,
+                crate::limits::available_memory_bytes(),
+            )?;
+            Some(b)
         }
-        Some(_) if args.slice.is_some() || args.resume.is_some() => {
-            return Err(
-                "--spectral-exr cannot be combined with --slice or --resume (the \
-                        spectral film is not part of the state file)"
-                    .into(),
-            )
-        }
-        Some(_) => Some(crate::film::spectral::SpectralBins::parse(&args.bins)?),
         None => None,
     };
+    if let (Some((path, st)), Some(b)) = (&resume, spectral_bins) {
+        if st.film.spectral.as_ref().map(|s| s.bins) != Some(b) {
+            return Err(format!(
+                "{}: the state holds no spectral sums at --bins {} (written by another \
+                 spectrace?); render again instead",
+                path.display(),
+                b.spec()
+            ));
+        }
+    }
     let slice = args.slice.as_deref().map(SliceSpec::parse).transpose()?;
     let total_spp = match budget {
         SampleBudget::Spp(n) => Some(n),
@@ -507,43 +526,18 @@ pub fn run_with_factories(
     };
     let _ = render;
     let already_done = range.as_ref().is_some_and(|r| first_sample >= r.end);
-    let spectral_film = match spectral_bins {
-        Some(b) => {
-            let (w, h) = scene
-                .cameras
-                .get(args.camera.as_deref())
-                .map_err(|e| e.to_string())?
-                .camera
-                .resolution();
-            Some(crate::film::spectral::SpectralFilm::new(b, w, h))
-        }
-        None => None,
-    };
     let mut output = if already_done {
         None
-    } else if let Some(sf) = &spectral_film {
-        let (result, film) = crate::integrator::path::render_film_spectral(
-            &scene,
-            &settings,
-            &progress,
-            Some(&stop),
-            Some(sf),
-        )
-        .map_err(|e| e.to_string())?;
-        Some(crate::integrator::IntegratorOutput {
-            result,
-            strategy_images: Vec::new(),
-            non_finite: film.rejected.total(),
-            max_sample_y: Vec::new(),
-            film,
-        })
     } else {
         Some(
-            crate::integrator::render_with(
+            crate::integrator::render_with_options(
                 &scene,
                 &settings,
                 args.integrator,
-                args.strategy_images.is_some(),
+                crate::integrator::IntegratorOptions {
+                    strategy_images: args.strategy_images.is_some(),
+                    spectral: spectral_bins,
+                },
                 &progress,
                 Some(&stop),
             )
@@ -636,7 +630,10 @@ pub fn run_with_factories(
         {
             bar.finish_and_clear();
             let image = film.image();
-            let written = save(&image, &outputs, &scene, extra_layers(args, film), args)?;
+            let mut written = save(&image, &outputs, &scene, extra_layers(args, film), args)?;
+            if let Some((p, _)) = write_spectral(args, film, &image, &scene)? {
+                written.push(p);
+            }
             for wr in written {
                 println!(
                     "  wrote {} (partial: {} spp)",
@@ -665,6 +662,9 @@ pub fn run_with_factories(
         let image = film.image();
         for wr in save(&image, &outputs, &scene, extra_layers(args, &film), args)? {
             println!("  wrote {}", wr.display());
+        }
+        if let Some((_, line)) = write_spectral(args, &film, &image, &scene)? {
+            println!("{line}");
         }
         return Ok(());
     };
@@ -714,25 +714,8 @@ pub fn run_with_factories(
         args,
     )?;
     let exposure_note = png_exposure(args, &scene, &result.image).1;
-    if let (Some(sf), Some(path)) = (&spectral_film, &args.spectral_exr) {
-        let image = sf.image();
-        image.write_exr(path)?;
-        let bins_y: f64 = image
-            .to_xyz(scene.observer.as_ref())
-            .iter()
-            .map(|p| p[1])
-            .sum();
-        let film_y: f64 = result.image.xyz.iter().map(|p| p[1]).sum();
-        let n = result.image.xyz.len().max(1) as f64;
-        println!(
-            "  wrote {} ({} bins of {} nm); mean Y from the bins {:.6}, film Y {:.6} (they \
-             differ by the binning of x̄ȳz̄ and by wavelengths outside the bins)",
-            path.display(),
-            image.wavelengths.len(),
-            image.step,
-            bins_y / n,
-            film_y / n
-        );
+    if let Some((_, line)) = write_spectral(args, &film, &result.image, &scene)? {
+        println!("{line}");
     }
 
     let secs = result.elapsed.as_secs_f64().max(1e-9);
@@ -804,6 +787,62 @@ pub fn run_with_factories(
         ));
     }
     Ok(())
+}
+
+/// Write `--spectral-exr` from the film's spectral sums, if asked for; returns the file and a
+/// summary line comparing the XYZ integrated from it with the film's `image`.
+fn write_spectral(
+    args: &RenderArgs,
+    film: &FilmState,
+    image: &XyzImage,
+    scene: &Scene,
+) -> Result<Option<(PathBuf, String)>, String> {
+    let (Some(path), Some(spectral)) = (&args.spectral_exr, film.spectral_image()) else {
+        return Ok(None);
+    };
+    spectral.write_exr(path)?;
+    let line = spectral_summary(path, &spectral, image, scene.observer.as_ref());
+    Ok(Some((path.clone(), line)))
+}
+
+/// One line: the spectral file, its nodes, and its mean XYZ by the trapezoid rule against the
+/// film's (relative differences).
+pub fn spectral_summary(
+    path: &Path,
+    spectral: &crate::film::spectral::SpectralImage,
+    image: &XyzImage,
+    observer: &dyn crate::color::Observer,
+) -> String {
+    let from_nodes = spectral.to_xyz(observer);
+    let n = image.xyz.len().max(1) as f64;
+    let mean = |v: &[[f64; 3]], c: usize| v.iter().map(|p| p[c]).sum::<f64>() / n;
+    let rel: Vec<String> = (0..3)
+        .map(|c| {
+            let (a, b) = (mean(&from_nodes, c), mean(&image.xyz, c));
+            if b != 0.0 {
+                format!("{:+.1e}", (a - b) / b)
+            } else {
+                "n/a".into()
+            }
+        })
+        .collect();
+    let w = &spectral.wavelengths;
+    format!(
+        "  wrote {} ({} nodes {}–{} nm every {} nm); mean Y from the nodes {:.6}, film Y {:.6}; \
+         relative difference X {} Y {} Z {} (rounding when the nodes are the observer's 1 nm \
+         grid over its whole range, else the interpolation between nodes and the light \
+         outside them)",
+        path.display(),
+        w.len(),
+        w.first().copied().unwrap_or(0.0),
+        w.last().copied().unwrap_or(0.0),
+        spectral.step,
+        mean(&from_nodes, 1),
+        mean(&image.xyz, 1),
+        rel[0],
+        rel[1],
+        rel[2]
+    )
 }
 
 /// The optional diagnostic channels of the EXR.

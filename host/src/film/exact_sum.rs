@@ -72,7 +72,16 @@ impl ExactSum {
         } else {
             (frac | (1u64 << 52), biased - 1)
         };
-        self.add_digit((e / 64) as u16, (m as u128) << (e % 64));
+        let (w, v) = ((e / 64) as u16, (m as u128) << (e % 64));
+        if w == self.window {
+            // The common case inline: the sample lands in the inline digit and nothing carries.
+            let s = (self.main[0] as u128 | (self.main[1] as u128) << 64) + v;
+            if s < CARRY_AT {
+                self.main = [s as u64, (s >> 64) as u64];
+                return;
+            }
+        }
+        self.add_digit(w, v);
     }
 
     /// Add `v·2^(64·w − 1074)` (`v` < 2¹²⁷ − 2¹²⁶).
@@ -174,6 +183,32 @@ impl ExactSum {
     /// The value rounded to `f64` (deterministic: computed from the unique digits, highest
     /// first, so equal sums give equal bits). Beyond the `f64` range it is +∞.
     pub fn value(&self) -> f64 {
+        if self.rest.is_none() {
+            // One window: its unique digits are the inline digit's two halves (what `digits`
+            // returns, without its map and vector), added highest first as below.
+            if self.window == EMPTY {
+                return 0.0;
+            }
+            let w = self.window as i32;
+            let mut acc = 0.0f64;
+            if self.main[1] != 0 {
+                acc += scale_pow2(self.main[1] as f64, 64 * (w + 1) - 1074);
+            }
+            if self.main[0] != 0 {
+                acc += scale_pow2(self.main[0] as f64, 64 * w - 1074);
+            }
+            return acc;
+        }
+        let mut acc = 0.0f64;
+        for (w, d) in self.digits().into_iter().rev() {
+            acc += scale_pow2(d as f64, 64 * w as i32 - 1074);
+        }
+        acc
+    }
+
+    /// [`value`](Self::value) through the general path (normalised digits), for tests.
+    #[cfg(test)]
+    fn value_from_digits(&self) -> f64 {
         let mut acc = 0.0f64;
         for (w, d) in self.digits().into_iter().rev() {
             acc += scale_pow2(d as f64, 64 * w as i32 - 1074);
@@ -297,6 +332,8 @@ mod tests {
             prop_assert_eq!(a.digits(), b.digits());
             prop_assert_eq!(a.digits(), c2.digits());
             prop_assert_eq!(a.value().to_bits(), c2.value().to_bits());
+            prop_assert_eq!(a.value().to_bits(), a.value_from_digits().to_bits());
+            prop_assert_eq!(c2.value().to_bits(), c2.value_from_digits().to_bits());
             let back = ExactSum::try_from(a.digits()).unwrap();
             prop_assert_eq!(back.digits(), a.digits());
             // Within rounding of a compensated float sum.

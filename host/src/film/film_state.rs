@@ -2,11 +2,14 @@
 //! film's exact sums, how many samples per pixel (light paths per pixel for light tracing) the
 //! splats stand for, and the refused samples. Two states of disjoint sample ranges merge by
 //! exact addition, so a render cut into slices or interrupted and resumed gives the same bits
-//! as one uninterrupted run.
+//! as one uninterrupted run. When a spectral image is asked for, its exact sums
+//! ([`SpectralSums`]) travel with the film and merge the same way.
 
 use super::exact_sum::ExactSum;
 use super::pixel_film::PixelFilm;
 use super::rejected::{RejectedSamples, Rejection};
+use super::spectral::SpectralImage;
+use super::spectral_film::SpectralSums;
 use super::XyzImage;
 use serde::{Deserialize, Serialize};
 
@@ -21,6 +24,9 @@ pub struct FilmState {
     pub spp: u64,
     /// Samples refused by the guard.
     pub rejected: RejectedSamples,
+    /// Spectral sums (camera samples and splats together, divided by [`spp`](Self::spp)),
+    /// when a spectral image is asked for.
+    pub spectral: Option<SpectralSums>,
 }
 
 impl FilmState {
@@ -36,6 +42,7 @@ impl FilmState {
             },
             spp: 0,
             rejected: RejectedSamples::new(width),
+            spectral: None,
         }
     }
 
@@ -72,6 +79,16 @@ impl FilmState {
         }
         self.spp += other.spp;
         self.rejected.merge(&other.rejected);
+        match (&mut self.spectral, &other.spectral) {
+            (Some(a), Some(b)) => a.merge(b),
+            (None, Some(b)) => self.spectral = Some(b.clone()),
+            _ => {}
+        }
+    }
+
+    /// The spectral image (W/(m²·sr·nm) at the nodes), when the film keeps spectral sums.
+    pub fn spectral_image(&self) -> Option<SpectralImage> {
+        self.spectral.as_ref().map(|s| s.image(self.spp))
     }
 
     /// The image: each pixel's camera mean plus its splat sums divided by [`spp`](Self::spp).

@@ -1,7 +1,8 @@
 //! The film: per-pixel CIE XYZ accumulated exactly from spectral samples ([`exact_sum`]), a
 //! thread-safe splat buffer for light tracing, the guard that keeps NaN, infinite and negative
 //! samples out ([`rejected`]), the whole film state that slices and checkpoints save
-//! ([`film_state`], [`state_file`]), and image output (OpenEXR with R,G,B + X,Y,Z; sRGB PNG).
+//! ([`film_state`], [`state_file`]), image output (OpenEXR with R,G,B + X,Y,Z; sRGB PNG) and
+//! the optional spectral image ([`spectral`], [`spectral_film`]).
 //!
 //! Convention (pbrt-v4 and Mitsuba 3): `XYZ = ∫ L(λ) [x̄,ȳ,z̄](λ) dλ / ∫ ȳ(λ) dλ`, so a spectrally
 //! constant radiance of 1 W/(m²·sr·nm) gives Y = 1.
@@ -15,6 +16,7 @@ pub mod pixel_film;
 pub mod rejected;
 pub mod sensor;
 pub mod spectral;
+pub mod spectral_film;
 pub mod splat;
 pub mod state_file;
 

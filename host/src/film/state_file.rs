@@ -4,13 +4,17 @@
 //! together and to continue: the scene's and settings' fingerprint, the seed, the total samples
 //! per pixel, the slice and the sample indices done.
 //!
-//! # Format (version 1)
+//! # Format (version 2)
 //! | bytes | field |
 //! |---|---|
 //! | 8 | magic `SPTSTATE` |
-//! | 4 | version `u32` little-endian = 1 |
+//! | 4 | version `u32` little-endian = 2 |
 //! | n | [`RenderState`] encoded with bincode 2 (standard configuration: little-endian, varint lengths) |
 //! | 4 | CRC-32 (IEEE) of every byte before it, little-endian |
+//!
+//! Version 2 added the spectral sums (`FilmState::spectral`, the last field of the last field,
+//! an `Option`). A version 1 file is therefore a version 2 body without the `None` tag (one 0
+//! byte) at its end: it still loads, as a state without spectral sums.
 //!
 //! Written to `NAME.tmp`, flushed and renamed over `NAME`, so a crash mid-write leaves the
 //! previous file intact and a slice that is rerun simply replaces its file.
@@ -21,7 +25,9 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 const MAGIC: &[u8; 8] = b"SPTSTATE";
-const VERSION: u32 = 1;
+const VERSION: u32 = 2;
+/// The previous version, still read (see the module docs).
+const VERSION_1: u32 = 1;
 
 /// A problem reading, writing or combining state files; names the file.
 #[derive(Debug, thiserror::Error)]
@@ -159,18 +165,25 @@ impl RenderState {
             )));
         }
         let version = u32::from_le_bytes(body[8..12].try_into().unwrap_or([0; 4]));
-        if version != VERSION {
-            return Err(bad(format!(
-                "state format version {version}, this spectrace reads version {VERSION}"
-            )));
+        let mut payload = std::borrow::Cow::Borrowed(&body[12..]);
+        match version {
+            VERSION => {}
+            // No spectral sums yet: append the `None` the encoding of version 2 ends with.
+            VERSION_1 => payload.to_mut().push(0),
+            _ => {
+                return Err(bad(format!(
+                    "state format version {version}, this spectrace reads versions \
+                     {VERSION_1} and {VERSION}"
+                )))
+            }
         }
         let (state, used): (RenderState, usize) =
-            bincode::serde::decode_from_slice(&body[12..], bincode::config::standard())
+            bincode::serde::decode_from_slice(&payload, bincode::config::standard())
                 .map_err(|e| bad(format!("cannot decode: {e}")))?;
-        if used != body.len() - 12 {
+        if used != payload.len() {
             return Err(bad(format!(
                 "{} unexpected bytes after the state",
-                body.len() - 12 - used
+                payload.len() - used
             )));
         }
         state.validate().map_err(bad)?;
@@ -185,6 +198,15 @@ impl RenderState {
             || !(self.film.splats.is_empty() || self.film.splats.len() == n)
         {
             return Err(format!("film arrays do not match its {w}×{h} pixels"));
+        }
+        if let Some(sp) = &self.film.spectral {
+            sp.validate()?;
+            if (sp.width, sp.height) != (w, h) {
+                return Err(format!(
+                    "spectral sums of {}×{} pixels in a {w}×{h} film",
+                    sp.width, sp.height
+                ));
+            }
         }
         let s = self.slice;
         if s.index == 0 || s.index > s.count || s.count > self.spp_total.max(1) {
@@ -269,6 +291,29 @@ impl RenderState {
                     format!("{:?}", first.film.resolution()),
                 );
             }
+            match (&s.film.spectral, &first.film.spectral) {
+                (Some(a), Some(b)) => {
+                    if let Err(e) = b.compatible(a) {
+                        return Err(format!(
+                            "{} does not belong with {}: {e}",
+                            name(path),
+                            name(first_path)
+                        ));
+                    }
+                }
+                (None, None) => {}
+                (a, _) => {
+                    let has = |x: bool| if x { "carries" } else { "does not carry" };
+                    return Err(format!(
+                        "{} {} spectral sums and {} {}: render every slice with the same \
+                         --spectral-exr and --bins, or none",
+                        name(path),
+                        has(a.is_some()),
+                        name(first_path),
+                        has(a.is_none())
+                    ));
+                }
+            }
             if !s.is_complete() {
                 let r = s.range();
                 return Err(format!(
@@ -316,6 +361,11 @@ impl RenderState {
         ordered.sort_by_key(|s| s.slice.index);
         let (w, h) = first.film.resolution();
         let mut film = FilmState::new(w, h, false);
+        film.spectral = first
+            .film
+            .spectral
+            .as_ref()
+            .map(|sp| super::spectral_film::SpectralSums::new(sp.bins, w, h));
         for s in &ordered {
             film.merge(&s.film);
         }
@@ -423,5 +473,64 @@ mod tests {
         for n in [0, 7, 15, bytes.len() - 5] {
             assert!(RenderState::from_bytes(&bytes[..n], p).is_err());
         }
+        // A version 1 file (no spectral sums: the body without its final `None` byte) loads
+        // as the same state; an unknown version is refused naming the versions read.
+        let mut v1 = bytes[..bytes.len() - 5].to_vec();
+        v1[8..12].copy_from_slice(&1u32.to_le_bytes());
+        let crc = crc32fast::hash(&v1);
+        v1.extend_from_slice(&crc.to_le_bytes());
+        assert_eq!(RenderState::from_bytes(&v1, p).unwrap(), s);
+        let mut v9 = bytes[..bytes.len() - 4].to_vec();
+        v9[8..12].copy_from_slice(&9u32.to_le_bytes());
+        let crc = crc32fast::hash(&v9);
+        v9.extend_from_slice(&crc.to_le_bytes());
+        let e = RenderState::from_bytes(&v9, p).unwrap_err().to_string();
+        assert!(e.contains("version 9") && e.contains("1 and 2"), "{e}");
+    }
+
+    /// A state with spectral sums round-trips exactly, and `merge_parts` refuses to mix a part
+    /// with spectral sums and one without, or parts with different nodes.
+    #[test]
+    fn spectral_sums_round_trip_and_must_match() {
+        use crate::film::spectral::SpectralBins;
+        use crate::film::spectral_film::SpectralSums;
+        let part = |k: u32, bins: Option<&str>| {
+            let mut film = FilmState::new(2, 1, false);
+            film.spp = 1;
+            film.spectral = bins.map(|b| {
+                let mut sp = SpectralSums::new(SpectralBins::parse(b).unwrap(), 2, 1);
+                sp.sums[3].add(0.5 * k as f64);
+                sp
+            });
+            RenderState {
+                scene: None,
+                fingerprint: 7,
+                settings: "integrator=pt".into(),
+                args: Vec::new(),
+                seed: 1,
+                spp_total: 2,
+                slice: SliceSpec { index: k, count: 2 },
+                done_until: k,
+                rgb_space: "srgb".into(),
+                png_exposure: 1.0,
+                film,
+            }
+        };
+        let a = part(1, Some("400:700:100"));
+        let back = RenderState::from_bytes(&a.to_bytes().unwrap(), Path::new("a")).unwrap();
+        assert_eq!(back, a);
+        let merged = RenderState::merge_parts(&[
+            ("a".into(), a.clone()),
+            ("b".into(), part(2, Some("400:700:100"))),
+        ])
+        .unwrap();
+        assert_eq!(merged.film.spectral.as_ref().unwrap().sums[3].value(), 1.5);
+        let e = RenderState::merge_parts(&[("a".into(), a.clone()), ("b".into(), part(2, None))])
+            .unwrap_err();
+        assert!(e.contains("spectral") && e.contains('b'), "{e}");
+        let e =
+            RenderState::merge_parts(&[("a".into(), a), ("b".into(), part(2, Some("400:700:50")))])
+                .unwrap_err();
+        assert!(e.contains("400:700:50"), "{e}");
     }
 }

@@ -33,6 +33,8 @@ use super::xyz_weights::XyzWeights;
 use super::{PathStats, PixelSampler, RenderError, RenderResult, RenderSettings, SampleRng};
 use crate::camera::{Camera, CameraSample};
 use crate::film::rejected::check_sample;
+use crate::film::spectral::SpectralBins;
+use crate::film::spectral_film::{LaneEnergies, SpectralFilm};
 use crate::film::{Rejection, Sensor, SplatFilm};
 use crate::light::{LightFlags, LightSampleContext};
 use crate::material::TransportMode;
@@ -72,6 +74,7 @@ pub const REGISTRATION: Registration = Registration {
             max_depth: settings.tracer.max_depth,
             rr_depth: settings.tracer.rr_depth,
             strategy_images: options.strategy_images,
+            spectral: options.spectral,
         }))
     },
 };
@@ -88,6 +91,8 @@ pub struct Bdpt {
     pub rr_depth: u32,
     /// Also produce one image per (s, t) strategy.
     pub strategy_images: bool,
+    /// Also accumulate a spectral image at these nodes.
+    pub spectral: Option<SpectralBins>,
 }
 
 /// One strategy's unweighted contribution and where it goes.
@@ -403,7 +408,8 @@ fn render_bdpt(
         progress,
         cancel,
         true,
-        |buf, samples, splats| {
+        bdpt.spectral,
+        |buf, samples, splats, spectral| {
             let mut worker = Worker {
                 camera_path: Vec::with_capacity(16),
                 light_path: Vec::with_capacity(16),
@@ -423,7 +429,7 @@ fn render_bdpt(
                             (x, y),
                             &mut ld,
                             &mut rng,
-                            splats,
+                            (splats, spectral),
                             &pixel_max,
                             strategies.as_ref(),
                             &mut worker,
@@ -507,7 +513,7 @@ impl Bdpt {
         (x, y): (u32, u32),
         ld: &mut PixelSampler,
         rng: &mut SampleRng,
-        splats: &SplatFilm,
+        (splats, spectral): (&SplatFilm, Option<&SpectralFilm>),
         pixel_max: &PixelMaxY,
         strategies: Option<&StrategyFilms>,
         worker: &mut Worker,
@@ -553,8 +559,11 @@ impl Bdpt {
             &mut worker.stats,
         );
         if let LightStart::Beams { index, pmf } = start {
-            let mut splat = |raster: Vec2, xyz: [f64; 3]| {
+            let mut splat = |raster: Vec2, xyz: [f64; 3], e: &dyn Fn() -> LaneEnergies| {
                 Self::record_splat(splats, strategies, pixel_max, raster, xyz, None);
+                if let Some(sf) = spectral {
+                    sf.splat(raster.x, raster.y, &xyz, &e());
+                }
             };
             trace_beam(
                 scene,
@@ -571,6 +580,7 @@ impl Bdpt {
         }
         let pixel_center = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
         let mut total = [0.0f64; 3];
+        let mut total_lanes = LaneEnergies::default();
         let mut per_strategy: Vec<(usize, usize, [f64; 3])> = Vec::new();
         for t in 1..=camera_path.len() {
             // s = 1 with t ≥ 2 samples its own light point, so it runs even when this pair's
@@ -612,10 +622,21 @@ impl Bdpt {
                 match c.raster {
                     Some(r) => {
                         Self::record_splat(splats, strategies, pixel_max, r, xyz, Some((s, t)));
+                        if let Some(sf) = spectral {
+                            sf.splat(
+                                r.x,
+                                r.y,
+                                &xyz,
+                                &weights.energies(&(c.l * c.weight), c.lanes),
+                            );
+                        }
                     }
                     None => {
                         for k in 0..3 {
                             total[k] += xyz[k];
+                        }
+                        if spectral.is_some() {
+                            total_lanes.accumulate(&weights.energies(&(c.l * c.weight), c.lanes));
                         }
                         if strategies.is_some() {
                             per_strategy.push((s, t, xyz));
@@ -627,6 +648,11 @@ impl Bdpt {
         worker.camera_path = camera_path;
         worker.light_path = light_path;
         pixel_max.record(pixel_center.x, pixel_center.y, total[1]);
+        if let Some(sf) = spectral {
+            // The t ≥ 2 strategies go to this pixel's film as one sample (the film's guard
+            // judges their sum, so the spectral film does too).
+            sf.add(x, y, &total, &[total_lanes]);
+        }
         if let Some(sf) = strategies {
             for (s, t, xyz) in per_strategy {
                 sf.film(s, t).splat(pixel_center.x, pixel_center.y, xyz);

@@ -3,20 +3,22 @@
 //! direction and wavelength), carried at its single wavelength and light traced. BDPT and light
 //! tracing both use it, with weight 1, since no other strategy can reach those lights.
 
-use super::camera_connection::connect_to_camera;
+use super::camera_connection::{connect_to_camera, SplatFn};
 use super::random_walk::random_walk;
 use super::vertex::Vertex;
 use super::{PathStats, SampleRng};
 use crate::camera::Camera;
+use crate::film::spectral_film::LaneEnergies;
 use crate::film::Sensor;
 use crate::geometry::Ray;
 use crate::material::TransportMode;
 use crate::scene::Scene;
 use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths, LANES};
-use glam::{Vec2, Vec3A};
+use glam::Vec3A;
 
 /// Trace one beam of beams-only light `index` (chosen with probability `pmf`) and hand every
-/// camera connection of its path to `splat` as (raster position, XYZ).
+/// camera connection of its path to `splat` as (raster position, XYZ, its lane for the
+/// spectral film on demand).
 #[allow(clippy::too_many_arguments)]
 pub fn trace_beam(
     scene: &Scene,
@@ -28,7 +30,7 @@ pub fn trace_beam(
     rr_depth: u32,
     rng: &mut SampleRng,
     stats: &mut PathStats,
-    splat: &mut dyn FnMut(Vec2, [f64; 3]),
+    splat: &mut SplatFn<'_>,
 ) {
     let u: [f64; 8] = std::array::from_fn(|_| rng.next_1d() as f64);
     let light = &scene.lights.lights()[index];
@@ -86,7 +88,9 @@ pub fn trace_beam(
             connect_to_camera(scene, camera, &path, s, &lambda, rng.next_2d(), stats)
         {
             let v = c.0[0] as f64 / iy;
-            splat(raster, bar.map(|b| b * v));
+            splat(raster, bar.map(|b| b * v), &|| {
+                LaneEnergies::single(nm, c.0[0] as f64)
+            });
         }
     }
 }

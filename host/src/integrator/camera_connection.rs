@@ -9,6 +9,11 @@ use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::Vec2;
 
+/// Where a t = 1 contribution goes: (raster position, XYZ, its lanes for the spectral film,
+/// computed only when asked for).
+pub type SplatFn<'a> =
+    dyn FnMut(Vec2, [f64; 3], &dyn Fn() -> crate::film::spectral_film::LaneEnergies) + 'a;
+
 /// The t = 1 connection of light vertex `s − 1` (s ≥ 1) to a lens point sampled with `u`:
 /// the unweighted contribution, the raster position and the lens vertex. For s = 1 it is the
 /// light's own emission seen by the camera (area lights only).

@@ -36,10 +36,13 @@ impl IntegratorInfo {
 
 /// Outputs beyond the image that a render may be asked for; integrators that do not offer one
 /// ignore it.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct IntegratorOptions {
     /// One image per (s, t) strategy (BDPT).
     pub strategy_images: bool,
+    /// Also accumulate a spectral image at these wavelength nodes (`FilmState::spectral`);
+    /// `None` costs nothing.
+    pub spectral: Option<crate::film::spectral::SpectralBins>,
 }
 
 /// A finished render with the integrator's extras.

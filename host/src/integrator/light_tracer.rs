@@ -18,7 +18,7 @@
 //! | `rr_depth`  | vertices | 3       | path length from which Russian roulette may stop it  |
 
 use super::beam::trace_beam;
-use super::camera_connection::connect_to_camera;
+use super::camera_connection::{connect_to_camera, SplatFn};
 use super::driver::{Integrator, IntegratorInfo, IntegratorOutput, Registration};
 use super::light_subpath::{generate_light_subpath, LightStart};
 use super::pixel_max::PixelMaxY;
@@ -28,6 +28,8 @@ use super::wavelength_mixture::WavelengthMixture;
 use super::xyz_weights::XyzWeights;
 use super::{PathStats, RenderError, RenderResult, RenderSettings, SampleRng};
 use crate::camera::Camera;
+use crate::film::spectral::SpectralBins;
+use crate::film::spectral_film::{LaneEnergies, SpectralFilm, SpectralSums};
 use crate::film::{FilmState, Sensor, SplatFilm};
 use crate::light::LightFlags;
 use crate::scene::Scene;
@@ -62,10 +64,11 @@ pub const INFO: IntegratorInfo = IntegratorInfo {
 /// Light tracing's registration.
 pub const REGISTRATION: Registration = Registration {
     info: &INFO,
-    build: |settings, _| {
+    build: |settings, options| {
         Ok(Box::new(LightTracer {
             max_depth: settings.tracer.max_depth,
             rr_depth: settings.tracer.rr_depth,
+            spectral: options.spectral,
         }))
     },
 };
@@ -77,6 +80,8 @@ pub struct LightTracer {
     pub max_depth: u32,
     /// Path vertex count from which Russian roulette may end a path.
     pub rr_depth: u32,
+    /// Also accumulate a spectral image at these nodes.
+    pub spectral: Option<SpectralBins>,
 }
 
 impl Integrator for LightTracer {
@@ -122,7 +127,7 @@ fn trace_light_path(
     rng: &mut SampleRng,
     path: &mut Vec<Vertex>,
     stats: &mut PathStats,
-    splat: &mut dyn FnMut(Vec2, [f64; 3]),
+    splat: &mut SplatFn<'_>,
 ) {
     let lambda = mixture.sample(rng);
     let max_depth = lt.max_depth;
@@ -140,7 +145,10 @@ fn trace_light_path(
                 if let Some((c, raster, _)) =
                     connect_to_camera(scene, camera, path, s, &lambda, rng.next_2d(), stats)
                 {
-                    splat(raster, weights.xyz(&c, path[s - 1].lanes));
+                    let lanes = path[s - 1].lanes;
+                    splat(raster, weights.xyz(&c, lanes), &|| {
+                        weights.energies(&c, lanes)
+                    });
                 }
             }
         }
@@ -167,6 +175,8 @@ fn render_light_tracing(
     let sensor = Sensor::new(scene.observer.clone());
     let mixture = WavelengthMixture::new(scene);
     let mut film = FilmState::new(width, height, true);
+    film.spectral = lt.spectral.map(|b| SpectralSums::new(b, width, height));
+    let pass_spectral = lt.spectral.map(|b| SpectralFilm::new(b, width, height));
     let rays = AtomicU64::new(0);
     let pixel_max = PixelMaxY::new(width, height);
     let done = AtomicU64::new(0);
@@ -194,10 +204,13 @@ fn render_light_tracing(
                     }
                     let mut stats = PathStats::default();
                     let mut path = Vec::with_capacity(16);
-                    let mut splat = |raster: Vec2, xyz: [f64; 3]| {
+                    let mut splat = |raster: Vec2, xyz: [f64; 3], e: &dyn Fn() -> LaneEnergies| {
                         pixel_max.record(raster.x, raster.y, xyz[1]);
                         // The film's guard refuses and counts NaN/Inf/negative contributions.
                         splats.splat_as(raster.x, raster.y, xyz, "lt light path (t = 1)");
+                        if let Some(sf) = &pass_spectral {
+                            sf.splat(raster.x, raster.y, &xyz, &e());
+                        }
                     };
                     let lo = first + c * CHUNK;
                     let hi = (lo + CHUNK).min(first + count);
@@ -231,6 +244,9 @@ fn render_light_tracing(
         let (sums, rejected) = splats.into_sums();
         film.add_splats(&sums);
         film.record_rejected(&rejected);
+        if let (Some(pass), Some(sums)) = (&pass_spectral, &mut film.spectral) {
+            pass.drain_into(sums);
+        }
         film.spp += pass_spp as u64;
         spp_done += pass_spp;
         if cancel.is_some_and(|f| f.load(Ordering::Relaxed)) {

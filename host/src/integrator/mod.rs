@@ -28,4 +28,4 @@ pub use driver::{Integrator, IntegratorInfo, IntegratorOptions, IntegratorOutput
 pub use path::{render, PathStats, PathTracer, WavelengthSampling};
 pub use render::{DroppedPass, RenderError, RenderResult, RenderSettings, SampleBudget};
 pub use sampler::{PixelSampler, SampleRng};
-pub use select::{registered, render_with, strategy_summary, IntegratorKind};
+pub use select::{registered, render_with, render_with_options, strategy_summary, IntegratorKind};

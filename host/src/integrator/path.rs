@@ -10,12 +10,14 @@ use super::tiled::render_tiles;
 use super::wavelength_groups::{PathWavelengthSampler, PathWavelengths, MAX_GROUPS};
 use super::{PixelSampler, RenderError, RenderResult, RenderSettings};
 use crate::camera::CameraSample;
-use crate::film::{spectral::SpectralFilm, FilmState, Sensor};
+use crate::film::spectral::SpectralBins;
+use crate::film::spectral_film::LaneEnergies;
+use crate::film::{FilmState, Sensor};
 use crate::geometry::{spawn_ray, spawn_ray_to, Ray};
 use crate::light::{LightFlags, LightSampleContext};
 use crate::material::{Frame, MaterialFlags, ShadingContext, TransportMode};
 use crate::scene::Scene;
-use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths, LANES};
 use glam::Vec2;
 use spectrace_plugin_api::ParamDoc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -57,10 +59,21 @@ pub const INFO: IntegratorInfo = IntegratorInfo {
 /// Path tracing's registration.
 pub const REGISTRATION: Registration = Registration {
     info: &INFO,
-    build: |settings, _| Ok(Box::new(settings.tracer)),
+    build: |settings, options| {
+        Ok(Box::new(PathTracing {
+            tracer: settings.tracer,
+            spectral: options.spectral,
+        }))
+    },
 };
 
-impl Integrator for PathTracer {
+/// Path tracing as an [`Integrator`]: the tracer's settings and the optional spectral image.
+struct PathTracing {
+    tracer: PathTracer,
+    spectral: Option<SpectralBins>,
+}
+
+impl Integrator for PathTracing {
     fn info(&self) -> &'static IntegratorInfo {
         &INFO
     }
@@ -73,10 +86,11 @@ impl Integrator for PathTracer {
         cancel: Option<&AtomicBool>,
     ) -> Result<IntegratorOutput, RenderError> {
         let settings = RenderSettings {
-            tracer: *self,
+            tracer: self.tracer,
             ..settings.clone()
         };
-        let (result, film) = render_film(scene, &settings, progress, cancel)?;
+        let (result, film) =
+            render_film_spectral(scene, &settings, progress, cancel, self.spectral)?;
         Ok(IntegratorOutput {
             result,
             strategy_images: Vec::new(),
@@ -555,14 +569,38 @@ pub fn render_film(
     render_film_spectral(scene, settings, progress, cancel, None)
 }
 
-/// [`render_film`], also filling `spectral` (a per-pixel spectral histogram) from the same
-/// camera samples when given; without it nothing extra is computed.
+/// A camera sample's lanes for the spectral film, group by group: `e = L·w/(pdf·LANES·G)` for
+/// the lanes [`Sensor::to_xyz`] counts (the same terms as [`film_xyz`]).
+fn lane_energies(
+    l: &GroupRadiance,
+    lambdas: &PathWavelengths,
+    camera_weight: f32,
+) -> ([LaneEnergies; MAX_GROUPS], usize) {
+    let groups = lambdas.groups();
+    let mut out = [LaneEnergies::default(); MAX_GROUPS];
+    let scale = 1.0 / (groups.len() as f64 * LANES as f64);
+    for ((o, lg), wg) in out.iter_mut().zip(l).zip(groups) {
+        o.lambda = wg.lambda;
+        let v = *lg * camera_weight;
+        for i in 0..LANES {
+            let p = wg.pdf[i];
+            if p != 0.0 && v.0[i] != 0.0 && wg.lanes.contains(i) {
+                o.e[i] = v.0[i] as f64 / p as f64 * scale;
+            }
+        }
+    }
+    (out, groups.len())
+}
+
+/// [`render_film`], also accumulating a spectral image at the nodes `spectral` (the film
+/// state's `spectral` sums) from the same camera samples; with `None` nothing extra is
+/// computed.
 pub fn render_film_spectral(
     scene: &Scene,
     settings: &RenderSettings,
     progress: &ProgressFn<'_>,
     cancel: Option<&AtomicBool>,
-    spectral: Option<&SpectralFilm>,
+    spectral: Option<SpectralBins>,
 ) -> Result<(RenderResult, FilmState), RenderError> {
     let cam = scene
         .cameras
@@ -583,7 +621,8 @@ pub fn render_film_spectral(
         progress,
         cancel,
         false,
-        |buf, samples, _| {
+        spectral,
+        |buf, samples, _, spectral| {
             let mut stats = PathStats::default();
             for y in buf.y0..buf.y0 + buf.h {
                 for x in buf.x0..buf.x0 + buf.w {
@@ -607,16 +646,12 @@ pub fn render_film_spectral(
                                 );
                                 let xyz = film_xyz(&sensor, &l, &lambdas, r.weight);
                                 if let Some(sf) = spectral {
-                                    sf.add(x, y, &l[..], lambdas.groups(), r.weight, &xyz);
+                                    let (e, n) = lane_energies(&l, &lambdas, r.weight);
+                                    sf.add(x, y, &xyz, &e[..n]);
                                 }
                                 xyz
                             }
-                            None => {
-                                if let Some(sf) = spectral {
-                                    sf.add(x, y, &[], &[], 0.0, &[0.0; 3]);
-                                }
-                                [0.0; 3]
-                            }
+                            None => [0.0; 3],
                         };
                         // The film's guard keeps NaN/Inf/negative samples out and counts them.
                         buf.add(x, y, xyz, "pt camera path");

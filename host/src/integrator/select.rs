@@ -149,7 +149,30 @@ pub fn render_with(
     progress: &ProgressFn<'_>,
     cancel: Option<&std::sync::atomic::AtomicBool>,
 ) -> Result<IntegratorOutput, RenderError> {
-    let integrator = build(kind, settings, IntegratorOptions { strategy_images })?;
+    render_with_options(
+        scene,
+        settings,
+        kind,
+        IntegratorOptions {
+            strategy_images,
+            ..IntegratorOptions::default()
+        },
+        progress,
+        cancel,
+    )
+}
+
+/// Render `scene` with the integrator `kind` and the extra outputs in `options` (strategy
+/// images, a spectral image).
+pub fn render_with_options(
+    scene: &Scene,
+    settings: &RenderSettings,
+    kind: IntegratorKind,
+    options: IntegratorOptions,
+    progress: &ProgressFn<'_>,
+    cancel: Option<&std::sync::atomic::AtomicBool>,
+) -> Result<IntegratorOutput, RenderError> {
+    let integrator = build(kind, settings, options)?;
     integrator.render(scene, settings, progress, cancel)
 }
 

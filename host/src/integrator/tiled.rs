@@ -9,6 +9,8 @@
 use super::render::{
     fixed_budget_passes, DroppedPass, ProgressFn, RenderError, RenderSettings, SampleBudget,
 };
+use crate::film::spectral::SpectralBins;
+use crate::film::spectral_film::{SpectralFilm, SpectralSums};
 use crate::film::{FilmState, SplatFilm, TileBuffer};
 use rayon::prelude::*;
 use std::ops::Range;
@@ -117,16 +119,19 @@ pub struct TiledOutcome {
 }
 
 /// Render a `width`×`height` image tile by tile and pass by pass for `settings.budget`.
-/// `render_tile(buffer, samples, splats)` adds the samples with global indices `samples` of
-/// every pixel of `buffer`'s tile, splatting into the pass's `splats` (kept only when `splats`
-/// is true); passes follow [`PassSchedule`] from the budget's first sample index.
+/// `render_tile(buffer, samples, splats, spectral)` adds the samples with global indices
+/// `samples` of every pixel of `buffer`'s tile, splatting into the pass's `splats` (kept only
+/// when `splats` is true) and, when `spectral` nodes are given, adding camera samples and splats
+/// to the pass's spectral film too; passes follow [`PassSchedule`] from the budget's first
+/// sample index.
 pub fn render_tiles(
     (width, height): (u32, u32),
     settings: &RenderSettings,
     progress: &ProgressFn<'_>,
     cancel: Option<&AtomicBool>,
     splats: bool,
-    render_tile: impl Fn(&mut TileBuffer, Range<u32>, &SplatFilm) + Sync,
+    spectral: Option<SpectralBins>,
+    render_tile: impl Fn(&mut TileBuffer, Range<u32>, &SplatFilm, Option<&SpectralFilm>) + Sync,
 ) -> Result<TiledOutcome, RenderError> {
     let ts = settings.tile_size.max(1);
     let mut tiles = Vec::new();
@@ -138,6 +143,8 @@ pub fn render_tiles(
     let pool = thread_pool(settings.threads)?;
     let cancelled = || cancel.is_some_and(|c| c.load(Ordering::Relaxed));
     let mut film = FilmState::new(width, height, splats);
+    film.spectral = spectral.map(|b| SpectralSums::new(b, width, height));
+    let pass_spectral = spectral.map(|b| SpectralFilm::new(b, width, height));
     let done = AtomicU64::new(0);
     let start = Instant::now();
     let mut schedule = PassSchedule::new(settings.budget);
@@ -159,7 +166,12 @@ pub fn render_tiles(
                         return None;
                     }
                     let mut buf = TileBuffer::new(x0, y0, w, h);
-                    render_tile(&mut buf, samples.clone(), &pass_splats);
+                    render_tile(
+                        &mut buf,
+                        samples.clone(),
+                        &pass_splats,
+                        pass_spectral.as_ref(),
+                    );
                     progress(done.fetch_add(1, Ordering::Relaxed) + 1, total_units);
                     Some(buf)
                 })
@@ -185,6 +197,9 @@ pub fn render_tiles(
             film.add_splats(&sums);
         }
         film.record_rejected(&rejected);
+        if let (Some(pass), Some(sums)) = (&pass_spectral, &mut film.spectral) {
+            pass.drain_into(sums);
+        }
         film.spp += pass_spp as u64;
         spp_done += pass_spp;
         if cancelled() {

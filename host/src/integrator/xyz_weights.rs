@@ -1,6 +1,7 @@
 //! Per-lane factors that turn a spectral sample into film XYZ, shared by the drivers that
 //! splat (BDPT, light tracing).
 
+use crate::film::spectral_film::LaneEnergies;
 use crate::film::Sensor;
 use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths, LANES};
 
@@ -11,6 +12,9 @@ use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths, LANES};
 pub struct XyzWeights {
     full: [[f64; 3]; LANES],
     hero: [f64; 3],
+    /// `1/(pdf·LANES)` per lane (0 where pdf is 0), for the spectral film.
+    inv_pdf: [f64; LANES],
+    lambda: [f32; LANES],
 }
 
 impl XyzWeights {
@@ -21,9 +25,11 @@ impl XyzWeights {
         let inv_iy = if iy > 0.0 { 1.0 / iy } else { 0.0 };
         let mut full = [[0.0; 3]; LANES];
         let mut hero = [0.0; 3];
+        let mut inv_pdf = [0.0; LANES];
         for i in 0..LANES {
             let p = lambda.pdf[i] as f64;
             if p > 0.0 {
+                inv_pdf[i] = 1.0 / (p * LANES as f64);
                 let bar = sensor.observer().xyz_bar(lambda.lambda[i] as f64);
                 full[i] = bar.map(|b| b * inv_iy / (p * LANES as f64));
                 if i == 0 {
@@ -31,7 +37,39 @@ impl XyzWeights {
                 }
             }
         }
-        Self { full, hero }
+        Self {
+            full,
+            hero,
+            inv_pdf,
+            lambda: lambda.lambda,
+        }
+    }
+
+    /// The lanes of spectral sample `l` for the spectral film: the terms [`xyz`](Self::xyz)
+    /// sums, without the colour-matching functions (`e = L/(pdf·LANES)·LANES/|live|`, the hero
+    /// alone `L/pdf`).
+    #[allow(clippy::needless_range_loop)] // lanes index several arrays at once
+    pub fn energies(&self, l: &SampledSpectrum, lanes: LaneMask) -> LaneEnergies {
+        let mut out = LaneEnergies {
+            lambda: self.lambda,
+            e: [0.0; LANES],
+        };
+        if lanes == LaneMask::HERO {
+            out.e[0] = l.0[0] as f64 * self.inv_pdf[0] * LANES as f64;
+            return out;
+        }
+        let live = lanes.count();
+        if live == 0 {
+            return out;
+        }
+        let scale = LANES as f64 / live as f64;
+        for i in 0..LANES {
+            let v = l.0[i] as f64;
+            if v != 0.0 && lanes.contains(i) {
+                out.e[i] = v * self.inv_pdf[i] * scale;
+            }
+        }
+        out
     }
 
     /// XYZ of spectral sample `l` whose valid lanes are `lanes` (the mask its subpath
