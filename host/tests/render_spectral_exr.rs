@@ -58,8 +58,15 @@ fn render(bins: &str, threads: usize) -> (Vec<[f64; 3]>, SpectralImage, Scene) {
     let scene = scene();
     let b = SpectralBins::parse(bins).unwrap();
     let film = SpectralFilm::new(b, 16, 10);
-    let (r, _) =
-        render_film_spectral(&scene, &settings(threads), &|_, _| {}, None, Some(&film)).unwrap();
+    let (r, _) = render_film_spectral(
+        &scene,
+        &spectrace::effects::RenderPlan::auto(&scene),
+        &settings(threads),
+        &|_, _| {},
+        None,
+        Some(&film),
+    )
+    .unwrap();
     (r.image.xyz.clone(), film.image(), scene)
 }
 

@@ -28,6 +28,7 @@ use super::wavelength_mixture::WavelengthMixture;
 use super::xyz_weights::XyzWeights;
 use super::{PathStats, RenderError, RenderResult, RenderSettings, SampleRng};
 use crate::camera::Camera;
+use crate::effects::RenderPlan;
 use crate::film::{FilmState, Sensor, SplatFilm};
 use crate::light::LightFlags;
 use crate::scene::Scene;
@@ -87,11 +88,12 @@ impl Integrator for LightTracer {
     fn render(
         &self,
         scene: &Scene,
+        plan: &RenderPlan,
         settings: &RenderSettings,
         progress: &ProgressFn<'_>,
         cancel: Option<&AtomicBool>,
     ) -> Result<IntegratorOutput, RenderError> {
-        render_light_tracing(self, scene, settings, progress, cancel)
+        render_light_tracing(self, scene, plan, settings, progress, cancel)
     }
 
     fn light_strategy(&self, flags: LightFlags) -> &'static str {
@@ -152,6 +154,7 @@ fn trace_light_path(
 fn render_light_tracing(
     lt: &LightTracer,
     scene: &Scene,
+    plan: &RenderPlan,
     settings: &RenderSettings,
     progress: &ProgressFn<'_>,
     cancel: Option<&AtomicBool>,
@@ -165,7 +168,7 @@ fn render_light_tracing(
     let pixels = width as u64 * height as u64;
     let pool = super::tiled::thread_pool(settings.threads)?;
     let sensor = Sensor::new(scene.observer.clone());
-    let mixture = WavelengthMixture::new(scene);
+    let mixture = plan.mixture();
     let mut film = FilmState::new(width, height, true);
     let rays = AtomicU64::new(0);
     let pixel_max = PixelMaxY::new(width, height);
@@ -199,7 +202,7 @@ fn render_light_tracing(
                     for k in lo..hi {
                         let mut rng = SampleRng::for_sample(settings.seed, k, LIGHT_PATH_STREAM);
                         trace_light_path(
-                            scene, camera, &sensor, &mixture, lt, &mut rng, &mut path, &mut stats,
+                            scene, camera, &sensor, mixture, lt, &mut rng, &mut path, &mut stats,
                             &mut splat,
                         );
                     }

@@ -10,6 +10,7 @@ use super::tiled::render_tiles;
 use super::wavelength_groups::{PathWavelengthSampler, PathWavelengths, MAX_GROUPS};
 use super::{PixelSampler, RenderError, RenderResult, RenderSettings};
 use crate::camera::CameraSample;
+use crate::effects::RenderPlan;
 use crate::film::{spectral::SpectralFilm, FilmState, Sensor};
 use crate::geometry::{spawn_ray, spawn_ray_to, Ray};
 use crate::light::{LightFlags, LightSampleContext};
@@ -68,6 +69,7 @@ impl Integrator for PathTracer {
     fn render(
         &self,
         scene: &Scene,
+        plan: &RenderPlan,
         settings: &RenderSettings,
         progress: &ProgressFn<'_>,
         cancel: Option<&AtomicBool>,
@@ -76,7 +78,7 @@ impl Integrator for PathTracer {
             tracer: *self,
             ..settings.clone()
         };
-        let (result, film) = render_film(scene, &settings, progress, cancel)?;
+        let (result, film) = render_film_spectral(scene, plan, &settings, progress, cancel, None)?;
         Ok(IntegratorOutput {
             result,
             strategy_images: Vec::new(),
@@ -552,13 +554,16 @@ pub fn render_film(
     progress: &ProgressFn<'_>,
     cancel: Option<&AtomicBool>,
 ) -> Result<(RenderResult, FilmState), RenderError> {
-    render_film_spectral(scene, settings, progress, cancel, None)
+    let plan = RenderPlan::auto(scene);
+    render_film_spectral(scene, &plan, settings, progress, cancel, None)
 }
 
-/// [`render_film`], also filling `spectral` (a per-pixel spectral histogram) from the same
-/// camera samples when given; without it nothing extra is computed.
+/// [`render_film`] under `plan` (made for `scene`), also filling `spectral` (a per-pixel
+/// spectral histogram) from the same camera samples when given; without it nothing extra is
+/// computed.
 pub fn render_film_spectral(
     scene: &Scene,
+    plan: &RenderPlan,
     settings: &RenderSettings,
     progress: &ProgressFn<'_>,
     cancel: Option<&AtomicBool>,
@@ -570,7 +575,7 @@ pub fn render_film_spectral(
         .map_err(RenderError::Setup)?;
     let (width, height) = cam.camera.resolution();
     let wavelength_sampler = PathWavelengthSampler::new(
-        scene,
+        plan,
         settings.tracer.wavelengths,
         settings.tracer.wavelengths_per_path,
     )

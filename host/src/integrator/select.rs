@@ -138,8 +138,33 @@ pub fn render_with(
     progress: &ProgressFn<'_>,
     cancel: Option<&std::sync::atomic::AtomicBool>,
 ) -> Result<IntegratorOutput, RenderError> {
+    let plan = crate::effects::RenderPlan::auto(scene);
+    render_planned(
+        scene,
+        &plan,
+        settings,
+        kind,
+        strategy_images,
+        progress,
+        cancel,
+    )
+}
+
+/// [`render_with`] under a given render plan (made for `scene` by
+/// [`RenderPlan::new`](crate::effects::RenderPlan::new)): the integrator renders the plan's
+/// scene (materials with a switched-off effect replaced) and reads the plan.
+pub fn render_planned(
+    scene: &Scene,
+    plan: &crate::effects::RenderPlan,
+    settings: &RenderSettings,
+    kind: IntegratorKind,
+    strategy_images: bool,
+    progress: &ProgressFn<'_>,
+    cancel: Option<&std::sync::atomic::AtomicBool>,
+) -> Result<IntegratorOutput, RenderError> {
     let integrator = build(kind, settings, IntegratorOptions { strategy_images })?;
-    integrator.render(scene, settings, progress, cancel)
+    let planned = plan.scene(scene);
+    integrator.render(&planned, plan, settings, progress, cancel)
 }
 
 /// Write BDPT's strategy images as `DIR/strategy_s{s}_t{t}.exr` (and `strategy_longer.exr`),

@@ -73,6 +73,16 @@ impl WavelengthMixture {
         Self { spds, cdf, lines }
     }
 
+    /// The observer's visible-importance density alone (no emission component): what the
+    /// render plan uses when narrowband emission is switched off.
+    pub fn visible_only() -> Self {
+        Self {
+            spds: Vec::new(),
+            cdf: Vec::new(),
+            lines: Vec::new(),
+        }
+    }
+
     /// True when the emission component has delta lines.
     pub fn has_lines(&self) -> bool {
         !self.lines.is_empty()
