@@ -16,7 +16,11 @@
 //!
 //! bdpt and lt always draw the pair's wavelengths from the observer-plus-emission mixture
 //! ([`WavelengthMixture`]) unless `narrowband-emission` is forced off; the plan builds that
-//! mixture once ([`RenderPlan::mixture`]).
+//! mixture once ([`RenderPlan::mixture`]). When every light is narrowband (delta lines, or an
+//! equivalent width under 10 nm) and fluorescence is off, a wavelength off the lights' spectra
+//! carries (almost) no light, so the mixture draws from the lights' spectra alone (all three
+//! integrators; unbiased without fluorescence): this removes the half of the draws that were
+//! (almost) certain to be wasted, the main noise of line-lamp and laser renders.
 //!
 //! Not switchable (properties of the scene, not simulation choices): delta lights, delta BSDFs,
 //! specular chains, beam-only lights, spectral flatness. The plan records whether some light
@@ -261,7 +265,14 @@ impl RenderPlan {
             // The observer alone (bdpt and lt included), so lines are lost.
             WavelengthMixture::visible_only()
         } else {
-            WavelengthMixture::new(scene)
+            let m = WavelengthMixture::new(scene);
+            // All emission narrowband (lines or < 10 nm), and nothing shifts wavelengths: a draw
+            // off the lights' spectra carries (almost) no light, so every draw comes from them.
+            if m.all_narrowband() && !plan.fluorescence() {
+                m.emission_only()
+            } else {
+                m
+            }
         });
         if emission_forced_off {
             for c in plan.callers(&[Effect::NarrowbandEmission, Effect::LineEmission]) {
@@ -417,8 +428,18 @@ impl RenderPlan {
         } else {
             format!("light paths needed ({})", self.light_paths.join("; "))
         };
+        let m = &self.mixture;
+        let wl = if !m.has_emission() {
+            "wavelengths from the observer"
+        } else if m.emission_weight() >= 1.0 {
+            "wavelengths from the lights' spectra only (all emission is narrowband)"
+        } else if self.emission_wavelengths() {
+            "wavelengths half from the observer, half from the lights' spectra (pt, bdpt, lt)"
+        } else {
+            "wavelengths: pt from the observer, bdpt/lt half observer, half lights' spectra"
+        };
         format!(
-            "plan (--effects {}): {}; {lp}",
+            "plan (--effects {}): {}; {wl}; {lp}",
             match self.request.mode {
                 EffectsMode::Auto => "auto",
                 EffectsMode::All => "all",
