@@ -197,12 +197,13 @@ pub fn types() -> &'static [BuiltinType] {
     &ALL
 }
 
-static ALL: [BuiltinType; 22] = [
+static ALL: [BuiltinType; 23] = [
     material::lambertian::TYPE,
     material::mirror::TYPE,
     material::dielectric::TYPE,
     material::rough_dielectric::TYPE,
     material::conductor::TYPE,
+    material::thin_film::TYPE,
     material::emissive::TYPE,
     light::point::TYPE,
     light::spot::TYPE,

@@ -22,6 +22,9 @@ pub enum BenchCommand {
     /// Equal-time efficiency of spectrace against Mitsuba 3 and LuxCore on the Cornell box and
     /// the caustic (see docs/performance.md).
     Speed(super::bench_speed::SpeedArgs),
+    /// The cost of each effect: every bundled scene with `--effects auto`, `all` and each of
+    /// its effects switched off (time per sample, mean Y; see docs/effects.md).
+    Effects(super::bench_effects::EffectsBenchArgs),
 }
 
 /// Arguments of `spectrace bench accuracy`.
@@ -71,6 +74,7 @@ pub fn run(cmd: &BenchCommand) -> Result<(), String> {
     match cmd {
         BenchCommand::Accuracy(a) => run_accuracy(a),
         BenchCommand::Speed(a) => super::bench_speed::run_speed(a),
+        BenchCommand::Effects(a) => super::bench_effects::run_bench(a),
     }
 }
 

@@ -1,8 +1,9 @@
 //! `spectrace explain [SCENE] [--plugin …]`: every optical effect the scene calls for, the
 //! objects and lights that call for it, what the render will do about it and what it will
-//! skip (see [`crate::effects`]). Without SCENE: the built-in Cornell box.
+//! skip (see [`crate::effects`]), then the render plan `render` would use with the same
+//! `--effects`/`--effect` arguments. Without SCENE: the built-in Cornell box.
 
-use crate::effects::analyze;
+use crate::effects::{EffectsRequest, RenderPlan};
 use crate::scene::{
     default_scene_with, load_scene_file_with, BuiltinFactory, RepresentationOptions,
 };
@@ -16,6 +17,12 @@ pub struct ExplainArgs {
     /// Plugin libraries whose types the scene may use.
     #[command(flatten)]
     pub plugins: super::plugin_args::PluginArgs,
+    /// The render plan for `--effects auto` (default) or `all`, as `render` would make it.
+    #[arg(long, value_enum, default_value = "auto")]
+    pub effects: crate::effects::EffectsMode,
+    /// Force one effect on or off, NAME=on|off (repeatable), as for `render`.
+    #[arg(long = "effect", value_name = "NAME=on|off")]
+    pub effect: Vec<String>,
 }
 
 /// Run `spectrace explain`.
@@ -32,7 +39,9 @@ pub fn run(args: &ExplainArgs) -> Result<(), String> {
         None => (default_scene_with(&repr), "Cornell box".to_string()),
     };
     let scene = scene.map_err(|e| e.to_string())?;
-    let effects = analyze(&scene);
+    let request = EffectsRequest::parse(args.effects, &args.effect)?;
+    let plan = RenderPlan::new(&scene, &request);
+    let effects = plan.effects();
     println!(
         "{name}: {} objects, {} lights",
         scene.objects.len(),
@@ -40,6 +49,7 @@ pub fn run(args: &ExplainArgs) -> Result<(), String> {
     );
     println!("{}", effects.summary_line());
     print!("{}", effects.report());
+    print!("{}", plan.report());
     for w in scene.warnings() {
         println!("warning: {w}");
     }

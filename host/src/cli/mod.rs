@@ -1,6 +1,7 @@
 //! Command-line subcommands; each lives in its own file and `main.rs` only dispatches.
 
 pub mod bench;
+pub mod bench_effects;
 pub mod bench_speed;
 pub mod blob;
 pub mod color;
@@ -56,7 +57,8 @@ pub enum Command {
     /// Optical effects the scene calls for, who calls for them, and what the render does.
     Explain(explain::ExplainArgs),
     /// Benchmarks; `bench accuracy`: error versus time of renderer configurations; `bench speed`:
-    /// equal-time efficiency against Mitsuba 3 and LuxCore.
+    /// equal-time efficiency against Mitsuba 3 and LuxCore; `bench effects`: the cost of each
+    /// effect on or off.
     #[command(subcommand)]
     Bench(bench::BenchCommand),
     /// Internal: open one plugin library and report (run by the loader in a child process).

@@ -72,6 +72,14 @@ pub struct RenderArgs {
     /// default), uniform, or light (the scene's emission SPDs).
     #[arg(long = "wavelength-sampling")]
     pub wavelength_sampling: Option<crate::integrator::WavelengthSampling>,
+    /// Effects to simulate: auto (what the scene analysis finds, the default) or all (every
+    /// switchable effect's machinery, found or not).
+    #[arg(long, value_enum, default_value = "auto")]
+    pub effects: crate::effects::EffectsMode,
+    /// Force one effect on or off, NAME=on|off (repeatable): dispersion, fluorescence,
+    /// thin-film, narrowband-emission (alias line-emission).
+    #[arg(long = "effect", value_name = "NAME=on|off")]
+    pub effect: Vec<String>,
     /// Debug (bdpt): write each (s, t) strategy's weighted contribution as its own EXR here.
     #[arg(long = "strategy-images")]
     pub strategy_images: Option<PathBuf>,
@@ -228,7 +236,7 @@ impl RenderArgs {
         format!(
             "integrator={} max_depth={max_depth} wavelengths_per_path={:?} \
              wavelength_sampling={:?} camera={:?} spd_interpolation={:?} reflectance={:?} \
-             observer_step={:?} plugins={:?} plugin_dirs={:?} observer={} rgb_space={}{}",
+             observer_step={:?} plugins={:?} plugin_dirs={:?} observer={} rgb_space={}{}{}",
             self.integrator,
             self.wavelengths_per_path,
             self.wavelength_sampling.map(|w| w.to_string()),
@@ -247,7 +255,18 @@ impl RenderArgs {
             // Only when given, so state files written before the flag existed still match.
             self.resolution
                 .map_or(String::new(), |(w, h)| format!(" resolution={w}x{h}")),
+            self.effects_key(),
         )
+    }
+
+    /// The effects request in the settings fingerprint; empty for the default (`auto`, nothing
+    /// forced), so checkpoints written before `--effects` existed still resume.
+    fn effects_key(&self) -> String {
+        match crate::effects::EffectsRequest::parse(self.effects, &self.effect) {
+            Ok(r) if r == crate::effects::EffectsRequest::default() => String::new(),
+            Ok(r) => format!(" effects={}", r.key()),
+            Err(e) => format!(" effects=invalid({e})"),
+        }
     }
 
     /// Where the state file goes.
@@ -384,6 +403,14 @@ pub fn run_with_factories(
     let t_load = std::time::Instant::now();
     let scene = load(args, factories)?;
     let load_s = t_load.elapsed().as_secs_f64();
+    // The render plan, decided once: wavelength handling and effects on or off.
+    let request = crate::effects::EffectsRequest::parse(args.effects, &args.effect)?;
+    let plan = crate::effects::RenderPlan::new(&scene, &request);
+    if !args.quiet {
+        for n in plan.notes() {
+            eprintln!("spectrace: {n}");
+        }
+    }
     let budget = match (args.spp, args.time) {
         (_, Some(t)) if t.is_finite() && t > 0.0 => SampleBudget::Time(Duration::from_secs_f64(t)),
         (_, Some(t)) => {
@@ -530,8 +557,9 @@ pub fn run_with_factories(
         None
     } else {
         Some(
-            crate::integrator::render_with_options(
+            crate::integrator::select::render_planned_with_options(
                 &scene,
+                &plan,
                 &settings,
                 args.integrator,
                 crate::integrator::IntegratorOptions {
@@ -674,22 +702,29 @@ pub fn run_with_factories(
     for line in crate::integrator::strategy_summary(&scene, args.integrator) {
         println!("  {line}");
     }
+    println!("  {}", plan.summary_line());
+    for n in plan.notes() {
+        println!("  {n}");
+    }
     if args.integrator == crate::integrator::IntegratorKind::Pt {
         let (sampling, n) = (
             settings.tracer.wavelengths,
             settings.tracer.wavelengths_per_path,
         );
         let fell_back = sampling == crate::integrator::WavelengthSampling::LightSpd
-            && crate::integrator::wavelength_groups::PathWavelengthSampler::new(
-                &scene, sampling, n,
-            )
-            .is_ok_and(|s| s.light_spd_fell_back());
+            && crate::integrator::wavelength_groups::PathWavelengthSampler::new(&plan, sampling, n)
+                .is_ok_and(|s| s.light_spd_fell_back());
         println!(
             "  wavelengths: {n} per path, {}",
             if fell_back {
                 "light-SPD sampling requested but no light has an evaluable spectrum: visible-importance used".to_string()
             } else {
                 match sampling {
+                    crate::integrator::WavelengthSampling::Visible
+                        if plan.emission_wavelengths() =>
+                    {
+                        "half visible-importance, half from the lights' spectra (render plan)"
+                    }
                     crate::integrator::WavelengthSampling::Visible => "visible-importance sampling",
                     crate::integrator::WavelengthSampling::Uniform => "uniform sampling",
                     crate::integrator::WavelengthSampling::LightSpd => {

@@ -245,6 +245,12 @@ pub fn analyze(scene: &Scene) -> EffectSet {
             }
             chain_lights.push((caller(), f.is_delta()));
         }
+        if f.contains(LightFlags::BEAMS_ONLY) {
+            // Its beams carry their own wavelengths; its spectrum is not probed (a plugin light
+            // built against API 0.1.0 may not offer wavelength sampling at all, and every render
+            // runs this analysis through the render plan).
+            continue;
+        }
         let spd = l.spd();
         let lines = spd.delta_lines();
         if !lines.is_empty() {

@@ -32,6 +32,7 @@ use super::wavelength_mixture::WavelengthMixture;
 use super::xyz_weights::XyzWeights;
 use super::{PathStats, PixelSampler, RenderError, RenderResult, RenderSettings, SampleRng};
 use crate::camera::{Camera, CameraSample};
+use crate::effects::RenderPlan;
 use crate::film::rejected::check_sample;
 use crate::film::spectral::SpectralBins;
 use crate::film::spectral_film::{LaneEnergies, SpectralFilm};
@@ -385,6 +386,7 @@ impl StrategyFilms {
 fn render_bdpt(
     bdpt: &Bdpt,
     scene: &Scene,
+    plan: &RenderPlan,
     settings: &RenderSettings,
     progress: &ProgressFn<'_>,
     cancel: Option<&AtomicBool>,
@@ -396,7 +398,7 @@ fn render_bdpt(
     let camera = cam.camera.as_ref();
     let (width, height) = camera.resolution();
     let sensor = Sensor::new(scene.observer.clone());
-    let mixture = WavelengthMixture::new(scene);
+    let mixture = plan.mixture();
     let strategies = bdpt
         .strategy_images
         .then(|| StrategyFilms::new(width, height));
@@ -425,7 +427,7 @@ fn render_bdpt(
                             scene,
                             cam,
                             &sensor,
-                            &mixture,
+                            mixture,
                             (x, y),
                             &mut ld,
                             &mut rng,
@@ -482,11 +484,12 @@ impl Integrator for Bdpt {
     fn render(
         &self,
         scene: &Scene,
+        plan: &RenderPlan,
         settings: &RenderSettings,
         progress: &ProgressFn<'_>,
         cancel: Option<&AtomicBool>,
     ) -> Result<IntegratorOutput, RenderError> {
-        render_bdpt(self, scene, settings, progress, cancel)
+        render_bdpt(self, scene, plan, settings, progress, cancel)
     }
 
     fn light_strategy(&self, flags: LightFlags) -> &'static str {

@@ -5,6 +5,7 @@
 
 use super::render::ProgressFn;
 use super::{RenderError, RenderResult, RenderSettings};
+use crate::effects::RenderPlan;
 use crate::film::XyzImage;
 use crate::light::LightFlags;
 use crate::scene::Scene;
@@ -68,12 +69,14 @@ pub trait Integrator: Send + Sync {
     /// Its type information.
     fn info(&self) -> &'static IntegratorInfo;
 
-    /// Render `scene` into the film (camera, budget, seed and threads from `settings`).
+    /// Render `scene` into the film (camera, budget, seed and threads from `settings`) as
+    /// `plan` says (wavelength handling, effects on or off; made for this scene).
     /// `progress` may be called from several threads; `cancel`, when set, stops after the work
     /// in flight and the partial film is returned.
     fn render(
         &self,
         scene: &Scene,
+        plan: &RenderPlan,
         settings: &RenderSettings,
         progress: &ProgressFn<'_>,
         cancel: Option<&AtomicBool>,

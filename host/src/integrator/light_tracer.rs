@@ -28,6 +28,7 @@ use super::wavelength_mixture::WavelengthMixture;
 use super::xyz_weights::XyzWeights;
 use super::{PathStats, RenderError, RenderResult, RenderSettings, SampleRng};
 use crate::camera::Camera;
+use crate::effects::RenderPlan;
 use crate::film::spectral::SpectralBins;
 use crate::film::spectral_film::{LaneEnergies, SpectralFilm, SpectralSums};
 use crate::film::{FilmState, Sensor, SplatFilm};
@@ -92,11 +93,12 @@ impl Integrator for LightTracer {
     fn render(
         &self,
         scene: &Scene,
+        plan: &RenderPlan,
         settings: &RenderSettings,
         progress: &ProgressFn<'_>,
         cancel: Option<&AtomicBool>,
     ) -> Result<IntegratorOutput, RenderError> {
-        render_light_tracing(self, scene, settings, progress, cancel)
+        render_light_tracing(self, scene, plan, settings, progress, cancel)
     }
 
     fn light_strategy(&self, flags: LightFlags) -> &'static str {
@@ -160,6 +162,7 @@ fn trace_light_path(
 fn render_light_tracing(
     lt: &LightTracer,
     scene: &Scene,
+    plan: &RenderPlan,
     settings: &RenderSettings,
     progress: &ProgressFn<'_>,
     cancel: Option<&AtomicBool>,
@@ -173,7 +176,7 @@ fn render_light_tracing(
     let pixels = width as u64 * height as u64;
     let pool = super::tiled::thread_pool(settings.threads)?;
     let sensor = Sensor::new(scene.observer.clone());
-    let mixture = WavelengthMixture::new(scene);
+    let mixture = plan.mixture();
     let mut film = FilmState::new(width, height, true);
     film.spectral = lt.spectral.map(|b| SpectralSums::new(b, width, height));
     let pass_spectral = lt.spectral.map(|b| SpectralFilm::new(b, width, height));
@@ -217,7 +220,7 @@ fn render_light_tracing(
                     for k in lo..hi {
                         let mut rng = SampleRng::for_sample(settings.seed, k, LIGHT_PATH_STREAM);
                         trace_light_path(
-                            scene, camera, &sensor, &mixture, lt, &mut rng, &mut path, &mut stats,
+                            scene, camera, &sensor, mixture, lt, &mut rng, &mut path, &mut stats,
                             &mut splat,
                         );
                     }

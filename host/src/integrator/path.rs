@@ -10,6 +10,7 @@ use super::tiled::render_tiles;
 use super::wavelength_groups::{PathWavelengthSampler, PathWavelengths, MAX_GROUPS};
 use super::{PixelSampler, RenderError, RenderResult, RenderSettings};
 use crate::camera::CameraSample;
+use crate::effects::RenderPlan;
 use crate::film::spectral::SpectralBins;
 use crate::film::spectral_film::LaneEnergies;
 use crate::film::{FilmState, Sensor};
@@ -81,6 +82,7 @@ impl Integrator for PathTracing {
     fn render(
         &self,
         scene: &Scene,
+        plan: &RenderPlan,
         settings: &RenderSettings,
         progress: &ProgressFn<'_>,
         cancel: Option<&AtomicBool>,
@@ -90,7 +92,7 @@ impl Integrator for PathTracing {
             ..settings.clone()
         };
         let (result, film) =
-            render_film_spectral(scene, &settings, progress, cancel, self.spectral)?;
+            render_film_spectral(scene, plan, &settings, progress, cancel, self.spectral)?;
         Ok(IntegratorOutput {
             result,
             strategy_images: Vec::new(),
@@ -566,7 +568,8 @@ pub fn render_film(
     progress: &ProgressFn<'_>,
     cancel: Option<&AtomicBool>,
 ) -> Result<(RenderResult, FilmState), RenderError> {
-    render_film_spectral(scene, settings, progress, cancel, None)
+    let plan = RenderPlan::auto(scene);
+    render_film_spectral(scene, &plan, settings, progress, cancel, None)
 }
 
 /// A camera sample's lanes for the spectral film, group by group: `e = L·w/(pdf·LANES·G)` for
@@ -592,11 +595,12 @@ fn lane_energies(
     (out, groups.len())
 }
 
-/// [`render_film`], also accumulating a spectral image at the nodes `spectral` (the film
+/// [`render_film`] under `plan` (made for `scene`), also accumulating a spectral image at the nodes `spectral` (the film
 /// state's `spectral` sums) from the same camera samples; with `None` nothing extra is
 /// computed.
 pub fn render_film_spectral(
     scene: &Scene,
+    plan: &RenderPlan,
     settings: &RenderSettings,
     progress: &ProgressFn<'_>,
     cancel: Option<&AtomicBool>,
@@ -608,7 +612,7 @@ pub fn render_film_spectral(
         .map_err(RenderError::Setup)?;
     let (width, height) = cam.camera.resolution();
     let wavelength_sampler = PathWavelengthSampler::new(
-        scene,
+        plan,
         settings.tracer.wavelengths,
         settings.tracer.wavelengths_per_path,
     )

@@ -149,21 +149,20 @@ pub fn render_with(
     progress: &ProgressFn<'_>,
     cancel: Option<&std::sync::atomic::AtomicBool>,
 ) -> Result<IntegratorOutput, RenderError> {
-    render_with_options(
+    let plan = crate::effects::RenderPlan::auto(scene);
+    render_planned(
         scene,
+        &plan,
         settings,
         kind,
-        IntegratorOptions {
-            strategy_images,
-            ..IntegratorOptions::default()
-        },
+        strategy_images,
         progress,
         cancel,
     )
 }
 
 /// Render `scene` with the integrator `kind` and the extra outputs in `options` (strategy
-/// images, a spectral image).
+/// images, a spectral image), under the automatic render plan.
 pub fn render_with_options(
     scene: &Scene,
     settings: &RenderSettings,
@@ -172,8 +171,42 @@ pub fn render_with_options(
     progress: &ProgressFn<'_>,
     cancel: Option<&std::sync::atomic::AtomicBool>,
 ) -> Result<IntegratorOutput, RenderError> {
+    let plan = crate::effects::RenderPlan::auto(scene);
+    render_planned_with_options(scene, &plan, settings, kind, options, progress, cancel)
+}
+
+/// [`render_with`] under a given render plan (made for `scene` by
+/// [`RenderPlan::new`](crate::effects::RenderPlan::new)): the integrator renders the plan's
+/// scene (materials with a switched-off effect replaced) and reads the plan.
+pub fn render_planned(
+    scene: &Scene,
+    plan: &crate::effects::RenderPlan,
+    settings: &RenderSettings,
+    kind: IntegratorKind,
+    strategy_images: bool,
+    progress: &ProgressFn<'_>,
+    cancel: Option<&std::sync::atomic::AtomicBool>,
+) -> Result<IntegratorOutput, RenderError> {
+    let options = IntegratorOptions {
+        strategy_images,
+        ..IntegratorOptions::default()
+    };
+    render_planned_with_options(scene, plan, settings, kind, options, progress, cancel)
+}
+
+/// [`render_with_options`] under a given render plan.
+pub fn render_planned_with_options(
+    scene: &Scene,
+    plan: &crate::effects::RenderPlan,
+    settings: &RenderSettings,
+    kind: IntegratorKind,
+    options: IntegratorOptions,
+    progress: &ProgressFn<'_>,
+    cancel: Option<&std::sync::atomic::AtomicBool>,
+) -> Result<IntegratorOutput, RenderError> {
     let integrator = build(kind, settings, options)?;
-    integrator.render(scene, settings, progress, cancel)
+    let planned = plan.scene(scene);
+    integrator.render(&planned, plan, settings, progress, cancel)
 }
 
 /// Write BDPT's strategy images as `DIR/strategy_s{s}_t{t}.exr` (and `strategy_longer.exr`),

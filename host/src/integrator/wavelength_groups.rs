@@ -28,15 +28,20 @@
 //! marginal density (the one-sample balance heuristic over the lights' SPDs). A path tracer
 //! without fluorescence sees emission only where some light emits, and there `p_emit > 0`, so
 //! the estimator is unbiased even though `p_emit` is 0 where the observer is still sensitive.
-//! A lane that lands on a delta spectral line gets pdf 0: camera paths evaluate only the
-//! continuous part of an SPD (a line has no density a path could hit), so those lanes are
-//! wasted and lights made only of lines stay black in `pt`, as with the other samplings.
+//! A lane that lands on a delta spectral line carries the line's discrete probability
+//! ([`WavelengthMixture`]), so line lights render.
+//!
+//! # Visible importance and the render plan
+//! With [`WavelengthSampling::Visible`] (the default) the lanes come from the observer's
+//! visible-importance density, unless the render plan draws wavelengths from the lights'
+//! spectra ([`RenderPlan::emission_wavelengths`]: narrowband or line emission found, or forced
+//! on); then they come from the plan's one-sample mixture ½ p_vis + ½ p_emit, as in bdpt.
 //! Beams-only lights are left out (`pt` cannot render them). A scene without evaluable lights
 //! has no emission to sample and falls back to visible-importance sampling.
 
 use super::wavelength_mixture::WavelengthMixture;
 use super::{PixelSampler, WavelengthSampling};
-use crate::scene::Scene;
+use crate::effects::RenderPlan;
 use crate::spectrum::wavelength_sampling::rotated;
 use crate::spectrum::{LaneMask, SampledWavelengths, LANES};
 
@@ -137,22 +142,26 @@ pub struct PathWavelengthSampler {
     sampling: WavelengthSampling,
     groups: usize,
     single_lane: bool,
-    /// The emission mixture, for [`WavelengthSampling::LightSpd`] in scenes with evaluable lights.
+    /// The render plan's emission mixture, for [`WavelengthSampling::LightSpd`] in scenes with
+    /// evaluable lights, and for [`WavelengthSampling::Visible`] when the plan draws
+    /// wavelengths from the lights' spectra.
     emission: Option<WavelengthMixture>,
 }
 
 impl PathWavelengthSampler {
-    /// The sampler for `scene` with `per_path` wavelengths per path (see [`groups_for`]).
-    pub fn new(scene: &Scene, sampling: WavelengthSampling, per_path: u32) -> Result<Self, String> {
+    /// The sampler for a scene under `plan` with `per_path` wavelengths per path (see
+    /// [`groups_for`]). Whether the lights' spectra are sampled is the plan's decision
+    /// ([`RenderPlan::emission_wavelengths`]), made once from the scene analysis.
+    pub fn new(
+        plan: &RenderPlan,
+        sampling: WavelengthSampling,
+        per_path: u32,
+    ) -> Result<Self, String> {
         let groups = groups_for(per_path)?;
+        let mixture = || Some(plan.mixture().clone()).filter(|m| m.has_emission());
         let emission = match sampling {
-            WavelengthSampling::LightSpd => {
-                Some(WavelengthMixture::new(scene)).filter(|m| m.has_emission())
-            }
-            // The mixture is built only where it will be used: a narrowband light present.
-            WavelengthSampling::Visible => narrowband(scene)
-                .then(|| WavelengthMixture::new(scene))
-                .filter(|m| m.has_emission()),
+            WavelengthSampling::LightSpd => mixture(),
+            WavelengthSampling::Visible if plan.emission_wavelengths() => mixture(),
             _ => None,
         };
         Ok(Self {
@@ -214,15 +223,6 @@ impl PathWavelengthSampler {
     }
 }
 
-/// True when some evaluable light's SPD is narrowband or has lines.
-fn narrowband(scene: &Scene) -> bool {
-    scene
-        .lights
-        .lights()
-        .iter()
-        .any(|l| crate::spectrum::bandwidth::is_narrowband(l.spd().as_ref()))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -246,7 +246,9 @@ mod tests {
     #[test]
     fn lanes_are_rotations_of_one_sample() {
         let scene = crate::scene::default_scene().unwrap();
-        let s = PathWavelengthSampler::new(&scene, WavelengthSampling::Uniform, 16).unwrap();
+        let s =
+            PathWavelengthSampler::new(&RenderPlan::auto(&scene), WavelengthSampling::Uniform, 16)
+                .unwrap();
         let mut rng = PixelSampler::new(1, 2, 3);
         let w = s.sample(&mut rng);
         let mut all: Vec<f32> = w.groups().iter().flat_map(|g| g.lambda).collect();
@@ -291,7 +293,9 @@ mod tests {
     #[test]
     fn light_spd_lanes_carry_emission_density() {
         let scene = crate::scene::default_scene().unwrap();
-        let s = PathWavelengthSampler::new(&scene, WavelengthSampling::LightSpd, 16).unwrap();
+        let s =
+            PathWavelengthSampler::new(&RenderPlan::auto(&scene), WavelengthSampling::LightSpd, 16)
+                .unwrap();
         assert!(!s.light_spd_fell_back());
         let m = WavelengthMixture::new(&scene);
         let n = 50_000u32;

@@ -13,8 +13,10 @@
 //! between the two spectral strategies. Because the wavelengths are drawn independently of the
 //! light chosen for the light subpath and shared by every (s, t) strategy of the pair, the
 //! wavelength density is a common factor of all strategies and cancels in their MIS weights.
-//! Lanes that land on a delta spectral line are dropped (pdf 0): lights evaluate only the
-//! continuous part of their SPD.
+//! A lane that lands on a delta spectral line carries the line's discrete probability
+//! (emission-component probability × the line's share of the emission). When the render plan
+//! finds all emission narrowband (and no fluorescence), the emission component is drawn
+//! with probability 1 instead of ½ ([`WavelengthMixture::emission_only`]).
 
 use super::SampleRng;
 use crate::light::LightFlags;
@@ -32,6 +34,9 @@ pub struct WavelengthMixture {
     cdf: Vec<f64>,
     /// Every delta line of the emission component, weight = P(SPD) × line fraction.
     lines: Vec<DeltaLine>,
+    /// Probability of the emission component (½; 1 when the render plan finds all emission
+    /// narrowband, where observer draws almost never see a light).
+    emission_weight: f64,
 }
 
 impl WavelengthMixture {
@@ -70,7 +75,53 @@ impl WavelengthMixture {
                 })
             })
             .collect();
-        Self { spds, cdf, lines }
+        Self {
+            spds,
+            cdf,
+            lines,
+            emission_weight: 0.5,
+        }
+    }
+
+    /// True when every emitting SPD is narrowband: delta lines only, or lines plus a continuous
+    /// part whose equivalent width is below
+    /// [`NARROWBAND_WIDTH_NM`](crate::spectrum::bandwidth::NARROWBAND_WIDTH_NM). Then almost
+    /// every observer draw lands where no light emits.
+    pub fn all_narrowband(&self) -> bool {
+        use crate::spectrum::bandwidth::{equivalent_width_nm, NARROWBAND_WIDTH_NM};
+        !self.spds.is_empty()
+            && self
+                .spds
+                .iter()
+                .all(|(s, _)| equivalent_width_nm(s.as_ref()) < NARROWBAND_WIDTH_NM)
+    }
+
+    /// The mixture drawing from the emission component alone (weight 1). Unbiased whenever
+    /// nothing shifts wavelengths: a camera or light path carries light only at wavelengths
+    /// some light emits, and there the emission density is positive. Worth it when all
+    /// emission is narrowband ([`all_narrowband`](Self::all_narrowband)), where the observer
+    /// component's draws almost always miss and only add variance. The render plan decides.
+    pub fn emission_only(mut self) -> Self {
+        if !self.spds.is_empty() {
+            self.emission_weight = 1.0;
+        }
+        self
+    }
+
+    /// Probability of the emission component.
+    pub fn emission_weight(&self) -> f64 {
+        self.emission_weight
+    }
+
+    /// The observer's visible-importance density alone (no emission component): what the
+    /// render plan uses when narrowband emission is switched off.
+    pub fn visible_only() -> Self {
+        Self {
+            spds: Vec::new(),
+            cdf: Vec::new(),
+            lines: Vec::new(),
+            emission_weight: 0.0,
+        }
     }
 
     /// True when the emission component has delta lines.
@@ -84,7 +135,8 @@ impl WavelengthMixture {
         if self.spds.is_empty() {
             return vis;
         }
-        0.5 * vis + 0.5 * self.emission_pdf(lambda_nm)
+        let w = self.emission_weight;
+        (1.0 - w) * vis + w * self.emission_pdf(lambda_nm)
     }
 
     /// True when the scene has evaluable lights, i.e. the emission component exists.
@@ -168,9 +220,10 @@ impl WavelengthMixture {
     /// light SPD, `u` the hero (for callers with stratified samples). Every lane carries the
     /// mixture density [`pdf`](Self::pdf).
     pub fn sample_with(&self, u_comp: f32, u_spd: f64, u: f64) -> SampledWavelengths {
-        let emission = !self.spds.is_empty() && u_comp >= 0.5;
+        let w = self.emission_weight;
+        let emission = !self.spds.is_empty() && u_comp as f64 >= 1.0 - w;
         let spd = emission.then(|| self.pick_spd(u_spd));
-        self.lanes(u, spd, 0.5, |l| self.pdf(l))
+        self.lanes(u, spd, w, |l| self.pdf(l))
     }
 }
 

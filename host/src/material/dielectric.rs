@@ -4,11 +4,12 @@
 //! [`MaterialFlags::DISPERSIVE`] so the integrator drops the other lanes.
 
 use super::{
-    fresnel, refract, BsdfSample, Material, MaterialFlags, ShadingContext, SpectralIor,
+    fresnel, refract, BsdfSample, EffectsOff, Material, MaterialFlags, ShadingContext, SpectralIor,
     TransportMode,
 };
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::{Vec2, Vec3A};
+use std::sync::Arc;
 
 /// Smooth dielectric boundary; the outside (normal side) is vacuum/air with n = 1.
 #[derive(Debug, Clone)]
@@ -31,6 +32,19 @@ impl Material for SmoothDielectric {
             f |= MaterialFlags::DISPERSIVE;
         }
         f
+    }
+
+    fn without_effects(&self, off: &EffectsOff) -> Option<(Arc<dyn Material>, String)> {
+        if !(off.dispersion && self.ior.is_dispersive()) {
+            return None;
+        }
+        let ior = self.ior.frozen_at(off.reference_nm);
+        let text = format!(
+            "dispersion off: IOR {:.4} (its value at {} nm) at every wavelength",
+            ior.eval(off.reference_nm),
+            off.reference_nm
+        );
+        Some((Arc::new(Self::new(ior)), text))
     }
 
     fn sample(

@@ -52,6 +52,11 @@ impl SpectralIor {
         !matches!(self, SpectralIor::Constant(_))
     }
 
+    /// The constant index this IOR has at `lambda_nm` (dispersion switched off).
+    pub fn frozen_at(&self, lambda_nm: f32) -> Self {
+        SpectralIor::Constant(self.eval(lambda_nm))
+    }
+
     /// A glass from the embedded Sellmeier catalogue by name (case-insensitive: `N-BK7`,
     /// `N-SF11`, `F2`, `fused-silica`). The error lists the known names.
     pub fn glass(name: &str) -> Result<Self, String> {

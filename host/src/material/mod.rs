@@ -99,6 +99,18 @@ pub struct BsdfSample {
     pub eta: f32,
 }
 
+/// Effects a render switches off (see `effects::plan`); a material that has one of them
+/// offers a replacement without it through [`Material::without_effects`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EffectsOff {
+    /// Dispersion off: a wavelength-dependent IOR is replaced by its value at `reference_nm`.
+    pub dispersion: bool,
+    /// Thin film off: the film is removed (thickness 0 nm), leaving the bare base.
+    pub thin_film: bool,
+    /// Wavelength (nm) at which a dispersive IOR is frozen.
+    pub reference_nm: f32,
+}
+
 /// A surface material as the integrator sees it. Object safe; built-ins and plugin adapters
 /// implement it alike.
 pub trait Material: Send + Sync + Debug {
@@ -140,6 +152,13 @@ pub trait Material: Send + Sync + Debug {
     /// For emissive materials: the emission the area light built on this surface uses. Must agree
     /// with [`emitted`](Self::emitted).
     fn emission(&self) -> Option<EmissionProfile> {
+        None
+    }
+
+    /// This material with the effects in `off` switched off (the render plan's
+    /// `--effect NAME=off`), and one sentence saying what changed; `None` when none of them
+    /// applies or the material cannot switch them off.
+    fn without_effects(&self, _off: &EffectsOff) -> Option<(Arc<dyn Material>, String)> {
         None
     }
 

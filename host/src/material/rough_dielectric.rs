@@ -4,11 +4,12 @@
 
 use super::microfacet::Ggx;
 use super::{
-    fresnel, reflect, refract, same_hemisphere, BsdfSample, Material, MaterialFlags,
+    fresnel, reflect, refract, same_hemisphere, BsdfSample, EffectsOff, Material, MaterialFlags,
     ShadingContext, SmoothDielectric, SpectralIor, TransportMode,
 };
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::{Vec2, Vec3A};
+use std::sync::Arc;
 
 /// GGX dielectric boundary; outside (normal side) n = 1.
 #[derive(Debug, Clone)]
@@ -67,6 +68,19 @@ impl RoughDielectric {
 }
 
 impl Material for RoughDielectric {
+    fn without_effects(&self, off: &EffectsOff) -> Option<(Arc<dyn Material>, String)> {
+        if !(off.dispersion && self.ior.is_dispersive()) {
+            return None;
+        }
+        let ior = self.ior.frozen_at(off.reference_nm);
+        let text = format!(
+            "dispersion off: IOR {:.4} (its value at {} nm) at every wavelength",
+            ior.eval(off.reference_nm),
+            off.reference_nm
+        );
+        Some((Arc::new(Self::new(ior, self.ggx.alpha())), text))
+    }
+
     fn flags(&self) -> MaterialFlags {
         if self.ggx.effectively_smooth() {
             return self.smooth.flags();

@@ -32,10 +32,12 @@
 use super::complex::Complex;
 use super::metals::ComplexIorTable;
 use super::{
-    refract, BsdfSample, Material, MaterialFlags, ShadingContext, SpectralIor, TransportMode,
+    refract, BsdfSample, EffectsOff, Material, MaterialFlags, ShadingContext, SpectralIor,
+    TransportMode,
 };
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, LANES};
 use glam::{Vec2, Vec3A};
+use std::sync::Arc;
 
 /// Reflectance and transmittance of a film stack for unpolarised light (each in [0, 1]).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -219,6 +221,40 @@ impl ThinFilm {
 }
 
 impl Material for ThinFilm {
+    fn without_effects(&self, off: &EffectsOff) -> Option<(Arc<dyn Material>, String)> {
+        let mut m = self.clone();
+        let mut said = Vec::new();
+        if off.thin_film && self.thickness_nm > 0.0 {
+            m.thickness_nm = 0.0;
+            said.push("thin film off: the bare base (film thickness 0 nm)".to_string());
+        }
+        if off.dispersion {
+            let frozen = |i: &SpectralIor| i.frozen_at(off.reference_nm);
+            if self.film.is_dispersive() && m.thickness_nm > 0.0 {
+                m.film = frozen(&self.film);
+                said.push(format!(
+                    "dispersion off: film IOR {:.4} (its value at {} nm)",
+                    m.film.eval(off.reference_nm),
+                    off.reference_nm
+                ));
+            }
+            if let ThinFilmBase::Dielectric(ior) = &self.base {
+                if ior.is_dispersive() {
+                    m.base = ThinFilmBase::Dielectric(frozen(ior));
+                    said.push(format!(
+                        "dispersion off: base IOR {:.4} (its value at {} nm)",
+                        frozen(ior).eval(off.reference_nm),
+                        off.reference_nm
+                    ));
+                }
+            }
+        }
+        if said.is_empty() {
+            return None;
+        }
+        Some((Arc::new(m), said.join("; ")))
+    }
+
     fn flags(&self) -> MaterialFlags {
         let mut f = MaterialFlags::SPECULAR | MaterialFlags::REFLECTION | MaterialFlags::THIN_FILM;
         if let ThinFilmBase::Dielectric(ior) = &self.base {

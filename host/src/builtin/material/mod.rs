@@ -6,3 +6,4 @@ pub mod emissive;
 pub mod lambertian;
 pub mod mirror;
 pub mod rough_dielectric;
+pub mod thin_film;

@@ -1,0 +1,559 @@
+//! [`RenderPlan`]: what a render does about each effect, decided once from the scene analysis
+//! ([`super::analyze`]) and the command line, and read by the integrators (which never
+//! re-derive it). Data flows one way: scene → analysis → plan → integrator.
+//!
+//! | setting (command line)        | values                 | meaning                                              |
+//! |-------------------------------|------------------------|------------------------------------------------------|
+//! | `--effects`                   | `auto` (default), `all`| auto: simulate what the analysis finds; all: run every switchable effect's machinery whether or not the scene calls for it |
+//! | `--effect NAME=on\|off`       | see below, repeatable  | force one effect on or off (wins over `--effects`)   |
+//!
+//! | switchable effect (`NAME`)             | on                                                          | off                                                           |
+//! |----------------------------------------|-------------------------------------------------------------|---------------------------------------------------------------|
+//! | `dispersion`                           | a dispersive event keeps the hero lane only (lane mask)     | dispersive built-in materials use their IOR at [`DISPERSION_OFF_NM`] (550 nm) at every wavelength |
+//! | `fluorescence`                         | wavelength shifts at fluorescent events ([`RenderPlan::fluorescence`]) | fluorescent materials reflect only (no re-radiation) |
+//! | `thin-film`                            | per-lane Airy reflectance of the film                       | thin-film materials become their bare base (film thickness 0 nm) |
+//! | `narrowband-emission` (alias `line-emission`) | pt draws wavelengths half from the observer, half from the lights' spectra (lines with their discrete probability) | every integrator draws wavelengths from the observer alone: lines and narrow bands render black (warned) |
+//!
+//! bdpt and lt always draw the pair's wavelengths from the observer-plus-emission mixture
+//! ([`WavelengthMixture`]) unless `narrowband-emission` is forced off; the plan builds that
+//! mixture once ([`RenderPlan::mixture`]). When every light is narrowband (delta lines, or an
+//! equivalent width under 10 nm) and fluorescence is off, a wavelength off the lights' spectra
+//! carries (almost) no light, so the mixture draws from the lights' spectra alone (all three
+//! integrators; unbiased without fluorescence): this removes the half of the draws that were
+//! (almost) certain to be wasted, the main noise of line-lamp and laser renders.
+//!
+//! Not switchable (properties of the scene, not simulation choices): delta lights, delta BSDFs,
+//! specular chains, beam-only lights, spectral flatness. The plan records whether some light
+//! needs light paths ([`RenderPlan::light_paths_needed`]): beam-only lights, or point-like and
+//! directional lights seen through delta BSDFs; pt cannot render those.
+
+use super::analysis::{Caller, EffectSet};
+use super::effect::Effect;
+use crate::integrator::wavelength_mixture::WavelengthMixture;
+use crate::material::{EffectsOff, Material};
+use crate::scene::Scene;
+use std::sync::Arc;
+
+/// Reference wavelength (nm) at which a dispersive material's IOR is taken when dispersion is
+/// off: near the peak of the photopic response, so the average colour position changes least.
+pub const DISPERSION_OFF_NM: f32 = 550.0;
+
+/// `--effects`: the default for every switchable effect.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum EffectsMode {
+    /// Simulate the effects the scene analysis finds, skip the others.
+    #[default]
+    Auto,
+    /// Run every switchable effect's machinery, found or not (for checking `auto`).
+    All,
+}
+
+/// The effects the command line can switch on or off.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Switch {
+    /// Wavelength-dependent refraction.
+    Dispersion,
+    /// Re-emission at other wavelengths.
+    Fluorescence,
+    /// Thin-film interference.
+    ThinFilm,
+    /// Wavelengths drawn from the lights' spectra (narrowband and line emission).
+    NarrowbandEmission,
+}
+
+impl Switch {
+    /// Every switch, in the order summaries print them.
+    pub const ALL: [Self; 4] = [
+        Self::Dispersion,
+        Self::Fluorescence,
+        Self::ThinFilm,
+        Self::NarrowbandEmission,
+    ];
+
+    /// Name on the command line and in summaries.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Dispersion => "dispersion",
+            Self::Fluorescence => "fluorescence",
+            Self::ThinFilm => "thin-film",
+            Self::NarrowbandEmission => "narrowband-emission",
+        }
+    }
+
+    /// The analysis findings this switch answers.
+    fn effects(self) -> &'static [Effect] {
+        match self {
+            Self::Dispersion => &[Effect::Dispersion],
+            Self::Fluorescence => &[Effect::Fluorescence],
+            Self::ThinFilm => &[Effect::ThinFilm],
+            Self::NarrowbandEmission => &[Effect::NarrowbandEmission, Effect::LineEmission],
+        }
+    }
+
+    fn parse(name: &str) -> Result<Self, String> {
+        let n = name.trim().to_ascii_lowercase().replace('_', "-");
+        match n.as_str() {
+            "dispersion" => Ok(Self::Dispersion),
+            "fluorescence" => Ok(Self::Fluorescence),
+            "thin-film" => Ok(Self::ThinFilm),
+            "narrowband-emission" | "line-emission" | "narrowband" => Ok(Self::NarrowbandEmission),
+            _ => {
+                let fixed = Effect::ALL.iter().find(|e| e.name() == n);
+                let names: Vec<&str> = Self::ALL.iter().map(|s| s.name()).collect();
+                Err(match fixed {
+                    Some(e) => format!(
+                        "--effect {name}: `{}` is a property of the scene, not an effect that can \
+                         be switched; switchable: {} (line-emission is an alias of \
+                         narrowband-emission)",
+                        e.name(),
+                        names.join(", ")
+                    ),
+                    None => format!(
+                        "--effect {name}: unknown effect; switchable: {} (line-emission is an \
+                         alias of narrowband-emission)",
+                        names.join(", ")
+                    ),
+                })
+            }
+        }
+    }
+}
+
+/// What the command line asks for: a mode and single effects forced on or off.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct EffectsRequest {
+    /// `--effects`.
+    pub mode: EffectsMode,
+    /// `--effect NAME=on|off`, in command-line order (a later one wins).
+    pub forced: Vec<(Switch, bool)>,
+}
+
+impl EffectsRequest {
+    /// `--effects MODE` plus `--effect NAME=on|off` arguments; the error names the bad one.
+    pub fn parse(mode: EffectsMode, forced: &[String]) -> Result<Self, String> {
+        let mut out = Self {
+            mode,
+            forced: Vec::new(),
+        };
+        for arg in forced {
+            let Some((name, value)) = arg.split_once('=') else {
+                return Err(format!(
+                    "--effect {arg}: expected NAME=on or NAME=off (for example dispersion=off)"
+                ));
+            };
+            let switch = Switch::parse(name)?;
+            let on = match value.trim().to_ascii_lowercase().as_str() {
+                "on" | "true" | "yes" | "1" => true,
+                "off" | "false" | "no" | "0" => false,
+                v => return Err(format!("--effect {arg}: value `{v}` is neither on nor off")),
+            };
+            out.forced.push((switch, on));
+        }
+        Ok(out)
+    }
+
+    /// The forced value of `switch`, if any (the last one given).
+    fn forced(&self, switch: Switch) -> Option<bool> {
+        self.forced
+            .iter()
+            .rev()
+            .find(|(s, _)| *s == switch)
+            .map(|(_, on)| *on)
+    }
+
+    /// A stable text of the request (for the settings fingerprint of checkpoints).
+    pub fn key(&self) -> String {
+        let forced: Vec<String> = self
+            .forced
+            .iter()
+            .map(|(s, on)| format!("{}={}", s.name(), if *on { "on" } else { "off" }))
+            .collect();
+        format!("{:?}[{}]", self.mode, forced.join(","))
+    }
+}
+
+/// Why a switch is on or off.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Reason {
+    /// The analysis found the effect (auto).
+    Found,
+    /// The analysis did not find it (auto).
+    Absent,
+    /// `--effects all`.
+    All,
+    /// `--effect NAME=on|off`.
+    Forced,
+}
+
+/// One switch's decision.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Decision {
+    /// Simulated or not.
+    pub on: bool,
+    /// Why.
+    pub reason: Reason,
+}
+
+impl Decision {
+    fn text(&self) -> &'static str {
+        match (self.on, self.reason) {
+            (true, Reason::Found) => "on (found)",
+            (false, Reason::Absent) => "off (absent)",
+            (true, Reason::All) => "on (--effects all)",
+            (true, Reason::Forced) => "on (forced)",
+            (false, Reason::Forced) => "OFF (forced)",
+            (true, _) => "on",
+            (false, _) => "off",
+        }
+    }
+}
+
+/// The render plan (see the module docs).
+#[derive(Clone, Debug)]
+pub struct RenderPlan {
+    effects: EffectSet,
+    request: EffectsRequest,
+    decisions: [Decision; 4],
+    light_paths: Vec<String>,
+    mixture: Arc<WavelengthMixture>,
+    notes: Vec<String>,
+    replacements: Vec<(usize, Arc<dyn Material>)>,
+}
+
+impl RenderPlan {
+    /// The plan for `scene` under `request`.
+    pub fn new(scene: &Scene, request: &EffectsRequest) -> Self {
+        let effects = super::analyze(scene);
+        let decisions = Switch::ALL.map(|s| {
+            if let Some(on) = request.forced(s) {
+                return Decision {
+                    on,
+                    reason: Reason::Forced,
+                };
+            }
+            let found = s.effects().iter().any(|e| effects.contains(*e));
+            match (request.mode, found) {
+                (EffectsMode::All, _) => Decision {
+                    on: true,
+                    reason: Reason::All,
+                },
+                (EffectsMode::Auto, true) => Decision {
+                    on: true,
+                    reason: Reason::Found,
+                },
+                (EffectsMode::Auto, false) => Decision {
+                    on: false,
+                    reason: Reason::Absent,
+                },
+            }
+        });
+        let mut plan = Self {
+            effects,
+            request: request.clone(),
+            decisions,
+            light_paths: Vec::new(),
+            mixture: Arc::new(WavelengthMixture::visible_only()),
+            notes: Vec::new(),
+            replacements: Vec::new(),
+        };
+        let emission_forced_off = plan.decision(Switch::NarrowbandEmission)
+            == Decision {
+                on: false,
+                reason: Reason::Forced,
+            };
+        plan.mixture = Arc::new(if emission_forced_off {
+            // The observer alone (bdpt and lt included), so lines are lost.
+            WavelengthMixture::visible_only()
+        } else {
+            let m = WavelengthMixture::new(scene);
+            // All emission narrowband (lines or < 10 nm), and nothing shifts wavelengths: a draw
+            // off the lights' spectra carries (almost) no light, so every draw comes from them.
+            if m.all_narrowband() && !plan.fluorescence() {
+                m.emission_only()
+            } else {
+                m
+            }
+        });
+        if emission_forced_off {
+            for c in plan.callers(&[Effect::NarrowbandEmission, Effect::LineEmission]) {
+                plan.notes.push(format!(
+                    "narrowband-emission off: {c} renders black or nearly so (wavelengths come \
+                     from the observer alone and miss its lines or narrow band)"
+                ));
+            }
+        }
+        if !plan.fluorescence() {
+            for c in plan.callers(&[Effect::Fluorescence]) {
+                plan.notes.push(format!(
+                    "fluorescence off: {c} reflects only (no re-radiation at other wavelengths)"
+                ));
+            }
+        }
+        plan.replace_materials(scene);
+        plan.light_paths = light_path_reasons(&plan.effects);
+        plan
+    }
+
+    /// The automatic plan (`--effects auto`, nothing forced).
+    pub fn auto(scene: &Scene) -> Self {
+        Self::new(scene, &EffectsRequest::default())
+    }
+
+    /// Built-in materials whose dispersion or thin film is switched off get a replacement.
+    fn replace_materials(&mut self, scene: &Scene) {
+        let off = EffectsOff {
+            dispersion: !self.dispersion(),
+            thin_film: !self.thin_film(),
+            reference_nm: DISPERSION_OFF_NM,
+        };
+        if !off.dispersion && !off.thin_film {
+            return;
+        }
+        for (i, obj) in scene.objects.objects().iter().enumerate() {
+            let m = obj.material.as_ref();
+            let flags = m.flags();
+            let relevant = (off.dispersion
+                && flags.contains(crate::material::MaterialFlags::DISPERSIVE))
+                || (off.thin_film && flags.contains(crate::material::MaterialFlags::THIN_FILM));
+            if !relevant {
+                continue;
+            }
+            match m.without_effects(&off) {
+                Some((replacement, what)) => {
+                    self.notes.push(format!("object \"{}\": {what}", obj.name));
+                    self.replacements.push((i, replacement));
+                }
+                None => self.notes.push(format!(
+                    "object \"{}\": its material cannot switch these effects off (a plugin \
+                     material?); it renders with them",
+                    obj.name
+                )),
+            }
+        }
+    }
+
+    /// Callers of any of `effects`, each once.
+    fn callers(&self, effects: &[Effect]) -> Vec<Caller> {
+        let mut out: Vec<Caller> = Vec::new();
+        for e in effects {
+            for c in self.effects.callers(*e) {
+                if !out.contains(c) {
+                    out.push(c.clone());
+                }
+            }
+        }
+        out
+    }
+
+    fn decision(&self, s: Switch) -> Decision {
+        self.decisions[Switch::ALL.iter().position(|x| *x == s).unwrap_or(0)]
+    }
+
+    /// The scene analysis the plan was made from.
+    pub fn effects(&self) -> &EffectSet {
+        &self.effects
+    }
+
+    /// What the command line asked for.
+    pub fn request(&self) -> &EffectsRequest {
+        &self.request
+    }
+
+    /// Dispersive events keep the hero lane only (when off, built-in dispersive materials have
+    /// been replaced by constant-IOR ones in [`scene`](Self::scene)).
+    pub fn dispersion(&self) -> bool {
+        self.decision(Switch::Dispersion).on
+    }
+
+    /// Fluorescent events may shift the wavelength; when false the integrators do no
+    /// fluorescence bookkeeping and fluorescent materials reflect only.
+    pub fn fluorescence(&self) -> bool {
+        self.decision(Switch::Fluorescence).on
+    }
+
+    /// Thin films are simulated (when off, built-in thin-film materials have been replaced by
+    /// their bare base in [`scene`](Self::scene)).
+    pub fn thin_film(&self) -> bool {
+        self.decision(Switch::ThinFilm).on
+    }
+
+    /// pt draws wavelengths from the observer-plus-emission [`mixture`](Self::mixture)
+    /// instead of the observer alone (narrowband or line emission present, or forced).
+    pub fn emission_wavelengths(&self) -> bool {
+        self.decision(Switch::NarrowbandEmission).on
+    }
+
+    /// The wavelength mixture of camera/light path pairs (bdpt, lt; pt when
+    /// [`emission_wavelengths`](Self::emission_wavelengths)): observer plus the lights'
+    /// spectra, or the observer alone when narrowband emission is forced off. Built once.
+    pub fn mixture(&self) -> &WavelengthMixture {
+        &self.mixture
+    }
+
+    /// Why light paths are needed (empty: camera paths alone render every light).
+    pub fn light_paths_needed(&self) -> &[String] {
+        &self.light_paths
+    }
+
+    /// What is switched off and what it means, one sentence each (stated at run time).
+    pub fn notes(&self) -> &[String] {
+        &self.notes
+    }
+
+    /// The scene the integrators render: `scene` itself, or a copy whose materials with a
+    /// switched-off effect are replaced (materials are shared, so the copy is cheap).
+    pub fn scene<'a>(&self, scene: &'a Scene) -> std::borrow::Cow<'a, Scene> {
+        if self.replacements.is_empty() {
+            return std::borrow::Cow::Borrowed(scene);
+        }
+        let mut objects: Vec<crate::scene::SceneObject> = scene.objects.objects().to_vec();
+        for (i, m) in &self.replacements {
+            if let Some(o) = objects.get_mut(*i) {
+                o.material = m.clone();
+            }
+        }
+        let mut s = scene.clone();
+        s.objects = crate::scene::SceneObjectManager::new(objects);
+        std::borrow::Cow::Owned(s)
+    }
+
+    /// One line for the render summary.
+    pub fn summary_line(&self) -> String {
+        let parts: Vec<String> = Switch::ALL
+            .iter()
+            .map(|s| format!("{} {}", s.name(), self.decision(*s).text()))
+            .collect();
+        let lp = if self.light_paths.is_empty() {
+            "light paths not needed".to_string()
+        } else {
+            format!("light paths needed ({})", self.light_paths.join("; "))
+        };
+        let m = &self.mixture;
+        let wl = if !m.has_emission() {
+            "wavelengths from the observer"
+        } else if m.emission_weight() >= 1.0 {
+            "wavelengths from the lights' spectra only (all emission is narrowband)"
+        } else if self.emission_wavelengths() {
+            "wavelengths half from the observer, half from the lights' spectra (pt, bdpt, lt)"
+        } else {
+            "wavelengths: pt from the observer, bdpt/lt half observer, half lights' spectra"
+        };
+        format!(
+            "plan (--effects {}): {}; {wl}; {lp}",
+            match self.request.mode {
+                EffectsMode::Auto => "auto",
+                EffectsMode::All => "all",
+            },
+            parts.join(", ")
+        )
+    }
+
+    /// The plan as `spectrace explain` prints it: each switch with what the render does, then
+    /// the run-time notes.
+    pub fn report(&self) -> String {
+        let mut out = String::from("render plan:\n");
+        out.push_str(&format!("  {}\n", self.summary_line()));
+        for s in Switch::ALL {
+            let d = self.decision(s);
+            let what = match (s, d.on) {
+                (_, false) if d.reason == Reason::Absent => "none in the scene: no work for it",
+                (Switch::Dispersion, true) => {
+                    "a dispersive event keeps only the hero wavelength (per-lane mask)"
+                }
+                (Switch::Dispersion, false) => {
+                    "no per-wavelength IOR: dispersive built-in materials use their IOR at 550 nm"
+                }
+                (Switch::Fluorescence, true) => "fluorescent events may shift the wavelength",
+                (Switch::Fluorescence, false) => "no fluorescence bookkeeping",
+                (Switch::ThinFilm, true) => "thin films weight each lane by its Airy R/T",
+                (Switch::ThinFilm, false) => "no film: thin-film materials show their bare base",
+                (Switch::NarrowbandEmission, true) => {
+                    "pt draws wavelengths half from the observer, half from the lights' spectra"
+                }
+                (Switch::NarrowbandEmission, false) => {
+                    "pt draws wavelengths from the observer alone (bdpt, lt: observer plus \
+                     lights' spectra unless forced off)"
+                }
+            };
+            out.push_str(&format!("  {}: {} — {what}\n", s.name(), d.text()));
+        }
+        for n in &self.notes {
+            out.push_str(&format!("  note: {n}\n"));
+        }
+        out
+    }
+}
+
+/// Why light paths are needed: beam-only lights, or delta lights behind delta BSDFs.
+fn light_path_reasons(effects: &EffectSet) -> Vec<String> {
+    let mut out = Vec::new();
+    for c in effects.callers(Effect::BeamOnlyLights) {
+        out.push(format!("{c} is beam-only"));
+    }
+    if effects.contains(Effect::SpecularChains) {
+        for c in effects.callers(Effect::DeltaLights) {
+            out.push(format!("{c} is seen through delta BSDFs"));
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    // Names, aliases, values and the errors naming the bad part.
+    #[test]
+    fn request_parsing() {
+        let r = EffectsRequest::parse(
+            EffectsMode::Auto,
+            &[
+                "dispersion=off".into(),
+                "line_emission=ON".into(),
+                "dispersion=on".into(),
+            ],
+        )
+        .unwrap();
+        assert_eq!(r.forced(Switch::Dispersion), Some(true));
+        assert_eq!(r.forced(Switch::NarrowbandEmission), Some(true));
+        assert_eq!(r.forced(Switch::ThinFilm), None);
+        let e = EffectsRequest::parse(EffectsMode::Auto, &["delta-lights=off".into()]).unwrap_err();
+        assert!(e.contains("property of the scene"), "{e}");
+        let e = EffectsRequest::parse(EffectsMode::Auto, &["sparkle=on".into()]).unwrap_err();
+        assert!(e.contains("unknown effect") && e.contains("sparkle"), "{e}");
+        let e = EffectsRequest::parse(EffectsMode::Auto, &["dispersion=maybe".into()]).unwrap_err();
+        assert!(e.contains("maybe"), "{e}");
+        let e = EffectsRequest::parse(EffectsMode::Auto, &["dispersion".into()]).unwrap_err();
+        assert!(e.contains("NAME=on"), "{e}");
+    }
+
+    // Auto follows the analysis, all turns everything on, forcing wins; the Cornell box has
+    // none of the switchable effects.
+    #[test]
+    fn decisions_follow_analysis_mode_and_forcing() {
+        let scene = crate::scene::default_scene().unwrap();
+        let auto = RenderPlan::auto(&scene);
+        assert!(!auto.dispersion() && !auto.fluorescence() && !auto.thin_film());
+        assert!(!auto.emission_wavelengths());
+        assert!(auto.notes().is_empty());
+        assert!(auto.mixture().has_emission());
+        let all = RenderPlan::new(
+            &scene,
+            &EffectsRequest {
+                mode: EffectsMode::All,
+                forced: vec![(Switch::ThinFilm, false)],
+            },
+        );
+        assert!(all.dispersion() && all.fluorescence() && all.emission_wavelengths());
+        assert!(!all.thin_film());
+        assert!(all.summary_line().contains("thin-film OFF (forced)"));
+        let off = RenderPlan::new(
+            &scene,
+            &EffectsRequest {
+                mode: EffectsMode::Auto,
+                forced: vec![(Switch::NarrowbandEmission, false)],
+            },
+        );
+        assert!(!off.mixture().has_emission());
+    }
+}
