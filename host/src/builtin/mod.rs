@@ -197,13 +197,14 @@ pub fn types() -> &'static [BuiltinType] {
     &ALL
 }
 
-static ALL: [BuiltinType; 21] = [
+static ALL: [BuiltinType; 22] = [
     material::lambertian::TYPE,
     material::mirror::TYPE,
     material::dielectric::TYPE,
     material::rough_dielectric::TYPE,
     material::conductor::TYPE,
     material::emissive::TYPE,
+    material::fluorescent::TYPE,
     light::point::TYPE,
     light::spot::TYPE,
     light::directional::TYPE,

@@ -62,6 +62,10 @@ pub struct RenderArgs {
     /// default), uniform, or light (the scene's emission SPDs).
     #[arg(long = "wavelength-sampling")]
     pub wavelength_sampling: Option<crate::integrator::WavelengthSampling>,
+    /// Render fluorescent materials by their reflectance only (no wavelength shifting): the
+    /// image without fluorescence, for comparison.
+    #[arg(long = "no-fluorescence")]
+    pub no_fluorescence: bool,
     /// Debug (bdpt): write each (s, t) strategy's weighted contribution as its own EXR here.
     #[arg(long = "strategy-images")]
     pub strategy_images: Option<PathBuf>,
@@ -208,7 +212,11 @@ impl RenderArgs {
             self.plugins.directories.len(),
             scene.observer.name(),
             scene.options.rgb_space_name,
-        )
+        ) + if self.no_fluorescence {
+            " no_fluorescence=true"
+        } else {
+            ""
+        }
     }
 
     /// Where the state file goes.
@@ -264,7 +272,18 @@ pub fn run_with_factories(
     let args = &args;
     let outputs = super::output_paths::output_paths(&args.output, args.png.as_deref())?;
     let t_load = std::time::Instant::now();
-    let scene = load(args, factories)?;
+    let mut scene = load(args, factories)?;
+    if args.no_fluorescence {
+        if scene.objects.fluorescence() {
+            scene.objects.set_fluorescence(false);
+            println!(
+                "fluorescence: switched off (--no-fluorescence): fluorescent surfaces render their reflectance only"
+            );
+        } else {
+            eprintln!("warning: --no-fluorescence: the scene has no fluorescent material");
+        }
+    }
+    let scene = scene;
     let load_s = t_load.elapsed().as_secs_f64();
     let budget = match (args.spp, args.time) {
         (_, Some(t)) if t.is_finite() && t > 0.0 => SampleBudget::Time(Duration::from_secs_f64(t)),
@@ -568,14 +587,18 @@ pub fn run_with_factories(
             settings.tracer.wavelengths,
             settings.tracer.wavelengths_per_path,
         );
+        let sampler =
+            crate::integrator::wavelength_groups::PathWavelengthSampler::new(&scene, sampling, n);
         let fell_back = sampling == crate::integrator::WavelengthSampling::LightSpd
-            && crate::integrator::wavelength_groups::PathWavelengthSampler::new(
-                &scene, sampling, n,
-            )
-            .is_ok_and(|s| s.light_spd_fell_back());
+            && sampler.as_ref().is_ok_and(|s| s.light_spd_fell_back());
+        let refused = sampler
+            .as_ref()
+            .is_ok_and(|s| s.light_spd_refused_for_fluorescence());
         println!(
             "  wavelengths: {n} per path, {}",
-            if fell_back {
+            if refused {
+                "light-SPD sampling requested but the scene fluoresces (light appears where no light emits): visible-importance used".to_string()
+            } else if fell_back {
                 "light-SPD sampling requested but no light has an evaluable spectrum: visible-importance used".to_string()
             } else {
                 match sampling {

@@ -135,6 +135,8 @@ impl PathWavelengths {
 #[derive(Clone, Debug)]
 pub struct PathWavelengthSampler {
     sampling: WavelengthSampling,
+    /// Light-SPD sampling was asked for in a scene with fluorescence: visible is used.
+    fluorescence_refused_light_spd: bool,
     groups: usize,
     single_lane: bool,
     /// The emission mixture, for [`WavelengthSampling::LightSpd`] in scenes with evaluable lights.
@@ -145,6 +147,13 @@ impl PathWavelengthSampler {
     /// The sampler for `scene` with `per_path` wavelengths per path (see [`groups_for`]).
     pub fn new(scene: &Scene, sampling: WavelengthSampling, per_path: u32) -> Result<Self, String> {
         let groups = groups_for(per_path)?;
+        // Light-SPD sampling would never observe wavelengths that only fluorescence emits.
+        let requested = sampling;
+        let sampling = if sampling == WavelengthSampling::LightSpd && scene.objects.fluorescence() {
+            WavelengthSampling::Visible
+        } else {
+            sampling
+        };
         let emission = match sampling {
             WavelengthSampling::LightSpd => {
                 Some(WavelengthMixture::new(scene)).filter(|m| m.has_emission())
@@ -157,6 +166,7 @@ impl PathWavelengthSampler {
         };
         Ok(Self {
             sampling,
+            fluorescence_refused_light_spd: requested != sampling,
             groups,
             single_lane: per_path == 1,
             emission,
@@ -167,6 +177,12 @@ impl PathWavelengthSampler {
     /// visible-importance sampling is used instead.
     pub fn light_spd_fell_back(&self) -> bool {
         self.sampling == WavelengthSampling::LightSpd && self.emission.is_none()
+    }
+
+    /// True when light-SPD sampling was asked for but the scene renders fluorescence, whose
+    /// emission lies where no light emits: visible-importance sampling is used instead.
+    pub fn light_spd_refused_for_fluorescence(&self) -> bool {
+        self.fluorescence_refused_light_spd
     }
 
     /// Draw the path's wavelengths: one uniform from `rng` for the rotations, plus one to pick

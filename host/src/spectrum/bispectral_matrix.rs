@@ -247,6 +247,43 @@ impl Reradiation for BispectralMatrix {
         self.reradiation(lambda_i_nm, lambda_o_nm) / f
     }
 
+    /// Σᵢ D(row of λₒ, i): r is D/Δλᵢ over each column cell of width Δλᵢ.
+    fn excitation_fraction(&self, lambda_o_nm: f64) -> f64 {
+        let Some(o) = self.row(lambda_o_nm) else {
+            return 0.0;
+        };
+        let ni = self.excitation_nm.len();
+        self.fluo[o * ni..(o + 1) * ni].iter().sum()
+    }
+
+    /// Column by weight D(row, i), then uniform within the column's band: density exactly
+    /// r(λᵢ → λₒ)/∫ r dλᵢ.
+    fn sample_excitation(&self, lambda_o_nm: f64, u: f64) -> Option<(f64, f64)> {
+        let o = self.row(lambda_o_nm)?;
+        let ni = self.excitation_nm.len();
+        let row = &self.fluo[o * ni..(o + 1) * ni];
+        let total: f64 = row.iter().sum();
+        if !(total > 0.0) {
+            return None;
+        }
+        let target = u.clamp(0.0, 1.0) * total;
+        let mut acc = 0.0;
+        let mut chosen = None;
+        for (i, &w) in row.iter().enumerate() {
+            if w > 0.0 {
+                chosen = Some((i, acc, w));
+                if acc + w > target {
+                    break;
+                }
+            }
+            acc += w;
+        }
+        let (i, start, w) = chosen?;
+        let t = ((target - start) / w).clamp(0.0, 1.0 - f64::EPSILON);
+        let lambda_i = self.excitation_nm[i] + (t - 0.5) * self.step_i;
+        Some((lambda_i, w / (total * self.step_i)))
+    }
+
     fn range(&self) -> (f64, f64) {
         let lo = self.excitation_nm[0].min(self.emission_nm[0]);
         let hi = self.excitation_nm[self.excitation_nm.len() - 1]
