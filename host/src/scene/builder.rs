@@ -308,6 +308,7 @@ pub fn build_scene_with(
     }
     warnings.extend(super::warnings::no_light(&powers));
     warnings.extend(super::warnings::all_black(&objects));
+    warnings.extend(super::warnings::fluorescence_without_data(&objects));
     warnings.extend(super::warnings::blind_cameras(
         &geometry,
         cameras.cameras(),
