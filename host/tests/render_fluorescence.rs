@@ -51,14 +51,17 @@ fn mean_se(v: &[f64]) -> (f64, f64) {
     (m, (var / n).sqrt())
 }
 
-/// A highlighter-yellow card (IXCRLALE) beside a grey wall, lit by a D65 panel the camera does
-/// not see (under D65 41% of the card's Y is fluoresced, see `color_fluorescence`). Light
+/// A highlighter-yellow card (IXCRLALE) beside a wall of the parametric model (ρ = 0.4, half of
+/// 350–480 nm absorbed and re-emitted around 600 nm with yield 0.9), lit by a D65 panel the
+/// camera does not see (under D65 41% of the card's Y is fluoresced, see `color_fluorescence`). Light
 /// reaches the camera after 1 or 2 bounces through the fluorescent card, so shifts happen at
 /// directly and indirectly lit vertices, and bdpt joins unshifted paths through it too.
 const AGREEMENT: &str = r#"(
     materials: [
         (name: "card", type: "fluorescent", params: (bfc: "IXCRLALE")),
-        (name: "wall", type: "lambertian", params: (reflectance: 0.5)),
+        (name: "wall", type: "fluorescent",
+         params: (reflectance: 0.4, absorption: [(340, 0), (350, 0.5), (480, 0.5), (490, 0)],
+                  emission: "gaussian:600:40", quantum_yield: 0.9)),
         (name: "lamp", type: "emissive", params: (radiance: "d65", scale: 50)),
     ],
     objects: [
@@ -74,7 +77,8 @@ const AGREEMENT: &str = r#"(
 )"#;
 
 /// Quantity: the image mean of X, Y and Z of [`AGREEMENT`] (max depth 3) for pt, lt and bdpt,
-/// each the mean of 8 independent renders (seeds, 1024 spp on 12×12 pixels). Tolerance: each integrator's mean within
+/// each the mean of 10 independent renders (seeds; 12×12 pixels, 1024 spp for pt and bdpt,
+/// 4096 for lt). Tolerance: each integrator's mean within
 /// 0.5% of pt's, and the test itself must be able to see 0.5%: 3 combined standard errors
 /// (from the seeds' spread) below 0.5%. Printed: means, differences and standard errors.
 #[test]
@@ -82,13 +86,14 @@ fn pt_lt_and_bdpt_agree_with_fluorescence() {
     let s = scene(AGREEMENT);
     assert!(s.objects.fluorescence());
     let runs = |kind: IntegratorKind, spp: u32| -> Vec<[f64; 3]> {
-        (0..8u64)
+        (0..10u64)
             .map(|seed| render(&s, kind, spp, 100 + seed, 3).result.image.mean_xyz())
             .collect()
     };
     let pt = runs(IntegratorKind::Pt, 1024);
     let others = [
-        (IntegratorKind::Lt, runs(IntegratorKind::Lt, 1024)),
+        // Light tracing is the noisiest here (the camera sees the card from a small lens).
+        (IntegratorKind::Lt, runs(IntegratorKind::Lt, 4096)),
         (IntegratorKind::Bdpt, runs(IntegratorKind::Bdpt, 1024)),
     ];
     for c in 0..3 {
@@ -285,4 +290,56 @@ fn near_uv_light_shows_fluorescence_the_twin_does_not() {
             "{kind}: fluorescence off is not the reflectance-only image"
         );
     }
+}
+
+/// Bad parameters of the `fluorescent` type are errors naming the item, the parameter and
+/// what is wrong (and a missing file by its path); nothing panics.
+#[test]
+fn bad_fluorescent_parameters_are_clear_errors() {
+    let build = |params: &str| -> String {
+        let text = format!(
+            r#"(
+    materials: [ (name: "f", type: "fluorescent", params: ({params})) ],
+    objects: [ (name: "p", type: "quad", material: "f",
+         params: (corner: (0, 0, 0), edge0: (1, 0, 0), edge1: (0, 1, 0))) ],
+    cameras: [ (name: "c", type: "perspective",
+         params: (position: (0.5, 0.5, 2), look_at: (0.5, 0.5, 0), fov: 40, resolution: (4, 4))) ],
+)"#
+        );
+        let file = Path::new("bad.ron");
+        let desc = parse_scene_str(&text, file).unwrap();
+        match build_scene(
+            &desc,
+            Path::new("/nonexistent-dir"),
+            file,
+            &[&BuiltinFactory],
+        ) {
+            Ok(_) => panic!("accepted: {params}"),
+            Err(e) => e.to_string(),
+        }
+    };
+    let e = build(r#"bfc: "missing.BFC""#);
+    assert!(
+        e.contains("bfc") && e.contains("missing.BFC") && e.contains("IXCRLALE"),
+        "{e}"
+    );
+    let e = build(r#"bfc: "IXCRLALE", quantum_yield: 0.5"#);
+    assert!(e.contains("not both"), "{e}");
+    let e = build("");
+    assert!(e.contains("absorption") && e.contains("bfc"), "{e}");
+    let e = build(r#"absorption: 0.8, reflectance: 0.5, emission: "gaussian:520:40""#);
+    assert!(e.contains("ρ + a ≤ 1"), "{e}");
+    let e = build(r#"absorption: 1.5, emission: "gaussian:520:40""#);
+    assert!(e.contains("absorption"), "{e}");
+    let e = build(r#"absorption: 0.5, emission: "gaussian:520:40", quantum_yield: 2"#);
+    assert!(e.contains("quantum_yield"), "{e}");
+    let e = build(r#"bfc: "IXCRLALE", colour: 1"#);
+    assert!(e.contains("colour"), "{e}");
+    for e in [build(r#"bfc: "missing.BFC""#), build("")] {
+        assert!(e.contains("material \"f\""), "{e}");
+    }
+    // A file that is not a matrix: its path and line.
+    let readme = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/fluorescence/README.md");
+    let e = build(&format!("bfc: {:?}", readme.display().to_string()));
+    assert!(e.contains("README.md:1") && e.contains("BFC-450"), "{e}");
 }
