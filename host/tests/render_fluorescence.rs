@@ -156,7 +156,8 @@ fn bfc_path(name: &str) -> PathBuf {
 /// their 0.03% spread: the two integrations differ where the steep red reflectance meets the
 /// matrix's band edges). Each rendered colour must
 /// also differ from the render with fluorescence off by more than the tolerance, so the
-/// comparison sees the re-radiation.
+/// comparison sees the re-radiation. IXCRLALE is also rendered by bdpt (2048 spp, same
+/// tolerances): its shifted camera paths end on the sky (s = 0) or sample it (s = 1).
 #[test]
 fn a_sky_lit_patch_shows_the_colour_spectrace_color_computes() {
     let white = scene(&sky_patch(
@@ -208,6 +209,21 @@ fn a_sky_lit_patch_shows_the_colour_spectrace_color_computes() {
             "{name}: xy"
         );
         assert!((got[1] / want.total[1] - 1.0).abs() < 0.01, "{name}: Y");
+        if name == "IXCRLALE" {
+            // bdpt too: its camera paths shift, then end on the sky (s = 0) or sample it (s = 1).
+            let b = render(&s, IntegratorKind::Bdpt, 2048, 41, 2)
+                .result
+                .image
+                .mean_xyz();
+            let b: [f64; 3] = b.map(|v| v * 100.0 / y_white);
+            let (xb, yb) = chromaticity(b);
+            println!("{name}: bdpt x {xb:.4} y {yb:.4} Y {:.2}", b[1]);
+            assert!(
+                (xb - xw).abs() < 0.003 && (yb - yw).abs() < 0.003,
+                "{name}: bdpt xy"
+            );
+            assert!((b[1] / want.total[1] - 1.0).abs() < 0.01, "{name}: bdpt Y");
+        }
         s.objects.set_fluorescence(false);
         let off = render(&s, IntegratorKind::Pt, 1024, 31, 2)
             .result

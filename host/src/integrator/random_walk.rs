@@ -83,6 +83,7 @@ pub fn random_walk(
                         let mut v = Vertex::light(ei, p, glam::Vec3A::ZERO, n, beta);
                         v.wo = -ray.dir.normalize();
                         v.lanes = lanes;
+                        v.shifted = shifted.then_some(cur.lambda);
                         v.pdf_fwd = prev.convert_density(pdf_fwd, &v);
                         path.push(v);
                     }
