@@ -37,6 +37,10 @@ fn bundled_scenes_name_their_effects() {
         effects_of("spot_mirror.ron"),
         vec![DeltaLights, DeltaBsdfs, SpecularChains, SpectrallyVarying]
     );
+    assert_eq!(
+        effects_of("fluorescence.ron"),
+        vec![Fluorescence, SpectrallyVarying]
+    );
 }
 
 #[test]
