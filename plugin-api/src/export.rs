@@ -368,6 +368,81 @@ macro_rules! export_plugin {
             extensions_v1()
         }
 
+        /// This plugin's extension module, version 2 (see `spectrace_plugin_api::extension`).
+        pub fn extensions_v2() -> $crate::extension::ExtensionsV2Export {
+            use $crate::__private::PrefixTypeTrait as _;
+            use $crate::__private::{RResult, RStr};
+            use $crate::error::PluginError;
+            use $crate::export::{construct, save, unknown_type, PluginType};
+            use $crate::extension::{
+                ExtensionsV2, ExtensionsV2Export, ExtensionsV2Ref, LightWithV2, MaterialWithV2,
+                SpdWithLines,
+            };
+            use $crate::guard::guarded;
+            use $crate::host::HostRef;
+            use $crate::module::{ObjectKind, ObjectSource};
+
+            extern "C" fn create_light(
+                type_name: RStr<'_>,
+                source: ObjectSource<'_>,
+                host: HostRef<'_>,
+            ) -> RResult<LightWithV2, PluginError> {
+                guarded("create_light (v2)", || {
+                    let name = type_name.as_str();
+                    $(if name == <$light as PluginType>::TYPE_NAME {
+                        let obj = construct::<$light>(source, &host)?;
+                        return Ok($crate::light::GuardedLight::boxed_v2(obj, save::<$light>));
+                    })*
+                    Err(unknown_type(ObjectKind::Light, name, &[$(<$light as PluginType>::TYPE_NAME),*]))
+                })
+            }
+            extern "C" fn create_material(
+                type_name: RStr<'_>,
+                source: ObjectSource<'_>,
+                host: HostRef<'_>,
+            ) -> RResult<MaterialWithV2, PluginError> {
+                guarded("create_material (v2)", || {
+                    let name = type_name.as_str();
+                    $(if name == <$material as PluginType>::TYPE_NAME {
+                        let obj = construct::<$material>(source, &host)?;
+                        return Ok($crate::material::GuardedMaterial::boxed_v2(obj, save::<$material>));
+                    })*
+                    Err(unknown_type(
+                        ObjectKind::Material, name, &[$(<$material as PluginType>::TYPE_NAME),*]
+                    ))
+                })
+            }
+            extern "C" fn create_spd(
+                type_name: RStr<'_>,
+                source: ObjectSource<'_>,
+                host: HostRef<'_>,
+            ) -> RResult<SpdWithLines, PluginError> {
+                guarded("create_spd (v2)", || {
+                    let name = type_name.as_str();
+                    $(if name == <$spd as PluginType>::TYPE_NAME {
+                        let obj = construct::<$spd>(source, &host)?;
+                        return SpdWithLines::new(obj, save::<$spd>).into_result();
+                    })*
+                    Err(unknown_type(ObjectKind::Spd, name, &[$(<$spd as PluginType>::TYPE_NAME),*]))
+                })
+            }
+            ExtensionsV2Export {
+                layout: <ExtensionsV2Ref as $crate::__private::StableAbi>::LAYOUT,
+                module: ExtensionsV2 {
+                    create_light,
+                    create_material,
+                    create_spd,
+                }
+                .leak_into_prefix(),
+            }
+        }
+
+        /// The exported extension module, version 2 (looked up by name by the host).
+        #[no_mangle]
+        pub extern "C" fn spectrace_plugin_extensions_v2() -> $crate::extension::ExtensionsV2Export {
+            extensions_v2()
+        }
+
         /// The exported root module (what the host finds in the library).
         #[$crate::__private::export_root_module]
         pub fn spectrace_plugin_root_module() -> $crate::module::PluginModuleRef {

@@ -9,17 +9,41 @@
 //!
 //! Version 1 (`spectrace_plugin_extensions_v1`): light types whose beams are in another
 //! representation ([`representation`](crate::representation)): which types, and a constructor
-//! for the object that hands out those beams. [`export_plugin!`](crate::export_plugin) exports
-//! it for every plugin.
+//! for the object that hands out those beams.
+//!
+//! Version 2 (`spectrace_plugin_extensions_v2`): constructors that hand the host, beside the
+//! object it already knows (a [`LightBox`], [`MaterialBox`] or [`SpdBox`] of the root module),
+//! a second face of the same object with the calls added in v2:
+//!
+//! * lights learn the scene's extent ([`LightSource::scene_bounds`]) and hand over their own
+//!   emission SPD ([`LightSource::emission_spectrum`]);
+//! * materials see the surface's normals ([`SurfaceContext`], the `*_at` calls of
+//!   [`Material`](crate::Material)) and describe their emission exactly
+//!   ([`Material::emission`](crate::Material::emission));
+//! * SPDs list their spectral lines ([`Spd::delta_lines`](crate::Spd::delta_lines)).
+//!
+//! Both faces share one object (the same state, the same beam count). A host that predates v2
+//! uses the root module alone; a library that predates v2 gets the old behaviour (no bounds, no
+//! normals, emission spectra read through the v1 calls).
+//!
+//! [`export_plugin!`](crate::export_plugin) exports every version for every plugin.
+//!
+//! [`LightSource::scene_bounds`]: crate::LightSource::scene_bounds
+//! [`LightSource::emission_spectrum`]: crate::LightSource::emission_spectrum
 
 use crate::error::PluginError;
+use crate::guard::guarded;
 use crate::host::HostRef;
+use crate::light::LightBox;
+use crate::material::{MaterialBox, ScatterSample, SurfaceContext};
 use crate::module::ObjectSource;
 use crate::representation::{BeamRepresentation, RepresentedBeam, TypeRepresentation};
-use crate::types::RandomSample;
+use crate::spd::{GuardedSpd, Spd, SpdBox, SpectralLine};
+use crate::types::{RandomSample, SceneBounds, SpectralValues, TransportMode, Vec3, Wavelengths};
+use crate::PluginResult;
 use abi_stable::{
     sabi_trait,
-    std_types::{RBox, RResult, RStr, RVec},
+    std_types::{RBox, ROption, RResult, RStr, RVec},
     type_layout::TypeLayout,
     StableAbi,
 };
@@ -70,4 +94,171 @@ pub struct ExtensionsV1Export {
     pub layout: &'static TypeLayout,
     /// The module.
     pub module: ExtensionsV1Ref,
+}
+
+// ----------------------------------------------------------------------------------------------
+// Version 2
+
+/// The symbol (NUL-terminated) of extension version 2: an `extern "C" fn() ->`
+/// [`ExtensionsV2Export`].
+pub const EXTENSIONS_V2_SYMBOL: &[u8] = b"spectrace_plugin_extensions_v2\0";
+
+/// An SPD with its spectral lines (extension version 2).
+#[repr(C)]
+#[derive(StableAbi)]
+pub struct SpdWithLines {
+    /// The SPD.
+    pub spd: SpdBox,
+    /// Its lines ([`Spd::delta_lines`]), read once when it was built.
+    pub lines: RVec<SpectralLine>,
+}
+
+impl SpdWithLines {
+    /// Box `spd` behind the ABI with its lines; `state` serialises it for blobs.
+    pub fn new<T: Spd>(
+        spd: T,
+        state: fn(&T) -> PluginResult<Vec<u8>>,
+    ) -> RResult<Self, PluginError> {
+        let lines = match guarded("delta_lines", || Ok(spd.delta_lines())) {
+            RResult::ROk(l) => l,
+            RResult::RErr(e) => return RResult::RErr(e),
+        };
+        RResult::ROk(Self {
+            spd: GuardedSpd::boxed(spd, state),
+            lines: lines.into(),
+        })
+    }
+}
+
+/// How an emissive material emits (extension version 2): radiance `scale · spd(λ)`
+/// W/(m²·sr·nm), the same at every point of a side and in every direction (Lambertian).
+#[repr(C)]
+#[derive(StableAbi)]
+pub struct MaterialEmission {
+    /// Normalised SPD (1/nm), with its lines.
+    pub spectrum: SpdWithLines,
+    /// Integrated radiance, W/(m²·sr).
+    pub scale: f64,
+    /// Whether the back side emits as well.
+    pub two_sided: bool,
+}
+
+/// The calls version 2 adds to a light (see [`crate::LightSource`] for their meaning).
+#[sabi_trait]
+pub trait AbiLightV2: Send + Sync {
+    /// See [`crate::LightSource::scene_bounds`]; the host calls it once, before rendering.
+    fn scene_bounds(&self, bounds: &SceneBounds) -> RResult<(), PluginError>;
+    /// See [`crate::LightSource::emission_spectrum`].
+    #[sabi(last_prefix_field)]
+    fn emission_spectrum(&self) -> RResult<ROption<SpdWithLines>, PluginError>;
+}
+
+/// The version-2 face of a light, owned.
+pub type LightV2Box = AbiLightV2_TO<'static, RBox<()>>;
+
+/// The calls version 2 adds to a material: the four calls of [`AbiMaterial`] with the surface's
+/// normals (see [`crate::Material`]'s `*_at` calls), and its emission.
+///
+/// [`AbiMaterial`]: crate::material::AbiMaterial
+#[sabi_trait]
+pub trait AbiMaterialV2: Send + Sync {
+    /// See [`crate::Material::sample_at`].
+    fn sample(
+        &self,
+        ctx: &SurfaceContext,
+        wo: Vec3,
+        lambda: &Wavelengths,
+        u: &RandomSample,
+        mode: TransportMode,
+    ) -> RResult<ROption<ScatterSample>, PluginError>;
+    /// See [`crate::Material::eval_at`].
+    fn eval(
+        &self,
+        ctx: &SurfaceContext,
+        wo: Vec3,
+        wi: Vec3,
+        lambda: &Wavelengths,
+        mode: TransportMode,
+    ) -> RResult<SpectralValues, PluginError>;
+    /// See [`crate::Material::pdf_at`].
+    fn pdf(
+        &self,
+        ctx: &SurfaceContext,
+        wo: Vec3,
+        wi: Vec3,
+        lambda: &Wavelengths,
+        mode: TransportMode,
+    ) -> RResult<f64, PluginError>;
+    /// See [`crate::Material::emitted_at`].
+    fn emitted(
+        &self,
+        ctx: &SurfaceContext,
+        wo: Vec3,
+        lambda: &Wavelengths,
+    ) -> RResult<SpectralValues, PluginError>;
+    /// See [`crate::Material::emission`].
+    #[sabi(last_prefix_field)]
+    fn emission(&self) -> RResult<ROption<MaterialEmission>, PluginError>;
+}
+
+/// The version-2 face of a material, owned.
+pub type MaterialV2Box = AbiMaterialV2_TO<'static, RBox<()>>;
+
+/// A light built through version 2: the root module's face and the v2 face of one object.
+#[repr(C)]
+#[derive(StableAbi)]
+pub struct LightWithV2 {
+    /// What the root module's `create_light` returns.
+    pub light: LightBox,
+    /// The calls added in version 2, on the same object.
+    pub v2: LightV2Box,
+}
+
+/// A material built through version 2: the root module's face and the v2 face of one object.
+#[repr(C)]
+#[derive(StableAbi)]
+pub struct MaterialWithV2 {
+    /// What the root module's `create_material` returns.
+    pub material: MaterialBox,
+    /// The calls added in version 2, on the same object.
+    pub v2: MaterialV2Box,
+}
+
+/// Extension version 2: the constructors of the root module, returning both faces. Parameters
+/// and saved state as for the root module's.
+#[repr(C)]
+#[derive(StableAbi)]
+#[sabi(kind(Prefix(prefix_ref = ExtensionsV2Ref)))]
+#[sabi(missing_field(panic))]
+pub struct ExtensionsV2 {
+    /// Build a light.
+    pub create_light: extern "C" fn(
+        type_name: RStr<'_>,
+        source: ObjectSource<'_>,
+        host: HostRef<'_>,
+    ) -> RResult<LightWithV2, PluginError>,
+    /// Build a material.
+    pub create_material: extern "C" fn(
+        type_name: RStr<'_>,
+        source: ObjectSource<'_>,
+        host: HostRef<'_>,
+    ) -> RResult<MaterialWithV2, PluginError>,
+    /// Build an SPD, with its lines.
+    #[sabi(last_prefix_field)]
+    pub create_spd: extern "C" fn(
+        type_name: RStr<'_>,
+        source: ObjectSource<'_>,
+        host: HostRef<'_>,
+    ) -> RResult<SpdWithLines, PluginError>,
+}
+
+/// What the version-2 symbol returns: the module's layout (checked by the host against its own
+/// before the module is touched) and the module.
+#[repr(C)]
+#[derive(StableAbi, Clone, Copy)]
+pub struct ExtensionsV2Export {
+    /// `<ExtensionsV2Ref as StableAbi>::LAYOUT` as the plugin was compiled.
+    pub layout: &'static TypeLayout,
+    /// The module.
+    pub module: ExtensionsV2Ref,
 }

@@ -12,7 +12,10 @@
 //! Authors implement those plain Rust traits plus [`PluginType`] and list their types in
 //! [`export_plugin!`]. The macro puts each object behind a guard (panics are caught on the
 //! plugin's side and come back as [`PluginError`]s) and behind an abi_stable trait object.
-//! See `module` for the compatibility rule between host and plugin versions.
+//! See `module` for the compatibility rule between host and plugin versions, and `extension`
+//! for what later versions added (v2: scene bounds and emission spectra for lights, the
+//! surface's normals and exact emission for materials, spectral lines for SPDs): provided
+//! methods of the same traits, so a plugin uses them by overriding them.
 //!
 //! Units: lengths in scene units, wavelengths in nm, power in W, solid angle in sr.
 
@@ -41,17 +44,19 @@ pub use light::{
     light_flags, EmissionPdf, EmissionSample, IncidentSample, LightBox, LightSource,
     WavelengthSample,
 };
-pub use material::{material_flags, Material, MaterialBox, ScatterSample, ShadingContext};
+pub use material::{
+    material_flags, Emission, Material, MaterialBox, ScatterSample, ShadingContext, SurfaceContext,
+};
 pub use module::{ObjectKind, PluginInfo, PluginModuleRef, TypeInfo, API_VERSION};
 pub use observer::{ColorObserver, ObserverBox};
 pub use representation::{
     BeamRepresentation, ColourEncoding, DirectionEncoding, Handedness, RepresentedBeam,
     TypeRepresentation,
 };
-pub use spd::{spd_flags, Spd, SpdBox, SpdHandle};
+pub use spd::{spd_flags, Spd, SpdBox, SpdHandle, SpectralLine};
 pub use types::{
-    Beam, Flags, RandomSample, SpectralValues, TransportMode, Vec3, WavelengthRange, Wavelengths,
-    Xyz, LANES,
+    Beam, Flags, RandomSample, SceneBounds, SpectralValues, TransportMode, Vec3, WavelengthRange,
+    Wavelengths, Xyz, LANES,
 };
 
 /// Re-exported so plugins and the host use the very same abi_stable.

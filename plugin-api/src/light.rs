@@ -5,15 +5,18 @@
 
 use crate::error::{PluginError, PluginResult};
 use crate::export::PluginType;
+use crate::extension::{AbiLightV2, LightWithV2, SpdWithLines};
 use crate::guard::guarded;
 use crate::representation::{BeamRepresentation, RepresentedBeam};
-use crate::types::{Beam, Flags, RandomSample, SpectralValues, Vec3, Wavelengths};
+use crate::spd::Spd;
+use crate::types::{Beam, Flags, RandomSample, SceneBounds, SpectralValues, Vec3, Wavelengths};
 use abi_stable::{
     sabi_trait,
-    std_types::{RBox, RResult, RVec},
+    std_types::{RBox, ROption, RResult, RVec},
     StableAbi,
 };
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Arc;
 
 /// Capability bits of a light source.
 pub mod light_flags {
@@ -146,6 +149,24 @@ pub trait LightSource: Send + Sync + 'static {
     fn incident_pdf(&self, _receiver: Vec3, _direction: Vec3) -> PluginResult<f64> {
         Ok(0.0)
     }
+    /// Extension v2: the scene's extent, given once the scene is built and before anything is
+    /// rendered (the host asks [`total_power_w`](Self::total_power_w) again afterwards). A light
+    /// that covers the whole scene sizes itself here (a distant light's emitting disc, a sky's
+    /// sphere); it takes `&self`, so such a light keeps the bounds in a `OnceLock` or the like.
+    /// An ENVIRONMENT light that keeps them reports its power for light selection as a light of
+    /// its own sphere; the host places the sky's sphere itself (1% beyond the view bounds'
+    /// sphere), so only light selection depends on that number.
+    fn scene_bounds(&self, _bounds: &SceneBounds) -> PluginResult<()> {
+        Ok(())
+    }
+    /// Extension v2: the light's normalised emission spectrum (1/nm), the distribution
+    /// [`sample_wavelength`](Self::sample_wavelength) draws from. With it the host evaluates,
+    /// samples and weighs the light's spectrum exactly (lines included) wherever it needs the
+    /// spectrum as a whole; without it (the default) it knows the spectrum only through
+    /// `sample_wavelength` and `wavelength_pdf`.
+    fn emission_spectrum(&self) -> PluginResult<Option<Box<dyn Spd>>> {
+        Ok(None)
+    }
 }
 
 /// The stable-ABI face of a light source. Hosts call this; authors implement [`LightSource`].
@@ -196,24 +217,51 @@ pub trait AbiLightSource: Send + Sync {
 /// A light source behind the stable ABI, owned.
 pub type LightBox = AbiLightSource_TO<'static, RBox<()>>;
 
-/// Wraps an author's light: catches panics and counts beams.
+/// Wraps an author's light: catches panics and counts beams. Clones share the light and its
+/// beam count (the root module's face and the v2 face of one object).
 pub struct GuardedLight<T> {
-    inner: T,
-    beams: AtomicU64,
+    inner: Arc<T>,
+    beams: Arc<AtomicU64>,
     state: fn(&T) -> PluginResult<Vec<u8>>,
 }
 
+impl<T> Clone for GuardedLight<T> {
+    fn clone(&self) -> Self {
+        Self {
+            inner: self.inner.clone(),
+            beams: self.beams.clone(),
+            state: self.state,
+        }
+    }
+}
+
 impl<T: LightSource + PluginType> GuardedLight<T> {
+    fn new(inner: T, state: fn(&T) -> PluginResult<Vec<u8>>) -> Self {
+        Self {
+            inner: Arc::new(inner),
+            beams: Arc::new(AtomicU64::new(0)),
+            state,
+        }
+    }
+
     /// Box `inner` behind the ABI; `state` serialises it for blobs.
     pub fn boxed(inner: T, state: fn(&T) -> PluginResult<Vec<u8>>) -> LightBox {
-        AbiLightSource_TO::from_value(
-            Self {
-                inner,
-                beams: AtomicU64::new(0),
-                state,
-            },
-            abi_stable::sabi_trait::TD_Opaque,
-        )
+        AbiLightSource_TO::from_value(Self::new(inner, state), abi_stable::sabi_trait::TD_Opaque)
+    }
+
+    /// Box `inner` behind the ABI with its version-2 face (extension v2), one object behind both.
+    pub fn boxed_v2(inner: T, state: fn(&T) -> PluginResult<Vec<u8>>) -> LightWithV2 {
+        let guarded = Self::new(inner, state);
+        LightWithV2 {
+            light: AbiLightSource_TO::from_value(
+                guarded.clone(),
+                abi_stable::sabi_trait::TD_Opaque,
+            ),
+            v2: crate::extension::AbiLightV2_TO::from_value(
+                guarded,
+                abi_stable::sabi_trait::TD_Opaque,
+            ),
+        }
     }
 
     /// Box `inner` behind the ABI as a light in its own representation
@@ -223,13 +271,29 @@ impl<T: LightSource + PluginType> GuardedLight<T> {
         state: fn(&T) -> PluginResult<Vec<u8>>,
     ) -> crate::extension::RepresentedLightBox {
         crate::extension::AbiRepresentedLight_TO::from_value(
-            Self {
-                inner,
-                beams: AtomicU64::new(0),
-                state,
-            },
+            Self::new(inner, state),
             abi_stable::sabi_trait::TD_Opaque,
         )
+    }
+}
+
+/// Saved state of an object that is part of another (an emission spectrum): there is none.
+fn no_state<T>(_: &T) -> PluginResult<Vec<u8>> {
+    Err(PluginError::unsupported(
+        "save_state of an emission spectrum",
+    ))
+}
+
+impl<T: LightSource + PluginType> AbiLightV2 for GuardedLight<T> {
+    fn scene_bounds(&self, bounds: &SceneBounds) -> RResult<(), PluginError> {
+        guarded("scene_bounds", || self.inner.scene_bounds(bounds))
+    }
+    fn emission_spectrum(&self) -> RResult<ROption<SpdWithLines>, PluginError> {
+        match guarded("emission_spectrum", || self.inner.emission_spectrum()) {
+            RResult::ROk(Some(spd)) => SpdWithLines::new(spd, no_state).map(ROption::RSome),
+            RResult::ROk(None) => RResult::ROk(ROption::RNone),
+            RResult::RErr(e) => RResult::RErr(e),
+        }
     }
 }
 

@@ -2,13 +2,16 @@
 //! shading frame: z is the shading normal, and both `wo` and `wi` point away from the surface.
 
 use crate::error::{PluginError, PluginResult};
+use crate::extension::{AbiMaterialV2, MaterialEmission, MaterialWithV2, SpdWithLines};
 use crate::guard::guarded;
+use crate::spd::Spd;
 use crate::types::{Flags, RandomSample, SpectralValues, TransportMode, Vec3, Wavelengths};
 use abi_stable::{
     sabi_trait,
-    std_types::{RBox, RResult, RVec},
+    std_types::{RBox, ROption, RResult, RVec},
     StableAbi,
 };
+use std::sync::Arc;
 
 /// Capability bits of a material (and of one scattering event).
 pub mod material_flags {
@@ -37,6 +40,55 @@ pub struct ShadingContext {
     pub uv: [f64; 2],
     /// World-space position (scene units), for procedural materials.
     pub position: Vec3,
+}
+
+/// Where on the surface a material is evaluated, with the surface's normals (extension v2; the
+/// `*_at` calls of [`Material`]). The local frame's z axis is `shading_normal`.
+#[repr(C)]
+#[derive(StableAbi, Clone, Copy, Debug, Default, PartialEq)]
+pub struct SurfaceContext {
+    /// Surface parameterisation (texture coordinates).
+    pub uv: [f64; 2],
+    /// World-space position (scene units).
+    pub position: Vec3,
+    /// Geometric normal, world space, unit (the true surface's, on the side the path arrived
+    /// from); zero when the host does not know it.
+    pub geometric_normal: Vec3,
+    /// Shading normal, world space, unit (interpolated or bumped; the local frame's z axis);
+    /// zero when the host does not know it.
+    pub shading_normal: Vec3,
+}
+
+impl SurfaceContext {
+    /// The version-1 context (no normals).
+    pub fn shading(&self) -> ShadingContext {
+        ShadingContext {
+            uv: self.uv,
+            position: self.position,
+        }
+    }
+}
+
+impl From<&ShadingContext> for SurfaceContext {
+    /// A context with unknown (zero) normals.
+    fn from(ctx: &ShadingContext) -> Self {
+        Self {
+            uv: ctx.uv,
+            position: ctx.position,
+            ..Self::default()
+        }
+    }
+}
+
+/// How an emissive material emits (extension v2, [`Material::emission`]): radiance
+/// `scale · spectrum(λ)` W/(m²·sr·nm), the same at every point of a side and in every direction.
+pub struct Emission {
+    /// Normalised SPD (1/nm): what the host draws light-path wavelengths from.
+    pub spectrum: Box<dyn Spd>,
+    /// Integrated radiance, W/(m²·sr).
+    pub scale_w_m2_sr: f64,
+    /// Whether the back side emits as well.
+    pub two_sided: bool,
 }
 
 /// A sampled scattering direction.
@@ -97,6 +149,62 @@ pub trait Material: Send + Sync + 'static {
     ) -> PluginResult<SpectralValues> {
         Ok(SpectralValues::ZERO)
     }
+
+    // Extension v2: the same calls with the surface's normals. A host that has them calls
+    // these; the defaults drop the normals and call the version-1 calls above, so a material
+    // that does not read normals implements only those. One that does overrides these four and
+    // may implement the version-1 calls by passing `SurfaceContext::from(ctx)` (zero normals),
+    // which is what a host older than v2 would offer.
+
+    /// [`sample`](Self::sample) with the surface's normals.
+    fn sample_at(
+        &self,
+        ctx: &SurfaceContext,
+        wo: Vec3,
+        lambda: &Wavelengths,
+        u: &RandomSample,
+        mode: TransportMode,
+    ) -> PluginResult<Option<ScatterSample>> {
+        self.sample(&ctx.shading(), wo, lambda, u, mode)
+    }
+    /// [`eval`](Self::eval) with the surface's normals.
+    fn eval_at(
+        &self,
+        ctx: &SurfaceContext,
+        wo: Vec3,
+        wi: Vec3,
+        lambda: &Wavelengths,
+        mode: TransportMode,
+    ) -> PluginResult<SpectralValues> {
+        self.eval(&ctx.shading(), wo, wi, lambda, mode)
+    }
+    /// [`pdf`](Self::pdf) with the surface's normals.
+    fn pdf_at(
+        &self,
+        ctx: &SurfaceContext,
+        wo: Vec3,
+        wi: Vec3,
+        lambda: &Wavelengths,
+        mode: TransportMode,
+    ) -> PluginResult<f64> {
+        self.pdf(&ctx.shading(), wo, wi, lambda, mode)
+    }
+    /// [`emitted`](Self::emitted) with the surface's normals.
+    fn emitted_at(
+        &self,
+        ctx: &SurfaceContext,
+        wo: Vec3,
+        lambda: &Wavelengths,
+    ) -> PluginResult<SpectralValues> {
+        self.emitted(&ctx.shading(), wo, lambda)
+    }
+    /// For EMISSIVE materials whose emission is Lambertian and uniform over the surface: that
+    /// emission, exactly (extension v2). The host then builds the area light on every object
+    /// using the material from it, as for its own `emissive`. `None` (the default) makes the host
+    /// tabulate [`emitted`](Self::emitted) along the normal instead, at 1 nm over 360–830 nm.
+    fn emission(&self) -> PluginResult<Option<Emission>> {
+        Ok(None)
+    }
 }
 
 /// The stable-ABI face of a material.
@@ -148,14 +256,106 @@ pub type MaterialBox = AbiMaterial_TO<'static, RBox<()>>;
 
 /// Wraps an author's material so panics come back as errors.
 pub struct GuardedMaterial<T> {
-    inner: T,
+    inner: Arc<T>,
     state: fn(&T) -> PluginResult<Vec<u8>>,
 }
 
 impl<T: Material> GuardedMaterial<T> {
     /// Box `inner` behind the ABI.
     pub fn boxed(inner: T, state: fn(&T) -> PluginResult<Vec<u8>>) -> MaterialBox {
-        AbiMaterial_TO::from_value(Self { inner, state }, abi_stable::sabi_trait::TD_Opaque)
+        AbiMaterial_TO::from_value(
+            Self {
+                inner: Arc::new(inner),
+                state,
+            },
+            abi_stable::sabi_trait::TD_Opaque,
+        )
+    }
+
+    /// Box `inner` behind the ABI with its version-2 face (extension v2), one object behind both.
+    pub fn boxed_v2(inner: T, state: fn(&T) -> PluginResult<Vec<u8>>) -> MaterialWithV2 {
+        let inner = Arc::new(inner);
+        MaterialWithV2 {
+            material: AbiMaterial_TO::from_value(
+                Self {
+                    inner: inner.clone(),
+                    state,
+                },
+                abi_stable::sabi_trait::TD_Opaque,
+            ),
+            v2: crate::extension::AbiMaterialV2_TO::from_value(
+                Self { inner, state },
+                abi_stable::sabi_trait::TD_Opaque,
+            ),
+        }
+    }
+}
+
+/// Saved state of an object that is part of another (an emission spectrum): there is none.
+fn no_state<T>(_: &T) -> PluginResult<Vec<u8>> {
+    Err(PluginError::unsupported(
+        "save_state of an emission spectrum",
+    ))
+}
+
+impl<T: Material> AbiMaterialV2 for GuardedMaterial<T> {
+    fn sample(
+        &self,
+        ctx: &SurfaceContext,
+        wo: Vec3,
+        lambda: &Wavelengths,
+        u: &RandomSample,
+        mode: TransportMode,
+    ) -> RResult<ROption<ScatterSample>, PluginError> {
+        guarded("sample_at", || {
+            self.inner
+                .sample_at(ctx, wo, lambda, u, mode)
+                .map(Into::into)
+        })
+    }
+    fn eval(
+        &self,
+        ctx: &SurfaceContext,
+        wo: Vec3,
+        wi: Vec3,
+        lambda: &Wavelengths,
+        mode: TransportMode,
+    ) -> RResult<SpectralValues, PluginError> {
+        guarded("eval_at", || self.inner.eval_at(ctx, wo, wi, lambda, mode))
+    }
+    fn pdf(
+        &self,
+        ctx: &SurfaceContext,
+        wo: Vec3,
+        wi: Vec3,
+        lambda: &Wavelengths,
+        mode: TransportMode,
+    ) -> RResult<f64, PluginError> {
+        guarded("pdf_at", || self.inner.pdf_at(ctx, wo, wi, lambda, mode))
+    }
+    fn emitted(
+        &self,
+        ctx: &SurfaceContext,
+        wo: Vec3,
+        lambda: &Wavelengths,
+    ) -> RResult<SpectralValues, PluginError> {
+        guarded("emitted_at", || self.inner.emitted_at(ctx, wo, lambda))
+    }
+    fn emission(&self) -> RResult<ROption<MaterialEmission>, PluginError> {
+        let e = match guarded("emission", || self.inner.emission()) {
+            RResult::ROk(e) => e,
+            RResult::RErr(e) => return RResult::RErr(e),
+        };
+        let Some(e) = e else {
+            return RResult::ROk(ROption::RNone);
+        };
+        SpdWithLines::new(e.spectrum, no_state).map(|spectrum| {
+            ROption::RSome(MaterialEmission {
+                spectrum,
+                scale: e.scale_w_m2_sr,
+                two_sided: e.two_sided,
+            })
+        })
     }
 }
 

@@ -27,7 +27,11 @@
 //!    the versions they support.
 //!
 //! Extensions so far: `spectrace_plugin_extensions_v1` (beams in another representation, see
-//! [`representation`](crate::representation)).
+//! [`representation`](crate::representation)) and `spectrace_plugin_extensions_v2` (scene
+//! bounds and emission spectra for lights, surface normals and exact emission for materials,
+//! spectral lines for SPDs; see [`extension`](crate::extension)). The workspace test
+//! `api_growth` loads plugins built against frozen copies of the API at 0.1.0
+//! (`plugins/fixtures/api-0.1.0/`) and at extension v1 (`plugins/fixtures/api-ext-v1/`).
 
 use crate::error::PluginError;
 use crate::host::HostRef;

@@ -8,6 +8,7 @@ use crate::types::{Flags, WavelengthRange};
 use abi_stable::{
     sabi_trait,
     std_types::{RBox, RResult, RVec},
+    StableAbi,
 };
 
 /// Capability bits of an SPD.
@@ -31,6 +32,44 @@ pub trait Spd: Send + Sync + 'static {
     /// Capability bits ([`spd_flags`]).
     fn capabilities(&self) -> Flags {
         Flags::NONE
+    }
+    /// The spectral lines (deltas in λ) and the share of the total each carries; empty for a
+    /// continuous SPD. Read once, when the object is built, through extension v2
+    /// ([`crate::extension`]): with it the host weighs lines exactly as its own line SPDs.
+    fn delta_lines(&self) -> Vec<SpectralLine> {
+        Vec::new()
+    }
+}
+
+/// One spectral line of an SPD (extension v2): all of `weight` at `nm`.
+#[repr(C)]
+#[derive(StableAbi, Clone, Copy, Debug, Default, PartialEq)]
+pub struct SpectralLine {
+    /// Wavelength, nm.
+    pub nm: f64,
+    /// Share of the SPD's total (unitless, ≤ 1); the continuous part carries the rest.
+    pub weight: f64,
+}
+
+/// An SPD chosen at run time (a light's or material's emission spectrum handed to the host).
+impl Spd for Box<dyn Spd> {
+    fn value(&self, nm: f64) -> PluginResult<f64> {
+        (**self).value(nm)
+    }
+    fn sample(&self, u: f64) -> PluginResult<WavelengthSample> {
+        (**self).sample(u)
+    }
+    fn pdf(&self, nm: f64) -> PluginResult<f64> {
+        (**self).pdf(nm)
+    }
+    fn range_nm(&self) -> WavelengthRange {
+        (**self).range_nm()
+    }
+    fn capabilities(&self) -> Flags {
+        (**self).capabilities()
+    }
+    fn delta_lines(&self) -> Vec<SpectralLine> {
+        (**self).delta_lines()
     }
 }
 

@@ -198,3 +198,36 @@ pub struct Xyz {
     /// Z
     pub z: f64,
 }
+
+/// The scene's extent, handed to a light once the scene is built (extension v2,
+/// [`LightSource::scene_bounds`](crate::LightSource::scene_bounds)): lights that cover the whole
+/// scene (a distant sun, a sky) size themselves from it. Boxes are axis-aligned, in scene units.
+#[repr(C)]
+#[derive(StableAbi, Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct SceneBounds {
+    /// Smallest corner of the box around all geometry.
+    pub min: Vec3,
+    /// Largest corner of the box around all geometry.
+    pub max: Vec3,
+    /// Smallest corner of the box around all geometry and every camera position.
+    pub view_min: Vec3,
+    /// Largest corner of the box around all geometry and every camera position.
+    pub view_max: Vec3,
+}
+
+impl SceneBounds {
+    /// Centre and radius (scene units) of the sphere through the corners of the geometry box.
+    pub fn bounding_sphere(&self) -> (Vec3, f64) {
+        (
+            (self.min + self.max) * 0.5,
+            (self.max - self.min).length() * 0.5,
+        )
+    }
+    /// Centre and radius (scene units) of the sphere through the corners of the view box.
+    pub fn view_sphere(&self) -> (Vec3, f64) {
+        (
+            (self.view_min + self.view_max) * 0.5,
+            (self.view_max - self.view_min).length() * 0.5,
+        )
+    }
+}

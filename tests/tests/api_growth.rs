@@ -158,3 +158,105 @@ fn a_plugin_built_against_the_frozen_0_1_0_api_loads_and_renders() {
         let _ = std::fs::remove_file(f);
     }
 }
+
+/// A plugin built against the API of extension v1, before v2 (`plugins/fixtures/api-ext-v1/`, a
+/// frozen copy of the API source at that point, and `plugins/fixtures/api-ext-v1-plugin/` built
+/// on it) keeps loading: it exports extension v1 but not v2, so the host finds v1, reads v2 as
+/// absent and builds its objects through the root module alone. Quantity: its grey material's
+/// `eval` through the host adapter (exactly ρ/π, f32 rounding: 1e-6), and its point light's
+/// image mean Y against the built-in point light of the same emission (light tracing, 4 seeds of
+/// 256 spp each): within 4 standard errors of the difference, with 4σ below 2% so that a broken
+/// fall-back (lost power, wrong spectrum) would be seen.
+#[test]
+fn a_plugin_built_against_extension_v1_loads_and_renders() {
+    use spectrace::material::{Material as _, ShadingContext, TransportMode};
+    use spectrace_plugin_api::abi::std_types::RStr;
+    use spectrace_plugin_api::module::ObjectSource;
+    let lib = build_external(
+        "plugins/fixtures/api-ext-v1-plugin",
+        "spectrace_fixture_api_ext_v1_plugin",
+    );
+    let mut registry = spectrace::plugin::builtin_registry();
+    registry
+        .load_plugin(&lib)
+        .unwrap_or_else(|e| panic!("the v1 plugin must load: {}", e.verbose()));
+    let plugin = registry
+        .plugins()
+        .iter()
+        .find(|p| p.info.name.as_str() == "api-ext-v1-plugin")
+        .expect("loaded")
+        .clone();
+    assert!(
+        spectrace::plugin::representation::extension::extensions_v1(&plugin.path)
+            .unwrap()
+            .is_some(),
+        "it exports extension v1"
+    );
+    assert!(
+        spectrace::plugin::extension_v2::extensions_v2(&plugin.path)
+            .unwrap()
+            .is_none(),
+        "a library built before extension v2 existed does not export it"
+    );
+    let source = ObjectSource::Params(RStr::from_str("(reflectance: 0.5)"));
+    assert!(registry
+        .create_plugin_material_v2("v1_grey", source)
+        .unwrap()
+        .is_none());
+    let grey = spectrace::plugin::adapter::PluginMaterial::new(
+        registry.create_plugin_material("v1_grey", source).unwrap(),
+        spectrace::plugin::adapter::Origin {
+            label: "v1_grey".into(),
+            faults: PluginFaults::new(),
+        },
+    );
+    let wo = glam::Vec3A::new(0.0, 0.6, 0.8);
+    let ctx = ShadingContext::at(
+        glam::Vec3A::ZERO,
+        glam::Vec3A::Y,
+        glam::Vec3A::Y,
+        glam::Vec2::ZERO,
+    );
+    let lambda = spectrace::spectrum::SampledWavelengths::sample_visible(0.3);
+    let f = grey.eval(wo, wo, &ctx, &lambda, TransportMode::Radiance);
+    assert!((f.0[0] - 0.5 / std::f32::consts::PI).abs() < 1e-6, "{f:?}");
+    let registry = Arc::new(registry);
+
+    let plugin_scene = tmp("v1-plugin.ron");
+    std::fs::write(
+        &plugin_scene,
+        scene_text(r#"(name: "bulb", type: "v1_point", params: (position: (0, 1, 0), power_w: 20, spd: "d65"))"#),
+    )
+    .unwrap();
+    let native_scene = tmp("v1-native.ron");
+    std::fs::write(
+        &native_scene,
+        scene_text(r#"(name: "bulb", type: "point", params: (position: (0, 1, 0), power: 20, spd: "d65"))"#),
+    )
+    .unwrap();
+    let mut p = Vec::new();
+    let mut n = Vec::new();
+    for seed in 0..4 {
+        let (m, faults) = render_mean(&plugin_scene, &registry, seed);
+        assert_eq!(faults.count(), 0, "{:?}", faults.report());
+        assert_eq!(faults.invalid_count(), 0, "{:?}", faults.report());
+        p.push(m);
+        n.push(render_mean(&native_scene, &registry, 100 + seed).0);
+    }
+    let ((mp, sp), (mn, sn)) = (mean_and_se(&p), mean_and_se(&n));
+    let se = (sp * sp + sn * sn).sqrt();
+    eprintln!(
+        "v1 plugin {mp:.6} ± {sp:.2e}, built-in point {mn:.6} ± {sn:.2e} ({:+.3}%, {:+.1} σ)",
+        100.0 * (mp - mn) / mn,
+        (mp - mn) / se
+    );
+    assert!(mp > 0.0);
+    assert!(
+        4.0 * se < 0.02 * mn,
+        "σ {se} too large for the test to be sharp"
+    );
+    assert!((mp - mn).abs() < 4.0 * se, "plugin {mp} vs built-in {mn}");
+    for f in [plugin_scene, native_scene] {
+        let _ = std::fs::remove_file(f);
+    }
+}

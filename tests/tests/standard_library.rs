@@ -1,10 +1,10 @@
-//! The standard set as a library (`plugins/standard`): the host's materials, point and spot
-//! lights, SPD types and CIE observers loaded from a plugin library build objects that sample
-//! bit for bit like the built-ins, and scenes render alike (within the bounds stated below);
-//! loaded next to the built-ins, the library is refused naming both providers; alone it renders
-//! the Cornell box.
+//! The standard set as a library (`plugins/standard`): the host's materials, lights (point,
+//! spot, directional, environment), SPD types and CIE observers loaded from a plugin library
+//! build objects that sample bit for bit like the built-ins, and scenes render bit for bit alike
+//! with every type from the library, in PT, BDPT and LT; loaded next to the built-ins, the
+//! library is refused naming both providers; alone it renders the Cornell box.
 
-use spectrace::integrator::{render, RenderSettings, SampleBudget};
+use spectrace::integrator::{render_with, IntegratorKind, RenderSettings, SampleBudget};
 use spectrace::plugin::adapter::PluginFaults;
 use spectrace::plugin::factory::RegistryFactory;
 use spectrace::plugin::{Kind, Registry};
@@ -35,7 +35,7 @@ fn library_registry() -> Registry {
             "{name}"
         );
     }
-    for name in ["point", "spot"] {
+    for name in ["point", "spot", "directional", "environment"] {
         assert!(r.plugin_for(Kind::Light, name).unwrap().is_some(), "{name}");
     }
     r
@@ -60,17 +60,19 @@ fn next_to_the_builtins_the_library_is_refused_naming_both() {
     assert!(r.plugins().is_empty());
 }
 
-/// Quantity: value, pdf and sampled wavelength of the `spec` and `table` SPD types, and x̄ȳz̄
-/// of the four CIE observers, at 471 wavelengths (360–830 nm), library against built-in.
-/// Tolerance: none: both run the same host code on the same f64 parameters and the plugin
-/// interface passes f64 unchanged.
+/// Quantity: value, pdf and sampled wavelength (and whether it is a line) of the `spec` and
+/// `table` SPD types, their range and spectral lines (a mixture with a line included), and x̄ȳz̄
+/// and the integral of ȳ of the four CIE observers, at 471 wavelengths (360–830 nm), library
+/// against built-in. Tolerance: none: both run the same host code on the same f64 parameters,
+/// the plugin interface passes f64 unchanged, and lines cross through extension v2.
 #[test]
 fn library_types_sample_exactly_like_the_builtins() {
     let builtin = factory(spectrace::plugin::builtin_registry());
     let lib = factory(library_registry());
-    let spds: [(&str, &str); 3] = [
+    let spds: [(&str, &str); 4] = [
         ("spec", "(spec: \"blackbody:3000\")"),
         ("spec", "(spec: \"fl11\")"),
+        ("spec", "(spec: \"0.75*d65 + 0.25*line:532\")"),
         (
             "table",
             "(values: [(400, 1), (500, 3), (600, 0.5), (700, 2)])",
@@ -84,12 +86,15 @@ fn library_types_sample_exactly_like_the_builtins() {
             lib.registry().plugin_for(Kind::Spd, ty).unwrap().is_some(),
             "{ty} comes from the library"
         );
+        assert_eq!(a.range(), b.range(), "{ty} range");
+        assert_eq!(a.delta_lines(), b.delta_lines(), "{ty} lines");
+        assert_eq!(a.is_delta(), b.is_delta(), "{ty} is_delta");
         for i in 0..=470 {
             let nm = 360.0 + i as f64;
             let u = i as f64 / 471.0;
             assert_eq!(a.value(nm), b.value(nm), "{ty} value at {nm}");
             assert_eq!(a.pdf(nm), b.pdf(nm), "{ty} pdf at {nm}");
-            assert_eq!(a.sample(u).lambda, b.sample(u).lambda, "{ty} sample at {u}");
+            assert_eq!(a.sample(u), b.sample(u), "{ty} sample at {u}");
         }
     }
     for name in ["cie1931-2", "cie1964-10", "cie2015-2", "cie2015-10"] {
@@ -98,6 +103,7 @@ fn library_types_sample_exactly_like_the_builtins() {
             .unwrap();
         let b = lib.observer(name, &ron::Value::Unit, &ctx(&lib)).unwrap();
         assert_eq!(a.range(), b.range(), "{name}");
+        assert_eq!(a.integral_y(), b.integral_y(), "{name}");
         for i in 0..=470 {
             let nm = 360.0 + i as f64;
             assert_eq!(a.xyz_bar(nm), b.xyz_bar(nm), "{name} at {nm}");
@@ -106,17 +112,20 @@ fn library_types_sample_exactly_like_the_builtins() {
 }
 
 /// Quantity: `sample` (direction, value, pdf, flags, eta), `eval`, `pdf` and `emitted` of the
-/// six built-in material types, and `sample_li`, `sample_le`, `pdf_le`, power and wavelength
-/// sampling of `point` and `spot`, at 200 pseudo-random inputs each, library against built-in.
-/// Tolerance: none (bit-identical): both run the host's own code, and every f32 the host hands
-/// the library crosses as f64 and comes back as the same f32. Not carried: the shading
-/// normals (no built-in material reads them) and the wavelengths' densities (only thin films
-/// read them), so those are left at their defaults here too.
+/// six built-in material types (and the emission an area light is built from), and `sample_li`,
+/// `pdf_li`, `sample_le`, `pdf_le`, `radiance`, `escape_point`, power and the emission spectrum
+/// of `point`, `spot`, `directional` and `environment` after both learned the same scene bounds,
+/// at 200 pseudo-random inputs each, library against built-in. Tolerance: none (bit-identical):
+/// both run the host's own code, every f32 the host hands the library crosses as f64 and comes
+/// back as the same f32, and through extension v2 the shading context carries the normals, the
+/// lights get the bounds and emitters hand over their own SPD. Not carried: the wavelengths'
+/// densities (only thin films read them), so they are left at 1/nm here.
 #[test]
 fn library_materials_and_lights_sample_exactly_like_the_builtins() {
     use glam::{Vec2, Vec3A};
+    use spectrace::geometry::{Aabb, Ray};
     use spectrace::light::LightSampleContext;
-    use spectrace::material::{MaterialFlags, ShadingContext, TransportMode};
+    use spectrace::material::{ShadingContext, TransportMode};
     use spectrace::spectrum::SampledWavelengths;
     let builtin = factory(spectrace::plugin::builtin_registry());
     let lib = factory(library_registry());
@@ -145,18 +154,32 @@ fn library_materials_and_lights_sample_exactly_like_the_builtins() {
             .plugin_for(Kind::Material, ty)
             .unwrap()
             .is_some());
-        // The plugin interface has no reflection bit: the host gives every plugin material
-        // REFLECTION (only `emissive` lacks it as a built-in, and it scatters nothing).
-        assert_eq!(
-            a.flags() | MaterialFlags::REFLECTION,
-            b.flags() | MaterialFlags::REFLECTION,
-            "{ty} flags"
-        );
+        assert_eq!(a.flags(), b.flags(), "{ty} flags");
+        match (a.emission(), b.emission()) {
+            (None, None) => {}
+            (Some(ea), Some(eb)) => {
+                assert_eq!(
+                    (ea.scale.to_bits(), ea.two_sided),
+                    (eb.scale.to_bits(), eb.two_sided),
+                    "{ty} emission"
+                );
+                assert_eq!(ea.spd.range(), eb.spd.range(), "{ty} emission range");
+                for k in 0..=470 {
+                    let nm = 360.0 + k as f64;
+                    assert_eq!(ea.spd.value(nm), eb.spd.value(nm), "{ty} emission at {nm}");
+                    let u = k as f64 / 471.0;
+                    assert_eq!(ea.spd.sample(u), eb.spd.sample(u), "{ty} emission sample");
+                }
+            }
+            (x, y) => panic!("{ty}: emission {:?} vs {:?}", x.is_some(), y.is_some()),
+        }
         for _ in 0..200 {
+            let ng = Vec3A::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5).normalize();
+            let ns = (ng + 0.2 * Vec3A::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5)).normalize();
             let sc = ShadingContext::at(
                 Vec3A::new(rnd(), rnd(), rnd()),
-                Vec3A::ZERO,
-                Vec3A::ZERO,
+                ng,
+                ns,
                 Vec2::new(rnd(), rnd()),
             );
             let wo = Vec3A::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.3).normalize();
@@ -192,7 +215,21 @@ fn library_materials_and_lights_sample_exactly_like_the_builtins() {
             "(position: (2, 3, 2), target: (0, 0, 0), inner_angle: 15, outer_angle: 25, \
              power: 1500, spd: \"blackbody:2856\")",
         ),
+        (
+            "directional",
+            "(direction: (-0.4, -1, -0.3), irradiance: 800, spd: \"0.9*d65 + 0.1*line:589\")",
+        ),
+        ("environment", "(radiance: \"blackbody:9000\", scale: 30)"),
     ];
+    // The scene's geometry, and with a camera at (0, 1, 8) the view bounds.
+    let bounds = Aabb {
+        min: Vec3A::new(-3.0, -1.0, -3.0),
+        max: Vec3A::new(3.0, 2.5, 1.0),
+    };
+    let view = Aabb {
+        min: bounds.min,
+        max: Vec3A::new(3.0, 2.5, 8.0),
+    };
     for (ty, params) in lights {
         let params: ron::Value = ron::from_str(params).unwrap();
         let a = builtin.light(ty, &params, &ctx(&builtin)).unwrap();
@@ -202,13 +239,21 @@ fn library_materials_and_lights_sample_exactly_like_the_builtins() {
             .plugin_for(Kind::Light, ty)
             .unwrap()
             .is_some());
+        for l in [&a, &b] {
+            l.preprocess(&bounds);
+            l.preprocess_view(&view);
+        }
         assert_eq!(a.flags(), b.flags(), "{ty} flags");
-        assert_eq!(a.power(), b.power(), "{ty} power");
+        assert_eq!(a.power().to_bits(), b.power().to_bits(), "{ty} power");
+        let (sa, sb) = (a.spd(), b.spd());
+        assert_eq!(sa.range(), sb.range(), "{ty} spectrum range");
+        assert_eq!(sa.delta_lines(), sb.delta_lines(), "{ty} spectrum lines");
         for _ in 0..200 {
             let u = rnd() as f64;
-            assert_eq!(a.spd().sample(u).lambda, b.spd().sample(u).lambda, "{ty}");
+            assert_eq!(sa.sample(u), sb.sample(u), "{ty} wavelength sample");
             let nm = 360.0 + 470.0 * rnd() as f64;
-            assert_eq!(a.spd().pdf(nm), b.spd().pdf(nm), "{ty} wavelength pdf");
+            assert_eq!(sa.pdf(nm), sb.pdf(nm), "{ty} wavelength pdf");
+            assert_eq!(sa.value(nm), sb.value(nm), "{ty} spectrum value");
             let lambda = SampledWavelengths::sample_uniform(rnd(), 360.0, 830.0);
             let lc = LightSampleContext {
                 p: Vec3A::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5) * 4.0,
@@ -225,6 +270,18 @@ fn library_materials_and_lights_sample_exactly_like_the_builtins() {
                     (lb.radiance, lb.wi, lb.pdf, lb.p_light, lb.n_light),
                     "{ty} sample_li"
                 );
+                assert_eq!(
+                    a.pdf_li(&lc, la.p_light, la.n_light).to_bits(),
+                    b.pdf_li(&lc, lb.p_light, lb.n_light).to_bits(),
+                    "{ty} pdf_li"
+                );
+                assert_eq!(
+                    a.radiance(la.p_light, la.n_light, Vec2::ZERO, -la.wi, &lambda),
+                    b.radiance(lb.p_light, lb.n_light, Vec2::ZERO, -lb.wi, &lambda),
+                    "{ty} radiance"
+                );
+                let ray = Ray::new(lc.p, la.wi);
+                assert_eq!(a.escape_point(&ray), b.escape_point(&ray), "{ty} escape");
             }
             let (ea, eb) = (a.sample_le(u1, u2, &lambda), b.sample_le(u1, u2, &lambda));
             assert_eq!(ea.is_some(), eb.is_some(), "{ty} sample_le");
@@ -235,20 +292,22 @@ fn library_materials_and_lights_sample_exactly_like_the_builtins() {
                         ea.ray.dir,
                         ea.radiance,
                         ea.pdf_pos,
-                        ea.pdf_dir
+                        ea.pdf_dir,
+                        ea.normal
                     ),
                     (
                         eb.ray.origin,
                         eb.ray.dir,
                         eb.radiance,
                         eb.pdf_pos,
-                        eb.pdf_dir
+                        eb.pdf_dir,
+                        eb.normal
                     ),
                     "{ty} sample_le"
                 );
                 assert_eq!(
-                    a.pdf_le(&ea.ray, Vec3A::ZERO),
-                    b.pdf_le(&ea.ray, Vec3A::ZERO),
+                    a.pdf_le(&ea.ray, ea.normal),
+                    b.pdf_le(&ea.ray, ea.normal),
                     "{ty} pdf_le"
                 );
             }
@@ -256,10 +315,11 @@ fn library_materials_and_lights_sample_exactly_like_the_builtins() {
     }
 }
 
-/// Render `desc` (`spp` samples per pixel, `seed`) with the types of `registry`.
+/// Render `desc` with `kind` (`spp` samples per pixel, `seed`) with the types of `registry`.
 fn render_xyz(
     desc: &spectrace::scene::SceneDescription,
     registry: Registry,
+    kind: IntegratorKind,
     spp: u32,
     seed: u64,
 ) -> Vec<[f64; 3]> {
@@ -278,10 +338,11 @@ fn render_xyz(
         threads: Some(2),
         ..RenderSettings::default()
     };
-    render(&scene, &settings, &|_, _| {}, None)
-        .unwrap()
-        .image
-        .xyz
+    let out = render_with(&scene, &settings, kind, false, &|_, _| {}, None)
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(f.faults().count(), 0, "{:?}", f.faults().report());
+    assert_eq!(f.faults().invalid_count(), 0, "{:?}", f.faults().report());
+    out.result.image.xyz
 }
 
 /// The first camera's resolution set to `w`×`h`.
@@ -299,95 +360,72 @@ fn at_resolution(
     desc
 }
 
-/// Built-ins against the library, same seeds: per channel, the mean over seeds of the relative
-/// difference of the image means, its standard error, and the share of pixels that are
-/// bit-identical.
-fn compare(
-    desc: &spectrace::scene::SceneDescription,
-    spp: u32,
-    seeds: u64,
-) -> ([f64; 3], [f64; 3], f64, f64, f64) {
-    let mut d: Vec<[f64; 3]> = Vec::new();
-    let (mut same, mut total) = (0usize, 0usize);
-    let mut worst = 0.0f64;
-    let mut close = 0usize;
-    for seed in 0..seeds {
-        let a = render_xyz(desc, spectrace::plugin::builtin_registry(), spp, seed);
-        let b = render_xyz(desc, library_registry(), spp, seed);
-        same += a.iter().zip(&b).filter(|(x, y)| x == y).count();
-        for (x, y) in a.iter().zip(&b) {
-            let scale = x.iter().chain(y).fold(0.0f64, |m, v| m.max(v.abs()));
-            let d = (0..3).fold(0.0f64, |m, c| m.max((x[c] - y[c]).abs()));
-            let rel = if scale > 0.0 { d / scale } else { 0.0 };
-            worst = worst.max(rel);
-            close += usize::from(rel <= 1e-5);
-        }
-        total += a.len();
-        let mean =
-            |img: &[[f64; 3]], c: usize| img.iter().map(|p| p[c]).sum::<f64>() / img.len() as f64;
-        d.push(std::array::from_fn(|c| {
-            let (ma, mb) = (mean(&a, c), mean(&b, c));
-            assert!(ma > 0.0, "channel {c} of seed {seed} is black");
-            (mb - ma) / ma
-        }));
-    }
-    let n = d.len() as f64;
-    let m: [f64; 3] = std::array::from_fn(|c| d.iter().map(|x| x[c]).sum::<f64>() / n);
-    let se: [f64; 3] = std::array::from_fn(|c| {
-        (d.iter().map(|x| (x[c] - m[c]).powi(2)).sum::<f64>() / (n - 1.0) / n).sqrt()
-    });
-    let share = |k: usize| k as f64 / total as f64;
-    (m, se, share(same), share(close), worst)
-}
-
-/// Quantity: `scenes/materials.ron` (every built-in material under a spot light and an
-/// emissive quad; 64×40, 16 spp, 6 seeds) and the Cornell box (24×24, 4 spp, 4 seeds), rendered
-/// with the built-ins and with ALL their types from the library (`--replace-builtins`): per
-/// channel the paired relative difference of the image means (same seed), its standard error
-/// over the seeds, and per pixel the largest difference relative to the pixel's largest channel.
+/// Quantity: every pixel's X, Y and Z of three scenes rendered with the built-ins and with ALL
+/// their types from the library (`--replace-builtins`), same seed and spp, in PT, BDPT and LT:
+/// the Cornell box (one area light; 24×24, 4 spp), `scenes/materials.ron` (every built-in
+/// material under an emissive quad and a spot light; 64×40, 4 spp) and
+/// `scenes/sun_and_sky.ron` (a directional and an environment light; 48×32, 4 spp).
+/// Tolerance: none, bit-identical (what `spectrace compare --json` reports as RMSE 0).
 ///
-/// Why not bit-identical: the materials and lights themselves are (see the test above), but the
-/// host sees a plugin emitter's spectrum only through the plugin interface. An emissive plugin
-/// material becomes an area light whose spectrum is `emitted` tabulated at 1 nm over 360–830 nm
-/// and interpolated linearly (`PluginMaterial::probe_emission`), and whose power is that table's
-/// trapezoid integral; a plugin light's spectrum is its `sample_wavelength`/`wavelength_pdf`
-/// over 360–830 nm. With one light (the Cornell box) this only moves the area light's values in
-/// the last f32 digits: every pixel agrees within 1e-5 (measured: 2.1e-7, 28% bit for bit).
-/// With two lights the light-selection probabilities differ, sampling decisions flip and from
-/// there paths draw different random numbers: nearly every pixel differs by Monte Carlo noise
-/// (measured: 1.4% bit-identical), and the means differ by about 0.1% (measured X −0.14% ±
-/// 0.04%, Y −0.11% ± 0.03%, Z −0.02% ± 0.03%), which is the tabulated emitter spectrum, not
-/// noise alone.
-///
-/// Tolerance: materials scene: the mean difference within 0.5% per channel, and 0.5% at least
-/// 3 standard errors, so the test can see a 0.5% bias. Cornell box: every pixel within 1e-5 of
-/// its largest channel (f32 rounding of the area light's spectrum, about 1e-7, with margin).
+/// Why this holds, and what it took: the objects are bit-identical (test above), and through
+/// extension v2 the host also sees the emitters' spectra as the built-ins do. Before v2 the host
+/// knew a plugin emitter's spectrum only through sampled values: an emissive plugin material's
+/// area light was `emitted` tabulated at 1 nm over 360–830 nm, with the table's trapezoid
+/// integral as its scale. For D65 (defined from 300 nm) that integral leaves out the 300–360 nm
+/// part, so the area light's power, and with it the light-selection probabilities, differed
+/// from the built-in's. Measured on `materials.ron` (PT, 64×40, 16 spp, 16 seeds, library before
+/// v2 over built-in): the emissive quad alone rendered alike up to f32 rounding of the table
+/// (mean ratio 1 + 1e-7), the spot light alone bit for bit, both together −0.19% ± 0.03% in X,
+/// −0.16% ± 0.03% in Y, −0.05% ± 0.02% in Z. So the offset came from the changed selection
+/// probabilities alone; that a change of them moves the mean by 6σ is not explained here (the
+/// materials' sampled and evaluated densities agree), and it no longer arises between the
+/// library and the built-ins, whose probabilities are now the same bits.
 #[test]
-fn a_scene_renders_alike_with_all_types_from_the_library() {
-    let text = include_str!("../../scenes/materials.ron");
-    let materials = at_resolution(
-        spectrace::scene::parse_scene_str(text, std::path::Path::new("materials.ron")).unwrap(),
-        64,
-        40,
-    );
-    let (m, se, same, close, worst) = compare(&materials, 16, 6);
-    let msg = format!(
-        "materials: relative difference of the means {m:?}, standard error {se:?}, \
-         bit-identical pixels {same}, pixels within 1e-5 {close}, largest difference {worst}"
-    );
-    eprintln!("{msg}");
-    for c in 0..3 {
-        assert!(m[c].abs() < 0.005, "{msg}");
-        assert!(3.0 * se[c] < 0.005, "{msg}");
+fn scenes_render_bit_for_bit_with_all_types_from_the_library() {
+    let parse = |text: &str, name: &str| {
+        spectrace::scene::parse_scene_str(text, std::path::Path::new(name)).unwrap()
+    };
+    let scenes = [
+        (
+            "cornell",
+            at_resolution(spectrace::scene::cornell_box_description().unwrap(), 24, 24),
+        ),
+        (
+            "materials",
+            at_resolution(
+                parse(include_str!("../../scenes/materials.ron"), "materials.ron"),
+                64,
+                40,
+            ),
+        ),
+        (
+            "sun_and_sky",
+            at_resolution(
+                parse(
+                    include_str!("../../scenes/sun_and_sky.ron"),
+                    "sun_and_sky.ron",
+                ),
+                48,
+                32,
+            ),
+        ),
+    ];
+    for (name, desc) in &scenes {
+        for kind in [IntegratorKind::Pt, IntegratorKind::Bdpt, IntegratorKind::Lt] {
+            let a = render_xyz(desc, spectrace::plugin::builtin_registry(), kind, 4, 7);
+            let b = render_xyz(desc, library_registry(), kind, 4, 7);
+            let differ = a.iter().zip(&b).filter(|(x, y)| x != y).count();
+            let mean_y = a.iter().map(|p| p[1]).sum::<f64>() / a.len() as f64;
+            eprintln!("{name} {kind}: {differ} of {} pixels differ", a.len());
+            assert!(mean_y > 0.0, "{name} {kind}: black");
+            assert_eq!(
+                differ,
+                0,
+                "{name} {kind}: {differ} of {} pixels differ",
+                a.len()
+            );
+        }
     }
-    let cornell = at_resolution(spectrace::scene::cornell_box_description().unwrap(), 24, 24);
-    let (m, se, same, close, worst) = compare(&cornell, 4, 4);
-    let msg = format!(
-        "cornell: relative difference of the means {m:?}, standard error {se:?}, \
-         bit-identical pixels {same}, pixels within 1e-5 {close}, largest difference {worst}"
-    );
-    eprintln!("{msg}");
-    assert!(worst < 1e-5, "{msg}");
 }
 
 /// Quantity: the Cornell box with no built-in materials, lights, SPDs or observers
@@ -399,7 +437,7 @@ fn without_builtins_the_library_renders_the_cornell_box() {
     r.load_plugin(&library()).unwrap();
     assert!(r.plugin_for(Kind::Material, "emissive").unwrap().is_some());
     let desc = at_resolution(spectrace::scene::cornell_box_description().unwrap(), 16, 16);
-    let img = render_xyz(&desc, r, 2, 1);
+    let img = render_xyz(&desc, r, IntegratorKind::Pt, 2, 1);
     let y = img.iter().map(|p| p[1]).sum::<f64>() / img.len() as f64;
     assert!(y > 0.0 && y.is_finite(), "mean Y {y}");
 }

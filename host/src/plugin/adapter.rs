@@ -22,16 +22,19 @@ use crate::material::{
 };
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spd, SpdSample, LANES};
 use glam::{Vec2, Vec3A};
-use spectrace_plugin_api::abi::std_types::RResult;
-use spectrace_plugin_api::extension::RepresentedLightBox;
+use spectrace_plugin_api::abi::std_types::{ROption, RResult};
+use spectrace_plugin_api::extension::{
+    LightV2Box, LightWithV2, MaterialV2Box, MaterialWithV2, RepresentedLightBox, SpdWithLines,
+};
 use spectrace_plugin_api::{
     light_flags, material_flags, spd_flags, Beam, Flags, LightBox, MaterialBox, ObserverBox,
-    PluginError, RandomSample, SpdBox, SpectralValues, TransportMode, Vec3, Wavelengths,
+    PluginError, RandomSample, SceneBounds, SpdBox, SpectralValues, SurfaceContext, TransportMode,
+    Vec3, Wavelengths,
 };
 use std::collections::BTreeMap;
 use std::fmt;
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::{Arc, Mutex};
+use std::sync::{Arc, Mutex, OnceLock};
 
 /// Errors raised by plugin calls while rendering: the first message and how many there were;
 /// per call site, how many and the first message; per object and reason, how many results
@@ -158,6 +161,16 @@ fn va(v: Vec3) -> Vec3A {
     Vec3A::new(v.x as f32, v.y as f32, v.z as f32)
 }
 
+/// `v` as a unit vector: unchanged when it is one to f32 precision (so a direction the host
+/// handed out comes back with the same bits), else normalised.
+fn unit(v: Vec3A) -> Vec3A {
+    if (v.length_squared() - 1.0).abs() <= 4.0 * f32::EPSILON {
+        v
+    } else {
+        v.normalize_or_zero()
+    }
+}
+
 fn lambdas(l: &SampledWavelengths) -> Wavelengths {
     Wavelengths {
         nm: l.lambda.map(|x| x as f64),
@@ -226,6 +239,10 @@ pub struct PluginSpd {
     spd: SpdBox,
     range: (f64, f64),
     has_lines: bool,
+    /// The spectral lines, when the plugin listed them (extension v2): then a line draw is
+    /// recognised by its wavelength and weighed by the line's share, exactly as the host's own
+    /// line SPDs are. Without them (`None`) a line draw is recognised by a zero density.
+    lines: Option<Vec<crate::spectrum::DeltaLine>>,
     origin: Origin,
 }
 
@@ -238,8 +255,31 @@ impl PluginSpd {
             spd,
             range: (r.min_nm, r.max_nm),
             has_lines,
+            lines: None,
             origin,
         }
+    }
+
+    /// Wrap an SPD built through extension v2, with its lines. Lines with a wavelength or
+    /// weight that is not finite and positive are dropped and counted.
+    pub fn with_lines(spd: SpdWithLines, origin: Origin) -> Self {
+        let mut lines = Vec::with_capacity(spd.lines.len());
+        for l in spd.lines.iter() {
+            if l.nm.is_finite() && l.nm > 0.0 && l.weight.is_finite() && l.weight > 0.0 {
+                lines.push(crate::spectrum::DeltaLine {
+                    lambda: l.nm,
+                    weight: l.weight,
+                });
+            } else {
+                origin
+                    .faults
+                    .record_invalid(&origin.label, "spectral line not finite and positive");
+            }
+        }
+        let mut out = Self::new(spd.spd, origin);
+        out.has_lines |= !lines.is_empty();
+        out.lines = Some(lines);
+        out
     }
 }
 
@@ -260,8 +300,11 @@ impl Spd for PluginSpd {
             Some(s) => SpdSample {
                 lambda: s.nm,
                 pdf: s.pdf,
-                // A line carries probability, not density: its continuous pdf is zero there.
-                is_delta: self.has_lines && self.pdf(s.nm) == 0.0,
+                is_delta: match &self.lines {
+                    Some(lines) => lines.iter().any(|l| l.lambda == s.nm),
+                    // A line carries probability, not density: its continuous pdf is zero there.
+                    None => self.has_lines && self.pdf(s.nm) == 0.0,
+                },
             },
             None => SpdSample {
                 lambda: 0.5 * (self.range.0 + self.range.1),
@@ -278,6 +321,9 @@ impl Spd for PluginSpd {
     fn range(&self) -> (f64, f64) {
         self.range
     }
+    fn delta_lines(&self) -> Vec<crate::spectrum::DeltaLine> {
+        self.lines.clone().unwrap_or_default()
+    }
     fn is_delta(&self) -> bool {
         self.has_lines
     }
@@ -291,6 +337,10 @@ pub struct PluginObserver {
     observer: ObserverBox,
     name: String,
     range: (f64, f64),
+    /// [`Observer::integral_y`], summed once: integrators ask for it per path, and the sum
+    /// takes one plugin call per nm of the range (it made light tracing with a plugin observer
+    /// 10–30× slower).
+    integral_y: OnceLock<f64>,
     origin: Origin,
 }
 
@@ -301,6 +351,7 @@ impl PluginObserver {
         Self {
             name: observer.name().into_string(),
             range: (r.min_nm, r.max_nm),
+            integral_y: OnceLock::new(),
             observer,
             origin,
         }
@@ -327,12 +378,27 @@ impl Observer for PluginObserver {
             })
             .map_or([0.0; 3], |v| [v.x, v.y, v.z])
     }
+    fn integral_y(&self) -> f64 {
+        // The trait's own sum, in the same order, so the value is the same bits.
+        *self.integral_y.get_or_init(|| {
+            crate::color::observer::integration_grid(self)
+                .map(|l| self.xyz_bar(l)[1])
+                .sum()
+        })
+    }
 }
 
 // ----------------------------------------------------------------------------------------------
 // Material
 
 fn material_bits(f: Flags, transmission_event: Option<bool>) -> MaterialFlags {
+    let scatters = [
+        material_flags::DIFFUSE,
+        material_flags::GLOSSY,
+        material_flags::SPECULAR,
+    ]
+    .iter()
+    .any(|&b| f.contains(b));
     let pairs = [
         (material_flags::DIFFUSE, MaterialFlags::DIFFUSE),
         (material_flags::GLOSSY, MaterialFlags::GLOSSY),
@@ -350,9 +416,9 @@ fn material_bits(f: Flags, transmission_event: Option<bool>) -> MaterialFlags {
             out |= h;
         }
     }
-    // The plugin interface has no reflection bit: a material reflects unless an event says it
-    // transmitted.
-    if transmission_event != Some(true) {
+    // The plugin interface has no reflection bit: a material with a lobe reflects unless an
+    // event says it transmitted (a purely emissive one scatters nothing, as the built-in).
+    if scatters && transmission_event != Some(true) {
         out |= MaterialFlags::REFLECTION;
     }
     out
@@ -363,22 +429,48 @@ fn material_bits(f: Flags, transmission_event: Option<bool>) -> MaterialFlags {
 /// sampled and MIS-weighted like the built-in `emissive`.
 pub struct PluginMaterial {
     material: MaterialBox,
+    /// The same material's version-2 face (extension v2): when present, the four calls go
+    /// through it with the surface's normals.
+    v2: Option<MaterialV2Box>,
     flags: MaterialFlags,
     emission: Option<EmissionProfile>,
     origin: Origin,
 }
 
 impl PluginMaterial {
-    /// Wrap `material`.
+    /// Wrap `material` (a library without extension v2: no normals, emission tabulated).
     pub fn new(material: MaterialBox, origin: Origin) -> Self {
+        Self::build(material, None, origin)
+    }
+
+    /// Wrap a material built through extension v2: its calls see the surface's normals, and its
+    /// emission, when it describes one, is used exactly (its own SPD and scale).
+    pub fn new_v2(material: MaterialWithV2, origin: Origin) -> Self {
+        Self::build(material.material, Some(material.v2), origin)
+    }
+
+    fn build(material: MaterialBox, v2: Option<MaterialV2Box>, origin: Origin) -> Self {
         let flags = material_bits(material.capabilities(), None);
         let emission = if flags.contains(MaterialFlags::EMISSIVE) {
-            Self::probe_emission(&material, &origin)
+            let described = v2.as_ref().and_then(|v2| {
+                let e = origin.checked(v2.emission(), |e| match e {
+                    ROption::RSome(e) => checked::scalar(e.scale),
+                    ROption::RNone => Ok(()),
+                })?;
+                let e = e.into_option()?;
+                Some(EmissionProfile {
+                    spd: Arc::new(PluginSpd::with_lines(e.spectrum, origin.clone())),
+                    scale: e.scale as f32,
+                    two_sided: e.two_sided,
+                })
+            });
+            described.or_else(|| Self::probe_emission(&material, &origin))
         } else {
             None
         };
         Self {
             material,
+            v2,
             flags,
             emission,
             origin,
@@ -442,6 +534,15 @@ impl PluginMaterial {
             position: v3(ctx.p),
         }
     }
+
+    fn surface(ctx: &ShadingContext) -> SurfaceContext {
+        SurfaceContext {
+            uv: [ctx.uv.x as f64, ctx.uv.y as f64],
+            position: v3(ctx.p),
+            geometric_normal: v3(ctx.ng),
+            shading_normal: v3(ctx.ns),
+        }
+    }
 }
 
 impl fmt::Debug for PluginMaterial {
@@ -464,16 +565,14 @@ impl Material for PluginMaterial {
         u: Vec2,
         m: HostMode,
     ) -> Option<BsdfSample> {
-        let r = self.material.sample(
-            &Self::ctx(ctx),
-            v3(wo),
-            &lambdas(lambda),
-            &sample_from(&[u_lobe, u.x, u.y]),
-            mode(m),
-        );
+        let (wo, lambda, u) = (v3(wo), lambdas(lambda), sample_from(&[u_lobe, u.x, u.y]));
+        let r = match &self.v2 {
+            Some(v2) => v2.sample(&Self::surface(ctx), wo, &lambda, &u, mode(m)),
+            None => (self.material).sample(&Self::ctx(ctx), wo, &lambda, &u, mode(m)),
+        };
         let r = self.origin.checked(r, |s| match s {
-            spectrace_plugin_api::abi::std_types::ROption::RSome(s) => checked::scatter(s),
-            spectrace_plugin_api::abi::std_types::ROption::RNone => Ok(()),
+            ROption::RSome(s) => checked::scatter(s),
+            ROption::RNone => Ok(()),
         });
         match r {
             Some(s) => s.into_option().map(|s| BsdfSample {
@@ -498,7 +597,11 @@ impl Material for PluginMaterial {
         lambda: &SampledWavelengths,
         m: HostMode,
     ) -> SampledSpectrum {
-        let r = (self.material).eval(&Self::ctx(ctx), v3(wo), v3(wi), &lambdas(lambda), mode(m));
+        let (wo, wi, lambda) = (v3(wo), v3(wi), lambdas(lambda));
+        let r = match &self.v2 {
+            Some(v2) => v2.eval(&Self::surface(ctx), wo, wi, &lambda, mode(m)),
+            None => (self.material).eval(&Self::ctx(ctx), wo, wi, &lambda, mode(m)),
+        };
         (self.origin)
             .checked(r, checked::values)
             .map_or(SampledSpectrum::zero(), spectrum)
@@ -512,7 +615,11 @@ impl Material for PluginMaterial {
         lambda: &SampledWavelengths,
         m: HostMode,
     ) -> f32 {
-        let r = (self.material).pdf(&Self::ctx(ctx), v3(wo), v3(wi), &lambdas(lambda), mode(m));
+        let (wo, wi, lambda) = (v3(wo), v3(wi), lambdas(lambda));
+        let r = match &self.v2 {
+            Some(v2) => v2.pdf(&Self::surface(ctx), wo, wi, &lambda, mode(m)),
+            None => (self.material).pdf(&Self::ctx(ctx), wo, wi, &lambda, mode(m)),
+        };
         (self.origin)
             .checked(r, |p| checked::density(*p))
             .map_or(0.0, |v| v as f32)
@@ -531,7 +638,10 @@ impl Material for PluginMaterial {
         if !self.flags.contains(MaterialFlags::EMISSIVE) {
             return SampledSpectrum::zero();
         }
-        let r = (self.material).emitted(&Self::ctx(ctx), v3(wo), &lambdas(lambda));
+        let r = match &self.v2 {
+            Some(v2) => v2.emitted(&Self::surface(ctx), v3(wo), &lambdas(lambda)),
+            None => (self.material).emitted(&Self::ctx(ctx), v3(wo), &lambdas(lambda)),
+        };
         (self.origin)
             .checked(r, checked::values)
             .map_or(SampledSpectrum::zero(), spectrum)
@@ -685,7 +795,7 @@ impl EnvironmentRadiance for PluginEnvironment {
             .sample_toward(v3(p), &sample_from(&[u.x, u.y]), &w)
             .into_result()
         {
-            Ok(s) if s.pdf > 0.0 => Some((va(s.direction).normalize_or_zero(), s.pdf as f32)),
+            Ok(s) if s.pdf > 0.0 => Some((unit(va(s.direction)), s.pdf as f32)),
             Ok(_) => None,
             Err(e) => self.origin.fail(e, None),
         }
@@ -705,11 +815,21 @@ impl EnvironmentRadiance for PluginEnvironment {
 /// A plugin light as a host [`Light`]. Without the CONNECTABLE capability it is BEAMS_ONLY:
 /// integrators can only trace the beams it hands out (see [`PluginLight::next_beam`]). With the
 /// ENVIRONMENT capability it is an [`EnvironmentLight`] whose radiance the plugin gives (the
-/// plugin cannot know the scene's extent, so the host places and samples the emitting sphere).
+/// host places and samples the emitting sphere).
+///
+/// Built through extension v2, the light learns the scene's extent before rendering (its power
+/// is read again afterwards: a distant light's depends on it) and hands over its own emission
+/// SPD, which then stands for its spectrum everywhere (see [`Light::spd`]).
 pub struct PluginLight {
     light: Arc<LightBox>,
+    /// The same light's version-2 face (extension v2).
+    v2: Option<LightV2Box>,
     flags: LightFlags,
     power: f64,
+    /// The power read again once the light knows the scene's extent (extension v2).
+    power_with_bounds: OnceLock<f64>,
+    /// The geometry's bounds, kept from [`Light::preprocess`] for the v2 call.
+    scene_bounds: OnceLock<Aabb>,
     spectrum: Arc<dyn Spd>,
     origin: Origin,
     environment: Option<EnvironmentLight>,
@@ -719,8 +839,17 @@ pub struct PluginLight {
 }
 
 impl PluginLight {
-    /// Wrap `light`.
+    /// Wrap `light` (a library without extension v2).
     pub fn new(light: LightBox, origin: Origin) -> Self {
+        Self::build(light, None, origin)
+    }
+
+    /// Wrap a light built through extension v2.
+    pub fn new_v2(light: LightWithV2, origin: Origin) -> Self {
+        Self::build(light.light, Some(light.v2), origin)
+    }
+
+    fn build(light: LightBox, v2: Option<LightV2Box>, origin: Origin) -> Self {
         let caps = light.capabilities();
         let mut flags = LightFlags::default();
         if caps.contains(light_flags::DELTA_POSITION) {
@@ -736,11 +865,21 @@ impl PluginLight {
             flags = flags | LightFlags::BEAMS_ONLY;
         }
         let light = Arc::new(light);
-        let spectrum: Arc<dyn Spd> = Arc::new(LightSpectrum {
-            light: light.clone(),
-            origin: origin.clone(),
-            lines: std::sync::OnceLock::new(),
+        // The light's own SPD when it hands one over (v2), else its spectrum as seen through
+        // `sample_wavelength` and `wavelength_pdf`.
+        let own = v2.as_ref().and_then(|v2| {
+            origin
+                .checked(v2.emission_spectrum(), |_| Ok(()))
+                .and_then(ROption::into_option)
         });
+        let spectrum: Arc<dyn Spd> = match own {
+            Some(spd) => Arc::new(PluginSpd::with_lines(spd, origin.clone())),
+            None => Arc::new(LightSpectrum {
+                light: light.clone(),
+                origin: origin.clone(),
+                lines: std::sync::OnceLock::new(),
+            }),
+        };
         let (power, environment) = if is_environment {
             let source = PluginEnvironment {
                 light: light.clone(),
@@ -759,8 +898,11 @@ impl PluginLight {
         Self {
             spectrum,
             light,
+            v2,
             flags,
             power,
+            power_with_bounds: OnceLock::new(),
+            scene_bounds: OnceLock::new(),
             origin,
             environment,
             represented: None,
@@ -773,6 +915,37 @@ impl PluginLight {
         let converter = BeamConverter::new(represented.representation())?;
         self.represented = Some((represented, converter));
         Ok(self)
+    }
+
+    /// Tell a v2 light the scene's extent and read its power again.
+    fn give_bounds(&self, v2: &LightV2Box, view: &Aabb) {
+        let scene = self.scene_bounds.get().copied().unwrap_or(*view);
+        let bounds = SceneBounds {
+            min: v3(scene.min),
+            max: v3(scene.max),
+            view_min: v3(view.min),
+            view_max: v3(view.max),
+        };
+        if self
+            .origin
+            .checked(v2.scene_bounds(&bounds), |_| Ok(()))
+            .is_none()
+        {
+            return;
+        }
+        let power = if self.environment.is_some() {
+            // An environment may not know its power (it is optional for them): an error or a
+            // non-positive value means "estimate it", and is not a fault.
+            match self.light.total_power_w().into_result() {
+                Ok(p) if p.is_finite() && p > 0.0 => Some(p),
+                _ => None,
+            }
+        } else {
+            (self.origin).checked(self.light.total_power_w(), |p| checked::scalar(*p))
+        };
+        if let Some(p) = power {
+            let _ = self.power_with_bounds.set(p);
+        }
     }
 }
 
@@ -788,6 +961,9 @@ impl Light for PluginLight {
     }
 
     fn power(&self) -> f64 {
+        if let Some(&p) = self.power_with_bounds.get() {
+            return p;
+        }
         match &self.environment {
             Some(e) => e.power(),
             None => self.power,
@@ -929,9 +1105,18 @@ impl Light for PluginLight {
         self.environment.as_ref()?.escape_point(ray)
     }
 
+    fn preprocess(&self, scene_bounds: &Aabb) {
+        let _ = self.scene_bounds.set(*scene_bounds);
+    }
+
     fn preprocess_view(&self, view_bounds: &Aabb) {
         if let Some(e) = &self.environment {
             e.preprocess_view(view_bounds);
+        }
+        // One call with both boxes, once both are known (the scene builder calls
+        // `preprocess` and then this).
+        if let Some(v2) = &self.v2 {
+            self.give_bounds(v2, view_bounds);
         }
     }
 }

@@ -203,31 +203,55 @@ impl PluginFactory {
             faults: self.faults.clone(),
         };
         let r = &self.registry;
+        // Through extension v2 when the library has it (the objects then also get the scene's
+        // bounds, normals, exact emission spectra and spectral lines), else the root module.
         Ok(match kind {
-            Kind::Material => Built::Material(Arc::new(PluginMaterial::new(
-                r.create_plugin_material(type_name, object_source)
-                    .map_err(construct_error)?,
-                origin,
-            ))),
+            Kind::Material => {
+                let m = match r
+                    .create_plugin_material_v2(type_name, object_source)
+                    .map_err(construct_error)?
+                {
+                    Some(m) => PluginMaterial::new_v2(m, origin),
+                    None => PluginMaterial::new(
+                        r.create_plugin_material(type_name, object_source)
+                            .map_err(construct_error)?,
+                        origin,
+                    ),
+                };
+                Built::Material(Arc::new(m))
+            }
             // A type whose beams are in another representation is wrapped in its adapters.
-            Kind::Light => Built::Light(Arc::new(
-                super::representation::wrap_light(
-                    r,
-                    type_name,
-                    object_source,
-                    PluginLight::new(
+            Kind::Light => {
+                let l = match r
+                    .create_plugin_light_v2(type_name, object_source)
+                    .map_err(construct_error)?
+                {
+                    Some(l) => PluginLight::new_v2(l, origin),
+                    None => PluginLight::new(
                         r.create_plugin_light(type_name, object_source)
                             .map_err(construct_error)?,
                         origin,
                     ),
-                )
-                .map_err(FactoryError::Param)?,
-            )),
-            Kind::Spd => Built::Spd(Arc::new(PluginSpd::new(
-                r.create_plugin_spd(type_name, object_source)
-                    .map_err(construct_error)?,
-                origin,
-            ))),
+                };
+                Built::Light(Arc::new(
+                    super::representation::wrap_light(r, type_name, object_source, l)
+                        .map_err(FactoryError::Param)?,
+                ))
+            }
+            Kind::Spd => {
+                let s = match r
+                    .create_plugin_spd_v2(type_name, object_source)
+                    .map_err(construct_error)?
+                {
+                    Some(s) => PluginSpd::with_lines(s, origin),
+                    None => PluginSpd::new(
+                        r.create_plugin_spd(type_name, object_source)
+                            .map_err(construct_error)?,
+                        origin,
+                    ),
+                };
+                Built::Spd(Arc::new(s))
+            }
             Kind::Observer => Built::Observer(Arc::new(PluginObserver::new(
                 r.create_plugin_observer(type_name, object_source)
                     .map_err(construct_error)?,

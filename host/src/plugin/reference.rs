@@ -21,9 +21,8 @@ file's folder. Types come from the registry: the built-in types below, types of 
 libraries loaded with `--plugin PATH` / `--plugins DIR` (`spectrace plugins` lists them), and
 `blob` files. A plugin type may not reuse a built-in name or alias: the registry refuses the
 plugin and names both providers. The standard set is also a plugin library
-(`plugins/standard`: the materials, the `point` and `spot` lights, the SPD types and the
-observers; not `directional` or `environment`, which size themselves from the scene's bounds,
-nor the aliases): with `--replace-builtins` the types of
+(`plugins/standard`: the materials, the four lights, the SPD types and the observers, not the
+aliases), which renders bit for bit like the built-ins: with `--replace-builtins` the types of
 the libraries given with `--plugin` replace the built-ins of the same name (and their aliases),
 and with `--no-builtins` the built-in materials, lights, SPDs and observers are left out
 altogether; shapes, cameras and `blob` stay built in.

@@ -7,8 +7,9 @@ use super::services::HostServices;
 use super::type_doc::{Kind, TypeDoc};
 use crate::builtin::BuiltinType;
 use spectrace_plugin_api::abi::std_types::{RResult, RSlice, RStr};
+use spectrace_plugin_api::extension::{LightWithV2, MaterialWithV2, SpdWithLines};
 use spectrace_plugin_api::module::ObjectSource;
-use spectrace_plugin_api::HostRef;
+use spectrace_plugin_api::{ErrorKind, HostRef};
 use spectrace_plugin_api::{
     LightBox, MaterialBox, ObjectKind, ObserverBox, PluginError, SpdBox, TypeInfo,
 };
@@ -419,6 +420,70 @@ impl Registry {
         self.call_plugin(ObjectKind::Material, name, |p, host| {
             (p.module.create_material())(RStr::from_str(name), source, host)
         })
+    }
+
+    /// The version-2 extension module of the plugin that provides (kind, name): `None` for a
+    /// library built before it existed (or linked in-process), an error when it is unusable.
+    fn extensions_v2(
+        &self,
+        kind: ObjectKind,
+        name: &str,
+    ) -> Result<Option<spectrace_plugin_api::extension::ExtensionsV2Ref>, RegistryError> {
+        let (plugin, provider) = self.plugin_entry(kind, name)?;
+        super::extension_v2::extensions_v2(&plugin.path).map_err(|e| {
+            construct_error(
+                kind.into(),
+                name,
+                provider,
+                PluginError::new(ErrorKind::Other, e),
+            )
+        })
+    }
+
+    /// Build a plugin light with its version-2 face (extension v2); `None` when its library
+    /// predates v2 (then [`Self::create_plugin_light`] is all there is).
+    pub fn create_plugin_light_v2(
+        &self,
+        name: &str,
+        source: ObjectSource<'_>,
+    ) -> Result<Option<LightWithV2>, RegistryError> {
+        let Some(ext) = self.extensions_v2(ObjectKind::Light, name)? else {
+            return Ok(None);
+        };
+        self.call_plugin(ObjectKind::Light, name, |_, host| {
+            (ext.create_light())(RStr::from_str(name), source, host)
+        })
+        .map(Some)
+    }
+
+    /// Build a plugin material with its version-2 face; `None` when its library predates v2.
+    pub fn create_plugin_material_v2(
+        &self,
+        name: &str,
+        source: ObjectSource<'_>,
+    ) -> Result<Option<MaterialWithV2>, RegistryError> {
+        let Some(ext) = self.extensions_v2(ObjectKind::Material, name)? else {
+            return Ok(None);
+        };
+        self.call_plugin(ObjectKind::Material, name, |_, host| {
+            (ext.create_material())(RStr::from_str(name), source, host)
+        })
+        .map(Some)
+    }
+
+    /// Build a plugin SPD with its spectral lines; `None` when its library predates v2.
+    pub fn create_plugin_spd_v2(
+        &self,
+        name: &str,
+        source: ObjectSource<'_>,
+    ) -> Result<Option<SpdWithLines>, RegistryError> {
+        let Some(ext) = self.extensions_v2(ObjectKind::Spd, name)? else {
+            return Ok(None);
+        };
+        self.call_plugin(ObjectKind::Spd, name, |_, host| {
+            (ext.create_spd())(RStr::from_str(name), source, host)
+        })
+        .map(Some)
     }
 
     /// Decode a plugin type's saved state into RON parameters.

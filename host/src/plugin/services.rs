@@ -12,8 +12,8 @@ use spectrace_plugin_api::host::{AbiHost, AbiHost_TO, HostRef};
 use spectrace_plugin_api::module::ObjectSource;
 use spectrace_plugin_api::spd::GuardedSpd;
 use spectrace_plugin_api::{
-    spd_flags, Flags, ObjectKind, PluginError, PluginResult, Spd, SpdBox, WavelengthRange,
-    WavelengthSample,
+    spd_flags, Flags, ObjectKind, PluginError, PluginResult, Spd, SpdBox, SpectralLine,
+    WavelengthRange, WavelengthSample,
 };
 use std::sync::Arc;
 
@@ -84,6 +84,16 @@ impl Spd for LentSpd {
         } else {
             Flags::NONE
         }
+    }
+    fn delta_lines(&self) -> Vec<SpectralLine> {
+        self.0
+            .delta_lines()
+            .into_iter()
+            .map(|l| SpectralLine {
+                nm: l.lambda,
+                weight: l.weight,
+            })
+            .collect()
     }
 }
 

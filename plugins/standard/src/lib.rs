@@ -1,13 +1,15 @@
 //! The standard set as a library: the host's built-in materials (`lambertian`, `mirror`,
-//! `dielectric`, `rough_dielectric`, `conductor`, `emissive`), point-like lights (`point`,
-//! `spot`), SPD types (`spec`, `table`) and CIE observers (`cie1931-2`, `cie1964-10`,
-//! `cie2015-2`, `cie2015-10`) exported through the plugin API under their built-in names, built
-//! by the host's own constructors (see `Cargo.toml` for the trade-off). Since the names clash
-//! with the built-ins, the host refuses this library next to them; `--replace-builtins` makes
-//! its types replace the built-ins of the same name (`--no-builtins` leaves the built-in
-//! materials, lights, SPDs and observers out altogether).
+//! `dielectric`, `rough_dielectric`, `conductor`, `emissive`), lights (`point`, `spot`,
+//! `directional`, `environment`), SPD types (`spec`, `table`) and CIE observers (`cie1931-2`,
+//! `cie1964-10`, `cie2015-2`, `cie2015-10`) exported through the plugin API under their built-in
+//! names, built by the host's own constructors (see `Cargo.toml` for the trade-off). Since the
+//! names clash with the built-ins, the host refuses this library next to them;
+//! `--replace-builtins` makes its types replace the built-ins of the same name (`--no-builtins`
+//! leaves the built-in materials, lights, SPDs and observers out altogether).
 //!
-//! Not exported: the `directional` and `environment` lights (see [`light`] for why).
+//! What extension v2 of the plugin API adds is what makes the library render bit for bit like
+//! the built-ins: emitters hand over their own SPD objects, lights learn the scene's bounds, and
+//! materials see the surface's normals.
 
 pub mod light;
 pub mod material;
@@ -15,7 +17,7 @@ pub mod observer;
 pub mod spd;
 mod wrap;
 
-pub use light::{Point, Spot};
+pub use light::{Directional, Environment, Point, Spot};
 pub use material::{Conductor, Dielectric, Emissive, Lambertian, Mirror, RoughDielectric};
 pub use observer::{Cie1931_2, Cie1964_10, Cie2015_10, Cie2015_2};
 pub use spd::{SpecSpd, TableSpd};
@@ -23,7 +25,7 @@ pub use spd::{SpecSpd, TableSpd};
 spectrace_plugin_api::export_plugin! {
     name: "standard",
     version: env!("CARGO_PKG_VERSION"),
-    lights: [Point, Spot],
+    lights: [Point, Spot, Directional, Environment],
     spds: [SpecSpd, TableSpd],
     observers: [Cie1931_2, Cie1964_10, Cie2015_2, Cie2015_10],
     materials: [Lambertian, Mirror, Dielectric, RoughDielectric, Conductor, Emissive],

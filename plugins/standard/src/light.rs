@@ -1,25 +1,80 @@
-//! The built-in point-like lights (`host/src/builtin/light/`): `point` and `spot`, same
-//! parameters, built by the host's own constructors and called through the plugin interface as
-//! CONNECTABLE lights (no physics here, only conversions; f32 → f64 → f32 round trips are
-//! exact).
+//! The built-in lights (`host/src/builtin/light/`): `point`, `spot`, `directional` and
+//! `environment`, same parameters, built by the host's own constructors and called through the
+//! plugin interface as CONNECTABLE lights (no physics here, only conversions; f32 → f64 → f32
+//! round trips are exact). Through extension v2 each hands the host its own emission SPD, and
+//! learns the scene's extent (`scene_bounds`), which it passes to the host object's
+//! `preprocess`/`preprocess_view`: a directional light's emitting disc and power, and an
+//! environment's sphere and power, come from it exactly as for the built-ins.
 //!
-//! Not exported: `directional` and `environment`. Both size themselves from the scene's bounds
-//! (`Light::preprocess`), which the plugin interface does not hand to a light; the host places
-//! a plugin environment itself, but from the plugin's radiance alone, so the built-in's own
-//! importance sampling would be lost.
+//! `environment` is an ENVIRONMENT light: the host places its own sky sphere around the same
+//! bounds and asks this one for radiance, incident-direction sampling and power.
 
 use crate::material::{host_lambdas, v3, va, values};
-use crate::wrap::{context, params_doc, plugin_error, HostParams};
+use crate::wrap::{context, params_doc, plugin_error, HostParams, HostSpd};
 use glam::{Vec2, Vec3A};
-use spectrace::builtin::light::{point, spot};
-use spectrace::geometry::Ray;
-use spectrace::light::{Light as HostLight, LightFlags, LightSampleContext};
+use spectrace::builtin::light::{directional, environment, point, spot};
+use spectrace::geometry::{Aabb, Ray};
+use spectrace::light::{
+    ConstantEnvironment, EnvironmentLight, EnvironmentRadiance, Light as HostLight, LightFlags,
+    LightSampleContext,
+};
 use spectrace_plugin_api::{
     light_flags, Beam, EmissionPdf, EmissionSample, Flags, Host, IncidentSample, LightSource,
-    ParamDoc, PluginError, PluginResult, PluginType, RandomSample, Vec3, WavelengthSample,
-    Wavelengths,
+    ParamDoc, PluginError, PluginResult, PluginType, RandomSample, SceneBounds, Spd,
+    SpectralValues, Vec3, WavelengthSample, Wavelengths,
 };
 use std::sync::Arc;
+
+/// The host's boxes for the interface's bounds.
+fn boxes(b: &SceneBounds) -> (Aabb, Aabb) {
+    (
+        Aabb {
+            min: va(b.min),
+            max: va(b.max),
+        },
+        Aabb {
+            min: va(b.view_min),
+            max: va(b.view_max),
+        },
+    )
+}
+
+/// `sample_emission` through the host light `light`.
+fn sample_emission(
+    light: &dyn HostLight,
+    sample: &RandomSample,
+    lambda: &Wavelengths,
+) -> EmissionSample {
+    let u = sample.u.map(|x| x as f32);
+    let s = light.sample_le(
+        Vec2::new(u[0], u[1]),
+        Vec2::new(u[2], u[3]),
+        &host_lambdas(lambda),
+    );
+    match s {
+        Some(s) => EmissionSample {
+            origin: v3(s.ray.origin),
+            direction: v3(s.ray.dir),
+            normal: v3(s.normal),
+            value: values(s.radiance),
+            pdf_position: s.pdf_pos as f64,
+            pdf_direction: s.pdf_dir as f64,
+        },
+        None => EmissionSample {
+            direction: NO_DIRECTION,
+            ..EmissionSample::default()
+        },
+    }
+}
+
+/// `emission_pdf` through the host light `light`.
+fn emission_pdf(light: &dyn HostLight, origin: Vec3, direction: Vec3) -> EmissionPdf {
+    let (position, direction) = light.pdf_le(&Ray::new(va(origin), va(direction)), Vec3A::ZERO);
+    EmissionPdf {
+        position: position as f64,
+        direction: direction as f64,
+    }
+}
 
 /// What a refused sample returns: valid fields, zero density (the host then skips it).
 const NO_DIRECTION: Vec3 = Vec3 {
@@ -92,35 +147,19 @@ macro_rules! light_type {
                 sample: &RandomSample,
                 lambda: &Wavelengths,
             ) -> PluginResult<EmissionSample> {
-                let u = sample.u.map(|x| x as f32);
-                let s = self.light.sample_le(
-                    Vec2::new(u[0], u[1]),
-                    Vec2::new(u[2], u[3]),
-                    &host_lambdas(lambda),
-                );
-                Ok(match s {
-                    Some(s) => EmissionSample {
-                        origin: v3(s.ray.origin),
-                        direction: v3(s.ray.dir),
-                        normal: v3(s.normal),
-                        value: values(s.radiance),
-                        pdf_position: s.pdf_pos as f64,
-                        pdf_direction: s.pdf_dir as f64,
-                    },
-                    None => EmissionSample {
-                        direction: NO_DIRECTION,
-                        ..EmissionSample::default()
-                    },
-                })
+                Ok(sample_emission(&*self.light, sample, lambda))
             }
             fn emission_pdf(&self, origin: Vec3, direction: Vec3) -> PluginResult<EmissionPdf> {
-                let (position, direction) = self
-                    .light
-                    .pdf_le(&Ray::new(va(origin), va(direction)), Vec3A::ZERO);
-                Ok(EmissionPdf {
-                    position: position as f64,
-                    direction: direction as f64,
-                })
+                Ok(emission_pdf(&*self.light, origin, direction))
+            }
+            fn scene_bounds(&self, bounds: &SceneBounds) -> PluginResult<()> {
+                let (scene, view) = boxes(bounds);
+                self.light.preprocess(&scene);
+                self.light.preprocess_view(&view);
+                Ok(())
+            }
+            fn emission_spectrum(&self) -> PluginResult<Option<Box<dyn Spd>>> {
+                Ok(Some(Box::new(HostSpd(self.light.spd()))))
             }
             fn sample_toward(
                 &self,
@@ -156,3 +195,117 @@ macro_rules! light_type {
 
 light_type!(Point, point, point::PointParams);
 light_type!(Spot, spot, spot::SpotParams);
+light_type!(Directional, directional, directional::DirectionalParams);
+
+/// The host's `environment`: its radiance source and the light around it, which sizes itself
+/// from the bounds the host hands over (`scene_bounds`).
+pub struct Environment {
+    params: HostParams<environment::EnvironmentParams>,
+    source: Arc<ConstantEnvironment>,
+    light: EnvironmentLight,
+}
+
+impl PluginType for Environment {
+    const TYPE_NAME: &'static str = environment::TYPE.name;
+    const TYPE_VERSION: u32 = environment::TYPE.version;
+    const DESCRIPTION: &'static str = environment::TYPE.description;
+    type Params = HostParams<environment::EnvironmentParams>;
+
+    fn params_doc() -> Vec<ParamDoc> {
+        params_doc(&environment::TYPE)
+    }
+
+    fn new(params: Self::Params, _host: &Host<'_, '_>) -> PluginResult<Self> {
+        let source = Arc::new(
+            environment::source(&params.0, &context(Self::TYPE_NAME)).map_err(plugin_error)?,
+        );
+        let light = EnvironmentLight::new(source.clone());
+        Ok(Self {
+            params,
+            source,
+            light,
+        })
+    }
+
+    fn params(&self) -> &Self::Params {
+        &self.params
+    }
+}
+
+impl LightSource for Environment {
+    fn next_beam(&self, _sample: &RandomSample) -> PluginResult<Beam> {
+        // As for the built-in: the host starts an environment's light paths on its own sphere.
+        Err(PluginError::unsupported("next_beam of an environment"))
+    }
+    fn total_power_w(&self) -> PluginResult<f64> {
+        Ok(self.light.power())
+    }
+    fn capabilities(&self) -> Flags {
+        light_flags::ENVIRONMENT | light_flags::CONNECTABLE
+    }
+    fn sample_wavelength(&self, u: f64) -> PluginResult<WavelengthSample> {
+        let s = self.source.spd().sample(u);
+        Ok(WavelengthSample {
+            nm: s.lambda,
+            pdf: s.pdf,
+        })
+    }
+    fn wavelength_pdf(&self, nm: f64) -> PluginResult<f64> {
+        Ok(self.source.spd().pdf(nm))
+    }
+    fn sample_emission(
+        &self,
+        sample: &RandomSample,
+        lambda: &Wavelengths,
+    ) -> PluginResult<EmissionSample> {
+        Ok(sample_emission(&self.light, sample, lambda))
+    }
+    fn emission_pdf(&self, origin: Vec3, direction: Vec3) -> PluginResult<EmissionPdf> {
+        Ok(emission_pdf(&self.light, origin, direction))
+    }
+    fn sample_toward(
+        &self,
+        receiver: Vec3,
+        sample: &RandomSample,
+        lambda: &Wavelengths,
+    ) -> PluginResult<IncidentSample> {
+        let p = va(receiver);
+        let u = Vec2::new(sample.u[0] as f32, sample.u[1] as f32);
+        let Some((wi, pdf)) = self.source.sample_direction(p, u) else {
+            return Ok(IncidentSample {
+                direction: NO_DIRECTION,
+                distance: 1.0,
+                ..IncidentSample::default()
+            });
+        };
+        let (point, normal) = self
+            .light
+            .escape_point(&Ray::new(p, wi))
+            .unwrap_or((p + wi, Vec3A::ZERO));
+        Ok(IncidentSample {
+            point: v3(point),
+            normal: v3(normal),
+            direction: v3(wi),
+            distance: f64::from(point.distance(p)),
+            value: values(self.source.radiance(wi, &host_lambdas(lambda))),
+            pdf: pdf as f64,
+        })
+    }
+    fn radiance(&self, direction: Vec3, lambda: &Wavelengths) -> PluginResult<SpectralValues> {
+        Ok(values(
+            self.source.radiance(va(direction), &host_lambdas(lambda)),
+        ))
+    }
+    fn incident_pdf(&self, receiver: Vec3, direction: Vec3) -> PluginResult<f64> {
+        Ok(self.source.direction_pdf(va(receiver), va(direction)) as f64)
+    }
+    fn scene_bounds(&self, bounds: &SceneBounds) -> PluginResult<()> {
+        let (scene, view) = boxes(bounds);
+        self.light.preprocess(&scene);
+        self.light.preprocess_view(&view);
+        Ok(())
+    }
+    fn emission_spectrum(&self) -> PluginResult<Option<Box<dyn Spd>>> {
+        Ok(Some(Box::new(HostSpd(self.source.spd()))))
+    }
+}

@@ -2,13 +2,14 @@
 //! `rough_dielectric`, `conductor`, `emissive`, same parameters, each built by the host's own
 //! constructor and called through the plugin interface (no physics here, only conversions).
 //!
-//! Conversions: directions, values and pdfs cross as f64 and come back to the host's f32
-//! exactly (f32 → f64 → f32 is the identity). What the interface does not carry: the surface
-//! normals of the shading context (the built-ins do not read them) and the wavelengths' sampling
-//! densities (every lane is passed as live, density 1/nm; only thin films read them, to skip
-//! terminated lanes).
+//! Conversions: directions, values, pdfs and the surface's normals (extension v2) cross as f64
+//! and come back to the host's f32 exactly (f32 → f64 → f32 is the identity). An emissive
+//! material hands over its emission exactly (its own SPD and scale, extension v2), so the host
+//! builds the same area light as for the built-in. What the interface does not carry: the
+//! wavelengths' sampling densities (every lane is passed as live, density 1/nm; only thin films
+//! read them, to skip terminated lanes).
 
-use crate::wrap::{context, params_doc, plugin_error, HostParams};
+use crate::wrap::{context, params_doc, plugin_error, HostParams, HostSpd};
 use glam::{Vec2, Vec3A};
 use spectrace::builtin::material::{
     conductor, dielectric, emissive, lambertian, mirror, rough_dielectric,
@@ -19,8 +20,9 @@ use spectrace::material::{
 };
 use spectrace::spectrum::{SampledSpectrum, SampledWavelengths, LANES};
 use spectrace_plugin_api::{
-    material_flags, Flags, Host, Material, ParamDoc, PluginResult, PluginType, RandomSample,
-    ScatterSample, ShadingContext, SpectralValues, TransportMode, Vec3, Wavelengths,
+    material_flags, Emission, Flags, Host, Material, ParamDoc, PluginResult, PluginType,
+    RandomSample, ScatterSample, ShadingContext, SpectralValues, SurfaceContext, TransportMode,
+    Vec3, Wavelengths,
 };
 use std::sync::Arc;
 
@@ -57,11 +59,11 @@ fn host_mode(m: TransportMode) -> HostMode {
     }
 }
 
-fn host_ctx(ctx: &ShadingContext) -> HostContext {
+fn host_ctx(ctx: &SurfaceContext) -> HostContext {
     HostContext::at(
         va(ctx.position),
-        Vec3A::ZERO,
-        Vec3A::ZERO,
+        va(ctx.geometric_normal),
+        va(ctx.shading_normal),
         Vec2::new(ctx.uv[0] as f32, ctx.uv[1] as f32),
     )
 }
@@ -90,7 +92,7 @@ fn bits(f: MaterialFlags) -> Flags {
 /// Sample through the host material `m`.
 fn sample(
     m: &dyn HostMaterial,
-    ctx: &ShadingContext,
+    ctx: &SurfaceContext,
     wo: Vec3,
     lambda: &Wavelengths,
     u: &RandomSample,
@@ -146,6 +148,8 @@ macro_rules! material_type {
             fn capabilities(&self) -> Flags {
                 bits(self.material.flags())
             }
+            // A host older than extension v2 gives no normals: the built-ins then see zero
+            // normals, as they did before v2.
             fn sample(
                 &self,
                 ctx: &ShadingContext,
@@ -154,11 +158,49 @@ macro_rules! material_type {
                 u: &RandomSample,
                 mode: TransportMode,
             ) -> PluginResult<Option<ScatterSample>> {
-                Ok(sample(&*self.material, ctx, wo, lambda, u, mode))
+                self.sample_at(&SurfaceContext::from(ctx), wo, lambda, u, mode)
             }
             fn eval(
                 &self,
                 ctx: &ShadingContext,
+                wo: Vec3,
+                wi: Vec3,
+                lambda: &Wavelengths,
+                mode: TransportMode,
+            ) -> PluginResult<SpectralValues> {
+                self.eval_at(&SurfaceContext::from(ctx), wo, wi, lambda, mode)
+            }
+            fn pdf(
+                &self,
+                ctx: &ShadingContext,
+                wo: Vec3,
+                wi: Vec3,
+                lambda: &Wavelengths,
+                mode: TransportMode,
+            ) -> PluginResult<f64> {
+                self.pdf_at(&SurfaceContext::from(ctx), wo, wi, lambda, mode)
+            }
+            fn emitted(
+                &self,
+                ctx: &ShadingContext,
+                wo: Vec3,
+                lambda: &Wavelengths,
+            ) -> PluginResult<SpectralValues> {
+                self.emitted_at(&SurfaceContext::from(ctx), wo, lambda)
+            }
+            fn sample_at(
+                &self,
+                ctx: &SurfaceContext,
+                wo: Vec3,
+                lambda: &Wavelengths,
+                u: &RandomSample,
+                mode: TransportMode,
+            ) -> PluginResult<Option<ScatterSample>> {
+                Ok(sample(&*self.material, ctx, wo, lambda, u, mode))
+            }
+            fn eval_at(
+                &self,
+                ctx: &SurfaceContext,
                 wo: Vec3,
                 wi: Vec3,
                 lambda: &Wavelengths,
@@ -173,9 +215,9 @@ macro_rules! material_type {
                 );
                 Ok(values(f))
             }
-            fn pdf(
+            fn pdf_at(
                 &self,
-                ctx: &ShadingContext,
+                ctx: &SurfaceContext,
                 wo: Vec3,
                 wi: Vec3,
                 lambda: &Wavelengths,
@@ -190,9 +232,9 @@ macro_rules! material_type {
                 );
                 Ok(p as f64)
             }
-            fn emitted(
+            fn emitted_at(
                 &self,
-                ctx: &ShadingContext,
+                ctx: &SurfaceContext,
                 wo: Vec3,
                 lambda: &Wavelengths,
             ) -> PluginResult<SpectralValues> {
@@ -200,6 +242,13 @@ macro_rules! material_type {
                     .material
                     .emitted(va(wo), &host_ctx(ctx), &host_lambdas(lambda));
                 Ok(values(e))
+            }
+            fn emission(&self) -> PluginResult<Option<Emission>> {
+                Ok(self.material.emission().map(|e| Emission {
+                    spectrum: Box::new(HostSpd(e.spd)),
+                    scale_w_m2_sr: e.scale as f64,
+                    two_sided: e.two_sided,
+                }))
             }
         }
     };

@@ -1,20 +1,19 @@
-//! `spec` and `table`: the host's SPD types (`host/src/builtin/spd/`), same parameters.
+//! `spec` and `table`: the host's SPD types (`host/src/builtin/spd/`), same parameters, with
+//! their spectral lines (extension v2).
 
-use crate::wrap::{context, params_doc, plugin_error, HostParams};
+use crate::wrap::{context, params_doc, plugin_error, HostParams, HostSpd};
 use spectrace::builtin::spd::{spec, table};
-use spectrace::spectrum::Spd as HostSpd;
 use spectrace_plugin_api::{
-    spd_flags, Flags, Host, ParamDoc, PluginResult, PluginType, Spd, WavelengthRange,
+    Flags, Host, ParamDoc, PluginResult, PluginType, Spd, SpectralLine, WavelengthRange,
     WavelengthSample,
 };
-use std::sync::Arc;
 
 macro_rules! spd_type {
     ($ty:ident, $module:ident, $params:ty) => {
         /// The host's SPD type of the same name.
         pub struct $ty {
             params: HostParams<$params>,
-            spd: Arc<dyn HostSpd>,
+            spd: HostSpd,
         }
 
         impl PluginType for $ty {
@@ -30,7 +29,10 @@ macro_rules! spd_type {
             fn new(params: Self::Params, _host: &Host<'_, '_>) -> PluginResult<Self> {
                 let spd =
                     $module::build(&params.0, &context(Self::TYPE_NAME)).map_err(plugin_error)?;
-                Ok(Self { params, spd })
+                Ok(Self {
+                    params,
+                    spd: HostSpd(spd),
+                })
             }
 
             fn params(&self) -> &Self::Params {
@@ -40,28 +42,22 @@ macro_rules! spd_type {
 
         impl Spd for $ty {
             fn value(&self, nm: f64) -> PluginResult<f64> {
-                Ok(self.spd.value(nm))
+                self.spd.value(nm)
             }
             fn sample(&self, u: f64) -> PluginResult<WavelengthSample> {
-                let s = self.spd.sample(u);
-                Ok(WavelengthSample {
-                    nm: s.lambda,
-                    pdf: s.pdf,
-                })
+                self.spd.sample(u)
             }
             fn pdf(&self, nm: f64) -> PluginResult<f64> {
-                Ok(self.spd.pdf(nm))
+                self.spd.pdf(nm)
             }
             fn range_nm(&self) -> WavelengthRange {
-                let (min_nm, max_nm) = self.spd.range();
-                WavelengthRange { min_nm, max_nm }
+                self.spd.range_nm()
             }
             fn capabilities(&self) -> Flags {
-                if self.spd.is_delta() {
-                    spd_flags::HAS_LINES
-                } else {
-                    Flags::NONE
-                }
+                self.spd.capabilities()
+            }
+            fn delta_lines(&self) -> Vec<SpectralLine> {
+                self.spd.delta_lines()
             }
         }
     };

@@ -4,7 +4,11 @@
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use spectrace::builtin::BuiltinType;
 use spectrace::scene::FactoryContext;
-use spectrace_plugin_api::{ParamDoc, PluginError};
+use spectrace_plugin_api::{
+    spd_flags, Flags, ParamDoc, PluginError, PluginResult, Spd, SpectralLine, WavelengthRange,
+    WavelengthSample,
+};
+use std::sync::Arc;
 
 /// A host parameter struct read the way the host reads scene parameters (bare numbers for
 /// optional fields, `()` for all defaults, errors naming the parameter); bincode as is.
@@ -56,4 +60,47 @@ pub fn context(item: &str) -> FactoryContext {
 /// A host error as a plugin error.
 pub fn plugin_error(e: impl std::fmt::Display) -> PluginError {
     PluginError::invalid_parameter(e.to_string())
+}
+
+/// A host SPD as a plugin SPD: the same value, sampling, density, range and lines, in f64
+/// unchanged, so the host rebuilds an SPD that evaluates and samples bit for bit like this one.
+/// What the library's lights and materials hand over as their emission spectrum (extension v2).
+#[derive(Clone, Debug)]
+pub struct HostSpd(pub Arc<dyn spectrace::spectrum::Spd>);
+
+impl Spd for HostSpd {
+    fn value(&self, nm: f64) -> PluginResult<f64> {
+        Ok(self.0.value(nm))
+    }
+    fn sample(&self, u: f64) -> PluginResult<WavelengthSample> {
+        let s = self.0.sample(u);
+        Ok(WavelengthSample {
+            nm: s.lambda,
+            pdf: s.pdf,
+        })
+    }
+    fn pdf(&self, nm: f64) -> PluginResult<f64> {
+        Ok(self.0.pdf(nm))
+    }
+    fn range_nm(&self) -> WavelengthRange {
+        let (min_nm, max_nm) = self.0.range();
+        WavelengthRange { min_nm, max_nm }
+    }
+    fn capabilities(&self) -> Flags {
+        if self.0.is_delta() {
+            spd_flags::HAS_LINES
+        } else {
+            Flags::NONE
+        }
+    }
+    fn delta_lines(&self) -> Vec<SpectralLine> {
+        self.0
+            .delta_lines()
+            .into_iter()
+            .map(|l| SpectralLine {
+                nm: l.lambda,
+                weight: l.weight,
+            })
+            .collect()
+    }
 }

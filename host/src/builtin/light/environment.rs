@@ -59,6 +59,14 @@ impl Embed for EnvironmentParams {
 
 /// Build the light.
 pub fn build(p: &EnvironmentParams, ctx: &FactoryContext) -> Result<Arc<dyn Light>, FactoryError> {
+    Ok(Arc::new(EnvironmentLight::new(Arc::new(source(p, ctx)?))))
+}
+
+/// The light's radiance source (what [`build`] wraps in an [`EnvironmentLight`]).
+pub fn source(
+    p: &EnvironmentParams,
+    ctx: &FactoryContext,
+) -> Result<ConstantEnvironment, FactoryError> {
     // As for `emissive`: a table is absolute spectral radiance (× optional `scale`); a named
     // SPD is normalised and `scale` is the integrated radiance.
     let (spd, raw) = match &p.radiance {
@@ -82,6 +90,5 @@ pub fn build(p: &EnvironmentParams, ctx: &FactoryContext) -> Result<Arc<dyn Ligh
     };
     // Held as f32 by the renderer: refuse what would become infinite.
     let scale = crate::builtin::check::radiometric("scale", scale, "W/(m²·sr)")?;
-    let source = ConstantEnvironment::new(spd, scale).map_err(|e| param_err("scale", e))?;
-    Ok(Arc::new(EnvironmentLight::new(Arc::new(source))))
+    ConstantEnvironment::new(spd, scale).map_err(|e| param_err("scale", e))
 }
