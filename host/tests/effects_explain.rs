@@ -38,6 +38,10 @@ fn bundled_scenes_name_their_effects() {
         vec![DeltaLights, DeltaBsdfs, SpecularChains, SpectrallyVarying]
     );
     assert_eq!(
+        effects_of("fluorescence.ron"),
+        vec![Fluorescence, SpectrallyVarying]
+    );
+    assert_eq!(
         effects_of("thin_film.ron"),
         vec![ThinFilm, DeltaBsdfs, SpecularChains, SpectrallyVarying]
     );

@@ -197,7 +197,7 @@ pub fn types() -> &'static [BuiltinType] {
     &ALL
 }
 
-static ALL: [BuiltinType; 23] = [
+static ALL: [BuiltinType; 24] = [
     material::lambertian::TYPE,
     material::mirror::TYPE,
     material::dielectric::TYPE,
@@ -205,6 +205,7 @@ static ALL: [BuiltinType; 23] = [
     material::conductor::TYPE,
     material::thin_film::TYPE,
     material::emissive::TYPE,
+    material::fluorescent::TYPE,
     light::point::TYPE,
     light::spot::TYPE,
     light::directional::TYPE,

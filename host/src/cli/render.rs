@@ -711,12 +711,18 @@ pub fn run_with_factories(
             settings.tracer.wavelengths,
             settings.tracer.wavelengths_per_path,
         );
+        let sampler =
+            crate::integrator::wavelength_groups::PathWavelengthSampler::new(&plan, sampling, n);
         let fell_back = sampling == crate::integrator::WavelengthSampling::LightSpd
-            && crate::integrator::wavelength_groups::PathWavelengthSampler::new(&plan, sampling, n)
-                .is_ok_and(|s| s.light_spd_fell_back());
+            && sampler.as_ref().is_ok_and(|s| s.light_spd_fell_back());
+        let refused = sampler
+            .as_ref()
+            .is_ok_and(|s| s.light_spd_refused_for_fluorescence());
         println!(
             "  wavelengths: {n} per path, {}",
-            if fell_back {
+            if refused {
+                "light-SPD sampling requested but the scene fluoresces (light appears where no light emits): visible-importance used".to_string()
+            } else if fell_back {
                 "light-SPD sampling requested but no light has an evaluable spectrum: visible-importance used".to_string()
             } else {
                 match sampling {

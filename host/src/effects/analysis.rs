@@ -219,7 +219,12 @@ pub fn analyze(scene: &Scene) -> EffectSet {
             add(Effect::Dispersion, caller(), String::new());
         }
         if flags.contains(MaterialFlags::FLUORESCENT) {
-            add(Effect::Fluorescence, caller(), String::new());
+            let detail = if m.reradiation().is_none() {
+                "no re-radiation data (plugin material): reflectance only".to_string()
+            } else {
+                String::new()
+            };
+            add(Effect::Fluorescence, caller(), detail);
         }
         if flags.contains(MaterialFlags::THIN_FILM) {
             add(Effect::ThinFilm, caller(), String::new());

@@ -71,7 +71,9 @@ impl Effect {
                  terminated), in pt, bdpt and lt"
             }
             Self::Fluorescence => {
-                "the wavelength-preserving part (the sample's reflectance) is rendered"
+                "the wavelength shifts at fluorescent surfaces (pt and lt per lane; bdpt on \
+                 camera subpaths, shifted paths by s = 0 and s = 1 only); --effect fluorescence=off \
+                 renders the reflectance only"
             }
             Self::ThinFilm => {
                 "every wavelength lane is weighted by its own Airy reflectance/transmittance \
@@ -106,10 +108,6 @@ impl Effect {
     /// What the renderer skips or gets wrong for this effect today; `None` when nothing.
     pub fn skipped(self) -> Option<&'static str> {
         match self {
-            Self::Fluorescence => Some(
-                "the re-radiated light (the wavelength shift is not in the integrators yet): \
-                 fluorescent objects show their reflectance-only colour",
-            ),
             Self::DeltaLights => Some("camera paths never hit them (no s = 0 strategy)"),
             Self::DeltaBsdfs => Some(
                 "lt cannot show them where the camera sees them directly (t = 1 needs an \
@@ -125,7 +123,8 @@ impl Effect {
     }
 
     /// True when what is skipped is probably not what the user wants (printed as a warning).
+    /// (None does today: fluorescence, the last one, is rendered now.)
     pub fn is_warning(self) -> bool {
-        matches!(self, Self::Fluorescence)
+        false
     }
 }

@@ -403,17 +403,22 @@ impl RenderPlan {
     /// The scene the integrators render: `scene` itself, or a copy whose materials with a
     /// switched-off effect are replaced (materials are shared, so the copy is cheap).
     pub fn scene<'a>(&self, scene: &'a Scene) -> std::borrow::Cow<'a, Scene> {
-        if self.replacements.is_empty() {
+        // Fluorescence off: the objects keep their materials, which then reflect only.
+        let fluorescence_off = scene.objects.fluorescence() && !self.fluorescence();
+        if self.replacements.is_empty() && !fluorescence_off {
             return std::borrow::Cow::Borrowed(scene);
         }
-        let mut objects: Vec<crate::scene::SceneObject> = scene.objects.objects().to_vec();
-        for (i, m) in &self.replacements {
-            if let Some(o) = objects.get_mut(*i) {
-                o.material = m.clone();
-            }
-        }
         let mut s = scene.clone();
-        s.objects = crate::scene::SceneObjectManager::new(objects);
+        if !self.replacements.is_empty() {
+            let mut objects: Vec<crate::scene::SceneObject> = scene.objects.objects().to_vec();
+            for (i, m) in &self.replacements {
+                if let Some(o) = objects.get_mut(*i) {
+                    o.material = m.clone();
+                }
+            }
+            s.objects = crate::scene::SceneObjectManager::new(objects);
+        }
+        s.objects.set_fluorescence(self.fluorescence());
         std::borrow::Cow::Owned(s)
     }
 

@@ -24,7 +24,7 @@ use super::camera_connection::connect_to_camera;
 use super::driver::{Integrator, IntegratorInfo, IntegratorOutput, Registration};
 use super::light_subpath::{generate_light_subpath_with, LightStart};
 use super::pixel_max::PixelMaxY;
-use super::random_walk::generate_camera_subpath;
+use super::random_walk::{generate_camera_subpath, WalkShift};
 use super::render::ProgressFn;
 use super::tiled::render_tiles;
 use super::vertex::{geometry_term, remap0, unoccluded, Vertex};
@@ -126,11 +126,17 @@ pub fn connect(
     let mut sampled: Option<Vertex> = None;
     let mut raster = None;
     let l;
+    // A camera subpath whose wavelengths a fluorescent event shifted joins only a light point
+    // evaluated at its own wavelengths (s = 0, s = 1); see `mis_weight`.
+    let shifted = t >= 2 && camera_path[t - 1].shifted.is_some();
+    if shifted && s >= 2 {
+        return None;
+    }
     if s == 0 {
         // The camera path found an emitter by itself.
         let pt = &camera_path[t - 1];
         pt.light_index(scene)?;
-        l = pt.le(scene, &camera_path[t - 2], lambda) * pt.beta;
+        l = pt.le(scene, &camera_path[t - 2], &pt.wavelengths(lambda)) * pt.beta;
     } else if t == 1 {
         // Connect a light vertex to a freshly sampled lens point and splat.
         let (c, r, cam_v) =
@@ -152,6 +158,7 @@ pub fn connect(
             p_error: pt.p_error,
             n: pt.ng,
         };
+        let lambda = &pt.wavelengths(lambda);
         let ls = light.sample_li(&ctx, u, lambda)?;
         if !(ls.pdf > 0.0) || ls.radiance.is_black() {
             return None;
@@ -310,20 +317,33 @@ pub fn mis_weight(
             (v.pdf_fwd, v.pdf_rev, v.delta)
         }
     };
+    // Fluorescence: a camera vertex's density includes the probability of its keep/shift
+    // choice; a light vertex, moved to the camera side, would need the camera's "keep" there.
+    // A path whose wavelengths were shifted on the camera side can only be made by s = 0 and
+    // s = 1 (other strategies join subpaths whose wavelengths differ), so only those count.
+    let shifted = t >= 2 && camera_path[t - 1].shifted.is_some();
+    let cam_choice = |i: usize| -> f32 {
+        if i + 1 == t {
+            pt.choice
+        } else {
+            camera_path[i].choice
+        }
+    };
     let sq = |x: f32| x * x;
     let mut sum = 0.0f32;
     let mut ri = 1.0f32;
     for i in (1..t).rev() {
         let (fwd, rev, delta) = cam(i);
-        ri *= sq(remap0(rev) / remap0(fwd));
-        if !delta && !cam(i - 1).2 {
+        ri *= sq(remap0(rev) / remap0(fwd * cam_choice(i)));
+        let s_alt = s + (t - i);
+        if !delta && !cam(i - 1).2 && (!shifted || s_alt <= 1) {
             sum += ri;
         }
     }
     ri = 1.0;
     for i in (0..s).rev() {
         let (fwd, rev, delta) = light(i);
-        ri *= sq(remap0(rev) / remap0(fwd));
+        ri *= sq(remap0(rev * light_v(i).choice) / remap0(fwd));
         let delta_before = if i > 0 {
             light(i - 1).2
         } else {
@@ -560,6 +580,7 @@ impl Bdpt {
             self.rr_depth,
             &mut light_path,
             &mut worker.stats,
+            WalkShift::LightKeep,
         );
         if let LightStart::Beams { index, pmf } = start {
             let mut splat = |raster: Vec2, xyz: [f64; 3], e: &dyn Fn() -> LaneEnergies| {

@@ -4,7 +4,7 @@
 //! tracing both use it, with weight 1, since no other strategy can reach those lights.
 
 use super::camera_connection::{connect_to_camera, SplatFn};
-use super::random_walk::random_walk;
+use super::random_walk::{random_walk, WalkShift};
 use super::vertex::Vertex;
 use super::{PathStats, SampleRng};
 use crate::camera::Camera;
@@ -59,7 +59,8 @@ pub fn trace_beam(
     };
     let iy = sensor.observer().integral_y();
     let bar = sensor.observer().xyz_bar(beam.wavelength_nm);
-    if !(iy > 0.0) || bar.iter().all(|&b| b == 0.0) {
+    // An invisible beam may still become visible light at a fluorescent surface.
+    if !(iy > 0.0) || (bar.iter().all(|&b| b == 0.0) && !scene.objects.fluorescence()) {
         return;
     }
     let beta = SampledSpectrum::splat(power as f32);
@@ -82,12 +83,18 @@ pub fn trace_beam(
         rr_depth,
         &mut path,
         stats,
+        WalkShift::LightLanes,
     );
     for s in 2..=path.len() {
         if let Some((c, raster, _)) =
             connect_to_camera(scene, camera, &path, s, &lambda, rng.next_2d(), stats)
         {
             let v = c.0[0] as f64 / iy;
+            // After a fluorescent event the beam arrives at the wavelength it was shifted to.
+            let (bar, nm) = match path[s - 1].shifted {
+                Some(l) => (sensor.observer().xyz_bar(l[0] as f64), l[0]),
+                None => (bar, nm),
+            };
             splat(raster, bar.map(|b| b * v), &|| {
                 LaneEnergies::single(nm, c.0[0] as f64)
             });

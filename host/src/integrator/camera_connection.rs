@@ -39,6 +39,8 @@ pub fn connect_to_camera(
         cs.n_lens,
         SampledSpectrum::splat(cs.importance / cs.pdf),
     );
+    // The wavelengths the subpath carries here (shifted by a fluorescent event, if any).
+    let lambda = &qs.wavelengths(lambda);
     let c = if s == 1 {
         let light = &scene.lights.lights()[qs.light_index(scene)? as usize];
         let w = cs.wi;

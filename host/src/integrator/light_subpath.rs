@@ -1,7 +1,7 @@
 //! The light subpath: a light chosen by power, an emitted ray, then the random walk in
 //! importance mode (BDPT and light tracing).
 
-use super::random_walk::random_walk;
+use super::random_walk::{random_walk, WalkShift};
 use super::vertex::Vertex;
 use super::{PathStats, SampleRng};
 use crate::light::LightFlags;
@@ -28,7 +28,8 @@ pub enum LightStart {
 }
 
 /// The light subpath: a light chosen by power, an emitted ray from `sample_le`, then a random
-/// walk in importance mode, up to `max_vertices` vertices.
+/// walk in importance mode, up to `max_vertices` vertices; `shift` says what the walk does at
+/// fluorescent surfaces.
 #[allow(clippy::too_many_arguments)]
 pub fn generate_light_subpath(
     scene: &Scene,
@@ -38,6 +39,7 @@ pub fn generate_light_subpath(
     rr_depth: u32,
     path: &mut Vec<Vertex>,
     stats: &mut PathStats,
+    shift: WalkShift,
 ) -> LightStart {
     let u_light = rng.next_1d();
     let u1 = rng.next_2d();
@@ -51,6 +53,7 @@ pub fn generate_light_subpath(
         rr_depth,
         path,
         stats,
+        shift,
     )
 }
 
@@ -66,6 +69,7 @@ pub fn generate_light_subpath_with(
     rr_depth: u32,
     path: &mut Vec<Vertex>,
     stats: &mut PathStats,
+    shift: WalkShift,
 ) -> LightStart {
     path.clear();
     if max_vertices == 0 {
@@ -112,6 +116,7 @@ pub fn generate_light_subpath_with(
         rr_depth,
         path,
         stats,
+        shift,
     );
     // Parallel rays of a directional light: the density at the first hit is positional.
     if flags.contains(LightFlags::DELTA_DIRECTION) && path.len() > 1 {

@@ -22,6 +22,7 @@ use super::camera_connection::{connect_to_camera, SplatFn};
 use super::driver::{Integrator, IntegratorInfo, IntegratorOutput, Registration};
 use super::light_subpath::{generate_light_subpath, LightStart};
 use super::pixel_max::PixelMaxY;
+use super::random_walk::WalkShift;
 use super::render::ProgressFn;
 use super::vertex::Vertex;
 use super::wavelength_mixture::WavelengthMixture;
@@ -134,7 +135,16 @@ fn trace_light_path(
     let lambda = mixture.sample(rng);
     let max_depth = lt.max_depth;
     let rr = lt.rr_depth;
-    match generate_light_subpath(scene, &lambda, rng, max_depth as usize + 1, rr, path, stats) {
+    match generate_light_subpath(
+        scene,
+        &lambda,
+        rng,
+        max_depth as usize + 1,
+        rr,
+        path,
+        stats,
+        WalkShift::LightLanes,
+    ) {
         LightStart::None => {}
         LightStart::Beams { index, pmf } => {
             trace_beam(
@@ -147,10 +157,19 @@ fn trace_light_path(
                 if let Some((c, raster, _)) =
                     connect_to_camera(scene, camera, path, s, &lambda, rng.next_2d(), stats)
                 {
-                    let lanes = path[s - 1].lanes;
-                    splat(raster, weights.xyz(&c, lanes), &|| {
-                        weights.energies(&c, lanes)
-                    });
+                    let v = &path[s - 1];
+                    let lanes = v.lanes;
+                    // Shifted by fluorescence: the observer weighs the wavelengths that reach
+                    // the camera, each divided by its lane's original density.
+                    let shifted_weights;
+                    let w = match v.shifted {
+                        Some(_) => {
+                            shifted_weights = XyzWeights::new(sensor, &v.wavelengths(&lambda));
+                            &shifted_weights
+                        }
+                        None => &weights,
+                    };
+                    splat(raster, w.xyz(&c, lanes), &|| w.energies(&c, lanes));
                 }
             }
         }

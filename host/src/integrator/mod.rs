@@ -10,6 +10,7 @@ pub mod bdpt;
 pub mod beam;
 pub mod camera_connection;
 pub mod driver;
+pub mod fluorescence;
 pub mod light_subpath;
 pub mod light_tracer;
 pub mod path;

@@ -5,6 +5,7 @@
 //! keeps only the hero wavelength.
 
 use super::driver::{Integrator, IntegratorInfo, IntegratorOutput, Registration};
+use super::fluorescence::{shift_lanes, Direction, UNIT_LOBE};
 use super::render::ProgressFn;
 use super::tiled::render_tiles;
 use super::wavelength_groups::{PathWavelengthSampler, PathWavelengths, MAX_GROUPS};
@@ -16,8 +17,9 @@ use crate::film::spectral_film::LaneEnergies;
 use crate::film::{FilmState, Sensor};
 use crate::geometry::{spawn_ray, spawn_ray_to, Ray};
 use crate::light::{LightFlags, LightSampleContext};
-use crate::material::{Frame, MaterialFlags, ShadingContext, TransportMode};
+use crate::material::{Frame, Material, MaterialFlags, ShadingContext, TransportMode};
 use crate::scene::Scene;
+use crate::spectrum::wavelength_sampling::rotated;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, LANES};
 use glam::Vec2;
 use spectrace_plugin_api::ParamDoc;
@@ -272,7 +274,13 @@ impl PathTracer {
         let mut eta_scale = 1.0f32;
         let max_depth = if self.direct_only { 1 } else { self.max_depth };
         let mut depth = 0u32;
+        let fluorescence = scene.objects.fluorescence();
+        // The wavelengths each group's lanes carry now, once a fluorescent event has shifted
+        // one (see `super::fluorescence`); the film keeps weighing `lambdas`, the observed ones.
+        let mut shifted: Option<[[f32; LANES]; MAX_GROUPS]> = None;
+        let mut cur_buf = [*lambdas.groups().first().expect("a group"); MAX_GROUPS];
         loop {
+            let cur = current(lambdas.groups(), shifted.as_ref(), &mut cur_buf);
             stats.rays += 1;
             let Some(hit) = scene.geometry.intersect(&ray, f32::INFINITY) else {
                 // The path leaves the scene: the environment's radiance, weighted against its
@@ -288,12 +296,7 @@ impl PathTracer {
                             power_heuristic(prev_bsdf_pdf, light_pdf)
                         };
                         let back = -ray.dir.normalize();
-                        for (g, lam) in lambdas
-                            .groups()
-                            .iter()
-                            .enumerate()
-                            .take(lambdas.active_groups())
-                        {
+                        for (g, lam) in cur.iter().enumerate().take(lambdas.active_groups()) {
                             let le = light.radiance(p_env, n_env, glam::Vec2::ZERO, back, lam);
                             l[g] += beta[g] * le * w;
                         }
@@ -319,7 +322,7 @@ impl PathTracer {
                 // One MIS weight for every group: both strategies sampled with the hero.
                 let mut weight: Option<f32> = None;
                 for g in 0..active {
-                    let le = material.emitted(wo_geo, &sctx, &lambdas.groups()[g]);
+                    let le = material.emitted(wo_geo, &sctx, &cur[g]);
                     if le.is_black() {
                         continue;
                     }
@@ -351,7 +354,35 @@ impl PathTracer {
                 p_error: hit.point_error,
                 n: hit.geometric_normal,
             };
-            let hero = lambdas.groups()[0];
+            // A fluorescent surface: each lane keeps its wavelength or moves to an excitation
+            // wavelength now, so next-event estimation and the continuation use the new one;
+            // the spectral weight goes into β and the surface scatters as a unit cosine lobe.
+            let rerad = if fluorescence {
+                scene.objects.reradiation(hit.object)
+            } else {
+                None
+            };
+            let material: &dyn Material = match rerad {
+                Some(rr) => {
+                    let mut sh = shifted.unwrap_or_else(|| {
+                        std::array::from_fn(|g| {
+                            lambdas.groups().get(g).map_or([0.0; LANES], |w| w.lambda)
+                        })
+                    });
+                    let u = rng.next_1d();
+                    for g in 0..active {
+                        let mut lam = cur[g];
+                        let ug = rotated(u as f64, g, LANES * active) as f32;
+                        beta[g] *= shift_lanes(rr, &mut lam, ug, Direction::Camera);
+                        sh[g] = lam.lambda;
+                    }
+                    shifted = Some(sh);
+                    &UNIT_LOBE
+                }
+                None => material,
+            };
+            let cur = current(lambdas.groups(), shifted.as_ref(), &mut cur_buf);
+            let hero = cur[0];
 
             // Next-event estimation: one light point (drawn for the hero), emission and BSDF per
             // group, one shadow ray.
@@ -367,11 +398,8 @@ impl PathTracer {
                             let mut terms =
                                 [(SampledSpectrum::zero(), SampledSpectrum::zero()); MAX_GROUPS];
                             let mut any = false;
-                            for (g, (term, lam)) in terms
-                                .iter_mut()
-                                .zip(lambdas.groups())
-                                .take(active)
-                                .enumerate()
+                            for (g, (term, lam)) in
+                                terms.iter_mut().zip(cur).take(active).enumerate()
                             {
                                 let radiance = if g == 0 {
                                     ls.radiance
@@ -447,12 +475,7 @@ impl PathTracer {
             f_groups[0] = bs.f;
             let mut wavelength_dependent = bs.flags.contains(MaterialFlags::DISPERSIVE);
             if !wavelength_dependent {
-                for (f_g, lam) in f_groups
-                    .iter_mut()
-                    .zip(lambdas.groups())
-                    .take(active)
-                    .skip(1)
-                {
+                for (f_g, lam) in f_groups.iter_mut().zip(cur).take(active).skip(1) {
                     *f_g = if bs.flags.is_specular() {
                         // A delta event cannot be evaluated: sample it again with the same
                         // numbers and this group's wavelengths.
@@ -521,6 +544,25 @@ impl PathTracer {
         }
         l
     }
+}
+
+/// The wavelengths the groups carry now: `groups` itself until a fluorescent event, then a copy
+/// in `buf` with the shifted wavelengths (pdfs and lane masks stay the observed ones').
+fn current<'a>(
+    groups: &'a [SampledWavelengths],
+    shifted: Option<&[[f32; LANES]; MAX_GROUPS]>,
+    buf: &'a mut [SampledWavelengths; MAX_GROUPS],
+) -> &'a [SampledWavelengths] {
+    let Some(sh) = shifted else {
+        return groups;
+    };
+    for (g, w) in groups.iter().enumerate() {
+        buf[g] = SampledWavelengths {
+            lambda: sh[g],
+            ..*w
+        };
+    }
+    &buf[..groups.len()]
 }
 
 /// A camera sample's XYZ: the mean over wavelength groups of each group's sensor response to

@@ -2,11 +2,12 @@
 //! Russian roulette, the forward/reverse area densities MIS needs), and the camera subpath
 //! built from it.
 
+use super::fluorescence::{self, Direction, UNIT_LOBE};
 use super::vertex::{Vertex, VertexKind};
 use super::{PathStats, SampleRng};
 use crate::camera::Camera;
 use crate::geometry::{spawn_ray, Ray};
-use crate::material::{Frame, MaterialFlags, ShadingContext, TransportMode};
+use crate::material::{Frame, Material, MaterialFlags, ShadingContext, TransportMode};
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 
@@ -16,6 +17,21 @@ fn flip(mode: TransportMode) -> TransportMode {
         TransportMode::Radiance => TransportMode::Importance,
         TransportMode::Importance => TransportMode::Radiance,
     }
+}
+
+/// What a walk does at a fluorescent surface (see [`super::fluorescence`]); nothing unless the
+/// scene renders fluorescence.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WalkShift {
+    /// Treat it as its reflectance (ρ/π): no wavelength ever changes.
+    Off,
+    /// bdpt camera subpaths: one keep/shift choice for all lanes, recorded for MIS.
+    CameraChoice,
+    /// bdpt light subpaths: no shift (a connection joins equal wavelengths only); record the
+    /// probability a camera subpath would have kept its wavelengths here, for MIS.
+    LightKeep,
+    /// Light tracing: each lane keeps or moves to an emission wavelength on its own.
+    LightLanes,
 }
 
 /// Extend `path` by up to `max_new` surface vertices, starting with `ray` leaving the last
@@ -34,12 +50,21 @@ pub fn random_walk(
     rr_depth: u32,
     path: &mut Vec<Vertex>,
     stats: &mut PathStats,
+    shift: WalkShift,
 ) {
     if max_new == 0 || path.is_empty() {
         return;
     }
+    let shift = if scene.objects.fluorescence() {
+        shift
+    } else {
+        WalkShift::Off
+    };
     let mut pdf_fwd = pdf_dir;
     let mut lanes = path[path.len() - 1].lanes.intersect(lambda.lanes);
+    // The wavelengths carried now (the pair's until a fluorescent event shifts them).
+    let mut cur = path[path.len() - 1].wavelengths(lambda);
+    let mut shifted = path[path.len() - 1].shifted.is_some();
     // Scattering-only throughput for Russian roulette (β of light paths carries watts), without
     // the 1/η² radiance scaling of refraction: that factor is undone when the path leaves the
     // medium again, so a roulette on it would kill camera paths inside glass with probability
@@ -58,6 +83,7 @@ pub fn random_walk(
                         let mut v = Vertex::light(ei, p, glam::Vec3A::ZERO, n, beta);
                         v.wo = -ray.dir.normalize();
                         v.lanes = lanes;
+                        v.shifted = shifted.then_some(cur.lambda);
                         v.pdf_fwd = prev.convert_density(pdf_fwd, &v);
                         path.push(v);
                     }
@@ -80,27 +106,71 @@ pub fn random_walk(
             pdf_rev: 0.0,
             delta: false,
             lanes,
+            shifted: shifted.then_some(cur.lambda),
+            unit_lobe: false,
+            choice: 1.0,
         };
         v.pdf_fwd = prev.convert_density(pdf_fwd, &v);
+        // A fluorescent surface: the wavelength choice is made on arrival, so connections
+        // from this vertex and the continuation see the new wavelengths.
+        let rerad = match shift {
+            WalkShift::Off => None,
+            _ => scene.objects.reradiation(hit.object),
+        };
+        if let Some(rr) = rerad {
+            cur.lanes = lanes;
+            match shift {
+                WalkShift::CameraChoice => {
+                    let p = fluorescence::keep_probability(rr, &cur);
+                    let u = rng.next_1d();
+                    let keep = u < p;
+                    let u2 = if keep { u / p } else { (u - p) / (1.0 - p) };
+                    let w = fluorescence::shift_camera_group(rr, &mut cur, keep, p, u2);
+                    v.choice = if keep { p } else { 1.0 - p };
+                    shifted |= !keep;
+                    v.unit_lobe = true;
+                    beta *= w;
+                    scatter *= w.max_value();
+                }
+                WalkShift::LightLanes => {
+                    let before = cur.lambda;
+                    let w =
+                        fluorescence::shift_lanes(rr, &mut cur, rng.next_1d(), Direction::Light);
+                    shifted |= cur.lambda != before;
+                    v.unit_lobe = true;
+                    beta *= w;
+                    scatter *= w.max_value();
+                }
+                WalkShift::LightKeep => v.choice = fluorescence::keep_probability(rr, &cur),
+                WalkShift::Off => {}
+            }
+            v.beta = beta;
+            v.shifted = shifted.then_some(cur.lambda);
+        }
+        let unit_lobe = v.unit_lobe;
         path.push(v);
         added += 1;
-        if added >= max_new {
+        if added >= max_new || (rerad.is_some() && beta.is_black()) {
             break;
         }
-        let material = scene.objects.material(hit.object);
+        let material: &dyn Material = if unit_lobe {
+            &UNIT_LOBE
+        } else {
+            scene.objects.material(hit.object)
+        };
         let frame = Frame::from_normal(hit.shading_normal);
         let wo = frame.to_local(wo_world);
         let ctx = ShadingContext::at(hit.point, hit.geometric_normal, hit.shading_normal, hit.uv);
         let u_lobe = rng.next_1d();
         let u_dir = rng.next_2d();
-        let Some(bs) = material.sample(wo, &ctx, lambda, u_lobe, u_dir, mode) else {
+        let Some(bs) = material.sample(wo, &ctx, &cur, u_lobe, u_dir, mode) else {
             break;
         };
         if !(bs.pdf > 0.0) || bs.f.is_black() {
             break;
         }
         let wi_world = frame.to_world(bs.wi);
-        let mut pdf_rev = material.pdf(bs.wi, wo, &ctx, lambda, flip(mode));
+        let mut pdf_rev = material.pdf(bs.wi, wo, &ctx, &cur, flip(mode));
         pdf_fwd = bs.pdf;
         let n = path.len();
         if bs.flags.is_specular() {
@@ -173,5 +243,6 @@ pub fn generate_camera_subpath(
         rr_depth,
         path,
         stats,
+        WalkShift::CameraChoice,
     );
 }

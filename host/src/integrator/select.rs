@@ -136,7 +136,25 @@ pub fn strategy_summary(scene: &Scene, kind: IntegratorKind) -> Vec<String> {
                 integrator.light_strategy(f)
             )
         })
+        .chain(fluorescence_strategy(scene, kind))
         .collect()
+}
+
+/// What integrator `kind` does at fluorescent surfaces, when the scene renders fluorescence.
+fn fluorescence_strategy(scene: &Scene, kind: IntegratorKind) -> Option<String> {
+    if !scene.objects.fluorescence() {
+        return None;
+    }
+    Some(
+        if kind == IntegratorKind::Bdpt {
+            "fluorescence: wavelengths shift on camera subpaths only; a path through a shift is made by s = 0 and s = 1 alone (MIS over those two), the other strategies join unshifted paths (MIS over all)"
+        } else if kind == IntegratorKind::Lt {
+            "fluorescence: light paths shift each lane's wavelength at fluorescent surfaces"
+        } else {
+            "fluorescence: camera paths shift each lane's wavelength at fluorescent surfaces"
+        }
+        .to_string(),
+    )
 }
 
 /// Render `scene` with the integrator `kind`. `strategy_images` asks BDPT for one image per

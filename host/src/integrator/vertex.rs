@@ -6,12 +6,13 @@
 //! Densities are in area measure (1/m², scene units) except where noted; `delta` marks vertices
 //! scattered by a Dirac lobe (mirror, smooth glass), where no connection can be made.
 
+use super::fluorescence::UNIT_LOBE;
 use crate::camera::Camera;
 use crate::geometry::{spawn_ray_to, Ray};
 use crate::light::{Light, LightFlags};
 use crate::material::{Frame, Material, ShadingContext, TransportMode};
 use crate::scene::Scene;
-use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths};
+use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths, LANES};
 use glam::{Vec2, Vec3A};
 
 /// What a vertex lies on.
@@ -60,6 +61,15 @@ pub struct Vertex {
     /// Wavelength lanes still valid at this vertex of its own subpath: every lane until a
     /// wavelength-dependent (dispersive) event before it leaves only the hero.
     pub lanes: LaneMask,
+    /// The wavelengths (nm) its subpath carries on from here once a fluorescent event at or
+    /// before this vertex has shifted them; `None` while they are the pair's wavelengths.
+    pub shifted: Option<[f32; LANES]>,
+    /// The spectral part of a fluorescent surface is in `beta`: connections and sampling use
+    /// the unit cosine lobe ([`UNIT_LOBE`]) instead of the material's ρ/π.
+    pub unit_lobe: bool,
+    /// bdpt's MIS: the probability of the keep/shift choice a camera subpath makes (or, on a
+    /// light subpath, would have to make: keep) at this fluorescent vertex; 1 elsewhere.
+    pub choice: f32,
 }
 
 /// `x` if non-zero, else 1: a zero density marks an unsampleable (delta) step, which cancels in
@@ -112,6 +122,9 @@ impl Vertex {
             pdf_rev: 0.0,
             delta: false,
             lanes: LaneMask::ALL,
+            shifted: None,
+            unit_lobe: false,
+            choice: 1.0,
         }
     }
 
@@ -130,6 +143,9 @@ impl Vertex {
             pdf_rev: 0.0,
             delta: false,
             lanes: LaneMask::ALL,
+            shifted: None,
+            unit_lobe: false,
+            choice: 1.0,
         }
     }
 
@@ -164,8 +180,19 @@ impl Vertex {
 
     fn material<'a>(&self, scene: &'a Scene) -> Option<&'a dyn Material> {
         match self.kind {
+            VertexKind::Surface { .. } if self.unit_lobe => Some(&UNIT_LOBE),
             VertexKind::Surface { object } => Some(scene.objects.material(object)),
             _ => None,
+        }
+    }
+
+    /// The wavelengths its subpath carries at this vertex: `pair` (the camera/light pair's)
+    /// with the shifted values, if a fluorescent event changed them (pdfs and mask stay).
+    #[inline]
+    pub fn wavelengths(&self, pair: &SampledWavelengths) -> SampledWavelengths {
+        match self.shifted {
+            Some(lambda) => SampledWavelengths { lambda, ..*pair },
+            None => *pair,
         }
     }
 

@@ -140,6 +140,8 @@ impl PathWavelengths {
 #[derive(Clone, Debug)]
 pub struct PathWavelengthSampler {
     sampling: WavelengthSampling,
+    /// Light-SPD sampling was asked for in a scene with fluorescence: visible is used.
+    fluorescence_refused_light_spd: bool,
     groups: usize,
     single_lane: bool,
     /// The render plan's emission mixture, for [`WavelengthSampling::LightSpd`] in scenes with
@@ -159,6 +161,13 @@ impl PathWavelengthSampler {
     ) -> Result<Self, String> {
         let groups = groups_for(per_path)?;
         let mixture = || Some(plan.mixture().clone()).filter(|m| m.has_emission());
+        // Light-SPD sampling would never observe wavelengths that only fluorescence emits.
+        let requested = sampling;
+        let sampling = if sampling == WavelengthSampling::LightSpd && plan.fluorescence() {
+            WavelengthSampling::Visible
+        } else {
+            sampling
+        };
         let emission = match sampling {
             WavelengthSampling::LightSpd => mixture(),
             WavelengthSampling::Visible if plan.emission_wavelengths() => mixture(),
@@ -166,6 +175,7 @@ impl PathWavelengthSampler {
         };
         Ok(Self {
             sampling,
+            fluorescence_refused_light_spd: requested != sampling,
             groups,
             single_lane: per_path == 1,
             emission,
@@ -176,6 +186,12 @@ impl PathWavelengthSampler {
     /// visible-importance sampling is used instead.
     pub fn light_spd_fell_back(&self) -> bool {
         self.sampling == WavelengthSampling::LightSpd && self.emission.is_none()
+    }
+
+    /// True when light-SPD sampling was asked for but the scene renders fluorescence, whose
+    /// emission lies where no light emits: visible-importance sampling is used instead.
+    pub fn light_spd_refused_for_fluorescence(&self) -> bool {
+        self.fluorescence_refused_light_spd
     }
 
     /// Draw the path's wavelengths: one uniform from `rng` for the rotations, plus one to pick

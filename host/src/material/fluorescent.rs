@@ -8,10 +8,13 @@
 //! | `bfc`     | path              | measured matrix (`host/data/fluorescence/*.BFC`), or      |
 //! | `model`   | [`FluorescenceModel`] | reflectance, absorption, emission SPD, quantum yield |
 //!
+//! The scene type is `builtin/material/fluorescent.rs` (parameter table there).
+//!
 //! Through the ordinary [`Material`] interface the surface is a Lambertian with ρ(λ): the part
 //! of its light that keeps its wavelength. The wavelength-shifting part is offered by
-//! [`Fluorescent::sample_shift`] and [`Fluorescent::eval_shift`] for integrators that can
-//! change a path's wavelength (not wired yet; see `docs/effects.md`). Both parts together
+//! [`Material::reradiation`]; pt, lt and bdpt shift wavelengths with it (see
+//! `integrator::fluorescence`). [`Fluorescent::sample_shift`] and [`Fluorescent::eval_shift`]
+//! give the shift on its own. Both parts together
 //! never return more power than arrives: ρ(λᵢ) + ∫ r dλₒ ≤ 1, checked when the data is built.
 
 use super::{
@@ -42,12 +45,23 @@ pub struct ShiftSample {
 #[derive(Debug, Clone)]
 pub struct Fluorescent {
     data: Arc<dyn Reradiation>,
+    reradiate: bool,
 }
 
 impl Fluorescent {
     /// From any re-radiation data.
     pub fn new(data: Arc<dyn Reradiation>) -> Self {
-        Self { data }
+        Self {
+            data,
+            reradiate: true,
+        }
+    }
+
+    /// The non-fluorescent twin: the same reflectance ρ(λ), no re-radiation (no
+    /// `FLUORESCENT` flag), for side-by-side comparisons.
+    pub fn twin(mut self) -> Self {
+        self.reradiate = false;
+        self
     }
 
     /// From a measured `.BFC` file (cleaned as documented in
@@ -98,6 +112,30 @@ impl Fluorescent {
     }
 }
 
+/// Names of the bundled measured samples (`host/data/fluorescence/`, source in its README).
+pub const BUNDLED_SAMPLES: [&str; 8] = [
+    "CIBA12", "CIPLAW10", "HERPICER", "HERPIORA", "IXCRLALE", "PHP8HP1C", "POLGREE", "TEXTYELL",
+];
+
+/// The text of bundled sample `name` (case-insensitive, without extension), compiled in so
+/// scenes can name a sample wherever they live.
+pub fn bundled_bfc(name: &str) -> Option<&'static str> {
+    const TEXTS: [&str; 8] = [
+        include_str!("../../data/fluorescence/CIBA12.BFC"),
+        include_str!("../../data/fluorescence/CIPLAW10.BFC"),
+        include_str!("../../data/fluorescence/HERPICER.BFC"),
+        include_str!("../../data/fluorescence/HERPIORA.BFC"),
+        include_str!("../../data/fluorescence/IXCRLALE.BFC"),
+        include_str!("../../data/fluorescence/PHP8HP1C.BFC"),
+        include_str!("../../data/fluorescence/POLGREE.BFC"),
+        include_str!("../../data/fluorescence/TEXTYELL.BFC"),
+    ];
+    BUNDLED_SAMPLES
+        .iter()
+        .position(|s| s.eq_ignore_ascii_case(name))
+        .map(|i| TEXTS[i])
+}
+
 /// The scene-registry entry point: a fluorescent material from a `.BFC` path, resolved
 /// against the scene file's directory when relative.
 pub fn fluorescent_from_bfc_param(
@@ -115,7 +153,12 @@ pub fn fluorescent_from_bfc_param(
 
 impl Material for Fluorescent {
     fn flags(&self) -> MaterialFlags {
-        MaterialFlags::DIFFUSE | MaterialFlags::REFLECTION | MaterialFlags::FLUORESCENT
+        let f = MaterialFlags::DIFFUSE | MaterialFlags::REFLECTION;
+        if self.reradiate {
+            f | MaterialFlags::FLUORESCENT
+        } else {
+            f
+        }
     }
 
     fn sample(
@@ -174,6 +217,9 @@ impl Material for Fluorescent {
         } else {
             0.0
         }
+    }
+    fn reradiation(&self) -> Option<&dyn Reradiation> {
+        self.reradiate.then_some(self.data.as_ref())
     }
 }
 

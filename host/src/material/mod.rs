@@ -155,6 +155,15 @@ pub trait Material: Send + Sync + Debug {
         None
     }
 
+    /// For fluorescent materials ([`MaterialFlags::FLUORESCENT`]): the wavelength-shifting
+    /// data. Such a material scatters diffusely (a cosine lobe, f = 1/π per unit albedo) in both
+    /// its parts; [`sample`](Self::sample)/[`eval`](Self::eval) give the part that keeps its
+    /// wavelength (ρ/π) and integrators that shift wavelengths read the rest from here (see
+    /// `integrator::fluorescence`).
+    fn reradiation(&self) -> Option<&dyn crate::spectrum::reradiation::Reradiation> {
+        None
+    }
+
     /// This material with the effects in `off` switched off (the render plan's
     /// `--effect NAME=off`), and one sentence saying what changed; `None` when none of them
     /// applies or the material cannot switch them off.

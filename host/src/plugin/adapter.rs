@@ -406,6 +406,9 @@ fn material_bits(f: Flags, transmission_event: Option<bool>) -> MaterialFlags {
         (material_flags::TRANSMISSION, MaterialFlags::TRANSMISSION),
         (material_flags::DISPERSIVE, MaterialFlags::DISPERSIVE),
         (material_flags::EMISSIVE, MaterialFlags::EMISSIVE),
+        // Kept so the analysis and the scene's warnings see it; the re-radiation itself cannot
+        // cross the interface yet, so such a material renders its reflectance (with a warning).
+        (material_flags::FLUORESCENT, MaterialFlags::FLUORESCENT),
     ];
     let mut out = MaterialFlags::NONE;
     for (p, h) in pairs {

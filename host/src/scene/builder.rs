@@ -361,6 +361,7 @@ pub fn build_scene_with(
     warnings.extend(super::warnings::all_black(&objects));
     let names: Vec<&str> = objects.iter().map(|o| o.name.as_str()).collect();
     warnings.extend(super::warnings::coordinate_precision(&geometry, &names));
+    warnings.extend(super::warnings::fluorescence_without_data(&objects));
     warnings.extend(super::warnings::blind_cameras(
         &geometry,
         cameras.cameras(),

@@ -103,6 +103,29 @@ pub fn all_black(objects: &[SceneObject]) -> Option<String> {
     })
 }
 
+/// A warning per object whose material declares `FLUORESCENT` but offers no re-radiation data
+/// (a plugin material: the plugin interface cannot pass it yet). Such a surface renders its
+/// reflectance only; the warning says so instead of dropping the flag silently.
+pub fn fluorescence_without_data(objects: &[SceneObject]) -> Vec<String> {
+    objects
+        .iter()
+        .filter(|o| {
+            o.material
+                .flags()
+                .contains(crate::material::MaterialFlags::FLUORESCENT)
+                && o.material.reradiation().is_none()
+        })
+        .map(|o| {
+            format!(
+                "object \"{}\": its material declares FLUORESCENT but gives the host no \
+                 re-radiation data (the plugin interface cannot pass it yet): it renders its \
+                 reflectance only, with no wavelength shift",
+                o.name
+            )
+        })
+        .collect()
+}
+
 /// Warnings for cameras none of whose rays on a 16 × 16 grid over the film hits an object,
 /// in a scene without an environment light (their images are black).
 pub fn blind_cameras(

@@ -505,6 +505,9 @@ fn light_tracing(
                         rr,
                         &mut path,
                         &mut stats,
+                        // Deposits are weighed at the path's own wavelengths, so light paths
+                        // for sensors do not shift them (fluorescent surfaces reflect only).
+                        crate::integrator::random_walk::WalkShift::Off,
                     ) {
                         deposit(scene, &path, sp, &lambda, photo, &mut cur, &mut stats);
                     }

@@ -29,6 +29,19 @@ pub trait Reradiation: Send + Sync + std::fmt::Debug {
     /// Density (1/nm) with which [`sample_emission`](Self::sample_emission) produces λₒ.
     fn emission_pdf(&self, lambda_i_nm: f64, lambda_o_nm: f64) -> f64;
 
+    /// ∫ r(λᵢ → λₒ) dλᵢ: how much light re-radiated at λₒ a unit illuminant at every
+    /// excitation wavelength produces (unitless; may exceed 1, since many excitation
+    /// wavelengths feed one emission wavelength). Camera paths read it as the weight of the
+    /// re-radiated part. It need only be an estimate: samplers use it to choose between
+    /// reflection and re-radiation, and weights use [`reradiation`](Self::reradiation) and
+    /// [`sample_excitation`](Self::sample_excitation)'s density.
+    fn excitation_fraction(&self, lambda_o_nm: f64) -> f64;
+
+    /// Draw an excitation wavelength for emission λₒ with `u ∈ [0,1)` (camera paths follow
+    /// light backwards): `(λᵢ nm, pdf 1/nm)` with a density that is positive wherever
+    /// r(· → λₒ) is, or `None` where nothing re-radiates into λₒ.
+    fn sample_excitation(&self, lambda_o_nm: f64, u: f64) -> Option<(f64, f64)>;
+
     /// Range of wavelengths (nm) over which excitation or emission is non-zero.
     fn range(&self) -> (f64, f64);
 

@@ -3,6 +3,7 @@
 pub mod conductor;
 pub mod dielectric;
 pub mod emissive;
+pub mod fluorescent;
 pub mod lambertian;
 pub mod mirror;
 pub mod rough_dielectric;
