@@ -288,8 +288,8 @@ fn materials_scene_mean_does_not_depend_on_selection() {
         }
         // Batches of 16 seeds, each judged like a 16-seed experiment: the spread of the batch
         // means against the SE each batch claims.
-        for c in 0..3 {
-            let zs: Vec<f64> = d[c]
+        for (c, dc) in d.iter().enumerate() {
+            let zs: Vec<f64> = dc
                 .chunks(16)
                 .filter(|b| b.len() == 16)
                 .map(|b| {
@@ -298,7 +298,7 @@ fn materials_scene_mean_does_not_depend_on_selection() {
                 })
                 .collect();
             let big = zs.iter().filter(|z| z.abs() > 3.0).count();
-            let ms: Vec<f64> = d[c]
+            let ms: Vec<f64> = dc
                 .chunks(16)
                 .filter(|b| b.len() == 16)
                 .map(|b| mean_se(b).0)
@@ -309,7 +309,7 @@ fn materials_scene_mean_does_not_depend_on_selection() {
                 zs.iter().fold(0.0f64, |a, z| a.max(z.abs())),
                 100.0 * mean_se(&ms).1 * (ms.len() as f64).sqrt(),
                 100.0 * {
-                    let mut v: Vec<f64> = d[c].chunks(16).filter(|b| b.len() == 16).map(|b| mean_se(b).1).collect();
+                    let mut v: Vec<f64> = dc.chunks(16).filter(|b| b.len() == 16).map(|b| mean_se(b).1).collect();
                     v.sort_by(f64::total_cmp);
                     v[v.len() / 2]
                 }
