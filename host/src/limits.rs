@@ -9,6 +9,7 @@
 //! | threads | ≤ [`max_threads`]: 16 per core, at least 64 | more only adds start-up time and memory |
 //! | scene file | ≤ [`SCENE_FILE_MAX_BYTES`] (64 MiB) | a scene description is text a person writes |
 //! | spectrum table (CSV) | ≤ [`TABLE_FILE_MAX_BYTES`] (64 MiB) | a measured table is kilobytes |
+//! | luminaire (IES, EULUMDAT, tilt) | ≤ [`LUMINAIRE_FILE_MAX_BYTES`] (64 MiB) | a measured luminaire is kilobytes |
 //! | mesh file | ≤ [`mesh_file_max_bytes`]: 1/16 of the available memory, 64 MiB … 4 GiB | parsing and the BVH take many times the text |
 //! | triangles of one mesh | ≤ [`max_triangles`]: half the available memory / [`BYTES_PER_TRIANGLE`] | indices, vertices and BVH |
 //!
@@ -33,6 +34,9 @@ pub const SCENE_FILE_MAX_BYTES: u64 = 64 << 20;
 
 /// Largest spectrum table (CSV) read.
 pub const TABLE_FILE_MAX_BYTES: u64 = 64 << 20;
+
+/// Largest luminaire file (IES, EULUMDAT, IES tilt file) read: real ones are kilobytes.
+pub const LUMINAIRE_FILE_MAX_BYTES: u64 = 64 << 20;
 
 /// Bytes one triangle costs once loaded: indices (12), up to three vertices with normals and
 /// uvs (3 × 32, shared in practice), the BVH's primitive reference and node share (~40).

@@ -168,3 +168,50 @@ fn endless_scene_file_is_cut_at_the_limit() {
     let t = text(&o);
     assert!(t.contains("/dev/zero") && t.contains("64.00 MiB"), "{t}");
 }
+
+/// `/dev/zero` as a luminaire, or named by an IES file's `TILT=` line, was read until memory
+/// ran out; now both reads stop at the luminaire-file limit (64 MiB) with an error naming the
+/// file and the limit.
+#[test]
+#[cfg(unix)]
+fn endless_luminaire_and_tilt_files_are_cut_at_the_limit() {
+    use spectrace::photometry::{ies::parse_ies, load_luminaire};
+    let e = load_luminaire(std::path::Path::new("/dev/zero"))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("/dev/zero") && e.contains("64.00 MiB"), "{e}");
+    let ies =
+        b"IES:LM-63-2019\n[TEST] x\nTILT=/dev/zero\n1 1000 1 1 1 1 2 0 0 0\n1 1 10\n0\n0\n100\n";
+    let e = parse_ies(ies, std::path::Path::new("/tmp/x.ies"))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("/dev/zero") && e.contains("64.00 MiB"), "{e}");
+}
+
+/// `spectrace … | head`: output to a pipe whose reader has gone made `println!` panic ("failed
+/// printing to stdout: Broken pipe", exit 101, a panic message on stderr). Now the process ends
+/// quietly, by SIGPIPE as other command-line tools do. The read end is closed before the child
+/// starts, so its first write always meets the broken pipe. Checked for two commands that print
+/// with `println!` (a list and a computed table): no panic message, ended by SIGPIPE.
+#[test]
+#[cfg(unix)]
+fn writing_into_a_closed_pipe_ends_quietly() {
+    use std::os::unix::process::ExitStatusExt;
+    for args in [&["plugins"][..], &["color", "d65"][..]] {
+        let (reader, writer) = std::io::pipe().unwrap();
+        drop(reader);
+        let o = Command::new(env!("CARGO_BIN_EXE_spectrace"))
+            .args(args)
+            .stdout(writer)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+        assert_eq!(
+            o.status.signal(),
+            Some(libc::SIGPIPE),
+            "{args:?}: {:?} {stderr}",
+            o.status
+        );
+    }
+}

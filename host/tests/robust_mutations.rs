@@ -2,10 +2,12 @@
 //! fuzz targets in `fuzz/`: a valid file of each format is damaged by a random list of edits
 //! (flipped bytes, inserted or deleted runs, a cut, a duplicated slice, a number swapped for an
 //! extreme one) and the reader must answer with a value or an error — never a panic, and a mesh
-//! it accepts must be valid. 1024 cases per reader, well under a second each.
+//! it accepts must be valid, and a luminaire (IES, EULUMDAT) it accepts must survive being used
+//! and written back out. 1024 cases per reader, well under a second each.
 
 use proptest::prelude::*;
 use spectrace::geometry::{parse_obj, parse_ply};
+use spectrace::photometry::{eulumdat::parse_eulumdat, ies::parse_ies, Luminaire};
 use spectrace::plugin::blob::Blob;
 use spectrace::scene::{build_scene, parse_scene_str, BuiltinFactory, ObjectFactory};
 use spectrace::spectrum::csv_table::parse_csv_table;
@@ -142,6 +144,42 @@ const SCENE: &str = r#"(
          params: (position: (0, 1.6, 4.5), look_at: (0, 0.5, 0), fov: 45, resolution: (16, 12)))],
 )"#;
 
+/// A type B IES file with absolute photometry (LM-63-2002).
+const IES: &[u8] = include_bytes!("data/photometry/type_b_absolute_lm63_2002.ies");
+/// An IES file with the tilt data included (LM-63-1995).
+const IES_TILT: &[u8] = include_bytes!("data/photometry/tilt_include_lm63_1995.ies");
+/// A EULUMDAT file with two lamp sets and symmetry 3.
+const LDT: &[u8] = include_bytes!("data/photometry/isym3_two_lamp_sets.ldt");
+/// A EULUMDAT file without symmetry and with decimal commas.
+const LDT_COMMA: &[u8] = include_bytes!("data/photometry/isym0_decimal_comma.ldt");
+
+/// Everything the renderer and the exporters do with a luminaire (flux, intensities, direction
+/// sampling, both writers): none of it may panic on a luminaire the reader accepted.
+fn use_luminaire(lum: Result<Luminaire, spectrace::photometry::PhotometryError>) {
+    let Ok(lum) = lum else { return };
+    let _ = lum.flux_lm();
+    let _ = lum.max_cd();
+    for d in [
+        [0.0, 0.0, -1.0],
+        [0.0, 0.0, 1.0],
+        [1.0, 0.0, 0.0],
+        [0.6, -0.48, 0.64],
+    ] {
+        let _ = lum.intensity_cd(d);
+    }
+    if let Some(s) = spectrace::photometry::DirectionSampler::new(&lum) {
+        for (u1, u2) in [(0.0, 0.0), (0.5, 0.25), (0.999999, 0.999999)] {
+            let (d, _) = s.sample(&lum, u1, u2);
+            let _ = s.pdf(&lum, d);
+        }
+    }
+    let _ = spectrace::photometry::ies_writer::write_ies_2019(&lum, "mutated");
+    let _ = spectrace::photometry::eulumdat_writer::write_eulumdat(&lum, "mutated");
+}
+
+/// Where luminaire files "live": `TILT=<file>` resolves in a folder that does not exist.
+const LUMINAIRE_DIR: &str = "/nonexistent-spectrace-test";
+
 fn check_mesh(m: Result<spectrace::geometry::TriangleMesh, spectrace::geometry::GeometryError>) {
     if let Ok(mesh) = m {
         mesh.validate().expect("a mesh the reader accepts is valid");
@@ -188,6 +226,20 @@ proptest! {
     }
 
     #[test]
+    fn ies_reader_survives_mutations(e in edits(), tilt in any::<bool>()) {
+        let seed = if tilt { IES_TILT } else { IES };
+        let path = Path::new(LUMINAIRE_DIR).join("m.ies");
+        use_luminaire(parse_ies(&apply(seed, &e), &path));
+    }
+
+    #[test]
+    fn eulumdat_reader_survives_mutations(e in edits(), comma in any::<bool>()) {
+        let seed = if comma { LDT_COMMA } else { LDT };
+        let path = Path::new(LUMINAIRE_DIR).join("m.ldt");
+        use_luminaire(parse_eulumdat(&apply(seed, &e), &path));
+    }
+
+    #[test]
     fn scene_parser_survives_mutations(e in edits()) {
         let bytes = apply(SCENE.as_bytes(), &e);
         let text = String::from_utf8_lossy(&bytes);
@@ -208,6 +260,12 @@ fn the_seeds_are_valid() {
     assert!(parse_ply(PLY_ASCII.as_bytes(), Path::new("m.ply")).is_ok());
     assert!(parse_ply(&ply_binary(), Path::new("m.ply")).is_ok());
     parse_csv_table(CSV, "m.csv").unwrap();
+    for (seed, name) in [(IES, "m.ies"), (IES_TILT, "m.ies")] {
+        parse_ies(seed, &Path::new(LUMINAIRE_DIR).join(name)).unwrap();
+    }
+    for seed in [LDT, LDT_COMMA] {
+        parse_eulumdat(seed, &Path::new(LUMINAIRE_DIR).join("m.ldt")).unwrap();
+    }
     let desc = parse_scene_str(SCENE, Path::new("m.ron")).unwrap();
     let factories: [&dyn ObjectFactory; 1] = [&BuiltinFactory];
     build_scene(&desc, Path::new("."), Path::new("m.ron"), &factories).unwrap();

@@ -32,7 +32,8 @@ pub struct RenderArgs {
     /// Samples per pixel (default: the scene's, 64 for the Cornell box).
     #[arg(long, conflicts_with = "time", value_parser = crate::limits::parse_spp)]
     pub spp: Option<u32>,
-    /// Render for this many seconds instead of a fixed sample count.
+    /// Render for this many seconds instead of a fixed sample count; a pass still running at
+    /// the end is stopped after the tiles in flight and dropped (the summary says so).
     #[arg(long)]
     pub time: Option<f64>,
     /// Random seed; the same seed gives the same image for any thread count.
@@ -639,6 +640,15 @@ pub fn run_with_factories(
         rgb[2],
         result.image.non_finite_count()
     );
+    if let Some(d) = result.dropped_pass {
+        println!(
+            "  time budget: the pass of {} spp running at its end was stopped {:.2} s in and \
+             dropped; the image holds the {} spp of the whole passes",
+            d.spp,
+            d.after.as_secs_f64(),
+            result.spp
+        );
+    }
     for line in film.rejected.summary() {
         println!("  {line}");
     }

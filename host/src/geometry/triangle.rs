@@ -6,7 +6,7 @@
 //! shared by two triangles (only with the sign flipped), so a ray can never slip between them.
 //! Edge functions that come out exactly zero are recomputed in f64 to decide the sign.
 
-use glam::{Vec2, Vec3A};
+use glam::{DVec3, Vec2, Vec3A};
 
 use super::float_error::gamma;
 use super::Ray;
@@ -168,17 +168,31 @@ pub fn barycentric_point(
     (p, err)
 }
 
-/// Unit geometric normal of `p0 p1 p2`: counter-clockwise winding (seen from the side it
-/// points to) is the front, `(p1 − p0) × (p2 − p0)` normalised. Zero for degenerate triangles.
+/// `(p1 − p0) × (p2 − p0)` in f64. Its length is the square of the edge lengths, and the
+/// length's square (taken to normalise it) is their fourth power: in f32 that overflows for
+/// edges above ~4e9 scene units (a Cornell box in mm scaled by 1e7) and underflows below
+/// ~1e-10, so big walls got a zero normal (no ray offset, zero cosines: lost indirect light) and
+/// big emitters an infinite area. The f32 inputs' differences and products are exact or
+/// rounded once in f64, whose range covers every finite f32 scene.
 #[inline]
-pub fn geometric_normal(p0: Vec3A, p1: Vec3A, p2: Vec3A) -> Vec3A {
-    (p1 - p0).cross(p2 - p0).normalize_or_zero()
+fn edge_cross(p0: Vec3A, p1: Vec3A, p2: Vec3A) -> DVec3 {
+    let (p0, p1, p2) = (p0.as_dvec3(), p1.as_dvec3(), p2.as_dvec3());
+    (p1 - p0).cross(p2 - p0)
 }
 
-/// Area of triangle `p0 p1 p2` (scene units²).
+/// Unit geometric normal of `p0 p1 p2`: counter-clockwise winding (seen from the side it
+/// points to) is the front, `(p1 − p0) × (p2 − p0)` normalised (in f64, see `edge_cross`).
+/// Zero for degenerate triangles.
+#[inline]
+pub fn geometric_normal(p0: Vec3A, p1: Vec3A, p2: Vec3A) -> Vec3A {
+    Vec3A::from(edge_cross(p0, p1, p2).normalize_or_zero().as_vec3())
+}
+
+/// Area of triangle `p0 p1 p2` (scene units²; computed in f64, see `edge_cross`, and rounded
+/// once: `+∞` only when the area itself exceeds f32's range).
 #[inline]
 pub fn triangle_area(p0: Vec3A, p1: Vec3A, p2: Vec3A) -> f32 {
-    0.5 * (p1 - p0).cross(p2 - p0).length()
+    (0.5 * edge_cross(p0, p1, p2).length()) as f32
 }
 
 /// Uniform barycentrics on a triangle from `u ∈ [0,1)²` (square-root warp; density is
@@ -239,5 +253,28 @@ mod tests {
             p0.as_dvec3() * b0 as f64 + p1.as_dvec3() * b1 as f64 + p2.as_dvec3() * b2 as f64;
         let d = (p.as_dvec3() - exact).abs();
         assert!(d.x <= e.x as f64 && d.y <= e.y as f64 && d.z <= e.z as f64);
+    }
+
+    // Normals and areas of huge and tiny triangles: the f32 cross product's squared length
+    // (edge⁴) overflowed above edges of ~4e9 (zero normal, infinite area) and underflowed below
+    // ~1e-10. A right triangle with legs L in the x-y plane must have normal +z exactly and area
+    // L²/2 within 1e-6 relative (one f32 rounding of an exact f64 value) for L from 1e-15 to 1e15.
+    #[test]
+    fn huge_and_tiny_triangles_keep_normal_and_area() {
+        for e in -15..=15 {
+            let l = 10f32.powi(e);
+            let (a, b, c) = (
+                Vec3A::ZERO,
+                Vec3A::new(l, 0.0, 0.0),
+                Vec3A::new(0.0, l, 0.0),
+            );
+            assert_eq!(geometric_normal(a, b, c), Vec3A::Z, "legs {l:e}");
+            let want = 0.5 * (l as f64) * (l as f64);
+            let area = triangle_area(a, b, c) as f64;
+            assert!(
+                (area / want - 1.0).abs() < 1e-6,
+                "legs {l:e}: area {area:e}"
+            );
+        }
     }
 }

@@ -438,7 +438,7 @@ fn render_bdpt(
             );
         },
     )?;
-    let (film, spp_done) = (outcome.film, outcome.spp);
+    let (film, spp_done, dropped_pass) = (outcome.film, outcome.spp, outcome.dropped_pass);
     let elapsed = outcome.elapsed;
     let scale = 1.0 / spp_done.max(1) as f64;
     // Pixel means plus splat sums / spp, from the exact film.
@@ -458,6 +458,7 @@ fn render_bdpt(
             samples: film.camera.sample_count(),
             rays: rays.load(Ordering::Relaxed),
             elapsed,
+            dropped_pass,
         },
         strategy_images,
         non_finite: film.rejected.total(),

@@ -174,7 +174,10 @@ fn render_light_tracing(
     let mut spp_done = 0u32;
     let mut schedule = super::tiled::PassSchedule::new(settings.budget);
     let mut total_units = 0u64;
+    let deadline = super::tiled::PassDeadline::new(settings.budget, start);
+    let mut dropped_pass = None;
     while let Some(pass_spp) = schedule.next(spp_done, start.elapsed()) {
+        let pass_start = Instant::now();
         let first = (settings.budget.first_sample() + spp_done) as u64 * pixels;
         let splats = SplatFilm::new(width, height);
         let count = pass_spp as u64 * pixels;
@@ -184,7 +187,9 @@ fn render_light_tracing(
             (0..chunks)
                 .into_par_iter()
                 .map(|c| {
-                    if cancel.is_some_and(|f| f.load(Ordering::Relaxed)) {
+                    if cancel.is_some_and(|f| f.load(Ordering::Relaxed))
+                        || deadline.passed(spp_done)
+                    {
                         return true;
                     }
                     let mut stats = PathStats::default();
@@ -215,6 +220,12 @@ fn render_light_tracing(
         if cancelled {
             // A partial pass would leave some pixels short of paths: drop it, so the film
             // holds whole sample indices (what a checkpoint resumes from).
+            if !cancel.is_some_and(|f| f.load(Ordering::Relaxed)) {
+                dropped_pass = Some(super::render::DroppedPass {
+                    spp: pass_spp,
+                    after: pass_start.elapsed(),
+                });
+            }
             break;
         }
         let (sums, rejected) = splats.into_sums();
@@ -235,6 +246,7 @@ fn render_light_tracing(
             samples: spp_done as u64 * pixels,
             rays: rays.load(Ordering::Relaxed),
             elapsed,
+            dropped_pass,
         },
         strategy_images: Vec::new(),
         non_finite: film.rejected.total(),

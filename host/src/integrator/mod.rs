@@ -26,6 +26,6 @@ pub mod xyz_weights;
 
 pub use driver::{Integrator, IntegratorInfo, IntegratorOptions, IntegratorOutput, Registration};
 pub use path::{render, PathStats, PathTracer, WavelengthSampling};
-pub use render::{RenderError, RenderResult, RenderSettings, SampleBudget};
+pub use render::{DroppedPass, RenderError, RenderResult, RenderSettings, SampleBudget};
 pub use sampler::{PixelSampler, SampleRng};
 pub use select::{registered, render_with, strategy_summary, IntegratorKind};

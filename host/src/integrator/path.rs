@@ -634,6 +634,7 @@ pub fn render_film_spectral(
             samples: film.camera.sample_count(),
             rays: rays.load(Ordering::Relaxed),
             elapsed: outcome.elapsed,
+            dropped_pass: outcome.dropped_pass,
         },
         film,
     ))

@@ -93,6 +93,19 @@ pub struct RenderResult {
     pub rays: u64,
     /// Wall-clock time of the sampling loop.
     pub elapsed: Duration,
+    /// The pass a time budget stopped mid-way and dropped (its samples are not in the image).
+    pub dropped_pass: Option<DroppedPass>,
+}
+
+/// A pass of a time budget that was still running when the budget ended: it is stopped after
+/// the tiles in flight (so the overrun is a fraction of a pass) and dropped, so every pixel
+/// holds the same whole number of samples.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DroppedPass {
+    /// Its size in samples per pixel.
+    pub spp: u32,
+    /// How long it had run when it was stopped.
+    pub after: Duration,
 }
 
 /// Progress reports: called from worker threads with (finished units, total units); for time

@@ -6,7 +6,9 @@
 //! (pixel, sample number) and the film's sums are exact, so neither the pass sizes, the thread
 //! count, nor a split into slices ([`SampleBudget::Range`]) change the image.
 
-use super::render::{fixed_budget_passes, ProgressFn, RenderError, RenderSettings, SampleBudget};
+use super::render::{
+    fixed_budget_passes, DroppedPass, ProgressFn, RenderError, RenderSettings, SampleBudget,
+};
 use crate::film::{FilmState, SplatFilm, TileBuffer};
 use rayon::prelude::*;
 use std::ops::Range;
@@ -27,8 +29,9 @@ pub fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool, RenderEr
 
 /// How a sample or time budget is cut into passes (spp per pass), shared by every driver so
 /// that all stop the same way. For a sample budget: [`fixed_budget_passes`]. For a time budget:
-/// 1 spp first, then passes sized from the measured cost per spp to fit the remaining time (at
-/// most doubling, at most 64 spp), so the last pass overshoots little.
+/// 1 spp first, then passes sized from the measured cost per spp to fit 90% of the remaining
+/// time (at most doubling, at most 64 spp); a pass still running at the end is stopped and
+/// dropped ([`PassDeadline`]).
 pub struct PassSchedule {
     budget: SampleBudget,
     fixed: Vec<u32>,
@@ -58,7 +61,9 @@ impl PassSchedule {
                     1
                 } else {
                     let per_spp = elapsed.as_secs_f64() / spp_done as f64;
-                    let remaining = t.saturating_sub(elapsed).as_secs_f64();
+                    // Aim at 90% of what is left: a pass still running at the end is dropped
+                    // (see `PassDeadline`), so overshooting by a little would waste the pass.
+                    let remaining = 0.9 * t.saturating_sub(elapsed).as_secs_f64();
                     ((remaining / per_spp.max(1e-9)) as u32).clamp(1, spp_done.min(64))
                 }
             }
@@ -77,6 +82,28 @@ impl PassSchedule {
     }
 }
 
+/// The end of a time budget, checked before each unit of work (tile or chunk of light paths).
+/// The first pass always completes (an image needs at least one sample per pixel); a later pass
+/// still running at the end is stopped after the units in flight and dropped.
+#[derive(Clone, Copy, Debug)]
+pub struct PassDeadline(Option<Instant>);
+
+impl PassDeadline {
+    /// The deadline of `budget` counted from `start` (none for sample budgets).
+    pub fn new(budget: SampleBudget, start: Instant) -> Self {
+        match budget {
+            SampleBudget::Time(t) => Self(Some(start + t)),
+            _ => Self(None),
+        }
+    }
+
+    /// True when a unit of a pass started after `spp_done` samples per pixel must not run.
+    #[inline]
+    pub fn passed(&self, spp_done: u32) -> bool {
+        spp_done > 0 && self.0.is_some_and(|d| Instant::now() >= d)
+    }
+}
+
 /// What [`render_tiles`] produced.
 pub struct TiledOutcome {
     /// The accumulated film (camera sums, and splat sums when asked for) of whole passes.
@@ -85,6 +112,8 @@ pub struct TiledOutcome {
     pub spp: u32,
     /// Wall-clock time of the passes.
     pub elapsed: Duration,
+    /// The pass the time budget stopped and dropped, if any.
+    pub dropped_pass: Option<DroppedPass>,
 }
 
 /// Render a `width`×`height` image tile by tile and pass by pass for `settings.budget`.
@@ -114,7 +143,10 @@ pub fn render_tiles(
     let mut schedule = PassSchedule::new(settings.budget);
     let first = settings.budget.first_sample();
     let mut spp_done = 0u32;
+    let deadline = PassDeadline::new(settings.budget, start);
+    let mut dropped_pass = None;
     while let Some(pass_spp) = schedule.next(spp_done, start.elapsed()) {
+        let pass_start = Instant::now();
         let total_units = tiles.len() as u64 * schedule.passes_planned();
         let samples = first + spp_done..first + spp_done + pass_spp;
         let (sw, sh) = if splats { (width, height) } else { (0, 0) };
@@ -123,7 +155,7 @@ pub fn render_tiles(
             tiles
                 .par_iter()
                 .map(|&(x0, y0, w, h)| {
-                    if cancelled() {
+                    if cancelled() || deadline.passed(spp_done) {
                         return None;
                     }
                     let mut buf = TileBuffer::new(x0, y0, w, h);
@@ -134,7 +166,14 @@ pub fn render_tiles(
                 .collect()
         });
         if buffers.iter().any(Option::is_none) {
-            // Cancelled mid-pass: drop the pass, so the film holds whole sample indices.
+            // Cancelled or out of time mid-pass: drop the pass, so the film holds whole sample
+            // indices.
+            if !cancelled() {
+                dropped_pass = Some(DroppedPass {
+                    spp: pass_spp,
+                    after: pass_start.elapsed(),
+                });
+            }
             break;
         }
         for b in buffers.iter().flatten() {
@@ -156,5 +195,6 @@ pub fn render_tiles(
         film,
         spp: spp_done,
         elapsed: start.elapsed(),
+        dropped_pass,
     })
 }

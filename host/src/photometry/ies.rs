@@ -120,7 +120,9 @@ pub fn parse_ies(bytes: &[u8], path: &Path) -> Result<Luminaire, PhotometryError
         }
         _ => {
             let tilt_path = path.parent().unwrap_or(Path::new(".")).join(&tilt_value);
-            let bytes = std::fs::read(&tilt_path).map_err(|e| {
+            let limit = crate::limits::LUMINAIRE_FILE_MAX_BYTES;
+            let read = crate::limits::read_limited(&tilt_path, limit, "tilt file");
+            let bytes = read.map_err(|e| {
                 PhotometryError::at(
                     path,
                     tilt_line + 1,

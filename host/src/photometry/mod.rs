@@ -22,8 +22,12 @@ use std::path::Path;
 /// Read an IES LM-63 (`.ies`) or EULUMDAT (`.ldt`) file, chosen by extension; a file with
 /// another extension is read as IES when it has a `TILT=` line and as EULUMDAT otherwise.
 pub fn load_luminaire(path: &Path) -> Result<Luminaire, PhotometryError> {
-    let bytes = std::fs::read(path)
-        .map_err(|e| PhotometryError::file(path, "file", format!("cannot read: {e}")))?;
+    let bytes = crate::limits::read_limited(
+        path,
+        crate::limits::LUMINAIRE_FILE_MAX_BYTES,
+        "luminaire file",
+    )
+    .map_err(|e| PhotometryError::file(path, "file", format!("cannot read: {e}")))?;
     let ext = path
         .extension()
         .and_then(|e| e.to_str())

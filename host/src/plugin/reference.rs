@@ -65,6 +65,13 @@ altogether; shapes, cameras and `blob` stay built in.
 (right-handed), `Matrix(((..4..), (..4..), (..4..), (..4..)))` (row-major, acting on column
 vectors).
 
+Geometry is stored and traced in 32-bit floats; images do not depend on the scale of a scene
+(a box of any size from 1e-12 to 1e9 units renders the same image). Outside that the scene gets
+a warning: coordinates beyond 1e12 units (the ray–triangle test overflows), a scene smaller than
+1e-10 units across (it underflows), and an object so far from the origin for its size that
+32-bit coordinates there are spaced more than 1/1000 of its size apart (a 0.5 m object 1e5 m
+from the origin: details below 1.2 cm merge); move such a scene nearer the origin.
+
 ## Parameter values
 
 - **Vectors** are tuples `(x, y, z)`; units are the scene's (the Cornell box uses mm).

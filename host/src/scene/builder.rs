@@ -308,6 +308,8 @@ pub fn build_scene_with(
     }
     warnings.extend(super::warnings::no_light(&powers));
     warnings.extend(super::warnings::all_black(&objects));
+    let names: Vec<&str> = objects.iter().map(|o| o.name.as_str()).collect();
+    warnings.extend(super::warnings::coordinate_precision(&geometry, &names));
     warnings.extend(super::warnings::blind_cameras(
         &geometry,
         cameras.cameras(),

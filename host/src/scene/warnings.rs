@@ -3,7 +3,7 @@
 //! see into); scenes that build but would probably not render what was meant get a warning
 //! ([`super::Scene::warnings`]), printed in the render summary: lights that emit nothing, no
 //! light at all, powers beyond what the renderer's 32-bit radiance arithmetic can carry, every
-//! material black, a camera that sees nothing.
+//! material black, a camera that sees nothing, geometry beyond what 32-bit coordinates hold.
 
 use super::SceneObject;
 use crate::camera::manager::NamedCamera;
@@ -141,4 +141,111 @@ pub fn blind_cameras(
             )
         })
         .collect()
+}
+
+/// Largest coordinate magnitude (scene units) the ray–triangle test handles: its edge
+/// functions times the sheared z are cubic in the coordinates (relative to the ray origin) and
+/// overflow f32 (3.4e38) near 7e12; 1e12 leaves a margin.
+pub const MAX_COORDINATE: f32 = 1e12;
+
+/// Smallest scene extent (scene units) the ray–triangle test handles: below ~1e-13 its cubic
+/// products fall under f32's normal range (1.2e-38) and hits are lost; 1e-10 leaves a margin.
+pub const MIN_SCENE_EXTENT: f32 = 1e-10;
+
+/// An object is "quantised" when the spacing of f32 values at its coordinates exceeds this
+/// fraction of its own size: features and gaps below that spacing (a lamp 0.1 mm under a
+/// ceiling) merge or open, which no ray offset can repair.
+pub const QUANTISATION_WARN: f32 = 1e-3;
+
+/// Warnings for geometry the f32 numbers cannot represent faithfully: objects with
+/// coordinates beyond [`MAX_COORDINATE`], a whole scene smaller than [`MIN_SCENE_EXTENT`], and
+/// meshes and quads so far from the origin relative to their size that f32 spacing there is
+/// more than [`QUANTISATION_WARN`] of the size (a 0.55 m box translated by 1e5 m: 1.2 cm).
+/// `names[i]` names geometry object `i`.
+pub fn coordinate_precision(geometry: &Geometry, names: &[&str]) -> Vec<String> {
+    use crate::geometry::{Aabb, WorldShape};
+    let mut too_far = Vec::new();
+    let mut quantised = Vec::new();
+    for (i, name) in names.iter().enumerate().take(geometry.object_count()) {
+        let Some(shape) = geometry.shape(i as u32) else {
+            continue;
+        };
+        // A sphere is solved in f64 about its centre: only its position is quantised.
+        let vertices = !matches!(shape, WorldShape::Sphere(_));
+        let b = match shape {
+            WorldShape::Mesh(m) => m
+                .positions
+                .iter()
+                .fold(Aabb::EMPTY, |b, &p| b.union(&Aabb::from_point(p))),
+            WorldShape::Sphere(s) => Aabb {
+                min: s.center - Vec3A::splat(s.radius),
+                max: s.center + Vec3A::splat(s.radius),
+            },
+            WorldShape::Quad(q) => q
+                .vertices
+                .iter()
+                .fold(Aabb::EMPTY, |b, &p| b.union(&Aabb::from_point(p))),
+        };
+        if !(b.min.x <= b.max.x) {
+            continue;
+        }
+        let magnitude = b.min.abs().max(b.max.abs()).max_element();
+        let extent = (b.max - b.min).max_element();
+        if magnitude > MAX_COORDINATE {
+            too_far.push((name, magnitude));
+        } else if vertices && extent > 0.0 && magnitude * f32::EPSILON > QUANTISATION_WARN * extent
+        {
+            quantised.push((name, magnitude, magnitude * f32::EPSILON, extent));
+        }
+    }
+    let list = |names: Vec<String>| {
+        let n = names.len();
+        let mut s = names.into_iter().take(3).collect::<Vec<_>>().join(", ");
+        if n > 3 {
+            s += &format!(" and {} more", n - 3);
+        }
+        s
+    };
+    let mut out = Vec::new();
+    if !too_far.is_empty() {
+        let worst = too_far.iter().map(|t| t.1).fold(0.0f32, f32::max);
+        out.push(format!(
+            "{} reach coordinates up to {worst:.3e} scene units, beyond {MAX_COORDINATE:e}: the \
+             32-bit ray–triangle test overflows there and they may not be hit; use larger \
+             units or a smaller scale",
+            list(
+                too_far
+                    .iter()
+                    .map(|t| format!("object {:?}", t.0))
+                    .collect()
+            )
+        ));
+    }
+    if !quantised.is_empty() {
+        out.push(format!(
+            "{} lie far from the origin for their size, so 32-bit coordinates there are coarse \
+             compared with it and details and gaps below that spacing merge or open (light \
+             leaks, surfaces fighting); move the scene nearer the origin",
+            list(
+                quantised
+                    .iter()
+                    .map(|(n, m, s, e)| format!(
+                        "object {n:?} (size {e:.3e} at {m:.3e}, spacing {s:.3e})"
+                    ))
+                    .collect()
+            )
+        ));
+    }
+    let all = geometry.bounds();
+    if all.min.x <= all.max.x {
+        let extent = (all.max - all.min).max_element();
+        if extent > 0.0 && extent < MIN_SCENE_EXTENT {
+            out.push(format!(
+                "the scene's geometry is only {extent:.3e} scene units across, below \
+                 {MIN_SCENE_EXTENT:e}: the 32-bit ray–triangle test underflows at that size and \
+                 hits may be lost; use smaller units or a larger scale"
+            ));
+        }
+    }
+    out
 }
