@@ -137,14 +137,20 @@ impl ReferenceState {
         let key = r.take(key_len).ok_or_else(truncated).and_then(|k| {
             String::from_utf8(k.to_vec()).map_err(|_| bad("key is not UTF-8".into()))
         })?;
-        let n = width as usize * height as usize;
-        let rest = body.len() - r.at;
-        if rest != 24 * n {
-            return Err(bad(format!(
-                "{width}×{height} pixels need {} bytes of sums, found {rest}",
-                24 * n
-            )));
+        // u64 products: 24·width·height overflows a 64-bit count for damaged sizes (found by
+        // fuzzing; wrapped, it could match the file's length and ask for an absurd allocation).
+        let n = width as u64 * height as u64;
+        let rest = (body.len() - r.at) as u64;
+        match n.checked_mul(24) {
+            Some(need) if need == rest => {}
+            need => {
+                return Err(bad(format!(
+                    "{width}×{height} pixels need {} bytes of sums, found {rest}",
+                    need.map_or("more than 2^64".to_string(), |b| b.to_string())
+                )));
+            }
         }
+        let n = n as usize;
         let sums = (0..n)
             .map(|_| {
                 let mut p = [0.0; 3];
@@ -235,5 +241,26 @@ mod tests {
         for n in [0, 7, 30, bytes.len() - 5] {
             assert!(ReferenceState::from_bytes(&bytes[..n], p).is_err());
         }
+    }
+
+    /// A damaged size whose byte count overflows 64 bits is refused: 2^31 × 2^30 pixels need
+    /// 24 · 2^61 = 3 · 2^64 bytes, which wrapped to 0 and matched an empty sum block, so the
+    /// reader went on to allocate 2^61 pixels (found by fuzzing the reader).
+    #[test]
+    fn overflowing_size_is_refused() {
+        let s = ReferenceState::new(1, 1, 42, 8, "scene=x".into());
+        let bytes = s.to_bytes();
+        let mut b = bytes[..bytes.len() - 4 - 24].to_vec();
+        b[12..16].copy_from_slice(&(1u32 << 31).to_le_bytes());
+        b[16..20].copy_from_slice(&(1u32 << 30).to_le_bytes());
+        let crc = crc32fast::hash(&b);
+        b.extend_from_slice(&crc.to_le_bytes());
+        let e = ReferenceState::from_bytes(&b, Path::new("ref.exr.state"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("2147483648×1073741824") && e.contains("2^64"),
+            "{e}"
+        );
     }
 }
