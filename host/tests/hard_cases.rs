@@ -293,12 +293,15 @@ fn spd_inversion_on_hostile_tables() {
     }
 }
 
-/// The measured Cornell box (millimetres) with every object scaled by `scale` about the origin
+/// The measured Cornell box (its millimetre numbers read as metres) with every object scaled by `scale` about the origin
 /// and then moved by `shift` along (1, 1, 1), the camera moved with it, at `res`×`res` pixels.
 fn cornell_scaled(scale: f64, shift: f64, res: i64) -> spectrace::scene::Scene {
     use ron::Value;
     use spectrace::scene::description::TransformStep;
     let mut desc = spectrace::scene::cornell_box_description().unwrap();
+    // Its numbers read as metres (the file says millimetres): the scales below are then the
+    // stored 32-bit coordinates' own magnitudes, which is what the limits are about.
+    desc.units = Some("m".into());
     for o in &mut desc.objects {
         o.transform.push(TransformStep::Scale([scale; 3]));
         o.transform.push(TransformStep::Translate([shift; 3]));

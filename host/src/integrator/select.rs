@@ -128,7 +128,9 @@ pub fn strategy_summary(scene: &Scene, kind: IntegratorKind) -> Vec<String> {
                 "light {i} ({item}{what}, {}, chosen with p = {:.4}): {}",
                 crate::light::luminous::flux_text(
                     l.power(),
-                    l.spd().as_ref(),
+                    (!f.contains(LightFlags::BEAMS_ONLY))
+                        .then(|| l.spd())
+                        .as_deref(),
                     scene.options.relative_emission,
                     total_w,
                 ),

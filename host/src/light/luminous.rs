@@ -49,7 +49,9 @@ fn sig4(x: f64) -> String {
 /// How the render summary states a light's emission: `123.4 W, 1.573e4 lm` (its luminous
 /// flux from its spectrum), or, when the scene's emission is in relative units, its share of
 /// the scene's power (`relative emission: 42.0% of the scene's power`), never watts.
-pub fn flux_text(power_w: f64, spd: &dyn Spd, relative: bool, total_w: f64) -> String {
+/// `spd` is `None` for a beams-only light, whose spectrum is not probed (its beams carry their
+/// own wavelengths, and a plugin built against API 0.1.0 may not offer wavelength calls).
+pub fn flux_text(power_w: f64, spd: Option<&dyn Spd>, relative: bool, total_w: f64) -> String {
     if relative {
         let share = if total_w > 0.0 {
             power_w / total_w
@@ -61,11 +63,17 @@ pub fn flux_text(power_w: f64, spd: &dyn Spd, relative: bool, total_w: f64) -> S
             100.0 * share
         );
     }
-    format!(
-        "{} W, {} lm",
-        sig4(power_w),
-        sig4(power_w * luminous_efficacy_lm_per_w(spd))
-    )
+    match spd {
+        Some(spd) => format!(
+            "{} W, {} lm",
+            sig4(power_w),
+            sig4(power_w * luminous_efficacy_lm_per_w(spd))
+        ),
+        None => format!(
+            "{} W (beams carry their own wavelengths: no lm without probing them)",
+            sig4(power_w)
+        ),
+    }
 }
 
 #[cfg(test)]
@@ -80,11 +88,16 @@ mod tests {
     #[test]
     fn flux_text_forms() {
         let s = parse_spd_spec("line:555").unwrap();
-        let t = flux_text(1.0, &s, false, 1.0);
+        let t = flux_text(1.0, Some(&s), false, 1.0);
         assert!(t.starts_with("1.000 W, 683.0 lm"), "{t}");
         assert_eq!(sig4(140655392.0), "1.407e8");
-        let r = flux_text(3.0, &s, true, 4.0);
+        let r = flux_text(3.0, Some(&s), true, 4.0);
         assert_eq!(r, "relative emission: 75.0% of the scene's power");
+        let b = flux_text(2.0, None, false, 2.0);
+        assert!(
+            b.starts_with("2.000 W (beams") && !b.contains(" lm,"),
+            "{b}"
+        );
     }
 
     #[test]

@@ -264,7 +264,7 @@ pub fn coordinate_precision(geometry: &Geometry, names: &[&str]) -> Vec<String> 
         let extent = (all.max - all.min).max_element();
         if extent > 0.0 && extent < MIN_SCENE_EXTENT {
             out.push(format!(
-                "the scene's geometry is only {extent:.3e} scene units across, below \
+                "the scene's geometry is only {extent:.3e} m across, below \
                  {MIN_SCENE_EXTENT:e}: the 32-bit ray–triangle test underflows at that size and \
                  hits may be lost; use smaller units or a larger scale"
             ));

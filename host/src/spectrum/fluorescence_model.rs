@@ -324,7 +324,11 @@ mod tests {
     // Excitation sampling (camera paths) is unbiased: for λₒ = 520 nm the mean of r/pdf over
     // 20 000 stratified draws equals ∫ r(λᵢ → 520) dλᵢ summed on 0.01 nm cells within 0.1%
     // (the weight varies only with a(λ)·λ inside a 1 nm cell); every draw lies below λₒ, and
-    // excitation_fraction (the cells' overestimate) is within 1% of the integral.
+    // excitation_fraction (the cells' overestimate, used only for the keep/shift choice) is
+    // above the integral by at most 1.5%: each cell takes the largest a·λ of its ends and
+    // middle, which on this model's two 10 nm absorption ramps (slope 0.06/nm) exceeds the
+    // cell's mean by ≈ 0.03·λ per cell, ≈ 0.9% of the integral, plus ≈ 0.1% from λ's growth
+    // across the plateau's cells (measured 1.02%).
     #[test]
     fn excitation_sampling_is_unbiased() {
         let m = model();
@@ -345,7 +349,10 @@ mod tests {
         let got = sum / n as f64;
         assert!((got / want - 1.0).abs() < 1e-3, "{got} vs {want}");
         let f = m.excitation_fraction(lo);
-        assert!(f >= want * (1.0 - 1e-9) && f < want * 1.01, "{f} vs {want}");
+        assert!(
+            f >= want * (1.0 - 1e-9) && f < want * 1.015,
+            "{f} vs {want}"
+        );
         assert!(m.sample_excitation(300.0, 0.5).is_none());
     }
 
