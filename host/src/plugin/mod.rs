@@ -5,6 +5,7 @@
 pub mod adapter;
 pub mod blob;
 pub mod checked;
+pub mod extension_lookup;
 pub mod extension_v2;
 pub mod factory;
 pub mod library_check;
