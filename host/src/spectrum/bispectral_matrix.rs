@@ -284,6 +284,15 @@ impl Reradiation for BispectralMatrix {
         Some((lambda_i, w / (total * self.step_i)))
     }
 
+    /// D(row, column of λᵢ)/(Σᵢ D(row, i)·Δλᵢ) = r(λᵢ → λₒ)/∫ r dλᵢ, as drawn above.
+    fn excitation_pdf(&self, lambda_o_nm: f64, lambda_i_nm: f64) -> f64 {
+        let total = self.excitation_fraction(lambda_o_nm);
+        if !(total > 0.0) {
+            return 0.0;
+        }
+        self.reradiation(lambda_i_nm, lambda_o_nm) / total
+    }
+
     fn range(&self) -> (f64, f64) {
         let lo = self.excitation_nm[0].min(self.emission_nm[0]);
         let hi = self.excitation_nm[self.excitation_nm.len() - 1]
@@ -374,6 +383,7 @@ mod tests {
                 (p - m.reradiation(l, 420.0) / m.excitation_fraction(420.0)).abs() < 1e-12,
                 "{l}: {p}"
             );
+            assert_eq!(m.excitation_pdf(420.0, l), p, "{l}");
             low += (l < 395.0) as usize;
         }
         assert!((low as f64 / n as f64 - 1.0 / 3.0).abs() < 0.01, "{low}");
