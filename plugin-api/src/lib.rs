@@ -51,11 +51,11 @@ pub use material::{
 };
 pub use module::{ObjectKind, PluginInfo, PluginModuleRef, TypeInfo, API_VERSION};
 pub use observer::{ColorObserver, ObserverBox};
-pub use reradiation::{Reradiation, WavelengthDraw};
 pub use representation::{
     BeamRepresentation, ColourEncoding, DirectionEncoding, Handedness, RepresentedBeam,
     TypeRepresentation,
 };
+pub use reradiation::{Reradiation, WavelengthDraw};
 pub use spd::{spd_flags, Spd, SpdBox, SpdHandle, SpectralLine};
 pub use types::{
     Beam, Flags, RandomSample, SceneBounds, SpectralValues, TransportMode, Vec3, WavelengthRange,

@@ -68,8 +68,7 @@ pub trait Reradiation: Send + Sync {
     fn emission_pdf(&self, lambda_i_nm: f64, lambda_o_nm: f64) -> PluginResult<f64>;
     /// Draw an excitation wavelength λᵢ < λₒ for emission λₒ with `u ∈ [0, 1)`; `None` where
     /// nothing re-radiates into λₒ. The density must be positive wherever r(· → λₒ) is.
-    fn sample_excitation(&self, lambda_o_nm: f64, u: f64)
-        -> PluginResult<Option<WavelengthDraw>>;
+    fn sample_excitation(&self, lambda_o_nm: f64, u: f64) -> PluginResult<Option<WavelengthDraw>>;
     /// Density (1/nm) with which [`sample_excitation`](Self::sample_excitation) draws λᵢ.
     fn excitation_pdf(&self, lambda_o_nm: f64, lambda_i_nm: f64) -> PluginResult<f64>;
     /// Wavelengths (nm) outside which excitation and emission are both zero: `(low, high)`.
@@ -157,7 +156,9 @@ impl<T: Material> AbiReradiation for GuardedReradiation<T> {
         self.with("excitation_fraction", |r| r.excitation_fraction(lo))
     }
     fn sample_emission(&self, li: f64, u: f64) -> RResult<ROption<WavelengthDraw>, PluginError> {
-        self.with("sample_emission", |r| r.sample_emission(li, u).map(Into::into))
+        self.with("sample_emission", |r| {
+            r.sample_emission(li, u).map(Into::into)
+        })
     }
     fn emission_pdf(&self, li: f64, lo: f64) -> RResult<f64, PluginError> {
         self.with("emission_pdf", |r| r.emission_pdf(li, lo))

@@ -297,9 +297,11 @@ fn a_plugin_built_against_extension_v2_loads_and_renders() {
         .find(|p| p.info.name.as_str() == "api-ext-v2-plugin")
         .expect("loaded")
         .clone();
-    assert!(spectrace::plugin::representation::extension::extensions_v1(&plugin.path)
-        .unwrap()
-        .is_some());
+    assert!(
+        spectrace::plugin::representation::extension::extensions_v1(&plugin.path)
+            .unwrap()
+            .is_some()
+    );
     assert!(spectrace::plugin::extension_v2::extensions_v2(&plugin.path)
         .unwrap()
         .is_some());
@@ -318,7 +320,8 @@ fn a_plugin_built_against_extension_v2_loads_and_renders() {
         .is_none());
     let registry = Arc::new(registry);
 
-    let light = r#"(name: "bulb", type: "point", params: (position: (0, 1, 0), power: 20, spd: "d65"))"#;
+    let light =
+        r#"(name: "bulb", type: "point", params: (position: (0, 1, 0), power: 20, spd: "d65"))"#;
     let plugin_scene = tmp("v2-plugin.ron");
     std::fs::write(
         &plugin_scene,

@@ -88,7 +88,10 @@ fn an_honest_fluorescent_plugin_material_reradiates() {
     for kind in [IntegratorKind::Pt, IntegratorKind::Lt] {
         let (y, y_twin) = (render_y(&scene, kind), render_y(&twin, kind));
         eprintln!("{kind}: fluorescent {y:.4e}, reflecting only {y_twin:.4e}");
-        assert!(y_twin > 0.0 && y > 100.0 * y_twin, "{kind}: {y} vs {y_twin}");
+        assert!(
+            y_twin > 0.0 && y > 100.0 * y_twin,
+            "{kind}: {y} vs {y_twin}"
+        );
     }
     assert_eq!(f.faults().count(), 0, "{:?}", f.faults().report());
     assert_eq!(f.faults().invalid_count(), 0, "{:?}", f.faults().report());
@@ -101,16 +104,28 @@ fn an_honest_fluorescent_plugin_material_reradiates() {
 #[test]
 fn energy_creating_or_nan_reradiation_is_refused_when_built() {
     let f = factory();
-    let e = build(&f, &scene_text("liar", "(lie: \"energy\")", 400))
-        .err()
-        .expect("an energy-creating material is refused");
-    for want in ["lying-fluorescent", "material \"patch\"", "creates energy", "350 nm", "1.8000"] {
+    let Err(e) = build(&f, &scene_text("liar", "(lie: \"energy\")", 400)) else {
+        panic!("an energy-creating material is refused");
+    };
+    eprintln!("{e}");
+    for want in [
+        "lying-fluorescent",
+        "material \"patch\"",
+        "creates energy",
+        "350 nm",
+        "1.8000",
+    ] {
         assert!(e.contains(want), "missing {want:?} in: {e}");
     }
-    let e = build(&f, &scene_text("liar", "(lie: \"nan_reflectance\")", 400))
-        .err()
-        .expect("a NaN reflectance is refused");
-    for want in ["lying-fluorescent", "material \"patch\"", "reflectance", "NaN"] {
+    let Err(e) = build(&f, &scene_text("liar", "(lie: \"nan_reflectance\")", 400)) else {
+        panic!("a NaN reflectance is refused");
+    };
+    for want in [
+        "lying-fluorescent",
+        "material \"patch\"",
+        "reflectance",
+        "NaN",
+    ] {
         assert!(e.contains(want), "missing {want:?} in: {e}");
     }
 }
@@ -137,9 +152,12 @@ fn lies_while_rendering_are_dropped_and_reported_never_a_crash() {
         assert_eq!(f.faults().count(), 0, "{lie}: {report}");
         assert!(f.faults().invalid_count() > 0, "{lie}: nothing was dropped");
         assert!(
-            f.faults().invalid().iter().any(|(who, why, _)| who.contains("lying-fluorescent")
-                && who.contains("material \"patch\"")
-                && why.contains(reason)),
+            f.faults()
+                .invalid()
+                .iter()
+                .any(|(who, why, _)| who.contains("lying-fluorescent")
+                    && who.contains("material \"patch\"")
+                    && why.contains(reason)),
             "{lie}: {report}"
         );
     }

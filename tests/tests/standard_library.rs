@@ -479,10 +479,15 @@ fn library_fluorescent_reradiates_exactly_like_the_builtin() {
           emission: \"gaussian:520:40\", quantum_yield: 0.8)",
     ] {
         let params: ron::Value = ron::from_str(params).unwrap();
-        let a = builtin.material("fluorescent", &params, &ctx(&builtin)).unwrap();
+        let a = builtin
+            .material("fluorescent", &params, &ctx(&builtin))
+            .unwrap();
         let b = lib.material("fluorescent", &params, &ctx(&lib)).unwrap();
         assert_eq!(a.flags(), b.flags(), "{params:?} flags");
-        let (ra, rb) = (a.reradiation().unwrap(), b.reradiation().expect("offered through v3"));
+        let (ra, rb) = (
+            a.reradiation().unwrap(),
+            b.reradiation().expect("offered through v3"),
+        );
         assert_eq!(ra.range(), rb.range());
         for _ in 0..300 {
             let (l1, l2, u) = (300.0 + 500.0 * rnd(), 300.0 + 500.0 * rnd(), rnd());

@@ -201,7 +201,11 @@ impl Reradiation for PluginReradiation {
     }
 
     fn sample_excitation(&self, lambda_o_nm: f64, u: f64) -> Option<(f64, f64)> {
-        self.drawn(self.rr.sample_excitation(lambda_o_nm, u), lambda_o_nm, false)
+        self.drawn(
+            self.rr.sample_excitation(lambda_o_nm, u),
+            lambda_o_nm,
+            false,
+        )
     }
 
     fn excitation_pdf(&self, lambda_o_nm: f64, lambda_i_nm: f64) -> f64 {

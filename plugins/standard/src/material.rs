@@ -161,11 +161,7 @@ impl Reradiation for HostReradiation {
     fn emission_pdf(&self, lambda_i_nm: f64, lambda_o_nm: f64) -> PluginResult<f64> {
         Ok(self.data()?.emission_pdf(lambda_i_nm, lambda_o_nm))
     }
-    fn sample_excitation(
-        &self,
-        lambda_o_nm: f64,
-        u: f64,
-    ) -> PluginResult<Option<WavelengthDraw>> {
+    fn sample_excitation(&self, lambda_o_nm: f64, u: f64) -> PluginResult<Option<WavelengthDraw>> {
         Ok(drawn(self.data()?.sample_excitation(lambda_o_nm, u)))
     }
     fn excitation_pdf(&self, lambda_o_nm: f64, lambda_i_nm: f64) -> PluginResult<f64> {
