@@ -284,13 +284,18 @@ impl Reradiation for BispectralMatrix {
         Some((lambda_i, w / (total * self.step_i)))
     }
 
-    /// D(row, column of λᵢ)/(Σᵢ D(row, i)·Δλᵢ) = r(λᵢ → λₒ)/∫ r dλᵢ, as drawn above.
+    /// D(row, column of λᵢ)/(Σᵢ D(row, i)·Δλᵢ) = r(λᵢ → λₒ)/∫ r dλᵢ, computed as the draw
+    /// above computes it (the same bits).
     fn excitation_pdf(&self, lambda_o_nm: f64, lambda_i_nm: f64) -> f64 {
-        let total = self.excitation_fraction(lambda_o_nm);
+        let (Some(o), Some(i)) = (self.row(lambda_o_nm), self.column(lambda_i_nm)) else {
+            return 0.0;
+        };
+        let ni = self.excitation_nm.len();
+        let total: f64 = self.fluo[o * ni..(o + 1) * ni].iter().sum();
         if !(total > 0.0) {
             return 0.0;
         }
-        self.reradiation(lambda_i_nm, lambda_o_nm) / total
+        self.fluo[o * ni + i] / (total * self.step_i)
     }
 
     fn range(&self) -> (f64, f64) {
