@@ -428,4 +428,78 @@ mod tests {
             "bdpt {got_bdpt} vs {want}"
         );
     }
+
+    /// Camera direction with a delta line among the lights: for IXCRLALE at 550 nm observed
+    /// under E(λ) = λ/500 per nm plus a line of mass M = 200 at 436 nm (mercury's g line),
+    /// the mean over 20 000 stratified choices of weight × E(new λ) — the line's mass when the
+    /// lane sits exactly on the line (discrete measure), the continuous E otherwise — equals
+    /// ρE(550) + ∫ r(λᵢ → 550)E(λᵢ) dλᵢ + r(436 → 550)·M (independent 0.05 nm sums; the
+    /// line's term is over 10% of it), within 0.5%, for pt's per-lane and bdpt's group
+    /// choice. A lane on the line itself keeps its wavelength with weight ρ (nothing
+    /// re-radiated is a line).
+    #[test]
+    fn camera_shift_reaches_a_delta_line() {
+        let m = bundled("IXCRLALE.BFC");
+        let rr = m.reradiation().unwrap();
+        let line = DeltaLine {
+            lambda: 436.0,
+            weight: 1.0,
+        };
+        let mass = 200.0;
+        let e = |l: f32| -> f64 {
+            if l == 436.0 {
+                mass
+            } else {
+                l as f64 / 500.0
+            }
+        };
+        let lo = 550.0;
+        let want = rr.reflectance(lo) * lo / 500.0
+            + (0..12_000)
+                .map(|k| {
+                    let li = 250.0 + (k as f64 + 0.5) * 0.05;
+                    rr.reradiation(li, lo) * li / 500.0
+                })
+                .sum::<f64>()
+                * 0.05
+            + rr.reradiation(436.0, lo) * mass;
+        assert!(
+            rr.reradiation(436.0, lo) * mass > 0.1 * want,
+            "436 nm must excite"
+        );
+        let n = 20_000;
+        let (mut sum, mut sum_bdpt, mut on_line) = (0.0, 0.0, 0usize);
+        let lines = [line];
+        let p = keep_probability(rr, &at(lo as f32), &lines);
+        for j in 0..n {
+            let u = (j as f32 + 0.5) / n as f32;
+            let mut lam = at(lo as f32);
+            let w = shift_lanes(rr, &mut lam, u, Direction::Camera, &lines);
+            on_line += (0..LANES).filter(|&k| lam.lambda[k] == 436.0).count();
+            sum += (0..LANES)
+                .map(|k| w[k] as f64 * e(lam.lambda[k]))
+                .sum::<f64>()
+                / 4.0;
+            let keep = u < p;
+            let u2 = if keep { u / p } else { (u - p) / (1.0 - p) };
+            let mut lam = at(lo as f32);
+            let w = shift_camera_group(rr, &mut lam, keep, p, u2, &lines);
+            sum_bdpt += (0..LANES)
+                .map(|k| w[k] as f64 * e(lam.lambda[k]))
+                .sum::<f64>()
+                / 4.0;
+        }
+        let (got, got_bdpt) = (sum / n as f64, sum_bdpt / n as f64);
+        assert!(on_line > 0, "no draw landed on the line");
+        assert!((got / want - 1.0).abs() < 5e-3, "pt {got} vs {want}");
+        assert!(
+            (got_bdpt / want - 1.0).abs() < 5e-3,
+            "bdpt {got_bdpt} vs {want}"
+        );
+        // A lane on the line: always kept, weight ρ(436).
+        let mut lam = at(436.0);
+        let w = shift_lanes(rr, &mut lam, 0.999, Direction::Camera, &lines);
+        assert_eq!(lam.lambda, [436.0; LANES]);
+        assert!((w[0] as f64 - rr.reflectance(436.0)).abs() < 1e-6);
+    }
 }
