@@ -152,14 +152,15 @@ const LINE_SHARE: f64 = 0.5;
 /// density (the rest). Returns the new lane wavelength (exactly the line's f32 for a line, so
 /// lights give it the line's discrete power; moved off any line otherwise) and the weight
 /// r/probability: r(λᵢ → λₒ)/(q·P(line)) for a line — the lane then carries the line's
-/// power, a discrete measure — and r/((1 − q)·pdf(λᵢ)) for a continuous draw (per nm).
-/// The two parts are disjoint measures, so the mixture is unbiased without MIS.
+/// power, a discrete measure — and r/((1 − q)·pdf(λᵢ)) for a continuous draw (per nm),
+/// returned as (λ, r, probability). The two parts are disjoint measures, so the mixture is
+/// unbiased without MIS. Without lines (q = 0) it is the continuous draw alone, bit for bit.
 fn draw_excitation(
     rr: &dyn Reradiation,
     lambda_o: f64,
     u: f64,
     lines: &[DeltaLine],
-) -> Option<(f32, f64)> {
+) -> Option<(f32, f64, f64)> {
     let score = |l: &DeltaLine| -> f64 {
         if l.lambda < lambda_o {
             (l.weight * rr.reradiation(l.lambda, lambda_o)).max(0.0)
@@ -184,15 +185,14 @@ fn draw_excitation(
             }
         }
         let (l, c) = chosen?;
-        let prob = q * c / total;
-        return Some((l as f32, rr.reradiation(l, lambda_o) / prob));
+        return Some((l as f32, rr.reradiation(l, lambda_o), q * c / total));
     }
     let u2 = ((u - q) / (1.0 - q)).clamp(0.0, 1.0 - f64::EPSILON);
     let (l, r, pdf) = draw(rr, lambda_o, u2, Direction::Camera)?;
-    Some((off_lines(l as f32, lines), r / (pdf * (1.0 - q))))
+    Some((off_lines(l as f32, lines), r, pdf * (1.0 - q)))
 }
 
-/// Draw the new wavelength of a shift at `lambda` for `dir`: (new λ, weight r/probability)
+/// Draw the new wavelength of a shift at `lambda` for `dir`: (new λ, r, probability)
 /// (camera: [`draw_excitation`]; light: the material's emission density).
 #[inline]
 fn draw_shift(
@@ -201,10 +201,10 @@ fn draw_shift(
     u: f64,
     dir: Direction,
     lines: &[DeltaLine],
-) -> Option<(f32, f64)> {
+) -> Option<(f32, f64, f64)> {
     match dir {
         Direction::Camera => draw_excitation(rr, lambda, u, lines),
-        Direction::Light => draw(rr, lambda, u, dir).map(|(l, r, pdf)| (l as f32, r / pdf)),
+        Direction::Light => draw(rr, lambda, u, dir).map(|(l, r, pdf)| (l as f32, r, pdf)),
     }
 }
 
@@ -253,9 +253,9 @@ pub fn shift_lanes(
         } else {
             let u2 = ((uk - keep) / (1.0 - keep)).clamp(0.0, 1.0 - f64::EPSILON);
             let l = lambda.lambda[k] as f64;
-            if let Some((new, weight)) = draw_shift(rr, l, u2, dir, lines) {
+            if let Some((new, r, prob)) = draw_shift(rr, l, u2, dir, lines) {
                 lambda.lambda[k] = new;
-                w[k] = (weight / (1.0 - keep)) as f32;
+                w[k] = (r / (prob * (1.0 - keep))) as f32;
             }
         }
     }
@@ -312,9 +312,9 @@ pub fn shift_camera_group(
         } else if p_keep < 1.0 && !is_line_lane(lines, lambda.lambda[k]) {
             // (A lane on a line carries only line light: nothing re-radiated, see `parts`.)
             let uk = rotated(u as f64, k, LANES).clamp(0.0, 1.0 - f64::EPSILON);
-            if let Some((new, weight)) = draw_excitation(rr, l, uk, lines) {
+            if let Some((new, r, prob)) = draw_excitation(rr, l, uk, lines) {
                 lambda.lambda[k] = new;
-                w[k] = (weight / (1.0 - p_keep as f64)) as f32;
+                w[k] = (r / (prob * (1.0 - p_keep as f64))) as f32;
             }
         }
     }
