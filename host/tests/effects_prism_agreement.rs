@@ -51,6 +51,7 @@ fn scene() -> Scene {
 /// Image-mean Y and the mean Y of the four 8×6 tiles, one seed.
 fn render(scene: &Scene, kind: IntegratorKind, spp: u32, seed: u64) -> [f64; 5] {
     let settings = RenderSettings {
+        sampler: Default::default(),
         budget: SampleBudget::Spp(spp),
         seed,
         threads: None,

@@ -20,14 +20,14 @@
 use super::beam::trace_beam;
 use super::camera_connection::{connect_to_camera, SplatFn};
 use super::driver::{Integrator, IntegratorInfo, IntegratorOutput, Registration};
-use super::light_subpath::{generate_light_subpath, LightStart};
+use super::light_subpath::{generate_light_subpath_with, LightStart};
 use super::pixel_max::PixelMaxY;
 use super::random_walk::WalkShift;
 use super::render::ProgressFn;
 use super::vertex::Vertex;
 use super::wavelength_mixture::WavelengthMixture;
 use super::xyz_weights::XyzWeights;
-use super::{PathStats, RenderError, RenderResult, RenderSettings, SampleRng};
+use super::{PathStats, PixelSampler, RenderError, RenderResult, RenderSettings, SampleRng};
 use crate::camera::Camera;
 use crate::effects::RenderPlan;
 use crate::film::spectral::SpectralBins;
@@ -127,17 +127,22 @@ fn trace_light_path(
     sensor: &Sensor,
     mixture: &WavelengthMixture,
     lt: &LightTracer,
+    ld: &mut PixelSampler,
     rng: &mut SampleRng,
     path: &mut Vec<Vertex>,
     stats: &mut PathStats,
     splat: &mut SplatFn<'_>,
 ) {
-    let lambda = mixture.sample(rng);
+    // The first dimensions (wavelengths, light choice, emission point and direction) come from
+    // the light path's stratified sequence, the rest of the walk from `rng`.
+    let lambda = mixture.sample_with(ld.next_1d(), ld.next_1d() as f64, ld.next_1d() as f64);
     let max_depth = lt.max_depth;
     let rr = lt.rr_depth;
-    match generate_light_subpath(
+    let u_start = (ld.next_1d(), ld.next_2d(), ld.next_2d());
+    match generate_light_subpath_with(
         scene,
         &lambda,
+        u_start,
         rng,
         max_depth as usize + 1,
         rr,
@@ -238,9 +243,11 @@ fn render_light_tracing(
                     let hi = (lo + CHUNK).min(first + count);
                     for k in lo..hi {
                         let mut rng = SampleRng::for_sample(settings.seed, k, LIGHT_PATH_STREAM);
+                        let mut ld =
+                            PixelSampler::for_light_path(settings.sampler, settings.seed, k);
                         trace_light_path(
-                            scene, camera, &sensor, mixture, lt, &mut rng, &mut path, &mut stats,
-                            &mut splat,
+                            scene, camera, &sensor, mixture, lt, &mut ld, &mut rng, &mut path,
+                            &mut stats, &mut splat,
                         );
                     }
                     rays.fetch_add(stats.rays + stats.shadow_rays, Ordering::Relaxed);
