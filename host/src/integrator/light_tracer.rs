@@ -4,7 +4,8 @@
 //! scaled by 1/(light paths per pixel).
 //!
 //! Lights flagged `BEAMS_ONLY` (only the seed's `next_beam`) are rendered here too, by
-//! [`trace_beam`].
+//! [`trace_beam_with`](super::beam::trace_beam_with), with the beam's uniforms from the light
+//! path's sequence.
 //!
 //! Determinism: light path `k` draws its random numbers from `(seed, k)` only, and the splat
 //! film's sums are exact, so the image is identical for any thread count. Sample index `s`
@@ -17,7 +18,7 @@
 //! | `max_depth` | bounces  | 64      | longest light path, `--max-depth`                    |
 //! | `rr_depth`  | vertices | 3       | path length from which Russian roulette may stop it  |
 
-use super::beam::trace_beam;
+use super::beam::trace_beam_with;
 use super::camera_connection::{connect_to_camera, SplatFn};
 use super::driver::{Integrator, IntegratorInfo, IntegratorOutput, Registration};
 use super::light_subpath::{generate_light_subpath_with, LightStart};
@@ -152,8 +153,15 @@ fn trace_light_path(
     ) {
         LightStart::None => {}
         LightStart::Beams { index, pmf } => {
-            trace_beam(
-                scene, camera, sensor, index, pmf, max_depth, rr, rng, stats, splat,
+            // The beam's origin, direction and wavelength from the sequence too (2D pairs
+            // (u₀, u₁), (u₂, u₃), then single dimensions).
+            let (a, b) = (ld.next_2d(), ld.next_2d());
+            let mut u = [a.x, a.y, b.x, b.y, 0.0, 0.0, 0.0, 0.0].map(f64::from);
+            for x in &mut u[4..] {
+                *x = ld.next_1d() as f64;
+            }
+            trace_beam_with(
+                scene, camera, sensor, index, pmf, max_depth, rr, u, rng, stats, splat,
             );
         }
         LightStart::Path => {
