@@ -27,6 +27,7 @@ fn bench_points_are_what_they_claim() {
     .unwrap();
     let reference = {
         let rs = RenderSettings {
+            sampler: Default::default(),
             budget: SampleBudget::Spp(2),
             seed: 3,
             threads: Some(2),

@@ -53,6 +53,7 @@ fn render(
     seed: u64,
 ) -> Vec<[f64; 3]> {
     let settings = RenderSettings {
+        sampler: Default::default(),
         budget: SampleBudget::Spp(spp),
         seed,
         threads: None,

@@ -78,6 +78,7 @@ fn bundled_scene() -> Scene {
 /// Image-mean Y and the mean Y of the four quarter tiles, one seed.
 fn render(scene: &Scene, kind: IntegratorKind, spp: u32, seed: u64) -> [f64; 5] {
     let settings = RenderSettings {
+        sampler: Default::default(),
         budget: SampleBudget::Spp(spp),
         seed,
         threads: None,

@@ -6,6 +6,7 @@
 
 use spectrace::integrator::{
     render_with, IntegratorKind, IntegratorOutput, PathTracer, RenderSettings, SampleBudget,
+    SamplerKind,
 };
 use spectrace::scene::{build_scene, parse_scene_str, BuiltinFactory, Scene};
 use std::path::Path;
@@ -43,7 +44,18 @@ fn spot_scene(power: f64) -> Scene {
 }
 
 fn run(scene: &Scene, kind: IntegratorKind, spp: u32, threads: usize) -> IntegratorOutput {
+    run_with(scene, kind, spp, threads, SamplerKind::Sobol)
+}
+
+fn run_with(
+    scene: &Scene,
+    kind: IntegratorKind,
+    spp: u32,
+    threads: usize,
+    sampler: SamplerKind,
+) -> IntegratorOutput {
     let settings = RenderSettings {
+        sampler,
         budget: SampleBudget::Spp(spp),
         seed: 5,
         threads: Some(threads),
@@ -84,20 +96,26 @@ fn image_is_linear_in_power_from_1e_minus_20_to_1e30_w() {
 }
 
 /// Quantity: every pixel's XYZ bits at 1, 2 and 4 threads, for a bright spot (3e10 W, where the
-/// old splat sums wrapped). Tolerance 0: the film's sums are exact, so arrival order cannot
-/// matter.
+/// old splat sums wrapped), with either sampler (the Sobol' points are a pure function of seed,
+/// pixel or light path, sample index and dimension). Tolerance 0: the film's sums are exact, so
+/// arrival order cannot matter.
 #[test]
 fn identical_images_for_1_2_and_4_threads() {
     let scene = spot_scene(3e10);
-    for kind in KINDS {
-        let one = run(&scene, kind, 3, 1);
-        for t in [2, 4] {
-            let other = run(&scene, kind, 3, t);
-            assert_eq!(
-                one.result.image, other.result.image,
-                "{kind}: {t} threads differ from 1"
-            );
-            assert_eq!(one.film, other.film, "{kind}: film state at {t} threads");
+    for sampler in [SamplerKind::Sobol, SamplerKind::Independent] {
+        for kind in KINDS {
+            let one = run_with(&scene, kind, 3, 1, sampler);
+            for t in [2, 4] {
+                let other = run_with(&scene, kind, 3, t, sampler);
+                assert_eq!(
+                    one.result.image, other.result.image,
+                    "{kind} ({sampler}): {t} threads differ from 1"
+                );
+                assert_eq!(
+                    one.film, other.film,
+                    "{kind} ({sampler}): film state at {t} threads"
+                );
+            }
         }
     }
 }

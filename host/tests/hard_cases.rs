@@ -406,6 +406,7 @@ fn scaled_and_translated_cornell_box_matches_unit_scale() {
         (0..K)
             .map(|seed| {
                 let settings = RenderSettings {
+                    sampler: Default::default(),
                     budget: SampleBudget::Spp(16),
                     seed: 7 + seed,
                     threads: None,

@@ -50,6 +50,7 @@ fn render_seeds(scene: &Scene, kind: IntegratorKind, spp: u32, k: u64) -> Vec<Xy
     (0..k)
         .map(|seed| {
             let settings = RenderSettings {
+                sampler: Default::default(),
                 budget: SampleBudget::Spp(spp),
                 seed: 1000 + seed,
                 threads: None,

@@ -114,6 +114,7 @@ fn laser_scene(cam: [f64; 3]) -> Scene {
 
 fn settings(spp: u32) -> RenderSettings {
     RenderSettings {
+        sampler: Default::default(),
         budget: SampleBudget::Spp(spp),
         seed: 5,
         threads: None,

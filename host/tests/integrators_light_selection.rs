@@ -112,6 +112,7 @@ fn with_scaled_power(scene: &Scene, index: usize, factor: f64) -> Scene {
 
 fn render(scene: &Scene, kind: IntegratorKind, spp: u32, seed: u64, max_depth: u32) -> XyzImage {
     let settings = RenderSettings {
+        sampler: Default::default(),
         budget: SampleBudget::Spp(spp),
         seed,
         threads: None,

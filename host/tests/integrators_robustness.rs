@@ -39,6 +39,7 @@ fn run(
     strat: bool,
 ) -> IntegratorOutput {
     let settings = RenderSettings {
+        sampler: Default::default(),
         budget: SampleBudget::Spp(spp),
         seed: 11,
         threads: Some(threads),

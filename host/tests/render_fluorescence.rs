@@ -28,6 +28,7 @@ fn render(
     max_depth: u32,
 ) -> spectrace::integrator::IntegratorOutput {
     let settings = RenderSettings {
+        sampler: Default::default(),
         budget: SampleBudget::Spp(spp),
         seed,
         threads: None,

@@ -44,6 +44,7 @@ fn scene(spd: &str) -> Scene {
 /// Image-mean Y and the mean Y of the four 8×8 tiles, one seed.
 fn render(scene: &Scene, kind: IntegratorKind, spp: u32, seed: u64) -> [f64; 5] {
     let settings = RenderSettings {
+        sampler: Default::default(),
         budget: SampleBudget::Spp(spp),
         seed,
         threads: None,
@@ -137,6 +138,7 @@ fn line_and_narrowband_lights_agree_in_all_integrators() {
         }
         for kind in [IntegratorKind::Pt, IntegratorKind::Bdpt, IntegratorKind::Lt] {
             let settings = RenderSettings {
+                sampler: Default::default(),
                 budget: SampleBudget::Spp(64),
                 seed: 9,
                 threads: None,

@@ -304,6 +304,7 @@ fn bench_runs_a_representation_config_end_to_end() {
     let cfg = &configs[0];
     let scene = source.build(&cfg.representation).unwrap();
     let rs = RenderSettings {
+        sampler: Default::default(),
         budget: SampleBudget::Spp(2),
         seed: 3,
         threads: Some(2),

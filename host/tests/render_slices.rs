@@ -55,6 +55,7 @@ const SPP: u32 = 7;
 
 fn settings(budget: SampleBudget, threads: usize) -> RenderSettings {
     RenderSettings {
+        sampler: Default::default(),
         budget,
         seed: 9,
         threads: Some(threads),

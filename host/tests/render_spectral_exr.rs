@@ -48,6 +48,7 @@ fn scene() -> Scene {
 
 fn settings(threads: usize) -> RenderSettings {
     RenderSettings {
+        sampler: Default::default(),
         budget: SampleBudget::Spp(8),
         seed: 5,
         threads: Some(threads),

@@ -45,6 +45,7 @@ fn quad(material: &str) -> String {
 
 fn render(scene: &Scene) -> [f64; 3] {
     let settings = RenderSettings {
+        sampler: Default::default(),
         budget: SampleBudget::Spp(512),
         seed: 3,
         threads: None,

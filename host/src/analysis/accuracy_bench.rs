@@ -392,6 +392,7 @@ pub fn run_accuracy_bench(
                 break;
             }
             let rs = RenderSettings {
+                sampler: Default::default(),
                 budget: SampleBudget::Spp(spp),
                 seed: settings.seed,
                 threads: settings.threads,

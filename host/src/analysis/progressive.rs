@@ -156,6 +156,7 @@ pub fn run_reference(
                     break;
                 }
                 let render_settings = RenderSettings {
+                    sampler: Default::default(),
                     budget: SampleBudget::Spp(state.pass_spp),
                     seed: pass_seed(state.base_seed, state.passes),
                     threads: settings.threads,

@@ -85,6 +85,7 @@ fn run(
     let mut ys = Vec::new();
     for seed in 1..=args.seeds.max(2) as u64 {
         let settings = RenderSettings {
+            sampler: Default::default(),
             budget: SampleBudget::Spp(args.spp),
             seed,
             threads: args.threads,

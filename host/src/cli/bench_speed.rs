@@ -126,6 +126,7 @@ pub fn run_speed(args: &SpeedArgs) -> Result<(), String> {
             .map_err(|e| format!("{scene_name}: {e}"))?;
         for (kind, label) in [(IntegratorKind::Pt, "pt"), (IntegratorKind::Bdpt, "bdpt")] {
             let settings = RenderSettings {
+                sampler: Default::default(),
                 budget: SampleBudget::Time(Duration::from_secs_f64(args.budget)),
                 seed: args.seed,
                 threads: Some(args.threads),

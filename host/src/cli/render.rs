@@ -72,6 +72,10 @@ pub struct RenderArgs {
     /// default), uniform, or light (the scene's emission SPDs).
     #[arg(long = "wavelength-sampling")]
     pub wavelength_sampling: Option<crate::integrator::WavelengthSampling>,
+    /// Numbers of camera samples and light paths: sobol (shuffled, Owen-scrambled Sobol'
+    /// points for each sample's first dimensions, the default) or independent (PCG32).
+    #[arg(long)]
+    pub sampler: Option<crate::integrator::SamplerKind>,
     /// Effects to simulate: auto (what the scene analysis finds, the default) or all (every
     /// switchable effect's machinery, found or not).
     #[arg(long, value_enum, default_value = "auto")]
@@ -185,6 +189,9 @@ impl RenderArgs {
         if let Some(w) = self.wavelength_sampling {
             push("--wavelength-sampling", w.to_string());
         }
+        if let Some(k) = self.sampler {
+            push("--sampler", k.to_string());
+        }
         if let Some(d) = &self.strategy_images {
             push("--strategy-images", absolute(d).display().to_string());
         }
@@ -256,7 +263,16 @@ impl RenderArgs {
             self.resolution
                 .map_or(String::new(), |(w, h)| format!(" resolution={w}x{h}")),
             self.effects_key(),
-        )
+        ) + &self.sampler_key()
+    }
+
+    /// The sampler in the settings fingerprint; empty for the default (Sobol'), so checkpoints
+    /// written before `--sampler` existed still resume.
+    fn sampler_key(&self) -> String {
+        match self.sampler.unwrap_or_default() {
+            crate::integrator::SamplerKind::Sobol => String::new(),
+            k => format!(" sampler={k}"),
+        }
     }
 
     /// The effects request in the settings fingerprint; empty for the default (`auto`, nothing
@@ -513,6 +529,7 @@ pub fn run_with_factories(
             wavelengths_per_path: args.wavelengths_per_path.unwrap_or(4),
             ..PathTracer::default()
         },
+        sampler: args.sampler.unwrap_or_default(),
     };
     let bar = if args.quiet {
         indicatif::ProgressBar::hidden()
@@ -706,6 +723,15 @@ pub fn run_with_factories(
     for n in plan.notes() {
         println!("  {n}");
     }
+    println!(
+        "  sampler: {}",
+        match settings.sampler {
+            crate::integrator::SamplerKind::Sobol => {
+                "sobol (shuffled, Owen-scrambled Sobol' points for the first dimensions of each sample)"
+            }
+            crate::integrator::SamplerKind::Independent => "independent (PCG32)",
+        }
+    );
     if args.integrator == crate::integrator::IntegratorKind::Pt {
         let (sampling, n) = (
             settings.tracer.wavelengths,

@@ -442,7 +442,8 @@ fn render_bdpt(
                     let pixel = y as u64 * width as u64 + x as u64;
                     for si in samples.clone() {
                         let mut rng = SampleRng::for_sample(settings.seed, pixel, si as u64);
-                        let mut ld = PixelSampler::new(settings.seed, pixel, si);
+                        let mut ld =
+                            PixelSampler::with_kind(settings.sampler, settings.seed, pixel, si);
                         let xyz = bdpt.sample(
                             scene,
                             cam,

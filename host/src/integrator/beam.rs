@@ -33,6 +33,27 @@ pub fn trace_beam(
     splat: &mut SplatFn<'_>,
 ) {
     let u: [f64; 8] = std::array::from_fn(|_| rng.next_1d() as f64);
+    trace_beam_with(
+        scene, camera, sensor, index, pmf, max_depth, rr_depth, u, rng, stats, splat,
+    );
+}
+
+/// [`trace_beam`] with the beam's eight uniforms `u` given (for callers with stratified
+/// samples); the walk after the beam leaves its source draws from `rng`.
+#[allow(clippy::too_many_arguments)]
+pub fn trace_beam_with(
+    scene: &Scene,
+    camera: &dyn Camera,
+    sensor: &Sensor,
+    index: usize,
+    pmf: f32,
+    max_depth: u32,
+    rr_depth: u32,
+    u: [f64; 8],
+    rng: &mut SampleRng,
+    stats: &mut PathStats,
+    splat: &mut SplatFn<'_>,
+) {
     let light = &scene.lights.lights()[index];
     let Some(beam) = light.next_beam(&spectrace_plugin_api::RandomSample { u }) else {
         return;

@@ -4,7 +4,8 @@
 //! scaled by 1/(light paths per pixel).
 //!
 //! Lights flagged `BEAMS_ONLY` (only the seed's `next_beam`) are rendered here too, by
-//! [`trace_beam`].
+//! [`trace_beam_with`](super::beam::trace_beam_with), with the beam's uniforms from the light
+//! path's sequence.
 //!
 //! Determinism: light path `k` draws its random numbers from `(seed, k)` only, and the splat
 //! film's sums are exact, so the image is identical for any thread count. Sample index `s`
@@ -17,17 +18,17 @@
 //! | `max_depth` | bounces  | 64      | longest light path, `--max-depth`                    |
 //! | `rr_depth`  | vertices | 3       | path length from which Russian roulette may stop it  |
 
-use super::beam::trace_beam;
+use super::beam::trace_beam_with;
 use super::camera_connection::{connect_to_camera, SplatFn};
 use super::driver::{Integrator, IntegratorInfo, IntegratorOutput, Registration};
-use super::light_subpath::{generate_light_subpath, LightStart};
+use super::light_subpath::{generate_light_subpath_with, LightStart};
 use super::pixel_max::PixelMaxY;
 use super::random_walk::WalkShift;
 use super::render::ProgressFn;
 use super::vertex::Vertex;
 use super::wavelength_mixture::WavelengthMixture;
 use super::xyz_weights::XyzWeights;
-use super::{PathStats, RenderError, RenderResult, RenderSettings, SampleRng};
+use super::{PathStats, PixelSampler, RenderError, RenderResult, RenderSettings, SampleRng};
 use crate::camera::Camera;
 use crate::effects::RenderPlan;
 use crate::film::spectral::SpectralBins;
@@ -127,17 +128,22 @@ fn trace_light_path(
     sensor: &Sensor,
     mixture: &WavelengthMixture,
     lt: &LightTracer,
+    ld: &mut PixelSampler,
     rng: &mut SampleRng,
     path: &mut Vec<Vertex>,
     stats: &mut PathStats,
     splat: &mut SplatFn<'_>,
 ) {
-    let lambda = mixture.sample(rng);
+    // The first dimensions (wavelengths, light choice, emission point and direction) come from
+    // the light path's stratified sequence, the rest of the walk from `rng`.
+    let lambda = mixture.sample_with(ld.next_1d(), ld.next_1d() as f64, ld.next_1d() as f64);
     let max_depth = lt.max_depth;
     let rr = lt.rr_depth;
-    match generate_light_subpath(
+    let u_start = (ld.next_1d(), ld.next_2d(), ld.next_2d());
+    match generate_light_subpath_with(
         scene,
         &lambda,
+        u_start,
         rng,
         max_depth as usize + 1,
         rr,
@@ -147,8 +153,15 @@ fn trace_light_path(
     ) {
         LightStart::None => {}
         LightStart::Beams { index, pmf } => {
-            trace_beam(
-                scene, camera, sensor, index, pmf, max_depth, rr, rng, stats, splat,
+            // The beam's origin, direction and wavelength from the sequence too (2D pairs
+            // (u₀, u₁), (u₂, u₃), then single dimensions).
+            let (a, b) = (ld.next_2d(), ld.next_2d());
+            let mut u = [a.x, a.y, b.x, b.y, 0.0, 0.0, 0.0, 0.0].map(f64::from);
+            for x in &mut u[4..] {
+                *x = ld.next_1d() as f64;
+            }
+            trace_beam_with(
+                scene, camera, sensor, index, pmf, max_depth, rr, u, rng, stats, splat,
             );
         }
         LightStart::Path => {
@@ -238,9 +251,11 @@ fn render_light_tracing(
                     let hi = (lo + CHUNK).min(first + count);
                     for k in lo..hi {
                         let mut rng = SampleRng::for_sample(settings.seed, k, LIGHT_PATH_STREAM);
+                        let mut ld =
+                            PixelSampler::for_light_path(settings.sampler, settings.seed, k);
                         trace_light_path(
-                            scene, camera, &sensor, mixture, lt, &mut rng, &mut path, &mut stats,
-                            &mut splat,
+                            scene, camera, &sensor, mixture, lt, &mut ld, &mut rng, &mut path,
+                            &mut stats, &mut splat,
                         );
                     }
                     rays.fetch_add(stats.rays + stats.shadow_rays, Ordering::Relaxed);

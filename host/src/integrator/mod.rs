@@ -28,5 +28,5 @@ pub mod xyz_weights;
 pub use driver::{Integrator, IntegratorInfo, IntegratorOptions, IntegratorOutput, Registration};
 pub use path::{render, PathStats, PathTracer, WavelengthSampling};
 pub use render::{DroppedPass, RenderError, RenderResult, RenderSettings, SampleBudget};
-pub use sampler::{PixelSampler, SampleRng};
+pub use sampler::{PixelSampler, SampleRng, SamplerKind};
 pub use select::{registered, render_with, render_with_options, strategy_summary, IntegratorKind};

@@ -680,7 +680,8 @@ pub fn render_film_spectral(
                 for x in buf.x0..buf.x0 + buf.w {
                     let pixel = y as u64 * width as u64 + x as u64;
                     for s in samples.clone() {
-                        let mut rng = PixelSampler::new(settings.seed, pixel, s);
+                        let mut rng =
+                            PixelSampler::with_kind(settings.sampler, settings.seed, pixel, s);
                         let mut lambdas = wavelength_sampler.sample(&mut rng);
                         let offset = cam.filter.sample(rng.next_2d());
                         let sample = CameraSample {

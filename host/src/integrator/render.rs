@@ -2,7 +2,7 @@
 //! merges them into the film in tile order. Each camera sample draws its random numbers from
 //! `(seed, pixel, sample index)` only, so the image is bitwise identical for any thread count.
 
-use super::PathTracer;
+use super::{PathTracer, SamplerKind};
 use crate::film::XyzImage;
 use std::time::Duration;
 
@@ -49,6 +49,8 @@ pub struct RenderSettings {
     pub tile_size: u32,
     /// The path tracer's settings.
     pub tracer: PathTracer,
+    /// The numbers of camera samples and light paths: Sobol' points (default) or independent.
+    pub sampler: SamplerKind,
 }
 
 impl Default for RenderSettings {
@@ -60,6 +62,7 @@ impl Default for RenderSettings {
             camera: None,
             tile_size: 16,
             tracer: PathTracer::default(),
+            sampler: SamplerKind::Sobol,
         }
     }
 }

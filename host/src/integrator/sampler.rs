@@ -1,6 +1,18 @@
 //! Counter-based random numbers: every camera sample owns a generator seeded by hashing
 //! `(seed, pixel, sample index)`, so no state is shared between threads and an image is bitwise
-//! reproducible whatever the thread count or tile order.
+//! reproducible whatever the thread count, tile order, slice split or resume.
+//!
+//! Two kinds of numbers (chosen per render with [`SamplerKind`], `render --sampler`):
+//!
+//! | kind | first [`LD_DIMENSIONS`] requests of a sample | later requests |
+//! |---|---|---|
+//! | `sobol` (default) | shuffled, Owen-scrambled Sobol' points ([`PixelSampler`]) | PCG32 ([`SampleRng`]) |
+//! | `independent` | PCG32 | PCG32 |
+//!
+//! The Sobol' part is written here rather than taken from the `sobol_burley` crate because it
+//! needs only the first two Sobol' dimensions (each 2D request gets its own shuffle and
+//! scramble, Burley's "padding"), about forty lines; the crate's 256-dimension tables and 4D
+//! interface would not be used.
 
 use glam::Vec2;
 
@@ -84,25 +96,27 @@ mod tests {
     }
 }
 
-/// Hash-based Owen scrambling of 32-bit values (Burley 2020, "Practical Hash-based Owen
-/// Scrambling", JCGT 9(4)): a Laine–Karras style permutation in which each bit depends only on
-/// less significant bits, applied to the bit-reversed value, so every output bit depends only on
-/// itself and more significant input bits — a nested uniform scramble.
+/// The Laine–Karras style hash of Burley 2020 ("Practical Hash-based Owen Scrambling", JCGT
+/// 9(4)): a permutation of 32-bit values in which each bit depends only on itself and less
+/// significant bits. Applied to a bit-reversed value and reversed back it is a nested uniform
+/// (Owen) scramble: every output bit depends only on itself and more significant input bits.
+/// The callers keep values bit-reversed between steps, so no reversal is undone by the next.
 #[inline]
-fn nested_uniform_scramble(x: u32, seed: u32) -> u32 {
-    let mut v = x.reverse_bits();
+fn laine_karras(mut v: u32, seed: u32) -> u32 {
     v = v.wrapping_add(seed);
     v ^= v.wrapping_mul(0x6c50_b47c);
     v ^= v.wrapping_mul(0xb82f_1e52);
     v ^= v.wrapping_mul(0xc7af_e638);
     v ^= v.wrapping_mul(0x8d22_f6e6);
-    v.reverse_bits()
+    v
 }
 
 /// Direction numbers of the second Sobol' dimension (the first is the bit-reversed index):
-/// `v₀ = 2³¹`, `vₖ₊₁ = vₖ ⊕ (vₖ ≫ 1)`, folded into four byte tables (`T_b[x]` = XOR of the
-/// `vₖ` for the set bits of byte `b`) so a point costs four lookups instead of 32 steps.
-const SOBOL1_TABLES: [[u32; 256]; 4] = {
+/// `v₀ = 2³¹`, `vₖ₊₁ = vₖ ⊕ (vₖ ≫ 1)`, folded into four byte tables for bit-reversed input and
+/// output: `T_b[x]` = XOR over the set bits `j` of byte `b` of `reverse(v₃₁₋₈ᵦ₋ⱼ)`, so that
+/// `sobol_dim1_reversed(reverse(i)) = reverse(sobol_dim1(i))` costs four lookups instead of 32
+/// steps and two bit reversals.
+const SOBOL1_REVERSED_TABLES: [[u32; 256]; 4] = {
     let mut v = [0u32; 32];
     v[0] = 1 << 31;
     let mut k = 1;
@@ -119,7 +133,7 @@ const SOBOL1_TABLES: [[u32; 256]; 4] = {
             let mut j = 0;
             while j < 8 {
                 if x & (1 << j) != 0 {
-                    r ^= v[8 * b + j];
+                    r ^= v[31 - (8 * b + j)].reverse_bits();
                 }
                 j += 1;
             }
@@ -131,13 +145,13 @@ const SOBOL1_TABLES: [[u32; 256]; 4] = {
     t
 };
 
-/// Second Sobol' dimension of index `i`.
+/// Second Sobol' dimension in bit-reversed form: `reverse(sobol_dim1(reverse(j)))`.
 #[inline]
-fn sobol_dim1(i: u32) -> u32 {
-    SOBOL1_TABLES[0][(i & 0xFF) as usize]
-        ^ SOBOL1_TABLES[1][((i >> 8) & 0xFF) as usize]
-        ^ SOBOL1_TABLES[2][((i >> 16) & 0xFF) as usize]
-        ^ SOBOL1_TABLES[3][(i >> 24) as usize]
+fn sobol_dim1_reversed(j: u32) -> u32 {
+    SOBOL1_REVERSED_TABLES[0][(j & 0xFF) as usize]
+        ^ SOBOL1_REVERSED_TABLES[1][((j >> 8) & 0xFF) as usize]
+        ^ SOBOL1_REVERSED_TABLES[2][((j >> 16) & 0xFF) as usize]
+        ^ SOBOL1_REVERSED_TABLES[3][(j >> 24) as usize]
 }
 
 #[inline]
@@ -149,31 +163,105 @@ fn to_unit(x: u32) -> f32 {
 /// bounces, where stratification no longer helps) come from [`SampleRng`].
 pub const LD_DIMENSIONS: u32 = 48;
 
-/// The sampler of one camera sample: shuffled, Owen-scrambled Sobol' points (Burley 2020) for
-/// the first [`LD_DIMENSIONS`] requests, then PCG. Each 1D or 2D request uses its own
-/// dimension's scramble and its own index shuffle, so dimensions are decorrelated while every
-/// power-of-two prefix of a pixel's samples stays stratified in each 2D projection. Everything
-/// is a pure function of (seed, pixel, sample index, request number): deterministic in any
-/// thread order.
+/// Which numbers a render's samples use (`render --sampler sobol|independent`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SamplerKind {
+    /// Shuffled, Owen-scrambled Sobol' points for the first [`LD_DIMENSIONS`] requests of every
+    /// sample: lower error per sample (every power-of-two prefix of a pixel's samples is
+    /// stratified in each 2D request).
+    #[default]
+    Sobol,
+    /// Independent uniform numbers (PCG32) for every request: the baseline, and what Mitsuba's
+    /// `independent` sampler does.
+    Independent,
+}
+
+impl std::str::FromStr for SamplerKind {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.to_ascii_lowercase().as_str() {
+            "sobol" => Ok(Self::Sobol),
+            "independent" => Ok(Self::Independent),
+            other => Err(format!(
+                "unknown sampler {other:?}: expected sobol or independent"
+            )),
+        }
+    }
+}
+
+impl std::fmt::Display for SamplerKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::Sobol => "sobol",
+            Self::Independent => "independent",
+        })
+    }
+}
+
+/// Salt of the independent sampler's stream, so it never equals the [`SampleRng`] an
+/// integrator opens for the same `(seed, pixel, sample)` next to its [`PixelSampler`].
+const INDEPENDENT_SALT: u64 = 0x3C6E_F372_FE94_F82B;
+
+/// Salt of light path sequences ([`PixelSampler::for_light_path`]), apart from every pixel's.
+const LIGHT_PATH_SALT: u64 = 0xA54F_F53A_5F1D_36F1;
+
+/// The sampler of one camera sample (or one light path): shuffled, Owen-scrambled Sobol'
+/// points (Burley 2020) for the first [`LD_DIMENSIONS`] requests, then PCG; with
+/// [`SamplerKind::Independent`] PCG throughout. Each 1D or 2D request uses its own dimension's
+/// scramble and its own index shuffle, so dimensions are decorrelated while every power-of-two
+/// prefix of a pixel's samples stays stratified in each 2D projection. Everything is a pure
+/// function of (seed, pixel, sample index, request number): deterministic in any thread order.
 #[derive(Clone, Debug)]
 pub struct PixelSampler {
     pixel_seed: u64,
-    index: u32,
+    /// The sample index, bit-reversed (what the shuffle scrambles).
+    index_reversed: u32,
     dimension: u32,
+    /// Requests below this number are Sobol' points: [`LD_DIMENSIONS`], or 0 when independent.
+    ld_end: u32,
     rng: SampleRng,
 }
 
 impl PixelSampler {
-    /// The sampler for sample `sample` of pixel `pixel` under `seed`.
+    /// The Sobol' sampler for sample `sample` of pixel `pixel` under `seed`.
     #[inline]
     pub fn new(seed: u64, pixel: u64, sample: u32) -> Self {
+        Self::with_kind(SamplerKind::Sobol, seed, pixel, sample)
+    }
+
+    /// The sampler of kind `kind` for sample `sample` of pixel `pixel` under `seed`.
+    #[inline]
+    pub fn with_kind(kind: SamplerKind, seed: u64, pixel: u64, sample: u32) -> Self {
         let pixel_seed = mix64(mix64(seed ^ 0x5851_F42D_4C95_7F2D) ^ pixel);
-        Self {
-            pixel_seed,
-            index: sample,
-            dimension: 0,
-            rng: SampleRng::for_sample(seed, pixel, sample as u64),
+        match kind {
+            SamplerKind::Sobol => Self {
+                pixel_seed,
+                index_reversed: sample.reverse_bits(),
+                dimension: 0,
+                ld_end: LD_DIMENSIONS,
+                rng: SampleRng::for_sample(seed, pixel, sample as u64),
+            },
+            SamplerKind::Independent => Self {
+                pixel_seed,
+                index_reversed: sample.reverse_bits(),
+                dimension: 0,
+                ld_end: 0,
+                rng: SampleRng::for_sample(mix64(seed ^ INDEPENDENT_SALT), pixel, sample as u64),
+            },
         }
+    }
+
+    /// The sampler of light path `k` of a light-tracing render under `seed`: all light paths
+    /// of a render form one sequence (index `k`), so every power-of-two prefix of them is
+    /// stratified in the light's first dimensions; beyond 2³² paths a new scramble begins.
+    #[inline]
+    pub fn for_light_path(kind: SamplerKind, seed: u64, k: u64) -> Self {
+        Self::with_kind(
+            kind,
+            mix64(seed ^ LIGHT_PATH_SALT),
+            k >> 32,
+            (k & 0xFFFF_FFFF) as u32,
+        )
     }
 
     #[inline]
@@ -185,11 +273,13 @@ impl PixelSampler {
     /// One uniform number in [0, 1).
     #[inline]
     pub fn next_1d(&mut self) -> f32 {
-        if self.dimension >= LD_DIMENSIONS {
+        if self.dimension >= self.ld_end {
             return self.rng.next_1d();
         }
-        let i = nested_uniform_scramble(self.index, self.dim_seed(1));
-        let x = nested_uniform_scramble(i.reverse_bits(), self.dim_seed(2));
+        // The shuffled index is `i = reverse(j)` (the index Owen-scrambled); its dimension-0
+        // Sobol' point `reverse(i)`, reversed for scrambling, is `i` itself.
+        let j = laine_karras(self.index_reversed, self.dim_seed(1));
+        let x = laine_karras(j.reverse_bits(), self.dim_seed(2)).reverse_bits();
         self.dimension += 1;
         to_unit(x)
     }
@@ -197,12 +287,12 @@ impl PixelSampler {
     /// Two uniform numbers in [0, 1)², stratified jointly.
     #[inline]
     pub fn next_2d(&mut self) -> Vec2 {
-        if self.dimension >= LD_DIMENSIONS {
+        if self.dimension >= self.ld_end {
             return self.rng.next_2d();
         }
-        let i = nested_uniform_scramble(self.index, self.dim_seed(3));
-        let x = nested_uniform_scramble(i.reverse_bits(), self.dim_seed(4));
-        let y = nested_uniform_scramble(sobol_dim1(i), self.dim_seed(5));
+        let j = laine_karras(self.index_reversed, self.dim_seed(3));
+        let x = laine_karras(j.reverse_bits(), self.dim_seed(4)).reverse_bits();
+        let y = laine_karras(sobol_dim1_reversed(j), self.dim_seed(5)).reverse_bits();
         self.dimension += 1;
         Vec2::new(to_unit(x), to_unit(y))
     }
@@ -245,7 +335,8 @@ mod ld_tests {
         }
     }
 
-    /// The byte tables reproduce the bit-serial definition of the second Sobol' dimension.
+    /// The byte tables reproduce the bit-serial definition of the second Sobol' dimension
+    /// (bit-reversed in and out); exact equality on 10⁴ scattered indices.
     #[test]
     fn sobol_tables_match_definition() {
         let serial = |mut i: u32| {
@@ -261,8 +352,133 @@ mod ld_tests {
         };
         for k in 0..10_000u32 {
             let i = k.wrapping_mul(0x9E37_79B9);
-            assert_eq!(sobol_dim1(i), serial(i));
+            assert_eq!(
+                sobol_dim1_reversed(i.reverse_bits()),
+                serial(i).reverse_bits()
+            );
         }
+    }
+
+    /// True when the 2^k points put exactly one point in every elementary interval of area
+    /// 2^-k (all 2^a × 2^b grids with a + b = k): the (0, k, 2)-net property.
+    fn is_net(points: &[Vec2], k: u32) -> bool {
+        (0..=k).all(|a| {
+            let (nx, ny) = (1usize << a, 1usize << (k - a));
+            let mut cells = vec![0u8; nx * ny];
+            for p in points {
+                cells[(p.x * nx as f32) as usize + nx * (p.y * ny as f32) as usize] += 1;
+            }
+            cells.iter().all(|&c| c == 1)
+        })
+    }
+
+    /// Quantity: for every power-of-two prefix (1 … 256 samples) of one pixel's samples, each
+    /// of the first 8 2D requests is a (0, k, 2)-net (exactly one point per elementary
+    /// interval of every shape) and each 1D request has exactly one point per 1/2^k stratum;
+    /// the same for the first 2^k light paths of a light-tracing sequence. Tolerance: exact
+    /// counts, since the shuffle maps a prefix onto an aligned block of Sobol' indices and
+    /// Owen scrambling keeps the net property. Independent numbers fail this almost surely.
+    #[test]
+    fn every_power_of_two_prefix_is_stratified() {
+        let draw = |make: &dyn Fn(u32) -> PixelSampler, n: u32| {
+            let mut d2 = vec![Vec::new(); 8];
+            let mut d1 = vec![Vec::new(); 8];
+            for s in 0..n {
+                let mut p = make(s);
+                for d in 0..8 {
+                    d2[d].push(p.next_2d());
+                    d1[d].push(p.next_1d());
+                }
+            }
+            (d2, d1)
+        };
+        let pixel = |s| PixelSampler::new(11, 4242, s);
+        let light = |s| PixelSampler::for_light_path(SamplerKind::Sobol, 11, s as u64);
+        for (name, make) in [
+            ("pixel", &pixel as &dyn Fn(u32) -> PixelSampler),
+            ("light", &light),
+        ] {
+            let (d2, d1) = draw(make, 256);
+            for k in 0..=8u32 {
+                let n = 1usize << k;
+                for d in 0..8 {
+                    assert!(
+                        is_net(&d2[d][..n], k),
+                        "{name}: 2D request {d}, {n} samples"
+                    );
+                    let mut strata = vec![0u8; n];
+                    for u in &d1[d][..n] {
+                        strata[(u * n as f32) as usize] += 1;
+                    }
+                    assert!(
+                        strata.iter().all(|&c| c == 1),
+                        "{name}: 1D request {d}, {n} samples"
+                    );
+                }
+            }
+        }
+        // The independent sampler is not stratified: 64 uniform points make a (0,6,2)-net with
+        // negligible probability.
+        let (d2, _) = draw(
+            &|s| PixelSampler::with_kind(SamplerKind::Independent, 11, 4242, s),
+            64,
+        );
+        assert!(!is_net(&d2[0], 6));
+    }
+
+    /// Quantity: the first 2D point of the same (pixel, sample) under different seeds, pixels,
+    /// samples and request numbers, and under the two sampler kinds; tolerance: all distinct
+    /// (the scrambles are seeded by hashes of all of these, so a collision of two 48-bit
+    /// points has probability ~2⁻⁴⁸). Also: the independent sampler's stream is not the
+    /// [`SampleRng`] an integrator opens next to it for the same sample.
+    #[test]
+    fn seeds_pixels_samples_and_dimensions_differ() {
+        let first = |seed, pixel, sample, skip: usize, kind| {
+            let mut p = PixelSampler::with_kind(kind, seed, pixel, sample);
+            for _ in 0..skip {
+                p.next_2d();
+            }
+            p.next_2d()
+        };
+        let mut seen = Vec::new();
+        for kind in [SamplerKind::Sobol, SamplerKind::Independent] {
+            for (seed, pixel, sample, skip) in [
+                (1, 2, 3, 0),
+                (2, 2, 3, 0),
+                (1, 3, 3, 0),
+                (1, 2, 4, 0),
+                (1, 2, 3, 1),
+            ] {
+                let v = first(seed, pixel, sample, skip, kind);
+                assert!(
+                    !seen.contains(&v),
+                    "{kind} {seed} {pixel} {sample} {skip}: {v}"
+                );
+                seen.push(v);
+            }
+        }
+        let mut a = PixelSampler::for_light_path(SamplerKind::Sobol, 1, 5);
+        let mut b = PixelSampler::for_light_path(SamplerKind::Sobol, 2, 5);
+        assert_ne!(a.next_2d(), b.next_2d());
+        let mut ind = PixelSampler::with_kind(SamplerKind::Independent, 1, 2, 3);
+        let mut rng = SampleRng::for_sample(1, 2, 3);
+        assert_ne!(ind.next_1d(), rng.next_1d());
+    }
+
+    /// Quantity: the independent sampler's 10⁵ draws have mean ½ within 5σ
+    /// (σ = 1/√(12·10⁵) ≈ 9.2e-4), and the names parse and print back.
+    #[test]
+    fn independent_kind_is_uniform_and_named() {
+        let n = 100_000u32;
+        let mean: f64 = (0..n)
+            .map(|s| PixelSampler::with_kind(SamplerKind::Independent, 3, 1, s).next_1d() as f64)
+            .sum::<f64>()
+            / n as f64;
+        assert!((mean - 0.5).abs() < 5.0 * 9.2e-4, "{mean}");
+        for k in [SamplerKind::Sobol, SamplerKind::Independent] {
+            assert_eq!(k.to_string().parse::<SamplerKind>(), Ok(k));
+        }
+        assert!("halton".parse::<SamplerKind>().is_err());
     }
 
     /// Different pixels get different point sets; values stay in [0, 1).

@@ -24,8 +24,11 @@ pub const SPIKE_PROBES: usize = 4096;
 #[derive(Clone)]
 pub struct DenseSpectrum {
     values: Vec<f32>,
+    /// Per cell [i, i+1]: the value at i and the difference to i+1, read together by
+    /// [`value`](Self::value) (fixed size, so a clamped index needs no bounds check).
+    cells: Box<[(f32, f32); N - 1]>,
     /// Per cell [i, i+1]: evaluate the original function instead of interpolating.
-    exact: Vec<bool>,
+    exact: Box<[bool; N - 1]>,
     outside: Arc<dyn Fn(f32) -> f32 + Send + Sync>,
     /// Delta lines with their scaled power (see [`crate::spectrum::spd::spd_at`]): a lane on
     /// a line's exact wavelength gets its power instead of the continuous value.
@@ -44,18 +47,20 @@ impl DenseSpectrum {
     /// Tabulate `f` (nm → value).
     pub fn new(f: Arc<dyn Fn(f32) -> f32 + Send + Sync>) -> Self {
         let values: Vec<f32> = (0..N).map(|i| f(DENSE_START + i as f32)).collect();
-        let exact = (0..N - 1)
-            .map(|i| {
-                let mid = f(DENSE_START + i as f32 + 0.5);
-                let lerp = 0.5 * (values[i] + values[i + 1]);
-                // Smooth spectra interpolate to ~h²f''/8 (≲ 1e-4 relative for a 2000 K blackbody);
-                // a step (relative miss ~1) or an off-grid
-                // kink misses by far more.
-                (mid - lerp).abs() > 2e-4 * mid.abs().max(lerp.abs()) + 1e-30
-            })
-            .collect();
+        let mut exact = Box::new([false; N - 1]);
+        let mut cells = Box::new([(0.0, 0.0); N - 1]);
+        for i in 0..N - 1 {
+            let mid = f(DENSE_START + i as f32 + 0.5);
+            let lerp = 0.5 * (values[i] + values[i + 1]);
+            // Smooth spectra interpolate to ~h²f''/8 (≲ 1e-4 relative for a 2000 K blackbody);
+            // a step (relative miss ~1) or an off-grid
+            // kink misses by far more.
+            exact[i] = (mid - lerp).abs() > 2e-4 * mid.abs().max(lerp.abs()) + 1e-30;
+            cells[i] = (values[i], values[i + 1] - values[i]);
+        }
         Self {
             values,
+            cells,
             exact,
             outside: f,
             lines: Vec::new(),
@@ -107,13 +112,14 @@ impl DenseSpectrum {
     pub fn value(&self, lambda_nm: f32) -> f32 {
         let x = lambda_nm - DENSE_START;
         if x >= 0.0 && x < (N - 1) as f32 {
-            let i = x as usize;
+            // x < N − 1, so the clamp never moves i; it only proves the index in range.
+            let i = (x as usize).min(N - 2);
             if self.exact[i] {
                 return (self.outside)(lambda_nm);
             }
             let t = x - i as f32;
-            let (a, b) = (self.values[i], self.values[i + 1]);
-            a + t * (b - a)
+            let (a, d) = self.cells[i];
+            a + t * d
         } else if x == (N - 1) as f32 {
             self.values[N - 1]
         } else {
