@@ -320,15 +320,12 @@ impl Bvh {
 /// nodes, depth-first. Each wide node takes its binary node's two children and repeatedly
 /// replaces the interior one with the largest surface area by its two children, up to four.
 fn collapse(binary: &[Node]) -> Vec<WideNode> {
-    let mut out = Vec::with_capacity(binary.len() / 2 + 1);
-    out.push(WideNode::EMPTY);
     let root_children = if binary[0].count > 0 {
         vec![0]
     } else {
         binary_children(binary, 0).to_vec()
     };
-    fill_wide(binary, root_children, 0, &mut out);
-    out
+    wide_subtree(binary, root_children, 0)
 }
 
 fn binary_children(binary: &[Node], i: usize) -> [usize; 2] {
@@ -343,9 +340,56 @@ fn node_area(n: &Node) -> f32 {
     .surface_area()
 }
 
-/// Fills wide node `me` with the subtrees `children` (binary node indices), expanding interior
-/// ones until there are [`WIDTH`], then builds the wide nodes of the interior children.
-fn fill_wide(binary: &[Node], mut children: Vec<usize>, me: usize, out: &mut Vec<WideNode>) {
+/// Wide levels whose subtrees are collapsed in parallel (4² = 16 tasks at most).
+const PARALLEL_COLLAPSE_DEPTH: usize = 2;
+
+/// The wide subtree over `children` (binary node indices) with its root at index 0 and child
+/// indices relative to it. Near the root the interior children's subtrees are collapsed in
+/// parallel and appended in slot order, which is exactly the depth-first layout
+/// [`fill_wide`] makes, so the result is the same for any thread count.
+fn wide_subtree(binary: &[Node], children: Vec<usize>, depth: usize) -> Vec<WideNode> {
+    let mut out = vec![WideNode::EMPTY];
+    if depth >= PARALLEL_COLLAPSE_DEPTH {
+        fill_wide(binary, children, 0, &mut out);
+        return out;
+    }
+    let children = expand_children(binary, children);
+    let subs: Vec<Option<Vec<WideNode>>> = children
+        .par_iter()
+        .map(|&c| {
+            (binary[c].count == 0)
+                .then(|| wide_subtree(binary, binary_children(binary, c).to_vec(), depth + 1))
+        })
+        .collect();
+    out[0].slots = children.len() as u32;
+    for (slot, (&c, sub)) in children.iter().zip(subs).enumerate() {
+        let n = &binary[c];
+        out[0].set_box(slot, n);
+        match sub {
+            None => {
+                out[0].child[slot] = n.offset;
+                out[0].count[slot] = n.count;
+            }
+            Some(sub) => {
+                let base = out.len() as u32;
+                out[0].child[slot] = base;
+                out.extend(sub.into_iter().map(|mut w| {
+                    for k in 0..w.slots as usize {
+                        if w.count[k] == 0 {
+                            w.child[k] += base;
+                        }
+                    }
+                    w
+                }));
+            }
+        }
+    }
+    out
+}
+
+/// Expands `children` (binary node indices) by repeatedly replacing the interior one with the
+/// largest box by its two children, up to [`WIDTH`].
+fn expand_children(binary: &[Node], mut children: Vec<usize>) -> Vec<usize> {
     while children.len() < WIDTH {
         // The interior child with the largest box (first such on ties, for determinism).
         let pick = children
@@ -365,6 +409,13 @@ fn fill_wide(binary: &[Node], mut children: Vec<usize>, me: usize, out: &mut Vec
         children[k] = l;
         children.insert(k + 1, r);
     }
+    children
+}
+
+/// Fills wide node `me` with the subtrees `children` (binary node indices), expanding interior
+/// ones until there are [`WIDTH`], then builds the wide nodes of the interior children.
+fn fill_wide(binary: &[Node], children: Vec<usize>, me: usize, out: &mut Vec<WideNode>) {
+    let children = expand_children(binary, children);
     out[me].slots = children.len() as u32;
     for (slot, &c) in children.iter().enumerate() {
         let n = &binary[c];
@@ -713,6 +764,52 @@ mod tests {
         let (a, b) = (build_on(1), build_on(2));
         assert_eq!(a.order, b.order);
         assert_eq!(a.nodes, b.nodes);
+    }
+
+    // The collapse near the root runs its subtrees in parallel and appends them; the layout must
+    // be exactly the sequential depth-first one (every node's boxes, children, leaf sizes and
+    // slot counts compared exactly), and the parallel stable partition must equal a sequential
+    // stable partition.
+    #[test]
+    fn parallel_collapse_and_partition_match_sequential() {
+        let mut s = 4242u64;
+        let mut next = || {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (s >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let mut prims: Vec<BuildPrim> = (0..(PARALLEL_NODE_THRESHOLD + 5000))
+            .map(|i| {
+                let p = Vec3A::new(next(), next(), next()) * 100.0;
+                let b = Aabb {
+                    min: p,
+                    max: p + Vec3A::splat(0.5),
+                };
+                BuildPrim {
+                    bounds: b,
+                    centroid: b.centroid(),
+                    index: i as u32,
+                }
+            })
+            .collect();
+        let left = |p: &BuildPrim| p.centroid.x < 37.0;
+        let mut seq: Vec<u32> = prims.iter().filter(|p| left(p)).map(|p| p.index).collect();
+        seq.extend(prims.iter().filter(|p| !left(p)).map(|p| p.index));
+        let mut par = prims.clone();
+        let mid = partition_stable_parallel(&mut par, left);
+        assert_eq!(mid, prims.iter().filter(|p| left(p)).count());
+        assert_eq!(par.iter().map(|p| p.index).collect::<Vec<_>>(), seq);
+
+        let binary = build_range(&mut prims, 0, 0);
+        let mut sequential = vec![WideNode::EMPTY];
+        fill_wide(
+            &binary,
+            binary_children(&binary, 0).to_vec(),
+            0,
+            &mut sequential,
+        );
+        assert_eq!(collapse(&binary), sequential);
     }
 
     // Every primitive must appear exactly once in the leaf order (a permutation), and every

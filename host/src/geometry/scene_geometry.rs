@@ -8,6 +8,7 @@
 //! instancing. Object `i` of the input is `object == i` in every [`Hit`] and sampling call.
 
 use glam::{Vec2, Vec3A};
+use rayon::prelude::*;
 
 use super::bvh::Bvh;
 use super::quad::Quad;
@@ -198,14 +199,16 @@ impl Geometry {
             let object = oi as u32;
             match &obj.shape {
                 WorldShape::Mesh(m) => {
-                    for t in 0..m.indices.len() {
+                    // In parallel, in order (the build is the same for any thread count).
+                    prims.par_extend(
+                        (0..m.indices.len() as u32)
+                            .into_par_iter()
+                            .map(|t| Primitive { object, index: t }),
+                    );
+                    bounds.par_extend((0..m.indices.len()).into_par_iter().map(|t| {
                         let [a, b, c] = m.triangle(t);
-                        prims.push(Primitive {
-                            object,
-                            index: t as u32,
-                        });
-                        bounds.push(Aabb::from_point(a).grow(b).grow(c));
-                    }
+                        Aabb::from_point(a).grow(b).grow(c)
+                    }));
                 }
                 WorldShape::Sphere(s) => {
                     prims.push(Primitive { object, index: 0 });
@@ -227,7 +230,7 @@ impl Geometry {
         let bvh = Bvh::build(&bounds);
         let prims = bvh
             .order_ref()
-            .iter()
+            .par_iter()
             .map(|&i| {
                 let prim: Primitive = prims[i as usize];
                 match &built[prim.object as usize].shape {
@@ -639,11 +642,19 @@ fn build_object(desc: ShapeDesc) -> Result<Object, String> {
                     return Err(format!("vertex {i} is not finite after the transform"));
                 }
             }
+            // Areas in parallel (the f64 cross product and square root are the cost), then the
+            // running sum in order, so the CDF is the same for any thread count.
+            let areas: Vec<f32> = (0..mesh.indices.len())
+                .into_par_iter()
+                .map(|t| {
+                    let [a, b, c] = mesh.triangle(t);
+                    triangle_area(a, b, c)
+                })
+                .collect();
             let mut cdf = Vec::with_capacity(mesh.indices.len());
             let mut total = 0.0f64;
-            for t in 0..mesh.indices.len() {
-                let [a, b, c] = mesh.triangle(t);
-                total += triangle_area(a, b, c) as f64;
+            for &area in &areas {
+                total += area as f64;
                 cdf.push(total);
             }
             let cdf = if total > 0.0 {
