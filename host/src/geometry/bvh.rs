@@ -3,7 +3,7 @@
 //!
 //! The build sorts primitives into [`BIN_COUNT`] bins of their centroids along each axis and
 //! takes the split with the lowest surface-area-heuristic cost (Wald 2007, "On fast construction
-//! of SAH-based bounding volume hierarchies"). Nodes above [`PARALLEL_NODE_THRESHOLD`]
+//! of SAH-based bounding volume hierarchies"). Nodes above `PARALLEL_NODE_THRESHOLD`
 //! primitives (the top levels) compute their bounds, bins and a stable partition in parallel
 //! chunks; below, subtrees are built in parallel with `rayon::join`. Bins and bounds merge by
 //! exact min/max and integer sums, so the tree depends only on the input, never on the thread
