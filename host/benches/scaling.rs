@@ -7,6 +7,11 @@
 //! harness `scripts/embree/embree_rays.c` is compiled into the target directory and traces the
 //! same triangles and the same random rays (single rays, `rtcIntersect1`) on one and two
 //! threads; elsewhere the table says it was skipped. It is never part of the workspace build.
+//! The `obvhs` crate (compressed eight-wide BVH, PLOC builder) is the other comparison: its
+//! harness `scripts/obvhs` (a separate Cargo project with its own target directory, since it
+//! needs another glam) is built with cargo and given the same input file; it prints its build
+//! time on one and two threads and its closest-hit rays per second with its own triangle test
+//! and with spectrace's watertight one.
 //!
 //! A plain timing program, not criterion: each figure is the best of three runs, so that a
 //! shared machine's interruptions count less. Run:
@@ -133,8 +138,33 @@ fn build_embree_harness() -> Result<std::path::PathBuf, String> {
     Ok(exe)
 }
 
-/// Embree on the same triangles and rays: (build s, hits, Mrays/s on 1 and 2 threads).
-fn embree(exe: &std::path::Path, mesh: &TriangleMesh, rays: &[Ray]) -> Result<String, String> {
+/// Builds the obvhs harness (`scripts/obvhs`, its own Cargo project and target directory);
+/// `Err` says why it cannot run (e.g. no network for its first build).
+fn build_obvhs_harness() -> Result<std::path::PathBuf, String> {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let target = root.join("target/obvhs");
+    let out = std::process::Command::new(env!("CARGO"))
+        .args(["build", "--release", "--quiet", "--manifest-path"])
+        .arg(root.join("scripts/obvhs/Cargo.toml"))
+        .env("CARGO_TARGET_DIR", &target)
+        .output()
+        .map_err(|e| format!("cannot run cargo ({e})"))?;
+    if !out.status.success() {
+        let err = String::from_utf8_lossy(&out.stderr);
+        return Err(format!(
+            "cannot build the obvhs harness: {}",
+            err.lines().next().unwrap_or("")
+        ));
+    }
+    Ok(target.join("release/obvhs-rays"))
+}
+
+/// Writes the harnesses' input file (format in `scripts/embree/embree_rays.c`).
+fn write_harness_input(
+    path: &std::path::Path,
+    mesh: &TriangleMesh,
+    rays: &[Ray],
+) -> Result<(), String> {
     let mut bytes = Vec::new();
     bytes.extend((mesh.positions.len() as u32).to_le_bytes());
     bytes.extend((mesh.indices.len() as u32).to_le_bytes());
@@ -156,20 +186,56 @@ fn embree(exe: &std::path::Path, mesh: &TriangleMesh, rays: &[Ray]) -> Result<St
             bytes.extend(c.to_le_bytes());
         }
     }
-    let file = exe.with_file_name("embree_rays_input.bin");
-    std::fs::write(&file, bytes).map_err(|e| e.to_string())?;
+    std::fs::write(path, bytes).map_err(|e| e.to_string())
+}
+
+/// Runs a harness on the input file; its one output line.
+fn run_harness(exe: &std::path::Path, input: &std::path::Path) -> Result<String, String> {
     let out = std::process::Command::new(exe)
-        .arg(&file)
+        .arg(input)
         .output()
         .map_err(|e| e.to_string())?;
-    let _ = std::fs::remove_file(&file);
     if !out.status.success() {
         return Err(String::from_utf8_lossy(&out.stderr).into_owned());
     }
     Ok(String::from_utf8_lossy(&out.stdout).trim().to_string())
 }
 
+/// `SPECTRACE_SCALING_PROFILE=<subdivisions>`: one build and one pass of the random rays on
+/// the calling thread, nothing else, for instruction counts under
+/// `valgrind --tool=callgrind` (a shared machine's wall times vary too much for small A/B
+/// differences). Prints the hit count.
+fn profile_run(subdivisions: u32) {
+    let mesh = bumpy_sphere(subdivisions);
+    let pool = pool(1);
+    let g = pool.install(|| {
+        Geometry::build(vec![ShapeDesc {
+            shape: Shape::Mesh(mesh),
+            transform: Transform::IDENTITY,
+        }])
+        .expect("valid mesh")
+    });
+    if std::env::var_os("SPECTRACE_SCALING_BUILD_ONLY").is_some() {
+        println!("built {} primitives", g.primitive_count());
+        return;
+    }
+    let rays = random_rays();
+    let hits = rays
+        .iter()
+        .filter(|r| g.intersect(r, f32::INFINITY).is_some())
+        .count();
+    let occluded = rays.iter().filter(|r| g.occluded(r, f32::INFINITY)).count();
+    println!("{hits} hits, {occluded} occluded of {} rays", rays.len());
+}
+
 fn main() {
+    if let Some(s) = std::env::var("SPECTRACE_SCALING_PROFILE")
+        .ok()
+        .and_then(|v| v.parse().ok())
+    {
+        profile_run(s);
+        return;
+    }
     let max: u32 = std::env::var("SPECTRACE_SCALING_MAX")
         .ok()
         .and_then(|v| v.parse().ok())
@@ -178,6 +244,7 @@ fn main() {
     let camera = camera_rays();
     let random = random_rays();
     let harness = build_embree_harness();
+    let obvhs = build_obvhs_harness();
     let mut embree_lines = Vec::new();
     println!(
         "| triangles | build 1 thread (s) | build 2 threads (s) | build speed-up | BVH bytes/triangle \
@@ -234,18 +301,27 @@ fn main() {
             .iter()
             .filter(|r| g.intersect(r, f32::INFINITY).is_some())
             .count();
-        embree_lines.push(match &harness {
-            Ok(exe) => match embree(exe, &mesh, &random) {
-                Ok(line) => format!(
-                    "{tris} triangles, random rays: spectrace {:.3} / {:.3} Mrays/s (1 / 2 threads), \
-                     {hits} hits; Embree: {line}",
-                    r1 / 1e6,
-                    r2 / 1e6
-                ),
-                Err(e) => format!("{tris} triangles: Embree failed: {e}"),
-            },
-            Err(why) => format!("{tris} triangles: Embree skipped: {why}"),
-        });
+        let input = std::env::current_exe()
+            .expect("bench executable path")
+            .with_file_name("scaling_rays_input.bin");
+        let written = write_harness_input(&input, &mesh, &random);
+        let ours = format!(
+            "{tris} triangles, random rays: spectrace {:.3} / {:.3} Mrays/s (1 / 2 threads), \
+             {hits} hits, build {b1:.3} / {b2:.3} s",
+            r1 / 1e6,
+            r2 / 1e6
+        );
+        embree_lines.push(ours);
+        for (name, exe) in [("Embree", &harness), ("obvhs", &obvhs)] {
+            embree_lines.push(match (exe, &written) {
+                (Ok(exe), Ok(())) => match run_harness(exe, &input) {
+                    Ok(line) => format!("  {name}: {line}"),
+                    Err(e) => format!("  {name} failed: {e}"),
+                },
+                (Err(why), _) | (_, Err(why)) => format!("  {name} skipped: {why}"),
+            });
+        }
+        let _ = std::fs::remove_file(&input);
     }
     println!();
     for l in embree_lines {

@@ -3,21 +3,26 @@
 //!
 //! The build sorts primitives into [`BIN_COUNT`] bins of their centroids along each axis and
 //! takes the split with the lowest surface-area-heuristic cost (Wald 2007, "On fast construction
-//! of SAH-based bounding volume hierarchies"). Large subtrees are built on two threads with
-//! `rayon::join`; the result depends only on the input, never on scheduling. The binary tree is
+//! of SAH-based bounding volume hierarchies"). Nodes above `PARALLEL_NODE_THRESHOLD`
+//! primitives (the top levels) compute their bounds, bins and a stable partition in parallel
+//! chunks; below, subtrees are built in parallel with `rayon::join`. Bins and bounds merge by
+//! exact min/max and integer sums, so the tree depends only on the input, never on the thread
+//! count or scheduling. The binary tree is
 //! then collapsed into four-wide nodes (each binary node pulls up the grandchildren of its
 //! largest-area interior children until it has four), as Embree and most CPU tracers do: a ray
 //! then makes one four-box SIMD test (`glam::Vec4`, SSE on x86-64) where the binary tree needed
 //! up to three node visits with one scalar box test each. Nodes store their children's boxes as
 //! structure-of-arrays (128 bytes, two cache lines) and are laid out depth-first.
 //!
-//! Why our own and not the `obvhs` crate (compressed wide BVH, PLOC builder): the traversal here
-//! must keep the conservative box test (far distance enlarged by `1 + 2γ₃`) that the watertight
-//! triangle test relies on, visit spheres and quads as primitives through one callback, and give
-//! the same tree for any thread count. A measured comparison with `obvhs` is still open
-//! (`docs/performance.md`, "Not done yet").
+//! Why our own and not the `obvhs` crate (compressed eight-wide BVH, PLOC builder): measured on
+//! the same triangles and rays with the same watertight triangle test (`docs/performance.md`,
+//! "obvhs against the own BVH"), it traced 7–9% slower on 1k and 82k triangles and 16% faster
+//! on 1.3 M, no clear win; and the traversal here must keep the conservative box test (far
+//! distance enlarged by `1 + 2γ₃`) that the watertight triangle test relies on, visit spheres
+//! and quads as primitives through one callback, and give the same tree for any thread count.
 
 use glam::{Vec3A, Vec4};
+use rayon::prelude::*;
 
 use super::float_error::gamma;
 use super::{Aabb, Ray};
@@ -30,6 +35,11 @@ pub const MAX_LEAF_SIZE: usize = 4;
 const TRAVERSAL_COST: f32 = 1.0;
 /// Subtrees with more primitives than this are built in parallel.
 const PARALLEL_THRESHOLD: usize = 16 * 1024;
+/// Nodes with more primitives than this compute their bounds, bins and partition in parallel
+/// (the top levels, where `rayon::join` over subtrees has nothing to split yet).
+const PARALLEL_NODE_THRESHOLD: usize = 64 * 1024;
+/// Primitives per parallel task in those passes.
+const CHUNK: usize = 16 * 1024;
 /// Binary tree depth limit; the build keeps the tree shallower than this (see `choose_split`).
 const MAX_DEPTH: usize = 64;
 /// Traversal stack entries kept on the machine stack: at most three are pushed per wide level,
@@ -259,19 +269,29 @@ impl Bvh {
                     let mask = t_near.cmple(t_far).bitmask() & ((1 << n.slots) - 1);
                     if mask != 0 {
                         let near = t_near.to_array();
-                        // Hit children, sorted nearest first (insertion sort of ≤ 4).
                         let mut hits = [(0u32, 0u32, 0.0f32); WIDTH];
                         let mut k = 0;
-                        for (i, &d) in near.iter().enumerate() {
-                            if mask & (1 << i) != 0 {
-                                let e = (n.child[i], n.count[i] as u32, d);
-                                let mut j = k;
-                                while j > 0 && hits[j - 1].2 > e.2 {
-                                    hits[j] = hits[j - 1];
-                                    j -= 1;
+                        if any_hit {
+                            // Any hit ends the search, so order does not matter: no sort.
+                            for (i, &d) in near.iter().enumerate() {
+                                if mask & (1 << i) != 0 {
+                                    hits[k] = (n.child[i], n.count[i] as u32, d);
+                                    k += 1;
                                 }
-                                hits[j] = e;
-                                k += 1;
+                            }
+                        } else {
+                            // Hit children, sorted nearest first (insertion sort of ≤ 4).
+                            for (i, &d) in near.iter().enumerate() {
+                                if mask & (1 << i) != 0 {
+                                    let e = (n.child[i], n.count[i] as u32, d);
+                                    let mut j = k;
+                                    while j > 0 && hits[j - 1].2 > e.2 {
+                                        hits[j] = hits[j - 1];
+                                        j -= 1;
+                                    }
+                                    hits[j] = e;
+                                    k += 1;
+                                }
                             }
                         }
                         // Visit the nearest now; push the others farthest first.
@@ -304,15 +324,12 @@ impl Bvh {
 /// nodes, depth-first. Each wide node takes its binary node's two children and repeatedly
 /// replaces the interior one with the largest surface area by its two children, up to four.
 fn collapse(binary: &[Node]) -> Vec<WideNode> {
-    let mut out = Vec::with_capacity(binary.len() / 2 + 1);
-    out.push(WideNode::EMPTY);
     let root_children = if binary[0].count > 0 {
         vec![0]
     } else {
         binary_children(binary, 0).to_vec()
     };
-    fill_wide(binary, root_children, 0, &mut out);
-    out
+    wide_subtree(binary, root_children, 0)
 }
 
 fn binary_children(binary: &[Node], i: usize) -> [usize; 2] {
@@ -327,9 +344,56 @@ fn node_area(n: &Node) -> f32 {
     .surface_area()
 }
 
-/// Fills wide node `me` with the subtrees `children` (binary node indices), expanding interior
-/// ones until there are [`WIDTH`], then builds the wide nodes of the interior children.
-fn fill_wide(binary: &[Node], mut children: Vec<usize>, me: usize, out: &mut Vec<WideNode>) {
+/// Wide levels whose subtrees are collapsed in parallel (4² = 16 tasks at most).
+const PARALLEL_COLLAPSE_DEPTH: usize = 2;
+
+/// The wide subtree over `children` (binary node indices) with its root at index 0 and child
+/// indices relative to it. Near the root the interior children's subtrees are collapsed in
+/// parallel and appended in slot order, which is exactly the depth-first layout
+/// [`fill_wide`] makes, so the result is the same for any thread count.
+fn wide_subtree(binary: &[Node], children: Vec<usize>, depth: usize) -> Vec<WideNode> {
+    let mut out = vec![WideNode::EMPTY];
+    if depth >= PARALLEL_COLLAPSE_DEPTH {
+        fill_wide(binary, children, 0, &mut out);
+        return out;
+    }
+    let children = expand_children(binary, children);
+    let subs: Vec<Option<Vec<WideNode>>> = children
+        .par_iter()
+        .map(|&c| {
+            (binary[c].count == 0)
+                .then(|| wide_subtree(binary, binary_children(binary, c).to_vec(), depth + 1))
+        })
+        .collect();
+    out[0].slots = children.len() as u32;
+    for (slot, (&c, sub)) in children.iter().zip(subs).enumerate() {
+        let n = &binary[c];
+        out[0].set_box(slot, n);
+        match sub {
+            None => {
+                out[0].child[slot] = n.offset;
+                out[0].count[slot] = n.count;
+            }
+            Some(sub) => {
+                let base = out.len() as u32;
+                out[0].child[slot] = base;
+                out.extend(sub.into_iter().map(|mut w| {
+                    for k in 0..w.slots as usize {
+                        if w.count[k] == 0 {
+                            w.child[k] += base;
+                        }
+                    }
+                    w
+                }));
+            }
+        }
+    }
+    out
+}
+
+/// Expands `children` (binary node indices) by repeatedly replacing the interior one with the
+/// largest box by its two children, up to [`WIDTH`].
+fn expand_children(binary: &[Node], mut children: Vec<usize>) -> Vec<usize> {
     while children.len() < WIDTH {
         // The interior child with the largest box (first such on ties, for determinism).
         let pick = children
@@ -349,6 +413,13 @@ fn fill_wide(binary: &[Node], mut children: Vec<usize>, me: usize, out: &mut Vec
         children[k] = l;
         children.insert(k + 1, r);
     }
+    children
+}
+
+/// Fills wide node `me` with the subtrees `children` (binary node indices), expanding interior
+/// ones until there are [`WIDTH`], then builds the wide nodes of the interior children.
+fn fill_wide(binary: &[Node], children: Vec<usize>, me: usize, out: &mut Vec<WideNode>) {
+    let children = expand_children(binary, children);
     out[me].slots = children.len() as u32;
     for (slot, &c) in children.iter().enumerate() {
         let n = &binary[c];
@@ -390,11 +461,11 @@ fn choose_split(prims: &mut [BuildPrim], bounds: &Aabb, depth: usize) -> Option<
     if n <= 1 {
         return None;
     }
-    let centroid_bounds = prims.iter().fold(Aabb::EMPTY, |b, p| b.grow(p.centroid));
+    let centroid_bounds = centroid_bounds(prims);
     let axis = centroid_bounds.longest_axis();
     let extent = centroid_bounds.max - centroid_bounds.min;
     // Deep trees must not overflow the traversal stack: force median splits near the limit.
-    let force_split = depth + 8 >= MAX_DEPTH || n > u16::MAX as usize;
+    let force_split = depth + 8 >= MAX_DEPTH;
     if extent[axis] <= 0.0 {
         // All centroids coincide: SAH cannot separate them; split by index if too many.
         return if n > MAX_LEAF_SIZE {
@@ -409,40 +480,44 @@ fn choose_split(prims: &mut [BuildPrim], bounds: &Aabb, depth: usize) -> Option<
     }
 
     // Bin along every axis with a non-zero centroid extent; keep the cheapest split.
+    let bins = bin_all(prims, &centroid_bounds);
     let mut best: Option<(f32, usize, usize)> = None; // (cost, axis, bin boundary)
     for ax in 0..3 {
         if extent[ax] <= 0.0 {
             continue;
         }
-        let mut counts = [0u32; BIN_COUNT];
-        let mut boxes = [Aabb::EMPTY; BIN_COUNT];
-        let scale = BIN_COUNT as f32 / extent[ax];
-        for p in prims.iter() {
-            let b = bin_of(p.centroid[ax], centroid_bounds.min[ax], scale);
-            counts[b] += 1;
-            boxes[b] = boxes[b].union(&p.bounds);
+        let (counts, boxes) = (&bins.counts[ax], &bins.boxes[ax]);
+        // Only the non-empty bins matter: a boundary after an empty bin costs the same as the
+        // one just after the last non-empty bin before it, which comes first and so wins the
+        // strict `<` below. Skipping them gives the same split as sweeping all bins, for far
+        // less work in the many small nodes near the leaves.
+        let mut used = [0usize; BIN_COUNT];
+        let mut k = 0;
+        for (i, &c) in counts.iter().enumerate() {
+            if c > 0 {
+                used[k] = i;
+                k += 1;
+            }
         }
-        // Sweep from the right to get suffix areas, then from the left.
+        let used = &used[..k];
+        // Sweep from the right to get the area and count right of each used bin's start.
         let mut right_area = [0.0f32; BIN_COUNT];
         let mut right_count = [0u32; BIN_COUNT];
         let mut acc = Aabb::EMPTY;
         let mut cnt = 0;
-        for i in (1..BIN_COUNT).rev() {
+        for (j, &i) in used.iter().enumerate().skip(1).rev() {
             acc = acc.union(&boxes[i]);
             cnt += counts[i];
-            right_area[i] = acc.surface_area();
-            right_count[i] = cnt;
+            right_area[j] = acc.surface_area();
+            right_count[j] = cnt;
         }
         let mut acc = Aabb::EMPTY;
         let mut cnt = 0;
-        for i in 0..BIN_COUNT - 1 {
+        for (j, &i) in used.iter().enumerate().take(k.saturating_sub(1)) {
             acc = acc.union(&boxes[i]);
             cnt += counts[i];
-            let rc = right_count[i + 1];
-            if cnt == 0 || rc == 0 {
-                continue;
-            }
-            let cost = cnt as f32 * acc.surface_area() + rc as f32 * right_area[i + 1];
+            let rc = right_count[j + 1];
+            let cost = cnt as f32 * acc.surface_area() + rc as f32 * right_area[j + 1];
             if best.is_none_or(|(c, _, _)| cost < c) {
                 best = Some((cost, ax, i + 1));
             }
@@ -456,7 +531,11 @@ fn choose_split(prims: &mut [BuildPrim], bounds: &Aabb, depth: usize) -> Option<
     }
     let min = centroid_bounds.min[ax];
     let scale = BIN_COUNT as f32 / extent[ax];
-    let mid = partition(prims, |p| bin_of(p.centroid[ax], min, scale) < boundary);
+    let mid = if n > PARALLEL_NODE_THRESHOLD {
+        partition_stable_parallel(prims, |p| bin_of(p.centroid[ax], min, scale) < boundary)
+    } else {
+        partition(prims, |p| bin_of(p.centroid[ax], min, scale) < boundary)
+    };
     if mid == 0 || mid == n {
         return if n > MAX_LEAF_SIZE {
             Some((ax, n / 2))
@@ -483,8 +562,134 @@ fn partition<F: Fn(&BuildPrim) -> bool>(prims: &mut [BuildPrim], left: F) -> usi
     i
 }
 
+/// Primitive counts and bounds per bin along each axis.
+struct Bins {
+    counts: [[u32; BIN_COUNT]; 3],
+    boxes: [[Aabb; BIN_COUNT]; 3],
+}
+
+impl Bins {
+    const EMPTY: Bins = Bins {
+        counts: [[0; BIN_COUNT]; 3],
+        boxes: [[Aabb::EMPTY; BIN_COUNT]; 3],
+    };
+
+    fn add(&mut self, prims: &[BuildPrim], centroids: &Aabb) {
+        let extent = centroids.max - centroids.min;
+        for ax in 0..3 {
+            if extent[ax] <= 0.0 {
+                continue;
+            }
+            let scale = BIN_COUNT as f32 / extent[ax];
+            for p in prims {
+                let b = bin_of(p.centroid[ax], centroids.min[ax], scale);
+                self.counts[ax][b] += 1;
+                self.boxes[ax][b] = self.boxes[ax][b].union(&p.bounds);
+            }
+        }
+    }
+
+    fn merge(mut self, o: Bins) -> Bins {
+        for ax in 0..3 {
+            for b in 0..BIN_COUNT {
+                self.counts[ax][b] += o.counts[ax][b];
+                self.boxes[ax][b] = self.boxes[ax][b].union(&o.boxes[ax][b]);
+            }
+        }
+        self
+    }
+}
+
+/// Bins `prims` along all three axes; in parallel chunks for large nodes. Counts add and boxes
+/// take min/max, both exact, so the result does not depend on how the chunks are combined.
+fn bin_all(prims: &[BuildPrim], centroids: &Aabb) -> Bins {
+    if prims.len() > PARALLEL_NODE_THRESHOLD {
+        prims
+            .par_chunks(CHUNK)
+            .map(|c| {
+                let mut b = Bins::EMPTY;
+                b.add(c, centroids);
+                b
+            })
+            .reduce(|| Bins::EMPTY, Bins::merge)
+    } else {
+        let mut b = Bins::EMPTY;
+        b.add(prims, centroids);
+        b
+    }
+}
+
+/// Union of the primitives' bounds (parallel for large nodes; min/max are exact, so the
+/// result is the same however the chunks combine).
+fn prim_bounds(prims: &[BuildPrim]) -> Aabb {
+    if prims.len() > PARALLEL_NODE_THRESHOLD {
+        prims
+            .par_chunks(CHUNK)
+            .map(|c| c.iter().fold(Aabb::EMPTY, |b, p| b.union(&p.bounds)))
+            .reduce(|| Aabb::EMPTY, |a, b| a.union(&b))
+    } else {
+        prims.iter().fold(Aabb::EMPTY, |b, p| b.union(&p.bounds))
+    }
+}
+
+/// Bounds of the primitives' centroids (parallel for large nodes, exact as [`prim_bounds`]).
+fn centroid_bounds(prims: &[BuildPrim]) -> Aabb {
+    if prims.len() > PARALLEL_NODE_THRESHOLD {
+        prims
+            .par_chunks(CHUNK)
+            .map(|c| c.iter().fold(Aabb::EMPTY, |b, p| b.grow(p.centroid)))
+            .reduce(|| Aabb::EMPTY, |a, b| a.union(&b))
+    } else {
+        prims.iter().fold(Aabb::EMPTY, |b, p| b.grow(p.centroid))
+    }
+}
+
+/// Stable partition in parallel chunks: each chunk counts its left primitives, the prefix sums
+/// give every chunk its own ranges of the output, and chunks copy there independently. The
+/// result (both sides in input order) depends only on the input, never on the thread count.
+fn partition_stable_parallel<F: Fn(&BuildPrim) -> bool + Sync>(
+    prims: &mut [BuildPrim],
+    left: F,
+) -> usize {
+    let lefts: Vec<usize> = prims
+        .par_chunks(CHUNK)
+        .map(|c| c.iter().filter(|p| left(p)).count())
+        .collect();
+    let mid: usize = lefts.iter().sum();
+    let mut out = prims.to_vec();
+    let (mut l_rest, mut r_rest) = out.split_at_mut(mid);
+    let mut targets = Vec::with_capacity(lefts.len());
+    for (k, &nl) in lefts.iter().enumerate() {
+        let len = CHUNK.min(prims.len() - k * CHUNK);
+        let (l, lr) = std::mem::take(&mut l_rest).split_at_mut(nl);
+        let (r, rr) = std::mem::take(&mut r_rest).split_at_mut(len - nl);
+        (l_rest, r_rest) = (lr, rr);
+        targets.push((l, r));
+    }
+    prims
+        .par_chunks(CHUNK)
+        .zip(targets.into_par_iter())
+        .for_each(|(src, (l, r))| {
+            let (mut i, mut j) = (0, 0);
+            for p in src {
+                if left(p) {
+                    l[i] = *p;
+                    i += 1;
+                } else {
+                    r[j] = *p;
+                    j += 1;
+                }
+            }
+        });
+    prims
+        .par_chunks_mut(CHUNK)
+        .zip(out.par_chunks(CHUNK))
+        .for_each(|(d, s)| d.copy_from_slice(s));
+    mid
+}
+
 fn build_into(prims: &mut [BuildPrim], first: usize, depth: usize, out: &mut Vec<Node>) {
-    let bounds = prims.iter().fold(Aabb::EMPTY, |b, p| b.union(&p.bounds));
+    let bounds = prim_bounds(prims);
     let Some((axis, mid)) = choose_split(prims, &bounds, depth) else {
         out.push(leaf(prims, bounds, first));
         return;
@@ -539,7 +744,7 @@ mod tests {
     fn build_is_independent_of_thread_count() {
         let mut bounds = Vec::new();
         let mut s = 777u64;
-        for _ in 0..(PARALLEL_THRESHOLD * 3) {
+        for _ in 0..(PARALLEL_NODE_THRESHOLD * 2 + 1000) {
             s = s
                 .wrapping_mul(6364136223846793005)
                 .wrapping_add(1442695040888963407);
@@ -563,6 +768,52 @@ mod tests {
         let (a, b) = (build_on(1), build_on(2));
         assert_eq!(a.order, b.order);
         assert_eq!(a.nodes, b.nodes);
+    }
+
+    // The collapse near the root runs its subtrees in parallel and appends them; the layout must
+    // be exactly the sequential depth-first one (every node's boxes, children, leaf sizes and
+    // slot counts compared exactly), and the parallel stable partition must equal a sequential
+    // stable partition.
+    #[test]
+    fn parallel_collapse_and_partition_match_sequential() {
+        let mut s = 4242u64;
+        let mut next = || {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (s >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let mut prims: Vec<BuildPrim> = (0..(PARALLEL_NODE_THRESHOLD + 5000))
+            .map(|i| {
+                let p = Vec3A::new(next(), next(), next()) * 100.0;
+                let b = Aabb {
+                    min: p,
+                    max: p + Vec3A::splat(0.5),
+                };
+                BuildPrim {
+                    bounds: b,
+                    centroid: b.centroid(),
+                    index: i as u32,
+                }
+            })
+            .collect();
+        let left = |p: &BuildPrim| p.centroid.x < 37.0;
+        let mut seq: Vec<u32> = prims.iter().filter(|p| left(p)).map(|p| p.index).collect();
+        seq.extend(prims.iter().filter(|p| !left(p)).map(|p| p.index));
+        let mut par = prims.clone();
+        let mid = partition_stable_parallel(&mut par, left);
+        assert_eq!(mid, prims.iter().filter(|p| left(p)).count());
+        assert_eq!(par.iter().map(|p| p.index).collect::<Vec<_>>(), seq);
+
+        let binary = build_range(&mut prims, 0, 0);
+        let mut sequential = vec![WideNode::EMPTY];
+        fill_wide(
+            &binary,
+            binary_children(&binary, 0).to_vec(),
+            0,
+            &mut sequential,
+        );
+        assert_eq!(collapse(&binary), sequential);
     }
 
     // Every primitive must appear exactly once in the leaf order (a permutation), and every

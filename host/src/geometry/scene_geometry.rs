@@ -8,12 +8,13 @@
 //! instancing. Object `i` of the input is `object == i` in every [`Hit`] and sampling call.
 
 use glam::{Vec2, Vec3A};
+use rayon::prelude::*;
 
 use super::bvh::Bvh;
 use super::quad::Quad;
 use super::sphere::Sphere;
 use super::triangle::{
-    barycentric_point, geometric_normal, intersect_triangle, sample_uniform_barycentrics,
+    barycentric_point, geometric_normal, intersect_triangle_axis, sample_uniform_barycentrics,
     triangle_area, WatertightRay,
 };
 use super::{Aabb, GeometryError, Ray, Transform, TriangleMesh};
@@ -198,14 +199,16 @@ impl Geometry {
             let object = oi as u32;
             match &obj.shape {
                 WorldShape::Mesh(m) => {
-                    for t in 0..m.indices.len() {
+                    // In parallel, in order (the build is the same for any thread count).
+                    prims.par_extend(
+                        (0..m.indices.len() as u32)
+                            .into_par_iter()
+                            .map(|t| Primitive { object, index: t }),
+                    );
+                    bounds.par_extend((0..m.indices.len()).into_par_iter().map(|t| {
                         let [a, b, c] = m.triangle(t);
-                        prims.push(Primitive {
-                            object,
-                            index: t as u32,
-                        });
-                        bounds.push(Aabb::from_point(a).grow(b).grow(c));
-                    }
+                        Aabb::from_point(a).grow(b).grow(c)
+                    }));
                 }
                 WorldShape::Sphere(s) => {
                     prims.push(Primitive { object, index: 0 });
@@ -227,7 +230,7 @@ impl Geometry {
         let bvh = Bvh::build(&bounds);
         let prims = bvh
             .order_ref()
-            .iter()
+            .par_iter()
             .map(|&i| {
                 let prim: Primitive = prims[i as usize];
                 match &built[prim.object as usize].shape {
@@ -288,29 +291,56 @@ impl Geometry {
     /// Closest hit with `0 < t < t_max`, or `None`.
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
         let wr = WatertightRay::new(ray);
+        // One dispatch on the ray's dominant axis, then every triangle test has it fixed.
+        match wr.dominant_axis() {
+            0 => self.intersect_axis::<0>(ray, &wr, t_max),
+            1 => self.intersect_axis::<1>(ray, &wr, t_max),
+            _ => self.intersect_axis::<2>(ray, &wr, t_max),
+        }
+    }
+
+    /// Whether anything is hit with `0 < t < t_max` (any-hit traversal; for shadow rays).
+    pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        let wr = WatertightRay::new(ray);
+        match wr.dominant_axis() {
+            0 => self.occluded_axis::<0>(ray, &wr, t_max),
+            1 => self.occluded_axis::<1>(ray, &wr, t_max),
+            _ => self.occluded_axis::<2>(ray, &wr, t_max),
+        }
+    }
+
+    #[inline]
+    fn intersect_axis<const KZ: usize>(
+        &self,
+        ray: &Ray,
+        wr: &WatertightRay,
+        t_max: f32,
+    ) -> Option<Hit> {
         let mut best: Option<Candidate> = None;
         let t = self.bvh.traverse(ray, t_max, false, |i, t_max| {
             let rec = &self.prims[i as usize];
-            let (t, cand) = self.test_primitive(ray, &wr, rec, t_max)?;
+            let (t, cand) = self.test_primitive::<KZ>(ray, wr, rec, t_max)?;
             best = Some(cand);
             Some(t)
         })?;
         Some(self.make_hit(ray, t, best?))
     }
 
-    /// Whether anything is hit with `0 < t < t_max` (any-hit traversal; for shadow rays).
-    pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
-        let wr = WatertightRay::new(ray);
+    #[inline]
+    fn occluded_axis<const KZ: usize>(&self, ray: &Ray, wr: &WatertightRay, t_max: f32) -> bool {
         self.bvh
             .traverse(ray, t_max, true, |i, t_max| {
                 let rec = &self.prims[i as usize];
-                self.test_primitive(ray, &wr, rec, t_max).map(|(t, _)| t)
+                self.test_primitive::<KZ>(ray, wr, rec, t_max)
+                    .map(|(t, _)| t)
             })
             .is_some()
     }
 
+    /// Tests one leaf record; `KZ` is the ray's dominant axis (see
+    /// [`intersect_triangle_axis`]).
     #[inline]
-    fn test_primitive(
+    fn test_primitive<const KZ: usize>(
         &self,
         ray: &Ray,
         wr: &WatertightRay,
@@ -320,7 +350,7 @@ impl Geometry {
         let prim = rec.prim;
         if rec.kind == LeafRecord::TRIANGLE {
             let [a, b, c] = rec.triangle();
-            let h = intersect_triangle(ray, wr, t_max, a, b, c)?;
+            let h = intersect_triangle_axis::<KZ>(ray, wr, t_max, a, b, c)?;
             return Some((
                 h.t,
                 Candidate::Triangle {
@@ -332,7 +362,7 @@ impl Geometry {
         match &self.objects[prim.object as usize].shape {
             WorldShape::Mesh(m) => {
                 let [a, b, c] = m.triangle(prim.index as usize);
-                let h = intersect_triangle(ray, wr, t_max, a, b, c)?;
+                let h = intersect_triangle_axis::<KZ>(ray, wr, t_max, a, b, c)?;
                 Some((
                     h.t,
                     Candidate::Triangle {
@@ -346,7 +376,7 @@ impl Geometry {
                 let mut t_max = t_max;
                 for half in 0..2 {
                     let [a, b, c] = q.triangle(half);
-                    if let Some(h) = intersect_triangle(ray, wr, t_max, a, b, c) {
+                    if let Some(h) = intersect_triangle_axis::<KZ>(ray, wr, t_max, a, b, c) {
                         t_max = h.t;
                         result = Some((
                             h.t,
@@ -612,11 +642,19 @@ fn build_object(desc: ShapeDesc) -> Result<Object, String> {
                     return Err(format!("vertex {i} is not finite after the transform"));
                 }
             }
+            // Areas in parallel (the f64 cross product and square root are the cost), then the
+            // running sum in order, so the CDF is the same for any thread count.
+            let areas: Vec<f32> = (0..mesh.indices.len())
+                .into_par_iter()
+                .map(|t| {
+                    let [a, b, c] = mesh.triangle(t);
+                    triangle_area(a, b, c)
+                })
+                .collect();
             let mut cdf = Vec::with_capacity(mesh.indices.len());
             let mut total = 0.0f64;
-            for t in 0..mesh.indices.len() {
-                let [a, b, c] = mesh.triangle(t);
-                total += triangle_area(a, b, c) as f64;
+            for &area in &areas {
+                total += area as f64;
                 cdf.push(total);
             }
             let cdf = if total > 0.0 {

@@ -14,9 +14,8 @@ use super::Ray;
 /// Per-ray data for the watertight test, computed once per ray and reused for every triangle.
 #[derive(Clone, Copy, Debug)]
 pub struct WatertightRay {
-    /// Axis permutation: `kz` is the dominant direction axis, `kx`, `ky` the other two.
-    kx: usize,
-    ky: usize,
+    /// The dominant direction axis; the other two, `kx = kz + 1` and `ky = kz + 2` (mod 3),
+    /// follow from it.
     kz: usize,
     /// Shear coefficients `(-d_x/d_z, -d_y/d_z, 1/d_z)` in permuted axes.
     sx: f32,
@@ -44,13 +43,18 @@ impl WatertightRay {
         let ky = (kx + 1) % 3;
         let dz = ray.dir[kz];
         Self {
-            kx,
-            ky,
             kz,
             sx: -ray.dir[kx] / dz,
             sy: -ray.dir[ky] / dz,
             sz: 1.0 / dz,
         }
+    }
+
+    /// The dominant axis of the ray direction (0, 1, 2 for x, y, z): the `KZ` to pass to
+    /// [`intersect_triangle_axis`].
+    #[inline]
+    pub fn dominant_axis(&self) -> usize {
+        self.kz
     }
 }
 
@@ -77,17 +81,40 @@ pub fn intersect_triangle(
     p1: Vec3A,
     p2: Vec3A,
 ) -> Option<TriangleHit> {
+    match wr.kz {
+        0 => intersect_triangle_axis::<0>(ray, wr, t_max, p0, p1, p2),
+        1 => intersect_triangle_axis::<1>(ray, wr, t_max, p0, p1, p2),
+        _ => intersect_triangle_axis::<2>(ray, wr, t_max, p0, p1, p2),
+    }
+}
+
+/// [`intersect_triangle`] with the ray's dominant axis `KZ` (`wr.dominant_axis()`, which it
+/// must equal) fixed at compile time. The same operations on the same values, so bit for bit
+/// the same result; but the permutation becomes fixed lane picks instead of three indexings
+/// by a run-time axis per vertex (each a branch). Scene traversal dispatches on the axis once
+/// per ray and then tests every triangle with this.
+#[inline(always)]
+pub fn intersect_triangle_axis<const KZ: usize>(
+    ray: &Ray,
+    wr: &WatertightRay,
+    t_max: f32,
+    p0: Vec3A,
+    p1: Vec3A,
+    p2: Vec3A,
+) -> Option<TriangleHit> {
+    debug_assert_eq!(KZ, wr.kz);
+    let (kx, ky) = ((KZ + 1) % 3, (KZ + 2) % 3);
     // Translate to the ray origin, permute so z is the dominant axis, shear onto +z.
-    let a = p0 - ray.origin;
-    let b = p1 - ray.origin;
-    let c = p2 - ray.origin;
-    let (az, bz, cz) = (a[wr.kz], b[wr.kz], c[wr.kz]);
-    let ax = a[wr.kx] + wr.sx * az;
-    let ay = a[wr.ky] + wr.sy * az;
-    let bx = b[wr.kx] + wr.sx * bz;
-    let by = b[wr.ky] + wr.sy * bz;
-    let cx = c[wr.kx] + wr.sx * cz;
-    let cy = c[wr.ky] + wr.sy * cz;
+    let a = (p0 - ray.origin).to_array();
+    let b = (p1 - ray.origin).to_array();
+    let c = (p2 - ray.origin).to_array();
+    let (az, bz, cz) = (a[KZ], b[KZ], c[KZ]);
+    let ax = a[kx] + wr.sx * az;
+    let ay = a[ky] + wr.sy * az;
+    let bx = b[kx] + wr.sx * bz;
+    let by = b[ky] + wr.sy * bz;
+    let cx = c[kx] + wr.sx * cz;
+    let cy = c[ky] + wr.sy * cz;
 
     // Edge functions; e0 is opposite p0 (edge p1→p2) and so on.
     let mut e0 = bx * cy - by * cx;
