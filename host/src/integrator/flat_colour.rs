@@ -210,16 +210,77 @@ fn integrate(shape: &DenseSpectrum, observer: &dyn Observer) -> [f64; 3] {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::film::Sensor;
+    use crate::integrator::xyz_weights::XyzWeights;
+    use crate::integrator::SampleRng;
     use crate::scene::{build_scene, parse_scene_str, BuiltinFactory};
     use std::path::Path;
 
-    #[test]
-    fn debug_caustic() {
+    fn scene(text: &str) -> Scene {
         let file = Path::new("caustic.ron");
-        let desc = parse_scene_str(include_str!("../../../scenes/caustic.ron"), file).unwrap();
-        let scene = build_scene(&desc, Path::new("."), file, &[&BuiltinFactory]).unwrap();
-        let obs = scene.observer.clone();
-        let fc = FlatColour::new(&scene, obs.as_ref(), &WavelengthMixture::new(&scene));
-        eprintln!("{fc:?}");
+        let desc = parse_scene_str(text, file).unwrap();
+        build_scene(&desc, Path::new("."), file, &[&BuiltinFactory]).unwrap()
+    }
+
+    /// `K_S` is the expectation of the ordinary estimate. Quantity: the mean over 400 000
+    /// wavelength draws (the caustic scene's mixture) of the four-lane XYZ of a flat path of
+    /// unit transport under the D65 lamp (`L(λ) = S(λ)`), per channel, against `K_S`; tolerance
+    /// 4 standard errors of that mean (from the draws' own spread). And for every draw whose
+    /// lanes all lie where D65 is tabulated (≤ 780 nm) the exact estimate is `K_S / P`, the
+    /// same number whatever the wavelengths, up to float rounding (1e-5 relative).
+    #[test]
+    fn exact_colour_is_the_mean_of_the_lane_estimate() {
+        let s = scene(include_str!("../../../scenes/caustic.ron"));
+        let mixture = WavelengthMixture::new(&s);
+        let fc = FlatColour::new(&s, s.observer.as_ref(), &mixture).expect("D65 lamp qualifies");
+        let light = 0u32;
+        let k = fc.emitter_xyz(light).unwrap();
+        let e = fc.emitters[0].as_ref().unwrap();
+        let (shape, full) = (e.shape.clone(), e.xyz_per_lane.map(|v| v * LANES as f64));
+        let sensor = Sensor::new(s.observer.clone());
+        let n = 400_000u64;
+        let (mut sum, mut sum2) = ([0.0f64; 3], [0.0f64; 3]);
+        let mut worst = 0.0f64;
+        for i in 0..n {
+            let mut rng = SampleRng::for_sample(11, i, 0);
+            let lambda = mixture.sample(&mut rng);
+            let l = SampledSpectrum(lambda.lambda.map(|nm| shape.value(nm)));
+            let xyz = XyzWeights::new(&sensor, &lambda).xyz(&l, crate::spectrum::LaneMask::ALL);
+            for c in 0..3 {
+                sum[c] += xyz[c];
+                sum2[c] += xyz[c] * xyz[c];
+            }
+            if lambda.lambda.iter().all(|&nm| nm <= 780.0) {
+                let exact = fc.xyz(light, &l, &lambda).unwrap();
+                for c in 0..3 {
+                    worst = worst.max((exact[c] / full[c] - 1.0).abs());
+                }
+            }
+        }
+        for c in 0..3 {
+            let m = sum[c] / n as f64;
+            let se = ((sum2[c] / n as f64 - m * m) / n as f64).sqrt();
+            assert!(
+                (m - k[c]).abs() < 4.0 * se,
+                "channel {c}: lane mean {m} vs exact {} (se {se})",
+                k[c]
+            );
+        }
+        // With all four lanes usable the exact estimate is K_S / P whatever the wavelengths.
+        assert!(worst < 1e-5, "exact estimate varies by {worst}");
+    }
+
+    /// Which surfaces count as flat. Quantity: the per-object flag for the caustic scene's
+    /// grey floor (flat), coloured wall (not), constant-IOR glass (flat), lamp (flat: scatters
+    /// nothing), and a dispersive glass (not). Exact booleans.
+    #[test]
+    fn flat_surfaces() {
+        let text = include_str!("../../../scenes/caustic.ron");
+        let s = scene(text);
+        let fc = FlatColour::new(&s, s.observer.as_ref(), &WavelengthMixture::new(&s)).unwrap();
+        assert_eq!(fc.objects, vec![true, false, true, true]);
+        let s = scene(&text.replace("(ior: 1.5)", "(ior: \"N-BK7\")"));
+        let fc = FlatColour::new(&s, s.observer.as_ref(), &WavelengthMixture::new(&s)).unwrap();
+        assert_eq!(fc.objects, vec![true, false, false, true]);
     }
 }
