@@ -586,6 +586,8 @@ mod tests {
         assert!(!auto.emission_wavelengths());
         assert!(auto.notes().is_empty());
         assert!(auto.mixture().has_emission());
+        // Its light is an area light: one spectral shape everywhere.
+        assert!(auto.flat_path_colour());
         let all = RenderPlan::new(
             &scene,
             &EffectsRequest {
