@@ -394,8 +394,13 @@ fn connection_xyz(
 ) -> [f64; 3] {
     let l = c.l * c.weight;
     if let (Some(fc), Some(e)) = (flat, c.emitter) {
-        // s = 1 with t ≥ 2 uses a fresh light vertex (flat by itself); t = 1 a fresh lens point.
-        let cam_ok = t == 1 || camera_flat.get(t - 1).copied().unwrap_or(false);
+        // s = 1 with t ≥ 2 uses a fresh light vertex (flat by itself); t = 1 a fresh lens point;
+        // for s = 0 the last camera vertex only emits (its scattering is not on the path).
+        let cam_ok = match (s, t) {
+            (_, 1) => true,
+            (0, _) => camera_flat.get(t - 2).copied().unwrap_or(false),
+            _ => camera_flat.get(t - 1).copied().unwrap_or(false),
+        };
         let light_ok =
             s == 0 || (s == 1 && t >= 2) || light_flat.get(s - 1).copied().unwrap_or(false);
         if cam_ok && light_ok && c.lanes.is_all() {
