@@ -443,6 +443,48 @@ macro_rules! export_plugin {
             extensions_v2()
         }
 
+        /// This plugin's extension module, version 3 (see `spectrace_plugin_api::extension`).
+        pub fn extensions_v3() -> $crate::extension::ExtensionsV3Export {
+            use $crate::__private::PrefixTypeTrait as _;
+            use $crate::__private::{RResult, RStr};
+            use $crate::error::PluginError;
+            use $crate::export::{construct, save, unknown_type, PluginType};
+            use $crate::extension::{
+                ExtensionsV3, ExtensionsV3Export, ExtensionsV3Ref, MaterialWithV3,
+            };
+            use $crate::guard::guarded;
+            use $crate::host::HostRef;
+            use $crate::module::{ObjectKind, ObjectSource};
+
+            extern "C" fn create_material(
+                type_name: RStr<'_>,
+                source: ObjectSource<'_>,
+                host: HostRef<'_>,
+            ) -> RResult<MaterialWithV3, PluginError> {
+                guarded("create_material (v3)", || {
+                    let name = type_name.as_str();
+                    $(if name == <$material as PluginType>::TYPE_NAME {
+                        let obj = construct::<$material>(source, &host)?;
+                        return $crate::material::GuardedMaterial::boxed_v3(obj, save::<$material>)
+                            .into_result();
+                    })*
+                    Err(unknown_type(
+                        ObjectKind::Material, name, &[$(<$material as PluginType>::TYPE_NAME),*]
+                    ))
+                })
+            }
+            ExtensionsV3Export {
+                layout: <ExtensionsV3Ref as $crate::__private::StableAbi>::LAYOUT,
+                module: ExtensionsV3 { create_material }.leak_into_prefix(),
+            }
+        }
+
+        /// The exported extension module, version 3 (looked up by name by the host).
+        #[no_mangle]
+        pub extern "C" fn spectrace_plugin_extensions_v3() -> $crate::extension::ExtensionsV3Export {
+            extensions_v3()
+        }
+
         /// The exported root module (what the host finds in the library).
         #[$crate::__private::export_root_module]
         pub fn spectrace_plugin_root_module() -> $crate::module::PluginModuleRef {

@@ -26,6 +26,22 @@
 //! uses the root module alone; a library that predates v2 gets the old behaviour (no bounds, no
 //! normals, emission spectra read through the v1 calls).
 //!
+//! Version 3 (`spectrace_plugin_extensions_v3`): fluorescence. A material constructor that
+//! returns, beside the faces of v1 and v2, the material's re-radiation face
+//! ([`ReradiationBox`], see [`crate::reradiation`]): reflectance, re-radiation F(λᵢ → λₒ),
+//! emission and excitation draws with their densities. A `FLUORESCENT` material offers it by
+//! overriding [`Material::reradiation`](crate::Material::reradiation); a host older than v3
+//! renders such a material's reflectance only, and a library older than v3 is served through v2
+//! (the host then warns that the material's re-radiation is not simulated).
+//!
+//! Why not a new method after the `AbiMaterial` vtable's `last_prefix_field`, as the request for
+//! fluorescence first put it: abi_stable lets a library with MORE prefix fields into a host
+//! with fewer, never the reverse, so growing a vtable the root module reaches would lock every
+//! existing plugin out of the new host (the rule in [`module`](crate::module)). The extension
+//! gives what the request asked for — a material declares `FLUORESCENT` and offers
+//! wavelength-shifting sampling and evaluation, and plugins built against the earlier API still
+//! load — by putting the new calls on a second vtable that only the v3 symbol reaches.
+//!
 //! [`export_plugin!`](crate::export_plugin) exports every version for every plugin.
 //!
 //! [`LightSource::scene_bounds`]: crate::LightSource::scene_bounds
@@ -38,6 +54,7 @@ use crate::light::LightBox;
 use crate::material::{MaterialBox, ScatterSample, SurfaceContext};
 use crate::module::ObjectSource;
 use crate::representation::{BeamRepresentation, RepresentedBeam, TypeRepresentation};
+use crate::reradiation::ReradiationBox;
 use crate::spd::{GuardedSpd, Spd, SpdBox, SpectralLine};
 use crate::types::{RandomSample, SceneBounds, SpectralValues, TransportMode, Vec3, Wavelengths};
 use crate::PluginResult;
@@ -261,4 +278,53 @@ pub struct ExtensionsV2Export {
     pub layout: &'static TypeLayout,
     /// The module.
     pub module: ExtensionsV2Ref,
+}
+
+// ----------------------------------------------------------------------------------------------
+// Version 3
+
+/// The symbol (NUL-terminated) of extension version 3: an `extern "C" fn() ->`
+/// [`ExtensionsV3Export`].
+pub const EXTENSIONS_V3_SYMBOL: &[u8] = b"spectrace_plugin_extensions_v3\0";
+
+/// A material built through version 3: the faces of versions 1 and 2, and for a `FLUORESCENT`
+/// material that offers one ([`Material::reradiation`](crate::Material::reradiation)) its
+/// wavelength-shifting face. All three share one object.
+#[repr(C)]
+#[derive(StableAbi)]
+pub struct MaterialWithV3 {
+    /// What the root module's `create_material` returns.
+    pub material: MaterialBox,
+    /// The calls added in version 2, on the same object.
+    pub v2: MaterialV2Box,
+    /// The re-radiation added in version 3; none for a material that does not fluoresce.
+    pub reradiation: ROption<ReradiationBox>,
+}
+
+/// Extension version 3: fluorescence through the plugin API. A material constructor that also
+/// returns the re-radiation face ([`crate::reradiation`]). Parameters and saved state as for
+/// the root module's.
+#[repr(C)]
+#[derive(StableAbi)]
+#[sabi(kind(Prefix(prefix_ref = ExtensionsV3Ref)))]
+#[sabi(missing_field(panic))]
+pub struct ExtensionsV3 {
+    /// Build a material with its version-2 and version-3 faces.
+    #[sabi(last_prefix_field)]
+    pub create_material: extern "C" fn(
+        type_name: RStr<'_>,
+        source: ObjectSource<'_>,
+        host: HostRef<'_>,
+    ) -> RResult<MaterialWithV3, PluginError>,
+}
+
+/// What the version-3 symbol returns: the module's layout (checked by the host against its own
+/// before the module is touched) and the module.
+#[repr(C)]
+#[derive(StableAbi, Clone, Copy)]
+pub struct ExtensionsV3Export {
+    /// `<ExtensionsV3Ref as StableAbi>::LAYOUT` as the plugin was compiled.
+    pub layout: &'static TypeLayout,
+    /// The module.
+    pub module: ExtensionsV3Ref,
 }

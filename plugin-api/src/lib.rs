@@ -14,8 +14,9 @@
 //! plugin's side and come back as [`PluginError`]s) and behind an abi_stable trait object.
 //! See `module` for the compatibility rule between host and plugin versions, and `extension`
 //! for what later versions added (v2: scene bounds and emission spectra for lights, the
-//! surface's normals and exact emission for materials, spectral lines for SPDs): provided
-//! methods of the same traits, so a plugin uses them by overriding them.
+//! surface's normals and exact emission for materials, spectral lines for SPDs; v3: fluorescent
+//! materials' re-radiation, see `reradiation`): provided methods of the same traits, so a plugin
+//! uses them by overriding them.
 //!
 //! Units: lengths in scene units, wavelengths in nm, power in W, solid angle in sr.
 
@@ -34,6 +35,7 @@ pub mod material;
 pub mod module;
 pub mod observer;
 pub mod representation;
+pub mod reradiation;
 pub mod spd;
 pub mod types;
 
@@ -53,6 +55,7 @@ pub use representation::{
     BeamRepresentation, ColourEncoding, DirectionEncoding, Handedness, RepresentedBeam,
     TypeRepresentation,
 };
+pub use reradiation::{Reradiation, WavelengthDraw};
 pub use spd::{spd_flags, Spd, SpdBox, SpdHandle, SpectralLine};
 pub use types::{
     Beam, Flags, RandomSample, SceneBounds, SpectralValues, TransportMode, Vec3, WavelengthRange,

@@ -2,8 +2,11 @@
 //! shading frame: z is the shading normal, and both `wo` and `wi` point away from the surface.
 
 use crate::error::{PluginError, PluginResult};
-use crate::extension::{AbiMaterialV2, MaterialEmission, MaterialWithV2, SpdWithLines};
+use crate::extension::{
+    AbiMaterialV2, MaterialEmission, MaterialWithV2, MaterialWithV3, SpdWithLines,
+};
 use crate::guard::guarded;
+use crate::reradiation::{GuardedReradiation, Reradiation};
 use crate::spd::Spd;
 use crate::types::{Flags, RandomSample, SpectralValues, TransportMode, Vec3, Wavelengths};
 use abi_stable::{
@@ -28,7 +31,9 @@ pub mod material_flags {
     pub const DISPERSIVE: Flags = Flags(16);
     /// Emits light (`emitted` is meaningful).
     pub const EMISSIVE: Flags = Flags(32);
-    /// Shifts wavelength (fluorescence); not yet simulated by the host, which says so.
+    /// Shifts wavelength (fluorescence): the material offers its re-radiation through
+    /// [`Material::reradiation`](crate::Material::reradiation) (extension v3). A host without
+    /// that data renders the reflectance only and says so.
     pub const FLUORESCENT: Flags = Flags(64);
 }
 
@@ -205,6 +210,17 @@ pub trait Material: Send + Sync + 'static {
     fn emission(&self) -> PluginResult<Option<Emission>> {
         Ok(None)
     }
+
+    // Extension v3.
+
+    /// For FLUORESCENT materials: the wavelength-shifting part (extension v3, see
+    /// [`crate::reradiation`]). The host asks once, when the material is built; `Some` makes it
+    /// shift wavelengths at this material, scattering diffusely in both parts (a cosine lobe:
+    /// `sample`/`eval` must then be the Lambertian ρ(λ)/π with ρ =
+    /// [`Reradiation::reflectance`]). `None` (the default): no re-radiation.
+    fn reradiation(&self) -> Option<&dyn Reradiation> {
+        None
+    }
 }
 
 /// The stable-ABI face of a material.
@@ -288,6 +304,35 @@ impl<T: Material> GuardedMaterial<T> {
                 abi_stable::sabi_trait::TD_Opaque,
             ),
         }
+    }
+}
+
+impl<T: Material> GuardedMaterial<T> {
+    /// Box `inner` behind the ABI with its version-2 face and, when it offers one, its
+    /// re-radiation face (extension v3); one object behind all three.
+    pub fn boxed_v3(
+        inner: T,
+        state: fn(&T) -> PluginResult<Vec<u8>>,
+    ) -> RResult<MaterialWithV3, PluginError> {
+        let inner = Arc::new(inner);
+        let reradiation = match GuardedReradiation::boxed(inner.clone()) {
+            RResult::ROk(r) => r,
+            RResult::RErr(e) => return RResult::RErr(e),
+        };
+        RResult::ROk(MaterialWithV3 {
+            material: AbiMaterial_TO::from_value(
+                Self {
+                    inner: inner.clone(),
+                    state,
+                },
+                abi_stable::sabi_trait::TD_Opaque,
+            ),
+            v2: crate::extension::AbiMaterialV2_TO::from_value(
+                Self { inner, state },
+                abi_stable::sabi_trait::TD_Opaque,
+            ),
+            reradiation,
+        })
     }
 }
 

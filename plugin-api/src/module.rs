@@ -29,9 +29,11 @@
 //! Extensions so far: `spectrace_plugin_extensions_v1` (beams in another representation, see
 //! [`representation`](crate::representation)) and `spectrace_plugin_extensions_v2` (scene
 //! bounds and emission spectra for lights, surface normals and exact emission for materials,
-//! spectral lines for SPDs; see [`extension`](crate::extension)). The workspace test
-//! `api_growth` loads plugins built against frozen copies of the API at 0.1.0
-//! (`plugins/fixtures/api-0.1.0/`) and at extension v1 (`plugins/fixtures/api-ext-v1/`).
+//! spectral lines for SPDs; see [`extension`](crate::extension)) and
+//! `spectrace_plugin_extensions_v3` (fluorescent materials' re-radiation, see
+//! [`reradiation`](crate::reradiation)). The workspace test `api_growth` loads plugins built
+//! against frozen copies of the API at 0.1.0 (`plugins/fixtures/api-0.1.0/`), at extension v1
+//! (`plugins/fixtures/api-ext-v1/`) and at extension v2 (`plugins/fixtures/api-ext-v2/`).
 
 use crate::error::PluginError;
 use crate::host::HostRef;

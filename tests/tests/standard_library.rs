@@ -29,6 +29,7 @@ fn library_registry() -> Registry {
         "rough_dielectric",
         "conductor",
         "emissive",
+        "fluorescent",
     ] {
         assert!(
             r.plugin_for(Kind::Material, name).unwrap().is_some(),
@@ -382,8 +383,10 @@ fn at_resolution(
 /// their types from the library (`--replace-builtins`), same seed and spp, in PT, BDPT and LT:
 /// the Cornell box (one area light; 24×24, 4 spp), `scenes/materials.ron` (every built-in
 /// material under an emissive quad and a spot light; 64×40, 4 spp) and
-/// `scenes/sun_and_sky.ron` (a directional and an environment light; 48×32, 4 spp).
-/// Tolerance: none, bit-identical (what `spectrace compare --json` reports as RMSE 0).
+/// `scenes/sun_and_sky.ron` (a directional and an environment light; 48×32, 4 spp) and
+/// `scenes/fluorescence.ron` (two measured fluorescent samples and their non-fluorescent twins
+/// under a near-UV and a D65 panel; 40×24, 4 spp: the re-radiation crosses through extension
+/// v3). Tolerance: none, bit-identical (what `spectrace compare --json` reports as RMSE 0).
 ///
 /// Why this holds, and what it took: the objects are bit-identical (test above), and through
 /// extension v2 the host also sees the emitters' spectra as the built-ins do. Before v2 the host
@@ -427,6 +430,17 @@ fn scenes_render_bit_for_bit_with_all_types_from_the_library() {
                 32,
             ),
         ),
+        (
+            "fluorescence",
+            at_resolution(
+                parse(
+                    include_str!("../../scenes/fluorescence.ron"),
+                    "fluorescence.ron",
+                ),
+                40,
+                24,
+            ),
+        ),
     ];
     for (name, desc) in &scenes {
         for kind in [IntegratorKind::Pt, IntegratorKind::Bdpt, IntegratorKind::Lt] {
@@ -458,4 +472,58 @@ fn without_builtins_the_library_renders_the_cornell_box() {
     let img = render_xyz(&desc, r, IntegratorKind::Pt, 2, 1);
     let y = img.iter().map(|p| p[1]).sum::<f64>() / img.len() as f64;
     assert!(y > 0.0 && y.is_finite(), "mean Y {y}");
+}
+
+/// Quantity: every call of the host's re-radiation interface (reflectance, r(λᵢ → λₒ), the two
+/// fractions, both draws with their densities, both densities, the range) of the library's
+/// `fluorescent` (extension v3) against the built-in, for a measured matrix (IXCRLALE) and the
+/// parametric model, at 300 pseudo-random wavelength pairs and uniforms each over 300–800 nm;
+/// and that the non-fluorescent twin offers none. Tolerance: none (bit-identical): both run the
+/// host's own code, and every argument and result crosses the interface as f64 unchanged.
+#[test]
+fn library_fluorescent_reradiates_exactly_like_the_builtin() {
+    let builtin = factory(spectrace::plugin::builtin_registry());
+    let lib = factory(library_registry());
+    let mut state = 0x9e37_79b9_7f4a_7c15u64;
+    let mut rnd = move || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for params in [
+        "(bfc: \"IXCRLALE\")",
+        "(reflectance: 0.3, absorption: ((340, 0), (350, 0.6), (450, 0.6), (460, 0)), \
+          emission: \"gaussian:520:40\", quantum_yield: 0.8)",
+    ] {
+        let params: ron::Value = ron::from_str(params).unwrap();
+        let a = builtin
+            .material("fluorescent", &params, &ctx(&builtin))
+            .unwrap();
+        let b = lib.material("fluorescent", &params, &ctx(&lib)).unwrap();
+        assert_eq!(a.flags(), b.flags(), "{params:?} flags");
+        let (ra, rb) = (
+            a.reradiation().unwrap(),
+            b.reradiation().expect("offered through v3"),
+        );
+        assert_eq!(ra.range(), rb.range());
+        for _ in 0..300 {
+            let (l1, l2, u) = (300.0 + 500.0 * rnd(), 300.0 + 500.0 * rnd(), rnd());
+            assert_eq!(ra.reflectance(l1), rb.reflectance(l1), "{l1}");
+            assert_eq!(ra.reradiation(l1, l2), rb.reradiation(l1, l2), "{l1} {l2}");
+            assert_eq!(ra.reradiated_fraction(l1), rb.reradiated_fraction(l1));
+            assert_eq!(ra.excitation_fraction(l1), rb.excitation_fraction(l1));
+            assert_eq!(ra.sample_emission(l1, u), rb.sample_emission(l1, u));
+            assert_eq!(ra.sample_excitation(l1, u), rb.sample_excitation(l1, u));
+            assert_eq!(ra.emission_pdf(l1, l2), rb.emission_pdf(l1, l2));
+            assert_eq!(ra.excitation_pdf(l1, l2), rb.excitation_pdf(l1, l2));
+        }
+    }
+    let twin: ron::Value = ron::from_str("(bfc: \"IXCRLALE\", reradiate: false)").unwrap();
+    let b = lib.material("fluorescent", &twin, &ctx(&lib)).unwrap();
+    assert!(b.reradiation().is_none());
+    assert!(!b
+        .flags()
+        .contains(spectrace::material::MaterialFlags::FLUORESCENT));
+    assert_eq!(lib.faults().count() + lib.faults().invalid_count(), 0);
 }

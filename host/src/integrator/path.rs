@@ -373,7 +373,13 @@ impl PathTracer {
                     for g in 0..active {
                         let mut lam = cur[g];
                         let ug = rotated(u as f64, g, LANES * active) as f32;
-                        beta[g] *= shift_lanes(rr, &mut lam, ug, Direction::Camera);
+                        beta[g] *= shift_lanes(
+                            rr,
+                            &mut lam,
+                            ug,
+                            Direction::Camera,
+                            scene.lights.delta_lines(),
+                        );
                         sh[g] = lam.lambda;
                     }
                     shifted = Some(sh);

@@ -71,6 +71,8 @@ pub fn random_walk(
     // 1 − 1/η² and return the survivors with η² = 2.25× the throughput (fireflies through glass).
     let mut scatter = 1.0f32;
     let mut added = 0usize;
+    // The lights' delta lines, which camera-side excitation draws include.
+    let lines = scene.lights.delta_lines();
     loop {
         stats.rays += 1;
         let Some(hit) = scene.geometry.intersect(&ray, f32::INFINITY) else {
@@ -121,11 +123,11 @@ pub fn random_walk(
             cur.lanes = lanes;
             match shift {
                 WalkShift::CameraChoice => {
-                    let p = fluorescence::keep_probability(rr, &cur);
+                    let p = fluorescence::keep_probability(rr, &cur, lines);
                     let u = rng.next_1d();
                     let keep = u < p;
                     let u2 = if keep { u / p } else { (u - p) / (1.0 - p) };
-                    let w = fluorescence::shift_camera_group(rr, &mut cur, keep, p, u2);
+                    let w = fluorescence::shift_camera_group(rr, &mut cur, keep, p, u2, lines);
                     v.choice = if keep { p } else { 1.0 - p };
                     shifted |= !keep;
                     v.unit_lobe = true;
@@ -134,14 +136,14 @@ pub fn random_walk(
                 }
                 WalkShift::LightLanes => {
                     let before = cur.lambda;
-                    let w =
-                        fluorescence::shift_lanes(rr, &mut cur, rng.next_1d(), Direction::Light);
+                    let u = rng.next_1d();
+                    let w = fluorescence::shift_lanes(rr, &mut cur, u, Direction::Light, lines);
                     shifted |= cur.lambda != before;
                     v.unit_lobe = true;
                     beta *= w;
                     scatter *= w.max_value();
                 }
-                WalkShift::LightKeep => v.choice = fluorescence::keep_probability(rr, &cur),
+                WalkShift::LightKeep => v.choice = fluorescence::keep_probability(rr, &cur, lines),
                 WalkShift::Off => {}
             }
             v.beta = beta;

@@ -2,6 +2,7 @@
 //! power with an exact pmf, and maps scene objects to their area lights.
 
 use super::Light;
+use crate::spectrum::DeltaLine;
 use std::sync::Arc;
 
 /// All lights plus a power-proportional discrete distribution over them.
@@ -15,6 +16,10 @@ pub struct LightSourceManager {
     object_light: Vec<Option<u32>>,
     /// The environment light (rays leaving the scene see it); a scene has at most one.
     environment: Option<u32>,
+    /// Every delta line of every evaluable light, weight = light pmf × the line's share of
+    /// that light's power: what a fluorescent surface may draw its excitation from (a
+    /// continuous draw never lands on a line).
+    delta_lines: Vec<DeltaLine>,
 }
 
 impl LightSourceManager {
@@ -46,7 +51,7 @@ impl LightSourceManager {
         if let Some(last) = cdf.last_mut() {
             *last = 1.0;
         }
-        let pmf = power.iter().map(|p| (p / total) as f32).collect();
+        let pmf: Vec<f32> = power.iter().map(|p| (p / total) as f32).collect();
         let mut object_light = vec![None; object_count];
         for (i, l) in lights.iter().enumerate() {
             if let Some(o) = l.object() {
@@ -59,13 +64,37 @@ impl LightSourceManager {
             .iter()
             .position(|l| l.flags().contains(super::LightFlags::ENVIRONMENT))
             .map(|i| i as u32);
+        let mut delta_lines: Vec<DeltaLine> = Vec::new();
+        for (l, &p) in lights.iter().zip(&pmf) {
+            if l.flags().contains(super::LightFlags::BEAMS_ONLY) || !(p > 0.0) {
+                continue;
+            }
+            for line in l.spd().delta_lines() {
+                let weight = line.weight * p as f64;
+                match delta_lines.iter_mut().find(|d| d.lambda == line.lambda) {
+                    Some(d) => d.weight += weight,
+                    None => delta_lines.push(DeltaLine {
+                        lambda: line.lambda,
+                        weight,
+                    }),
+                }
+            }
+        }
         Self {
             lights,
             cdf,
             pmf,
             object_light,
             environment,
+            delta_lines,
         }
+    }
+
+    /// The delta lines of the evaluable lights (nm), each weighted by its light's pmf × its
+    /// share of that light's power; empty when no light has a line.
+    #[inline]
+    pub fn delta_lines(&self) -> &[DeltaLine] {
+        &self.delta_lines
     }
 
     /// All lights.

@@ -24,7 +24,8 @@ use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spd, SpdSample, LANES
 use glam::{Vec2, Vec3A};
 use spectrace_plugin_api::abi::std_types::{ROption, RResult};
 use spectrace_plugin_api::extension::{
-    LightV2Box, LightWithV2, MaterialV2Box, MaterialWithV2, RepresentedLightBox, SpdWithLines,
+    LightV2Box, LightWithV2, MaterialV2Box, MaterialWithV2, MaterialWithV3, RepresentedLightBox,
+    SpdWithLines,
 };
 use spectrace_plugin_api::{
     light_flags, material_flags, spd_flags, Beam, Flags, LightBox, MaterialBox, ObserverBox,
@@ -406,8 +407,9 @@ fn material_bits(f: Flags, transmission_event: Option<bool>) -> MaterialFlags {
         (material_flags::TRANSMISSION, MaterialFlags::TRANSMISSION),
         (material_flags::DISPERSIVE, MaterialFlags::DISPERSIVE),
         (material_flags::EMISSIVE, MaterialFlags::EMISSIVE),
-        // Kept so the analysis and the scene's warnings see it; the re-radiation itself cannot
-        // cross the interface yet, so such a material renders its reflectance (with a warning).
+        // Kept so the analysis and the scene's warnings see it. Its re-radiation crosses the
+        // interface through extension v3 (`PluginMaterial::new_v3`); a material without it
+        // renders its reflectance, and the scene warns.
         (material_flags::FLUORESCENT, MaterialFlags::FLUORESCENT),
     ];
     let mut out = MaterialFlags::NONE;
@@ -426,7 +428,9 @@ fn material_bits(f: Flags, transmission_event: Option<bool>) -> MaterialFlags {
 
 /// A plugin material as a host [`Material`]. An EMISSIVE one also describes its emission
 /// ([`Material::emission`]), so the scene builds an area light on every object that uses it,
-/// sampled and MIS-weighted like the built-in `emissive`.
+/// sampled and MIS-weighted like the built-in `emissive`. A FLUORESCENT one built through
+/// extension v3 hands over its re-radiation ([`Material::reradiation`]), which the integrators
+/// shift wavelengths with as for the built-in `fluorescent`.
 pub struct PluginMaterial {
     material: MaterialBox,
     /// The same material's version-2 face (extension v2): when present, the four calls go
@@ -434,6 +438,8 @@ pub struct PluginMaterial {
     v2: Option<MaterialV2Box>,
     flags: MaterialFlags,
     emission: Option<EmissionProfile>,
+    /// The re-radiation (extension v3), checked when the material was built.
+    reradiation: Option<super::reradiation::PluginReradiation>,
     origin: Origin,
 }
 
@@ -447,6 +453,29 @@ impl PluginMaterial {
     /// emission, when it describes one, is used exactly (its own SPD and scale).
     pub fn new_v2(material: MaterialWithV2, origin: Origin) -> Self {
         Self::build(material.material, Some(material.v2), origin)
+    }
+
+    /// Wrap a material built through extension v3: as [`Self::new_v2`], plus the re-radiation
+    /// of a fluorescent one, checked (see `plugin::reradiation`; an error names the plugin
+    /// object and `item`, the scene's name for it, and says what is wrong). A material that
+    /// offers re-radiation fluoresces: it gets the FLUORESCENT flag even if it did not declare it.
+    pub fn new_v3(material: MaterialWithV3, origin: Origin, item: &str) -> Result<Self, String> {
+        let reradiation = match material.reradiation.into_option() {
+            Some(rr) => Some(super::reradiation::PluginReradiation::new(
+                rr,
+                Origin {
+                    label: format!("{} as {item}", origin.label),
+                    faults: origin.faults.clone(),
+                },
+            )?),
+            None => None,
+        };
+        let mut m = Self::build(material.material, Some(material.v2), origin);
+        if reradiation.is_some() {
+            m.flags |= MaterialFlags::FLUORESCENT;
+        }
+        m.reradiation = reradiation;
+        Ok(m)
     }
 
     fn build(material: MaterialBox, v2: Option<MaterialV2Box>, origin: Origin) -> Self {
@@ -473,6 +502,7 @@ impl PluginMaterial {
             v2,
             flags,
             emission,
+            reradiation: None,
             origin,
         }
     }
@@ -627,6 +657,12 @@ impl Material for PluginMaterial {
 
     fn emission(&self) -> Option<EmissionProfile> {
         self.emission.clone()
+    }
+
+    fn reradiation(&self) -> Option<&dyn crate::spectrum::reradiation::Reradiation> {
+        self.reradiation
+            .as_ref()
+            .map(|r| r as &dyn crate::spectrum::reradiation::Reradiation)
     }
 
     fn emitted(

@@ -203,20 +203,27 @@ impl PluginFactory {
             faults: self.faults.clone(),
         };
         let r = &self.registry;
-        // Through extension v2 when the library has it (the objects then also get the scene's
-        // bounds, normals, exact emission spectra and spectral lines), else the root module.
+        // Through the newest extension the library has (v2: the objects then also get the
+        // scene's bounds, normals, exact emission spectra and spectral lines; v3: fluorescent
+        // materials' re-radiation), else the root module.
         Ok(match kind {
             Kind::Material => {
-                let m = match r
+                let m = if let Some(m) = r
+                    .create_plugin_material_v3(type_name, object_source)
+                    .map_err(construct_error)?
+                {
+                    PluginMaterial::new_v3(m, origin, &ctx.item).map_err(FactoryError::Param)?
+                } else if let Some(m) = r
                     .create_plugin_material_v2(type_name, object_source)
                     .map_err(construct_error)?
                 {
-                    Some(m) => PluginMaterial::new_v2(m, origin),
-                    None => PluginMaterial::new(
+                    PluginMaterial::new_v2(m, origin)
+                } else {
+                    PluginMaterial::new(
                         r.create_plugin_material(type_name, object_source)
                             .map_err(construct_error)?,
                         origin,
-                    ),
+                    )
                 };
                 Built::Material(Arc::new(m))
             }

@@ -7,7 +7,7 @@ use super::services::HostServices;
 use super::type_doc::{Kind, TypeDoc};
 use crate::builtin::BuiltinType;
 use spectrace_plugin_api::abi::std_types::{RResult, RSlice, RStr};
-use spectrace_plugin_api::extension::{LightWithV2, MaterialWithV2, SpdWithLines};
+use spectrace_plugin_api::extension::{LightWithV2, MaterialWithV2, MaterialWithV3, SpdWithLines};
 use spectrace_plugin_api::module::ObjectSource;
 use spectrace_plugin_api::{ErrorKind, HostRef};
 use spectrace_plugin_api::{
@@ -463,6 +463,31 @@ impl Registry {
         source: ObjectSource<'_>,
     ) -> Result<Option<MaterialWithV2>, RegistryError> {
         let Some(ext) = self.extensions_v2(ObjectKind::Material, name)? else {
+            return Ok(None);
+        };
+        self.call_plugin(ObjectKind::Material, name, |_, host| {
+            (ext.create_material())(RStr::from_str(name), source, host)
+        })
+        .map(Some)
+    }
+
+    /// Build a plugin material with its version-2 face and, for a fluorescent one, its
+    /// re-radiation (extension v3); `None` when its library predates v3.
+    pub fn create_plugin_material_v3(
+        &self,
+        name: &str,
+        source: ObjectSource<'_>,
+    ) -> Result<Option<MaterialWithV3>, RegistryError> {
+        let (plugin, provider) = self.plugin_entry(ObjectKind::Material, name)?;
+        let ext = super::extension_v3::extensions_v3(&plugin.path).map_err(|e| {
+            construct_error(
+                ObjectKind::Material.into(),
+                name,
+                provider,
+                PluginError::new(ErrorKind::Other, e),
+            )
+        })?;
+        let Some(ext) = ext else {
             return Ok(None);
         };
         self.call_plugin(ObjectKind::Material, name, |_, host| {

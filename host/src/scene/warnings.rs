@@ -104,8 +104,9 @@ pub fn all_black(objects: &[SceneObject]) -> Option<String> {
 }
 
 /// A warning per object whose material declares `FLUORESCENT` but offers no re-radiation data
-/// (a plugin material: the plugin interface cannot pass it yet). Such a surface renders its
-/// reflectance only; the warning says so instead of dropping the flag silently.
+/// (a plugin material built before extension v3 of the plugin interface, or one that does not
+/// override `Material::reradiation`). Such a surface renders its reflectance only; the warning
+/// says so instead of dropping the flag silently.
 pub fn fluorescence_without_data(objects: &[SceneObject]) -> Vec<String> {
     objects
         .iter()
@@ -118,8 +119,9 @@ pub fn fluorescence_without_data(objects: &[SceneObject]) -> Vec<String> {
         .map(|o| {
             format!(
                 "object \"{}\": its material declares FLUORESCENT but gives the host no \
-                 re-radiation data (the plugin interface cannot pass it yet): it renders its \
-                 reflectance only, with no wavelength shift",
+                 re-radiation data (a plugin needs extension v3 of the plugin interface and \
+                 `Material::reradiation` for that): it renders its reflectance only, with no \
+                 wavelength shift",
                 o.name
             )
         })

@@ -284,6 +284,20 @@ impl Reradiation for BispectralMatrix {
         Some((lambda_i, w / (total * self.step_i)))
     }
 
+    /// D(row, column of λᵢ)/(Σᵢ D(row, i)·Δλᵢ) = r(λᵢ → λₒ)/∫ r dλᵢ, computed as the draw
+    /// above computes it (the same bits).
+    fn excitation_pdf(&self, lambda_o_nm: f64, lambda_i_nm: f64) -> f64 {
+        let (Some(o), Some(i)) = (self.row(lambda_o_nm), self.column(lambda_i_nm)) else {
+            return 0.0;
+        };
+        let ni = self.excitation_nm.len();
+        let total: f64 = self.fluo[o * ni..(o + 1) * ni].iter().sum();
+        if !(total > 0.0) {
+            return 0.0;
+        }
+        self.fluo[o * ni + i] / (total * self.step_i)
+    }
+
     fn range(&self) -> (f64, f64) {
         let lo = self.excitation_nm[0].min(self.emission_nm[0]);
         let hi = self.excitation_nm[self.excitation_nm.len() - 1]
@@ -374,6 +388,7 @@ mod tests {
                 (p - m.reradiation(l, 420.0) / m.excitation_fraction(420.0)).abs() < 1e-12,
                 "{l}: {p}"
             );
+            assert_eq!(m.excitation_pdf(420.0, l), p, "{l}");
             low += (l < 395.0) as usize;
         }
         assert!((low as f64 / n as f64 - 1.0 / 3.0).abs() < 0.01, "{low}");

@@ -227,6 +227,24 @@ impl Reradiation for FluorescenceModel {
         Some((lambda_i, c / total))
     }
 
+    /// The density of the cell holding λᵢ (cut at λₒ), as drawn above.
+    fn excitation_pdf(&self, lambda_o_nm: f64, lambda_i_nm: f64) -> f64 {
+        if !(lambda_i_nm < lambda_o_nm)
+            || !(self.emission.value(lambda_o_nm) > 0.0)
+            || !(self.quantum_yield > 0.0)
+        {
+            return 0.0;
+        }
+        let total = self.excitation_mass_below(lambda_o_nm);
+        let x = lambda_i_nm - self.excitation_start;
+        if !(total > 0.0) || !(x >= 0.0) {
+            return 0.0;
+        }
+        self.excitation_cells
+            .get(x.floor() as usize)
+            .map_or(0.0, |c| c / total)
+    }
+
     fn range(&self) -> (f64, f64) {
         let (a0, a1) = self.absorption.range();
         let (e0, e1) = self.emission.range();
@@ -344,6 +362,7 @@ mod tests {
                 .sample_excitation(lo, (k as f64 + 0.5) / n as f64)
                 .unwrap();
             assert!(l < lo && p > 0.0);
+            assert!((m.excitation_pdf(lo, l) / p - 1.0).abs() < 1e-9, "{l}: {p}");
             sum += m.reradiation(l, lo) / p;
         }
         let got = sum / n as f64;

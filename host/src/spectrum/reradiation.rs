@@ -42,6 +42,10 @@ pub trait Reradiation: Send + Sync + std::fmt::Debug {
     /// r(· → λₒ) is, or `None` where nothing re-radiates into λₒ.
     fn sample_excitation(&self, lambda_o_nm: f64, u: f64) -> Option<(f64, f64)>;
 
+    /// Density (1/nm) with which [`sample_excitation`](Self::sample_excitation) produces λᵢ
+    /// for emission λₒ.
+    fn excitation_pdf(&self, lambda_o_nm: f64, lambda_i_nm: f64) -> f64;
+
     /// Range of wavelengths (nm) over which excitation or emission is non-zero.
     fn range(&self) -> (f64, f64);
 

@@ -1,5 +1,5 @@
 //! The standard set as a library: the host's built-in materials (`lambertian`, `mirror`,
-//! `dielectric`, `rough_dielectric`, `conductor`, `emissive`), lights (`point`, `spot`,
+//! `dielectric`, `rough_dielectric`, `conductor`, `emissive`, `fluorescent`), lights (`point`, `spot`,
 //! `directional`, `environment`), SPD types (`spec`, `table`) and CIE observers (`cie1931-2`,
 //! `cie1964-10`, `cie2015-2`, `cie2015-10`) exported through the plugin API under their built-in
 //! names, built by the host's own constructors (see `Cargo.toml` for the trade-off). Since the
@@ -9,7 +9,8 @@
 //!
 //! What extension v2 of the plugin API adds is what makes the library render bit for bit like
 //! the built-ins: emitters hand over their own SPD objects, lights learn the scene's bounds, and
-//! materials see the surface's normals.
+//! materials see the surface's normals; extension v3 lets `fluorescent` hand over its
+//! re-radiation.
 
 pub mod light;
 pub mod material;
@@ -18,7 +19,9 @@ pub mod spd;
 mod wrap;
 
 pub use light::{Directional, Environment, Point, Spot};
-pub use material::{Conductor, Dielectric, Emissive, Lambertian, Mirror, RoughDielectric};
+pub use material::{
+    Conductor, Dielectric, Emissive, Fluorescent, Lambertian, Mirror, RoughDielectric,
+};
 pub use observer::{Cie1931_2, Cie1964_10, Cie2015_10, Cie2015_2};
 pub use spd::{SpecSpd, TableSpd};
 
@@ -28,5 +31,5 @@ spectrace_plugin_api::export_plugin! {
     lights: [Point, Spot, Directional, Environment],
     spds: [SpecSpd, TableSpd],
     observers: [Cie1931_2, Cie1964_10, Cie2015_2, Cie2015_10],
-    materials: [Lambertian, Mirror, Dielectric, RoughDielectric, Conductor, Emissive],
+    materials: [Lambertian, Mirror, Dielectric, RoughDielectric, Conductor, Emissive, Fluorescent],
 }

@@ -1,18 +1,21 @@
 //! The built-in materials (`host/src/builtin/material/`): `lambertian`, `mirror`, `dielectric`,
-//! `rough_dielectric`, `conductor`, `emissive`, same parameters, each built by the host's own
-//! constructor and called through the plugin interface (no physics here, only conversions).
+//! `rough_dielectric`, `conductor`, `emissive`, `fluorescent`, same parameters, each built by the
+//! host's own constructor and called through the plugin interface (no physics here, only
+//! conversions).
 //!
 //! Conversions: directions, values, pdfs and the surface's normals (extension v2) cross as f64
 //! and come back to the host's f32 exactly (f32 → f64 → f32 is the identity). An emissive
 //! material hands over its emission exactly (its own SPD and scale, extension v2), so the host
-//! builds the same area light as for the built-in. What the interface does not carry: the
+//! builds the same area light as for the built-in. A fluorescent material hands over its
+//! re-radiation (extension v3), every call in f64 on both sides, so the host shifts wavelengths
+//! with the very numbers of the built-in. What the interface does not carry: the
 //! wavelengths' sampling densities (every lane is passed as live, density 1/nm; only thin films
 //! read them, to skip terminated lanes).
 
 use crate::wrap::{context, params_doc, plugin_error, HostParams, HostSpd};
 use glam::{Vec2, Vec3A};
 use spectrace::builtin::material::{
-    conductor, dielectric, emissive, lambertian, mirror, rough_dielectric,
+    conductor, dielectric, emissive, fluorescent, lambertian, mirror, rough_dielectric,
 };
 use spectrace::material::{
     Material as HostMaterial, MaterialFlags, ShadingContext as HostContext,
@@ -20,9 +23,9 @@ use spectrace::material::{
 };
 use spectrace::spectrum::{SampledSpectrum, SampledWavelengths, LANES};
 use spectrace_plugin_api::{
-    material_flags, Emission, Flags, Host, Material, ParamDoc, PluginResult, PluginType,
-    RandomSample, ScatterSample, ShadingContext, SpectralValues, SurfaceContext, TransportMode,
-    Vec3, Wavelengths,
+    material_flags, Emission, Flags, Host, Material, ParamDoc, PluginError, PluginResult,
+    PluginType, RandomSample, Reradiation, ScatterSample, ShadingContext, SpectralValues,
+    SurfaceContext, TransportMode, Vec3, WavelengthDraw, Wavelengths,
 };
 use std::sync::Arc;
 
@@ -115,12 +118,67 @@ fn sample(
     })
 }
 
+/// A host material's re-radiation (`spectrace::spectrum::reradiation`) as the interface's
+/// [`Reradiation`]: the same calls, f64 in and out.
+pub struct HostReradiation(Arc<dyn HostMaterial>);
+
+impl HostReradiation {
+    /// For a host material that offers re-radiation; `None` otherwise.
+    fn of(material: &Arc<dyn HostMaterial>) -> Option<Self> {
+        material
+            .reradiation()
+            .is_some()
+            .then(|| Self(material.clone()))
+    }
+
+    fn data(&self) -> PluginResult<&dyn spectrace::spectrum::reradiation::Reradiation> {
+        self.0
+            .reradiation()
+            .ok_or_else(|| PluginError::unsupported("the host material lost its re-radiation"))
+    }
+}
+
+fn drawn(d: Option<(f64, f64)>) -> Option<WavelengthDraw> {
+    d.map(|(lambda_nm, pdf)| WavelengthDraw { lambda_nm, pdf })
+}
+
+impl Reradiation for HostReradiation {
+    fn reflectance(&self, lambda_nm: f64) -> PluginResult<f64> {
+        Ok(self.data()?.reflectance(lambda_nm))
+    }
+    fn reradiation(&self, lambda_i_nm: f64, lambda_o_nm: f64) -> PluginResult<f64> {
+        Ok(self.data()?.reradiation(lambda_i_nm, lambda_o_nm))
+    }
+    fn reradiated_fraction(&self, lambda_i_nm: f64) -> PluginResult<f64> {
+        Ok(self.data()?.reradiated_fraction(lambda_i_nm))
+    }
+    fn excitation_fraction(&self, lambda_o_nm: f64) -> PluginResult<f64> {
+        Ok(self.data()?.excitation_fraction(lambda_o_nm))
+    }
+    fn sample_emission(&self, lambda_i_nm: f64, u: f64) -> PluginResult<Option<WavelengthDraw>> {
+        Ok(drawn(self.data()?.sample_emission(lambda_i_nm, u)))
+    }
+    fn emission_pdf(&self, lambda_i_nm: f64, lambda_o_nm: f64) -> PluginResult<f64> {
+        Ok(self.data()?.emission_pdf(lambda_i_nm, lambda_o_nm))
+    }
+    fn sample_excitation(&self, lambda_o_nm: f64, u: f64) -> PluginResult<Option<WavelengthDraw>> {
+        Ok(drawn(self.data()?.sample_excitation(lambda_o_nm, u)))
+    }
+    fn excitation_pdf(&self, lambda_o_nm: f64, lambda_i_nm: f64) -> PluginResult<f64> {
+        Ok(self.data()?.excitation_pdf(lambda_o_nm, lambda_i_nm))
+    }
+    fn range_nm(&self) -> PluginResult<(f64, f64)> {
+        Ok(self.data()?.range())
+    }
+}
+
 macro_rules! material_type {
     ($ty:ident, $module:ident, $params:ty) => {
         /// The host's material of the same name.
         pub struct $ty {
             params: HostParams<$params>,
             material: Arc<dyn HostMaterial>,
+            reradiation: Option<HostReradiation>,
         }
 
         impl PluginType for $ty {
@@ -136,7 +194,12 @@ macro_rules! material_type {
             fn new(params: Self::Params, _host: &Host<'_, '_>) -> PluginResult<Self> {
                 let material =
                     $module::build(&params.0, &context(Self::TYPE_NAME)).map_err(plugin_error)?;
-                Ok(Self { params, material })
+                let reradiation = HostReradiation::of(&material);
+                Ok(Self {
+                    params,
+                    material,
+                    reradiation,
+                })
             }
 
             fn params(&self) -> &Self::Params {
@@ -250,6 +313,9 @@ macro_rules! material_type {
                     two_sided: e.two_sided,
                 }))
             }
+            fn reradiation(&self) -> Option<&dyn Reradiation> {
+                self.reradiation.as_ref().map(|r| r as &dyn Reradiation)
+            }
         }
     };
 }
@@ -264,3 +330,4 @@ material_type!(
 );
 material_type!(Conductor, conductor, conductor::ConductorParams);
 material_type!(Emissive, emissive, emissive::EmissiveParams);
+material_type!(Fluorescent, fluorescent, fluorescent::FluorescentParams);
