@@ -135,6 +135,7 @@ pub fn run_bench(args: &EffectsBenchArgs) -> Result<(), String> {
                 Switch::Fluorescence => auto_plan.fluorescence(),
                 Switch::ThinFilm => auto_plan.thin_film(),
                 Switch::NarrowbandEmission => auto_plan.emission_wavelengths(),
+                Switch::FlatPathColour => auto_plan.flat_path_colour(),
             })
             .collect();
         for &kind in &args.integrators {

@@ -81,7 +81,7 @@ pub struct RenderArgs {
     #[arg(long, value_enum, default_value = "auto")]
     pub effects: crate::effects::EffectsMode,
     /// Force one effect on or off, NAME=on|off (repeatable): dispersion, fluorescence,
-    /// thin-film, narrowband-emission (alias line-emission).
+    /// thin-film, narrowband-emission (alias line-emission), flat-path-colour.
     #[arg(long = "effect", value_name = "NAME=on|off")]
     pub effect: Vec<String>,
     /// Debug (bdpt): write each (s, t) strategy's weighted contribution as its own EXR here.

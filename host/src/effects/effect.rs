@@ -96,7 +96,8 @@ impl Effect {
             }
             Self::BeamOnlyLights => "light tracing of their beams (bdpt's t = 1, lt)",
             Self::SpectrallyFlat => {
-                "the usual hero-wavelength sampling (colour noise comes from the observer alone)"
+                "bdpt and lt give every path the exact colour of its emitter (flat-path-colour); \
+                 pt: the usual hero-wavelength sampling"
             }
             Self::SpectrallyVarying => {
                 "hero wavelength plus rotated lanes, 4 wavelengths per path (pt: \

@@ -13,6 +13,7 @@
 //! | `fluorescence`                         | wavelength shifts at fluorescent events ([`RenderPlan::fluorescence`]) | fluorescent materials reflect only (no re-radiation) |
 //! | `thin-film`                            | per-lane Airy reflectance of the film                       | thin-film materials become their bare base (film thickness 0 nm) |
 //! | `narrowband-emission` (alias `line-emission`) | pt draws wavelengths half from the observer, half from the lights' spectra (lines with their discrete probability) | every integrator draws wavelengths from the observer alone: lines and narrow bands render black (warned) |
+//! | `flat-path-colour`                     | bdpt and lt give a path whose every vertex is spectrally flat the exact colour of its emitter's spectrum ([`FlatColour`]; found when some light has one spectral shape everywhere) | every path's colour is estimated from its four wavelengths |
 //!
 //! bdpt and lt always draw the pair's wavelengths from the observer-plus-emission mixture
 //! ([`WavelengthMixture`]) unless `narrowband-emission` is forced off; the plan builds that
@@ -29,7 +30,9 @@
 
 use super::analysis::{Caller, EffectSet};
 use super::effect::Effect;
+use crate::integrator::flat_colour::FlatColour;
 use crate::integrator::wavelength_mixture::WavelengthMixture;
+use crate::light::LightFlags;
 use crate::material::{EffectsOff, Material};
 use crate::scene::Scene;
 use std::sync::Arc;
@@ -59,15 +62,19 @@ pub enum Switch {
     ThinFilm,
     /// Wavelengths drawn from the lights' spectra (narrowband and line emission).
     NarrowbandEmission,
+    /// The exact colour of spectrally flat paths (an optimisation, not an optical effect:
+    /// the image's expectation is the same either way).
+    FlatPathColour,
 }
 
 impl Switch {
     /// Every switch, in the order summaries print them.
-    pub const ALL: [Self; 4] = [
+    pub const ALL: [Self; 5] = [
         Self::Dispersion,
         Self::Fluorescence,
         Self::ThinFilm,
         Self::NarrowbandEmission,
+        Self::FlatPathColour,
     ];
 
     /// Name on the command line and in summaries.
@@ -77,6 +84,7 @@ impl Switch {
             Self::Fluorescence => "fluorescence",
             Self::ThinFilm => "thin-film",
             Self::NarrowbandEmission => "narrowband-emission",
+            Self::FlatPathColour => "flat-path-colour",
         }
     }
 
@@ -87,6 +95,8 @@ impl Switch {
             Self::Fluorescence => &[Effect::Fluorescence],
             Self::ThinFilm => &[Effect::ThinFilm],
             Self::NarrowbandEmission => &[Effect::NarrowbandEmission, Effect::LineEmission],
+            // Decided from the lights themselves (see `RenderPlan::new`).
+            Self::FlatPathColour => &[],
         }
     }
 
@@ -97,6 +107,7 @@ impl Switch {
             "fluorescence" => Ok(Self::Fluorescence),
             "thin-film" => Ok(Self::ThinFilm),
             "narrowband-emission" | "line-emission" | "narrowband" => Ok(Self::NarrowbandEmission),
+            "flat-path-colour" | "flat-path-color" => Ok(Self::FlatPathColour),
             _ => {
                 let fixed = Effect::ALL.iter().find(|e| e.name() == n);
                 let names: Vec<&str> = Self::ALL.iter().map(|s| s.name()).collect();
@@ -213,7 +224,7 @@ impl Decision {
 pub struct RenderPlan {
     effects: EffectSet,
     request: EffectsRequest,
-    decisions: [Decision; 4],
+    decisions: [Decision; 5],
     light_paths: Vec<String>,
     mixture: Arc<WavelengthMixture>,
     notes: Vec<String>,
@@ -231,7 +242,12 @@ impl RenderPlan {
                     reason: Reason::Forced,
                 };
             }
-            let found = s.effects().iter().any(|e| effects.contains(*e));
+            let found = match s {
+                Switch::FlatPathColour => scene.lights.lights().iter().any(|l| {
+                    l.uniform_spectral_shape() && !l.flags().contains(LightFlags::BEAMS_ONLY)
+                }),
+                _ => s.effects().iter().any(|e| effects.contains(*e)),
+            };
             match (request.mode, found) {
                 (EffectsMode::All, _) => Decision {
                     on: true,
@@ -383,6 +399,26 @@ impl RenderPlan {
         self.decision(Switch::NarrowbandEmission).on
     }
 
+    /// bdpt and lt give spectrally flat paths the exact colour of their emitter
+    /// ([`FlatColour`]); when off every path's colour comes from its wavelengths.
+    pub fn flat_path_colour(&self) -> bool {
+        self.decision(Switch::FlatPathColour).on
+    }
+
+    /// The flat-path colour tables for `scene` under `observer` when the switch is on and
+    /// some light qualifies (see [`FlatColour::new`]).
+    pub fn flat_colour(
+        &self,
+        scene: &Scene,
+        observer: &dyn crate::color::observer::Observer,
+    ) -> Option<FlatColour> {
+        if self.flat_path_colour() {
+            FlatColour::new(scene, observer, self.mixture())
+        } else {
+            None
+        }
+    }
+
     /// The wavelength mixture of camera/light path pairs (bdpt, lt; pt when
     /// [`emission_wavelengths`](Self::emission_wavelengths)): observer plus the lights'
     /// spectra, or the observer alone when narrowband emission is forced off. Built once.
@@ -479,6 +515,14 @@ impl RenderPlan {
                     "pt draws wavelengths from the observer alone (bdpt, lt: observer plus \
                      lights' spectra unless forced off)"
                 }
+                (Switch::FlatPathColour, true) => {
+                    "bdpt and lt: a path whose every vertex is spectrally flat (grey, constant \
+                     IOR) gets its emitter's exact colour, no colour noise from the wavelengths \
+                     (the spectral film keeps the per-wavelength estimate; pt: not yet)"
+                }
+                (Switch::FlatPathColour, false) => {
+                    "every path's colour is estimated from its wavelengths"
+                }
             };
             out.push_str(&format!("  {}: {} — {what}\n", s.name(), d.text()));
         }
@@ -542,6 +586,8 @@ mod tests {
         assert!(!auto.emission_wavelengths());
         assert!(auto.notes().is_empty());
         assert!(auto.mixture().has_emission());
+        // Its light is an area light: one spectral shape everywhere.
+        assert!(auto.flat_path_colour());
         let all = RenderPlan::new(
             &scene,
             &EffectsRequest {

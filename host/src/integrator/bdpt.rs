@@ -22,6 +22,7 @@
 use super::beam::trace_beam;
 use super::camera_connection::connect_to_camera;
 use super::driver::{Integrator, IntegratorInfo, IntegratorOutput, Registration};
+use super::flat_colour::FlatColour;
 use super::light_subpath::{generate_light_subpath_with, LightStart};
 use super::pixel_max::PixelMaxY;
 use super::random_walk::{generate_camera_subpath, WalkShift};
@@ -107,6 +108,8 @@ pub struct Connection {
     pub raster: Option<Vec2>,
     /// Lanes valid on both subpaths (only the hero after a dispersive event on either).
     pub lanes: LaneMask,
+    /// The light whose emission this path carries (for the exact colour of flat paths).
+    pub emitter: Option<u32>,
 }
 
 /// Join the first `s` light vertices and the first `t` camera vertices (Veach's (s, t)
@@ -225,11 +228,17 @@ pub fn connect(
     if s > 0 && s <= light_path.len() {
         lanes = lanes.intersect(light_path[s - 1].lanes);
     }
+    let emitter = match (s, t, &sampled) {
+        (0, _, _) => camera_path[t - 1].light_index(scene),
+        (1, 2.., Some(v)) => v.light_index(scene),
+        _ => light_path.first().and_then(|v| v.light_index(scene)),
+    };
     Some(Connection {
         l,
         weight,
         raster,
         lanes,
+        emitter,
     })
 }
 
@@ -366,6 +375,41 @@ struct Worker {
     camera_path: Vec<Vertex>,
     light_path: Vec<Vertex>,
     stats: PathStats,
+    /// Flatness of each subpath prefix (see [`FlatColour::prefix`]).
+    camera_flat: Vec<bool>,
+    light_flat: Vec<bool>,
+}
+
+/// Film XYZ of connection `c` of strategy (s, t): the exact colour of its emitter when the
+/// whole path is spectrally flat ([`FlatColour`]), else the ordinary per-lane estimate.
+#[allow(clippy::too_many_arguments)]
+fn connection_xyz(
+    flat: Option<&FlatColour>,
+    (camera_flat, light_flat): (&[bool], &[bool]),
+    s: usize,
+    t: usize,
+    c: &Connection,
+    weights: &XyzWeights,
+    lambda: &SampledWavelengths,
+) -> [f64; 3] {
+    let l = c.l * c.weight;
+    if let (Some(fc), Some(e)) = (flat, c.emitter) {
+        // s = 1 with t ≥ 2 uses a fresh light vertex (flat by itself); t = 1 a fresh lens point;
+        // for s = 0 the last camera vertex only emits (its scattering is not on the path).
+        let cam_ok = match (s, t) {
+            (_, 1) => true,
+            (0, _) => camera_flat.get(t - 2).copied().unwrap_or(false),
+            _ => camera_flat.get(t - 1).copied().unwrap_or(false),
+        };
+        let light_ok =
+            s == 0 || (s == 1 && t >= 2) || light_flat.get(s - 1).copied().unwrap_or(false);
+        if cam_ok && light_ok && c.lanes.is_all() {
+            if let Some(xyz) = fc.xyz(e, &l, lambda) {
+                return xyz;
+            }
+        }
+    }
+    weights.xyz(&l, c.lanes)
 }
 
 /// Strategy images: one splat film per (s, t) up to [`STRATEGY_IMAGE_MAX_DEPTH`] bounces, and
@@ -419,6 +463,7 @@ fn render_bdpt(
     let (width, height) = camera.resolution();
     let sensor = Sensor::new(scene.observer.clone());
     let mixture = plan.mixture();
+    let flat = plan.flat_colour(scene, sensor.observer().as_ref());
     let strategies = bdpt
         .strategy_images
         .then(|| StrategyFilms::new(width, height));
@@ -436,6 +481,8 @@ fn render_bdpt(
                 camera_path: Vec::with_capacity(16),
                 light_path: Vec::with_capacity(16),
                 stats: PathStats::default(),
+                camera_flat: Vec::with_capacity(16),
+                light_flat: Vec::with_capacity(16),
             };
             for y in buf.y0..buf.y0 + buf.h {
                 for x in buf.x0..buf.x0 + buf.w {
@@ -455,6 +502,7 @@ fn render_bdpt(
                             (splats, spectral),
                             &pixel_max,
                             strategies.as_ref(),
+                            flat.as_ref(),
                             &mut worker,
                         );
                         buf.add(x, y, xyz, "bdpt camera film (t ≥ 2)");
@@ -540,6 +588,7 @@ impl Bdpt {
         (splats, spectral): (&SplatFilm, Option<&SpectralFilm>),
         pixel_max: &PixelMaxY,
         strategies: Option<&StrategyFilms>,
+        flat: Option<&FlatColour>,
         worker: &mut Worker,
     ) -> [f64; 3] {
         let camera = cam.camera.as_ref();
@@ -603,6 +652,10 @@ impl Bdpt {
                 &mut splat,
             );
         }
+        if let Some(fc) = flat {
+            fc.prefix(&camera_path, &mut worker.camera_flat);
+            fc.prefix(&light_path, &mut worker.light_flat);
+        }
         let pixel_center = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
         let mut total = [0.0f64; 3];
         let mut total_lanes = LaneEnergies::default();
@@ -633,7 +686,15 @@ impl Bdpt {
                 ) else {
                     continue;
                 };
-                let xyz = weights.xyz(&(c.l * c.weight), c.lanes);
+                let xyz = connection_xyz(
+                    flat,
+                    (&worker.camera_flat, &worker.light_flat),
+                    s,
+                    t,
+                    &c,
+                    &weights,
+                    &lambda,
+                );
                 if let Some(kind) = check_sample(&xyz) {
                     // Counted under this sample's pixel and strategy, never in the image.
                     splats.reject(Rejection {

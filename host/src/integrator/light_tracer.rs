@@ -21,6 +21,7 @@
 use super::beam::trace_beam_with;
 use super::camera_connection::{connect_to_camera, SplatFn};
 use super::driver::{Integrator, IntegratorInfo, IntegratorOutput, Registration};
+use super::flat_colour::FlatColour;
 use super::light_subpath::{generate_light_subpath_with, LightStart};
 use super::pixel_max::PixelMaxY;
 use super::random_walk::WalkShift;
@@ -36,6 +37,7 @@ use crate::film::spectral_film::{LaneEnergies, SpectralFilm, SpectralSums};
 use crate::film::{FilmState, Sensor, SplatFilm};
 use crate::light::LightFlags;
 use crate::scene::Scene;
+use crate::spectrum::LaneMask;
 use glam::Vec2;
 use rayon::prelude::*;
 use spectrace_plugin_api::ParamDoc;
@@ -133,6 +135,7 @@ fn trace_light_path(
     path: &mut Vec<Vertex>,
     stats: &mut PathStats,
     splat: &mut SplatFn<'_>,
+    flat: Option<&FlatColour>,
 ) {
     // The first dimensions (wavelengths, light choice, emission point and direction) come from
     // the light path's stratified sequence, the rest of the walk from `rng`.
@@ -166,11 +169,26 @@ fn trace_light_path(
         }
         LightStart::Path => {
             let weights = XyzWeights::new(sensor, &lambda);
+            // Spectrally flat so far (vertices 0..s), and the emitter (see `FlatColour`).
+            let mut flat_so_far = flat.is_some();
+            let emitter = path.first().and_then(|v| v.light_index(scene));
             for s in 1..=path.len() {
+                if let Some(fc) = flat {
+                    flat_so_far = flat_so_far && fc.vertex_is_flat(&path[s - 1]);
+                }
                 if let Some((c, raster, _)) =
                     connect_to_camera(scene, camera, path, s, &lambda, rng.next_2d(), stats)
                 {
                     let v = &path[s - 1];
+                    let exact = match (flat, emitter) {
+                        (Some(fc), Some(e)) if flat_so_far => fc.xyz(e, &c, &lambda),
+                        _ => None,
+                    };
+                    if let Some(xyz) = exact {
+                        // The spectral film keeps the per-lane estimate.
+                        splat(raster, xyz, &|| weights.energies(&c, LaneMask::ALL));
+                        continue;
+                    }
                     let lanes = v.lanes;
                     // Shifted by fluorescence: the observer weighs the wavelengths that reach
                     // the camera, each divided by its lane's original density.
@@ -209,6 +227,7 @@ fn render_light_tracing(
     let pool = super::tiled::thread_pool(settings.threads)?;
     let sensor = Sensor::new(scene.observer.clone());
     let mixture = plan.mixture();
+    let flat = plan.flat_colour(scene, sensor.observer().as_ref());
     let mut film = FilmState::new(width, height, true);
     film.spectral = lt.spectral.map(|b| SpectralSums::new(b, width, height));
     let pass_spectral = lt.spectral.map(|b| SpectralFilm::new(b, width, height));
@@ -255,7 +274,7 @@ fn render_light_tracing(
                             PixelSampler::for_light_path(settings.sampler, settings.seed, k);
                         trace_light_path(
                             scene, camera, &sensor, mixture, lt, &mut ld, &mut rng, &mut path,
-                            &mut stats, &mut splat,
+                            &mut stats, &mut splat, flat.as_ref(),
                         );
                     }
                     rays.fetch_add(stats.rays + stats.shadow_rays, Ordering::Relaxed);

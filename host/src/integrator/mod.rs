@@ -2,7 +2,7 @@
 //! [`driver::Integrator`] and one entry in [`select::registered`]: path tracing ([`path`]),
 //! bidirectional path tracing ([`bdpt`]) and light tracing ([`light_tracer`]). The path-building
 //! blocks they share live in files of their own ([`random_walk`], [`light_subpath`],
-//! [`camera_connection`], [`beam`], [`wavelength_mixture`], [`xyz_weights`], [`pixel_max`],
+//! [`camera_connection`], [`beam`], [`flat_colour`], [`wavelength_mixture`], [`xyz_weights`], [`pixel_max`],
 //! [`vertex`], [`wavelength_groups`]), as do the render settings ([`render`]) and the tiled,
 //! parallel, deterministic pass loop ([`tiled`]). No integrator imports another.
 
@@ -10,6 +10,7 @@ pub mod bdpt;
 pub mod beam;
 pub mod camera_connection;
 pub mod driver;
+pub mod flat_colour;
 pub mod fluorescence;
 pub mod light_subpath;
 pub mod light_tracer;

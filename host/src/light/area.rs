@@ -49,6 +49,11 @@ impl Light for AreaLight {
         LightFlags::AREA
     }
 
+    // Radiance is `scale · S(λ)` wherever it emits (see `radiance`).
+    fn uniform_spectral_shape(&self) -> bool {
+        true
+    }
+
     fn power(&self) -> f64 {
         let sides = if self.emission.two_sided { 2.0 } else { 1.0 };
         (PI * self.area * self.emission.scale) as f64 * sides

@@ -152,6 +152,14 @@ pub trait Light: Send + Sync + Debug {
     /// Called after [`preprocess`](Self::preprocess) with the bounds of the scene and every
     /// camera position (environment lights must enclose the cameras as well).
     fn preprocess_view(&self, _view_bounds: &Aabb) {}
+
+    /// True when the emitted spectral radiance factors as `g(p, ω) · spd(λ)` with the shape
+    /// [`spd`](Self::spd) the same at every point and in every direction (only the magnitude
+    /// varies): then a spectrally flat path's colour can be integrated exactly over `spd`
+    /// (`integrator::flat_colour`). The default is `false`, which is always safe.
+    fn uniform_spectral_shape(&self) -> bool {
+        false
+    }
 }
 
 /// Uniform direction on the unit sphere.

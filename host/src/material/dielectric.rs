@@ -34,6 +34,11 @@ impl Material for SmoothDielectric {
         f
     }
 
+    // Fresnel reflectance and refraction depend on the IOR alone.
+    fn spectrally_flat(&self) -> bool {
+        !self.ior.is_dispersive()
+    }
+
     fn without_effects(&self, off: &EffectsOff) -> Option<(Arc<dyn Material>, String)> {
         if !(off.dispersion && self.ior.is_dispersive()) {
             return None;

@@ -34,6 +34,11 @@ impl Material for Emissive {
         MaterialFlags::EMISSIVE
     }
 
+    // Scatters nothing; its emission is judged by its light's spectrum.
+    fn spectrally_flat(&self) -> bool {
+        true
+    }
+
     fn sample(
         &self,
         _wo: Vec3A,

@@ -28,6 +28,10 @@ impl Material for Lambertian {
         MaterialFlags::DIFFUSE | MaterialFlags::REFLECTION
     }
 
+    fn spectrally_flat(&self) -> bool {
+        self.reflectance.grey().is_some()
+    }
+
     fn sample(
         &self,
         wo: Vec3A,

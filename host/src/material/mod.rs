@@ -164,6 +164,16 @@ pub trait Material: Send + Sync + Debug {
         None
     }
 
+    /// True when this material scatters the same fraction of light at every wavelength, at
+    /// every point of its surface and for every pair of directions (a grey reflectance, a
+    /// constant IOR), and never shifts wavelengths: a path through it carries the same
+    /// throughput in every lane, so its colour can be integrated exactly
+    /// (`integrator::flat_colour`). Materials that do not scatter at all (emitters) count as
+    /// flat. The default is `false`, which is always safe (plugins keep it).
+    fn spectrally_flat(&self) -> bool {
+        false
+    }
+
     /// This material with the effects in `off` switched off (the render plan's
     /// `--effect NAME=off`), and one sentence saying what changed; `None` when none of them
     /// applies or the material cannot switch them off.

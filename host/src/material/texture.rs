@@ -13,6 +13,12 @@ use std::sync::Arc;
 pub trait SpectralTexture: Send + Sync + Debug {
     /// Value at each lane's wavelength.
     fn eval(&self, lambda: &SampledWavelengths, uv: Vec2) -> SampledSpectrum;
+
+    /// `Some(v)` when the value is `v` at every wavelength and everywhere (a grey constant);
+    /// `None` otherwise or when unknown.
+    fn grey(&self) -> Option<f32> {
+        None
+    }
 }
 
 /// The same value at every wavelength and everywhere.
@@ -22,6 +28,10 @@ pub struct ConstantTexture(pub f32);
 impl SpectralTexture for ConstantTexture {
     fn eval(&self, _lambda: &SampledWavelengths, _uv: Vec2) -> SampledSpectrum {
         SampledSpectrum::splat(self.0)
+    }
+
+    fn grey(&self) -> Option<f32> {
+        Some(self.0)
     }
 }
 
