@@ -41,6 +41,7 @@ fn render(scene: &Scene, kind: IntegratorKind, flat: bool, spp: u32, seed: u64) 
             max_depth: scene.options.max_depth,
             ..PathTracer::default()
         },
+        sampler: Default::default(),
     };
     let out = render_planned(scene, &plan, &settings, kind, false, &|_, _| {}, None).unwrap();
     assert_eq!(out.result.image.non_finite_count(), 0);
