@@ -273,8 +273,17 @@ fn render_light_tracing(
                         let mut ld =
                             PixelSampler::for_light_path(settings.sampler, settings.seed, k);
                         trace_light_path(
-                            scene, camera, &sensor, mixture, lt, &mut ld, &mut rng, &mut path,
-                            &mut stats, &mut splat, flat.as_ref(),
+                            scene,
+                            camera,
+                            &sensor,
+                            mixture,
+                            lt,
+                            &mut ld,
+                            &mut rng,
+                            &mut path,
+                            &mut stats,
+                            &mut splat,
+                            flat.as_ref(),
                         );
                     }
                     rays.fetch_add(stats.rays + stats.shadow_rays, Ordering::Relaxed);
