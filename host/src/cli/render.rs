@@ -753,6 +753,12 @@ pub fn run_with_factories(
             } else {
                 match sampling {
                     crate::integrator::WavelengthSampling::Visible
+                        if plan.emission_wavelengths()
+                            && plan.mixture().emission_weight() >= 1.0 =>
+                    {
+                        "all from the lights' spectra (render plan: all emission is narrowband)"
+                    }
+                    crate::integrator::WavelengthSampling::Visible
                         if plan.emission_wavelengths() =>
                     {
                         "half visible-importance, half from the lights' spectra (render plan)"
