@@ -33,7 +33,7 @@ pub struct EffectsBenchArgs {
     #[arg(
         long,
         value_delimiter = ',',
-        default_value = "cornell,caustic,materials,spot_mirror,prism,thin_film,laser,line_lamps"
+        default_value = "cornell,caustic,materials,spot_mirror,prism,thin_film,laser,line_lamps,fluorescence,sun_and_sky,luminaire,sensors_downlight"
     )]
     pub scenes: Vec<String>,
     /// Comma-separated integrators.

@@ -72,7 +72,9 @@ fn first_known<T>(
             Err(e) => return Err(e.to_string()),
         }
     }
-    let known: Vec<String> = factories
+    // Sorted and once each: a type offered by several factories (the registry and the
+    // built-in table both list the built-ins) is named once.
+    let known: std::collections::BTreeSet<String> = factories
         .iter()
         .flat_map(|f| f.known_types())
         .filter(|(k, _)| *k == kind)
@@ -80,7 +82,7 @@ fn first_known<T>(
         .collect();
     Err(format!(
         "unknown {kind} type `{type_name}`; known {kind} types: {}",
-        known.join(", ")
+        known.into_iter().collect::<Vec<_>>().join(", ")
     ))
 }
 
