@@ -215,3 +215,48 @@ fn writing_into_a_closed_pipe_ends_quietly() {
         );
     }
 }
+
+/// Light tracing cannot show a specular surface the camera sees directly: on the thin-film
+/// scene (specular panels over a black floor) its image is black in every pixel. That used to
+/// pass without a word; now the summary says the image is black and why. The same scene with
+/// bdpt is not black and gets no such warning (the check looks at the image, not the scene).
+#[test]
+fn a_black_image_is_said_with_its_likely_reason() {
+    let dir = tmp_dir("black");
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/thin_film.ron");
+    let out = dir.join("tf.exr");
+    let out = out.to_str().unwrap();
+    let lt = spectrace(&[
+        "render",
+        scene,
+        "--integrator",
+        "lt",
+        "--spp",
+        "1",
+        "--resolution",
+        "32x20",
+        "-o",
+        out,
+    ]);
+    let t = text(&lt);
+    assert!(lt.status.success(), "{t}");
+    assert!(
+        t.contains("warning: the image is black") && t.contains("light tracing cannot show"),
+        "{t}"
+    );
+    let bdpt = spectrace(&[
+        "render",
+        scene,
+        "--integrator",
+        "bdpt",
+        "--spp",
+        "1",
+        "--resolution",
+        "32x20",
+        "-o",
+        out,
+    ]);
+    let t = text(&bdpt);
+    assert!(bdpt.status.success(), "{t}");
+    assert!(!t.contains("the image is black"), "{t}");
+}

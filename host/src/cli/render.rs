@@ -813,6 +813,23 @@ pub fn run_with_factories(
         rgb[2],
         result.image.non_finite_count()
     );
+    // A black image is never what the user meant: say so, with what the plan knows about why.
+    if result.image.non_finite_count() == 0 && result.image.xyz.iter().all(|p| p[1] == 0.0) {
+        use crate::effects::Effect;
+        let effects = plan.effects();
+        let why = match args.integrator {
+            crate::integrator::IntegratorKind::Lt if effects.contains(Effect::DeltaBsdfs) => {
+                " light tracing cannot show specular surfaces the camera sees directly \
+                 (this scene has some); try --integrator bdpt or pt"
+            }
+            crate::integrator::IntegratorKind::Pt if effects.contains(Effect::DeltaLights) => {
+                " the path tracer cannot reach a point, spot or directional light through a \
+                 specular surface (only next-event estimation finds them); try --integrator bdpt"
+            }
+            _ => " check that a light reaches what the camera sees (`spectrace explain`)",
+        };
+        println!("  warning: the image is black (every pixel 0):{why}");
+    }
     if let Some(d) = result.dropped_pass {
         println!(
             "  time budget: the pass of {} spp running at its end was stopped {:.2} s in and \
