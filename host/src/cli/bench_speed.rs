@@ -20,7 +20,7 @@
 //!
 //! Paths default to the repository layout, so run it from the repository root (or pass them).
 
-use super::speed_regions::{CausticRegions, RegionSplit, REGION_NAMES};
+use super::speed_regions::{CausticRegions, RegionSplit, REGION_GROUPS};
 use crate::analysis::{compare_images_excluding, CompareOptions, RgbImage};
 use crate::integrator::{render_with, IntegratorKind, PathTracer, RenderSettings, SampleBudget};
 use crate::scene::SceneSource;
@@ -162,12 +162,13 @@ impl Summary<'_> {
             .collect();
         Efficiency::from_products(&p)
     }
-    /// Efficiency of region `i` alone (caustic scene).
+    /// Efficiency of the regions of `REGION_GROUPS[i]` alone (caustic scene).
     fn region_efficiency(&self, i: usize) -> Option<Efficiency> {
+        let group = REGION_GROUPS[i].1;
         let p: Option<Vec<f64>> = self
             .runs
             .iter()
-            .map(|r| r.regions.map(|g| g.mse(i) * r.seconds))
+            .map(|r| r.regions.map(|g| g.group_mse(group) * r.seconds))
             .collect();
         p.map(|p| Efficiency::from_products(&p))
     }
@@ -505,22 +506,20 @@ fn table(rows: &[SpeedRow], args: &SpeedArgs, notes: &[String]) -> String {
              alone): share of the squared error (mean over runs) and the efficiency of the region \
              alone as a multiple of the best anchor's on that region.\n"
         );
-        let _ = writeln!(
-            s,
-            "| renderer | integrator | {} | {} | {} |",
-            REGION_NAMES[0], REGION_NAMES[1], REGION_NAMES[2]
-        );
-        let _ = writeln!(s, "|---|---|---|---|---|");
+        let names: Vec<&str> = REGION_GROUPS.iter().map(|g| g.0).collect();
+        let _ = writeln!(s, "| renderer | integrator | {} |", names.join(" | "));
+        let _ = writeln!(s, "|---|---|{}", "---|".repeat(names.len()));
         for (k, sum) in sums.iter().enumerate() {
             let f = sum.first();
             if f.regions.is_none() {
                 continue;
             }
-            let cells: Vec<String> = (0..REGION_NAMES.len())
+            let cells: Vec<String> = (0..REGION_GROUPS.len())
                 .map(|i| {
                     let share = sum.mean(|r| {
-                        let g = r.regions.unwrap_or_default();
-                        g.sse[i] / g.sse.iter().sum::<f64>().max(1e-300)
+                        r.regions
+                            .unwrap_or_default()
+                            .group_share(REGION_GROUPS[i].1)
                     });
                     let best = best_anchor(&sums, &f.scene, Some(i));
                     let ratio = if best.is_some() {
