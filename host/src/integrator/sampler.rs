@@ -219,7 +219,11 @@ pub struct PixelSampler {
     dimension: u32,
     /// Requests below this number are Sobol' points: [`LD_DIMENSIONS`], or 0 when independent.
     ld_end: u32,
-    rng: SampleRng,
+    /// `(seed, pixel, sample)` of the PCG stream for the requests past `ld_end`.
+    rng_key: (u64, u64, u64),
+    /// That stream, opened at the first such request: most camera samples of a short path
+    /// never reach it, and seeding it costs four hashes.
+    rng: Option<SampleRng>,
 }
 
 impl PixelSampler {
@@ -239,14 +243,16 @@ impl PixelSampler {
                 index_reversed: sample.reverse_bits(),
                 dimension: 0,
                 ld_end: LD_DIMENSIONS,
-                rng: SampleRng::for_sample(seed, pixel, sample as u64),
+                rng_key: (seed, pixel, sample as u64),
+                rng: None,
             },
             SamplerKind::Independent => Self {
                 pixel_seed,
                 index_reversed: sample.reverse_bits(),
                 dimension: 0,
                 ld_end: 0,
-                rng: SampleRng::for_sample(mix64(seed ^ INDEPENDENT_SALT), pixel, sample as u64),
+                rng_key: (mix64(seed ^ INDEPENDENT_SALT), pixel, sample as u64),
+                rng: None,
             },
         }
     }
@@ -264,6 +270,14 @@ impl PixelSampler {
         )
     }
 
+    /// The PCG stream of the requests past `ld_end` (the same numbers whenever it is opened).
+    #[inline]
+    fn rng(&mut self) -> &mut SampleRng {
+        let (seed, pixel, sample) = self.rng_key;
+        self.rng
+            .get_or_insert_with(|| SampleRng::for_sample(seed, pixel, sample))
+    }
+
     #[inline]
     fn dim_seed(&self, salt: u64) -> u32 {
         mix64(self.pixel_seed ^ (self.dimension as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ salt)
@@ -274,7 +288,7 @@ impl PixelSampler {
     #[inline]
     pub fn next_1d(&mut self) -> f32 {
         if self.dimension >= self.ld_end {
-            return self.rng.next_1d();
+            return self.rng().next_1d();
         }
         // The shuffled index is `i = reverse(j)` (the index Owen-scrambled); its dimension-0
         // Sobol' point `reverse(i)`, reversed for scrambling, is `i` itself.
@@ -288,13 +302,17 @@ impl PixelSampler {
     #[inline]
     pub fn next_2d(&mut self) -> Vec2 {
         if self.dimension >= self.ld_end {
-            return self.rng.next_2d();
+            return self.rng().next_2d();
         }
         let j = laine_karras(self.index_reversed, self.dim_seed(3));
-        let x = laine_karras(j.reverse_bits(), self.dim_seed(4)).reverse_bits();
-        let y = laine_karras(sobol_dim1_reversed(j), self.dim_seed(5)).reverse_bits();
+        let x = laine_karras(j.reverse_bits(), self.dim_seed(4));
+        let y = laine_karras(sobol_dim1_reversed(j), self.dim_seed(5));
+        // Both coordinates reversed back by one 64-bit reversal (x86 has no bit-reverse
+        // instruction; each reversal is about fifteen): reverse(y·2³² + x) = reverse(x)·2³² +
+        // reverse(y).
+        let r = (x as u64 | (y as u64) << 32).reverse_bits();
         self.dimension += 1;
-        Vec2::new(to_unit(x), to_unit(y))
+        Vec2::new(to_unit((r >> 32) as u32), to_unit(r as u32))
     }
 }
 
