@@ -99,8 +99,9 @@ fn an_honest_fluorescent_plugin_material_reradiates() {
 
 /// Lies found when the material is built refuse it, with the plugin, the scene's material and
 /// the wavelength named: re-radiation three times what the material reports (ρ + ∫ r dλₒ =
-/// 1.8 at every excitation wavelength of its band, far above the 1% tolerance), and a NaN
-/// reflectance.
+/// 1.8 at every excitation wavelength of its band, far above the 1% tolerance), a NaN
+/// reflectance, and a claim to be spectrally flat (extension v4) by a material that shifts
+/// wavelengths.
 #[test]
 fn energy_creating_or_nan_reradiation_is_refused_when_built() {
     let f = factory();
@@ -125,6 +126,17 @@ fn energy_creating_or_nan_reradiation_is_refused_when_built() {
         "material \"patch\"",
         "reflectance",
         "NaN",
+    ] {
+        assert!(e.contains(want), "missing {want:?} in: {e}");
+    }
+    let Err(e) = build(&f, &scene_text("liar", "(lie: \"flat\")", 400)) else {
+        panic!("a false claim of spectral flatness is refused");
+    };
+    for want in [
+        "lying-fluorescent",
+        "material \"patch\"",
+        "spectrally flat",
+        "fluoresces",
     ] {
         assert!(e.contains(want), "missing {want:?} in: {e}");
     }

@@ -107,3 +107,29 @@ pub fn check(m: &dyn Material, flags: MaterialFlags, reradiates: bool) -> Result
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::material::lambertian::Lambertian;
+    use crate::material::texture::{ConstantTexture, CurveTexture};
+    use std::sync::Arc;
+
+    // A grey Lambertian passes; one whose reflectance rises from 0.2 at 380 nm to 0.8 at
+    // 780 nm is found out by its sampled values, naming `sample` and both wavelength sets;
+    // the flags DISPERSIVE and FLUORESCENT contradict the claim by themselves.
+    #[test]
+    fn the_probe_accepts_grey_and_finds_colour() {
+        let grey = Lambertian::new(Arc::new(ConstantTexture(0.5)));
+        assert_eq!(check(&grey, grey.flags(), false), Ok(()));
+        let ramp = CurveTexture::piecewise_linear("ramp", 1.0, vec![(380.0, 0.2), (780.0, 0.8)]);
+        let coloured = Lambertian::new(Arc::new(ramp));
+        let e = check(&coloured, coloured.flags(), false).unwrap_err();
+        assert!(e.contains("`sample`") && e.contains("380.0") && e.contains("780.0"), "{e}");
+        let e = check(&grey, grey.flags() | MaterialFlags::DISPERSIVE, false).unwrap_err();
+        assert!(e.contains("DISPERSIVE"), "{e}");
+        assert!(check(&grey, grey.flags(), true)
+            .unwrap_err()
+            .contains("fluoresces"));
+    }
+}
