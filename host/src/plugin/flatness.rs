@@ -125,7 +125,10 @@ mod tests {
         let ramp = CurveTexture::piecewise_linear("ramp", 1.0, vec![(380.0, 0.2), (780.0, 0.8)]);
         let coloured = Lambertian::new(Arc::new(ramp));
         let e = check(&coloured, coloured.flags(), false).unwrap_err();
-        assert!(e.contains("`sample`") && e.contains("380.0") && e.contains("780.0"), "{e}");
+        assert!(
+            e.contains("`sample`") && e.contains("380.0") && e.contains("780.0"),
+            "{e}"
+        );
         let e = check(&grey, grey.flags() | MaterialFlags::DISPERSIVE, false).unwrap_err();
         assert!(e.contains("DISPERSIVE"), "{e}");
         assert!(check(&grey, grey.flags(), true)
