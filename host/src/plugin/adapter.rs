@@ -458,9 +458,11 @@ fn v4f(v: Vec3A) -> Vec4f {
     Vec4f { x, y, z, w }
 }
 
+/// A plugin's vector as the host's; its unused `w` is not trusted (a plugin may leave anything
+/// there).
 #[inline]
 fn host_v(v: Vec4f) -> Vec3A {
-    Vec3A::from_vec4(glam::Vec4::new(v.x, v.y, v.z, v.w))
+    Vec3A::new(v.x, v.y, v.z)
 }
 
 /// One extension-v4 material query: the host's own `f32` data copied into the interface's
