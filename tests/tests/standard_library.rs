@@ -484,8 +484,9 @@ fn scenes_render_bit_for_bit_with_all_types_from_the_library() {
 /// spectral shape (`Light::uniform_spectral_shape`), built-ins against the library (extension
 /// v4, the library's flatness claims checked by the host when built). Tolerance: none, the same
 /// answers. The scenes must hold flat objects and uniform lights (else the comparison would
-/// pass with no declaration crossing the interface at all): the emitters, the grey and
-/// constant-IOR materials of `materials.ron`, and the area lights.
+/// pass with no declaration crossing the interface at all): the emitters and the grey
+/// materials of `fluorescence.ron` (flat objects: Cornell box 1 of 8, `materials.ron` 1 of 7,
+/// `sun_and_sky.ron` 0 of 3, `fluorescence.ron` 3 of 7), and the area lights (1, 1, 0, 2).
 #[test]
 fn library_declares_flatness_where_the_builtins_do() {
     let (mut flat, mut uniform) = (0, 0);
