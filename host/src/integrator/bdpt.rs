@@ -23,6 +23,7 @@ use super::beam::trace_beam;
 use super::camera_connection::connect_to_camera;
 use super::driver::{Integrator, IntegratorInfo, IntegratorOutput, Registration};
 use super::flat_colour::FlatColour;
+use super::fluorescent_mis::mis_weight_lanes;
 use super::light_subpath::{generate_light_subpath_with, LightStart};
 use super::pixel_max::PixelMaxY;
 use super::random_walk::{generate_camera_subpath, WalkShift};
@@ -41,7 +42,7 @@ use crate::film::{Rejection, Sensor, SplatFilm};
 use crate::light::{LightFlags, LightSampleContext};
 use crate::material::TransportMode;
 use crate::scene::Scene;
-use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths};
+use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths, LANES};
 use glam::Vec2;
 use spectrace_plugin_api::ParamDoc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -102,8 +103,9 @@ pub struct Bdpt {
 pub struct Connection {
     /// Contribution (radiance units per lane, before the wavelength pdfs).
     pub l: SampledSpectrum,
-    /// Power-heuristic weight.
-    pub weight: f32,
+    /// Power-heuristic weight, per lane (the same in every lane unless fluorescence moved some
+    /// lanes' wavelengths, see [`mis_weight_lanes`]).
+    pub weight: SampledSpectrum,
     /// For t = 1: the raster position to splat at.
     pub raster: Option<Vec2>,
     /// Lanes valid on both subpaths (only the hero after a dispersive event on either).
@@ -118,6 +120,7 @@ pub struct Connection {
 pub fn connect(
     scene: &Scene,
     camera: &dyn Camera,
+    mixture: &WavelengthMixture,
     light_path: &[Vertex],
     camera_path: &[Vertex],
     s: usize,
@@ -128,12 +131,20 @@ pub fn connect(
 ) -> Option<Connection> {
     let mut sampled: Option<Vertex> = None;
     let mut raster = None;
-    let l;
-    // A camera subpath whose wavelengths a fluorescent event shifted joins only a light point
-    // evaluated at its own wavelengths (s = 0, s = 1); see `mis_weight`.
-    let shifted = t >= 2 && camera_path[t - 1].shifted.is_some();
-    if shifted && s >= 2 {
-        return None;
+    let mut l;
+    // Lanes a fluorescent shift moved on either subpath cannot be joined by s ≥ 2, t ≥ 2
+    // (both ends start at the pair's wavelength, and a shift only lengthens it): those lanes
+    // get nothing from this strategy (see `mis_weight_lanes`).
+    let moved = if s >= 2 && t >= 2 {
+        camera_path[t - 1].moved.union(light_path[s - 1].moved)
+    } else {
+        LaneMask::NONE
+    };
+    if moved != LaneMask::NONE {
+        let live = camera_path[t - 1].lanes.intersect(light_path[s - 1].lanes);
+        if live.intersect(moved) == live {
+            return None;
+        }
     }
     if s == 0 {
         // The camera path found an emitter by itself.
@@ -211,19 +222,38 @@ pub fn connect(
         }
         l = c * g;
     }
+    if moved != LaneMask::NONE {
+        for k in 0..LANES {
+            if moved.contains(k) {
+                l[k] = 0.0;
+            }
+        }
+    }
     if l.is_black() {
         return None;
     }
-    let weight = mis_weight(
-        scene,
-        camera,
-        light_path,
-        camera_path,
-        sampled.as_ref(),
-        s,
-        t,
-        lambda,
-    );
+    let weight = if scene.objects.fluorescence() {
+        mis_weight_lanes(
+            scene,
+            camera,
+            mixture,
+            (light_path, camera_path),
+            sampled.as_ref(),
+            (s, t),
+            lambda,
+        )
+    } else {
+        SampledSpectrum::splat(mis_weight(
+            scene,
+            camera,
+            light_path,
+            camera_path,
+            sampled.as_ref(),
+            s,
+            t,
+            lambda,
+        ))
+    };
     let mut lanes = camera_path[t - 1].lanes;
     if s > 0 && s <= light_path.len() {
         lanes = lanes.intersect(light_path[s - 1].lanes);
@@ -242,11 +272,26 @@ pub fn connect(
     })
 }
 
-/// Power-heuristic weight of strategy (s, t) for the path it produced, relative to all other
-/// strategies that could have produced the same path (Veach 1997, §10.2). `sampled` is the
-/// freshly sampled lens vertex (t = 1) or light vertex (s = 1, t ≥ 2).
+/// The joined vertices of strategy (s, t) and the reverse densities the connection gives
+/// them (area measure, 1/m²), shared by [`mis_weight`] and [`mis_weight_lanes`].
+pub struct Overrides {
+    /// The camera-side endpoint (the sampled lens vertex for t = 1), as a copy.
+    pub pt: Vertex,
+    /// The light-side endpoint (the sampled light vertex for s = 1, t ≥ 2), if s ≥ 1.
+    pub qs: Option<Vertex>,
+    /// Density of `pt` sampled from the light side.
+    pub pt_rev: f32,
+    /// Density of the vertex before `pt` sampled from the light side, if t ≥ 2.
+    pub pt_minus_rev: Option<f32>,
+    /// Density of `qs` sampled from the camera side.
+    pub qs_rev: Option<f32>,
+    /// Density of the vertex before `qs` sampled from the camera side, if s ≥ 2.
+    pub qs_minus_rev: Option<f32>,
+}
+
+/// [`Overrides`] of strategy (s, t); `sampled` as for [`mis_weight`].
 #[allow(clippy::too_many_arguments)]
-pub fn mis_weight(
+pub fn mis_weight_overrides(
     scene: &Scene,
     camera: &dyn Camera,
     light_path: &[Vertex],
@@ -255,7 +300,7 @@ pub fn mis_weight(
     s: usize,
     t: usize,
     lambda: &SampledWavelengths,
-) -> f32 {
+) -> Overrides {
     // The (up to) four vertices whose reverse densities the connection changes, as copies.
     let pt = match (t, sampled) {
         (1, Some(v)) => *v,
@@ -294,6 +339,47 @@ pub fn mis_weight(
         (Some(q), Some(m)) => Some(q.pdf(scene, camera, Some(&pt), m, lambda, Radiance)),
         _ => None,
     };
+    Overrides {
+        pt,
+        qs,
+        pt_rev,
+        pt_minus_rev,
+        qs_rev,
+        qs_minus_rev,
+    }
+}
+
+/// Power-heuristic weight of strategy (s, t) for the path it produced, relative to all other
+/// strategies that could have produced the same path (Veach 1997, §10.2). `sampled` is the
+/// freshly sampled lens vertex (t = 1) or light vertex (s = 1, t ≥ 2).
+#[allow(clippy::too_many_arguments)]
+pub fn mis_weight(
+    scene: &Scene,
+    camera: &dyn Camera,
+    light_path: &[Vertex],
+    camera_path: &[Vertex],
+    sampled: Option<&Vertex>,
+    s: usize,
+    t: usize,
+    lambda: &SampledWavelengths,
+) -> f32 {
+    let Overrides {
+        pt,
+        qs,
+        pt_rev,
+        pt_minus_rev,
+        qs_rev,
+        qs_minus_rev,
+    } = mis_weight_overrides(
+        scene,
+        camera,
+        light_path,
+        camera_path,
+        sampled,
+        s,
+        t,
+        lambda,
+    );
     // (pdf_fwd, pdf_rev, delta) of camera vertex i and light vertex i after the overrides.
     let cam = |i: usize| -> (f32, f32, bool) {
         if i + 1 == t {
@@ -326,33 +412,20 @@ pub fn mis_weight(
             (v.pdf_fwd, v.pdf_rev, v.delta)
         }
     };
-    // Fluorescence: a camera vertex's density includes the probability of its keep/shift
-    // choice; a light vertex, moved to the camera side, would need the camera's "keep" there.
-    // A path whose wavelengths were shifted on the camera side can only be made by s = 0 and
-    // s = 1 (other strategies join subpaths whose wavelengths differ), so only those count.
-    let shifted = t >= 2 && camera_path[t - 1].shifted.is_some();
-    let cam_choice = |i: usize| -> f32 {
-        if i + 1 == t {
-            pt.choice
-        } else {
-            camera_path[i].choice
-        }
-    };
     let sq = |x: f32| x * x;
     let mut sum = 0.0f32;
     let mut ri = 1.0f32;
     for i in (1..t).rev() {
         let (fwd, rev, delta) = cam(i);
-        ri *= sq(remap0(rev) / remap0(fwd * cam_choice(i)));
-        let s_alt = s + (t - i);
-        if !delta && !cam(i - 1).2 && (!shifted || s_alt <= 1) {
+        ri *= sq(remap0(rev) / remap0(fwd));
+        if !delta && !cam(i - 1).2 {
             sum += ri;
         }
     }
     ri = 1.0;
     for i in (0..s).rev() {
         let (fwd, rev, delta) = light(i);
-        ri *= sq(remap0(rev * light_v(i).choice) / remap0(fwd));
+        ri *= sq(remap0(rev) / remap0(fwd));
         let delta_before = if i > 0 {
             light(i - 1).2
         } else {
@@ -630,7 +703,7 @@ impl Bdpt {
             self.rr_depth,
             &mut light_path,
             &mut worker.stats,
-            WalkShift::LightKeep,
+            WalkShift::LightLanesRecorded,
         );
         if let LightStart::Beams { index, pmf } = start {
             let mut splat = |raster: Vec2, xyz: [f64; 3], e: &dyn Fn() -> LaneEnergies| {
@@ -676,6 +749,7 @@ impl Bdpt {
                 let Some(c) = connect(
                     scene,
                     camera,
+                    mixture,
                     &light_path,
                     &camera_path,
                     s,
@@ -686,13 +760,24 @@ impl Bdpt {
                 ) else {
                     continue;
                 };
+                // A t = 1 splat of a light subpath that fluorescence shifted: the observer
+                // weighs the wavelengths that reach the camera, each divided by its lane's
+                // pair density (as in light tracing).
+                let shifted_weights;
+                let weights = match (t, light_path.get(s.wrapping_sub(1))) {
+                    (1, Some(q)) if q.shifted.is_some() => {
+                        shifted_weights = XyzWeights::new(sensor, &q.wavelengths(&lambda));
+                        &shifted_weights
+                    }
+                    _ => &weights,
+                };
                 let xyz = connection_xyz(
                     flat,
                     (&worker.camera_flat, &worker.light_flat),
                     s,
                     t,
                     &c,
-                    &weights,
+                    weights,
                     &lambda,
                 );
                 if let Some(kind) = check_sample(&xyz) {
