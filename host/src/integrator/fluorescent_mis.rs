@@ -155,3 +155,281 @@ pub fn mis_weight_lanes(
         }
     }))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera::CameraSample;
+    use crate::integrator::fluorescence::{event_probability, Direction};
+    use crate::integrator::random_walk::generate_camera_subpath;
+    use crate::integrator::vertex::VertexKind;
+    use crate::integrator::{PathStats, SampleRng};
+    use crate::material::TransportMode;
+    use crate::scene::{build_scene, parse_scene_str, BuiltinFactory};
+    use glam::Vec2;
+    use std::path::Path;
+
+    /// Two fluorescent walls (parametric model: UV/blue absorbed, re-emitted around 520 and
+    /// 600 nm) in a corner, a large D65 panel and a large panel emitting only the 365 nm
+    /// mercury line, so camera paths hit both lamps and excitation draws land on the line.
+    const SCENE: &str = r#"(
+        materials: [
+            (name: "a", type: "fluorescent",
+             params: (reflectance: 0.4, absorption: [(300, 0), (320, 0.6), (470, 0.6), (480, 0)],
+                      emission: "gaussian:520:30", quantum_yield: 0.8)),
+            (name: "b", type: "fluorescent",
+             params: (reflectance: 0.4, absorption: [(340, 0), (350, 0.5), (540, 0.5), (550, 0)],
+                      emission: "gaussian:600:40", quantum_yield: 0.9)),
+            (name: "sky", type: "emissive", params: (radiance: "d65", scale: 5)),
+            (name: "uv", type: "emissive", params: (radiance: "line:365", scale: 5)),
+        ],
+        objects: [
+            (name: "floor", type: "quad", material: "a",
+             params: (corner: (-2, -1, -4), edge0: (4, 0, 0), edge1: (0, 0, 4))),
+            (name: "back", type: "quad", material: "b",
+             params: (corner: (-2, -1, -3), edge0: (4, 0, 0), edge1: (0, 3, 0))),
+            (name: "sky", type: "quad", material: "sky",
+             params: (corner: (-2, 1.5, -3), edge0: (2, 0, 0), edge1: (0, 0, 4))),
+            (name: "uv", type: "quad", material: "uv",
+             params: (corner: (0, 1.5, -3), edge0: (2, 0, 0), edge1: (0, 0, 4))),
+        ],
+        cameras: [ (name: "c", type: "perspective",
+             params: (position: (0, 0, 1), look_at: (0, -0.5, -2), fov: 60, resolution: (8, 8))) ],
+    )"#;
+
+    /// Sum to one, per lane: for camera subpaths traced in [`SCENE`] up to the vertex where
+    /// they hit a lamp (x₀ … x_{n−1} from the lamp to the lens, n ≤ 6), the subpaths of every
+    /// split (s, t), s + t = n, are rebuilt independently from the vertices alone (area
+    /// densities from the materials and lights in both directions; at each fluorescent vertex
+    /// both ends' event probabilities from the lane's wavelengths on either side, via
+    /// [`event_probability`]; the pair wavelengths and their mixture densities at the end
+    /// each strategy starts from), and [`mis_weight_lanes`] of every strategy that can make
+    /// the lane path — all of them for a lane that never shifted, s ≤ 1 and t = 1 for a lane
+    /// that did, those whose start wavelength has mixture density 0 left out — must sum to 1.
+    /// Inconsistent densities (an event probability missing on one side, the end densities
+    /// on the wrong strategies, a strategy counted that cannot make the path) break the sum.
+    /// The walk's recorded probabilities (of its own choice and of the other end's) must equal
+    /// the fresh evaluation within 1e-4 relative (f32 storage of f64 densities).
+    /// Tolerance 2e-3 relative: f32 products of up to 6 density ratios squared. The counts of
+    /// shifted lanes and of lanes on the line are asserted so the test exercises both.
+    #[test]
+    fn weights_of_every_strategy_sum_to_one_per_lane() {
+        let file = Path::new("mis-test.ron");
+        let desc = parse_scene_str(SCENE, file).unwrap();
+        let scene = build_scene(&desc, Path::new("."), file, &[&BuiltinFactory]).unwrap();
+        assert!(scene.objects.fluorescence());
+        let cam = scene.cameras.get(None).unwrap();
+        let camera = cam.camera.as_ref();
+        let mixture = WavelengthMixture::new(&scene);
+        let lines = scene.lights.delta_lines();
+        assert_eq!(lines.len(), 1);
+        let (mut paths, mut shifted_lanes, mut line_lanes, mut worst) = (0, 0, 0, 0.0f64);
+        let mut path = Vec::new();
+        let mut stats = PathStats::default();
+        for k in 0..20_000u64 {
+            let mut rng = SampleRng::for_sample(11, k, 0);
+            let lambda = mixture.sample(&mut rng);
+            let u = rng.next_2d();
+            let cs = CameraSample {
+                p_film: Vec2::new(8.0 * u.x, 8.0 * u.y),
+                p_lens: rng.next_2d(),
+            };
+            let cray = camera.generate_ray(&cs).unwrap();
+            generate_camera_subpath(
+                &scene,
+                camera,
+                cray.ray,
+                cray.weight,
+                &lambda,
+                &mut rng,
+                6,
+                99,
+                &mut path,
+                &mut stats,
+            );
+            let Some(j) = (1..path.len()).find(|&m| path[m].light_index(&scene).is_some()) else {
+                continue;
+            };
+            if j < 2 {
+                continue;
+            }
+            paths += 1;
+            let n = j + 1;
+            // x_i = path[j − i]; seg[i] = the lane wavelengths between x_i and x_{i+1}.
+            let x: Vec<Vertex> = (0..n).map(|i| path[j - i]).collect();
+            let seg: Vec<[f32; LANES]> = (0..n - 1)
+                .map(|i| path[j - i - 1].wavelengths(&lambda).lambda)
+                .collect();
+            let live = |k: usize| path[j].beta[k] > 0.0;
+            // Both ends' probabilities of the event at x_i (1 where nothing fluoresces).
+            let events = |i: usize| -> ([f32; LANES], [f32; LANES]) {
+                let (mut l, mut c) = ([1.0; LANES], [1.0; LANES]);
+                if let VertexKind::Surface { object } = x[i].kind {
+                    if let Some(rr) = scene.objects.reradiation(object) {
+                        for k in 0..LANES {
+                            let (a, b) = (seg[i - 1][k], seg[i][k]);
+                            l[k] = event_probability(rr, a, b, Direction::Light, lines) as f32;
+                            c[k] = event_probability(rr, b, a, Direction::Camera, lines) as f32;
+                        }
+                    }
+                }
+                (l, c)
+            };
+            // The walk's own record of each choice is the density evaluated afresh (the draw
+            // and `event_probability` agree), and so is its record of the light side's.
+            for i in 1..n - 1 {
+                let (l, c) = events(i);
+                for k in (0..LANES).filter(|&k| live(k)) {
+                    let v = &path[j - i];
+                    let close = |a: f32, b: f32| (a - b).abs() <= 1e-4 * a.abs().max(b.abs());
+                    assert!(close(v.choice[k], c[k]), "own {} vs {}", v.choice[k], c[k]);
+                    assert!(
+                        close(v.choice_rev[k], l[k]),
+                        "other {} vs {}",
+                        v.choice_rev[k],
+                        l[k]
+                    );
+                }
+            }
+            let moved_at = |i: usize| -> LaneMask {
+                (0..LANES)
+                    .filter(|&k| seg[i - 1][k] != seg[i][k])
+                    .fold(LaneMask::NONE, |m, k| m.with(k))
+            };
+            let moved_all = (1..n - 1).fold(LaneMask::NONE, |m, i| m.union(moved_at(i)));
+            // Densities of each vertex from the light side and from the camera side.
+            let li = x[0].light_index(&scene).unwrap();
+            let mut x0_light = Vertex::light(li, x[0].p, x[0].p_error, x[0].ng, x[0].beta);
+            x0_light.uv = x[0].uv;
+            let from_light = |i: usize| -> f32 {
+                match i {
+                    0 => x0_light.pdf_light_origin(&scene, &x[1]),
+                    1 => x0_light.pdf_light(&scene, &x[1]),
+                    _ => x[i - 1].pdf(
+                        &scene,
+                        camera,
+                        Some(&x[i - 2]),
+                        &x[i],
+                        &lambda,
+                        TransportMode::Importance,
+                    ),
+                }
+            };
+            let from_camera = |i: usize| -> f32 {
+                if i == n - 1 {
+                    0.0
+                } else if i == n - 2 {
+                    x[n - 1].pdf(
+                        &scene,
+                        camera,
+                        None,
+                        &x[i],
+                        &lambda,
+                        TransportMode::Radiance,
+                    )
+                } else {
+                    x[i + 1].pdf(
+                        &scene,
+                        camera,
+                        Some(&x[i + 2]),
+                        &x[i],
+                        &lambda,
+                        TransportMode::Radiance,
+                    )
+                }
+            };
+            let pair_at = |l: [f32; LANES]| SampledWavelengths {
+                lambda: l,
+                pdf: std::array::from_fn(|k| mixture.lane_density(l[k]) as f32),
+                lanes: LaneMask::ALL,
+            };
+            let (obs, emit) = (pair_at(seg[n - 2]), pair_at(seg[0]));
+            let mut sum = [0.0f64; LANES];
+            for s in 0..n {
+                let t = n - s;
+                let camera_start = t >= 2 && s <= 1;
+                let pair = if t == 1 { emit } else { obs };
+                // The light subpath x_0 … x_{s−1}.
+                let light_path: Vec<Vertex> = (0..s)
+                    .map(|i| {
+                        let mut v = if i == 0 { x0_light } else { x[i] };
+                        v.pdf_fwd = from_light(i);
+                        v.pdf_rev = from_camera(i);
+                        v.moved = (1..=i).fold(LaneMask::NONE, |m, a| m.union(moved_at(a)));
+                        if i > 0 {
+                            (v.choice, v.choice_rev) = events(i);
+                        }
+                        v.shifted = (seg[i] != pair.lambda).then_some(seg[i]);
+                        v
+                    })
+                    .collect();
+                // The camera subpath x_{n−1} … x_s.
+                let camera_path: Vec<Vertex> = (s..n)
+                    .rev()
+                    .map(|i| {
+                        let mut v = x[i];
+                        v.pdf_fwd = from_camera(i);
+                        v.pdf_rev = if i == 0 { 0.0 } else { from_light(i) };
+                        v.moved =
+                            (i.max(1)..n - 1).fold(LaneMask::NONE, |m, a| m.union(moved_at(a)));
+                        if i > 0 && i < n - 1 {
+                            (v.choice_rev, v.choice) = events(i);
+                        }
+                        let after = if i == 0 { seg[0] } else { seg[i - 1] };
+                        v.shifted = (after != pair.lambda).then_some(after);
+                        v
+                    })
+                    .collect();
+                let sampled = match (s, t) {
+                    (1, 2..) => {
+                        let mut v = x0_light;
+                        v.pdf_fwd = x0_light.pdf_light_origin(&scene, &x[1]);
+                        Some(v)
+                    }
+                    (_, 1) => Some(x[n - 1]),
+                    _ => None,
+                };
+                let w = mis_weight_lanes(
+                    &scene,
+                    camera,
+                    &mixture,
+                    (&light_path, &camera_path),
+                    sampled.as_ref(),
+                    (s, t),
+                    &pair,
+                );
+                for k in 0..LANES {
+                    let moved = moved_all.contains(k);
+                    let start_density = if camera_start || (s >= 2 && t >= 2) {
+                        obs.pdf[k]
+                    } else {
+                        emit.pdf[k]
+                    };
+                    let possible = !moved || s <= 1 || t == 1;
+                    if possible && start_density > 0.0 && live(k) {
+                        sum[k] += w[k] as f64;
+                    }
+                }
+            }
+            for k in 0..LANES {
+                if !live(k) || obs.pdf[k] == 0.0 {
+                    continue;
+                }
+                shifted_lanes += moved_all.contains(k) as usize;
+                line_lanes += (0..n - 1).any(|i| lines[0].lambda as f32 == seg[i][k]) as usize;
+                worst = worst.max((sum[k] - 1.0).abs());
+                assert!(
+                    (sum[k] - 1.0).abs() < 2e-3,
+                    "path {paths}: lane {k} weights sum to {} (n = {n}, shifted {})",
+                    sum[k],
+                    moved_all.contains(k)
+                );
+            }
+        }
+        println!("{paths} paths, {shifted_lanes} shifted lanes, {line_lanes} on the line; worst |Σw − 1| = {worst:.2e}");
+        assert!(
+            paths > 1000 && shifted_lanes > 200 && line_lanes > 20,
+            "{paths} {shifted_lanes} {line_lanes}"
+        );
+    }
+}
