@@ -149,8 +149,13 @@ pub fn connect(
     if s == 0 {
         // The camera path found an emitter by itself.
         let pt = &camera_path[t - 1];
-        pt.light_index(scene)?;
-        l = pt.le(scene, &camera_path[t - 2], &pt.wavelengths(lambda)) * pt.beta;
+        let li = pt.light_index(scene)?;
+        let lam = pt.wavelengths(lambda);
+        let mut le = pt.le(scene, &camera_path[t - 2], &lam);
+        scene
+            .lights
+            .keep_line_power_only(li as usize, &lam, &mut le);
+        l = le * pt.beta;
     } else if t == 1 {
         // Connect a light vertex to a freshly sampled lens point and splat.
         let (c, r, cam_v) =
@@ -173,7 +178,10 @@ pub fn connect(
             n: pt.ng,
         };
         let lambda = &pt.wavelengths(lambda);
-        let ls = light.sample_li(&ctx, u, lambda)?;
+        let mut ls = light.sample_li(&ctx, u, lambda)?;
+        scene
+            .lights
+            .keep_line_power_only(li, lambda, &mut ls.radiance);
         if !(ls.pdf > 0.0) || ls.radiance.is_black() {
             return None;
         }
