@@ -12,7 +12,10 @@
 //! for them), delta BSDFs (no connection through them; their zero densities cancel), directional
 //! lights (positional density on a disk, see [`Vertex::pdf_light`]), finite apertures (the lens
 //! density is the camera's own), shading normals (adjoint correction on light subpaths).
-//! Wavelengths: one set per pair from [`WavelengthMixture`].
+//! Wavelengths: one set per pair from [`WavelengthMixture`]. Fluorescence: both subpaths shift
+//! each lane's wavelength on its own at fluorescent surfaces; a lane that shifted is made only
+//! by s = 0, s = 1 and t = 1 (other connections give it nothing), and the MIS weights are then
+//! per lane ([`mis_weight_lanes`], `integrator/fluorescent_mis.rs`).
 //!
 //! | parameter   | unit     | default | meaning                                              |
 //! |-------------|----------|---------|------------------------------------------------------|
