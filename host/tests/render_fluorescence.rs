@@ -451,7 +451,7 @@ fn line_and_led(which: &str) -> String {
 /// 365 nm is counted on it too, the sum picks up an extra LED density × 1 nm — about 1/4.3 of
 /// the LED's share for this 4 nm wide LED: measured before the fix +10.9% (pt), +9.6% (bdpt),
 /// +10.1% (lt), σ ≈ 1%, at 4096/2048/4096 spp. Tolerance: within 4 combined standard errors
-/// (seeds' spread, printed; about 1.5% at these spp) and within 5%, which the +10% fails.
+/// (seeds' spread, printed; 0.8–1.9% at these spp) and within 5%, which the +10% fails.
 #[test]
 fn a_line_lane_takes_only_the_line_power_beside_a_continuous_light_there() {
     let (both, line, led) = (
