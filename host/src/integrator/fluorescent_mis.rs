@@ -25,9 +25,10 @@
 //! the keep probabilities of both ends in the densities.
 //!
 //! The structure mirrors [`super::bdpt::mis_weight`] (the same overrides of the densities at
-//! the joined vertices) with a per-lane ratio and per-lane validity.
+//! the joined vertices, the same scale of the light-tracing strategy's density,
+//! [`super::bdpt::LIGHT_TRACING_MIS_SCALE`]) with a per-lane ratio and per-lane validity.
 
-use super::bdpt::mis_weight_overrides;
+use super::bdpt::{heuristic_scale, mis_weight_overrides};
 use super::vertex::{remap0, Vertex};
 use super::wavelength_mixture::WavelengthMixture;
 use crate::camera::Camera;
@@ -108,6 +109,9 @@ pub fn mis_weight_lanes(
         }
     }
     let sq = |x: f32| x * x;
+    // As in `mis_weight`: each strategy's squared density times its heuristic scale (t = 1's
+    // is LIGHT_TRACING_MIS_SCALE²).
+    let own_scale = heuristic_scale(t);
     let mut sum = [0.0f32; LANES];
     // Camera vertices moved to the light subpath, one at a time: strategy (s + t − i, i).
     let mut ri = [1.0f32; LANES];
@@ -121,7 +125,7 @@ pub fn mis_weight_lanes(
                 ri[k] *= sq(end_ratio[k]);
             }
             if structural && (!moved.contains(k) || s_alt <= 1 || i == 1) {
-                sum[k] += ri[k];
+                sum[k] += ri[k] * heuristic_scale(i) / own_scale;
             }
         }
     }
@@ -142,7 +146,8 @@ pub fn mis_weight_lanes(
                 ri[k] *= sq(end_ratio[k]);
             }
             if structural && (!moved.contains(k) || i <= 1) {
-                sum[k] += ri[k];
+                // The alternative has s + t − i ≥ 2 camera vertices: scale 1.
+                sum[k] += ri[k] / own_scale;
             }
         }
     }
