@@ -71,8 +71,8 @@ impl Effect {
                  terminated), in pt, bdpt and lt"
             }
             Self::Fluorescence => {
-                "the wavelength shifts at fluorescent surfaces (pt and lt per lane; bdpt on \
-                 camera subpaths, shifted paths by s = 0 and s = 1 only); --effect fluorescence=off \
+                "the wavelength shifts at fluorescent surfaces, per lane (pt, lt, and both bdpt \
+                 subpaths: shifted paths by s = 0, s = 1 and t = 1); --effect fluorescence=off \
                  renders the reflectance only"
             }
             Self::ThinFilm => {

@@ -13,7 +13,10 @@
 //! for them), delta BSDFs (no connection through them; their zero densities cancel), directional
 //! lights (positional density on a disk, see [`Vertex::pdf_light`]), finite apertures (the lens
 //! density is the camera's own), shading normals (adjoint correction on light subpaths).
-//! Wavelengths: one set per pair from [`WavelengthMixture`].
+//! Wavelengths: one set per pair from [`WavelengthMixture`]. Fluorescence: both subpaths shift
+//! each lane's wavelength on its own at fluorescent surfaces; a lane that shifted is made only
+//! by s = 0, s = 1 and t = 1 (other connections give it nothing), and the MIS weights are then
+//! per lane ([`mis_weight_lanes`], `integrator/fluorescent_mis.rs`).
 //!
 //! | parameter   | unit     | default | meaning                                              |
 //! |-------------|----------|---------|------------------------------------------------------|
@@ -24,6 +27,7 @@ use super::beam::trace_beam;
 use super::camera_connection::connect_to_camera;
 use super::driver::{Integrator, IntegratorInfo, IntegratorOutput, Registration};
 use super::flat_colour::FlatColour;
+use super::fluorescent_mis::mis_weight_lanes;
 use super::light_subpath::{generate_light_subpath_with, LightStart};
 use super::pixel_max::PixelMaxY;
 use super::random_walk::{generate_camera_subpath, WalkShift};
@@ -42,7 +46,7 @@ use crate::film::{Rejection, Sensor, SplatFilm};
 use crate::light::{LightFlags, LightSampleContext};
 use crate::material::TransportMode;
 use crate::scene::Scene;
-use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths};
+use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths, LANES};
 use glam::Vec2;
 use spectrace_plugin_api::ParamDoc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -103,8 +107,9 @@ pub struct Bdpt {
 pub struct Connection {
     /// Contribution (radiance units per lane, before the wavelength pdfs).
     pub l: SampledSpectrum,
-    /// Power-heuristic weight.
-    pub weight: f32,
+    /// Power-heuristic weight, per lane (the same in every lane unless fluorescence moved some
+    /// lanes' wavelengths, see [`mis_weight_lanes`]).
+    pub weight: SampledSpectrum,
     /// For t = 1: the raster position to splat at.
     pub raster: Option<Vec2>,
     /// Lanes valid on both subpaths (only the hero after a dispersive event on either).
@@ -119,6 +124,7 @@ pub struct Connection {
 pub fn connect(
     scene: &Scene,
     camera: &dyn Camera,
+    mixture: &WavelengthMixture,
     light_path: &[Vertex],
     camera_path: &[Vertex],
     s: usize,
@@ -129,18 +135,31 @@ pub fn connect(
 ) -> Option<Connection> {
     let mut sampled: Option<Vertex> = None;
     let mut raster = None;
-    let l;
-    // A camera subpath whose wavelengths a fluorescent event shifted joins only a light point
-    // evaluated at its own wavelengths (s = 0, s = 1); see `mis_weight`.
-    let shifted = t >= 2 && camera_path[t - 1].shifted.is_some();
-    if shifted && s >= 2 {
-        return None;
+    let mut l;
+    // Lanes a fluorescent shift moved on either subpath cannot be joined by s ≥ 2, t ≥ 2
+    // (both ends start at the pair's wavelength, and a shift only lengthens it): those lanes
+    // get nothing from this strategy (see `mis_weight_lanes`).
+    let moved = if s >= 2 && t >= 2 {
+        camera_path[t - 1].moved.union(light_path[s - 1].moved)
+    } else {
+        LaneMask::NONE
+    };
+    if moved != LaneMask::NONE {
+        let live = camera_path[t - 1].lanes.intersect(light_path[s - 1].lanes);
+        if live.intersect(moved) == live {
+            return None;
+        }
     }
     if s == 0 {
         // The camera path found an emitter by itself.
         let pt = &camera_path[t - 1];
-        pt.light_index(scene)?;
-        l = pt.le(scene, &camera_path[t - 2], &pt.wavelengths(lambda)) * pt.beta;
+        let li = pt.light_index(scene)?;
+        let lam = pt.wavelengths(lambda);
+        let mut le = pt.le(scene, &camera_path[t - 2], &lam);
+        scene
+            .lights
+            .keep_line_power_only(li as usize, &lam, &mut le);
+        l = le * pt.beta;
     } else if t == 1 {
         // Connect a light vertex to a freshly sampled lens point and splat.
         let (c, r, cam_v) =
@@ -163,7 +182,10 @@ pub fn connect(
             n: pt.ng,
         };
         let lambda = &pt.wavelengths(lambda);
-        let ls = light.sample_li(&ctx, u, lambda)?;
+        let mut ls = light.sample_li(&ctx, u, lambda)?;
+        scene
+            .lights
+            .keep_line_power_only(li, lambda, &mut ls.radiance);
         if !(ls.pdf > 0.0) || ls.radiance.is_black() {
             return None;
         }
@@ -212,19 +234,38 @@ pub fn connect(
         }
         l = c * g;
     }
+    if moved != LaneMask::NONE {
+        for k in 0..LANES {
+            if moved.contains(k) {
+                l[k] = 0.0;
+            }
+        }
+    }
     if l.is_black() {
         return None;
     }
-    let weight = mis_weight(
-        scene,
-        camera,
-        light_path,
-        camera_path,
-        sampled.as_ref(),
-        s,
-        t,
-        lambda,
-    );
+    let weight = if scene.objects.fluorescence() {
+        mis_weight_lanes(
+            scene,
+            camera,
+            mixture,
+            (light_path, camera_path),
+            sampled.as_ref(),
+            (s, t),
+            lambda,
+        )
+    } else {
+        SampledSpectrum::splat(mis_weight(
+            scene,
+            camera,
+            light_path,
+            camera_path,
+            sampled.as_ref(),
+            s,
+            t,
+            lambda,
+        ))
+    };
     let mut lanes = camera_path[t - 1].lanes;
     if s > 0 && s <= light_path.len() {
         lanes = lanes.intersect(light_path[s - 1].lanes);
@@ -241,6 +282,85 @@ pub fn connect(
         lanes,
         emitter,
     })
+}
+
+/// The joined vertices of strategy (s, t) and the reverse densities the connection gives
+/// them (area measure, 1/m²), for [`mis_weight_lanes`]: the same computation as the start of
+/// [`mis_weight`], which keeps its own inline copy (a call returning two vertex copies cost
+/// the scalar weight 15% more instructions).
+pub struct Overrides {
+    /// The camera-side endpoint (the sampled lens vertex for t = 1), as a copy.
+    pub pt: Vertex,
+    /// The light-side endpoint (the sampled light vertex for s = 1, t ≥ 2), if s ≥ 1.
+    pub qs: Option<Vertex>,
+    /// Density of `pt` sampled from the light side.
+    pub pt_rev: f32,
+    /// Density of the vertex before `pt` sampled from the light side, if t ≥ 2.
+    pub pt_minus_rev: Option<f32>,
+    /// Density of `qs` sampled from the camera side.
+    pub qs_rev: Option<f32>,
+    /// Density of the vertex before `qs` sampled from the camera side, if s ≥ 2.
+    pub qs_minus_rev: Option<f32>,
+}
+
+/// [`Overrides`] of strategy (s, t); `sampled` as for [`mis_weight`].
+#[allow(clippy::too_many_arguments)]
+pub fn mis_weight_overrides(
+    scene: &Scene,
+    camera: &dyn Camera,
+    light_path: &[Vertex],
+    camera_path: &[Vertex],
+    sampled: Option<&Vertex>,
+    s: usize,
+    t: usize,
+    lambda: &SampledWavelengths,
+) -> Overrides {
+    // The (up to) four vertices whose reverse densities the connection changes, as copies.
+    let pt = match (t, sampled) {
+        (1, Some(v)) => *v,
+        _ => camera_path[t - 1],
+    };
+    let qs = if s == 0 {
+        None
+    } else if s == 1 && t > 1 {
+        sampled.copied()
+    } else {
+        Some(light_path[s - 1])
+    };
+    let pt_minus = if t >= 2 {
+        Some(&camera_path[t - 2])
+    } else {
+        None
+    };
+    let qs_minus = if s >= 2 {
+        Some(&light_path[s - 2])
+    } else {
+        None
+    };
+    use TransportMode::{Importance, Radiance};
+    let pt_rev = match &qs {
+        Some(q) => q.pdf(scene, camera, qs_minus, &pt, lambda, Importance),
+        None => pt_minus.map_or(0.0, |m| pt.pdf_light_origin(scene, m)),
+    };
+    let pt_minus_rev = pt_minus.map(|m| match &qs {
+        Some(q) => pt.pdf(scene, camera, Some(q), m, lambda, Importance),
+        None => pt.pdf_light(scene, m),
+    });
+    let qs_rev = qs
+        .as_ref()
+        .map(|q| pt.pdf(scene, camera, pt_minus, q, lambda, Radiance));
+    let qs_minus_rev = match (&qs, qs_minus) {
+        (Some(q), Some(m)) => Some(q.pdf(scene, camera, Some(&pt), m, lambda, Radiance)),
+        _ => None,
+    };
+    Overrides {
+        pt,
+        qs,
+        pt_rev,
+        pt_minus_rev,
+        qs_rev,
+        qs_minus_rev,
+    }
 }
 
 /// Power-heuristic weight of strategy (s, t) for the path it produced, relative to all other
@@ -328,18 +448,6 @@ pub fn mis_weight(
             (v.pdf_fwd, v.pdf_rev, v.delta)
         }
     };
-    // Fluorescence: a camera vertex's density includes the probability of its keep/shift
-    // choice; a light vertex, moved to the camera side, would need the camera's "keep" there.
-    // A path whose wavelengths were shifted on the camera side can only be made by s = 0 and
-    // s = 1 (other strategies join subpaths whose wavelengths differ), so only those count.
-    let shifted = t >= 2 && camera_path[t - 1].shifted.is_some();
-    let cam_choice = |i: usize| -> f32 {
-        if i + 1 == t {
-            pt.choice
-        } else {
-            camera_path[i].choice
-        }
-    };
     let sq = |x: f32| x * x;
     // Strategies' squared densities relative to this one's, each times its heuristic scale.
     let own_scale = heuristic_scale(t);
@@ -347,16 +455,15 @@ pub fn mis_weight(
     let mut ri = 1.0f32;
     for i in (1..t).rev() {
         let (fwd, rev, delta) = cam(i);
-        ri *= sq(remap0(rev) / remap0(fwd * cam_choice(i)));
-        let s_alt = s + (t - i);
-        if !delta && !cam(i - 1).2 && (!shifted || s_alt <= 1) {
+        ri *= sq(remap0(rev) / remap0(fwd));
+        if !delta && !cam(i - 1).2 {
             sum += ri * heuristic_scale(i) / own_scale;
         }
     }
     ri = 1.0;
     for i in (0..s).rev() {
         let (fwd, rev, delta) = light(i);
-        ri *= sq(remap0(rev * light_v(i).choice) / remap0(fwd));
+        ri *= sq(remap0(rev) / remap0(fwd));
         let delta_before = if i > 0 {
             light(i - 1).2
         } else {
@@ -401,7 +508,7 @@ pub const LIGHT_TRACING_MIS_SCALE: f32 = 0.25;
 
 /// The factor of a strategy's squared density in the power heuristic, by its camera vertex
 /// count `t` (see [`LIGHT_TRACING_MIS_SCALE`]).
-fn heuristic_scale(t: usize) -> f32 {
+pub fn heuristic_scale(t: usize) -> f32 {
     if t == 1 {
         LIGHT_TRACING_MIS_SCALE * LIGHT_TRACING_MIS_SCALE
     } else {
@@ -669,7 +776,7 @@ impl Bdpt {
             self.rr_depth,
             &mut light_path,
             &mut worker.stats,
-            WalkShift::LightKeep,
+            WalkShift::LightLanesRecorded,
         );
         if let LightStart::Beams { index, pmf } = start {
             let mut splat = |raster: Vec2, xyz: [f64; 3], e: &dyn Fn() -> LaneEnergies| {
@@ -715,6 +822,7 @@ impl Bdpt {
                 let Some(c) = connect(
                     scene,
                     camera,
+                    mixture,
                     &light_path,
                     &camera_path,
                     s,
@@ -725,13 +833,24 @@ impl Bdpt {
                 ) else {
                     continue;
                 };
+                // A t = 1 splat of a light subpath that fluorescence shifted: the observer
+                // weighs the wavelengths that reach the camera, each divided by its lane's
+                // pair density (as in light tracing).
+                let shifted_weights;
+                let weights = match (t, light_path.get(s.wrapping_sub(1))) {
+                    (1, Some(q)) if q.shifted.is_some() => {
+                        shifted_weights = XyzWeights::new(sensor, &q.wavelengths(&lambda));
+                        &shifted_weights
+                    }
+                    _ => &weights,
+                };
                 let xyz = connection_xyz(
                     flat,
                     (&worker.camera_flat, &worker.light_flat),
                     s,
                     t,
                     &c,
-                    &weights,
+                    weights,
                     &lambda,
                 );
                 if let Some(kind) = check_sample(&xyz) {

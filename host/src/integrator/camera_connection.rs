@@ -42,9 +42,11 @@ pub fn connect_to_camera(
     // The wavelengths the subpath carries here (shifted by a fluorescent event, if any).
     let lambda = &qs.wavelengths(lambda);
     let c = if s == 1 {
-        let light = &scene.lights.lights()[qs.light_index(scene)? as usize];
+        let li = qs.light_index(scene)? as usize;
+        let light = &scene.lights.lights()[li];
         let w = cs.wi;
-        let le = light.radiance(qs.p, qs.ng, qs.uv, w, lambda);
+        let mut le = light.radiance(qs.p, qs.ng, qs.uv, w, lambda);
+        scene.lights.keep_line_power_only(li, lambda, &mut le);
         let origin = qs.pdf_light_origin(scene, &cam_v);
         if le.is_black() || !(origin > 0.0) {
             return None;

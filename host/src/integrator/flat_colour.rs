@@ -41,7 +41,7 @@ use super::wavelength_mixture::WavelengthMixture;
 use crate::color::observer::Observer;
 use crate::material::dense::DenseSpectrum;
 use crate::scene::Scene;
-use crate::spectrum::{SampledSpectrum, SampledWavelengths, LANES};
+use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths, LANES};
 
 /// Sub-steps per nm of the `K_S` and `P` integrals (midpoint rule).
 const STEPS_PER_NM: usize = 10;
@@ -127,7 +127,7 @@ impl FlatColour {
                 self.objects.get(object as usize).copied().unwrap_or(false)
             }
         };
-        own && v.lanes.is_all() && v.shifted.is_none() && !v.unit_lobe && v.choice == 1.0
+        own && v.lanes.is_all() && v.shifted.is_none() && !v.unit_lobe && v.moved == LaneMask::NONE
     }
 
     /// `out[i]`: vertices `0..=i` of `path` are all flat.

@@ -21,8 +21,9 @@
 //! one emission wavelength) and the albedo `ρ + ∫ r dλₒ ≤ 1` on light paths (energy is never
 //! created). Lanes are independent after a shift: each has its own wavelength, while the film
 //! keeps weighing the wavelength the camera observed (pt) or the one that reaches the camera
-//! (lt). bdpt needs one choice per vertex for its MIS weights: [`keep_probability`] over the
-//! lanes, then [`shift_camera_group`] (see `bdpt.rs`).
+//! (lt). bdpt makes the same per-lane choices on both its subpaths and records, per lane, the
+//! probability of each event for its own side and for the other side
+//! ([`shift_lanes_recorded`], [`event_probability`]): its MIS weights are per lane.
 
 use crate::material::{
     same_hemisphere, sample_cosine_hemisphere, BsdfSample, Material, MaterialFlags, ShadingContext,
@@ -32,13 +33,9 @@ use crate::spectrum::reradiation::Reradiation;
 use crate::spectrum::spd::{is_line_lane, off_lines};
 use crate::spectrum::wavelength_sampling::rotated;
 use crate::spectrum::DeltaLine;
-use crate::spectrum::{SampledSpectrum, SampledWavelengths, LANES};
+use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths, LANES};
 use glam::{Vec2, Vec3A};
 use std::f32::consts::FRAC_1_PI;
-
-/// Bounds of bdpt's keep probability where both choices are possible: a choice taken with
-/// probability below 0.1 would multiply its weight by more than 10.
-const KEEP_BOUNDS: (f32, f32) = (0.1, 0.9);
 
 /// The direction part of a fluorescent surface once its spectral weight is in the throughput:
 /// a two-sided Lambertian of albedo 1 (f = 1/π on the side of `wo`), cosine-sampled exactly
@@ -204,7 +201,9 @@ fn draw_shift(
 ) -> Option<(f32, f64, f64)> {
     match dir {
         Direction::Camera => draw_excitation(rr, lambda, u, lines),
-        Direction::Light => draw(rr, lambda, u, dir).map(|(l, r, pdf)| (l as f32, r, pdf)),
+        Direction::Light => {
+            draw(rr, lambda, u, dir).map(|(l, r, pdf)| (off_lines(l as f32, lines), r, pdf))
+        }
     }
 }
 
@@ -236,12 +235,59 @@ pub fn shift_lanes(
     dir: Direction,
     lines: &[DeltaLine],
 ) -> SampledSpectrum {
-    let mut w = SampledSpectrum::zero();
+    shift_lanes_with(rr, lambda, u, dir, lines, false).weight
+}
+
+/// One per-lane shift step with what bdpt's MIS needs about it ([`shift_lanes_recorded`]).
+#[derive(Clone, Copy, Debug)]
+pub struct LaneShift {
+    /// Per-lane weight that multiplies the throughput.
+    pub weight: SampledSpectrum,
+    /// Per lane, the probability with which this subpath made its choice: `ρ/(ρ + F)` for a
+    /// keep, `F/(ρ + F)` × the density (1/nm, or the discrete probability of a delta line)
+    /// of the new wavelength for a shift; 0 on dead lanes.
+    pub own: [f32; LANES],
+    /// Per lane, the same for a subpath coming from the other end that makes the same event
+    /// at this vertex ([`event_probability`] with the wavelengths swapped).
+    pub other: [f32; LANES],
+    /// Lanes whose wavelength this step changed.
+    pub moved: LaneMask,
+}
+
+/// bdpt: [`shift_lanes`] (the same choices, weights and new wavelengths, bit for bit) plus,
+/// per lane, the probabilities of the event for this side and the other side (see
+/// [`LaneShift`]), so that the MIS weights can compare strategies that make the same event on
+/// either subpath.
+pub fn shift_lanes_recorded(
+    rr: &dyn Reradiation,
+    lambda: &mut SampledWavelengths,
+    u: f32,
+    dir: Direction,
+    lines: &[DeltaLine],
+) -> LaneShift {
+    shift_lanes_with(rr, lambda, u, dir, lines, true)
+}
+
+fn shift_lanes_with(
+    rr: &dyn Reradiation,
+    lambda: &mut SampledWavelengths,
+    u: f32,
+    dir: Direction,
+    lines: &[DeltaLine],
+    record: bool,
+) -> LaneShift {
+    let mut out = LaneShift {
+        weight: SampledSpectrum::zero(),
+        own: [0.0; LANES],
+        other: [0.0; LANES],
+        moved: LaneMask::NONE,
+    };
     for k in 0..LANES {
         if !lambda.lanes.contains(k) {
             continue;
         }
-        let (rho, f) = parts(rr, lambda.lambda[k], dir, lines);
+        let arrive = lambda.lambda[k];
+        let (rho, f) = parts(rr, arrive, dir, lines);
         let total = rho + f;
         if !(total > 0.0) {
             continue;
@@ -249,76 +295,100 @@ pub fn shift_lanes(
         let keep = rho / total;
         let uk = rotated(u as f64, k, LANES);
         if uk < keep {
-            w[k] = total as f32;
+            out.weight[k] = total as f32;
+            if record {
+                out.own[k] = keep as f32;
+                out.other[k] = event_probability(rr, arrive, arrive, dir.other(), lines) as f32;
+            }
         } else {
             let u2 = ((uk - keep) / (1.0 - keep)).clamp(0.0, 1.0 - f64::EPSILON);
-            let l = lambda.lambda[k] as f64;
+            let l = arrive as f64;
             if let Some((new, r, prob)) = draw_shift(rr, l, u2, dir, lines) {
                 lambda.lambda[k] = new;
-                w[k] = (r / (prob * (1.0 - keep))) as f32;
+                out.weight[k] = (r / (prob * (1.0 - keep))) as f32;
+                if record {
+                    out.own[k] = (prob * (1.0 - keep)) as f32;
+                    out.other[k] = event_probability(rr, new, arrive, dir.other(), lines) as f32;
+                    if new != arrive {
+                        out.moved = out.moved.with(k);
+                    }
+                }
             }
         }
     }
-    w
+    out
 }
 
-/// bdpt: the probability with which a camera subpath keeps its wavelengths at a fluorescent
-/// vertex reached with `lambda` — one choice for all lanes, so the MIS weights stay scalar:
-/// `Σρ / Σ(ρ + F)` over the live lanes, held within [0.1, 0.9] when both choices can carry
-/// light, 1 when nothing re-radiates into these wavelengths and 0 when nothing is reflected.
-pub fn keep_probability(
-    rr: &dyn Reradiation,
-    lambda: &SampledWavelengths,
-    lines: &[DeltaLine],
-) -> f32 {
-    let (mut rho, mut f) = (0.0, 0.0);
-    for k in 0..LANES {
-        if lambda.lanes.contains(k) {
-            let (r, e) = parts(rr, lambda.lambda[k], Direction::Camera, lines);
-            rho += r;
-            f += e;
+impl Direction {
+    /// The other end's direction.
+    pub fn other(self) -> Self {
+        match self {
+            Self::Camera => Self::Light,
+            Self::Light => Self::Camera,
         }
     }
-    if !(f > 0.0) {
-        return 1.0;
-    }
-    if !(rho > 0.0) {
+}
+
+/// The probability with which a `dir` path arriving at a fluorescent vertex with `arrive`
+/// (nm) leaves it with `after`: `ρ/(ρ + F)` when `after == arrive` (a keep), else `F/(ρ + F)`
+/// × the density of drawing `after` ([`excitation_density`] on camera paths, the material's
+/// emission density on light paths); 0 where the event is impossible for `dir` (anti-Stokes,
+/// or a camera lane on a delta line, which never shifts). The same formulas as the draws in
+/// [`shift_lanes`], evaluated for any pair of wavelengths.
+pub fn event_probability(
+    rr: &dyn Reradiation,
+    arrive: f32,
+    after: f32,
+    dir: Direction,
+    lines: &[DeltaLine],
+) -> f64 {
+    let (rho, f) = parts(rr, arrive, dir, lines);
+    let total = rho + f;
+    if !(total > 0.0) {
         return 0.0;
     }
-    ((rho / (rho + f)) as f32).clamp(KEEP_BOUNDS.0, KEEP_BOUNDS.1)
+    if after == arrive {
+        return rho / total;
+    }
+    if !(f > 0.0) {
+        return 0.0;
+    }
+    let density = match dir {
+        Direction::Camera if after < arrive => excitation_density(rr, arrive as f64, after, lines),
+        Direction::Light if after > arrive => rr.emission_pdf(arrive as f64, after as f64),
+        _ => 0.0,
+    };
+    f / total * density.max(0.0)
 }
 
-/// bdpt: apply the choice `keep` (taken with probability `p_keep` from [`keep_probability`])
-/// to every live lane of a camera subpath: keep (weight ρ/P) or draw each lane's excitation
-/// wavelength with the rotated uniform (weight r/(pdf·(1 − P))). Returns the per-lane weight.
-pub fn shift_camera_group(
+/// The probability with which [`draw_excitation`] produces the lane wavelength `lambda_i`
+/// (nm, as a lane stores it) for the emission wavelength `lambda_o`: the line part's discrete
+/// probability `q · Σ score/total` when `lambda_i` sits exactly on some of the lights'
+/// `lines`, else the continuous part's density `(1 − q) · pdf(λᵢ)` (1/nm).
+pub fn excitation_density(
     rr: &dyn Reradiation,
-    lambda: &mut SampledWavelengths,
-    keep: bool,
-    p_keep: f32,
-    u: f32,
+    lambda_o: f64,
+    lambda_i: f32,
     lines: &[DeltaLine],
-) -> SampledSpectrum {
-    let mut w = SampledSpectrum::zero();
-    for k in 0..LANES {
-        if !lambda.lanes.contains(k) {
-            continue;
+) -> f64 {
+    let score = |l: &DeltaLine| -> f64 {
+        if l.lambda < lambda_o {
+            (l.weight * rr.reradiation(l.lambda, lambda_o)).max(0.0)
+        } else {
+            0.0
         }
-        let l = lambda.lambda[k] as f64;
-        if keep {
-            if p_keep > 0.0 {
-                w[k] = (rr.reflectance(l).max(0.0) / p_keep as f64) as f32;
-            }
-        } else if p_keep < 1.0 && !is_line_lane(lines, lambda.lambda[k]) {
-            // (A lane on a line carries only line light: nothing re-radiated, see `parts`.)
-            let uk = rotated(u as f64, k, LANES).clamp(0.0, 1.0 - f64::EPSILON);
-            if let Some((new, r, prob)) = draw_excitation(rr, l, uk, lines) {
-                lambda.lambda[k] = new;
-                w[k] = (r / (prob * (1.0 - p_keep as f64))) as f32;
-            }
-        }
+    };
+    let total: f64 = lines.iter().map(score).sum();
+    let q = if total > 0.0 { LINE_SHARE } else { 0.0 };
+    if is_line_lane(lines, lambda_i) {
+        let on: f64 = lines
+            .iter()
+            .filter(|l| l.lambda as f32 == lambda_i)
+            .map(score)
+            .sum();
+        return if total > 0.0 { q * on / total } else { 0.0 };
     }
-    w
+    (1.0 - q) * rr.excitation_pdf(lambda_o, lambda_i as f64)
 }
 
 #[cfg(test)]
@@ -401,8 +471,6 @@ mod tests {
                 * 0.05;
         let n = 20_000;
         let mut sum = 0.0;
-        let mut sum_bdpt = 0.0;
-        let p = keep_probability(rr, &at(lo as f32), &[]);
         for j in 0..n {
             let u = (j as f32 + 0.5) / n as f32;
             let mut lam = at(lo as f32);
@@ -411,22 +479,10 @@ mod tests {
                 .map(|k| w[k] as f64 * e(lam.lambda[k] as f64))
                 .sum::<f64>()
                 / LANES as f64;
-            let keep = u < p;
-            let u2 = if keep { u / p } else { (u - p) / (1.0 - p) };
-            let mut lam = at(lo as f32);
-            let w = shift_camera_group(rr, &mut lam, keep, p, u2, &[]);
-            sum_bdpt += (0..LANES)
-                .map(|k| w[k] as f64 * e(lam.lambda[k] as f64))
-                .sum::<f64>()
-                / LANES as f64;
         }
-        let (got, got_bdpt) = (sum / n as f64, sum_bdpt / n as f64);
+        let got = sum / n as f64;
         assert!(rr.excitation_fraction(lo) > 0.1, "550 nm must fluoresce");
-        assert!((got / want - 1.0).abs() < 5e-3, "pt {got} vs {want}");
-        assert!(
-            (got_bdpt / want - 1.0).abs() < 5e-3,
-            "bdpt {got_bdpt} vs {want}"
-        );
+        assert!((got / want - 1.0).abs() < 5e-3, "{got} vs {want}");
     }
 
     /// Camera direction with a delta line among the lights: for IXCRLALE at 550 nm observed
@@ -434,8 +490,8 @@ mod tests {
     /// the mean over 20 000 stratified choices of weight × E(new λ) — the line's mass when the
     /// lane sits exactly on the line (discrete measure), the continuous E otherwise — equals
     /// ρE(550) + ∫ r(λᵢ → 550)E(λᵢ) dλᵢ + r(436 → 550)·M (independent 0.05 nm sums; the
-    /// line's term is over 10% of it), within 0.5%, for pt's per-lane and bdpt's group
-    /// choice. A lane on the line itself keeps its wavelength with weight ρ (nothing
+    /// line's term is over 10% of it), within 0.5% (pt, lt and bdpt make the same per-lane
+    /// choice). A lane on the line itself keeps its wavelength with weight ρ (nothing
     /// re-radiated is a line).
     #[test]
     fn camera_shift_reaches_a_delta_line() {
@@ -468,9 +524,8 @@ mod tests {
             "436 nm must excite"
         );
         let n = 20_000;
-        let (mut sum, mut sum_bdpt, mut on_line) = (0.0, 0.0, 0usize);
+        let (mut sum, mut on_line) = (0.0, 0usize);
         let lines = [line];
-        let p = keep_probability(rr, &at(lo as f32), &lines);
         for j in 0..n {
             let u = (j as f32 + 0.5) / n as f32;
             let mut lam = at(lo as f32);
@@ -480,22 +535,10 @@ mod tests {
                 .map(|k| w[k] as f64 * e(lam.lambda[k]))
                 .sum::<f64>()
                 / 4.0;
-            let keep = u < p;
-            let u2 = if keep { u / p } else { (u - p) / (1.0 - p) };
-            let mut lam = at(lo as f32);
-            let w = shift_camera_group(rr, &mut lam, keep, p, u2, &lines);
-            sum_bdpt += (0..LANES)
-                .map(|k| w[k] as f64 * e(lam.lambda[k]))
-                .sum::<f64>()
-                / 4.0;
         }
-        let (got, got_bdpt) = (sum / n as f64, sum_bdpt / n as f64);
+        let got = sum / n as f64;
         assert!(on_line > 0, "no draw landed on the line");
-        assert!((got / want - 1.0).abs() < 5e-3, "pt {got} vs {want}");
-        assert!(
-            (got_bdpt / want - 1.0).abs() < 5e-3,
-            "bdpt {got_bdpt} vs {want}"
-        );
+        assert!((got / want - 1.0).abs() < 5e-3, "{got} vs {want}");
         // A lane on the line: always kept, weight ρ(436).
         let mut lam = at(436.0);
         let w = shift_lanes(rr, &mut lam, 0.999, Direction::Camera, &lines);

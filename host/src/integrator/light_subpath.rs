@@ -83,9 +83,12 @@ pub fn generate_light_subpath_with(
     if flags.contains(LightFlags::BEAMS_ONLY) {
         return LightStart::Beams { index: li, pmf };
     }
-    let Some(les) = light.sample_le(u1, u2, lambda) else {
+    let Some(mut les) = light.sample_le(u1, u2, lambda) else {
         return LightStart::None;
     };
+    scene
+        .lights
+        .keep_line_power_only(li, lambda, &mut les.radiance);
     if !(les.pdf_pos > 0.0 && les.pdf_dir > 0.0) || les.radiance.is_black() {
         return LightStart::None;
     }

@@ -297,7 +297,8 @@ impl PathTracer {
                         };
                         let back = -ray.dir.normalize();
                         for (g, lam) in cur.iter().enumerate().take(lambdas.active_groups()) {
-                            let le = light.radiance(p_env, n_env, glam::Vec2::ZERO, back, lam);
+                            let mut le = light.radiance(p_env, n_env, glam::Vec2::ZERO, back, lam);
+                            scene.lights.keep_line_power_only(ei as usize, lam, &mut le);
                             l[g] += beta[g] * le * w;
                         }
                     }
@@ -322,7 +323,12 @@ impl PathTracer {
                 // One MIS weight for every group: both strategies sampled with the hero.
                 let mut weight: Option<f32> = None;
                 for g in 0..active {
-                    let le = material.emitted(wo_geo, &sctx, &cur[g]);
+                    let mut le = material.emitted(wo_geo, &sctx, &cur[g]);
+                    if let Some(li) = scene.lights.light_of_object(hit.object) {
+                        scene
+                            .lights
+                            .keep_line_power_only(li as usize, &cur[g], &mut le);
+                    }
                     if le.is_black() {
                         continue;
                     }
@@ -418,7 +424,7 @@ impl PathTracer {
                             for (g, (term, lam)) in
                                 terms.iter_mut().zip(cur).take(active).enumerate()
                             {
-                                let radiance = if g == 0 {
+                                let mut radiance = if g == 0 {
                                     ls.radiance
                                 } else {
                                     // The same light point for the group's wavelengths (light
@@ -428,6 +434,7 @@ impl PathTracer {
                                         _ => SampledSpectrum::zero(),
                                     }
                                 };
+                                scene.lights.keep_line_power_only(li, lam, &mut radiance);
                                 if radiance.is_black() {
                                     continue;
                                 }

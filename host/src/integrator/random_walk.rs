@@ -9,7 +9,7 @@ use crate::camera::Camera;
 use crate::geometry::{spawn_ray, Ray};
 use crate::material::{Frame, Material, MaterialFlags, ShadingContext, TransportMode};
 use crate::scene::Scene;
-use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths, LANES};
 
 /// Flip the transport direction.
 fn flip(mode: TransportMode) -> TransportMode {
@@ -25,11 +25,12 @@ fn flip(mode: TransportMode) -> TransportMode {
 pub enum WalkShift {
     /// Treat it as its reflectance (ρ/π): no wavelength ever changes.
     Off,
-    /// bdpt camera subpaths: one keep/shift choice for all lanes, recorded for MIS.
-    CameraChoice,
-    /// bdpt light subpaths: no shift (a connection joins equal wavelengths only); record the
-    /// probability a camera subpath would have kept its wavelengths here, for MIS.
-    LightKeep,
+    /// bdpt camera subpaths: each lane keeps its wavelength or moves to an excitation
+    /// wavelength on its own (as in pt), recording both ends' event probabilities for MIS.
+    CameraLanes,
+    /// bdpt light subpaths: each lane keeps its wavelength or moves to an emission wavelength
+    /// on its own (as in light tracing), recording both ends' event probabilities for MIS.
+    LightLanesRecorded,
     /// Light tracing: each lane keeps or moves to an emission wavelength on its own.
     LightLanes,
 }
@@ -65,6 +66,7 @@ pub fn random_walk(
     // The wavelengths carried now (the pair's until a fluorescent event shifts them).
     let mut cur = path[path.len() - 1].wavelengths(lambda);
     let mut shifted = path[path.len() - 1].shifted.is_some();
+    let mut moved = path[path.len() - 1].moved;
     // Scattering-only throughput for Russian roulette (β of light paths carries watts), without
     // the 1/η² radiance scaling of refraction: that factor is undone when the path leaves the
     // medium again, so a roulette on it would kill camera paths inside glass with probability
@@ -86,6 +88,7 @@ pub fn random_walk(
                         v.wo = -ray.dir.normalize();
                         v.lanes = lanes;
                         v.shifted = shifted.then_some(cur.lambda);
+                        v.moved = moved;
                         v.pdf_fwd = prev.convert_density(pdf_fwd, &v);
                         path.push(v);
                     }
@@ -110,7 +113,9 @@ pub fn random_walk(
             lanes,
             shifted: shifted.then_some(cur.lambda),
             unit_lobe: false,
-            choice: 1.0,
+            choice: [1.0; LANES],
+            choice_rev: [1.0; LANES],
+            moved,
         };
         v.pdf_fwd = prev.convert_density(pdf_fwd, &v);
         // A fluorescent surface: the wavelength choice is made on arrival, so connections
@@ -121,33 +126,28 @@ pub fn random_walk(
         };
         if let Some(rr) = rerad {
             cur.lanes = lanes;
-            match shift {
-                WalkShift::CameraChoice => {
-                    let p = fluorescence::keep_probability(rr, &cur, lines);
-                    let u = rng.next_1d();
-                    let keep = u < p;
-                    let u2 = if keep { u / p } else { (u - p) / (1.0 - p) };
-                    let w = fluorescence::shift_camera_group(rr, &mut cur, keep, p, u2, lines);
-                    v.choice = if keep { p } else { 1.0 - p };
-                    shifted |= !keep;
-                    v.unit_lobe = true;
-                    beta *= w;
-                    scatter *= w.max_value();
-                }
-                WalkShift::LightLanes => {
-                    let before = cur.lambda;
-                    let u = rng.next_1d();
-                    let w = fluorescence::shift_lanes(rr, &mut cur, u, Direction::Light, lines);
-                    shifted |= cur.lambda != before;
-                    v.unit_lobe = true;
-                    beta *= w;
-                    scatter *= w.max_value();
-                }
-                WalkShift::LightKeep => v.choice = fluorescence::keep_probability(rr, &cur, lines),
-                WalkShift::Off => {}
-            }
+            let dir = match shift {
+                WalkShift::CameraLanes => Direction::Camera,
+                _ => Direction::Light,
+            };
+            let before = cur.lambda;
+            let u = rng.next_1d();
+            let w = if shift == WalkShift::LightLanes {
+                fluorescence::shift_lanes(rr, &mut cur, u, dir, lines)
+            } else {
+                let sh = fluorescence::shift_lanes_recorded(rr, &mut cur, u, dir, lines);
+                v.choice = sh.own;
+                v.choice_rev = sh.other;
+                moved = moved.union(sh.moved);
+                sh.weight
+            };
+            shifted |= cur.lambda != before;
+            v.unit_lobe = true;
+            beta *= w;
+            scatter *= w.max_value();
             v.beta = beta;
             v.shifted = shifted.then_some(cur.lambda);
+            v.moved = moved;
         }
         let unit_lobe = v.unit_lobe;
         path.push(v);
@@ -245,6 +245,6 @@ pub fn generate_camera_subpath(
         rr_depth,
         path,
         stats,
-        WalkShift::CameraChoice,
+        WalkShift::CameraLanes,
     );
 }

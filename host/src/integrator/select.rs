@@ -149,7 +149,7 @@ fn fluorescence_strategy(scene: &Scene, kind: IntegratorKind) -> Option<String> 
     }
     Some(
         if kind == IntegratorKind::Bdpt {
-            "fluorescence: wavelengths shift on camera subpaths only; a path through a shift is made by s = 0 and s = 1 alone (MIS over those two), the other strategies join unshifted paths (MIS over all)"
+            "fluorescence: each lane's wavelength shifts on camera and light subpaths; a lane shifted anywhere is made by s = 0, s = 1 and t = 1 (per-lane MIS over those, with both ends' wavelength densities), unshifted lanes by every strategy"
         } else if kind == IntegratorKind::Lt {
             "fluorescence: light paths shift each lane's wavelength at fluorescent surfaces"
         } else {

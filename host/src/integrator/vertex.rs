@@ -67,9 +67,16 @@ pub struct Vertex {
     /// The spectral part of a fluorescent surface is in `beta`: connections and sampling use
     /// the unit cosine lobe ([`UNIT_LOBE`]) instead of the material's ρ/π.
     pub unit_lobe: bool,
-    /// bdpt's MIS: the probability of the keep/shift choice a camera subpath makes (or, on a
-    /// light subpath, would have to make: keep) at this fluorescent vertex; 1 elsewhere.
-    pub choice: f32,
+    /// bdpt's MIS, per lane: the probability (a density for a shift) of the keep/shift choice
+    /// its own subpath made at this fluorescent vertex; 1 elsewhere.
+    pub choice: [f32; LANES],
+    /// bdpt's MIS, per lane: the probability with which a subpath from the other end would
+    /// make the same event here (see `fluorescence::event_probability`); 1 elsewhere.
+    pub choice_rev: [f32; LANES],
+    /// Lanes whose wavelength a fluorescent shift at or before this vertex (on its own
+    /// subpath) has changed: they can be joined only by strategies that sample every shift on
+    /// one subpath (s = 0, s = 1 for camera subpaths, t = 1 for light subpaths).
+    pub moved: LaneMask,
 }
 
 /// `x` if non-zero, else 1: a zero density marks an unsampleable (delta) step, which cancels in
@@ -124,7 +131,9 @@ impl Vertex {
             lanes: LaneMask::ALL,
             shifted: None,
             unit_lobe: false,
-            choice: 1.0,
+            choice: [1.0; LANES],
+            choice_rev: [1.0; LANES],
+            moved: LaneMask::NONE,
         }
     }
 
@@ -145,7 +154,9 @@ impl Vertex {
             lanes: LaneMask::ALL,
             shifted: None,
             unit_lobe: false,
-            choice: 1.0,
+            choice: [1.0; LANES],
+            choice_rev: [1.0; LANES],
+            moved: LaneMask::NONE,
         }
     }
 

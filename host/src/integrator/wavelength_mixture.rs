@@ -139,6 +139,19 @@ impl WavelengthMixture {
         (1.0 - w) * vis + w * self.emission_pdf(lambda_nm)
     }
 
+    /// What [`sample_with`](Self::sample_with) stores as the pdf of a lane at `lambda_nm` (as
+    /// the lane holds it): the discrete probability of a delta line when the lane sits exactly
+    /// on one, else the mixture density (1/nm). bdpt's MIS needs it where a fluorescent shift
+    /// makes the other end of a path carry a wavelength the mixture did not draw.
+    pub fn lane_density(&self, lambda_nm: f32) -> f64 {
+        let mass = line_mass_at_lane(&self.lines, lambda_nm);
+        if mass > 0.0 {
+            self.emission_weight * mass
+        } else {
+            self.pdf(lambda_nm as f64)
+        }
+    }
+
     /// True when the scene has evaluable lights, i.e. the emission component exists.
     pub fn has_emission(&self) -> bool {
         !self.spds.is_empty()

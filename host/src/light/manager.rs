@@ -2,7 +2,8 @@
 //! power with an exact pmf, and maps scene objects to their area lights.
 
 use super::Light;
-use crate::spectrum::DeltaLine;
+use crate::spectrum::spd::is_line_lane;
+use crate::spectrum::{DeltaLine, SampledSpectrum, SampledWavelengths, LANES};
 use std::sync::Arc;
 
 /// All lights plus a power-proportional discrete distribution over them.
@@ -95,6 +96,36 @@ impl LightSourceManager {
     #[inline]
     pub fn delta_lines(&self) -> &[DeltaLine] {
         &self.delta_lines
+    }
+
+    /// Keep only line power on lanes that are discrete draws of a line: a lane whose f32
+    /// wavelength sits exactly on one of the scene's [`delta_lines`](Self::delta_lines) was
+    /// drawn with that line's discrete probability (the pair's mixture, or a camera path's
+    /// excitation draw onto a line lamp), so only power that is itself a line there belongs
+    /// to it. Light `light`'s radiance `l` at `lambda` is set to 0 on such lanes where this
+    /// light has no line of its own: its continuous density (W/(m²·sr·nm)) there is estimated
+    /// by the continuous draws, and divided by a discrete probability it would add a term
+    /// that is not in the integral (a bias of the continuous light's density × 1 nm). Nothing
+    /// happens in scenes without lines.
+    pub fn keep_line_power_only(
+        &self,
+        light: usize,
+        lambda: &SampledWavelengths,
+        l: &mut SampledSpectrum,
+    ) {
+        if self.delta_lines.is_empty() {
+            return;
+        }
+        let mut own: Option<Vec<DeltaLine>> = None;
+        for k in 0..LANES {
+            let lk = lambda.lambda[k];
+            if l[k] != 0.0 && is_line_lane(&self.delta_lines, lk) {
+                let own = own.get_or_insert_with(|| self.lights[light].spd().delta_lines());
+                if !is_line_lane(own, lk) {
+                    l[k] = 0.0;
+                }
+            }
+        }
     }
 
     /// All lights.

@@ -59,6 +59,22 @@ impl LaneMask {
         Self(self.0 & other.0)
     }
 
+    /// Lanes live in either (bdpt: the lanes a fluorescent shift moved on either subpath).
+    #[inline]
+    pub fn union(self, other: Self) -> Self {
+        Self(self.0 | other.0)
+    }
+
+    /// This mask with lane `i` added (ignored for `i ≥ LANES`).
+    #[inline]
+    pub fn with(self, i: usize) -> Self {
+        if i < LANES {
+            Self(self.0 | (1 << i))
+        } else {
+            self
+        }
+    }
+
     /// The mask after a dispersive event: the hero alone, if it was live.
     #[inline]
     pub fn terminate_secondary(self) -> Self {
