@@ -10,7 +10,7 @@
 use glam::{Vec2, Vec3A};
 use rayon::prelude::*;
 
-use super::bvh::Bvh;
+use super::bvh::{Bvh, TraversalKernel};
 use super::quad::Quad;
 use super::sphere::Sphere;
 use super::triangle::{
@@ -286,6 +286,16 @@ impl Geometry {
     /// vertices), not the meshes.
     pub fn bvh_memory_bytes(&self) -> usize {
         self.bvh.memory_bytes() + self.prims.len() * std::mem::size_of::<LeafRecord>()
+    }
+
+    /// The BVH's box-test kernel (AVX2 where the CPU has it).
+    pub fn traversal_kernel(&self) -> TraversalKernel {
+        self.bvh.kernel()
+    }
+
+    /// Chooses the BVH's box-test kernel (for benchmarks comparing them; hits are identical).
+    pub fn set_traversal_kernel(&mut self, kernel: TraversalKernel) {
+        self.bvh.set_kernel(kernel);
     }
 
     /// Closest hit with `0 < t < t_max`, or `None`.
