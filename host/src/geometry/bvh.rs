@@ -186,8 +186,9 @@ impl Bvh {
     /// Builds over primitives with the given bounds. Primitives with empty or non-finite bounds
     /// are left out (they can never be hit).
     pub fn build(bounds: &[Aabb]) -> Bvh {
+        // In parallel and in order (rayon's collect keeps the input order).
         let mut prims: Vec<BuildPrim> = bounds
-            .iter()
+            .par_iter()
             .enumerate()
             .filter(|(_, b)| !b.is_empty() && b.min.is_finite() && b.max.is_finite())
             .map(|(i, b)| BuildPrim {
@@ -200,7 +201,7 @@ impl Bvh {
             return Bvh::default();
         }
         let binary = build_range(&mut prims, 0, 0);
-        let order = prims.iter().map(|p| p.index).collect();
+        let order = prims.par_iter().map(|p| p.index).collect();
         let root = &binary[0];
         let bounds = Some(Aabb {
             min: Vec3A::from(root.min),
@@ -879,7 +880,10 @@ fn partition_stable_parallel<F: Fn(&BuildPrim) -> bool + Sync>(
         .map(|c| c.iter().filter(|p| left(p)).count())
         .collect();
     let mid: usize = lefts.iter().sum();
-    let mut out = prims.to_vec();
+    // Left uninitialised (every element is written below by exactly one chunk): a copy of the
+    // input here was a serial pass over the largest node, the first touch of its pages too.
+    let mut out: Vec<MaybeUninit<BuildPrim>> = Vec::with_capacity(prims.len());
+    out.resize_with(prims.len(), MaybeUninit::uninit);
     let (mut l_rest, mut r_rest) = out.split_at_mut(mid);
     let mut targets = Vec::with_capacity(lefts.len());
     for (k, &nl) in lefts.iter().enumerate() {
@@ -896,10 +900,10 @@ fn partition_stable_parallel<F: Fn(&BuildPrim) -> bool + Sync>(
             let (mut i, mut j) = (0, 0);
             for p in src {
                 if left(p) {
-                    l[i] = *p;
+                    l[i].write(*p);
                     i += 1;
                 } else {
-                    r[j] = *p;
+                    r[j].write(*p);
                     j += 1;
                 }
             }
@@ -907,7 +911,13 @@ fn partition_stable_parallel<F: Fn(&BuildPrim) -> bool + Sync>(
     prims
         .par_chunks_mut(CHUNK)
         .zip(out.par_chunks(CHUNK))
-        .for_each(|(d, s)| d.copy_from_slice(s));
+        .for_each(|(d, s)| {
+            for (d, s) in d.iter_mut().zip(s) {
+                // SAFETY: the chunks' left and right ranges tile `out` exactly (their lengths
+                // sum to each chunk's length), so every element was written above.
+                *d = unsafe { s.assume_init() };
+            }
+        });
     mid
 }
 
