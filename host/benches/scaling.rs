@@ -207,9 +207,20 @@ fn run_harness(exe: &std::path::Path, input: &std::path::Path) -> Result<String,
 /// the calling thread, nothing else, for instruction counts under
 /// `valgrind --tool=callgrind` (a shared machine's wall times vary too much for small A/B
 /// differences). Prints the hit count. `SPECTRACE_SCALING_KERNEL=portable` traces with the
-/// portable (SSE) box test instead of AVX2.
+/// portable (SSE) box test instead of AVX2. `SPECTRACE_SCALING_INPUT=<file>` only writes the
+/// Embree/obvhs harnesses' input (same triangles and random rays) there, to count their
+/// instructions the same way.
 fn profile_run(subdivisions: u32) {
     let mesh = bumpy_sphere(subdivisions);
+    if let Some(path) = std::env::var_os("SPECTRACE_SCALING_INPUT") {
+        // Only the harnesses' input, to run them under callgrind too.
+        let path = std::path::PathBuf::from(path);
+        match write_harness_input(&path, &mesh, &random_rays()) {
+            Ok(()) => println!("wrote {}", path.display()),
+            Err(e) => eprintln!("cannot write {}: {e}", path.display()),
+        }
+        return;
+    }
     let pool = pool(1);
     let mut g = pool.install(|| {
         Geometry::build(vec![ShapeDesc {

@@ -325,8 +325,9 @@ impl Bvh {
         // Uninitialised: only entries below `sp` are ever read.
         let mut stack = [const { MaybeUninit::<Entry>::uninit() }; N];
         let mut sp = 0usize;
-        // Entries beyond `N` (newest last); empty, and so never allocated, for the
-        // trees the build makes in practice.
+        // Older entries moved out when the fixed stack was full (newest last); they lie below
+        // everything on the fixed stack. Empty, and so never allocated, for the trees the
+        // build makes in practice.
         let mut spill: Vec<Entry> = Vec::new();
         let mut entry = Entry {
             child: 0,
@@ -360,10 +361,15 @@ impl Bvh {
                     #[cfg(not(target_arch = "x86_64"))]
                     let mask = node_hits_portable(n, &rb, t_max, &mut near);
                     if mask != 0 {
-                        let at = |i: u32| Entry {
-                            child: n.child[i as usize],
-                            count: n.count[i as usize] as u32,
-                            near: near[i as usize],
+                        // `i` is a set bit of an eight-bit mask; `& 7` lets the compiler
+                        // drop the bounds checks.
+                        let at = |i: u32| {
+                            let i = i as usize & (WIDTH - 1);
+                            Entry {
+                                child: n.child[i],
+                                count: n.count[i] as u32,
+                                near: near[i],
+                            }
                         };
                         let first = mask.trailing_zeros();
                         let rest = mask & (mask - 1);
@@ -419,12 +425,12 @@ impl Bvh {
                     }
                 }
             }
-            if let Some(e) = spill.pop() {
-                entry = e;
-            } else if sp > 0 {
+            if sp > 0 {
                 sp -= 1;
                 // SAFETY: entries below the old `sp` were written by `push`.
                 entry = unsafe { stack[sp].assume_init() };
+            } else if let Some(e) = spill.pop() {
+                entry = e;
             } else {
                 return found;
             }
@@ -432,7 +438,9 @@ impl Bvh {
     }
 }
 
-/// Pushes `e` on the traversal stack, or on the spill list once the `N` fixed entries are used.
+/// Pushes `e` on the traversal stack. When the `N` fixed entries are used they move, in order,
+/// to the end of `spill` (below every later entry), so a pop looks at `spill` only once the
+/// fixed stack is empty and the visiting order is the same as with one unbounded stack.
 #[inline(always)]
 fn push<const N: usize>(
     stack: &mut [MaybeUninit<Entry>; N],
@@ -440,12 +448,21 @@ fn push<const N: usize>(
     spill: &mut Vec<Entry>,
     e: Entry,
 ) {
-    if *sp < N {
-        stack[*sp].write(e);
-        *sp += 1;
-    } else {
-        spill.push(e);
+    if *sp == N {
+        spill_stack(stack, spill);
+        *sp = 0;
     }
+    stack[*sp].write(e);
+    *sp += 1;
+}
+
+/// Moves the full fixed stack to the end of `spill` (kept out of line: it never runs for the
+/// trees the build makes in practice).
+#[cold]
+#[inline(never)]
+fn spill_stack<const N: usize>(stack: &[MaybeUninit<Entry>; N], spill: &mut Vec<Entry>) {
+    // SAFETY: called only when all `N` entries were written.
+    spill.extend(stack.iter().map(|e| unsafe { e.assume_init() }));
 }
 
 /// Slab test of a node's eight boxes with two four-wide halves: the bit mask of the used slots
@@ -1158,7 +1175,8 @@ mod tests {
 
     // With a two-entry fixed stack nearly every ray spills into the `Vec`; the search must stay
     // exact: the closest hit equals brute force exactly (same boxes and rays as above, and the
-    // any-hit query agrees on whether something is hit).
+    // any-hit query agrees on whether something is hit), and the primitive tests (slot and
+    // `t_max`, bit for bit) come in the same order as with the full-size stack.
     #[test]
     fn spilled_stack_stays_exact() {
         let mut s = 5u64;
@@ -1197,10 +1215,19 @@ mod tests {
                 .iter()
                 .filter_map(|b| entry(b, f32::INFINITY))
                 .fold(None, |m: Option<f32>, t| Some(m.map_or(t, |m| m.min(t))));
+            let mut spilled_log = Vec::new();
             let found = bvh.traverse_with_stack::<2, _>(&ray, f32::INFINITY, false, |slot, t| {
+                spilled_log.push((slot, t.to_bits()));
                 entry(&boxes[bvh.order[slot as usize] as usize], t)
             });
             assert_eq!(found, brute);
+            // And in the same order as with the full-size stack (spilling keeps LIFO order).
+            let mut log = Vec::new();
+            bvh.traverse(&ray, f32::INFINITY, false, |slot, t| {
+                log.push((slot, t.to_bits()));
+                entry(&boxes[bvh.order[slot as usize] as usize], t)
+            });
+            assert_eq!(spilled_log, log);
             let any = bvh.traverse_with_stack::<2, _>(&ray, f32::INFINITY, true, |slot, t| {
                 entry(&boxes[bvh.order[slot as usize] as usize], t)
             });
