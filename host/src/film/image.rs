@@ -17,7 +17,12 @@ impl XyzImage {
     /// Linear RGB in `space` for every pixel (no white adaptation: XYZ are absolute, as Mitsuba's
     /// film converts them).
     pub fn to_rgb(&self, space: &RgbColorSpace) -> Vec<[f64; 3]> {
-        self.xyz.iter().map(|&v| space.xyz_to_rgb(v)).collect()
+        // The matrix once, not per pixel (it is an inverse of a product of inverses).
+        let m = space.xyz_to_rgb_matrix();
+        self.xyz
+            .iter()
+            .map(|&v| crate::color::matrix3::mul_vec(&m, v))
+            .collect()
     }
 
     /// Mean XYZ over the image.

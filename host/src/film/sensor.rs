@@ -43,7 +43,10 @@ impl Sensor {
         if !(x >= 0.0) || self.table.len() < 2 {
             return [0.0; 3];
         }
-        let i = x as usize;
+        // Through `i32` (one truncating conversion; `as usize` from f64 costs about fifteen
+        // instructions): the same floor for x < 2³¹, and beyond it i32::MAX, which is past the
+        // table's end as any larger index would be.
+        let i = x as i32 as usize;
         if i + 1 >= self.table.len() {
             return if i + 1 == self.table.len() && x == i as f64 {
                 self.table[i]

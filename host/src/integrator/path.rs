@@ -394,6 +394,17 @@ impl PathTracer {
             // group, one shadow ray.
             let u_light = rng.next_1d();
             let u_light2 = rng.next_2d();
+            // The continuation's numbers and BSDF sample come before next-event estimation
+            // (the same numbers in the same order: the light sample draws none), so that a
+            // surface whose f is the same in every direction (`f_same_for_all_directions`)
+            // lends the hero's f to the light sample instead of evaluating it again.
+            let u_lobe = rng.next_1d();
+            let u_dir = rng.next_2d();
+            let sampled = material.sample(wo, &sctx, &hero, u_lobe, u_dir, TransportMode::Radiance);
+            let hero_f = sampled
+                .as_ref()
+                .filter(|_| material.f_same_for_all_directions())
+                .map(|bs| bs.f);
             if flags.has_non_specular() {
                 if let Some((li, pmf)) = scene.lights.sample(u_light) {
                     let light = &scene.lights.lights()[li];
@@ -420,8 +431,16 @@ impl PathTracer {
                                 if radiance.is_black() {
                                     continue;
                                 }
-                                let f = material.eval(wo, wi, &sctx, lam, TransportMode::Radiance)
-                                    * wi.z.abs();
+                                let f = match hero_f {
+                                    Some(f) if g == 0 => {
+                                        if crate::material::same_hemisphere(wo, wi) {
+                                            f
+                                        } else {
+                                            SampledSpectrum::zero()
+                                        }
+                                    }
+                                    _ => material.eval(wo, wi, &sctx, lam, TransportMode::Radiance),
+                                } * wi.z.abs();
                                 if !f.is_black() {
                                     *term = (f, radiance);
                                     any = true;
@@ -465,12 +484,8 @@ impl PathTracer {
                 }
             }
 
-            // Continue the path by sampling the BSDF with the hero group.
-            let u_lobe = rng.next_1d();
-            let u_dir = rng.next_2d();
-            let Some(bs) =
-                material.sample(wo, &sctx, &hero, u_lobe, u_dir, TransportMode::Radiance)
-            else {
+            // Continue the path with the BSDF sample drawn with the hero group above.
+            let Some(bs) = sampled else {
                 break;
             };
             if !(bs.pdf > 0.0) {

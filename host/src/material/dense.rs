@@ -113,14 +113,24 @@ impl DenseSpectrum {
         let x = lambda_nm - DENSE_START;
         if x >= 0.0 && x < (N - 1) as f32 {
             // x < N − 1, so the clamp never moves i; it only proves the index in range.
-            let i = (x as usize).min(N - 2);
-            if self.exact[i] {
-                return (self.outside)(lambda_nm);
+            // Through `i32`: one truncating conversion, where `as usize` (f32 → u64) costs
+            // about fifteen instructions; both floor the same non-negative x.
+            let i = (x as i32 as usize).min(N - 2);
+            if !self.exact[i] {
+                let t = x - i as f32;
+                let (a, d) = self.cells[i];
+                return a + t * d;
             }
-            let t = x - i as f32;
-            let (a, d) = self.cells[i];
-            a + t * d
-        } else if x == (N - 1) as f32 {
+        }
+        self.value_slow(lambda_nm)
+    }
+
+    /// [`value`](Self::value) off the interpolated grid: an exactly evaluated cell, the last
+    /// node, or outside the grid. Kept out of line so the common path inlines small.
+    #[cold]
+    #[inline(never)]
+    fn value_slow(&self, lambda_nm: f32) -> f32 {
+        if lambda_nm - DENSE_START == (N - 1) as f32 {
             self.values[N - 1]
         } else {
             (self.outside)(lambda_nm)
@@ -130,13 +140,25 @@ impl DenseSpectrum {
     /// Values at each lane's wavelength.
     #[inline]
     pub fn eval(&self, lambda: &SampledWavelengths) -> SampledSpectrum {
+        if !self.lines.is_empty() {
+            return self.eval_with_lines(lambda);
+        }
+        // The common case (no delta lines): four inlined lookups.
+        let l = &lambda.lambda;
+        SampledSpectrum([
+            self.value(l[0]),
+            self.value(l[1]),
+            self.value(l[2]),
+            self.value(l[3]),
+        ])
+    }
+
+    /// [`eval`](Self::eval) for a spectrum with delta lines: a lane on a line gets its mass.
+    #[inline(never)]
+    fn eval_with_lines(&self, lambda: &SampledWavelengths) -> SampledSpectrum {
         let mut out = [0.0; LANES];
-        for (o, &l) in out.iter_mut().zip(lambda.lambda.iter()) {
-            let mass = if self.lines.is_empty() {
-                0.0
-            } else {
-                line_mass_at_lane(&self.lines, l)
-            };
+        for (o, &l) in out.iter_mut().zip(&lambda.lambda) {
+            let mass = line_mass_at_lane(&self.lines, l);
             *o = if mass > 0.0 {
                 mass as f32
             } else {

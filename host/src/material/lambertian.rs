@@ -28,6 +28,11 @@ impl Material for Lambertian {
         MaterialFlags::DIFFUSE | MaterialFlags::REFLECTION
     }
 
+    /// `eval` is `R/π` on `wo`'s side and 0 on the other; `sample` returns the same `R/π`.
+    fn f_same_for_all_directions(&self) -> bool {
+        true
+    }
+
     fn spectrally_flat(&self) -> bool {
         self.reflectance.grey().is_some()
     }

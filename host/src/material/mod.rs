@@ -174,6 +174,15 @@ pub trait Material: Send + Sync + Debug {
         false
     }
 
+    /// True when `f(wo, wi)` is one value for every `wi` on `wo`'s side of the surface and 0 on
+    /// the other (an ideal diffuse reflector), and [`sample`](Self::sample) returns exactly
+    /// that value as its `f`: the path tracer then reuses the sampled direction's `f` for
+    /// next-event estimation at the same point instead of evaluating the reflectance again.
+    /// The default `false` is always safe.
+    fn f_same_for_all_directions(&self) -> bool {
+        false
+    }
+
     /// This material with the effects in `off` switched off (the render plan's
     /// `--effect NAME=off`), and one sentence saying what changed; `None` when none of them
     /// applies or the material cannot switch them off.

@@ -140,7 +140,8 @@ impl SampledWavelengths {
         let table = visible_table();
         for i in 0..LANES {
             let x = rotated(u as f64, i, LANES).clamp(0.0, 1.0) * VISIBLE_TABLE_SEGMENTS as f64;
-            let k = (x as usize).min(VISIBLE_TABLE_SEGMENTS - 1);
+            // x ∈ [0, segments]: `as i32` floors it like `as usize` with one conversion.
+            let k = (x as i32 as usize).min(VISIBLE_TABLE_SEGMENTS - 1);
             let (a, b) = (table.knots[k], table.knots[k + 1]);
             let l = (a + (x - k as f64) * (b - a)) as f32;
             lambda[i] = l;
