@@ -485,6 +485,67 @@ macro_rules! export_plugin {
             extensions_v3()
         }
 
+        /// This plugin's extension module, version 4 (see `spectrace_plugin_api::extension`).
+        pub fn extensions_v4() -> $crate::extension::ExtensionsV4Export {
+            use $crate::__private::PrefixTypeTrait as _;
+            use $crate::__private::{RResult, RStr};
+            use $crate::error::PluginError;
+            use $crate::export::{construct, save, unknown_type, PluginType};
+            use $crate::extension::{
+                ExtensionsV4, ExtensionsV4Export, ExtensionsV4Ref, LightWithV4, MaterialWithV4,
+            };
+            use $crate::guard::guarded;
+            use $crate::host::HostRef;
+            use $crate::module::{ObjectKind, ObjectSource};
+
+            extern "C" fn create_light(
+                type_name: RStr<'_>,
+                source: ObjectSource<'_>,
+                host: HostRef<'_>,
+            ) -> RResult<LightWithV4, PluginError> {
+                guarded("create_light (v4)", || {
+                    let name = type_name.as_str();
+                    $(if name == <$light as PluginType>::TYPE_NAME {
+                        let obj = construct::<$light>(source, &host)?;
+                        return $crate::light::GuardedLight::boxed_v4(obj, save::<$light>)
+                            .into_result();
+                    })*
+                    Err(unknown_type(ObjectKind::Light, name, &[$(<$light as PluginType>::TYPE_NAME),*]))
+                })
+            }
+            extern "C" fn create_material(
+                type_name: RStr<'_>,
+                source: ObjectSource<'_>,
+                host: HostRef<'_>,
+            ) -> RResult<MaterialWithV4, PluginError> {
+                guarded("create_material (v4)", || {
+                    let name = type_name.as_str();
+                    $(if name == <$material as PluginType>::TYPE_NAME {
+                        let obj = construct::<$material>(source, &host)?;
+                        return $crate::material::GuardedMaterial::boxed_v4(obj, save::<$material>)
+                            .into_result();
+                    })*
+                    Err(unknown_type(
+                        ObjectKind::Material, name, &[$(<$material as PluginType>::TYPE_NAME),*]
+                    ))
+                })
+            }
+            ExtensionsV4Export {
+                layout: <ExtensionsV4Ref as $crate::__private::StableAbi>::LAYOUT,
+                module: ExtensionsV4 {
+                    create_light,
+                    create_material,
+                }
+                .leak_into_prefix(),
+            }
+        }
+
+        /// The exported extension module, version 4 (looked up by name by the host).
+        #[no_mangle]
+        pub extern "C" fn spectrace_plugin_extensions_v4() -> $crate::extension::ExtensionsV4Export {
+            extensions_v4()
+        }
+
         /// The exported root module (what the host finds in the library).
         #[$crate::__private::export_root_module]
         pub fn spectrace_plugin_root_module() -> $crate::module::PluginModuleRef {

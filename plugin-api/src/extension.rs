@@ -42,12 +42,26 @@
 //! wavelength-shifting sampling and evaluation, and plugins built against the earlier API still
 //! load — by putting the new calls on a second vtable that only the v3 symbol reaches.
 //!
+//! Version 4 (`spectrace_plugin_extensions_v4`): what an object declares about its spectrum, and
+//! the material calls without conversions. A material says whether it is spectrally flat
+//! ([`Material::spectrally_flat`](crate::Material::spectrally_flat): the same response at every
+//! wavelength), a light whether its emission has one spectral shape everywhere
+//! ([`LightSource::uniform_spectral_shape`](crate::LightSource::uniform_spectral_shape)); the
+//! host then gives a path through such objects the exact colour of its emitter, as for its own
+//! grey surfaces and area lights (`flat-path-colour`). Both are read once when the object is
+//! built and travel as fields of [`MaterialWithV4`] and [`LightWithV4`]. Its material face
+//! ([`AbiMaterialV4`]) takes `sample`, `eval` and `pdf` with one [`MaterialQuery`] by reference in
+//! the host's own single-precision layout ([`crate::fast`]), so that a call costs the host little
+//! more than calling one of its own materials. A library older than v4 is served through v3
+//! (not flat, not uniform: always safe).
+//!
 //! [`export_plugin!`](crate::export_plugin) exports every version for every plugin.
 //!
 //! [`LightSource::scene_bounds`]: crate::LightSource::scene_bounds
 //! [`LightSource::emission_spectrum`]: crate::LightSource::emission_spectrum
 
 use crate::error::PluginError;
+use crate::fast::{MaterialQuery, ScatterF32};
 use crate::guard::guarded;
 use crate::host::HostRef;
 use crate::light::LightBox;
@@ -56,7 +70,9 @@ use crate::module::ObjectSource;
 use crate::representation::{BeamRepresentation, RepresentedBeam, TypeRepresentation};
 use crate::reradiation::ReradiationBox;
 use crate::spd::{GuardedSpd, Spd, SpdBox, SpectralLine};
-use crate::types::{RandomSample, SceneBounds, SpectralValues, TransportMode, Vec3, Wavelengths};
+use crate::types::{
+    RandomSample, SceneBounds, SpectralValues, TransportMode, Vec3, Wavelengths, LANES,
+};
 use crate::PluginResult;
 use abi_stable::{
     sabi_trait,
@@ -327,4 +343,95 @@ pub struct ExtensionsV3Export {
     pub layout: &'static TypeLayout,
     /// The module.
     pub module: ExtensionsV3Ref,
+}
+
+// ----------------------------------------------------------------------------------------------
+// Version 4
+
+/// The symbol (NUL-terminated) of extension version 4: an `extern "C" fn() ->`
+/// [`ExtensionsV4Export`].
+pub const EXTENSIONS_V4_SYMBOL: &[u8] = b"spectrace_plugin_extensions_v4\0";
+
+/// The calls version 4 adds to a material: `sample`, `eval` and `pdf` with one argument, a
+/// [`MaterialQuery`] by reference, in the host's own single-precision layout (see
+/// [`crate::fast`]). The same object and meaning as the v2 calls; a host that has v4 calls these
+/// instead. A panic is caught on the plugin's side as for every call.
+#[sabi_trait]
+pub trait AbiMaterialV4: Send + Sync {
+    /// See [`crate::Material::sample_v4`].
+    fn sample(&self, q: &MaterialQuery) -> RResult<ROption<ScatterF32>, PluginError>;
+    /// See [`crate::Material::eval_v4`]: the BSDF value per lane (1/sr).
+    fn eval(&self, q: &MaterialQuery) -> RResult<[f32; LANES], PluginError>;
+    /// See [`crate::Material::pdf_v4`] (1/sr).
+    #[sabi(last_prefix_field)]
+    fn pdf(&self, q: &MaterialQuery) -> RResult<f32, PluginError>;
+}
+
+/// The version-4 face of a material, owned.
+pub type MaterialV4Box = AbiMaterialV4_TO<'static, RBox<()>>;
+
+/// A material built through version 4: the faces of versions 1–3, the v4 calls, and what the
+/// material declares about its spectrum. All faces share one object.
+#[repr(C)]
+#[derive(StableAbi)]
+pub struct MaterialWithV4 {
+    /// What the root module's `create_material` returns.
+    pub material: MaterialBox,
+    /// The calls added in version 2, on the same object.
+    pub v2: MaterialV2Box,
+    /// The re-radiation added in version 3; none for a material that does not fluoresce.
+    pub reradiation: ROption<ReradiationBox>,
+    /// The calls added in version 4, on the same object.
+    pub v4: MaterialV4Box,
+    /// [`Material::spectrally_flat`](crate::Material::spectrally_flat), read once when the
+    /// material was built.
+    pub spectrally_flat: bool,
+}
+
+/// A light built through version 4: the faces of versions 1 and 2 and what the light declares
+/// about its spectrum.
+#[repr(C)]
+#[derive(StableAbi)]
+pub struct LightWithV4 {
+    /// What the root module's `create_light` returns.
+    pub light: LightBox,
+    /// The calls added in version 2, on the same object.
+    pub v2: LightV2Box,
+    /// [`LightSource::uniform_spectral_shape`](crate::LightSource::uniform_spectral_shape),
+    /// read once when the light was built.
+    pub uniform_spectral_shape: bool,
+}
+
+/// Extension version 4: spectral declarations (a material is spectrally flat, a light has one
+/// spectral shape everywhere) and the material calls in the host's layout. Constructors as the
+/// root module's, returning every face.
+#[repr(C)]
+#[derive(StableAbi)]
+#[sabi(kind(Prefix(prefix_ref = ExtensionsV4Ref)))]
+#[sabi(missing_field(panic))]
+pub struct ExtensionsV4 {
+    /// Build a light with its version-2 face and its declaration.
+    pub create_light: extern "C" fn(
+        type_name: RStr<'_>,
+        source: ObjectSource<'_>,
+        host: HostRef<'_>,
+    ) -> RResult<LightWithV4, PluginError>,
+    /// Build a material with its faces of versions 2–4 and its declaration.
+    #[sabi(last_prefix_field)]
+    pub create_material: extern "C" fn(
+        type_name: RStr<'_>,
+        source: ObjectSource<'_>,
+        host: HostRef<'_>,
+    ) -> RResult<MaterialWithV4, PluginError>,
+}
+
+/// What the version-4 symbol returns: the module's layout (checked by the host against its own
+/// before the module is touched) and the module.
+#[repr(C)]
+#[derive(StableAbi, Clone, Copy)]
+pub struct ExtensionsV4Export {
+    /// `<ExtensionsV4Ref as StableAbi>::LAYOUT` as the plugin was compiled.
+    pub layout: &'static TypeLayout,
+    /// The module.
+    pub module: ExtensionsV4Ref,
 }

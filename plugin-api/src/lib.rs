@@ -15,8 +15,9 @@
 //! See `module` for the compatibility rule between host and plugin versions, and `extension`
 //! for what later versions added (v2: scene bounds and emission spectra for lights, the
 //! surface's normals and exact emission for materials, spectral lines for SPDs; v3: fluorescent
-//! materials' re-radiation, see `reradiation`): provided methods of the same traits, so a plugin
-//! uses them by overriding them.
+//! materials' re-radiation, see `reradiation`; v4: spectral flatness of materials and one
+//! spectral shape of lights, and the material calls in the host's own layout, see `fast`):
+//! provided methods of the same traits, so a plugin uses them by overriding them.
 //!
 //! Units: lengths in scene units, wavelengths in nm, power in W, solid angle in sr.
 
@@ -28,6 +29,7 @@
 pub mod error;
 pub mod export;
 pub mod extension;
+pub mod fast;
 pub mod guard;
 pub mod host;
 pub mod light;
@@ -41,6 +43,7 @@ pub mod types;
 
 pub use error::{ErrorKind, PluginError, PluginResult};
 pub use export::{ParamDoc, PluginType};
+pub use fast::{LanesF32, MaterialQuery, ScatterF32, SurfaceF32, Vec4f};
 pub use host::{Host, HostRef};
 pub use light::{
     light_flags, EmissionPdf, EmissionSample, IncidentSample, LightBox, LightSource,

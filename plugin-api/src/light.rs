@@ -5,7 +5,7 @@
 
 use crate::error::{PluginError, PluginResult};
 use crate::export::PluginType;
-use crate::extension::{AbiLightV2, LightWithV2, SpdWithLines};
+use crate::extension::{AbiLightV2, LightWithV2, LightWithV4, SpdWithLines};
 use crate::guard::guarded;
 use crate::representation::{BeamRepresentation, RepresentedBeam};
 use crate::spd::Spd;
@@ -167,6 +167,16 @@ pub trait LightSource: Send + Sync + 'static {
     fn emission_spectrum(&self) -> PluginResult<Option<Box<dyn Spd>>> {
         Ok(None)
     }
+    /// Extension v4: true when the emitted spectral radiance factors as `g(p, ω) · S(λ)` with
+    /// one shape `S` at every point and in every direction (only the magnitude varies), `S`
+    /// being [`emission_spectrum`](Self::emission_spectrum) or, without it, the distribution of
+    /// [`sample_wavelength`](Self::sample_wavelength). The host then gives a path from this
+    /// light through spectrally flat surfaces the exact colour of `S` (`flat-path-colour`), as
+    /// for its own area lights. Asked once, when the light is built. `false` (the default) is
+    /// always safe.
+    fn uniform_spectral_shape(&self) -> bool {
+        false
+    }
 }
 
 /// The stable-ABI face of a light source. Hosts call this; authors implement [`LightSource`].
@@ -262,6 +272,26 @@ impl<T: LightSource + PluginType> GuardedLight<T> {
                 abi_stable::sabi_trait::TD_Opaque,
             ),
         }
+    }
+
+    /// Box `inner` behind the ABI with its version-2 face and its declaration (extension v4),
+    /// one object behind both faces.
+    pub fn boxed_v4(
+        inner: T,
+        state: fn(&T) -> PluginResult<Vec<u8>>,
+    ) -> RResult<LightWithV4, PluginError> {
+        let uniform = match guarded("uniform_spectral_shape", || {
+            Ok(inner.uniform_spectral_shape())
+        }) {
+            RResult::ROk(u) => u,
+            RResult::RErr(e) => return RResult::RErr(e),
+        };
+        let v2 = Self::boxed_v2(inner, state);
+        RResult::ROk(LightWithV4 {
+            light: v2.light,
+            v2: v2.v2,
+            uniform_spectral_shape: uniform,
+        })
     }
 
     /// Box `inner` behind the ABI as a light in its own representation

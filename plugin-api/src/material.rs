@@ -3,12 +3,14 @@
 
 use crate::error::{PluginError, PluginResult};
 use crate::extension::{
-    AbiMaterialV2, MaterialEmission, MaterialWithV2, MaterialWithV3, SpdWithLines,
+    AbiMaterialV2, AbiMaterialV4, MaterialEmission, MaterialWithV2, MaterialWithV3, MaterialWithV4,
+    SpdWithLines,
 };
-use crate::guard::guarded;
+use crate::fast::{values_f32, MaterialQuery, ScatterF32};
+use crate::guard::{guarded, guarded_call};
 use crate::reradiation::{GuardedReradiation, Reradiation};
 use crate::spd::Spd;
-use crate::types::{Flags, RandomSample, SpectralValues, TransportMode, Vec3, Wavelengths};
+use crate::types::{Flags, RandomSample, SpectralValues, TransportMode, Vec3, Wavelengths, LANES};
 use abi_stable::{
     sabi_trait,
     std_types::{RBox, ROption, RResult, RVec},
@@ -221,6 +223,58 @@ pub trait Material: Send + Sync + 'static {
     fn reradiation(&self) -> Option<&dyn Reradiation> {
         None
     }
+
+    // Extension v4.
+
+    /// True when this material scatters the same fraction of light at every wavelength, at
+    /// every point of its surface and for every pair of directions (a grey reflectance, a
+    /// constant IOR), and never shifts wavelengths (extension v4). The host then gives a path
+    /// whose every surface is flat the exact colour of its emitter (`flat-path-colour`), as for
+    /// its own grey materials. The host asks once, when the material is built, and checks the
+    /// claim at a few wavelengths and directions: a material whose answers differ between
+    /// wavelengths is treated as not flat, with a warning naming it. `false` (the default) is
+    /// always safe.
+    fn spectrally_flat(&self) -> bool {
+        false
+    }
+    /// [`sample_at`](Self::sample_at) in the host's single-precision layout (extension v4; see
+    /// [`crate::fast`]). The default converts the query to `f64`, calls `sample_at` and rounds
+    /// the result to `f32`, exactly what the host did with the older calls; a material that
+    /// computes in `f32` may override it and skip both conversions.
+    fn sample_v4(&self, q: &MaterialQuery) -> PluginResult<Option<ScatterF32>> {
+        let s = self.sample_at(
+            &q.ctx.to_f64(),
+            q.wo.to_f64(),
+            &q.lambda.to_f64(),
+            &q.sample_f64(),
+            q.mode,
+        )?;
+        Ok(s.as_ref().map(ScatterF32::from_f64))
+    }
+    /// [`eval_at`](Self::eval_at) in the host's layout (extension v4): the BSDF value per lane,
+    /// 1/sr. The default converts as [`sample_v4`](Self::sample_v4) does.
+    fn eval_v4(&self, q: &MaterialQuery) -> PluginResult<[f32; LANES]> {
+        let v = self.eval_at(
+            &q.ctx.to_f64(),
+            q.wo.to_f64(),
+            q.wi.to_f64(),
+            &q.lambda.to_f64(),
+            q.mode,
+        )?;
+        Ok(values_f32(&v))
+    }
+    /// [`pdf_at`](Self::pdf_at) in the host's layout (extension v4), 1/sr. The default
+    /// converts as [`sample_v4`](Self::sample_v4) does.
+    fn pdf_v4(&self, q: &MaterialQuery) -> PluginResult<f32> {
+        let p = self.pdf_at(
+            &q.ctx.to_f64(),
+            q.wo.to_f64(),
+            q.wi.to_f64(),
+            &q.lambda.to_f64(),
+            q.mode,
+        )?;
+        Ok(p as f32)
+    }
 }
 
 /// The stable-ABI face of a material.
@@ -314,7 +368,14 @@ impl<T: Material> GuardedMaterial<T> {
         inner: T,
         state: fn(&T) -> PluginResult<Vec<u8>>,
     ) -> RResult<MaterialWithV3, PluginError> {
-        let inner = Arc::new(inner);
+        Self::faces_v3(Arc::new(inner), state)
+    }
+
+    /// The faces of versions 1–3 of the shared object `inner`.
+    fn faces_v3(
+        inner: Arc<T>,
+        state: fn(&T) -> PluginResult<Vec<u8>>,
+    ) -> RResult<MaterialWithV3, PluginError> {
         let reradiation = match GuardedReradiation::boxed(inner.clone()) {
             RResult::ROk(r) => r,
             RResult::RErr(e) => return RResult::RErr(e),
@@ -333,6 +394,51 @@ impl<T: Material> GuardedMaterial<T> {
             ),
             reradiation,
         })
+    }
+}
+
+impl<T: Material> GuardedMaterial<T> {
+    /// Box `inner` behind the ABI with every face (versions 2–4) and its declaration (extension
+    /// v4); one object behind all of them.
+    pub fn boxed_v4(
+        inner: T,
+        state: fn(&T) -> PluginResult<Vec<u8>>,
+    ) -> RResult<MaterialWithV4, PluginError> {
+        crate::guard::install();
+        let spectrally_flat = match guarded("spectrally_flat", || Ok(inner.spectrally_flat())) {
+            RResult::ROk(f) => f,
+            RResult::RErr(e) => return RResult::RErr(e),
+        };
+        let inner = Arc::new(inner);
+        let v3 = match Self::faces_v3(inner.clone(), state) {
+            RResult::ROk(m) => m,
+            RResult::RErr(e) => return RResult::RErr(e),
+        };
+        RResult::ROk(MaterialWithV4 {
+            material: v3.material,
+            v2: v3.v2,
+            reradiation: v3.reradiation,
+            v4: crate::extension::AbiMaterialV4_TO::from_value(
+                Self { inner, state },
+                abi_stable::sabi_trait::TD_Opaque,
+            ),
+            spectrally_flat,
+        })
+    }
+}
+
+impl<T: Material> AbiMaterialV4 for GuardedMaterial<T> {
+    #[inline]
+    fn sample(&self, q: &MaterialQuery) -> RResult<ROption<ScatterF32>, PluginError> {
+        guarded_call("sample (v4)", || self.inner.sample_v4(q).map(Into::into))
+    }
+    #[inline]
+    fn eval(&self, q: &MaterialQuery) -> RResult<[f32; LANES], PluginError> {
+        guarded_call("eval (v4)", || self.inner.eval_v4(q))
+    }
+    #[inline]
+    fn pdf(&self, q: &MaterialQuery) -> RResult<f32, PluginError> {
+        guarded_call("pdf (v4)", || self.inner.pdf_v4(q))
     }
 }
 

@@ -31,9 +31,12 @@
 //! bounds and emission spectra for lights, surface normals and exact emission for materials,
 //! spectral lines for SPDs; see [`extension`](crate::extension)) and
 //! `spectrace_plugin_extensions_v3` (fluorescent materials' re-radiation, see
-//! [`reradiation`](crate::reradiation)). The workspace test `api_growth` loads plugins built
-//! against frozen copies of the API at 0.1.0 (`plugins/fixtures/api-0.1.0/`), at extension v1
-//! (`plugins/fixtures/api-ext-v1/`) and at extension v2 (`plugins/fixtures/api-ext-v2/`).
+//! [`reradiation`](crate::reradiation)) and `spectrace_plugin_extensions_v4` (spectral flatness
+//! of materials, one spectral shape of lights, and the material calls in the host's layout, see
+//! [`fast`](crate::fast)). The workspace test `api_growth` loads plugins built against frozen
+//! copies of the API at 0.1.0 (`plugins/fixtures/api-0.1.0/`), at extension v1
+//! (`plugins/fixtures/api-ext-v1/`), at extension v2 (`plugins/fixtures/api-ext-v2/`) and at
+//! extension v3 (`plugins/fixtures/api-ext-v3/`).
 
 use crate::error::PluginError;
 use crate::host::HostRef;

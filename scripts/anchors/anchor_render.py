@@ -210,7 +210,7 @@ def run_mitsuba(sc, args, tmp):
     t0 = time.perf_counter()
     np.array(mi.render(scene, spp=4, seed=2))
     rate = 4 / max(time.perf_counter() - t0, 1e-3)
-    spp = max(1, int(rate * args.seconds))
+    spp = args.spp if args.spp else max(1, int(rate * args.seconds))
     t0 = time.perf_counter()
     img = np.array(mi.render(scene, spp=spp, seed=args.seed), dtype=np.float64)
     secs = time.perf_counter() - t0
@@ -264,7 +264,9 @@ def run_luxcore(sc, args, tmp):
         f"film.width = {w}", f"film.height = {h}",
         "film.filter.type = BOX", "film.filter.width = 0.5",
         "film.outputs.0.type = RGB", "film.outputs.0.filename = unused.exr",
-        "batch.haltspp = 0", f"batch.halttime = {args.seconds}",
+        # --spp: a fixed sample count (time unlimited), for checking that seeds change the
+        # sample sequence; otherwise the time budget.
+        f"batch.haltspp = {args.spp}", f"batch.halttime = {0 if args.spp else args.seconds}",
         f"path.maxdepth = {d}", f"light.maxdepth = {d}",
         f"path.pathdepth.total = {d}", f"path.pathdepth.diffuse = {d}",
         f"path.pathdepth.glossy = {d}", f"path.pathdepth.specular = {d}",
@@ -308,7 +310,12 @@ def main():
     ap.add_argument("--scene", choices=["cornell", "caustic"], required=True)
     ap.add_argument("--seconds", type=float, required=True)
     ap.add_argument("--threads", type=int, default=2)
-    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--seed", type=int, default=0,
+                    help="Mitsuba: mi.render's seed; LuxCore: renderengine.seed = SEED + 1. "
+                         "Different seeds give independent "
+                         "sample sequences (checked with --spp, docs/performance.md)")
+    ap.add_argument("--spp", type=int, default=0,
+                    help="render this many samples per pixel instead of the time budget")
     ap.add_argument("--variant", default="llvm_ad_spectral", help="Mitsuba variant")
     ap.add_argument("--engine", default="BIDIRCPU", help="LuxCore engine (BIDIRCPU, PATHCPU)")
     ap.add_argument("--out", required=True, help="output OpenEXR (linear sRGB R, G, B)")

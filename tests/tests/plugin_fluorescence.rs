@@ -99,8 +99,9 @@ fn an_honest_fluorescent_plugin_material_reradiates() {
 
 /// Lies found when the material is built refuse it, with the plugin, the scene's material and
 /// the wavelength named: re-radiation three times what the material reports (ρ + ∫ r dλₒ =
-/// 1.8 at every excitation wavelength of its band, far above the 1% tolerance), and a NaN
-/// reflectance.
+/// 1.8 at every excitation wavelength of its band, far above the 1% tolerance), a NaN
+/// reflectance, and a claim to be spectrally flat (extension v4) by a material that shifts
+/// wavelengths.
 #[test]
 fn energy_creating_or_nan_reradiation_is_refused_when_built() {
     let f = factory();
@@ -125,6 +126,17 @@ fn energy_creating_or_nan_reradiation_is_refused_when_built() {
         "material \"patch\"",
         "reflectance",
         "NaN",
+    ] {
+        assert!(e.contains(want), "missing {want:?} in: {e}");
+    }
+    let Err(e) = build(&f, &scene_text("liar", "(lie: \"flat\")", 400)) else {
+        panic!("a false claim of spectral flatness is refused");
+    };
+    for want in [
+        "lying-fluorescent",
+        "material \"patch\"",
+        "spectrally flat",
+        "fluoresces",
     ] {
         assert!(e.contains(want), "missing {want:?} in: {e}");
     }
@@ -171,6 +183,42 @@ fn lies_while_rendering_are_dropped_and_reported_never_a_crash() {
         "material \"patch\"",
         "sample_excitation panicked",
         "the liar panics",
+    ] {
+        assert!(e.contains(want), "missing {want:?} in: {e}");
+    }
+}
+
+/// The material calls of extension v4 (`sample`, `eval`, `pdf` in the host's layout) keep the
+/// boundary's guarantees: a BSDF sample with a NaN value is dropped and counted per plugin
+/// object and reason ("value NaN, infinite or negative"), and a panic while sampling is caught
+/// on the plugin's side and reported with its call (`sample (v4)`) and message; the render
+/// finishes either way (PT, 16 spp).
+#[test]
+fn lies_in_the_v4_material_calls_are_dropped_or_reported() {
+    let f = factory();
+    let scene = build(&f, &scene_text("liar", "(lie: \"nan_sample\")", 400)).unwrap();
+    render_y(&scene, IntegratorKind::Pt);
+    let report = f.faults().report().join("\n");
+    assert_eq!(f.faults().count(), 0, "{report}");
+    assert!(
+        f.faults()
+            .invalid()
+            .iter()
+            .any(|(who, why, n)| who.contains("lying-fluorescent")
+                && who.contains("material `liar`")
+                && why.contains("value NaN")
+                && *n > 0),
+        "{report}"
+    );
+    let f = factory();
+    let scene = build(&f, &scene_text("liar", "(lie: \"panic_sample\")", 400)).unwrap();
+    render_y(&scene, IntegratorKind::Pt);
+    assert!(f.faults().count() > 0, "the panics were recorded");
+    let e = f.faults().outcome().unwrap_err();
+    for want in [
+        "lying-fluorescent",
+        "sample (v4) panicked",
+        "the liar panics while sampling",
     ] {
         assert!(e.contains(want), "missing {want:?} in: {e}");
     }

@@ -316,14 +316,11 @@ fn library_materials_and_lights_sample_exactly_like_the_builtins() {
     }
 }
 
-/// Render `desc` with `kind` (`spp` samples per pixel, `seed`) with the types of `registry`.
-fn render_xyz(
+/// `desc` built with the types of `registry`, with the factory (for its fault counts).
+fn build(
     desc: &spectrace::scene::SceneDescription,
     registry: Registry,
-    kind: IntegratorKind,
-    spp: u32,
-    seed: u64,
-) -> Vec<[f64; 3]> {
+) -> (spectrace::scene::Scene, RegistryFactory) {
     let f = factory(registry);
     let factories: [&dyn ObjectFactory; 1] = [&f];
     let scene = spectrace::scene::build_scene(
@@ -333,20 +330,34 @@ fn render_xyz(
         &factories,
     )
     .unwrap_or_else(|e| panic!("{e}"));
+    (scene, f)
+}
+
+/// Render `desc` with `kind` (`spp` samples per pixel, `seed`) with the types of `registry`,
+/// effects as `--effects auto` chooses them (the exact colour of spectrally flat paths on
+/// wherever a light has one spectral shape).
+fn render_xyz(
+    desc: &spectrace::scene::SceneDescription,
+    registry: Registry,
+    kind: IntegratorKind,
+    spp: u32,
+    seed: u64,
+) -> Vec<[f64; 3]> {
+    let (scene, f) = build(desc, registry);
     let settings = RenderSettings {
         budget: SampleBudget::Spp(spp),
         seed,
         threads: Some(2),
         ..RenderSettings::default()
     };
-    // The exact colour of spectrally flat paths is off: plugin types cannot declare spectral
-    // flatness through the plugin API (the host assumes they are not flat), so with it on a
-    // built-in grey surface and its plugin twin would be estimated differently.
+    // `flat-path-colour` stays as `auto` decides: through extension v4 the library's types
+    // declare spectral flatness and uniform emission shapes exactly where the built-ins do (see
+    // `library_declares_flatness_where_the_builtins_do`), so both are estimated alike.
     let plan = spectrace::effects::RenderPlan::new(
         &scene,
         &spectrace::effects::EffectsRequest {
             mode: spectrace::effects::EffectsMode::Auto,
-            forced: vec![(spectrace::effects::Switch::FlatPathColour, false)],
+            forced: vec![],
         },
     );
     let out = spectrace::integrator::select::render_planned(
@@ -379,34 +390,12 @@ fn at_resolution(
     desc
 }
 
-/// Quantity: every pixel's X, Y and Z of three scenes rendered with the built-ins and with ALL
-/// their types from the library (`--replace-builtins`), same seed and spp, in PT, BDPT and LT:
-/// the Cornell box (one area light; 24×24, 4 spp), `scenes/materials.ron` (every built-in
-/// material under an emissive quad and a spot light; 64×40, 4 spp) and
-/// `scenes/sun_and_sky.ron` (a directional and an environment light; 48×32, 4 spp) and
-/// `scenes/fluorescence.ron` (two measured fluorescent samples and their non-fluorescent twins
-/// under a near-UV and a D65 panel; 40×24, 4 spp: the re-radiation crosses through extension
-/// v3). Tolerance: none, bit-identical (what `spectrace compare --json` reports as RMSE 0).
-///
-/// Why this holds, and what it took: the objects are bit-identical (test above), and through
-/// extension v2 the host also sees the emitters' spectra as the built-ins do. Before v2 the host
-/// knew a plugin emitter's spectrum only through sampled values: an emissive plugin material's
-/// area light was `emitted` tabulated at 1 nm over 360–830 nm, with the table's trapezoid
-/// integral as its scale. For D65 (defined from 300 nm) that integral leaves out the 300–360 nm
-/// part, so the area light's power, and with it the light-selection probabilities, differed
-/// from the built-in's. Measured on `materials.ron` (PT, 64×40, 16 spp, 16 seeds, library before
-/// v2 over built-in): the emissive quad alone rendered alike up to f32 rounding of the table
-/// (mean ratio 1 + 1e-7), the spot light alone bit for bit, both together −0.19% ± 0.03% in X,
-/// −0.16% ± 0.03% in Y, −0.05% ± 0.02% in Z. So the offset came from the changed selection
-/// probabilities alone; that a change of them moves the mean by 6σ is not explained here (the
-/// materials' sampled and evaluated densities agree), and it no longer arises between the
-/// library and the built-ins, whose probabilities are now the same bits.
-#[test]
-fn scenes_render_bit_for_bit_with_all_types_from_the_library() {
+/// The scenes of the bit-for-bit comparison, each small.
+fn scenes() -> Vec<(&'static str, spectrace::scene::SceneDescription)> {
     let parse = |text: &str, name: &str| {
         spectrace::scene::parse_scene_str(text, std::path::Path::new(name)).unwrap()
     };
-    let scenes = [
+    vec![
         (
             "cornell",
             at_resolution(spectrace::scene::cornell_box_description().unwrap(), 24, 24),
@@ -441,7 +430,37 @@ fn scenes_render_bit_for_bit_with_all_types_from_the_library() {
                 24,
             ),
         ),
-    ];
+    ]
+}
+
+/// Quantity: every pixel's X, Y and Z of three scenes rendered with the built-ins and with ALL
+/// their types from the library (`--replace-builtins`), same seed and spp, in PT, BDPT and LT:
+/// the Cornell box (one area light; 24×24, 4 spp), `scenes/materials.ron` (every built-in
+/// material under an emissive quad and a spot light; 64×40, 4 spp) and
+/// `scenes/sun_and_sky.ron` (a directional and an environment light; 48×32, 4 spp) and
+/// `scenes/fluorescence.ron` (two measured fluorescent samples and their non-fluorescent twins
+/// under a near-UV and a D65 panel; 40×24, 4 spp: the re-radiation crosses through extension
+/// v3). Effects as `--effects auto` decides, so the exact colour of spectrally flat paths is on
+/// (`flat-path-colour`; every scene has area lights): through extension v4 the library's types
+/// declare spectral flatness where the built-ins do (test below). Tolerance: none,
+/// bit-identical (what `spectrace compare --json` reports as RMSE 0).
+///
+/// Why this holds, and what it took: the objects are bit-identical (test above), and through
+/// extension v2 the host also sees the emitters' spectra as the built-ins do. Before v2 the host
+/// knew a plugin emitter's spectrum only through sampled values: an emissive plugin material's
+/// area light was `emitted` tabulated at 1 nm over 360–830 nm, with the table's trapezoid
+/// integral as its scale. For D65 (defined from 300 nm) that integral leaves out the 300–360 nm
+/// part, so the area light's power, and with it the light-selection probabilities, differed
+/// from the built-in's. Measured on `materials.ron` (PT, 64×40, 16 spp, 16 seeds, library before
+/// v2 over built-in): the emissive quad alone rendered alike up to f32 rounding of the table
+/// (mean ratio 1 + 1e-7), the spot light alone bit for bit, both together −0.19% ± 0.03% in X,
+/// −0.16% ± 0.03% in Y, −0.05% ± 0.02% in Z. So the offset came from the changed selection
+/// probabilities alone; that a change of them moves the mean by 6σ is not explained here (the
+/// materials' sampled and evaluated densities agree), and it no longer arises between the
+/// library and the built-ins, whose probabilities are now the same bits.
+#[test]
+fn scenes_render_bit_for_bit_with_all_types_from_the_library() {
+    let scenes = scenes();
     for (name, desc) in &scenes {
         for kind in [IntegratorKind::Pt, IntegratorKind::Bdpt, IntegratorKind::Lt] {
             let a = render_xyz(desc, spectrace::plugin::builtin_registry(), kind, 4, 7);
@@ -458,6 +477,49 @@ fn scenes_render_bit_for_bit_with_all_types_from_the_library() {
             );
         }
     }
+}
+
+/// Quantity: per object of each scene of the bit-for-bit comparison, whether its material is
+/// spectrally flat (`Material::spectrally_flat`), and per light whether its emission has one
+/// spectral shape (`Light::uniform_spectral_shape`), built-ins against the library (extension
+/// v4, the library's flatness claims checked by the host when built). Tolerance: none, the same
+/// answers. The scenes must hold flat objects and uniform lights (else the comparison would
+/// pass with no declaration crossing the interface at all): the emitters and the grey
+/// materials of `fluorescence.ron` (flat objects: Cornell box 1 of 8, `materials.ron` 1 of 7,
+/// `sun_and_sky.ron` 0 of 3, `fluorescence.ron` 3 of 7), and the area lights (1, 1, 0, 2).
+#[test]
+fn library_declares_flatness_where_the_builtins_do() {
+    let (mut flat, mut uniform) = (0, 0);
+    for (name, desc) in scenes() {
+        let (a, _) = build(&desc, spectrace::plugin::builtin_registry());
+        let (b, _) = build(&desc, library_registry());
+        let objects = |s: &spectrace::scene::Scene| -> Vec<(String, bool)> {
+            s.objects
+                .objects()
+                .iter()
+                .map(|o| (o.name.clone(), o.material.spectrally_flat()))
+                .collect()
+        };
+        let lights = |s: &spectrace::scene::Scene| -> Vec<bool> {
+            s.lights
+                .lights()
+                .iter()
+                .map(|l| l.uniform_spectral_shape())
+                .collect()
+        };
+        assert_eq!(objects(&a), objects(&b), "{name}: spectrally flat objects");
+        assert_eq!(lights(&a), lights(&b), "{name}: uniform lights");
+        flat += objects(&a).iter().filter(|o| o.1).count();
+        uniform += lights(&a).iter().filter(|&&u| u).count();
+        eprintln!(
+            "{name}: {} flat object(s) of {}, {} uniform light(s) of {}",
+            objects(&a).iter().filter(|o| o.1).count(),
+            objects(&a).len(),
+            lights(&a).iter().filter(|&&u| u).count(),
+            lights(&a).len()
+        );
+    }
+    assert!(flat > 0 && uniform > 0, "flat {flat}, uniform {uniform}");
 }
 
 /// Quantity: the Cornell box with no built-in materials, lights, SPDs or observers

@@ -24,9 +24,10 @@ use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spd, SpdSample, LANES
 use glam::{Vec2, Vec3A};
 use spectrace_plugin_api::abi::std_types::{ROption, RResult};
 use spectrace_plugin_api::extension::{
-    LightV2Box, LightWithV2, MaterialV2Box, MaterialWithV2, MaterialWithV3, RepresentedLightBox,
-    SpdWithLines,
+    LightV2Box, LightWithV2, LightWithV4, MaterialV2Box, MaterialV4Box, MaterialWithV2,
+    MaterialWithV3, MaterialWithV4, RepresentedLightBox, SpdWithLines,
 };
+use spectrace_plugin_api::fast::{LanesF32, MaterialQuery, ScatterF32, SurfaceF32, Vec4f};
 use spectrace_plugin_api::{
     light_flags, material_flags, spd_flags, Beam, Flags, LightBox, MaterialBox, ObserverBox,
     PluginError, RandomSample, SceneBounds, SpdBox, SpectralValues, SurfaceContext, TransportMode,
@@ -207,9 +208,18 @@ pub struct Origin {
 }
 
 impl Origin {
+    #[cold]
+    #[inline(never)]
     fn fail<T>(&self, e: PluginError, fallback: T) -> T {
         self.faults.record(&self.label, &e);
         fallback
+    }
+
+    /// Record a result dropped for `reason` (kept out of the callers' hot code).
+    #[cold]
+    #[inline(never)]
+    fn dropped(&self, reason: checked::Reason) {
+        self.faults.record_invalid(&self.label, reason);
     }
 
     /// The call's value if it passes `check`; otherwise `None`, with the error or the
@@ -426,6 +436,65 @@ fn material_bits(f: Flags, transmission_event: Option<bool>) -> MaterialFlags {
     out
 }
 
+/// [`material_bits`] of one scattering event (`transmission_event` read from the event's own
+/// TRANSMISSION bit), in a few bit operations: the plugin interface's bits DIFFUSE, GLOSSY,
+/// SPECULAR (1, 2, 4), TRANSMISSION (8) and DISPERSIVE, EMISSIVE, FLUORESCENT (16, 32, 64) are
+/// the host's (4, 8, 16), (2) and (32, 64, 128), and a lobe without TRANSMISSION reflects. The
+/// test `event_bits_match_material_bits` checks it against [`material_bits`] for all 128
+/// combinations.
+#[inline]
+fn event_bits(f: Flags) -> MaterialFlags {
+    let b = f.0;
+    let lobes = b & 0b111;
+    let transmits = (b >> 3) & 1;
+    let reflects = u32::from(lobes != 0 && transmits == 0);
+    MaterialFlags(reflects | (transmits << 1) | (lobes << 2) | (((b >> 4) & 0b111) << 5))
+}
+
+/// The host's vector in the interface's layout: one SIMD register, `w` cleared.
+#[inline]
+fn v4f(v: Vec3A) -> Vec4f {
+    let [x, y, z, w] = v.extend(0.0).to_array();
+    Vec4f { x, y, z, w }
+}
+
+/// A plugin's vector as the host's; its unused `w` is not trusted (a plugin may leave anything
+/// there).
+#[inline]
+fn host_v(v: Vec4f) -> Vec3A {
+    Vec3A::new(v.x, v.y, v.z)
+}
+
+/// One extension-v4 material query: the host's own `f32` data copied into the interface's
+/// layout (no conversion).
+#[inline]
+fn query(
+    wo: Vec3A,
+    wi: Vec3A,
+    ctx: &ShadingContext,
+    lambda: &SampledWavelengths,
+    u: [f32; 3],
+    m: HostMode,
+) -> MaterialQuery {
+    MaterialQuery {
+        ctx: SurfaceF32 {
+            uv: [ctx.uv.x, ctx.uv.y],
+            position: v4f(ctx.p),
+            geometric_normal: v4f(ctx.ng),
+            shading_normal: v4f(ctx.ns),
+        },
+        wo: v4f(wo),
+        wi: v4f(wi),
+        lambda: LanesF32 {
+            nm: lambda.lambda,
+            pdf: lambda.pdf,
+            live: u32::from(lambda.lanes.bits()),
+        },
+        u,
+        mode: mode(m),
+    }
+}
+
 /// A plugin material as a host [`Material`]. An EMISSIVE one also describes its emission
 /// ([`Material::emission`]), so the scene builds an area light on every object that uses it,
 /// sampled and MIS-weighted like the built-in `emissive`. A FLUORESCENT one built through
@@ -440,6 +509,11 @@ pub struct PluginMaterial {
     emission: Option<EmissionProfile>,
     /// The re-radiation (extension v3), checked when the material was built.
     reradiation: Option<super::reradiation::PluginReradiation>,
+    /// The same material's version-4 face (extension v4): when present, `sample`, `eval` and
+    /// `pdf` go through it, in the host's own layout.
+    v4: Option<MaterialV4Box>,
+    /// Declared spectrally flat (extension v4) and found so when built ([`Self::new_v4`]).
+    flat: bool,
     origin: Origin,
 }
 
@@ -478,6 +552,40 @@ impl PluginMaterial {
         Ok(m)
     }
 
+    /// Wrap a material built through extension v4: as [`Self::new_v3`], with `sample`, `eval`
+    /// and `pdf` through the v4 face, and its declaration of spectral flatness, checked (see
+    /// [`super::flatness`]): a claim the material's own answers contradict is refused, naming the
+    /// plugin object and `item`.
+    pub fn new_v4(material: MaterialWithV4, origin: Origin, item: &str) -> Result<Self, String> {
+        let MaterialWithV4 {
+            material,
+            v2,
+            reradiation,
+            v4,
+            spectrally_flat,
+        } = material;
+        let mut m = Self::new_v3(
+            MaterialWithV3 {
+                material,
+                v2,
+                reradiation,
+            },
+            origin,
+            item,
+        )?;
+        m.v4 = Some(v4);
+        if spectrally_flat {
+            super::flatness::check(&m, m.flags, m.reradiation.is_some()).map_err(|e| {
+                format!(
+                    "{} as {item}: declares itself spectrally flat (extension v4), but {e}",
+                    m.origin.label
+                )
+            })?;
+            m.flat = true;
+        }
+        Ok(m)
+    }
+
     fn build(material: MaterialBox, v2: Option<MaterialV2Box>, origin: Origin) -> Self {
         let flags = material_bits(material.capabilities(), None);
         let emission = if flags.contains(MaterialFlags::EMISSIVE) {
@@ -503,6 +611,8 @@ impl PluginMaterial {
             flags,
             emission,
             reradiation: None,
+            v4: None,
+            flat: false,
             origin,
         }
     }
@@ -565,6 +675,18 @@ impl PluginMaterial {
         }
     }
 
+    /// The host's sample from a checked v4 sample (no conversion: the same `f32`s).
+    #[inline]
+    fn bsdf_sample(s: &ScatterF32) -> BsdfSample {
+        BsdfSample {
+            wi: host_v(s.wi),
+            f: SampledSpectrum(s.value),
+            pdf: s.pdf,
+            flags: event_bits(s.flags),
+            eta: s.eta,
+        }
+    }
+
     fn surface(ctx: &ShadingContext) -> SurfaceContext {
         SurfaceContext {
             uv: [ctx.uv.x as f64, ctx.uv.y as f64],
@@ -595,6 +717,20 @@ impl Material for PluginMaterial {
         u: Vec2,
         m: HostMode,
     ) -> Option<BsdfSample> {
+        if let Some(v4) = &self.v4 {
+            let q = query(wo, Vec3A::ZERO, ctx, lambda, [u_lobe, u.x, u.y], m);
+            return match v4.sample(&q) {
+                RResult::ROk(ROption::RSome(s)) => match checked::scatter_f32(&s) {
+                    Ok(()) => Some(Self::bsdf_sample(&s)),
+                    Err(reason) => {
+                        self.origin.dropped(reason);
+                        None
+                    }
+                },
+                RResult::ROk(ROption::RNone) => None,
+                RResult::RErr(e) => self.origin.fail(e, None),
+            };
+        }
         let (wo, lambda, u) = (v3(wo), lambdas(lambda), sample_from(&[u_lobe, u.x, u.y]));
         let r = match &self.v2 {
             Some(v2) => v2.sample(&Self::surface(ctx), wo, &lambda, &u, mode(m)),
@@ -627,6 +763,19 @@ impl Material for PluginMaterial {
         lambda: &SampledWavelengths,
         m: HostMode,
     ) -> SampledSpectrum {
+        if let Some(v4) = &self.v4 {
+            let q = query(wo, wi, ctx, lambda, [0.0; 3], m);
+            return match v4.eval(&q) {
+                RResult::ROk(v) => match checked::values_f32(&v) {
+                    Ok(()) => SampledSpectrum(v),
+                    Err(reason) => {
+                        self.origin.dropped(reason);
+                        SampledSpectrum::zero()
+                    }
+                },
+                RResult::RErr(e) => self.origin.fail(e, SampledSpectrum::zero()),
+            };
+        }
         let (wo, wi, lambda) = (v3(wo), v3(wi), lambdas(lambda));
         let r = match &self.v2 {
             Some(v2) => v2.eval(&Self::surface(ctx), wo, wi, &lambda, mode(m)),
@@ -645,6 +794,19 @@ impl Material for PluginMaterial {
         lambda: &SampledWavelengths,
         m: HostMode,
     ) -> f32 {
+        if let Some(v4) = &self.v4 {
+            let q = query(wo, wi, ctx, lambda, [0.0; 3], m);
+            return match v4.pdf(&q) {
+                RResult::ROk(p) => match checked::density_f32(p) {
+                    Ok(()) => p,
+                    Err(reason) => {
+                        self.origin.dropped(reason);
+                        0.0
+                    }
+                },
+                RResult::RErr(e) => self.origin.fail(e, 0.0),
+            };
+        }
         let (wo, wi, lambda) = (v3(wo), v3(wi), lambdas(lambda));
         let r = match &self.v2 {
             Some(v2) => v2.pdf(&Self::surface(ctx), wo, wi, &lambda, mode(m)),
@@ -657,6 +819,10 @@ impl Material for PluginMaterial {
 
     fn emission(&self) -> Option<EmissionProfile> {
         self.emission.clone()
+    }
+
+    fn spectrally_flat(&self) -> bool {
+        self.flat
     }
 
     fn reradiation(&self) -> Option<&dyn crate::spectrum::reradiation::Reradiation> {
@@ -872,6 +1038,8 @@ pub struct PluginLight {
     /// The object handing out beams in the type's own representation, with its converter,
     /// when the type declares one (see [`super::representation`]).
     represented: Option<(RepresentedLightBox, BeamConverter)>,
+    /// Declared through extension v4: the emission has one spectral shape everywhere.
+    uniform: bool,
 }
 
 impl PluginLight {
@@ -883,6 +1051,14 @@ impl PluginLight {
     /// Wrap a light built through extension v2.
     pub fn new_v2(light: LightWithV2, origin: Origin) -> Self {
         Self::build(light.light, Some(light.v2), origin)
+    }
+
+    /// Wrap a light built through extension v4: as [`Self::new_v2`], with its declaration of
+    /// one spectral shape everywhere ([`Light::uniform_spectral_shape`]; taken as declared).
+    pub fn new_v4(light: LightWithV4, origin: Origin) -> Self {
+        let mut l = Self::build(light.light, Some(light.v2), origin);
+        l.uniform = light.uniform_spectral_shape;
+        l
     }
 
     fn build(light: LightBox, v2: Option<LightV2Box>, origin: Origin) -> Self {
@@ -942,6 +1118,7 @@ impl PluginLight {
             origin,
             environment,
             represented: None,
+            uniform: false,
         }
     }
 
@@ -1145,6 +1322,10 @@ impl Light for PluginLight {
         let _ = self.scene_bounds.set(*scene_bounds);
     }
 
+    fn uniform_spectral_shape(&self) -> bool {
+        self.uniform
+    }
+
     fn preprocess_view(&self, view_bounds: &Aabb) {
         if let Some(e) = &self.environment {
             e.preprocess_view(view_bounds);
@@ -1161,3 +1342,22 @@ const _: () = assert!(
     LANES == spectrace_plugin_api::LANES,
     "host and ABI lane counts agree"
 );
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    // The bit-operation form of an event's flags agrees with the table form for every
+    // combination of the interface's seven bits.
+    #[test]
+    fn event_bits_match_material_bits() {
+        for b in 0..128u32 {
+            let f = Flags(b);
+            assert_eq!(
+                event_bits(f),
+                material_bits(f, Some(f.contains(material_flags::TRANSMISSION))),
+                "bits {b:#09b}"
+            );
+        }
+    }
+}

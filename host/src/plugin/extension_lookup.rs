@@ -1,6 +1,7 @@
 //! Looking up a versioned extension module (`spectrace_plugin_extensions_vN`) in a plugin
 //! library: one mechanism for every version (`representation::extension` for v1,
-//! `extension_v2` for v2, `extension_v3` for v3), so the safety argument and the layout check are written once.
+//! `extension_v2` for v2, `extension_v3` for v3, `extension_v4` for v4), so the safety argument
+//! and the layout check are written once.
 
 use spectrace_plugin_api::abi::abi_stability::abi_checking::check_layout_compatibility;
 use spectrace_plugin_api::abi::type_layout::TypeLayout;

@@ -205,10 +205,16 @@ impl PluginFactory {
         let r = &self.registry;
         // Through the newest extension the library has (v2: the objects then also get the
         // scene's bounds, normals, exact emission spectra and spectral lines; v3: fluorescent
-        // materials' re-radiation), else the root module.
+        // materials' re-radiation; v4: spectral flatness and uniform emission shapes, and the
+        // material calls in the host's layout), else the root module.
         Ok(match kind {
             Kind::Material => {
                 let m = if let Some(m) = r
+                    .create_plugin_material_v4(type_name, object_source)
+                    .map_err(construct_error)?
+                {
+                    PluginMaterial::new_v4(m, origin, &ctx.item).map_err(FactoryError::Param)?
+                } else if let Some(m) = r
                     .create_plugin_material_v3(type_name, object_source)
                     .map_err(construct_error)?
                 {
@@ -229,16 +235,22 @@ impl PluginFactory {
             }
             // A type whose beams are in another representation is wrapped in its adapters.
             Kind::Light => {
-                let l = match r
+                let l = if let Some(l) = r
+                    .create_plugin_light_v4(type_name, object_source)
+                    .map_err(construct_error)?
+                {
+                    PluginLight::new_v4(l, origin)
+                } else if let Some(l) = r
                     .create_plugin_light_v2(type_name, object_source)
                     .map_err(construct_error)?
                 {
-                    Some(l) => PluginLight::new_v2(l, origin),
-                    None => PluginLight::new(
+                    PluginLight::new_v2(l, origin)
+                } else {
+                    PluginLight::new(
                         r.create_plugin_light(type_name, object_source)
                             .map_err(construct_error)?,
                         origin,
-                    ),
+                    )
                 };
                 Built::Light(Arc::new(
                     super::representation::wrap_light(r, type_name, object_source, l)

@@ -7,7 +7,9 @@ use super::services::HostServices;
 use super::type_doc::{Kind, TypeDoc};
 use crate::builtin::BuiltinType;
 use spectrace_plugin_api::abi::std_types::{RResult, RSlice, RStr};
-use spectrace_plugin_api::extension::{LightWithV2, MaterialWithV2, MaterialWithV3, SpdWithLines};
+use spectrace_plugin_api::extension::{
+    LightWithV2, LightWithV4, MaterialWithV2, MaterialWithV3, MaterialWithV4, SpdWithLines,
+};
 use spectrace_plugin_api::module::ObjectSource;
 use spectrace_plugin_api::{ErrorKind, HostRef};
 use spectrace_plugin_api::{
@@ -492,6 +494,56 @@ impl Registry {
         };
         self.call_plugin(ObjectKind::Material, name, |_, host| {
             (ext.create_material())(RStr::from_str(name), source, host)
+        })
+        .map(Some)
+    }
+
+    /// The version-4 extension module of the plugin that provides (kind, name): `None` for a
+    /// library built before it existed (or linked in-process), an error when it is unusable.
+    fn extensions_v4(
+        &self,
+        kind: ObjectKind,
+        name: &str,
+    ) -> Result<Option<spectrace_plugin_api::extension::ExtensionsV4Ref>, RegistryError> {
+        let (plugin, provider) = self.plugin_entry(kind, name)?;
+        super::extension_v4::extensions_v4(&plugin.path).map_err(|e| {
+            construct_error(
+                kind.into(),
+                name,
+                provider,
+                PluginError::new(ErrorKind::Other, e),
+            )
+        })
+    }
+
+    /// Build a plugin material with every face (v2–v4) and its spectral declaration (extension
+    /// v4); `None` when its library predates v4.
+    pub fn create_plugin_material_v4(
+        &self,
+        name: &str,
+        source: ObjectSource<'_>,
+    ) -> Result<Option<MaterialWithV4>, RegistryError> {
+        let Some(ext) = self.extensions_v4(ObjectKind::Material, name)? else {
+            return Ok(None);
+        };
+        self.call_plugin(ObjectKind::Material, name, |_, host| {
+            (ext.create_material())(RStr::from_str(name), source, host)
+        })
+        .map(Some)
+    }
+
+    /// Build a plugin light with its version-2 face and its spectral declaration (extension
+    /// v4); `None` when its library predates v4.
+    pub fn create_plugin_light_v4(
+        &self,
+        name: &str,
+        source: ObjectSource<'_>,
+    ) -> Result<Option<LightWithV4>, RegistryError> {
+        let Some(ext) = self.extensions_v4(ObjectKind::Light, name)? else {
+            return Ok(None);
+        };
+        self.call_plugin(ObjectKind::Light, name, |_, host| {
+            (ext.create_light())(RStr::from_str(name), source, host)
         })
         .map(Some)
     }

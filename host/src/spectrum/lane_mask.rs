@@ -24,6 +24,16 @@ impl LaneMask {
     /// No lane live.
     pub const NONE: Self = Self(0);
 
+    /// The lanes as bits (bit `i` = lane `i`), e.g. for the plugin interface.
+    pub const fn bits(self) -> u8 {
+        self.0
+    }
+
+    /// The lanes of `bits` (bit `i` = lane `i`); bits beyond [`LANES`] are dropped.
+    pub const fn from_bits(bits: u8) -> Self {
+        Self(bits & Self::ALL.0)
+    }
+
     /// True when lane `i` is live.
     #[inline]
     pub fn contains(self, i: usize) -> bool {

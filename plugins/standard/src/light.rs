@@ -161,6 +161,10 @@ macro_rules! light_type {
             fn emission_spectrum(&self) -> PluginResult<Option<Box<dyn Spd>>> {
                 Ok(Some(Box::new(HostSpd(self.light.spd()))))
             }
+            // Extension v4: declared exactly where the built-in declares it.
+            fn uniform_spectral_shape(&self) -> bool {
+                self.light.uniform_spectral_shape()
+            }
             fn sample_toward(
                 &self,
                 receiver: Vec3,
@@ -307,5 +311,9 @@ impl LightSource for Environment {
     }
     fn emission_spectrum(&self) -> PluginResult<Option<Box<dyn Spd>>> {
         Ok(Some(Box::new(HostSpd(self.source.spd()))))
+    }
+    // Extension v4: declared exactly where the built-in declares it.
+    fn uniform_spectral_shape(&self) -> bool {
+        self.light.uniform_spectral_shape()
     }
 }

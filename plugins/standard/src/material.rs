@@ -23,9 +23,10 @@ use spectrace::material::{
 };
 use spectrace::spectrum::{SampledSpectrum, SampledWavelengths, LANES};
 use spectrace_plugin_api::{
-    material_flags, Emission, Flags, Host, Material, ParamDoc, PluginError, PluginResult,
-    PluginType, RandomSample, Reradiation, ScatterSample, ShadingContext, SpectralValues,
-    SurfaceContext, TransportMode, Vec3, WavelengthDraw, Wavelengths,
+    material_flags, Emission, Flags, Host, LanesF32, Material, MaterialQuery, ParamDoc,
+    PluginError, PluginResult, PluginType, RandomSample, Reradiation, ScatterF32, ScatterSample,
+    ShadingContext, SpectralValues, SurfaceContext, SurfaceF32, TransportMode, Vec3, Vec4f,
+    WavelengthDraw, Wavelengths,
 };
 use std::sync::Arc;
 
@@ -90,6 +91,64 @@ fn bits(f: MaterialFlags) -> Flags {
         }
     }
     out
+}
+
+// Extension v4: the host's own f32 data on both sides, so nothing is converted.
+
+#[inline]
+fn host_v(v: Vec4f) -> Vec3A {
+    Vec3A::from_vec4(glam::Vec4::new(v.x, v.y, v.z, v.w))
+}
+
+#[inline]
+fn ctx_v4(c: &SurfaceF32) -> HostContext {
+    HostContext::at(
+        host_v(c.position),
+        host_v(c.geometric_normal),
+        host_v(c.shading_normal),
+        Vec2::new(c.uv[0], c.uv[1]),
+    )
+}
+
+/// The host's wavelengths exactly as the host passed them (densities and live lanes included).
+#[inline]
+fn lambdas_v4(l: &LanesF32) -> SampledWavelengths {
+    SampledWavelengths {
+        lambda: l.nm,
+        pdf: l.pdf,
+        lanes: spectrace::spectrum::LaneMask::from_bits(l.live as u8),
+    }
+}
+
+/// [`bits`] in a few bit operations (the host's DIFFUSE, GLOSSY, SPECULAR are 4, 8, 16,
+/// TRANSMISSION 2, DISPERSIVE, EMISSIVE, FLUORESCENT 32, 64, 128; REFLECTION and THIN_FILM have
+/// no interface bit). The test below checks it against [`bits`].
+#[inline]
+fn event_bits(f: MaterialFlags) -> Flags {
+    let b = f.0;
+    Flags(((b >> 2) & 0b111) | (((b >> 1) & 1) << 3) | (((b >> 5) & 0b111) << 4))
+}
+
+#[inline]
+fn sample_v4(m: &dyn HostMaterial, q: &MaterialQuery) -> Option<ScatterF32> {
+    let s = m.sample(
+        host_v(q.wo),
+        &ctx_v4(&q.ctx),
+        &lambdas_v4(&q.lambda),
+        q.u[0],
+        Vec2::new(q.u[1], q.u[2]),
+        host_mode(q.mode),
+    )?;
+    Some(ScatterF32 {
+        wi: {
+            let [x, y, z, w] = s.wi.extend(0.0).to_array();
+            Vec4f { x, y, z, w }
+        },
+        value: s.f.0,
+        pdf: s.pdf,
+        flags: event_bits(s.flags),
+        eta: s.eta,
+    })
 }
 
 /// Sample through the host material `m`.
@@ -316,6 +375,34 @@ macro_rules! material_type {
             fn reradiation(&self) -> Option<&dyn Reradiation> {
                 self.reradiation.as_ref().map(|r| r as &dyn Reradiation)
             }
+            fn spectrally_flat(&self) -> bool {
+                self.material.spectrally_flat()
+            }
+            #[inline]
+            fn sample_v4(&self, q: &MaterialQuery) -> PluginResult<Option<ScatterF32>> {
+                Ok(sample_v4(&*self.material, q))
+            }
+            #[inline]
+            fn eval_v4(&self, q: &MaterialQuery) -> PluginResult<[f32; LANES]> {
+                let f = self.material.eval(
+                    host_v(q.wo),
+                    host_v(q.wi),
+                    &ctx_v4(&q.ctx),
+                    &lambdas_v4(&q.lambda),
+                    host_mode(q.mode),
+                );
+                Ok(f.0)
+            }
+            #[inline]
+            fn pdf_v4(&self, q: &MaterialQuery) -> PluginResult<f32> {
+                Ok(self.material.pdf(
+                    host_v(q.wo),
+                    host_v(q.wi),
+                    &ctx_v4(&q.ctx),
+                    &lambdas_v4(&q.lambda),
+                    host_mode(q.mode),
+                ))
+            }
         }
     };
 }
@@ -331,3 +418,21 @@ material_type!(
 material_type!(Conductor, conductor, conductor::ConductorParams);
 material_type!(Emissive, emissive, emissive::EmissiveParams);
 material_type!(Fluorescent, fluorescent, fluorescent::FluorescentParams);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    // The bit-operation form agrees with the table form for every combination of the host's
+    // nine bits.
+    #[test]
+    fn event_bits_match_bits() {
+        for b in 0..512u32 {
+            assert_eq!(
+                event_bits(MaterialFlags(b)),
+                bits(MaterialFlags(b)),
+                "{b:#011b}"
+            );
+        }
+    }
+}

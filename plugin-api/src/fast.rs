@@ -1,0 +1,175 @@
+//! The plain data of extension v4's material calls ([`AbiMaterialV4`](crate::extension::AbiMaterialV4)):
+//! the host's own single-precision layout, passed by reference, so neither side converts.
+//!
+//! The calls of the root module and of v2 carry `f64` [`Vec3`](crate::Vec3)s and
+//! [`Wavelengths`](crate::Wavelengths) by value. The host renders in `f32` with 16-byte SIMD
+//! vectors, so every call used to convert its arguments to `f64` and the results back, on both
+//! sides of the boundary (measured in `docs/performance.md`, "Plugin overhead"). These types are
+//! laid out as the host keeps the same data: a [`Vec4f`] is the host's 16-byte vector (`x, y, z`
+//! and one unused lane), and a call takes one [`MaterialQuery`] by reference. A material that
+//! computes in `f64` gets the query converted by the provided methods of
+//! [`Material`](crate::Material) (`sample_v4`, `eval_v4`, `pdf_v4`), exactly as the older calls
+//! converted it (f32 → f64 is exact, and the results come back rounded to f32 as before).
+//!
+//! | type | fields | units |
+//! |---|---|---|
+//! | [`Vec4f`] | `x, y, z` (`w` unused, 0) | scene units or unit direction |
+//! | [`SurfaceF32`] | texture coordinates, position, geometric and shading normal (world) | scene units; normals unit or zero when unknown |
+//! | [`LanesF32`] | wavelengths, their sampling densities, live-lane bits | nm, 1/nm |
+//! | [`MaterialQuery`] | the surface, `wo`, `wi` (local frame), wavelengths, 3 uniforms, transport mode | |
+//! | [`ScatterF32`] | sampled `wi`, BSDF value per lane, density, event bits, relative IOR | 1/sr, 1/sr |
+
+use crate::material::{ScatterSample, SurfaceContext};
+use crate::types::{Flags, RandomSample, SpectralValues, TransportMode, Vec3, Wavelengths, LANES};
+use abi_stable::StableAbi;
+
+/// A 3-vector in the host's 16-byte SIMD layout: `x, y, z` and an unused `w` (0).
+#[repr(C, align(16))]
+#[derive(StableAbi, Clone, Copy, Debug, Default, PartialEq)]
+pub struct Vec4f {
+    /// x
+    pub x: f32,
+    /// y
+    pub y: f32,
+    /// z
+    pub z: f32,
+    /// Unused (0); there for the layout.
+    pub w: f32,
+}
+
+impl Vec4f {
+    /// Build from components (`w` = 0).
+    #[inline]
+    pub const fn new(x: f32, y: f32, z: f32) -> Self {
+        Self { x, y, z, w: 0.0 }
+    }
+    /// As an `f64` vector (exact).
+    #[inline]
+    pub fn to_f64(self) -> Vec3 {
+        Vec3::new(self.x as f64, self.y as f64, self.z as f64)
+    }
+    /// From an `f64` vector, rounded to `f32`.
+    #[inline]
+    pub fn from_f64(v: Vec3) -> Self {
+        Self::new(v.x as f32, v.y as f32, v.z as f32)
+    }
+}
+
+/// Where on the surface a material is evaluated (the `f32` form of [`SurfaceContext`]).
+#[repr(C)]
+#[derive(StableAbi, Clone, Copy, Debug, Default, PartialEq)]
+pub struct SurfaceF32 {
+    /// Texture coordinates.
+    pub uv: [f32; 2],
+    /// World-space position (scene units).
+    pub position: Vec4f,
+    /// Geometric normal, world space, unit (zero when unknown).
+    pub geometric_normal: Vec4f,
+    /// Shading normal, world space, unit: the local frame's z axis (zero when unknown).
+    pub shading_normal: Vec4f,
+}
+
+impl SurfaceF32 {
+    /// As the `f64` [`SurfaceContext`] (exact).
+    #[inline]
+    pub fn to_f64(&self) -> SurfaceContext {
+        SurfaceContext {
+            uv: [self.uv[0] as f64, self.uv[1] as f64],
+            position: self.position.to_f64(),
+            geometric_normal: self.geometric_normal.to_f64(),
+            shading_normal: self.shading_normal.to_f64(),
+        }
+    }
+}
+
+/// The wavelengths of one path: nm per lane (lane 0 the hero), each lane's sampling density
+/// (1/nm; 0 for a terminated lane or one on a spectral line) and which lanes still carry light
+/// (bit i = lane i).
+#[repr(C)]
+#[derive(StableAbi, Clone, Copy, Debug, Default, PartialEq)]
+pub struct LanesF32 {
+    /// Wavelengths, nm.
+    pub nm: [f32; LANES],
+    /// Sampling densities, 1/nm.
+    pub pdf: [f32; LANES],
+    /// Live lanes, one bit per lane.
+    pub live: u32,
+}
+
+impl LanesF32 {
+    /// As the `f64` [`Wavelengths`] of the older calls (exact; densities and live bits dropped,
+    /// as those calls never carried them).
+    #[inline]
+    pub fn to_f64(&self) -> Wavelengths {
+        Wavelengths {
+            nm: self.nm.map(f64::from),
+        }
+    }
+}
+
+/// Everything one material call (sample, eval or pdf) takes, passed by reference.
+#[repr(C)]
+#[derive(StableAbi, Clone, Copy, Debug, PartialEq)]
+pub struct MaterialQuery {
+    /// The surface point.
+    pub ctx: SurfaceF32,
+    /// Outgoing direction, local frame, away from the surface.
+    pub wo: Vec4f,
+    /// Incident direction, local frame (eval and pdf; unused by sample).
+    pub wi: Vec4f,
+    /// The path's wavelengths.
+    pub lambda: LanesF32,
+    /// Uniforms in [0, 1) for sample: `u[0]` chooses a lobe, `u[1..3]` the direction (as
+    /// [`RandomSample::u`]`[0..3]` of the older call).
+    pub u: [f32; 3],
+    /// Radiance (camera paths) or importance (light paths).
+    pub mode: TransportMode,
+}
+
+impl MaterialQuery {
+    /// The uniforms as the older calls' [`RandomSample`] (exact; the unused entries 0).
+    #[inline]
+    pub fn sample_f64(&self) -> RandomSample {
+        let mut s = RandomSample::default();
+        s.u[0] = self.u[0] as f64;
+        s.u[1] = self.u[1] as f64;
+        s.u[2] = self.u[2] as f64;
+        s
+    }
+}
+
+/// A sampled scattering direction (the `f32` form of [`ScatterSample`]).
+#[repr(C)]
+#[derive(StableAbi, Clone, Copy, Debug, Default, PartialEq)]
+pub struct ScatterF32 {
+    /// Incident direction (local frame, away from the surface), unit.
+    pub wi: Vec4f,
+    /// BSDF value per lane (1/sr); for delta lobes as in [`ScatterSample::value`].
+    pub value: [f32; LANES],
+    /// Solid-angle density of `wi` (1/sr); for delta lobes the discrete lobe probability.
+    pub pdf: f32,
+    /// Bits of this event ([`material_flags`](crate::material_flags)).
+    pub flags: Flags,
+    /// Relative index of refraction across the surface for transmission, else 1.
+    pub eta: f32,
+}
+
+impl ScatterF32 {
+    /// From the `f64` sample of the older calls, rounded to `f32` (what the host did before).
+    #[inline]
+    pub fn from_f64(s: &ScatterSample) -> Self {
+        Self {
+            wi: Vec4f::from_f64(s.wi),
+            value: values_f32(&s.value),
+            pdf: s.pdf as f32,
+            flags: s.flags,
+            eta: s.eta as f32,
+        }
+    }
+}
+
+/// Spectral values rounded to `f32`.
+#[inline]
+pub fn values_f32(v: &SpectralValues) -> [f32; LANES] {
+    v.v.map(|x| x as f32)
+}
