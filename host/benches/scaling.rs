@@ -22,7 +22,9 @@ use std::time::Instant;
 use glam::Vec3A;
 use rayon::prelude::*;
 use spectrace::geometry::generate::icosphere;
-use spectrace::geometry::{Geometry, Ray, Shape, ShapeDesc, Transform, TriangleMesh};
+use spectrace::geometry::{
+    Geometry, Ray, Shape, ShapeDesc, Transform, TraversalKernel, TriangleMesh,
+};
 
 const RAYS: usize = 262_144;
 const RUNS: usize = 3;
@@ -204,17 +206,32 @@ fn run_harness(exe: &std::path::Path, input: &std::path::Path) -> Result<String,
 /// `SPECTRACE_SCALING_PROFILE=<subdivisions>`: one build and one pass of the random rays on
 /// the calling thread, nothing else, for instruction counts under
 /// `valgrind --tool=callgrind` (a shared machine's wall times vary too much for small A/B
-/// differences). Prints the hit count.
+/// differences). Prints the hit count. `SPECTRACE_SCALING_KERNEL=portable` traces with the
+/// portable (SSE) box test instead of AVX2. `SPECTRACE_SCALING_INPUT=<file>` only writes the
+/// Embree/obvhs harnesses' input (same triangles and random rays) there, to count their
+/// instructions the same way.
 fn profile_run(subdivisions: u32) {
     let mesh = bumpy_sphere(subdivisions);
+    if let Some(path) = std::env::var_os("SPECTRACE_SCALING_INPUT") {
+        // Only the harnesses' input, to run them under callgrind too.
+        let path = std::path::PathBuf::from(path);
+        match write_harness_input(&path, &mesh, &random_rays()) {
+            Ok(()) => println!("wrote {}", path.display()),
+            Err(e) => eprintln!("cannot write {}: {e}", path.display()),
+        }
+        return;
+    }
     let pool = pool(1);
-    let g = pool.install(|| {
+    let mut g = pool.install(|| {
         Geometry::build(vec![ShapeDesc {
             shape: Shape::Mesh(mesh),
             transform: Transform::IDENTITY,
         }])
         .expect("valid mesh")
     });
+    if std::env::var("SPECTRACE_SCALING_KERNEL").as_deref() == Ok("portable") {
+        g.set_traversal_kernel(TraversalKernel::Portable);
+    }
     if std::env::var_os("SPECTRACE_SCALING_BUILD_ONLY").is_some() {
         println!("built {} primitives", g.primitive_count());
         return;
@@ -225,7 +242,11 @@ fn profile_run(subdivisions: u32) {
         .filter(|r| g.intersect(r, f32::INFINITY).is_some())
         .count();
     let occluded = rays.iter().filter(|r| g.occluded(r, f32::INFINITY)).count();
-    println!("{hits} hits, {occluded} occluded of {} rays", rays.len());
+    println!(
+        "{hits} hits, {occluded} occluded of {} rays ({:?} kernel)",
+        rays.len(),
+        g.traversal_kernel()
+    );
 }
 
 fn main() {

@@ -10,7 +10,7 @@
 use glam::{Vec2, Vec3A};
 use rayon::prelude::*;
 
-use super::bvh::Bvh;
+use super::bvh::{Bvh, TraversalKernel};
 use super::quad::Quad;
 use super::sphere::Sphere;
 use super::triangle::{
@@ -288,6 +288,16 @@ impl Geometry {
         self.bvh.memory_bytes() + self.prims.len() * std::mem::size_of::<LeafRecord>()
     }
 
+    /// The BVH's box-test kernel (AVX2 where the CPU has it).
+    pub fn traversal_kernel(&self) -> TraversalKernel {
+        self.bvh.kernel()
+    }
+
+    /// Chooses the BVH's box-test kernel (for benchmarks comparing them; hits are identical).
+    pub fn set_traversal_kernel(&mut self, kernel: TraversalKernel) {
+        self.bvh.set_kernel(kernel);
+    }
+
     /// Closest hit with `0 < t < t_max`, or `None`.
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
         let wr = WatertightRay::new(ray);
@@ -317,29 +327,42 @@ impl Geometry {
         t_max: f32,
     ) -> Option<Hit> {
         let mut best: Option<Candidate> = None;
-        let t = self.bvh.traverse(ray, t_max, false, |i, t_max| {
-            let rec = &self.prims[i as usize];
-            let (t, cand) = self.test_primitive::<KZ>(ray, wr, rec, t_max)?;
-            best = Some(cand);
-            Some(t)
-        })?;
+        let t = self.bvh.traverse(
+            ray,
+            t_max,
+            false,
+            #[inline(always)]
+            |i, t_max| {
+                let rec = &self.prims[i as usize];
+                let (t, cand) = self.test_primitive::<KZ>(ray, wr, rec, t_max)?;
+                best = Some(cand);
+                Some(t)
+            },
+        )?;
         Some(self.make_hit(ray, t, best?))
     }
 
     #[inline]
     fn occluded_axis<const KZ: usize>(&self, ray: &Ray, wr: &WatertightRay, t_max: f32) -> bool {
         self.bvh
-            .traverse(ray, t_max, true, |i, t_max| {
-                let rec = &self.prims[i as usize];
-                self.test_primitive::<KZ>(ray, wr, rec, t_max)
-                    .map(|(t, _)| t)
-            })
+            .traverse(
+                ray,
+                t_max,
+                true,
+                #[inline(always)]
+                |i, t_max| {
+                    let rec = &self.prims[i as usize];
+                    self.test_primitive::<KZ>(ray, wr, rec, t_max)
+                        .map(|(t, _)| t)
+                },
+            )
             .is_some()
     }
 
     /// Tests one leaf record; `KZ` is the ray's dominant axis (see
-    /// [`intersect_triangle_axis`]).
-    #[inline]
+    /// [`intersect_triangle_axis`]). The triangle test is inlined into the traversal loop
+    /// (a call per primitive was ~10% of its instructions); other shapes take a call.
+    #[inline(always)]
     fn test_primitive<const KZ: usize>(
         &self,
         ray: &Ray,
@@ -359,6 +382,19 @@ impl Geometry {
                 },
             ));
         }
+        self.test_object::<KZ>(ray, wr, prim, t_max)
+    }
+
+    /// [`Geometry::test_primitive`] for a primitive tested through its object: spheres, quads
+    /// (and a mesh triangle, which the build always gives a record instead).
+    #[inline(never)]
+    fn test_object<const KZ: usize>(
+        &self,
+        ray: &Ray,
+        wr: &WatertightRay,
+        prim: Primitive,
+        t_max: f32,
+    ) -> Option<(f32, Candidate)> {
         match &self.objects[prim.object as usize].shape {
             WorldShape::Mesh(m) => {
                 let [a, b, c] = m.triangle(prim.index as usize);
