@@ -143,6 +143,19 @@ fn parts(rr: &dyn Reradiation, lambda: f32, dir: Direction, lines: &[DeltaLine])
 /// including light another fluorescent surface re-radiates at any wavelength.
 const LINE_SHARE: f64 = 0.5;
 
+/// How strongly the camera-side excitation draw picks the light `line` for the emission
+/// wavelength `lambda_o` (nm): the line's weight × r(λ_line → λₒ), 0 for lines at or above
+/// λₒ. One definition for the draw ([`draw_excitation`]) and its density
+/// ([`excitation_density`]), which must agree exactly.
+#[inline]
+fn line_score(rr: &dyn Reradiation, line: &DeltaLine, lambda_o: f64) -> f64 {
+    if line.lambda < lambda_o {
+        (line.weight * rr.reradiation(line.lambda, lambda_o)).max(0.0)
+    } else {
+        0.0
+    }
+}
+
 /// Camera paths: an excitation wavelength for the emission wavelength `lambda_o` (nm) drawn
 /// with `u` from the one-sample mixture of the lights' `lines` (probability [`LINE_SHARE`],
 /// a line picked ∝ its weight × r(λ_line → λₒ)) and the material's continuous excitation
@@ -158,13 +171,7 @@ fn draw_excitation(
     u: f64,
     lines: &[DeltaLine],
 ) -> Option<(f32, f64, f64)> {
-    let score = |l: &DeltaLine| -> f64 {
-        if l.lambda < lambda_o {
-            (l.weight * rr.reradiation(l.lambda, lambda_o)).max(0.0)
-        } else {
-            0.0
-        }
-    };
+    let score = |l: &DeltaLine| line_score(rr, l, lambda_o);
     let total: f64 = lines.iter().map(score).sum();
     let q = if total > 0.0 { LINE_SHARE } else { 0.0 };
     if u < q {
@@ -371,13 +378,7 @@ pub fn excitation_density(
     lambda_i: f32,
     lines: &[DeltaLine],
 ) -> f64 {
-    let score = |l: &DeltaLine| -> f64 {
-        if l.lambda < lambda_o {
-            (l.weight * rr.reradiation(l.lambda, lambda_o)).max(0.0)
-        } else {
-            0.0
-        }
-    };
+    let score = |l: &DeltaLine| line_score(rr, l, lambda_o);
     let total: f64 = lines.iter().map(score).sum();
     let q = if total > 0.0 { LINE_SHARE } else { 0.0 };
     if is_line_lane(lines, lambda_i) {
