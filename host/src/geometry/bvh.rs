@@ -988,6 +988,17 @@ fn append_shifted(out: &mut Vec<Node>, sub: Vec<Node>) {
 mod tests {
     use super::*;
 
+    /// Uniform numbers in [0, 1) from a 64-bit LCG started at `s` (the tests' shared
+    /// deterministic source of boxes and rays).
+    fn uniform_stream(mut s: u64) -> impl FnMut() -> f32 {
+        move || {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (s >> 40) as f32 / (1u64 << 24) as f32
+        }
+    }
+
     // Determinism: the parallel build must produce the identical tree (same leaf order, same
     // node bounds and offsets) on 1 and on 2 threads; compared exactly.
     #[test]
@@ -1026,13 +1037,7 @@ mod tests {
     // stable partition.
     #[test]
     fn parallel_collapse_and_partition_match_sequential() {
-        let mut s = 4242u64;
-        let mut next = || {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (s >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut next = uniform_stream(4242);
         let mut prims: Vec<BuildPrim> = (0..(PARALLEL_NODE_THRESHOLD + 5000))
             .map(|i| {
                 let p = Vec3A::new(next(), next(), next()) * 100.0;
@@ -1122,13 +1127,7 @@ mod tests {
     // on whether anything is hit at all.
     #[test]
     fn wide_traversal_matches_brute_force() {
-        let mut s = 99u64;
-        let mut next = || {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (s >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut next = uniform_stream(99);
         let mut boxes = Vec::new();
         for i in 0..3000 {
             let p = Vec3A::new(next(), next(), next()) * 20.0 - 10.0;
@@ -1179,13 +1178,7 @@ mod tests {
     // `t_max`, bit for bit) come in the same order as with the full-size stack.
     #[test]
     fn spilled_stack_stays_exact() {
-        let mut s = 5u64;
-        let mut next = || {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (s >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut next = uniform_stream(5);
         let boxes: Vec<Aabb> = (0..2000)
             .map(|_| {
                 let p = Vec3A::new(next(), next(), next()) * 20.0 - 10.0;
@@ -1246,13 +1239,7 @@ mod tests {
             eprintln!("kernels_visit_identically: this CPU has no AVX2, only one kernel to run");
             return;
         }
-        let mut s = 31u64;
-        let mut next = || {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (s >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut next = uniform_stream(31);
         let boxes: Vec<Aabb> = (0..4000)
             .map(|_| {
                 let p = (Vec3A::new(next(), next(), next()) * 40.0 - 20.0).floor();
