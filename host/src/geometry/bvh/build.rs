@@ -58,44 +58,255 @@ pub(super) fn leaf(prims: &[BuildPrim], bounds: Aabb, first: usize) -> Node {
     }
 }
 
-/// Builds the subtree for `prims` (whose first element is primitive `first` of the final
-/// order) and returns its nodes with child offsets relative to the subtree's own start.
-pub(super) fn build_range(prims: &mut [BuildPrim], first: usize, depth: usize) -> Vec<Node> {
-    let mut out = Vec::new();
-    build_into(prims, first, depth, &mut out);
-    out
+/// The bounds of a node's primitives and of their centroids. The root computes them in one
+/// pass; every other node gets them from its parent's split (the bins on the split axis give
+/// the children's boxes, the partition collects their centroid boxes), so no node passes over
+/// its primitives just to find its bounds.
+#[derive(Clone, Copy)]
+pub(super) struct NodeBounds {
+    pub(super) bounds: Aabb,
+    pub(super) centroids: Aabb,
 }
 
-/// Chooses a split position (number of primitives going left) or `None` for a leaf.
+impl NodeBounds {
+    const EMPTY: NodeBounds = NodeBounds {
+        bounds: Aabb::EMPTY,
+        centroids: Aabb::EMPTY,
+    };
+
+    fn add(self, p: &BuildPrim) -> NodeBounds {
+        NodeBounds {
+            bounds: self.bounds.union(&p.bounds),
+            centroids: self.centroids.grow(p.centroid),
+        }
+    }
+
+    fn union(self, o: NodeBounds) -> NodeBounds {
+        NodeBounds {
+            bounds: self.bounds.union(&o.bounds),
+            centroids: self.centroids.union(&o.centroids),
+        }
+    }
+
+    /// Both boxes of `prims` in one pass (parallel for large nodes; min/max are exact, so the
+    /// result is the same however the chunks combine).
+    pub(super) fn of(prims: &[BuildPrim]) -> NodeBounds {
+        if prims.len() > PARALLEL_NODE_THRESHOLD {
+            prims
+                .par_chunks(CHUNK)
+                .map(|c| c.iter().fold(NodeBounds::EMPTY, NodeBounds::add))
+                .reduce(|| NodeBounds::EMPTY, NodeBounds::union)
+        } else {
+            prims.iter().fold(NodeBounds::EMPTY, NodeBounds::add)
+        }
+    }
+}
+
+/// The primitives with non-empty, finite bounds, in input order, and their [`NodeBounds`]
+/// (the root's), in one parallel pass: each chunk counts its usable boxes, prefix sums place
+/// every chunk's output, and the chunks write their primitives and fold their bounds at once.
+pub(super) fn build_prims(bounds: &[Aabb]) -> (Vec<BuildPrim>, NodeBounds) {
+    let usable = |b: &Aabb| !b.is_empty() && b.min.is_finite() && b.max.is_finite();
+    let counts: Vec<usize> = bounds
+        .par_chunks(CHUNK)
+        .map(|c| c.iter().filter(|b| usable(b)).count())
+        .collect();
+    let total = counts.iter().sum();
+    let mut prims: Vec<BuildPrim> = Vec::with_capacity(total);
+    let mut rest = &mut prims.spare_capacity_mut()[..total];
+    let mut targets = Vec::with_capacity(counts.len());
+    for &n in &counts {
+        let (t, r) = std::mem::take(&mut rest).split_at_mut(n);
+        targets.push(t);
+        rest = r;
+    }
+    let root = bounds
+        .par_chunks(CHUNK)
+        .zip(targets)
+        .enumerate()
+        .map(|(k, (src, dst))| {
+            let mut nb = NodeBounds::EMPTY;
+            let usable_prims = src.iter().enumerate().filter(|(_, b)| usable(b));
+            for ((i, b), d) in usable_prims.zip(dst.iter_mut()) {
+                let p = BuildPrim {
+                    bounds: *b,
+                    centroid: b.centroid(),
+                    index: (k * CHUNK + i) as u32,
+                };
+                nb = nb.add(&p);
+                d.write(p);
+            }
+            nb
+        })
+        .reduce(|| NodeBounds::EMPTY, NodeBounds::union);
+    // SAFETY: the chunks' targets tile the first `total` slots, and chunk k's target has
+    // exactly as many slots as chunk k has usable boxes, each of which wrote one.
+    unsafe { prims.set_len(total) };
+    (prims, root)
+}
+
+/// Builds the tree for `prims` (whose first element is primitive `first` of the final order)
+/// and returns its nodes depth-first, interior offsets counted from the first node.
+#[cfg(test)]
+pub(super) fn build_range(prims: &mut [BuildPrim], first: usize, depth: usize) -> Vec<Node> {
+    let root = NodeBounds::of(prims);
+    build_tree(prims, first, depth, root)
+}
+
+/// [`build_range`] with the root's bounds known. Subtrees above [`PARALLEL_THRESHOLD`]
+/// primitives are built in parallel into separate parts whose interior offsets are distances
+/// (second child minus node), which do not change when a part moves; the parts are then
+/// copied once, in parallel, into their final places, turning distances into indices. (Each
+/// `rayon::join` used to append its two subtrees to its node's list, rebasing every offset: a
+/// copy of the whole tree per parallel level, the root's on one thread.)
+pub(super) fn build_tree(
+    prims: &mut [BuildPrim],
+    first: usize,
+    depth: usize,
+    root: NodeBounds,
+) -> Vec<Node> {
+    let mut parts = Vec::new();
+    let total = build_parts(prims, first, depth, root, &mut parts);
+    if parts.len() == 1 {
+        let mut nodes = parts.pop().unwrap_or_default();
+        for (i, n) in nodes.iter_mut().enumerate() {
+            if n.count == 0 {
+                n.offset += i as u32;
+            }
+        }
+        return nodes;
+    }
+    let mut nodes: Vec<Node> = Vec::with_capacity(total);
+    let mut rest = &mut nodes.spare_capacity_mut()[..total];
+    let mut targets = Vec::with_capacity(parts.len());
+    let mut start = 0;
+    for part in &parts {
+        let (t, r) = std::mem::take(&mut rest).split_at_mut(part.len());
+        targets.push((start, t));
+        start += part.len();
+        rest = r;
+    }
+    parts
+        .par_iter()
+        .zip(targets)
+        .for_each(|(part, (start, dst))| {
+            for (i, (n, d)) in part.iter().zip(dst.iter_mut()).enumerate() {
+                let mut n = *n;
+                if n.count == 0 {
+                    n.offset += (start + i) as u32;
+                }
+                d.write(n);
+            }
+        });
+    // SAFETY: the targets tile the first `total` slots (the parts' lengths sum to `total`)
+    // and every slot was written above.
+    unsafe { nodes.set_len(total) };
+    nodes
+}
+
+/// Appends the parts of the subtree over `prims` to `parts` in depth-first order; returns its
+/// node count. Interior offsets are distances from the node to its second child.
+fn build_parts(
+    prims: &mut [BuildPrim],
+    first: usize,
+    depth: usize,
+    nb: NodeBounds,
+    parts: &mut Vec<Vec<Node>>,
+) -> usize {
+    if prims.len() <= PARALLEL_THRESHOLD {
+        // A binary tree over n primitives has at most 2n − 1 nodes; reserving them saves
+        // the growing vector's copies (pages never written are never touched).
+        let mut out = Vec::with_capacity(2 * prims.len());
+        build_into(prims, first, depth, nb, &mut out);
+        let len = out.len();
+        parts.push(out);
+        return len;
+    }
+    let Some(split) = choose_split(prims, &nb, depth) else {
+        parts.push(vec![leaf(prims, nb.bounds, first)]);
+        return 1;
+    };
+    let me = parts.len();
+    parts.push(vec![interior(&nb.bounds, split.axis)]);
+    let (left, right) = prims.split_at_mut(split.mid);
+    let ((lparts, llen), (rparts, rlen)) = rayon::join(
+        || {
+            let mut p = Vec::new();
+            let n = build_parts(left, first, depth + 1, split.left, &mut p);
+            (p, n)
+        },
+        || {
+            let mut p = Vec::new();
+            let n = build_parts(right, first + split.mid, depth + 1, split.right, &mut p);
+            (p, n)
+        },
+    );
+    parts[me][0].offset = 1 + llen as u32;
+    parts.extend(lparts);
+    parts.extend(rparts);
+    1 + llen + rlen
+}
+
+fn interior(bounds: &Aabb, axis: usize) -> Node {
+    Node {
+        min: bounds.min.into(),
+        offset: 0,
+        max: bounds.max.into(),
+        count: 0,
+        axis: axis as u8,
+        _pad: 0,
+    }
+}
+
+/// A node's split: the axis, the number of primitives going left (they are moved to the
+/// front) and the bounds of both sides.
+pub(super) struct Split {
+    pub(super) axis: usize,
+    pub(super) mid: usize,
+    pub(super) left: NodeBounds,
+    pub(super) right: NodeBounds,
+}
+
+impl Split {
+    /// Split at `mid` without SAH bins (the halves' bounds computed from the primitives).
+    fn at(prims: &[BuildPrim], axis: usize, mid: usize) -> Split {
+        Split {
+            axis,
+            mid,
+            left: NodeBounds::of(&prims[..mid]),
+            right: NodeBounds::of(&prims[mid..]),
+        }
+    }
+}
+
+/// Chooses a split (and partitions `prims` for it) or `None` for a leaf.
 pub(super) fn choose_split(
     prims: &mut [BuildPrim],
-    bounds: &Aabb,
+    nb: &NodeBounds,
     depth: usize,
-) -> Option<(usize, usize)> {
+) -> Option<Split> {
     let n = prims.len();
     if n <= 1 {
         return None;
     }
-    let centroid_bounds = centroid_bounds(prims);
+    let centroid_bounds = nb.centroids;
     let axis = centroid_bounds.longest_axis();
     let extent = centroid_bounds.max - centroid_bounds.min;
     // Deep trees must not overflow the traversal stack: force median splits near the limit.
     let force_split = depth + 8 >= MAX_DEPTH;
     if extent[axis] <= 0.0 {
         // All centroids coincide: SAH cannot separate them; split by index if too many.
-        return if n > MAX_LEAF_SIZE {
-            Some((axis, n / 2))
-        } else {
-            None
-        };
+        return (n > MAX_LEAF_SIZE).then(|| Split::at(prims, axis, n / 2));
     }
     if force_split {
         prims.select_nth_unstable_by(n / 2, |a, b| a.centroid[axis].total_cmp(&b.centroid[axis]));
-        return Some((axis, n / 2));
+        return Some(Split::at(prims, axis, n / 2));
     }
 
-    // Bin along every axis with a non-zero centroid extent; keep the cheapest split.
-    let bins = bin_all(prims, &centroid_bounds);
+    // Bin along every axis with a non-zero centroid extent; keep the cheapest split. Large
+    // nodes keep each chunk's bins: they give every chunk's count for the partition.
+    let mut bins = Bins::EMPTY;
+    let chunk_bins = bin_all(prims, &centroid_bounds, &mut bins);
     let mut best: Option<(f32, usize, usize)> = None; // (cost, axis, bin boundary)
     for ax in 0..3 {
         if extent[ax] <= 0.0 {
@@ -138,7 +349,7 @@ pub(super) fn choose_split(
             }
         }
     }
-    let area = bounds.surface_area();
+    let area = nb.bounds.surface_area();
     let (cost, ax, boundary) = best?;
     let split_cost = TRAVERSAL_COST + if area > 0.0 { cost / area } else { 0.0 };
     if n <= MAX_LEAF_SIZE && n as f32 <= split_cost {
@@ -146,19 +357,39 @@ pub(super) fn choose_split(
     }
     let min = centroid_bounds.min[ax];
     let scale = BIN_COUNT as f32 / extent[ax];
-    let mid = if n > PARALLEL_NODE_THRESHOLD {
-        partition_stable_parallel(prims, |p| bin_of(p.centroid[ax], min, scale) < boundary)
-    } else {
-        partition(prims, |p| bin_of(p.centroid[ax], min, scale) < boundary)
+    let goes_left = |p: &BuildPrim| bin_of(p.centroid[ax], min, scale) < boundary;
+    let (mid, left_centroids, right_centroids) = match chunk_bins {
+        Some(chunks) => {
+            let lefts: Vec<usize> = chunks
+                .iter()
+                .map(|b| b.counts[ax][..boundary].iter().sum::<u32>() as usize)
+                .collect();
+            partition_stable_parallel_counted(prims, &lefts, goes_left)
+        }
+        None => partition(prims, goes_left),
     };
     if mid == 0 || mid == n {
-        return if n > MAX_LEAF_SIZE {
-            Some((ax, n / 2))
-        } else {
-            None
-        };
+        return (n > MAX_LEAF_SIZE).then(|| Split::at(prims, ax, n / 2));
     }
-    Some((ax, mid))
+    // The sides' boxes are the unions of their bins' boxes on the split axis: the same
+    // primitives' bounds, combined by exact min/max.
+    let side = |r: std::ops::Range<usize>| {
+        bins.boxes[ax][r]
+            .iter()
+            .fold(Aabb::EMPTY, |acc, b| acc.union(b))
+    };
+    Some(Split {
+        axis: ax,
+        mid,
+        left: NodeBounds {
+            bounds: side(0..boundary),
+            centroids: left_centroids,
+        },
+        right: NodeBounds {
+            bounds: side(boundary..BIN_COUNT),
+            centroids: right_centroids,
+        },
+    })
 }
 
 #[inline]
@@ -166,15 +397,24 @@ pub(super) fn bin_of(c: f32, min: f32, scale: f32) -> usize {
     (((c - min) * scale) as usize).min(BIN_COUNT - 1)
 }
 
-pub(super) fn partition<F: Fn(&BuildPrim) -> bool>(prims: &mut [BuildPrim], left: F) -> usize {
+/// In-place (unstable) partition; also returns the centroid bounds of both sides, gathered
+/// in the same pass.
+pub(super) fn partition<F: Fn(&BuildPrim) -> bool>(
+    prims: &mut [BuildPrim],
+    left: F,
+) -> (usize, Aabb, Aabb) {
+    let (mut lc, mut rc) = (Aabb::EMPTY, Aabb::EMPTY);
     let mut i = 0;
     for j in 0..prims.len() {
         if left(&prims[j]) {
+            lc = lc.grow(prims[j].centroid);
             prims.swap(i, j);
             i += 1;
+        } else {
+            rc = rc.grow(prims[j].centroid);
         }
     }
-    i
+    (i, lc, rc)
 }
 
 /// Primitive counts and bounds per bin along each axis.
@@ -204,64 +444,44 @@ impl Bins {
         }
     }
 
-    fn merge(mut self, o: Bins) -> Bins {
+    fn merge(&mut self, o: &Bins) {
         for ax in 0..3 {
             for b in 0..BIN_COUNT {
                 self.counts[ax][b] += o.counts[ax][b];
                 self.boxes[ax][b] = self.boxes[ax][b].union(&o.boxes[ax][b]);
             }
         }
-        self
     }
 }
 
-/// Bins `prims` along all three axes; in parallel chunks for large nodes. Counts add and boxes
-/// take min/max, both exact, so the result does not depend on how the chunks are combined.
-pub(super) fn bin_all(prims: &[BuildPrim], centroids: &Aabb) -> Bins {
+/// Bins `prims` along all three axes into `bins`. Large nodes bin in parallel chunks and
+/// return the chunks' own bins too (their counts place each chunk's output in the
+/// partition); counts add and boxes take min/max, both exact, so the merged bins do not
+/// depend on how the chunks were scheduled.
+pub(super) fn bin_all(prims: &[BuildPrim], centroids: &Aabb, bins: &mut Bins) -> Option<Vec<Bins>> {
     if prims.len() > PARALLEL_NODE_THRESHOLD {
-        prims
+        let chunks: Vec<Bins> = prims
             .par_chunks(CHUNK)
             .map(|c| {
                 let mut b = Bins::EMPTY;
                 b.add(c, centroids);
                 b
             })
-            .reduce(|| Bins::EMPTY, Bins::merge)
+            .collect();
+        for c in &chunks {
+            bins.merge(c);
+        }
+        Some(chunks)
     } else {
-        let mut b = Bins::EMPTY;
-        b.add(prims, centroids);
-        b
+        bins.add(prims, centroids);
+        None
     }
 }
 
-/// Union of the primitives' bounds (parallel for large nodes; min/max are exact, so the
-/// result is the same however the chunks combine).
-pub(super) fn prim_bounds(prims: &[BuildPrim]) -> Aabb {
-    if prims.len() > PARALLEL_NODE_THRESHOLD {
-        prims
-            .par_chunks(CHUNK)
-            .map(|c| c.iter().fold(Aabb::EMPTY, |b, p| b.union(&p.bounds)))
-            .reduce(|| Aabb::EMPTY, |a, b| a.union(&b))
-    } else {
-        prims.iter().fold(Aabb::EMPTY, |b, p| b.union(&p.bounds))
-    }
-}
-
-/// Bounds of the primitives' centroids (parallel for large nodes, exact as [`prim_bounds`]).
-pub(super) fn centroid_bounds(prims: &[BuildPrim]) -> Aabb {
-    if prims.len() > PARALLEL_NODE_THRESHOLD {
-        prims
-            .par_chunks(CHUNK)
-            .map(|c| c.iter().fold(Aabb::EMPTY, |b, p| b.grow(p.centroid)))
-            .reduce(|| Aabb::EMPTY, |a, b| a.union(&b))
-    } else {
-        prims.iter().fold(Aabb::EMPTY, |b, p| b.grow(p.centroid))
-    }
-}
-
-/// Stable partition in parallel chunks: each chunk counts its left primitives, the prefix sums
-/// give every chunk its own ranges of the output, and chunks copy there independently. The
-/// result (both sides in input order) depends only on the input, never on the thread count.
+/// Stable partition in parallel chunks (both sides keep the input order), counting each
+/// chunk's left primitives first. The result depends only on the input, never on the thread
+/// count.
+#[cfg(test)]
 pub(super) fn partition_stable_parallel<F: Fn(&BuildPrim) -> bool + Sync>(
     prims: &mut [BuildPrim],
     left: F,
@@ -270,6 +490,17 @@ pub(super) fn partition_stable_parallel<F: Fn(&BuildPrim) -> bool + Sync>(
         .par_chunks(CHUNK)
         .map(|c| c.iter().filter(|p| left(p)).count())
         .collect();
+    partition_stable_parallel_counted(prims, &lefts, left).0
+}
+
+/// Stable partition in parallel chunks of [`CHUNK`] whose left counts `lefts` are known (from
+/// the chunks' bins): prefix sums give every chunk its own ranges of the output, and chunks
+/// copy there independently, gathering both sides' centroid bounds as they go.
+pub(super) fn partition_stable_parallel_counted<F: Fn(&BuildPrim) -> bool + Sync>(
+    prims: &mut [BuildPrim],
+    lefts: &[usize],
+    left: F,
+) -> (usize, Aabb, Aabb) {
     let mid: usize = lefts.iter().sum();
     // Left uninitialised (every element is written below by exactly one chunk): a copy of the
     // input here was a serial pass over the largest node, the first touch of its pages too.
@@ -284,21 +515,29 @@ pub(super) fn partition_stable_parallel<F: Fn(&BuildPrim) -> bool + Sync>(
         (l_rest, r_rest) = (lr, rr);
         targets.push((l, r));
     }
-    prims
+    let (lc, rc) = prims
         .par_chunks(CHUNK)
         .zip(targets.into_par_iter())
-        .for_each(|(src, (l, r))| {
+        .map(|(src, (l, r))| {
             let (mut i, mut j) = (0, 0);
+            let (mut lc, mut rc) = (Aabb::EMPTY, Aabb::EMPTY);
             for p in src {
                 if left(p) {
+                    lc = lc.grow(p.centroid);
                     l[i].write(*p);
                     i += 1;
                 } else {
+                    rc = rc.grow(p.centroid);
                     r[j].write(*p);
                     j += 1;
                 }
             }
-        });
+            (lc, rc)
+        })
+        .reduce(
+            || (Aabb::EMPTY, Aabb::EMPTY),
+            |a, b| (a.0.union(&b.0), a.1.union(&b.1)),
+        );
     prims
         .par_chunks_mut(CHUNK)
         .zip(out.par_chunks(CHUNK))
@@ -309,51 +548,26 @@ pub(super) fn partition_stable_parallel<F: Fn(&BuildPrim) -> bool + Sync>(
                 *d = unsafe { s.assume_init() };
             }
         });
-    mid
+    (mid, lc, rc)
 }
 
-pub(super) fn build_into(prims: &mut [BuildPrim], first: usize, depth: usize, out: &mut Vec<Node>) {
-    let bounds = prim_bounds(prims);
-    let Some((axis, mid)) = choose_split(prims, &bounds, depth) else {
-        out.push(leaf(prims, bounds, first));
+/// The serial build of a subtree (below [`PARALLEL_THRESHOLD`] primitives) into `out`,
+/// depth-first; interior offsets are distances from the node to its second child.
+pub(super) fn build_into(
+    prims: &mut [BuildPrim],
+    first: usize,
+    depth: usize,
+    nb: NodeBounds,
+    out: &mut Vec<Node>,
+) {
+    let Some(split) = choose_split(prims, &nb, depth) else {
+        out.push(leaf(prims, nb.bounds, first));
         return;
     };
     let me = out.len();
-    out.push(Node {
-        min: bounds.min.into(),
-        offset: 0,
-        max: bounds.max.into(),
-        count: 0,
-        axis: axis as u8,
-        _pad: 0,
-    });
-    let (left, right) = prims.split_at_mut(mid);
-    if prims_len(left, right) > PARALLEL_THRESHOLD {
-        let (l, r) = rayon::join(
-            || build_range(left, first, depth + 1),
-            || build_range(right, first + mid, depth + 1),
-        );
-        append_shifted(out, l);
-        out[me].offset = out.len() as u32;
-        append_shifted(out, r);
-    } else {
-        build_into(left, first, depth + 1, out);
-        out[me].offset = out.len() as u32;
-        build_into(right, first + mid, depth + 1, out);
-    }
-}
-
-pub(super) fn prims_len(a: &[BuildPrim], b: &[BuildPrim]) -> usize {
-    a.len() + b.len()
-}
-
-/// Appends a separately built subtree, rebasing its interior offsets to its new position.
-pub(super) fn append_shifted(out: &mut Vec<Node>, sub: Vec<Node>) {
-    let base = out.len() as u32;
-    out.extend(sub.into_iter().map(|mut n| {
-        if n.count == 0 {
-            n.offset += base;
-        }
-        n
-    }));
+    out.push(interior(&nb.bounds, split.axis));
+    let (left, right) = prims.split_at_mut(split.mid);
+    build_into(left, first, depth + 1, split.left, out);
+    out[me].offset = (out.len() - me) as u32;
+    build_into(right, first + split.mid, depth + 1, split.right, out);
 }
