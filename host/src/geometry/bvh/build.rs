@@ -165,8 +165,21 @@ pub(super) fn build_tree(
     depth: usize,
     root: NodeBounds,
 ) -> Vec<Node> {
+    // The top nodes partition from one buffer into the other and back (see `build_parts`);
+    // the scratch buffer's pages are only touched by those partitions, in parallel.
+    let mut scratch: Vec<BuildPrim> = Vec::new();
+    if prims.len() > PARALLEL_NODE_THRESHOLD {
+        scratch.reserve_exact(prims.len());
+    }
+    let spare_len = prims.len().min(scratch.capacity());
+    let spare = &mut scratch.spare_capacity_mut()[..spare_len];
     let mut parts = Vec::new();
-    let total = build_parts(prims, first, depth, root, &mut parts);
+    let node = Subtree {
+        first,
+        depth,
+        nb: root,
+    };
+    let total = build_parts(prims, spare, true, node, &mut parts);
     if parts.len() == 1 {
         let mut nodes = parts.pop().unwrap_or_default();
         for (i, n) in nodes.iter_mut().enumerate() {
@@ -204,40 +217,85 @@ pub(super) fn build_tree(
     nodes
 }
 
-/// Appends the parts of the subtree over `prims` to `parts` in depth-first order; returns its
-/// node count. Interior offsets are distances from the node to its second child.
-fn build_parts(
-    prims: &mut [BuildPrim],
+/// A subtree to build: its first primitive's place in the final order, its depth and its
+/// primitives' bounds.
+#[derive(Clone, Copy)]
+struct Subtree {
     first: usize,
     depth: usize,
     nb: NodeBounds,
+}
+
+/// Appends the parts of the subtree over `data` to `parts` in depth-first order; returns its
+/// node count. Interior offsets are distances from the node to its second child.
+///
+/// Nodes above [`PARALLEL_NODE_THRESHOLD`] primitives partition `data` stably into `spare`
+/// (as long, free), which then holds their children's primitives while `data` becomes the
+/// children's free space: one pass per top level, where partitioning into a new buffer and
+/// copying back took two and a new allocation. `home` says whether `data` lies in the final
+/// primitive array; a subtree that is not there moves back once, when it gets small enough
+/// for in-place partitions (in its own task, so in parallel with its siblings).
+fn build_parts(
+    data: &mut [BuildPrim],
+    spare: &mut [MaybeUninit<BuildPrim>],
+    home: bool,
+    node: Subtree,
     parts: &mut Vec<Vec<Node>>,
 ) -> usize {
-    if prims.len() <= PARALLEL_THRESHOLD {
+    let n = data.len();
+    if !home && (n <= PARALLEL_NODE_THRESHOLD) {
+        let data = move_to(data, spare);
+        return build_parts(data, &mut [], true, node, parts);
+    }
+    let Subtree { first, depth, nb } = node;
+    if n <= PARALLEL_THRESHOLD {
         // A binary tree over n primitives has at most 2n − 1 nodes; reserving them saves
         // the growing vector's copies (pages never written are never touched).
-        let mut out = Vec::with_capacity(2 * prims.len());
-        build_into(prims, first, depth, nb, &mut out);
-        let len = out.len();
+        let mut out = Vec::with_capacity(2 * n);
+        build_into(data, first, depth, nb, &mut out);
         parts.push(out);
-        return len;
+        return parts.last().map_or(0, Vec::len);
     }
-    let Some(split) = choose_split(prims, &nb, depth) else {
-        parts.push(vec![leaf(prims, nb.bounds, first)]);
+    let split = if n > PARALLEL_NODE_THRESHOLD {
+        split_large(data, spare, &nb, depth)
+    } else {
+        choose_split(data, &nb, depth).map(|s| (s, false))
+    };
+    let Some((split, moved)) = split else {
+        let data = if home { data } else { move_to(data, spare) };
+        parts.push(vec![leaf(data, nb.bounds, first)]);
         return 1;
+    };
+    // After a partition into `spare` the primitives are there and `data` is free.
+    let (data, spare, home) = if moved {
+        // SAFETY: `split_large` wrote every element of `spare` (see `partition_into`).
+        (unsafe { assume_init(spare) }, as_uninit(data), !home)
+    } else {
+        (data, spare, home)
     };
     let me = parts.len();
     parts.push(vec![interior(&nb.bounds, split.axis)]);
-    let (left, right) = prims.split_at_mut(split.mid);
+    let (left, right) = data.split_at_mut(split.mid);
+    let (l_spare, r_spare) = spare.split_at_mut(split.mid.min(spare.len()));
+    let left_node = Subtree {
+        first,
+        depth: depth + 1,
+        nb: split.left,
+    };
+    let right_node = Subtree {
+        first: first + split.mid,
+        depth: depth + 1,
+        nb: split.right,
+    };
     let ((lparts, llen), (rparts, rlen)) = rayon::join(
         || {
             let mut p = Vec::new();
-            let n = build_parts(left, first, depth + 1, split.left, &mut p);
+            let n = build_parts(left, l_spare, home, left_node, &mut p);
             (p, n)
         },
         || {
             let mut p = Vec::new();
-            let n = build_parts(right, first + split.mid, depth + 1, split.right, &mut p);
+            let n = build_parts(right, r_spare, home, right_node, &mut p);
             (p, n)
         },
     );
@@ -245,6 +303,39 @@ fn build_parts(
     parts.extend(lparts);
     parts.extend(rparts);
     1 + llen + rlen
+}
+
+/// Copies `data` into `dst` (as long) in parallel chunks and returns it as initialised.
+fn move_to<'a>(data: &[BuildPrim], dst: &'a mut [MaybeUninit<BuildPrim>]) -> &'a mut [BuildPrim] {
+    assert_eq!(
+        data.len(),
+        dst.len(),
+        "a subtree's two buffers have one length"
+    );
+    dst.par_chunks_mut(CHUNK)
+        .zip(data.par_chunks(CHUNK))
+        .for_each(|(d, s)| {
+            for (d, s) in d.iter_mut().zip(s) {
+                d.write(*s);
+            }
+        });
+    // SAFETY: every element of `dst` was written just above.
+    unsafe { assume_init(dst) }
+}
+
+/// Views initialised primitives as free space. Only whole primitives are ever written
+/// through it, so the slice stays initialised.
+fn as_uninit(s: &mut [BuildPrim]) -> &mut [MaybeUninit<BuildPrim>] {
+    // SAFETY: `MaybeUninit<T>` has `T`'s layout, and every initialised value is a valid
+    // `MaybeUninit<T>`.
+    unsafe { &mut *(s as *mut [BuildPrim] as *mut [MaybeUninit<BuildPrim>]) }
+}
+
+/// # Safety
+/// Every element of `s` must have been written.
+unsafe fn assume_init(s: &mut [MaybeUninit<BuildPrim>]) -> &mut [BuildPrim] {
+    // SAFETY: same layout, and the caller guarantees that every element is initialised.
+    unsafe { &mut *(s as *mut [MaybeUninit<BuildPrim>] as *mut [BuildPrim]) }
 }
 
 fn interior(bounds: &Aabb, axis: usize) -> Node {
@@ -268,6 +359,29 @@ pub(super) struct Split {
 }
 
 impl Split {
+    /// The SAH split at bin `boundary` of axis `ax`, `mid` primitives left with centroid
+    /// bounds `lc`, the rest with `rc`. The sides' boxes are the unions of their bins' boxes
+    /// on that axis: the same primitives' bounds, combined by exact min/max.
+    fn from_bins(bins: &Bins, ax: usize, boundary: usize, mid: usize, lc: Aabb, rc: Aabb) -> Split {
+        let side = |r: std::ops::Range<usize>| {
+            bins.boxes[ax][r]
+                .iter()
+                .fold(Aabb::EMPTY, |acc, b| acc.union(b))
+        };
+        Split {
+            axis: ax,
+            mid,
+            left: NodeBounds {
+                bounds: side(0..boundary),
+                centroids: lc,
+            },
+            right: NodeBounds {
+                bounds: side(boundary..BIN_COUNT),
+                centroids: rc,
+            },
+        }
+    }
+
     /// Split at `mid` without SAH bins (the halves' bounds computed from the primitives).
     fn at(prims: &[BuildPrim], axis: usize, mid: usize) -> Split {
         Split {
@@ -279,7 +393,9 @@ impl Split {
     }
 }
 
-/// Chooses a split (and partitions `prims` for it) or `None` for a leaf.
+/// Chooses a split (and partitions `prims` in place for it) or `None` for a leaf. For nodes
+/// of at most [`PARALLEL_NODE_THRESHOLD`] primitives; larger ones use [`split_large`], which
+/// gives the same split.
 pub(super) fn choose_split(
     prims: &mut [BuildPrim],
     nb: &NodeBounds,
@@ -292,22 +408,88 @@ pub(super) fn choose_split(
     let centroid_bounds = nb.centroids;
     let axis = centroid_bounds.longest_axis();
     let extent = centroid_bounds.max - centroid_bounds.min;
-    // Deep trees must not overflow the traversal stack: force median splits near the limit.
-    let force_split = depth + 8 >= MAX_DEPTH;
     if extent[axis] <= 0.0 {
         // All centroids coincide: SAH cannot separate them; split by index if too many.
         return (n > MAX_LEAF_SIZE).then(|| Split::at(prims, axis, n / 2));
     }
-    if force_split {
+    // Deep trees must not overflow the traversal stack: force median splits near the limit.
+    if depth + 8 >= MAX_DEPTH {
         prims.select_nth_unstable_by(n / 2, |a, b| a.centroid[axis].total_cmp(&b.centroid[axis]));
         return Some(Split::at(prims, axis, n / 2));
     }
-
-    // Bin along every axis with a non-zero centroid extent; keep the cheapest split. Large
-    // nodes keep each chunk's bins: they give every chunk's count for the partition.
     let mut bins = Bins::EMPTY;
-    let chunk_bins = bin_all(prims, &centroid_bounds, &mut bins);
-    let mut best: Option<(f32, usize, usize)> = None; // (cost, axis, bin boundary)
+    bins.add(prims, &centroid_bounds);
+    let (cost, ax, boundary) = best_split(&bins, extent)?;
+    let area = nb.bounds.surface_area();
+    let split_cost = TRAVERSAL_COST + if area > 0.0 { cost / area } else { 0.0 };
+    if n <= MAX_LEAF_SIZE && n as f32 <= split_cost {
+        return None;
+    }
+    let (min, scale) = (centroid_bounds.min[ax], BIN_COUNT as f32 / extent[ax]);
+    let (mid, lc, rc) = partition(prims, |p| bin_of(p.centroid[ax], min, scale) < boundary);
+    if mid == 0 || mid == n {
+        return (n > MAX_LEAF_SIZE).then(|| Split::at(prims, ax, n / 2));
+    }
+    Some(Split::from_bins(&bins, ax, boundary, mid, lc, rc))
+}
+
+/// [`choose_split`] for nodes above [`PARALLEL_NODE_THRESHOLD`] primitives: bins in parallel
+/// chunks and partitions stably from `data` into `spare` (then `true`: the primitives are in
+/// `spare`, every element written) or splits in place (`false`). Such nodes are never leaves
+/// unless no split exists at all (then `None`, nothing moved).
+fn split_large(
+    data: &mut [BuildPrim],
+    spare: &mut [MaybeUninit<BuildPrim>],
+    nb: &NodeBounds,
+    depth: usize,
+) -> Option<(Split, bool)> {
+    let n = data.len();
+    let centroid_bounds = nb.centroids;
+    let axis = centroid_bounds.longest_axis();
+    let extent = centroid_bounds.max - centroid_bounds.min;
+    if extent[axis] <= 0.0 {
+        return Some((Split::at(data, axis, n / 2), false));
+    }
+    if depth + 8 >= MAX_DEPTH {
+        data.select_nth_unstable_by(n / 2, |a, b| a.centroid[axis].total_cmp(&b.centroid[axis]));
+        return Some((Split::at(data, axis, n / 2), false));
+    }
+    // Each chunk's bins are kept: their counts place the chunk's output in the partition.
+    // Counts add and boxes take min/max, both exact, so the merged bins do not depend on how
+    // the chunks were scheduled.
+    let chunks: Vec<Bins> = data
+        .par_chunks(CHUNK)
+        .map(|c| {
+            let mut b = Bins::EMPTY;
+            b.add(c, &centroid_bounds);
+            b
+        })
+        .collect();
+    let mut bins = Bins::EMPTY;
+    for c in &chunks {
+        bins.merge(c);
+    }
+    // (The SAH leaf test of `choose_split` never applies above `MAX_LEAF_SIZE`.)
+    let (_, ax, boundary) = best_split(&bins, extent)?;
+    let lefts: Vec<usize> = chunks
+        .iter()
+        .map(|b| b.counts[ax][..boundary].iter().sum::<u32>() as usize)
+        .collect();
+    let (min, scale) = (centroid_bounds.min[ax], BIN_COUNT as f32 / extent[ax]);
+    let goes_left = |p: &BuildPrim| bin_of(p.centroid[ax], min, scale) < boundary;
+    let (mid, lc, rc) = partition_into(data, spare, &lefts, goes_left);
+    if mid == 0 || mid == n {
+        // SAFETY: `partition_into` wrote every element of `spare`.
+        let moved = unsafe { assume_init(spare) };
+        return Some((Split::at(moved, ax, n / 2), true));
+    }
+    Some((Split::from_bins(&bins, ax, boundary, mid, lc, rc), true))
+}
+
+/// The cheapest split by the SAH over the bins of every axis with a non-zero centroid
+/// extent: (cost, axis, first bin of the right side).
+fn best_split(bins: &Bins, extent: Vec3A) -> Option<(f32, usize, usize)> {
+    let mut best: Option<(f32, usize, usize)> = None;
     for ax in 0..3 {
         if extent[ax] <= 0.0 {
             continue;
@@ -349,47 +531,7 @@ pub(super) fn choose_split(
             }
         }
     }
-    let area = nb.bounds.surface_area();
-    let (cost, ax, boundary) = best?;
-    let split_cost = TRAVERSAL_COST + if area > 0.0 { cost / area } else { 0.0 };
-    if n <= MAX_LEAF_SIZE && n as f32 <= split_cost {
-        return None;
-    }
-    let min = centroid_bounds.min[ax];
-    let scale = BIN_COUNT as f32 / extent[ax];
-    let goes_left = |p: &BuildPrim| bin_of(p.centroid[ax], min, scale) < boundary;
-    let (mid, left_centroids, right_centroids) = match chunk_bins {
-        Some(chunks) => {
-            let lefts: Vec<usize> = chunks
-                .iter()
-                .map(|b| b.counts[ax][..boundary].iter().sum::<u32>() as usize)
-                .collect();
-            partition_stable_parallel_counted(prims, &lefts, goes_left)
-        }
-        None => partition(prims, goes_left),
-    };
-    if mid == 0 || mid == n {
-        return (n > MAX_LEAF_SIZE).then(|| Split::at(prims, ax, n / 2));
-    }
-    // The sides' boxes are the unions of their bins' boxes on the split axis: the same
-    // primitives' bounds, combined by exact min/max.
-    let side = |r: std::ops::Range<usize>| {
-        bins.boxes[ax][r]
-            .iter()
-            .fold(Aabb::EMPTY, |acc, b| acc.union(b))
-    };
-    Some(Split {
-        axis: ax,
-        mid,
-        left: NodeBounds {
-            bounds: side(0..boundary),
-            centroids: left_centroids,
-        },
-        right: NodeBounds {
-            bounds: side(boundary..BIN_COUNT),
-            centroids: right_centroids,
-        },
-    })
+    best
 }
 
 #[inline]
@@ -454,33 +596,9 @@ impl Bins {
     }
 }
 
-/// Bins `prims` along all three axes into `bins`. Large nodes bin in parallel chunks and
-/// return the chunks' own bins too (their counts place each chunk's output in the
-/// partition); counts add and boxes take min/max, both exact, so the merged bins do not
-/// depend on how the chunks were scheduled.
-pub(super) fn bin_all(prims: &[BuildPrim], centroids: &Aabb, bins: &mut Bins) -> Option<Vec<Bins>> {
-    if prims.len() > PARALLEL_NODE_THRESHOLD {
-        let chunks: Vec<Bins> = prims
-            .par_chunks(CHUNK)
-            .map(|c| {
-                let mut b = Bins::EMPTY;
-                b.add(c, centroids);
-                b
-            })
-            .collect();
-        for c in &chunks {
-            bins.merge(c);
-        }
-        Some(chunks)
-    } else {
-        bins.add(prims, centroids);
-        None
-    }
-}
-
 /// Stable partition in parallel chunks (both sides keep the input order), counting each
-/// chunk's left primitives first. The result depends only on the input, never on the thread
-/// count.
+/// chunk's left primitives first, into a new buffer copied back. The result depends only on
+/// the input, never on the thread count.
 #[cfg(test)]
 pub(super) fn partition_stable_parallel<F: Fn(&BuildPrim) -> bool + Sync>(
     prims: &mut [BuildPrim],
@@ -490,32 +608,48 @@ pub(super) fn partition_stable_parallel<F: Fn(&BuildPrim) -> bool + Sync>(
         .par_chunks(CHUNK)
         .map(|c| c.iter().filter(|p| left(p)).count())
         .collect();
-    partition_stable_parallel_counted(prims, &lefts, left).0
+    let mut out: Vec<BuildPrim> = Vec::with_capacity(prims.len());
+    let (mid, _, _) = partition_into(
+        prims,
+        &mut out.spare_capacity_mut()[..prims.len()],
+        &lefts,
+        left,
+    );
+    // SAFETY: `partition_into` wrote every element.
+    unsafe { out.set_len(prims.len()) };
+    prims.copy_from_slice(&out);
+    mid
 }
 
-/// Stable partition in parallel chunks of [`CHUNK`] whose left counts `lefts` are known (from
-/// the chunks' bins): prefix sums give every chunk its own ranges of the output, and chunks
-/// copy there independently, gathering both sides' centroid bounds as they go.
-pub(super) fn partition_stable_parallel_counted<F: Fn(&BuildPrim) -> bool + Sync>(
-    prims: &mut [BuildPrim],
+/// Stable partition of `src` into `dst` (as long) in parallel chunks of [`CHUNK`] whose left
+/// counts `lefts` are known (from the chunks' bins): prefix sums give every chunk its own
+/// ranges of `dst`, and chunks copy there independently, gathering both sides' centroid
+/// bounds as they go. Writes every element of `dst`; returns the left count and the sides'
+/// centroid bounds.
+pub(super) fn partition_into<F: Fn(&BuildPrim) -> bool + Sync>(
+    src: &[BuildPrim],
+    dst: &mut [MaybeUninit<BuildPrim>],
     lefts: &[usize],
     left: F,
 ) -> (usize, Aabb, Aabb) {
+    assert_eq!(
+        src.len(),
+        dst.len(),
+        "partition source and target have one length"
+    );
     let mid: usize = lefts.iter().sum();
-    // Left uninitialised (every element is written below by exactly one chunk): a copy of the
-    // input here was a serial pass over the largest node, the first touch of its pages too.
-    let mut out: Vec<MaybeUninit<BuildPrim>> = Vec::with_capacity(prims.len());
-    out.resize_with(prims.len(), MaybeUninit::uninit);
-    let (mut l_rest, mut r_rest) = out.split_at_mut(mid);
+    let (mut l_rest, mut r_rest) = dst.split_at_mut(mid);
     let mut targets = Vec::with_capacity(lefts.len());
     for (k, &nl) in lefts.iter().enumerate() {
-        let len = CHUNK.min(prims.len() - k * CHUNK);
+        let len = CHUNK.min(src.len() - k * CHUNK);
         let (l, lr) = std::mem::take(&mut l_rest).split_at_mut(nl);
         let (r, rr) = std::mem::take(&mut r_rest).split_at_mut(len - nl);
         (l_rest, r_rest) = (lr, rr);
         targets.push((l, r));
     }
-    let (lc, rc) = prims
+    // The chunks' left and right ranges tile `dst` exactly (their lengths sum to each
+    // chunk's length, the left ones to `mid`), so every element is written once.
+    let (lc, rc) = src
         .par_chunks(CHUNK)
         .zip(targets.into_par_iter())
         .map(|(src, (l, r))| {
@@ -538,16 +672,6 @@ pub(super) fn partition_stable_parallel_counted<F: Fn(&BuildPrim) -> bool + Sync
             || (Aabb::EMPTY, Aabb::EMPTY),
             |a, b| (a.0.union(&b.0), a.1.union(&b.1)),
         );
-    prims
-        .par_chunks_mut(CHUNK)
-        .zip(out.par_chunks(CHUNK))
-        .for_each(|(d, s)| {
-            for (d, s) in d.iter_mut().zip(s) {
-                // SAFETY: the chunks' left and right ranges tile `out` exactly (their lengths
-                // sum to each chunk's length), so every element was written above.
-                *d = unsafe { s.assume_init() };
-            }
-        });
     (mid, lc, rc)
 }
 
