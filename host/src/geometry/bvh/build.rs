@@ -180,6 +180,9 @@ pub(super) fn build_tree(
         nb: root,
     };
     let total = build_parts(prims, spare, true, node, &mut parts);
+    // Freed before the parts are copied, so that it never coexists with both copies of the
+    // nodes (the build's peak memory).
+    drop(scratch);
     if parts.len() == 1 {
         let mut nodes = parts.pop().unwrap_or_default();
         for (i, n) in nodes.iter_mut().enumerate() {
@@ -199,8 +202,9 @@ pub(super) fn build_tree(
         start += part.len();
         rest = r;
     }
+    // Each part is freed as soon as it is copied.
     parts
-        .par_iter()
+        .into_par_iter()
         .zip(targets)
         .for_each(|(part, (start, dst))| {
             for (i, (n, d)) in part.iter().zip(dst.iter_mut()).enumerate() {
@@ -250,9 +254,11 @@ fn build_parts(
     let Subtree { first, depth, nb } = node;
     if n <= PARALLEL_THRESHOLD {
         // A binary tree over n primitives has at most 2n − 1 nodes; reserving them saves
-        // the growing vector's copies (pages never written are never touched).
+        // the growing vector's copies, and giving back the unused tail (about half: leaves
+        // hold several primitives) keeps it from raising the peak memory.
         let mut out = Vec::with_capacity(2 * n);
         build_into(data, first, depth, nb, &mut out);
+        out.shrink_to_fit();
         parts.push(out);
         return parts.last().map_or(0, Vec::len);
     }
