@@ -378,6 +378,9 @@ macro_rules! material_type {
             fn spectrally_flat(&self) -> bool {
                 self.material.spectrally_flat()
             }
+            fn f_same_for_all_directions(&self) -> bool {
+                self.material.f_same_for_all_directions()
+            }
             #[inline]
             fn sample_v4(&self, q: &MaterialQuery) -> PluginResult<Option<ScatterF32>> {
                 Ok(sample_v4(&*self.material, q))
