@@ -59,9 +59,9 @@
 //! same for every direction on a side
 //! ([`Material::f_same_for_all_directions`](crate::Material::f_same_for_all_directions): an
 //! ideal diffuse reflector), so the host reuses a sampled value for next-event estimation
-//! instead of calling `eval` again; and its face [`AbiMaterialV5`] takes the same
-//! [`MaterialQuery`] as v4 but writes its result through a reference, with a panic guard that
-//! needs no thread-local (`guard::guarded_call_v5`). Read once when the material is built and
+//! instead of calling `eval` again; and its face [`AbiMaterialV5`] takes the query with the
+//! surface by reference ([`QueryV5`]: the host's own record, not a copy) and writes its result
+//! through a reference, with a panic guard that needs no thread-local (`guard::guarded_call_v5`). Read once when the material is built and
 //! carried in [`MaterialWithV5`]; the host checks the claim. Lights are built through v4 as
 //! before. A library older than v5 is served through v4 (evaluated again: always safe).
 //!
@@ -71,7 +71,7 @@
 //! [`LightSource::emission_spectrum`]: crate::LightSource::emission_spectrum
 
 use crate::error::PluginError;
-use crate::fast::{MaterialQuery, ScatterF32};
+use crate::fast::{MaterialQuery, QueryV5, ScatterF32};
 use crate::guard::guarded;
 use crate::host::HostRef;
 use crate::light::LightBox;
@@ -453,20 +453,20 @@ pub struct ExtensionsV4Export {
 /// [`ExtensionsV5Export`].
 pub const EXTENSIONS_V5_SYMBOL: &[u8] = b"spectrace_plugin_extensions_v5\0";
 
-/// The material calls of version 5: those of [`AbiMaterialV4`] (one [`MaterialQuery`] by
-/// reference, the host's single-precision layout) with the result written through `out` instead
-/// of returned: `sample` answers whether it scattered (`false`: absorbed, `out` untouched),
-/// `eval` writes the BSDF value per lane (1/sr), `pdf` the density (1/sr). An error, or a panic
-/// caught on the plugin's side, comes back as `RErr` and `out` is not to be read.
+/// The material calls of version 5: those of [`AbiMaterialV4`] with the surface by reference
+/// ([`QueryV5`], pointing at the host's own record of it) and the result written through `out`
+/// instead of returned: `sample` answers whether it scattered (`false`: absorbed, `out`
+/// untouched), `eval` writes the BSDF value per lane (1/sr), `pdf` the density (1/sr). An error,
+/// or a panic caught on the plugin's side, comes back as `RErr` and `out` is not to be read.
 #[sabi_trait]
 pub trait AbiMaterialV5: Send + Sync {
-    /// See [`crate::Material::sample_v4`].
-    fn sample(&self, q: &MaterialQuery, out: &mut ScatterF32) -> RResult<bool, PluginError>;
-    /// See [`crate::Material::eval_v4`].
-    fn eval(&self, q: &MaterialQuery, out: &mut [f32; LANES]) -> RResult<(), PluginError>;
-    /// See [`crate::Material::pdf_v4`].
+    /// See [`crate::Material::sample_v5`].
+    fn sample(&self, q: &QueryV5<'_>, out: &mut ScatterF32) -> RResult<bool, PluginError>;
+    /// See [`crate::Material::eval_v5`].
+    fn eval(&self, q: &QueryV5<'_>, out: &mut [f32; LANES]) -> RResult<(), PluginError>;
+    /// See [`crate::Material::pdf_v5`].
     #[sabi(last_prefix_field)]
-    fn pdf(&self, q: &MaterialQuery, out: &mut f32) -> RResult<(), PluginError>;
+    fn pdf(&self, q: &QueryV5<'_>, out: &mut f32) -> RResult<(), PluginError>;
 }
 
 /// The version-5 face of a material, owned.

@@ -6,7 +6,7 @@ use crate::extension::{
     AbiMaterialV2, AbiMaterialV4, AbiMaterialV5, MaterialEmission, MaterialWithV2, MaterialWithV3,
     MaterialWithV4, MaterialWithV5, SpdWithLines,
 };
-use crate::fast::{values_f32, MaterialQuery, ScatterF32};
+use crate::fast::{values_f32, MaterialQuery, QueryV5, ScatterF32};
 use crate::guard::{guarded, guarded_call, guarded_call_v5};
 use crate::reradiation::{GuardedReradiation, Reradiation};
 use crate::spd::Spd;
@@ -284,6 +284,22 @@ pub trait Material: Send + Sync + 'static {
         )?;
         Ok(p as f32)
     }
+    /// [`sample_v4`](Self::sample_v4) with the surface by reference (extension v5; see
+    /// [`QueryV5`]). The default copies the query into v4's form and calls `sample_v4`; a
+    /// material that reads the surface in place may override it.
+    fn sample_v5(&self, q: &QueryV5<'_>) -> PluginResult<Option<ScatterF32>> {
+        self.sample_v4(&q.to_v4())
+    }
+    /// [`eval_v4`](Self::eval_v4) with the surface by reference (extension v5), as
+    /// [`sample_v5`](Self::sample_v5).
+    fn eval_v5(&self, q: &QueryV5<'_>) -> PluginResult<[f32; LANES]> {
+        self.eval_v4(&q.to_v4())
+    }
+    /// [`pdf_v4`](Self::pdf_v4) with the surface by reference (extension v5), as
+    /// [`sample_v5`](Self::sample_v5).
+    fn pdf_v5(&self, q: &QueryV5<'_>) -> PluginResult<f32> {
+        self.pdf_v4(&q.to_v4())
+    }
 }
 
 /// The stable-ABI face of a material.
@@ -472,9 +488,9 @@ impl<T: Material> GuardedMaterial<T> {
 
 impl<T: Material> AbiMaterialV5 for GuardedMaterial<T> {
     #[inline]
-    fn sample(&self, q: &MaterialQuery, out: &mut ScatterF32) -> RResult<bool, PluginError> {
+    fn sample(&self, q: &QueryV5<'_>, out: &mut ScatterF32) -> RResult<bool, PluginError> {
         guarded_call_v5("sample (v5)", || {
-            Ok(match self.inner.sample_v4(q)? {
+            Ok(match self.inner.sample_v5(q)? {
                 Some(s) => {
                     *out = s;
                     true
@@ -485,17 +501,17 @@ impl<T: Material> AbiMaterialV5 for GuardedMaterial<T> {
         .into()
     }
     #[inline]
-    fn eval(&self, q: &MaterialQuery, out: &mut [f32; LANES]) -> RResult<(), PluginError> {
+    fn eval(&self, q: &QueryV5<'_>, out: &mut [f32; LANES]) -> RResult<(), PluginError> {
         guarded_call_v5("eval (v5)", || {
-            *out = self.inner.eval_v4(q)?;
+            *out = self.inner.eval_v5(q)?;
             Ok(())
         })
         .into()
     }
     #[inline]
-    fn pdf(&self, q: &MaterialQuery, out: &mut f32) -> RResult<(), PluginError> {
+    fn pdf(&self, q: &QueryV5<'_>, out: &mut f32) -> RResult<(), PluginError> {
         guarded_call_v5("pdf (v5)", || {
-            *out = self.inner.pdf_v4(q)?;
+            *out = self.inner.pdf_v5(q)?;
             Ok(())
         })
         .into()

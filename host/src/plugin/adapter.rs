@@ -28,7 +28,7 @@ use spectrace_plugin_api::extension::{
     MaterialWithV2, MaterialWithV3, MaterialWithV4, MaterialWithV5, RepresentedLightBox,
     SpdWithLines,
 };
-use spectrace_plugin_api::fast::{LanesF32, MaterialQuery, ScatterF32, SurfaceF32, Vec4f};
+use spectrace_plugin_api::fast::{LanesF32, MaterialQuery, QueryV5, ScatterF32, SurfaceF32, Vec4f};
 use spectrace_plugin_api::{
     light_flags, material_flags, spd_flags, Beam, Flags, LightBox, MaterialBox, ObserverBox,
     PluginError, RandomSample, SceneBounds, SpdBox, SpectralValues, SurfaceContext, TransportMode,
@@ -496,6 +496,31 @@ fn query(
     }
 }
 
+/// One extension-v5 material query: the surface by reference (the host's own record, see
+/// [`super::layout`]), the rest copied as for v4.
+#[inline]
+fn query_v5<'a>(
+    wo: Vec3A,
+    wi: Vec3A,
+    ctx: &'a ShadingContext,
+    lambda: &SampledWavelengths,
+    u: [f32; 3],
+    m: HostMode,
+) -> QueryV5<'a> {
+    QueryV5 {
+        ctx: super::layout::as_surface(ctx),
+        wo: v4f(wo),
+        wi: v4f(wi),
+        lambda: LanesF32 {
+            nm: lambda.lambda,
+            pdf: lambda.pdf,
+            live: u32::from(lambda.lanes.bits()),
+        },
+        u,
+        mode: mode(m),
+    }
+}
+
 /// A plugin material as a host [`Material`]. An EMISSIVE one also describes its emission
 /// ([`Material::emission`]), so the scene builds an area light on every object that uses it,
 /// sampled and MIS-weighted like the built-in `emissive`. A FLUORESCENT one built through
@@ -773,7 +798,7 @@ impl Material for PluginMaterial {
         m: HostMode,
     ) -> Option<BsdfSample> {
         if let Some(v5) = &self.v5 {
-            let q = query(wo, Vec3A::ZERO, ctx, lambda, [u_lobe, u.x, u.y], m);
+            let q = query_v5(wo, Vec3A::ZERO, ctx, lambda, [u_lobe, u.x, u.y], m);
             let mut s = ScatterF32::default();
             return match v5.sample(&q, &mut s) {
                 RResult::ROk(true) => match checked::scatter_f32(&s) {
@@ -834,7 +859,7 @@ impl Material for PluginMaterial {
         m: HostMode,
     ) -> SampledSpectrum {
         if let Some(v5) = &self.v5 {
-            let q = query(wo, wi, ctx, lambda, [0.0; 3], m);
+            let q = query_v5(wo, wi, ctx, lambda, [0.0; 3], m);
             let mut v = [0.0; LANES];
             return match v5.eval(&q, &mut v) {
                 RResult::ROk(()) => match checked::values_f32(&v) {
@@ -879,7 +904,7 @@ impl Material for PluginMaterial {
         m: HostMode,
     ) -> f32 {
         if let Some(v5) = &self.v5 {
-            let q = query(wo, wi, ctx, lambda, [0.0; 3], m);
+            let q = query_v5(wo, wi, ctx, lambda, [0.0; 3], m);
             let mut p = 0.0;
             return match v5.pdf(&q, &mut p) {
                 RResult::ROk(()) => match checked::density_f32(p) {

@@ -12,6 +12,7 @@ pub mod extension_v4;
 pub mod extension_v5;
 pub mod factory;
 pub mod flatness;
+pub mod layout;
 pub mod library_check;
 pub mod loader;
 pub mod reference;
