@@ -442,14 +442,30 @@ fn material_bits(f: Flags, transmission_event: Option<bool>) -> MaterialFlags {
 /// SPECULAR (1, 2, 4), TRANSMISSION (8) and DISPERSIVE, EMISSIVE, FLUORESCENT (16, 32, 64) are
 /// the host's (4, 8, 16), (2) and (32, 64, 128), and a lobe without TRANSMISSION reflects. The
 /// test `event_bits_match_material_bits` checks it against [`material_bits`] for all 128
-/// combinations.
-#[inline]
-fn event_bits(f: Flags) -> MaterialFlags {
-    let b = f.0;
+/// combinations. Looked up in [`EVENT_TABLE`], made from these operations at compile time (one
+/// load per event instead of a dozen instructions); bits above the seven are ignored, as here.
+const fn event_bits_ops(b: u32) -> u32 {
     let lobes = b & 0b111;
     let transmits = (b >> 3) & 1;
-    let reflects = u32::from(lobes != 0 && transmits == 0);
-    MaterialFlags(reflects | (transmits << 1) | (lobes << 2) | (((b >> 4) & 0b111) << 5))
+    let reflects = (lobes != 0 && transmits == 0) as u32;
+    reflects | (transmits << 1) | (lobes << 2) | (((b >> 4) & 0b111) << 5)
+}
+
+/// [`event_bits_ops`] of every combination of the interface's seven event bits.
+const EVENT_TABLE: [u8; 128] = {
+    let mut t = [0u8; 128];
+    let mut b = 0;
+    while b < 128 {
+        t[b] = event_bits_ops(b as u32) as u8;
+        b += 1;
+    }
+    t
+};
+
+/// The host's bits of one scattering event (see [`event_bits_ops`]).
+#[inline]
+fn event_bits(f: Flags) -> MaterialFlags {
+    MaterialFlags(u32::from(EVENT_TABLE[(f.0 & 0x7f) as usize]))
 }
 
 /// The host's vector in the interface's layout: one SIMD register, `w` cleared.

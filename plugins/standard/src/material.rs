@@ -123,11 +123,28 @@ fn lambdas_v4(l: &LanesF32) -> SampledWavelengths {
 
 /// [`bits`] in a few bit operations (the host's DIFFUSE, GLOSSY, SPECULAR are 4, 8, 16,
 /// TRANSMISSION 2, DISPERSIVE, EMISSIVE, FLUORESCENT 32, 64, 128; REFLECTION and THIN_FILM have
-/// no interface bit). The test below checks it against [`bits`].
+/// no interface bit). The test below checks it against [`bits`]. Looked up in
+/// [`EVENT_TABLE`], made from these operations at compile time (one load per event); bits 0
+/// and above 7 are ignored, as here.
+const fn event_bits_ops(b: u32) -> u32 {
+    ((b >> 2) & 0b111) | (((b >> 1) & 1) << 3) | (((b >> 5) & 0b111) << 4)
+}
+
+/// [`event_bits_ops`] of every combination of the host's bits 0–7.
+const EVENT_TABLE: [u8; 256] = {
+    let mut t = [0u8; 256];
+    let mut b = 0;
+    while b < 256 {
+        t[b] = event_bits_ops(b as u32) as u8;
+        b += 1;
+    }
+    t
+};
+
+/// The interface's bits of one scattering event (see [`event_bits_ops`]).
 #[inline]
 fn event_bits(f: MaterialFlags) -> Flags {
-    let b = f.0;
-    Flags(((b >> 2) & 0b111) | (((b >> 1) & 1) << 3) | (((b >> 5) & 0b111) << 4))
+    Flags(u32::from(EVENT_TABLE[(f.0 & 0xff) as usize]))
 }
 
 #[inline]
