@@ -365,6 +365,7 @@ macro_rules! export_plugin {
         /// The exported extension module, version 1 (looked up by name by the host).
         #[no_mangle]
         pub extern "C" fn spectrace_plugin_extensions_v1() -> $crate::extension::ExtensionsV1Export {
+            $crate::guard::set_library_mode();
             extensions_v1()
         }
 
@@ -440,6 +441,7 @@ macro_rules! export_plugin {
         /// The exported extension module, version 2 (looked up by name by the host).
         #[no_mangle]
         pub extern "C" fn spectrace_plugin_extensions_v2() -> $crate::extension::ExtensionsV2Export {
+            $crate::guard::set_library_mode();
             extensions_v2()
         }
 
@@ -482,6 +484,7 @@ macro_rules! export_plugin {
         /// The exported extension module, version 3 (looked up by name by the host).
         #[no_mangle]
         pub extern "C" fn spectrace_plugin_extensions_v3() -> $crate::extension::ExtensionsV3Export {
+            $crate::guard::set_library_mode();
             extensions_v3()
         }
 
@@ -543,6 +546,7 @@ macro_rules! export_plugin {
         /// The exported extension module, version 4 (looked up by name by the host).
         #[no_mangle]
         pub extern "C" fn spectrace_plugin_extensions_v4() -> $crate::extension::ExtensionsV4Export {
+            $crate::guard::set_library_mode();
             extensions_v4()
         }
 
@@ -582,9 +586,9 @@ macro_rules! export_plugin {
             }
         }
 
-        /// The exported extension module, version 5 (looked up by name by the host, which only
-        /// a host loading this library does: it also puts the library's panic hook in library
-        /// mode, see `spectrace_plugin_api::guard`).
+        /// The exported extension module, version 5 (looked up by name by the host). Every
+        /// extension symbol also puts the library's guards in library mode (only a host loading
+        /// the library reaches them; see `spectrace_plugin_api::guard`).
         #[no_mangle]
         pub extern "C" fn spectrace_plugin_extensions_v5() -> $crate::extension::ExtensionsV5Export {
             $crate::guard::set_library_mode();

@@ -11,13 +11,14 @@
 //! own hook; when a plugin is linked into the host instead (tests), the chaining keeps the
 //! host's panics reported exactly as before.
 //!
-//! What the hook must know is whether a guard will catch the panic. [`guarded`] tells it through
-//! a thread-local depth counter; in a library (a `cdylib`) every access to it is a call to
-//! `__tls_get_addr`, about 50 instructions per guarded call counting both accesses. The
-//! per-call entry points of extension v5 ([`guarded_call_v5`]) do without it: a library whose
-//! extension v5 the host has fetched through its exported symbol ([`set_library_mode`]) has a
-//! hook that sees only the plugin's own panics, so it can defer every panic outside a
-//! [`guarded`] call instead of asking. A deferred report is taken by the guard that catches the
+//! What the hook must know is whether a guard will catch the panic. Outside library mode (below)
+//! [`guarded`] tells it through a thread-local depth counter; in a library (a `cdylib`) every
+//! access to it is a call to `__tls_get_addr`, about 50 instructions per guarded call counting
+//! both accesses. Library mode does without it: a library whose extension module the host has
+//! fetched through an exported symbol ([`set_library_mode`]; only a host loading the library
+//! reaches those) has a hook that sees only the plugin's own panics, so it can defer every
+//! panic instead of asking, and every guard ([`guarded`], [`guarded_call`],
+//! [`guarded_call_v5`]) is then `catch_unwind` alone. A deferred report is taken by the guard that catches the
 //! panic (it becomes the error's location, as before); a report no guard takes is never lost: it
 //! is printed when the same thread panics again (a panic that cannot unwind, about to abort, is
 //! such a second panic) and when the thread ends (a plugin's own thread that died of it).
@@ -88,8 +89,8 @@ fn payload_text(payload: &(dyn std::any::Any + Send)) -> String {
     }
 }
 
-/// Library mode (see the module docs): called by the exported symbol of extension v5, which
-/// only a host reaches (through the dynamic loader), never code linked into the host.
+/// Library mode (see the module docs): called by the exported symbols of the extension modules,
+/// which only a host reaches (through the dynamic loader), never code linked into the host.
 pub fn set_library_mode() {
     install_quiet_hook();
     LIBRARY_MODE.store(true, Ordering::Relaxed);
@@ -146,6 +147,9 @@ pub fn guarded<T>(
     what: &str,
     f: impl FnOnce() -> Result<T, PluginError>,
 ) -> RResult<T, PluginError> {
+    if LIBRARY_MODE.load(Ordering::Relaxed) {
+        return guarded_call_v5(what, f).into();
+    }
     install_quiet_hook();
     let depth = Depth::enter();
     let r = catch_unwind(AssertUnwindSafe(f));
@@ -173,6 +177,9 @@ pub fn guarded_call<T>(
     what: &str,
     f: impl FnOnce() -> Result<T, PluginError>,
 ) -> RResult<T, PluginError> {
+    if LIBRARY_MODE.load(Ordering::Relaxed) {
+        return guarded_call_v5(what, f).into();
+    }
     let r = DEPTH.with(|d| {
         d.set(d.get() + 1);
         // `f` cannot unwind past this point, so the decrement always runs.
@@ -275,9 +282,12 @@ mod tests {
         let r = std::thread::spawn(|| panic!("the plugin's own thread")).join();
         assert!(r.is_err());
         assert_eq!(PRINTED_UNCLAIMED.load(Ordering::Relaxed), before + 1);
-        // The older guard keeps its own bookkeeping in library mode.
+        // The older guards take the same path in library mode, with the same message.
         let e = guarded::<()>("x", || panic!("old guard")).unwrap_err();
-        assert!(e.message.contains("guard.rs:"), "{e}");
+        assert!(
+            e.message.starts_with("x panicked at ") && e.message.contains("guard.rs:"),
+            "{e}"
+        );
         assert_eq!(PRINTED_UNCLAIMED.load(Ordering::Relaxed), before + 1);
     }
 }
