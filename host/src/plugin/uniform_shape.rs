@@ -15,7 +15,8 @@
 //! | environment (`radiance`) | the 6 axis directions and 8 diagonals |
 //! | agreement | `value(λ) / spd(λ)` within [`REL_TOLERANCE`] of that at the probe's reference lane (the one where `spd` is largest), over both sets when both sampled the same point; `value` 0 where `spd` is 0 |
 //!
-//! 16 emission samples and 32 arrivals (or 28 radiance calls): nothing next to building a scene.
+//! 16 emission samples and 16 arrivals (8 uniforms at each set), or 28 radiance calls: nothing
+//! next to building a scene.
 //! A light whose spectrum has lines gets no exact colour (the renderer skips it), so it is not
 //! probed. What the probe cannot see stays the plugin's responsibility, as the API's
 //! documentation says.
@@ -47,6 +48,11 @@ fn lanes(nm: [f32; LANES]) -> Wavelengths {
     Wavelengths {
         nm: nm.map(f64::from),
     }
+}
+
+/// A point or direction for a message, scene units.
+fn show(v: Vec3) -> String {
+    format!("({:.3}, {:.3}, {:.3})", v.x, v.y, v.z)
 }
 
 /// One probe's values at both sets (when both sets sampled the same point and direction, they
@@ -83,7 +89,7 @@ pub fn check(light: &LightBox, spd: &dyn Spd, environment: bool) -> Result<(), S
             let at = |w: &Wavelengths| light.radiance(d, w).into_result().ok();
             if let (Some(a), Some(b)) = (at(&sets[0]), at(&sets[1])) {
                 probes.push(Probe {
-                    what: format!("its radiance from direction {d:?}"),
+                    what: format!("its radiance from direction {}", show(d)),
                     values: [a, b],
                     same_point: true,
                 });
@@ -102,8 +108,9 @@ pub fn check(light: &LightBox, spd: &dyn Spd, environment: bool) -> Result<(), S
             };
             probes.push(Probe {
                 what: format!(
-                    "its emission from {:?} toward {:?} (sample_emission)",
-                    a.origin, a.direction
+                    "its emission from {} toward {} (sample_emission)",
+                    show(a.origin),
+                    show(a.direction)
                 ),
                 values: [a.value, b.value],
                 same_point: a.origin == b.origin && a.direction == b.direction,
@@ -117,8 +124,9 @@ pub fn check(light: &LightBox, spd: &dyn Spd, environment: bool) -> Result<(), S
             if let (Some(a), Some(b)) = (to(&sets[0]), to(&sets[1])) {
                 probes.push(Probe {
                     what: format!(
-                        "the radiance arriving at {receiver:?} from {:?} (sample_toward)",
-                        a.point
+                        "the radiance arriving at {} from {} (sample_toward)",
+                        show(receiver),
+                        show(a.point)
                     ),
                     values: [a.value, b.value],
                     same_point: a.point == b.point,
