@@ -110,12 +110,19 @@ fn install_quiet_hook() {
                     at,
                     text: payload_text(info.payload()),
                 };
-                // A report still unclaimed is printed now: nothing caught its panic.
+                // A report still unclaimed is printed now: nothing caught its panic. On a thread
+                // whose slot is already gone (a panic while it ends) the report is printed at once.
+                let mut report = Some(report);
                 let _ = UNCLAIMED.try_with(|u| {
-                    if let Some(old) = u.0.borrow_mut().replace(report) {
-                        print_unclaimed(&old);
+                    if let Some(r) = report.take() {
+                        if let Some(old) = u.0.borrow_mut().replace(r) {
+                            print_unclaimed(&old);
+                        }
                     }
                 });
+                if let Some(r) = report {
+                    print_unclaimed(&r);
+                }
             } else {
                 LOCATION.with(|c| *c.borrow_mut() = at);
                 previous(info);

@@ -128,7 +128,7 @@ mod tests {
             mode: TransportMode,
         ) -> Option<BsdfSample> {
             let mut s = self.0.sample(wo, ctx, lambda, u_lobe, u, mode)?;
-            s.f = s.f * s.wi.z.abs();
+            s.f *= s.wi.z.abs();
             Some(s)
         }
         fn eval(
