@@ -44,15 +44,36 @@ use rayon::prelude::*;
 use super::Aabb;
 use build::{build_range, BuildPrim};
 use collapse::collapse;
-use wide_node::WideNode;
+use wide_node::{QuantNode, WideNode};
 
 pub use build::{BIN_COUNT, MAX_LEAF_SIZE};
 pub use traverse::TraversalKernel;
 
+/// Trees over at least this many primitives get quantised nodes ([`NodeLayout::Auto`]): below,
+/// the float nodes fit in the caches and their box test needs fewer instructions; above, the
+/// memory traffic of 256-byte nodes costs more (`docs/performance.md`, "Quantised nodes").
+pub const QUANTISE_MIN_PRIMITIVES: usize = 262_144;
+
+/// How the eight-wide nodes store their child boxes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum NodeLayout {
+    /// Quantised from [`QUANTISE_MIN_PRIMITIVES`] primitives on, float below.
+    #[default]
+    Auto,
+    /// Six f32 planes per node (256 bytes).
+    Float,
+    /// 8-bit steps on a per-node grid, rounded outward (128 bytes); where a node cannot be
+    /// quantised (extreme extents), the whole tree stays float.
+    Quantised,
+}
+
 /// A BVH over primitives given by their bounds.
 #[derive(Clone, Debug, Default)]
 pub struct Bvh {
+    /// Float nodes; empty when the tree is quantised.
     nodes: Vec<WideNode>,
+    /// Quantised nodes (the same tree, boxes rounded outward); empty when it is float.
+    qnodes: Vec<QuantNode>,
     /// Primitive indices (into the list given to [`Bvh::build`]) in leaf order.
     order: Vec<u32>,
     /// Bounds of everything in the tree.
@@ -66,6 +87,12 @@ impl Bvh {
     /// Builds over primitives with the given bounds. Primitives with empty or non-finite bounds
     /// are left out (they can never be hit).
     pub fn build(bounds: &[Aabb]) -> Bvh {
+        Self::build_with_layout(bounds, NodeLayout::Auto)
+    }
+
+    /// [`Bvh::build`] with a chosen node layout (benchmarks and tests compare them; the
+    /// closest hits are the same either way).
+    pub fn build_with_layout(bounds: &[Aabb], layout: NodeLayout) -> Bvh {
         // In parallel and in order (rayon's collect keeps the input order).
         let mut prims: Vec<BuildPrim> = bounds
             .par_iter()
@@ -81,17 +108,43 @@ impl Bvh {
             return Bvh::default();
         }
         let binary = build_range(&mut prims, 0, 0);
-        let order = prims.par_iter().map(|p| p.index).collect();
+        let order: Vec<u32> = prims.par_iter().map(|p| p.index).collect();
         let root = &binary[0];
         let bounds = Some(Aabb {
             min: Vec3A::from(root.min),
             max: Vec3A::from(root.max),
         });
+        let nodes = collapse(&binary);
+        let quantise = match layout {
+            NodeLayout::Auto => order.len() >= QUANTISE_MIN_PRIMITIVES,
+            NodeLayout::Float => false,
+            NodeLayout::Quantised => true,
+        };
+        // The same for any thread count: each node is quantised from its own float boxes.
+        let qnodes: Option<Vec<QuantNode>> = if quantise {
+            nodes.par_iter().map(QuantNode::from_wide).collect()
+        } else {
+            None
+        };
+        let (nodes, qnodes) = match qnodes {
+            Some(q) => (Vec::new(), q),
+            None => (nodes, Vec::new()),
+        };
         Bvh {
-            nodes: collapse(&binary),
+            nodes,
+            qnodes,
             order,
             bounds,
             kernel: TraversalKernel::best_available(),
+        }
+    }
+
+    /// The node layout in use ([`NodeLayout::Float`] or [`NodeLayout::Quantised`]).
+    pub fn layout(&self) -> NodeLayout {
+        if self.qnodes.is_empty() {
+            NodeLayout::Float
+        } else {
+            NodeLayout::Quantised
         }
     }
 
@@ -102,12 +155,14 @@ impl Bvh {
 
     /// Number of nodes (for statistics and memory estimates).
     pub fn node_count(&self) -> usize {
-        self.nodes.len()
+        self.nodes.len() + self.qnodes.len()
     }
 
     /// Bytes held by the node and order arrays.
     pub fn memory_bytes(&self) -> usize {
-        self.nodes.len() * std::mem::size_of::<WideNode>() + self.order.len() * 4
+        self.nodes.len() * std::mem::size_of::<WideNode>()
+            + self.qnodes.len() * std::mem::size_of::<QuantNode>()
+            + self.order.len() * 4
     }
 
     /// Bounds of everything in the tree (empty box for an empty tree).
