@@ -12,7 +12,10 @@
 //! largest-area interior children until it has eight), as Embree does on AVX machines: a ray
 //! then makes one eight-box SIMD test where the binary tree needed up to seven node visits
 //! with one scalar box test each. Nodes store their children's boxes as structure-of-arrays
-//! (256 bytes, four cache lines) and are laid out depth-first.
+//! (256 bytes, four cache lines) and are laid out depth-first. Trees of
+//! [`QUANTISE_MIN_PRIMITIVES`] or more primitives store them quantised instead (8-bit steps on
+//! a per-node grid, rounded outward, 128 bytes): more instructions per box test, less memory
+//! traffic where the nodes no longer fit in the caches.
 //!
 //! Two traversal kernels share one loop and one node layout: on CPUs with AVX2 (detected at
 //! run time, `is_x86_feature_detected!`, so the binary still runs on any x86-64) the eight
@@ -29,7 +32,8 @@
 //! give the same tree for any thread count.
 //!
 //! Files: `build.rs` (binary SAH tree), `collapse.rs` (binary to eight-wide), `wide_node.rs`
-//! (the node layout), `traverse.rs` (both kernels and the loop), `tests.rs`.
+//! (the float and the quantised node layout), `traverse.rs` (both kernels for both layouts and
+//! the loop), `tests.rs`.
 
 mod build;
 mod collapse;

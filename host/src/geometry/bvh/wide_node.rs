@@ -1,4 +1,5 @@
-//! The eight-wide node the traversal reads: eight child boxes as structure of arrays.
+//! The eight-wide nodes the traversal reads: eight child boxes as structure of arrays, in f32
+//! ([`WideNode`]) or quantised to bytes on a per-node grid ([`QuantNode`]).
 
 use super::build::Node;
 
