@@ -29,7 +29,8 @@ use glam::Vec3A;
 use rayon::prelude::*;
 use spectrace::geometry::generate::icosphere;
 use spectrace::geometry::{
-    Aabb, Bvh, Geometry, Ray, Shape, ShapeDesc, Transform, TraversalKernel, TriangleMesh,
+    Aabb, Bvh, Geometry, NodeLayout, Ray, Shape, ShapeDesc, Transform, TraversalKernel,
+    TriangleMesh,
 };
 
 const RAYS: usize = 262_144;
@@ -226,6 +227,20 @@ fn pool(threads: usize) -> rayon::ThreadPool {
         .expect("thread pool")
 }
 
+/// `SPECTRACE_SCALING_LAYOUT=float|quantised` forces the BVH node layout (default: the
+/// build's choice by scene size).
+fn node_layout() -> NodeLayout {
+    match std::env::var("SPECTRACE_SCALING_LAYOUT").as_deref() {
+        Ok("float") => NodeLayout::Float,
+        Ok("quantised") => NodeLayout::Quantised,
+        _ => NodeLayout::Auto,
+    }
+}
+
+fn build_geometry(desc: Vec<ShapeDesc>) -> Geometry {
+    Geometry::build_with_node_layout(desc, node_layout()).expect("valid mesh")
+}
+
 /// Best of `RUNS` wall-clock seconds of `f`.
 fn best_of<T>(mut f: impl FnMut() -> T) -> f64 {
     (0..RUNS)
@@ -343,7 +358,8 @@ fn run_harness(exe: &std::path::Path, input: &std::path::Path) -> Result<String,
 /// `SPECTRACE_SCALING_PROFILE=<subdivisions>[x2]`: one build and one pass of the random rays on
 /// the calling thread, nothing else, for instruction counts under
 /// `valgrind --tool=callgrind` (a shared machine's wall times vary too much for small A/B
-/// differences). Prints the hit count. `SPECTRACE_SCALING_KERNEL=portable` traces with the
+/// differences). Prints the hit count and the seconds of the closest-hit and the any-hit pass
+/// (for interleaved wall-clock A/B runs). `SPECTRACE_SCALING_KERNEL=portable` traces with the
 /// portable (SSE) box test instead of AVX2. `SPECTRACE_SCALING_INPUT=<file>` only writes the
 /// Embree/obvhs harnesses' input (same triangles and random rays) there, to count their
 /// instructions the same way.
@@ -360,11 +376,10 @@ fn profile_run(size: Size) {
     }
     let pool = pool(1);
     let mut g = pool.install(|| {
-        Geometry::build(vec![ShapeDesc {
+        build_geometry(vec![ShapeDesc {
             shape: Shape::Mesh(mesh),
             transform: Transform::IDENTITY,
         }])
-        .expect("valid mesh")
     });
     if std::env::var("SPECTRACE_SCALING_KERNEL").as_deref() == Ok("portable") {
         g.set_traversal_kernel(TraversalKernel::Portable);
@@ -374,15 +389,22 @@ fn profile_run(size: Size) {
         return;
     }
     let rays = random_rays();
+    let start = Instant::now();
     let hits = rays
         .iter()
         .filter(|r| g.intersect(r, f32::INFINITY).is_some())
         .count();
+    let closest_s = start.elapsed().as_secs_f64();
+    let start = Instant::now();
     let occluded = rays.iter().filter(|r| g.occluded(r, f32::INFINITY)).count();
+    let any_s = start.elapsed().as_secs_f64();
     println!(
-        "{hits} hits, {occluded} occluded of {} rays ({:?} kernel)",
+        "{hits} hits, {occluded} occluded of {} rays in {closest_s:.3} / {any_s:.3} s \
+         ({:?} kernel, {:?} nodes, {:.1} BVH bytes/triangle)",
         rays.len(),
-        g.traversal_kernel()
+        g.traversal_kernel(),
+        g.node_layout(),
+        g.bvh_memory_bytes() as f64 / g.primitive_count() as f64
     );
 }
 
@@ -434,7 +456,7 @@ fn main() {
                 .map(|_| {
                     let d = desc();
                     let t = Instant::now();
-                    let g = p.install(|| Geometry::build(d).expect("valid mesh"));
+                    let g = p.install(|| build_geometry(d));
                     let s = t.elapsed().as_secs_f64();
                     drop(g);
                     s
@@ -442,7 +464,7 @@ fn main() {
                 .fold(f64::INFINITY, f64::min)
         };
         let (b1, b2) = (build(1), build(2));
-        let g = Geometry::build(desc()).expect("valid mesh");
+        let g = build_geometry(desc());
         let bytes = g.bvh_memory_bytes() as f64 / tris as f64;
         let (c1, c2) = (
             rays_per_second(&g, &camera, 1),

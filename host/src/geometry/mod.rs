@@ -38,7 +38,7 @@ pub mod transform;
 pub mod triangle;
 
 pub use aabb::Aabb;
-pub use bvh::{Bvh, TraversalKernel};
+pub use bvh::{Bvh, NodeLayout, TraversalKernel, QUANTISE_MIN_PRIMITIVES};
 pub use error::GeometryError;
 pub use mesh::TriangleMesh;
 pub use obj::{load_obj, parse_obj};

@@ -10,7 +10,7 @@
 use glam::{Vec2, Vec3A};
 use rayon::prelude::*;
 
-use super::bvh::{Bvh, TraversalKernel};
+use super::bvh::{Bvh, NodeLayout, TraversalKernel};
 use super::quad::Quad;
 use super::sphere::Sphere;
 use super::triangle::{
@@ -180,6 +180,15 @@ impl Geometry {
     /// triangle, sphere and quad. Errors name the object index and what is wrong (invalid
     /// mesh, non-positive radius, sphere under a non-similarity transform, degenerate quad).
     pub fn build(objects: Vec<ShapeDesc>) -> Result<Geometry, GeometryError> {
+        Self::build_with_node_layout(objects, NodeLayout::Auto)
+    }
+
+    /// [`Geometry::build`] with a chosen BVH node layout (benchmarks compare them; closest
+    /// hits are the same, see [`NodeLayout`]).
+    pub fn build_with_node_layout(
+        objects: Vec<ShapeDesc>,
+        layout: NodeLayout,
+    ) -> Result<Geometry, GeometryError> {
         let mut built = Vec::with_capacity(objects.len());
         for (i, desc) in objects.into_iter().enumerate() {
             built.push(
@@ -227,7 +236,7 @@ impl Geometry {
                 }
             }
         }
-        let bvh = Bvh::build(&bounds);
+        let bvh = Bvh::build_with_layout(&bounds, layout);
         let prims = bvh
             .order_ref()
             .par_iter()
@@ -286,6 +295,11 @@ impl Geometry {
     /// vertices), not the meshes.
     pub fn bvh_memory_bytes(&self) -> usize {
         self.bvh.memory_bytes() + self.prims.len() * std::mem::size_of::<LeafRecord>()
+    }
+
+    /// The BVH's node layout ([`NodeLayout::Float`] or [`NodeLayout::Quantised`]).
+    pub fn node_layout(&self) -> NodeLayout {
+        self.bvh.layout()
     }
 
     /// The BVH's box-test kernel (AVX2 where the CPU has it).

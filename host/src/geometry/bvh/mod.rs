@@ -12,7 +12,10 @@
 //! largest-area interior children until it has eight), as Embree does on AVX machines: a ray
 //! then makes one eight-box SIMD test where the binary tree needed up to seven node visits
 //! with one scalar box test each. Nodes store their children's boxes as structure-of-arrays
-//! (256 bytes, four cache lines) and are laid out depth-first.
+//! (256 bytes, four cache lines) and are laid out depth-first. Trees of
+//! [`QUANTISE_MIN_PRIMITIVES`] or more primitives store them quantised instead (8-bit steps on
+//! a per-node grid, rounded outward, 128 bytes): more instructions per box test, less memory
+//! traffic where the nodes no longer fit in the caches.
 //!
 //! Two traversal kernels share one loop and one node layout: on CPUs with AVX2 (detected at
 //! run time, `is_x86_feature_detected!`, so the binary still runs on any x86-64) the eight
@@ -29,7 +32,8 @@
 //! give the same tree for any thread count.
 //!
 //! Files: `build.rs` (binary SAH tree), `collapse.rs` (binary to eight-wide), `wide_node.rs`
-//! (the node layout), `traverse.rs` (both kernels and the loop), `tests.rs`.
+//! (the float and the quantised node layout), `traverse.rs` (both kernels for both layouts and
+//! the loop), `tests.rs`.
 
 mod build;
 mod collapse;
@@ -44,15 +48,36 @@ use rayon::prelude::*;
 use super::Aabb;
 use build::{build_prims, build_tree};
 use collapse::collapse;
-use wide_node::WideNode;
+use wide_node::{QuantNode, WideNode};
 
 pub use build::{BIN_COUNT, MAX_LEAF_SIZE};
 pub use traverse::TraversalKernel;
 
+/// Trees over at least this many primitives get quantised nodes ([`NodeLayout::Auto`]): below,
+/// the float nodes fit in the caches and their box test needs fewer instructions; above, the
+/// memory traffic of 256-byte nodes costs more (`docs/performance.md`, "Quantised nodes").
+pub const QUANTISE_MIN_PRIMITIVES: usize = 262_144;
+
+/// How the eight-wide nodes store their child boxes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum NodeLayout {
+    /// Quantised from [`QUANTISE_MIN_PRIMITIVES`] primitives on, float below.
+    #[default]
+    Auto,
+    /// Six f32 planes per node (256 bytes).
+    Float,
+    /// 8-bit steps on a per-node grid, rounded outward (128 bytes); where a node cannot be
+    /// quantised (extreme extents), the whole tree stays float.
+    Quantised,
+}
+
 /// A BVH over primitives given by their bounds.
 #[derive(Clone, Debug, Default)]
 pub struct Bvh {
+    /// Float nodes; empty when the tree is quantised.
     nodes: Vec<WideNode>,
+    /// Quantised nodes (the same tree, boxes rounded outward); empty when it is float.
+    qnodes: Vec<QuantNode>,
     /// Primitive indices (into the list given to [`Bvh::build`]) in leaf order.
     order: Vec<u32>,
     /// Bounds of everything in the tree.
@@ -66,20 +91,43 @@ impl Bvh {
     /// Builds over primitives with the given bounds. Primitives with empty or non-finite bounds
     /// are left out (they can never be hit).
     pub fn build(bounds: &[Aabb]) -> Bvh {
+        Self::build_with_layout(bounds, NodeLayout::Auto)
+    }
+
+    /// [`Bvh::build`] with a chosen node layout (benchmarks and tests compare them; the
+    /// closest hits are the same either way).
+    pub fn build_with_layout(bounds: &[Aabb], layout: NodeLayout) -> Bvh {
         // In parallel and in order, with the root's bounds in the same pass.
         let (mut prims, root) = build_prims(bounds);
         if prims.is_empty() {
             return Bvh::default();
         }
         let binary = build_tree(&mut prims, 0, 0, root);
-        let order = prims.par_iter().map(|p| p.index).collect();
+        let order: Vec<u32> = prims.par_iter().map(|p| p.index).collect();
         let root = &binary[0];
         let bounds = Some(Aabb {
             min: Vec3A::from(root.min),
             max: Vec3A::from(root.max),
         });
+        let nodes = collapse(&binary);
+        let quantise = match layout {
+            NodeLayout::Auto => order.len() >= QUANTISE_MIN_PRIMITIVES,
+            NodeLayout::Float => false,
+            NodeLayout::Quantised => true,
+        };
+        // The same for any thread count: each node is quantised from its own float boxes.
+        let qnodes: Option<Vec<QuantNode>> = if quantise {
+            nodes.par_iter().map(QuantNode::from_wide).collect()
+        } else {
+            None
+        };
+        let (nodes, qnodes) = match qnodes {
+            Some(q) => (Vec::new(), q),
+            None => (nodes, Vec::new()),
+        };
         Bvh {
-            nodes: collapse(&binary),
+            nodes,
+            qnodes,
             order,
             bounds,
             kernel: TraversalKernel::best_available(),
@@ -104,8 +152,28 @@ impl Bvh {
             n.count.iter().for_each(|&c| mix(u32::from(c)));
             mix(n.slots);
         }
+        for n in &self.qnodes {
+            for v in n.origin.iter().chain(&n.scale) {
+                mix(v.to_bits());
+            }
+            for q in n.lo.iter().chain(&n.hi).flatten() {
+                mix(u32::from(*q));
+            }
+            n.child.iter().for_each(|&c| mix(c));
+            n.count.iter().for_each(|&c| mix(u32::from(c)));
+            mix(n.slots);
+        }
         self.order.iter().for_each(|&i| mix(i));
         h
+    }
+
+    /// The node layout in use ([`NodeLayout::Float`] or [`NodeLayout::Quantised`]).
+    pub fn layout(&self) -> NodeLayout {
+        if self.qnodes.is_empty() {
+            NodeLayout::Float
+        } else {
+            NodeLayout::Quantised
+        }
     }
 
     /// Primitive indices (into the list given to [`Bvh::build`]) in leaf order.
@@ -115,12 +183,14 @@ impl Bvh {
 
     /// Number of nodes (for statistics and memory estimates).
     pub fn node_count(&self) -> usize {
-        self.nodes.len()
+        self.nodes.len() + self.qnodes.len()
     }
 
     /// Bytes held by the node and order arrays.
     pub fn memory_bytes(&self) -> usize {
-        self.nodes.len() * std::mem::size_of::<WideNode>() + self.order.len() * 4
+        self.nodes.len() * std::mem::size_of::<WideNode>()
+            + self.qnodes.len() * std::mem::size_of::<QuantNode>()
+            + self.order.len() * 4
     }
 
     /// Bounds of everything in the tree (empty box for an empty tree).

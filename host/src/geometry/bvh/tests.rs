@@ -140,10 +140,10 @@ fn order_is_permutation_and_boxes_nest() {
     assert_eq!(leaves, bounds.len());
 }
 
-// The wide traversal must find exactly the closest hit a brute-force loop finds: primitives
-// are boxes, "hit" is the conservative slab test's entry distance, 2000 random rays over
-// 3000 random boxes (small and large, overlapping); compared exactly, and any-hit must agree
-// on whether anything is hit at all.
+// The wide traversal must find exactly the closest hit a brute-force loop finds, with float
+// and with quantised nodes: primitives are boxes, "hit" is the conservative slab test's entry
+// distance, 2000 random rays over 3000 random boxes (small and large, overlapping); compared
+// exactly, and any-hit must agree on whether anything is hit at all.
 #[test]
 fn wide_traversal_matches_brute_force() {
     let mut next = uniform_stream(99);
@@ -157,7 +157,11 @@ fn wide_traversal_matches_brute_force() {
             max: p + e,
         });
     }
-    let bvh = Bvh::build(&boxes);
+    let layouts = [NodeLayout::Float, NodeLayout::Quantised];
+    let bvhs = layouts.map(|l| Bvh::build_with_layout(&boxes, l));
+    for (bvh, layout) in bvhs.iter().zip(layouts) {
+        assert_eq!(bvh.layout(), layout);
+    }
     let entry = |b: &Aabb, ray: &Ray, t_max: f32| -> Option<f32> {
         let inv = Vec3A::ONE / ray.dir;
         if !b.hit(ray.origin, inv, t_max) {
@@ -177,14 +181,16 @@ fn wide_traversal_matches_brute_force() {
             .iter()
             .filter_map(|b| entry(b, &ray, f32::INFINITY))
             .fold(None, |m: Option<f32>, t| Some(m.map_or(t, |m| m.min(t))));
-        let found = bvh.traverse(&ray, f32::INFINITY, false, |slot, t_max| {
-            entry(&boxes[bvh.order[slot as usize] as usize], &ray, t_max)
-        });
-        assert_eq!(found, brute);
-        let any = bvh.traverse(&ray, f32::INFINITY, true, |slot, t_max| {
-            entry(&boxes[bvh.order[slot as usize] as usize], &ray, t_max)
-        });
-        assert_eq!(any.is_some(), brute.is_some());
+        for bvh in &bvhs {
+            let found = bvh.traverse(&ray, f32::INFINITY, false, |slot, t_max| {
+                entry(&boxes[bvh.order[slot as usize] as usize], &ray, t_max)
+            });
+            assert_eq!(found, brute, "{:?} nodes", bvh.layout());
+            let any = bvh.traverse(&ray, f32::INFINITY, true, |slot, t_max| {
+                entry(&boxes[bvh.order[slot as usize] as usize], &ray, t_max)
+            });
+            assert_eq!(any.is_some(), brute.is_some(), "{:?} nodes", bvh.layout());
+        }
         hits += brute.is_some() as usize;
     }
     // The test means something only if many rays hit and many miss.
@@ -247,7 +253,8 @@ fn spilled_stack_stays_exact() {
     }
 }
 
-// The AVX2 and the portable kernel must walk the tree identically: for every ray the
+// The AVX2 and the portable kernel must walk the tree identically, with float and with
+// quantised nodes: for every ray the
 // sequence of primitive tests (leaf slot and the `t_max` handed over, compared bit for bit)
 // and the result must be equal, closest-hit and any-hit. 4000 random boxes on an integer
 // grid and 3000 rays, a third of them axis-parallel (zero direction components) starting
@@ -266,7 +273,6 @@ fn kernels_visit_identically() {
             Aabb { min: p, max: p + e }
         })
         .collect();
-    let mut bvh = Bvh::build(&boxes);
     let entry = |b: &Aabb, ray: &Ray, t_max: f32| -> Option<f32> {
         let inv = Vec3A::ONE / ray.dir;
         if !b.hit(ray.origin, inv, t_max) {
@@ -278,7 +284,7 @@ fn kernels_visit_identically() {
             .max(1e-6);
         (t < t_max).then_some(t)
     };
-    let mut visits = 0usize;
+    let mut rays = Vec::new();
     for r in 0..3000 {
         let mut o = Vec3A::new(next(), next(), next()) * 50.0 - 25.0;
         let mut d = Vec3A::new(next(), next(), next()) * 2.0 - 1.0;
@@ -288,26 +294,83 @@ fn kernels_visit_identically() {
             d[axis] = 0.0;
             d[(axis + 1) % 3] = if r % 2 == 0 { 0.0 } else { -0.0 };
         }
-        let ray = Ray::new(o, d);
-        for any_hit in [false, true] {
-            let mut runs = Vec::new();
-            for kernel in [TraversalKernel::Portable, TraversalKernel::Avx2] {
-                bvh.set_kernel(kernel);
-                assert_eq!(bvh.kernel(), kernel);
-                let mut log = Vec::new();
-                let found = bvh.traverse(&ray, f32::INFINITY, any_hit, |slot, t_max| {
-                    log.push((slot, t_max.to_bits()));
-                    entry(&boxes[bvh.order[slot as usize] as usize], &ray, t_max)
-                });
-                runs.push((found.map(f32::to_bits), log));
+        rays.push(Ray::new(o, d));
+    }
+    for layout in [NodeLayout::Float, NodeLayout::Quantised] {
+        let mut bvh = Bvh::build_with_layout(&boxes, layout);
+        assert_eq!(bvh.layout(), layout);
+        let mut visits = 0usize;
+        for (r, ray) in rays.iter().enumerate() {
+            let ray = *ray;
+            for any_hit in [false, true] {
+                let mut runs = Vec::new();
+                for kernel in [TraversalKernel::Portable, TraversalKernel::Avx2] {
+                    bvh.set_kernel(kernel);
+                    assert_eq!(bvh.kernel(), kernel);
+                    let mut log = Vec::new();
+                    let found = bvh.traverse(&ray, f32::INFINITY, any_hit, |slot, t_max| {
+                        log.push((slot, t_max.to_bits()));
+                        entry(&boxes[bvh.order[slot as usize] as usize], &ray, t_max)
+                    });
+                    runs.push((found.map(f32::to_bits), log));
+                }
+                visits += runs[0].1.len();
+                assert!(
+                    runs[0] == runs[1],
+                    "ray {r} (any_hit {any_hit}, {layout:?}) differs"
+                );
             }
-            visits += runs[0].1.len();
-            assert!(runs[0] == runs[1], "ray {r} (any_hit {any_hit}) differs");
+        }
+        // The comparison means something only if the rays reach many leaves (5,872 primitive
+        // tests in 6,000 walks with float nodes when written).
+        assert!(visits > 4_000, "only {visits} primitive tests ({layout:?})");
+    }
+}
+
+// Quantised nodes must hold every child box (the box test's conservativeness, hence the
+// hits, rests on it) and each step must be the tightest: the next step inward would cut the
+// float box. Exact comparisons of the decoded f32 corners (they are what the traversal
+// computes). 20,000 boxes far from the origin (offset 10⁴, extents from 10⁻³ down to flat
+// zero), so the grids meet rounding in the addition `origin + q · scale`.
+#[test]
+fn quantised_boxes_contain_and_hug_children() {
+    let mut next = uniform_stream(77);
+    let boxes: Vec<Aabb> = (0..20_000)
+        .map(|i| {
+            let p = Vec3A::new(next(), next(), next()) * 50.0 + 1.0e4;
+            let mut e = Vec3A::new(next(), next(), next()) * 1.0e-3;
+            if i % 7 == 0 {
+                e.y = 0.0;
+            }
+            Aabb { min: p, max: p + e }
+        })
+        .collect();
+    let float = Bvh::build_with_layout(&boxes, NodeLayout::Float);
+    let quant = Bvh::build_with_layout(&boxes, NodeLayout::Quantised);
+    assert_eq!(quant.layout(), NodeLayout::Quantised);
+    assert_eq!(float.nodes.len(), quant.qnodes.len());
+    for (f, q) in float.nodes.iter().zip(&quant.qnodes) {
+        let d = q.decoded();
+        assert_eq!((d.child, d.count, d.slots), (f.child, f.count, f.slots));
+        for s in 0..f.slots as usize {
+            let fl = [f.min_x[s], f.min_y[s], f.min_z[s]];
+            let fh = [f.max_x[s], f.max_y[s], f.max_z[s]];
+            let dl = [d.min_x[s], d.min_y[s], d.min_z[s]];
+            let dh = [d.max_x[s], d.max_y[s], d.max_z[s]];
+            for axis in 0..3 {
+                assert!(dl[axis] <= fl[axis] && dh[axis] >= fh[axis]);
+                let (o, sc) = (q.origin[axis], q.scale[axis]);
+                let (ql, qh) = (q.lo[axis][s], q.hi[axis][s]);
+                assert!(ql == u8::MAX || decode(o, sc, ql + 1) > fl[axis]);
+                assert!(qh == 0 || decode(o, sc, qh - 1) < fh[axis]);
+            }
         }
     }
-    // The comparison means something only if the rays reach many leaves (5,872 primitive
-    // tests in 6,000 walks when written).
-    assert!(visits > 4_000, "only {visits} primitive tests");
+    // Half the memory per node.
+    assert_eq!(
+        std::mem::size_of::<QuantNode>() * 2,
+        std::mem::size_of::<WideNode>()
+    );
 }
 
 // Making the build faster must not change the tree. The binary tree of an 81,920-triangle

@@ -5,7 +5,7 @@ use std::mem::MaybeUninit;
 
 use glam::{Vec3A, Vec4};
 
-use super::wide_node::{WideNode, WIDTH};
+use super::wide_node::{QuantNode, WideNode, WIDTH};
 use super::Bvh;
 use crate::geometry::float_error::gamma;
 use crate::geometry::Ray;
@@ -81,16 +81,27 @@ impl Bvh {
         any_hit: bool,
         test: F,
     ) -> Option<f32> {
-        if self.nodes.is_empty() {
+        let quantised = !self.qnodes.is_empty();
+        if self.nodes.is_empty() && !quantised {
             return None;
         }
         #[cfg(target_arch = "x86_64")]
         if self.kernel == TraversalKernel::Avx2 {
             // SAFETY: `kernel` is `Avx2` only when the CPU reports AVX2 (`best_available`,
             // `set_kernel`).
-            return unsafe { self.traverse_avx2::<N, F>(ray, t_max, any_hit, test) };
+            return unsafe {
+                if quantised {
+                    self.traverse_avx2::<N, true, F>(ray, t_max, any_hit, test)
+                } else {
+                    self.traverse_avx2::<N, false, F>(ray, t_max, any_hit, test)
+                }
+            };
         }
-        self.traverse_loop::<N, false, F>(ray, t_max, any_hit, test)
+        if quantised {
+            self.traverse_loop::<N, false, true, F>(ray, t_max, any_hit, test)
+        } else {
+            self.traverse_loop::<N, false, false, F>(ray, t_max, any_hit, test)
+        }
     }
 
     /// The traversal loop compiled with AVX2 enabled, so the eight-box test is one 256-bit
@@ -100,20 +111,29 @@ impl Bvh {
     /// The CPU must support AVX2.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    unsafe fn traverse_avx2<const N: usize, F: FnMut(u32, f32) -> Option<f32>>(
+    unsafe fn traverse_avx2<
+        const N: usize,
+        const QUANTISED: bool,
+        F: FnMut(u32, f32) -> Option<f32>,
+    >(
         &self,
         ray: &Ray,
         t_max: f32,
         any_hit: bool,
         test: F,
     ) -> Option<f32> {
-        self.traverse_loop::<N, true, F>(ray, t_max, any_hit, test)
+        self.traverse_loop::<N, true, QUANTISED, F>(ray, t_max, any_hit, test)
     }
 
     /// The one traversal loop; `AVX2` picks the box-test kernel (true only when called from
-    /// [`Bvh::traverse_avx2`]).
+    /// [`Bvh::traverse_avx2`]), `QUANTISED` the node layout (`qnodes` instead of `nodes`).
     #[inline(always)]
-    fn traverse_loop<const N: usize, const AVX2: bool, F: FnMut(u32, f32) -> Option<f32>>(
+    fn traverse_loop<
+        const N: usize,
+        const AVX2: bool,
+        const QUANTISED: bool,
+        F: FnMut(u32, f32) -> Option<f32>,
+    >(
         &self,
         ray: &Ray,
         mut t_max: f32,
@@ -152,25 +172,40 @@ impl Bvh {
                         }
                     }
                 } else {
-                    let n = &self.nodes[entry.child as usize];
                     let mut near = [0.0f32; WIDTH];
-                    #[cfg(target_arch = "x86_64")]
-                    let mask = if AVX2 {
-                        // SAFETY: `AVX2` is true only inside `traverse_avx2`.
-                        unsafe { node_hits_avx2(n, &rb, t_max, &mut near) }
+                    let (mask, child, count) = if QUANTISED {
+                        let n = &self.qnodes[entry.child as usize];
+                        #[cfg(target_arch = "x86_64")]
+                        let mask = if AVX2 {
+                            // SAFETY: `AVX2` is true only inside `traverse_avx2`.
+                            unsafe { quant_hits_avx2(n, &rb, t_max, &mut near) }
+                        } else {
+                            quant_hits_portable(n, &rb, t_max, &mut near)
+                        };
+                        #[cfg(not(target_arch = "x86_64"))]
+                        let mask = quant_hits_portable(n, &rb, t_max, &mut near);
+                        (mask, &n.child, &n.count)
                     } else {
-                        node_hits_portable(n, &rb, t_max, &mut near)
+                        let n = &self.nodes[entry.child as usize];
+                        #[cfg(target_arch = "x86_64")]
+                        let mask = if AVX2 {
+                            // SAFETY: `AVX2` is true only inside `traverse_avx2`.
+                            unsafe { node_hits_avx2(n, &rb, t_max, &mut near) }
+                        } else {
+                            node_hits_portable(n, &rb, t_max, &mut near)
+                        };
+                        #[cfg(not(target_arch = "x86_64"))]
+                        let mask = node_hits_portable(n, &rb, t_max, &mut near);
+                        (mask, &n.child, &n.count)
                     };
-                    #[cfg(not(target_arch = "x86_64"))]
-                    let mask = node_hits_portable(n, &rb, t_max, &mut near);
                     if mask != 0 {
                         // `i` is a set bit of an eight-bit mask; `& 7` lets the compiler
                         // drop the bounds checks.
                         let at = |i: u32| {
                             let i = i as usize & (WIDTH - 1);
                             Entry {
-                                child: n.child[i],
-                                count: n.count[i] as u32,
+                                child: child[i],
+                                count: count[i] as u32,
                                 near: near[i],
                             }
                         };
@@ -280,6 +315,56 @@ pub(super) fn node_hits_portable(
     t_max: f32,
     near: &mut [f32; WIDTH],
 ) -> u32 {
+    let planes = [&n.min_x, &n.min_y, &n.min_z, &n.max_x, &n.max_y, &n.max_z];
+    let mask = slab_halves(
+        |plane, half| Vec4::from_slice(&planes[plane][4 * half..4 * half + 4]),
+        r,
+        t_max,
+        near,
+    );
+    // Unused slots sit at the end; their empty boxes can pass the slab test (±∞ − ±∞
+    // orders), so they are masked out by the slot count.
+    mask & ((1u32 << n.slots) - 1)
+}
+
+/// [`node_hits_portable`] for a quantised node: each plane decoded as `origin + q · scale`
+/// (the same f32 operations as [`QuantNode::from_wide`] and [`quant_hits_avx2`]), then the
+/// same slab test.
+#[inline(always)]
+pub(super) fn quant_hits_portable(
+    n: &QuantNode,
+    r: &RayBoxes,
+    t_max: f32,
+    near: &mut [f32; WIDTH],
+) -> u32 {
+    let mask = slab_halves(
+        |plane, half| {
+            let axis = plane % 3;
+            let q = if plane < 3 { &n.lo[axis] } else { &n.hi[axis] };
+            let q = Vec4::new(
+                q[4 * half] as f32,
+                q[4 * half + 1] as f32,
+                q[4 * half + 2] as f32,
+                q[4 * half + 3] as f32,
+            );
+            Vec4::splat(n.origin[axis]) + q * Vec4::splat(n.scale[axis])
+        },
+        r,
+        t_max,
+        near,
+    );
+    mask & ((1u32 << n.slots) - 1)
+}
+
+/// The slab test of eight boxes as two four-wide halves; `lane(plane, half)` gives plane
+/// `min_x, min_y, min_z, max_x, max_y, max_z` (0..6) of slots `4·half..4·half + 4`.
+#[inline(always)]
+fn slab_halves(
+    lane: impl Fn(usize, usize) -> Vec4,
+    r: &RayBoxes,
+    t_max: f32,
+    near: &mut [f32; WIDTH],
+) -> u32 {
     let (ox, oy, oz) = (
         Vec4::splat(r.origin[0]),
         Vec4::splat(r.origin[1]),
@@ -295,13 +380,12 @@ pub(super) fn node_hits_portable(
     let t_max = Vec4::splat(t_max);
     let mut mask = 0;
     for half in 0..2 {
-        let lane = |a: &[f32; WIDTH]| Vec4::from_slice(&a[4 * half..4 * half + 4]);
-        let tx0 = (lane(&n.min_x) - ox) * ix;
-        let tx1 = (lane(&n.max_x) - ox) * ix;
-        let ty0 = (lane(&n.min_y) - oy) * iy;
-        let ty1 = (lane(&n.max_y) - oy) * iy;
-        let tz0 = (lane(&n.min_z) - oz) * iz;
-        let tz1 = (lane(&n.max_z) - oz) * iz;
+        let tx0 = (lane(0, half) - ox) * ix;
+        let tx1 = (lane(3, half) - ox) * ix;
+        let ty0 = (lane(1, half) - oy) * iy;
+        let ty1 = (lane(4, half) - oy) * iy;
+        let tz0 = (lane(2, half) - oz) * iz;
+        let tz1 = (lane(5, half) - oz) * iz;
         let t_near = tx0
             .min(tx1)
             .max(ty0.min(ty1).max(tz0.min(tz1).max(Vec4::ZERO)));
@@ -309,9 +393,7 @@ pub(super) fn node_hits_portable(
         mask |= t_near.cmple(t_far).bitmask() << (4 * half);
         t_near.write_to_slice(&mut near[4 * half..4 * half + 4]);
     }
-    // Unused slots sit at the end; their empty boxes can pass the slab test (±∞ − ±∞
-    // orders), so they are masked out by the slot count.
-    mask & ((1u32 << n.slots) - 1)
+    mask
 }
 
 /// [`node_hits_portable`] as one 256-bit operation per step: the same IEEE operations with the
@@ -330,6 +412,68 @@ pub(super) unsafe fn node_hits_avx2(
     near: &mut [f32; WIDTH],
 ) -> u32 {
     use std::arch::x86_64::*;
+    // SAFETY: the arrays are 32 bytes each at 32-byte offsets of a 64-byte-aligned node.
+    let lane = |a: &[f32; WIDTH]| unsafe { _mm256_load_ps(a.as_ptr()) };
+    let planes = [
+        lane(&n.min_x),
+        lane(&n.min_y),
+        lane(&n.min_z),
+        lane(&n.max_x),
+        lane(&n.max_y),
+        lane(&n.max_z),
+    ];
+    slab_avx2(planes, r, t_max, near) & ((1u32 << n.slots) - 1)
+}
+
+/// [`quant_hits_portable`] with AVX2: the eight steps of a plane widened to 32-bit integers,
+/// converted (exactly) and decoded as `origin + q · scale`, then [`slab_avx2`].
+///
+/// # Safety
+/// The CPU must support AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+pub(super) unsafe fn quant_hits_avx2(
+    n: &QuantNode,
+    r: &RayBoxes,
+    t_max: f32,
+    near: &mut [f32; WIDTH],
+) -> u32 {
+    use std::arch::x86_64::*;
+    let plane = |q: &[u8; WIDTH], axis: usize| {
+        // SAFETY: `q` holds eight bytes, exactly what `_mm_loadl_epi64` reads.
+        let bytes = unsafe { _mm_loadl_epi64(q.as_ptr().cast::<__m128i>()) };
+        let steps = _mm256_cvtepi32_ps(_mm256_cvtepu8_epi32(bytes));
+        _mm256_add_ps(
+            _mm256_set1_ps(n.origin[axis]),
+            _mm256_mul_ps(steps, _mm256_set1_ps(n.scale[axis])),
+        )
+    };
+    let planes = [
+        plane(&n.lo[0], 0),
+        plane(&n.lo[1], 1),
+        plane(&n.lo[2], 2),
+        plane(&n.hi[0], 0),
+        plane(&n.hi[1], 1),
+        plane(&n.hi[2], 2),
+    ];
+    slab_avx2(planes, r, t_max, near) & ((1u32 << n.slots) - 1)
+}
+
+/// The slab test of eight boxes given as planes `min_x, min_y, min_z, max_x, max_y, max_z`.
+///
+/// # Safety
+/// The CPU must support AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn slab_avx2(
+    planes: [std::arch::x86_64::__m256; 6],
+    r: &RayBoxes,
+    t_max: f32,
+    near: &mut [f32; WIDTH],
+) -> u32 {
+    use std::arch::x86_64::*;
     let (ox, oy, oz) = (
         _mm256_set1_ps(r.origin[0]),
         _mm256_set1_ps(r.origin[1]),
@@ -342,14 +486,12 @@ pub(super) unsafe fn node_hits_avx2(
     );
     let far_scale = _mm256_set1_ps(1.0 + 2.0 * gamma(3));
     let t_max = _mm256_set1_ps(t_max);
-    // SAFETY: the arrays are 32 bytes each at 32-byte offsets of a 64-byte-aligned node.
-    let lane = |a: &[f32; WIDTH]| unsafe { _mm256_load_ps(a.as_ptr()) };
-    let tx0 = _mm256_mul_ps(_mm256_sub_ps(lane(&n.min_x), ox), ix);
-    let tx1 = _mm256_mul_ps(_mm256_sub_ps(lane(&n.max_x), ox), ix);
-    let ty0 = _mm256_mul_ps(_mm256_sub_ps(lane(&n.min_y), oy), iy);
-    let ty1 = _mm256_mul_ps(_mm256_sub_ps(lane(&n.max_y), oy), iy);
-    let tz0 = _mm256_mul_ps(_mm256_sub_ps(lane(&n.min_z), oz), iz);
-    let tz1 = _mm256_mul_ps(_mm256_sub_ps(lane(&n.max_z), oz), iz);
+    let tx0 = _mm256_mul_ps(_mm256_sub_ps(planes[0], ox), ix);
+    let tx1 = _mm256_mul_ps(_mm256_sub_ps(planes[3], ox), ix);
+    let ty0 = _mm256_mul_ps(_mm256_sub_ps(planes[1], oy), iy);
+    let ty1 = _mm256_mul_ps(_mm256_sub_ps(planes[4], oy), iy);
+    let tz0 = _mm256_mul_ps(_mm256_sub_ps(planes[2], oz), iz);
+    let tz1 = _mm256_mul_ps(_mm256_sub_ps(planes[5], oz), iz);
     let t_near = _mm256_max_ps(
         _mm256_min_ps(tx0, tx1),
         _mm256_max_ps(
@@ -371,5 +513,5 @@ pub(super) unsafe fn node_hits_avx2(
     let mask = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(t_near, t_far)) as u32;
     // SAFETY: `near` holds eight f32.
     unsafe { _mm256_storeu_ps(near.as_mut_ptr(), t_near) };
-    mask & ((1u32 << n.slots) - 1)
+    mask
 }
