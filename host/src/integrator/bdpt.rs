@@ -266,6 +266,9 @@ pub fn connect(
             (s, t),
             lambda,
             m,
+            (0..LANES)
+                .filter(|&k| l[k] != 0.0)
+                .fold(LaneMask::NONE, |acc, k| acc.with(k)),
         )
     } else {
         SampledSpectrum::splat(mis_weight(
@@ -859,10 +862,7 @@ impl Bdpt {
                 let shifted_weights;
                 let weights = match (t, light_path.get(s.wrapping_sub(1)), &mode) {
                     (1, Some(q), Some(m)) => {
-                        shifted_weights = XyzWeights::new(
-                            sensor,
-                            &t1_wavelengths(scene, mixture, m, &light_path, q),
-                        );
+                        shifted_weights = XyzWeights::new(sensor, &t1_wavelengths(m, q));
                         &shifted_weights
                     }
                     _ => &weights,
@@ -933,6 +933,7 @@ impl Bdpt {
     /// wavelengths, otherwise at its own draw from its light's spectrum. Scenes without
     /// fluorescence draw nothing more than before.
     #[allow(clippy::too_many_arguments)]
+    #[inline]
     fn light_subpath(
         &self,
         scene: &Scene,
@@ -959,12 +960,9 @@ impl Bdpt {
             return (start, None);
         }
         let alpha = SHARED_MODE_PROBABILITY;
-        let mut mode = LightMode {
-            own: rng.next_1d() >= alpha,
-            lambda: *lambda,
-            alpha,
-        };
-        let start = if mode.own {
+        let own = rng.next_1d() >= alpha;
+        let mut start_lambda = *lambda;
+        let start = if own {
             let u = rng.next_1d() as f64;
             generate_light_subpath_own(
                 scene,
@@ -976,7 +974,7 @@ impl Bdpt {
                 self.rr_depth,
                 light_path,
                 stats,
-                &mut mode.lambda,
+                &mut start_lambda,
             )
         } else {
             generate_light_subpath_with(
@@ -991,6 +989,7 @@ impl Bdpt {
                 WalkShift::LightLanesRecorded,
             )
         };
+        let mode = LightMode::new(own, start_lambda, alpha, scene, mixture, light_path);
         (start, Some(mode))
     }
 

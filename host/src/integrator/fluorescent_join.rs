@@ -40,13 +40,16 @@ use crate::scene::Scene;
 use crate::spectrum::reradiation::Reradiation;
 use crate::spectrum::spd::is_line_lane;
 use crate::spectrum::{DeltaLine, SampledSpectrum, SampledWavelengths, LANES};
+use std::cell::Cell;
 
 /// α: the probability that a pair's light subpath starts at the pair's wavelengths (module
 /// docs). Scenes without fluorescence draw no mode (all shared, α = 1 in effect).
 pub const SHARED_MODE_PROBABILITY: f32 = 0.5;
 
-/// How the light subpath of a pair started, in a scene that renders fluorescence.
-#[derive(Clone, Copy, Debug)]
+/// How the light subpath of a pair started, in a scene that renders fluorescence, with the
+/// densities of its start wavelengths that the MIS weights and the t = 1 splats need (computed
+/// once per pair instead of per connection).
+#[derive(Clone, Debug)]
 pub struct LightMode {
     /// The light subpath drew its own wavelengths (the "own" mode) instead of the pair's.
     pub own: bool,
@@ -55,6 +58,75 @@ pub struct LightMode {
     pub lambda: SampledWavelengths,
     /// α, the probability of the shared mode.
     pub alpha: f32,
+    /// The light the subpath started on (`u32::MAX` without a subpath).
+    pub start_light: u32,
+    /// p_mix at `lambda`, per lane.
+    pub start_mix_pdf: [f64; LANES],
+    /// p_L(`lambda` | `start_light`), per lane.
+    pub start_light_pdf: [f64; LANES],
+    /// p_L(pair's wavelengths | light), per lane, for the last lights asked (s ≤ 1 strategies
+    /// whose light is not the subpath's): (light, densities), a small direct-mapped cache.
+    pair_light_pdf: Cell<[(u32, [f64; LANES]); 4]>,
+}
+
+impl LightMode {
+    /// The mode of a pair whose light subpath `light_path` started at `lambda` (the pair's
+    /// wavelengths `pair` in the shared mode).
+    pub fn new(
+        own: bool,
+        lambda: SampledWavelengths,
+        alpha: f32,
+        scene: &Scene,
+        mixture: &WavelengthMixture,
+        light_path: &[Vertex],
+    ) -> Self {
+        let start_light = light_path
+            .first()
+            .and_then(|v| v.light_index(scene))
+            .unwrap_or(u32::MAX);
+        let mut start_mix_pdf = [0.0; LANES];
+        let mut start_light_pdf = [0.0; LANES];
+        if start_light != u32::MAX {
+            for k in 0..LANES {
+                let l = lambda.lambda[k];
+                (start_mix_pdf[k], start_light_pdf[k]) = if own {
+                    (mixture.lane_density(l), lambda.pdf[k] as f64)
+                } else {
+                    (
+                        lambda.pdf[k] as f64,
+                        mixture.light_lane_density(start_light as usize, l),
+                    )
+                };
+            }
+        }
+        Self {
+            own,
+            lambda,
+            alpha,
+            start_light,
+            start_mix_pdf,
+            start_light_pdf,
+            pair_light_pdf: Cell::new([(u32::MAX, [0.0; LANES]); 4]),
+        }
+    }
+
+    /// p_L(λ | `light`) of the lanes of the pair's wavelengths `pair` (cached per light).
+    pub fn pair_light_pdf(
+        &self,
+        mixture: &WavelengthMixture,
+        light: u32,
+        pair: &SampledWavelengths,
+    ) -> [f64; LANES] {
+        let mut cache = self.pair_light_pdf.get();
+        let slot = (light & 3) as usize;
+        if cache[slot].0 != light {
+            let d =
+                std::array::from_fn(|j| mixture.light_lane_density(light as usize, pair.lambda[j]));
+            cache[slot] = (light, d);
+            self.pair_light_pdf.set(cache);
+        }
+        cache[slot].1
+    }
 }
 
 /// The re-radiation of a fluorescent surface at vertex `v`, if any.
@@ -207,35 +279,14 @@ pub fn connect_own(
     Some(c)
 }
 
-/// The density of the start wavelength of a t = 1 strategy, over both modes:
-/// α·p_mix(λ) + (1 − α)·p_L(λ | light) for a light subpath starting on light `light` at
-/// `emit` (nm, per lane). A line lane gets the discrete probabilities of both.
-pub fn t1_density(
-    mixture: &WavelengthMixture,
-    alpha: f32,
-    light: usize,
-    emit: &[f32; LANES],
-) -> [f64; LANES] {
-    let a = alpha as f64;
-    std::array::from_fn(|k| {
-        a * mixture.lane_density(emit[k]) + (1.0 - a) * mixture.light_lane_density(light, emit[k])
-    })
-}
-
 /// What the film weighs a t = 1 splat of light vertex `q` with: the wavelengths that reach the
-/// camera, each divided by its lane's start density over both modes ([`t1_density`]).
-pub fn t1_wavelengths(
-    scene: &Scene,
-    mixture: &WavelengthMixture,
-    mode: &LightMode,
-    light_path: &[Vertex],
-    q: &Vertex,
-) -> SampledWavelengths {
+/// camera, each divided by its lane's start density over both modes,
+/// α·p_mix(λ) + (1 − α)·p_L(λ | light) (a line lane gets the discrete probabilities of both).
+pub fn t1_wavelengths(mode: &LightMode, q: &Vertex) -> SampledWavelengths {
     let mut w = q.wavelengths(&mode.lambda);
-    let light = light_path[0].light_index(scene).unwrap_or(0) as usize;
-    let d = t1_density(mixture, mode.alpha, light, &mode.lambda.lambda);
+    let a = mode.alpha as f64;
     for k in 0..LANES {
-        w.pdf[k] = d[k] as f32;
+        w.pdf[k] = (a * mode.start_mix_pdf[k] + (1.0 - a) * mode.start_light_pdf[k]) as f32;
     }
     w
 }

@@ -45,8 +45,8 @@ use super::vertex::{remap0, Vertex};
 use super::wavelength_mixture::WavelengthMixture;
 use crate::camera::Camera;
 use crate::scene::Scene;
-use crate::spectrum::reradiation::Reradiation;
-use crate::spectrum::{SampledSpectrum, SampledWavelengths, LANES};
+use crate::spectrum::spd::is_line_lane;
+use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths, LANES};
 
 #[cfg(test)]
 thread_local! {
@@ -60,7 +60,8 @@ thread_local! {
 /// Per-lane power-heuristic weight of strategy (s, t) for the lane paths it produced, relative
 /// to every strategy that can make the same lane path (module docs). `sampled` as for
 /// [`super::bdpt::mis_weight`]; `lambda` is the pair's wavelengths, `mode` how the light
-/// subpath started.
+/// subpath started. Only the lanes in `need` are weighed (the others get 0: the connection
+/// gives them nothing).
 #[allow(clippy::too_many_arguments)]
 pub fn mis_weight_lanes(
     scene: &Scene,
@@ -71,6 +72,7 @@ pub fn mis_weight_lanes(
     (s, t): (usize, usize),
     lambda: &SampledWavelengths,
     mode: &LightMode,
+    need: LaneMask,
 ) -> SampledSpectrum {
     let o = mis_weight_overrides(
         scene,
@@ -126,185 +128,246 @@ pub fn mis_weight_lanes(
         }
     };
     let sq = |x: f64| x * x;
-    // Squared area-density ratio of the split with s' light vertices to this one's, and
-    // whether that split is a strategy at all (no delta vertex at its connection).
-    let mut area = vec![(0.0f64, false); n];
-    area[s] = (1.0, true);
-    let mut r = 1.0f64;
-    for i in (1..t).rev() {
-        let (fwd, rev, delta) = cam(i);
-        r *= sq(remap0(rev) as f64 / remap0(fwd) as f64);
-        area[n - i] = (r, !delta && !cam(i - 1).2);
-    }
-    r = 1.0;
-    for i in (0..s).rev() {
-        let (fwd, rev, delta) = light(i);
-        r *= sq(remap0(rev) as f64 / remap0(fwd) as f64);
-        let delta_before = if i > 0 {
-            light(i - 1).2
-        } else {
-            x(0).is_unhittable_light(scene)
-        };
-        area[i] = (r, !delta && !delta_before);
-    }
-    // The lane wavelengths on each edge x_e — x_{e+1}: the light subpath's below the
-    // connection, the camera subpath's above it; on the connection edge the light side's for
-    // t = 1 and where the own mode evaluated the camera-side endpoint, else the camera side's.
-    let rr: Vec<Option<&dyn Reradiation>> = (0..n)
-        .map(|i| {
-            if i == 0 || i == n - 1 {
-                None
+    SCRATCH.with(|scratch| {
+        let mut guard = scratch.borrow_mut();
+        let sc_ = &mut *guard;
+        sc_.reset(n);
+        let Scratch {
+            area,
+            fluorescent,
+            seg,
+            el,
+            ec,
+            pl,
+            sc,
+        } = sc_;
+        // Squared area-density ratio of the split with s' light vertices to this one's, and
+        // whether that split is a strategy at all (no delta vertex at its connection).
+        area[s] = (1.0, true);
+        let mut r = 1.0f64;
+        for i in (1..t).rev() {
+            let (fwd, rev, delta) = cam(i);
+            r *= sq(remap0(rev) as f64 / remap0(fwd) as f64);
+            area[n - i] = (r, !delta && !cam(i - 1).2);
+        }
+        r = 1.0;
+        for i in (0..s).rev() {
+            let (fwd, rev, delta) = light(i);
+            r *= sq(remap0(rev) as f64 / remap0(fwd) as f64);
+            let delta_before = if i > 0 {
+                light(i - 1).2
             } else {
-                reradiation_at(scene, x(i))
-            }
-        })
-        .collect();
-    let seg: Vec<[f32; LANES]> = (0..n - 1)
-        .map(|e| {
-            let light_side = e + 1 < s || (e + 1 == s && (t == 1 || (own_mode && rr[s].is_some())));
-            if light_side {
+                x(0).is_unhittable_light(scene)
+            };
+            area[i] = (r, !delta && !delta_before);
+        }
+        for (i, f) in fluorescent.iter_mut().enumerate() {
+            *f = i > 0 && i < n - 1 && reradiation_at(scene, x(i)).is_some();
+        }
+        // The lane wavelengths on each edge x_e — x_{e+1}: the light subpath's below the
+        // connection, the camera subpath's above it; on the connection edge the light side's
+        // for t = 1 and where the own mode evaluated the camera-side endpoint, else the
+        // camera side's.
+        for (e, w) in seg.iter_mut().enumerate() {
+            let light_side = e + 1 < s || (e + 1 == s && (t == 1 || (own_mode && fluorescent[s])));
+            *w = if light_side {
                 x(e).wavelengths(base).lambda
             } else {
                 x(e + 1).wavelengths(lambda).lambda
-            }
-        })
-        .collect();
-    let lines = scene.lights.delta_lines();
-    // Event probabilities of x_i made from the light side and from the camera side.
-    let mut el = vec![[1.0f64; LANES]; n];
-    let mut ec = vec![[1.0f64; LANES]; n];
-    // The vertex whose event this strategy evaluated (own mode).
-    let evaluated = |sp: usize| -> Option<usize> {
-        if rr[sp].is_some() {
-            Some(sp)
-        } else if rr[sp - 1].is_some() {
-            Some(sp - 1)
-        } else {
-            None
-        }
-    };
-    let own_eval = if own_mode { evaluated(s) } else { None };
-    for i in 1..n.saturating_sub(1) {
-        let Some(rri) = rr[i] else {
-            continue;
-        };
-        let v = x(i);
-        if own_eval == Some(i) {
-            for k in 0..LANES {
-                let (a, b) = (seg[i - 1][k], seg[i][k]);
-                el[i][k] = event_probability(rri, a, b, Direction::Light, lines);
-                ec[i][k] = event_probability(rri, b, a, Direction::Camera, lines);
-            }
-        } else {
-            let (own, other) = (v.choice, v.choice_rev);
-            for k in 0..LANES {
-                if i < s {
-                    (el[i][k], ec[i][k]) = (own[k] as f64, other[k] as f64);
-                } else {
-                    (ec[i][k], el[i][k]) = (own[k] as f64, other[k] as f64);
-                }
-            }
-        }
-    }
-    // Prefix products of the light side's, suffix products of the camera side's: the event
-    // part of split s' is pl[s']·sc[s'].
-    let mut pl = vec![[1.0f64; LANES]; n + 1];
-    let mut sc = vec![[1.0f64; LANES]; n + 1];
-    for j in 1..=n {
-        for k in 0..LANES {
-            pl[j][k] = pl[j - 1][k] * el[j - 1][k];
-        }
-    }
-    for j in (0..n).rev() {
-        for k in 0..LANES {
-            sc[j][k] = sc[j + 1][k] * ec[j][k];
-        }
-    }
-    let alpha = mode.alpha as f64;
-    let li = x(0).light_index(scene).unwrap_or(0) as usize;
-    let mut out = SampledSpectrum::zero();
-    for k in 0..LANES {
-        let (obs, emit) = (seg[n - 2][k], seg[0][k]);
-        let p_obs = mixture.lane_density(obs);
-        let p_light = mixture.light_lane_density(li, emit);
-        let p_t1 =
-            mode.alpha as f64 * mixture.lane_density(emit) + (1.0 - mode.alpha as f64) * p_light;
-        let p_own_ends = (1.0 - alpha) * p_obs * p_light;
-        // Density (without the area part) of split sp, shared (false) or own (true) mode.
-        let density = |sp: usize, own: bool| -> f64 {
-            let tp = n - sp;
-            let events = pl[sp][k] * sc[sp][k];
-            if tp == 1 {
-                events * p_t1
-            } else if sp <= 1 {
-                if own {
-                    0.0
-                } else {
-                    events * p_obs
-                }
-            } else if !own {
-                if emit == obs {
-                    events * alpha * p_obs
-                } else {
-                    0.0
-                }
-            } else {
-                match evaluated(sp) {
-                    Some(v) if evaluated_event_possible(seg[v - 1][k], seg[v][k], lines) => {
-                        let events = if v == sp {
-                            pl[sp][k] * sc[sp + 1][k]
-                        } else {
-                            pl[sp - 1][k] * sc[sp][k]
-                        };
-                        events * p_own_ends
-                    }
-                    Some(_) => 0.0,
-                    None if crate::spectrum::spd::is_line_lane(lines, seg[sp - 1][k]) => {
-                        events * p_own_ends
-                    }
-                    None => 0.0,
-                }
-            }
-        };
-        #[allow(unused_mut)]
-        let mut own_density = density(s, own_mode);
-        #[cfg(test)]
-        {
-            let joined = s >= 2 && t >= 2;
-            own_density /= match DROP_FACTOR.with(|d| d.get()) {
-                1 if joined && own_mode => 1.0 - alpha,
-                1 if joined => alpha,
-                2 if own_mode => p_light,
-                2 if t == 1 => p_t1 / (alpha * mixture.lane_density(emit)),
-                3 if own_mode => p_obs,
-                _ => 1.0,
             };
         }
-        if !(own_density > 0.0) {
-            continue;
-        }
-        let mut sum = 0.0f64;
-        for (sp, &(ratio, ok)) in area.iter().enumerate() {
-            if !ok {
+        let lines = scene.lights.delta_lines();
+        // The vertex whose event the own mode evaluates at split sp.
+        let evaluated = |sp: usize| -> Option<usize> {
+            if fluorescent[sp] {
+                Some(sp)
+            } else if fluorescent[sp - 1] {
+                Some(sp - 1)
+            } else {
+                None
+            }
+        };
+        let own_eval = if own_mode { evaluated(s) } else { None };
+        // Event probabilities of x_i made from the light side (el) and the camera side (ec).
+        for i in 1..n.saturating_sub(1) {
+            if !fluorescent[i] {
                 continue;
             }
-            let tp = n - sp;
-            let modes: &[bool] = if sp >= 2 && tp >= 2 {
-                &[false, true]
+            let v = x(i);
+            if own_eval == Some(i) {
+                if let Some(rri) = reradiation_at(scene, v) {
+                    for k in 0..LANES {
+                        let (a, b) = (seg[i - 1][k], seg[i][k]);
+                        el[i][k] = event_probability(rri, a, b, Direction::Light, lines);
+                        ec[i][k] = event_probability(rri, b, a, Direction::Camera, lines);
+                    }
+                }
             } else {
-                &[false]
-            };
-            for &m in modes {
-                let d = density(sp, m);
-                if d > 0.0 {
-                    sum += ratio * sq(d / own_density) * heuristic_scale(tp) as f64;
+                for k in 0..LANES {
+                    let (own, other) = (v.choice[k] as f64, v.choice_rev[k] as f64);
+                    (el[i][k], ec[i][k]) = if i < s { (own, other) } else { (other, own) };
                 }
             }
         }
-        let w = heuristic_scale(t) as f64 / sum;
-        out[k] = if w.is_finite() { w as f32 } else { 0.0 };
+        // Prefix products of the light side's, suffix products of the camera side's: the
+        // event part of split s' is pl[s']·sc[s'].
+        for j in 1..=n {
+            for k in 0..LANES {
+                pl[j][k] = pl[j - 1][k] * el[j - 1][k];
+            }
+        }
+        for j in (0..n).rev() {
+            for k in 0..LANES {
+                sc[j][k] = sc[j + 1][k] * ec[j][k];
+            }
+        }
+        let alpha = mode.alpha as f64;
+        let li = x(0).light_index(scene).unwrap_or(u32::MAX);
+        let mut out = SampledSpectrum::zero();
+        let mut pair_light: Option<[f64; LANES]> = None;
+        for k in 0..LANES {
+            if !need.contains(k) {
+                continue;
+            }
+            let (obs, emit) = (seg[n - 2][k], seg[0][k]);
+            // The end densities, from what the pair and the mode already hold where the
+            // wavelength is theirs.
+            let p_obs = if obs == lambda.lambda[k] {
+                lambda.pdf[k] as f64
+            } else if obs == base.lambda[k] {
+                mode.start_mix_pdf[k]
+            } else {
+                mixture.lane_density(obs)
+            };
+            let (p_emit, p_light) = if emit == base.lambda[k] && li == mode.start_light {
+                (mode.start_mix_pdf[k], mode.start_light_pdf[k])
+            } else if emit == lambda.lambda[k] && li != u32::MAX {
+                let p = *pair_light.get_or_insert_with(|| mode.pair_light_pdf(mixture, li, lambda));
+                (lambda.pdf[k] as f64, p[k])
+            } else {
+                (
+                    mixture.lane_density(emit),
+                    mixture.light_lane_density(li as usize, emit),
+                )
+            };
+            let p_t1 = alpha * p_emit + (1.0 - alpha) * p_light;
+            let p_own_ends = (1.0 - alpha) * p_obs * p_light;
+            // Density (without the area part) of split sp, shared (false) or own (true) mode.
+            let density = |sp: usize, own: bool| -> f64 {
+                let tp = n - sp;
+                let events = pl[sp][k] * sc[sp][k];
+                if tp == 1 {
+                    events * p_t1
+                } else if sp <= 1 {
+                    if own {
+                        0.0
+                    } else {
+                        events * p_obs
+                    }
+                } else if !own {
+                    if emit == obs {
+                        events * alpha * p_obs
+                    } else {
+                        0.0
+                    }
+                } else {
+                    match evaluated(sp) {
+                        Some(v) if evaluated_event_possible(seg[v - 1][k], seg[v][k], lines) => {
+                            let events = if v == sp {
+                                pl[sp][k] * sc[sp + 1][k]
+                            } else {
+                                pl[sp - 1][k] * sc[sp][k]
+                            };
+                            events * p_own_ends
+                        }
+                        Some(_) => 0.0,
+                        None if is_line_lane(lines, seg[sp - 1][k]) => events * p_own_ends,
+                        None => 0.0,
+                    }
+                }
+            };
+            #[allow(unused_mut)]
+            let mut own_density = density(s, own_mode);
+            #[cfg(test)]
+            {
+                let joined = s >= 2 && t >= 2;
+                own_density /= match DROP_FACTOR.with(|d| d.get()) {
+                    1 if joined && own_mode => 1.0 - alpha,
+                    1 if joined => alpha,
+                    2 if own_mode => p_light,
+                    2 if t == 1 => p_t1 / (alpha * p_emit),
+                    3 if own_mode => p_obs,
+                    _ => 1.0,
+                };
+            }
+            if !(own_density > 0.0) {
+                continue;
+            }
+            let mut sum = 0.0f64;
+            for (sp, &(ratio, ok)) in area.iter().enumerate() {
+                if !ok {
+                    continue;
+                }
+                let tp = n - sp;
+                let modes: &[bool] = if sp >= 2 && tp >= 2 {
+                    &[false, true]
+                } else {
+                    &[false]
+                };
+                for &m in modes {
+                    let d = density(sp, m);
+                    if d > 0.0 {
+                        sum += ratio * sq(d / own_density) * heuristic_scale(tp) as f64;
+                    }
+                }
+            }
+            let w = heuristic_scale(t) as f64 / sum;
+            out[k] = if w.is_finite() { w as f32 } else { 0.0 };
+        }
+        out
+    })
+}
+
+/// Per-thread buffers of [`mis_weight_lanes`], sized to the path (no allocation per call once
+/// they have grown).
+#[derive(Default)]
+struct Scratch {
+    /// Per split s': the squared area-density ratio to this strategy's, and whether s' is a
+    /// strategy.
+    area: Vec<(f64, bool)>,
+    /// Per vertex: a fluorescent surface (not the path's ends).
+    fluorescent: Vec<bool>,
+    /// Per edge: the lane wavelengths (nm).
+    seg: Vec<[f32; LANES]>,
+    /// Per vertex: event probabilities from the light side and from the camera side.
+    el: Vec<[f64; LANES]>,
+    ec: Vec<[f64; LANES]>,
+    /// Prefix products of `el`, suffix products of `ec` (n + 1 entries).
+    pl: Vec<[f64; LANES]>,
+    sc: Vec<[f64; LANES]>,
+}
+
+impl Scratch {
+    fn reset(&mut self, n: usize) {
+        self.area.clear();
+        self.area.resize(n, (0.0, false));
+        self.fluorescent.clear();
+        self.fluorescent.resize(n, false);
+        self.seg.clear();
+        self.seg.resize(n - 1, [0.0; LANES]);
+        for v in [&mut self.el, &mut self.ec] {
+            v.clear();
+            v.resize(n, [1.0; LANES]);
+        }
+        for v in [&mut self.pl, &mut self.sc] {
+            v.clear();
+            v.resize(n + 1, [1.0; LANES]);
+        }
     }
-    out
+}
+
+thread_local! {
+    static SCRATCH: std::cell::RefCell<Scratch> = std::cell::RefCell::new(Scratch::default());
 }
 
 #[cfg(test)]
@@ -318,7 +381,6 @@ mod tests {
     use crate::integrator::{PathStats, SampleRng};
     use crate::material::TransportMode;
     use crate::scene::{build_scene, parse_scene_str, BuiltinFactory};
-    use crate::spectrum::LaneMask;
     use glam::Vec2;
     use std::path::Path;
 
@@ -570,11 +632,6 @@ mod tests {
                     // mode, whose light subpath started at the pair's (emitted) wavelengths.
                     let pair = if t == 1 && !own { emit } else { obs };
                     let start = if own { light_own } else { pair };
-                    let mode = LightMode {
-                        own,
-                        lambda: start,
-                        alpha: ALPHA,
-                    };
                     // The light subpath x_0 … x_{s−1}.
                     let light_path: Vec<Vertex> = (0..s)
                         .map(|i| {
@@ -606,6 +663,7 @@ mod tests {
                             v
                         })
                         .collect();
+                    let mode = LightMode::new(own, start, ALPHA, &scene, &mixture, &light_path);
                     let sampled = match (s, t) {
                         (1, 2..) => {
                             let mut v = x0_light;
@@ -624,6 +682,7 @@ mod tests {
                         (s, t),
                         &pair,
                         &mode,
+                        LaneMask::ALL,
                     );
                     if t == 1 {
                         if let Some(w0) = t1_weight {

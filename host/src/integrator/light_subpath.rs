@@ -152,6 +152,7 @@ pub fn generate_light_subpath_own(
 /// The rest of a light subpath once light `li` (chosen with `pmf`) and the wavelengths are
 /// known: the emitted ray from `sample_le` and the walk.
 #[allow(clippy::too_many_arguments)]
+#[inline]
 fn start_at_light(
     scene: &Scene,
     (li, pmf): (usize, f32),
