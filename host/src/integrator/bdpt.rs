@@ -120,8 +120,10 @@ pub struct Connection {
 }
 
 /// Join the first `s` light vertices and the first `t` camera vertices (Veach's (s, t)
-/// strategy). `None` when the strategy gives nothing for this pair.
+/// strategy). `None` when the strategy gives nothing for this pair. `mode` is how the light
+/// subpath started in a scene that renders fluorescence (`None` elsewhere).
 #[allow(clippy::too_many_arguments)]
+#[inline]
 pub fn connect(
     scene: &Scene,
     camera: &dyn Camera,
@@ -135,6 +137,49 @@ pub fn connect(
     rng: &mut SampleRng,
     stats: &mut PathStats,
 ) -> Option<Connection> {
+    // Two instances, so that scenes without fluorescence run no test of the mode (measured:
+    // one instance for both cost the Cornell box +0.4% of bdpt's instructions).
+    if mode.is_some() {
+        connect_in::<true>(
+            scene,
+            camera,
+            mixture,
+            (light_path, camera_path),
+            (s, t),
+            lambda,
+            mode,
+            rng,
+            stats,
+        )
+    } else {
+        connect_in::<false>(
+            scene,
+            camera,
+            mixture,
+            (light_path, camera_path),
+            (s, t),
+            lambda,
+            None,
+            rng,
+            stats,
+        )
+    }
+}
+
+/// [`connect`], with `FLUORESCENT` saying whether `mode` can be `Some`.
+#[allow(clippy::too_many_arguments)]
+fn connect_in<const FLUORESCENT: bool>(
+    scene: &Scene,
+    camera: &dyn Camera,
+    mixture: &WavelengthMixture,
+    (light_path, camera_path): (&[Vertex], &[Vertex]),
+    (s, t): (usize, usize),
+    lambda: &SampledWavelengths,
+    mode: Option<&LightMode>,
+    rng: &mut SampleRng,
+    stats: &mut PathStats,
+) -> Option<Connection> {
+    let mode = if FLUORESCENT { mode } else { None };
     let mut sampled: Option<Vertex> = None;
     let mut raster = None;
     let mut l;
