@@ -14,9 +14,12 @@
 //! lights (positional density on a disk, see [`Vertex::pdf_light`]), finite apertures (the lens
 //! density is the camera's own), shading normals (adjoint correction on light subpaths).
 //! Wavelengths: one set per pair from [`WavelengthMixture`]. Fluorescence: both subpaths shift
-//! each lane's wavelength on its own at fluorescent surfaces; a lane that shifted is made only
-//! by s = 0, s = 1 and t = 1 (other connections give it nothing), and the MIS weights are then
-//! per lane ([`mis_weight_lanes`], `integrator/fluorescent_mis.rs`).
+//! each lane's wavelength on its own at fluorescent surfaces; with probability α the light
+//! subpath starts at the pair's wavelengths (its connections join the lanes that never shift),
+//! otherwise at its own draw from its light's spectrum, and then a connection evaluates the
+//! re-radiation between the two subpaths' wavelengths at a fluorescent endpoint
+//! (`integrator/fluorescent_join.rs`); the MIS weights are then per lane over both modes
+//! ([`mis_weight_lanes`], `integrator/fluorescent_mis.rs`).
 //!
 //! | parameter   | unit     | default | meaning                                              |
 //! |-------------|----------|---------|------------------------------------------------------|
