@@ -303,7 +303,7 @@ fn connect_in<const FLUORESCENT: bool>(
     let weight = if let Some(m) = mode {
         if s >= 2 && t >= 2 && !own {
             // The shared mode was chosen with probability α.
-            l = l * (1.0 / m.alpha);
+            l *= 1.0 / m.alpha;
         }
         mis_weight_lanes(
             scene,
