@@ -494,3 +494,96 @@ fn a_line_lane_takes_only_the_line_power_beside_a_continuous_light_there() {
         );
     }
 }
+
+/// Y means of `img` over its `rows` (top row 0): the whole band and its 2 × 2 tiles.
+fn band_tiles(img: &spectrace::film::XyzImage, rows: std::ops::Range<u32>) -> [f64; 5] {
+    let (w, h0, h1) = (img.width, rows.start, rows.end);
+    let mut sum = [0.0f64; 5];
+    let mut n = [0usize; 5];
+    for y in rows {
+        for x in 0..w {
+            let yv = img.xyz[(y * w + x) as usize][1];
+            let tile = 1 + (2 * (y - h0) / (h1 - h0)) as usize * 2 + (2 * x / w) as usize;
+            for i in [0, tile] {
+                sum[i] += yv;
+                n[i] += 1;
+            }
+        }
+    }
+    std::array::from_fn(|i| sum[i] / n[i] as f64)
+}
+
+/// Quantity: Y means (the whole image or band, and its 2 × 2 tiles) of bdpt against an
+/// integrator that renders the same band independently, each the mean of 8 seeds, on the
+/// bundled fluorescence scenes: `scenes/fluorescence.ron` (bdpt 128 spp against pt 512 and
+/// lt 512), `fluorescent_caustic.ron` below row 70 of 120 (the floor; lt cannot see the lamp
+/// through the ball above it; bdpt 128 against lt 512) and `fluorescent_indirect_uv.ron`
+/// (bdpt 128 against pt 512; lt cannot see the card through the ball). bdpt's light
+/// subpaths here start half the time at their own wavelengths, joined to camera subpaths
+/// through fluorescent endpoints (`integrator/fluorescent_join.rs`). Tolerance: 4 combined
+/// standard errors of the two means (from the seeds' spread; with 7 degrees of freedom a
+/// true mean lies beyond that about 0.5% of the time), printed with the differences. Long
+/// (about 10 minutes of two cores): `cargo test --release --test render_fluorescence --
+/// --ignored`.
+#[test]
+#[ignore = "long: about 10 minutes on 2 cores"]
+fn bdpt_agrees_on_the_bundled_fluorescence_scenes() {
+    let data = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let load = |rel: &str| -> Scene {
+        let path = data.join(rel);
+        let text = std::fs::read_to_string(&path).unwrap();
+        let desc = parse_scene_str(&text, &path).unwrap();
+        build_scene(&desc, path.parent().unwrap(), &path, &[&BuiltinFactory]).unwrap()
+    };
+    let cases: [(&str, u32, IntegratorKind, std::ops::Range<u32>); 4] = [
+        ("../scenes/fluorescence.ron", 8, IntegratorKind::Pt, 0..96),
+        ("../scenes/fluorescence.ron", 8, IntegratorKind::Lt, 0..96),
+        (
+            "tests/data/fluorescent_caustic.ron",
+            16,
+            IntegratorKind::Lt,
+            70..120,
+        ),
+        (
+            "tests/data/fluorescent_indirect_uv.ron",
+            10,
+            IntegratorKind::Pt,
+            0..96,
+        ),
+    ];
+    let mut failures = Vec::new();
+    for (file, depth, other, rows) in cases {
+        let s = load(file);
+        let runs = |kind: IntegratorKind, spp: u32| -> Vec<[f64; 5]> {
+            (0..8u64)
+                .map(|seed| {
+                    band_tiles(
+                        &render(&s, kind, spp, 500 + seed, depth).result.image,
+                        rows.clone(),
+                    )
+                })
+                .collect()
+        };
+        let b = runs(IntegratorKind::Bdpt, 128);
+        let o = runs(other, 512);
+        for i in 0..5 {
+            let (mb, sb) = mean_se(&b.iter().map(|x| x[i]).collect::<Vec<_>>());
+            let (mo, so) = mean_se(&o.iter().map(|x| x[i]).collect::<Vec<_>>());
+            let sigma = (sb * sb + so * so).sqrt();
+            let what = if i == 0 {
+                "band".to_string()
+            } else {
+                format!("tile {i}")
+            };
+            println!(
+                "{file} {what}: bdpt {mb:.6} vs {other} {mo:.6}: {:+.3}% (σ {:.3}%)",
+                100.0 * (mb / mo - 1.0),
+                100.0 * sigma / mo
+            );
+            if (mb - mo).abs() > 4.0 * sigma {
+                failures.push(format!("{file} {what}: {mb} vs {other} {mo}, σ {sigma}"));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
+}

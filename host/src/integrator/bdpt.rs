@@ -14,9 +14,12 @@
 //! lights (positional density on a disk, see [`Vertex::pdf_light`]), finite apertures (the lens
 //! density is the camera's own), shading normals (adjoint correction on light subpaths).
 //! Wavelengths: one set per pair from [`WavelengthMixture`]. Fluorescence: both subpaths shift
-//! each lane's wavelength on its own at fluorescent surfaces; a lane that shifted is made only
-//! by s = 0, s = 1 and t = 1 (other connections give it nothing), and the MIS weights are then
-//! per lane ([`mis_weight_lanes`], `integrator/fluorescent_mis.rs`).
+//! each lane's wavelength on its own at fluorescent surfaces; with probability α the light
+//! subpath starts at the pair's wavelengths (its connections join the lanes that never shift),
+//! otherwise at its own draw from its light's spectrum, and then a connection evaluates the
+//! re-radiation between the two subpaths' wavelengths at a fluorescent endpoint
+//! (`integrator/fluorescent_join.rs`); the MIS weights are then per lane over both modes
+//! ([`mis_weight_lanes`], `integrator/fluorescent_mis.rs`).
 //!
 //! | parameter   | unit     | default | meaning                                              |
 //! |-------------|----------|---------|------------------------------------------------------|
@@ -27,8 +30,9 @@ use super::beam::trace_beam;
 use super::camera_connection::connect_to_camera;
 use super::driver::{Integrator, IntegratorInfo, IntegratorOutput, Registration};
 use super::flat_colour::FlatColour;
+use super::fluorescent_join::{connect_own, t1_wavelengths, LightMode, SHARED_MODE_PROBABILITY};
 use super::fluorescent_mis::mis_weight_lanes;
-use super::light_subpath::{generate_light_subpath_with, LightStart};
+use super::light_subpath::{generate_light_subpath_own, generate_light_subpath_with, LightStart};
 use super::pixel_max::PixelMaxY;
 use super::random_walk::{generate_camera_subpath, WalkShift};
 use super::render::ProgressFn;
@@ -119,8 +123,10 @@ pub struct Connection {
 }
 
 /// Join the first `s` light vertices and the first `t` camera vertices (Veach's (s, t)
-/// strategy). `None` when the strategy gives nothing for this pair.
+/// strategy). `None` when the strategy gives nothing for this pair. `mode` is how the light
+/// subpath started in a scene that renders fluorescence (`None` elsewhere).
 #[allow(clippy::too_many_arguments)]
+#[inline]
 pub fn connect(
     scene: &Scene,
     camera: &dyn Camera,
@@ -130,16 +136,61 @@ pub fn connect(
     s: usize,
     t: usize,
     lambda: &SampledWavelengths,
+    mode: Option<&LightMode>,
     rng: &mut SampleRng,
     stats: &mut PathStats,
 ) -> Option<Connection> {
+    // Two instances, so that scenes without fluorescence run no test of the mode (measured:
+    // one instance for both cost the Cornell box +0.4% of bdpt's instructions).
+    if mode.is_some() {
+        connect_in::<true>(
+            scene,
+            camera,
+            mixture,
+            (light_path, camera_path),
+            (s, t),
+            lambda,
+            mode,
+            rng,
+            stats,
+        )
+    } else {
+        connect_in::<false>(
+            scene,
+            camera,
+            mixture,
+            (light_path, camera_path),
+            (s, t),
+            lambda,
+            None,
+            rng,
+            stats,
+        )
+    }
+}
+
+/// [`connect`], with `FLUORESCENT` saying whether `mode` can be `Some`.
+#[allow(clippy::too_many_arguments)]
+fn connect_in<const FLUORESCENT: bool>(
+    scene: &Scene,
+    camera: &dyn Camera,
+    mixture: &WavelengthMixture,
+    (light_path, camera_path): (&[Vertex], &[Vertex]),
+    (s, t): (usize, usize),
+    lambda: &SampledWavelengths,
+    mode: Option<&LightMode>,
+    rng: &mut SampleRng,
+    stats: &mut PathStats,
+) -> Option<Connection> {
+    let mode = if FLUORESCENT { mode } else { None };
     let mut sampled: Option<Vertex> = None;
     let mut raster = None;
     let mut l;
+    let own = mode.is_some_and(|m| m.own);
     // Lanes a fluorescent shift moved on either subpath cannot be joined by s ≥ 2, t ≥ 2
-    // (both ends start at the pair's wavelength, and a shift only lengthens it): those lanes
-    // get nothing from this strategy (see `mis_weight_lanes`).
-    let moved = if s >= 2 && t >= 2 {
+    // when both subpaths start at the pair's wavelength (a shift only lengthens it): those
+    // lanes get nothing from this strategy (see `mis_weight_lanes`).
+    let moved = if s >= 2 && t >= 2 && !own {
         camera_path[t - 1].moved.union(light_path[s - 1].moved)
     } else {
         LaneMask::NONE
@@ -162,8 +213,9 @@ pub fn connect(
         l = le * pt.beta;
     } else if t == 1 {
         // Connect a light vertex to a freshly sampled lens point and splat.
+        let start = mode.map_or(lambda, |m| &m.lambda);
         let (c, r, cam_v) =
-            connect_to_camera(scene, camera, light_path, s, lambda, rng.next_2d(), stats)?;
+            connect_to_camera(scene, camera, light_path, s, start, rng.next_2d(), stats)?;
         l = c;
         raster = Some(r);
         sampled = Some(cam_v);
@@ -210,6 +262,10 @@ pub fn connect(
         }
         l = c;
         sampled = Some(lv);
+    } else if let (true, Some(m)) = (own, mode) {
+        // Light wavelengths drawn on their own: a fluorescent endpoint evaluates the
+        // re-radiation between the two subpaths' wavelengths.
+        l = connect_own(scene, light_path, camera_path, s, t, lambda, m, stats)?;
     } else {
         // General case: join two surface vertices.
         let qs = &light_path[s - 1];
@@ -244,7 +300,11 @@ pub fn connect(
     if l.is_black() {
         return None;
     }
-    let weight = if scene.objects.fluorescence() {
+    let weight = if let Some(m) = mode {
+        if s >= 2 && t >= 2 && !own {
+            // The shared mode was chosen with probability α.
+            l *= 1.0 / m.alpha;
+        }
         mis_weight_lanes(
             scene,
             camera,
@@ -253,6 +313,10 @@ pub fn connect(
             sampled.as_ref(),
             (s, t),
             lambda,
+            m,
+            (0..LANES)
+                .filter(|&k| l[k] != 0.0)
+                .fold(LaneMask::NONE, |acc, k| acc.with(k)),
         )
     } else {
         SampledSpectrum::splat(mis_weight(
@@ -613,7 +677,11 @@ fn render_bdpt(
     let (width, height) = camera.resolution();
     let sensor = Sensor::new(scene.observer.clone());
     let mixture = plan.mixture();
-    let flat = plan.flat_colour(scene, sensor.observer().as_ref());
+    // Not in a fluorescent scene: its per-lane MIS weights vary with the wavelength (the end
+    // densities of the two modes differ), which the flat path's exact colour cannot carry.
+    let flat = plan
+        .flat_colour(scene, sensor.observer().as_ref())
+        .filter(|_| !scene.objects.fluorescence());
     let strategies = bdpt
         .strategy_images
         .then(|| StrategyFilms::new(width, height));
@@ -771,16 +839,14 @@ impl Bdpt {
             &mut worker.stats,
         );
         let u_start = (ld.next_1d(), ld.next_2d(), ld.next_2d());
-        let start = generate_light_subpath_with(
+        let (start, mode) = self.light_subpath(
             scene,
+            mixture,
             &lambda,
             u_start,
             rng,
-            max_depth + 1,
-            self.rr_depth,
             &mut light_path,
             &mut worker.stats,
-            WalkShift::LightLanesRecorded,
         );
         if let LightStart::Beams { index, pmf } = start {
             let mut splat = |raster: Vec2, xyz: [f64; 3], e: &dyn Fn() -> LaneEnergies| {
@@ -832,18 +898,19 @@ impl Bdpt {
                     s,
                     t,
                     &lambda,
+                    mode.as_ref(),
                     rng,
                     &mut worker.stats,
                 ) else {
                     continue;
                 };
-                // A t = 1 splat of a light subpath that fluorescence shifted: the observer
-                // weighs the wavelengths that reach the camera, each divided by its lane's
-                // pair density (as in light tracing).
+                // A t = 1 splat in a fluorescent scene: the observer weighs the wavelengths
+                // that reach the camera, each divided by its lane's start density over both
+                // modes (`t1_wavelengths`).
                 let shifted_weights;
-                let weights = match (t, light_path.get(s.wrapping_sub(1))) {
-                    (1, Some(q)) if q.shifted.is_some() => {
-                        shifted_weights = XyzWeights::new(sensor, &q.wavelengths(&lambda));
+                let weights = match (t, light_path.get(s.wrapping_sub(1)), &mode) {
+                    (1, Some(q), Some(m)) => {
+                        shifted_weights = XyzWeights::new(sensor, &t1_wavelengths(m, q));
                         &shifted_weights
                     }
                     _ => &weights,
@@ -907,6 +974,71 @@ impl Bdpt {
             }
         }
         total
+    }
+
+    /// The light subpath of a pair, and in a fluorescent scene its mode (see
+    /// `integrator/fluorescent_join.rs`): with probability α it starts at the pair's
+    /// wavelengths, otherwise at its own draw from its light's spectrum. Scenes without
+    /// fluorescence draw nothing more than before.
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    fn light_subpath(
+        &self,
+        scene: &Scene,
+        mixture: &WavelengthMixture,
+        lambda: &SampledWavelengths,
+        u_start: (f32, Vec2, Vec2),
+        rng: &mut SampleRng,
+        light_path: &mut Vec<Vertex>,
+        stats: &mut PathStats,
+    ) -> (LightStart, Option<LightMode>) {
+        let max = self.max_depth as usize + 1;
+        if !scene.objects.fluorescence() {
+            let start = generate_light_subpath_with(
+                scene,
+                lambda,
+                u_start,
+                rng,
+                max,
+                self.rr_depth,
+                light_path,
+                stats,
+                WalkShift::LightLanesRecorded,
+            );
+            return (start, None);
+        }
+        let alpha = SHARED_MODE_PROBABILITY;
+        let own = rng.next_1d() >= alpha;
+        let mut start_lambda = *lambda;
+        let start = if own {
+            let u = rng.next_1d() as f64;
+            generate_light_subpath_own(
+                scene,
+                mixture,
+                u,
+                u_start,
+                rng,
+                max,
+                self.rr_depth,
+                light_path,
+                stats,
+                &mut start_lambda,
+            )
+        } else {
+            generate_light_subpath_with(
+                scene,
+                lambda,
+                u_start,
+                rng,
+                max,
+                self.rr_depth,
+                light_path,
+                stats,
+                WalkShift::LightLanesRecorded,
+            )
+        };
+        let mode = LightMode::new(own, start_lambda, alpha, scene, mixture, light_path);
+        (start, Some(mode))
     }
 
     fn record_splat(

@@ -3,11 +3,12 @@
 
 use super::random_walk::{random_walk, WalkShift};
 use super::vertex::Vertex;
+use super::wavelength_mixture::WavelengthMixture;
 use super::{PathStats, SampleRng};
 use crate::light::LightFlags;
 use crate::material::TransportMode;
 use crate::scene::Scene;
-use crate::spectrum::SampledWavelengths;
+use crate::spectrum::{LaneMask, SampledWavelengths};
 use glam::Vec2;
 
 /// How a light subpath started.
@@ -78,11 +79,94 @@ pub fn generate_light_subpath_with(
     let Some((li, pmf)) = scene.lights.sample(u_light) else {
         return LightStart::None;
     };
-    let light = &scene.lights.lights()[li];
-    let flags = light.flags();
-    if flags.contains(LightFlags::BEAMS_ONLY) {
+    if scene.lights.lights()[li]
+        .flags()
+        .contains(LightFlags::BEAMS_ONLY)
+    {
         return LightStart::Beams { index: li, pmf };
     }
+    start_at_light(
+        scene,
+        (li, pmf),
+        lambda,
+        (u1, u2),
+        rng,
+        max_vertices,
+        rr_depth,
+        path,
+        stats,
+        shift,
+    )
+}
+
+/// bdpt in a fluorescent scene, when the pair's mode says the light subpath draws its own
+/// wavelengths: as [`generate_light_subpath_with`], with the lanes drawn after the light is
+/// chosen, from that light's spectrum with `u_lambda`
+/// ([`WavelengthMixture::sample_light`]), and written to `own` (their pdfs are the draw's
+/// densities). The subpath's vertices carry wavelengths relative to `own`.
+#[allow(clippy::too_many_arguments)]
+pub fn generate_light_subpath_own(
+    scene: &Scene,
+    mixture: &WavelengthMixture,
+    u_lambda: f64,
+    (u_light, u1, u2): (f32, Vec2, Vec2),
+    rng: &mut SampleRng,
+    max_vertices: usize,
+    rr_depth: u32,
+    path: &mut Vec<Vertex>,
+    stats: &mut PathStats,
+    own: &mut SampledWavelengths,
+) -> LightStart {
+    path.clear();
+    own.lanes = LaneMask::NONE;
+    if max_vertices == 0 {
+        return LightStart::None;
+    }
+    let Some((li, pmf)) = scene.lights.sample(u_light) else {
+        return LightStart::None;
+    };
+    if scene.lights.lights()[li]
+        .flags()
+        .contains(LightFlags::BEAMS_ONLY)
+    {
+        return LightStart::Beams { index: li, pmf };
+    }
+    let Some(lambda) = mixture.sample_light(li, u_lambda) else {
+        return LightStart::None;
+    };
+    *own = lambda;
+    start_at_light(
+        scene,
+        (li, pmf),
+        own,
+        (u1, u2),
+        rng,
+        max_vertices,
+        rr_depth,
+        path,
+        stats,
+        WalkShift::LightLanesRecorded,
+    )
+}
+
+/// The rest of a light subpath once light `li` (chosen with `pmf`) and the wavelengths are
+/// known: the emitted ray from `sample_le` and the walk.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn start_at_light(
+    scene: &Scene,
+    (li, pmf): (usize, f32),
+    lambda: &SampledWavelengths,
+    (u1, u2): (Vec2, Vec2),
+    rng: &mut SampleRng,
+    max_vertices: usize,
+    rr_depth: u32,
+    path: &mut Vec<Vertex>,
+    stats: &mut PathStats,
+    shift: WalkShift,
+) -> LightStart {
+    let light = &scene.lights.lights()[li];
+    let flags = light.flags();
     let Some(mut les) = light.sample_le(u1, u2, lambda) else {
         return LightStart::None;
     };

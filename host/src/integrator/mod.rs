@@ -12,6 +12,7 @@ pub mod camera_connection;
 pub mod driver;
 pub mod flat_colour;
 pub mod fluorescence;
+pub mod fluorescent_join;
 pub mod fluorescent_mis;
 pub mod light_subpath;
 pub mod light_tracer;

@@ -21,7 +21,7 @@
 use super::SampleRng;
 use crate::light::LightFlags;
 use crate::scene::Scene;
-use crate::spectrum::spd::{line_mass_at_lane, off_lines};
+use crate::spectrum::spd::{is_line_lane, line_mass_at_lane, off_lines};
 use crate::spectrum::wavelength_sampling::{rotated, visible_pdf, visible_sample};
 use crate::spectrum::{DeltaLine, LaneMask, SampledWavelengths, Spd, LANES};
 use std::sync::Arc;
@@ -37,6 +37,9 @@ pub struct WavelengthMixture {
     /// Probability of the emission component (½; 1 when the render plan finds all emission
     /// narrowband, where observer draws almost never see a light).
     emission_weight: f64,
+    /// Per scene light, its entry in `spds` (`None` for beams-only lights): bdpt's light
+    /// subpaths draw their own wavelengths from their light's spectrum in a fluorescent scene.
+    light_spd: Vec<Option<usize>>,
 }
 
 impl WavelengthMixture {
@@ -44,15 +47,23 @@ impl WavelengthMixture {
     /// wavelengths and are left out). Without such lights it is `p_vis` alone.
     pub fn new(scene: &Scene) -> Self {
         let mut spds: Vec<(Arc<dyn Spd>, f64)> = Vec::new();
+        let mut light_spd = Vec::with_capacity(scene.lights.lights().len());
         for (i, l) in scene.lights.lights().iter().enumerate() {
             let pmf = scene.lights.pmf(i) as f64;
             if l.flags().contains(LightFlags::BEAMS_ONLY) || !(pmf > 0.0) {
+                light_spd.push(None);
                 continue;
             }
             let spd = l.spd();
-            match spds.iter_mut().find(|(s, _)| Arc::ptr_eq(s, &spd)) {
-                Some(e) => e.1 += pmf,
-                None => spds.push((spd, pmf)),
+            match spds.iter_mut().position(|(s, _)| Arc::ptr_eq(s, &spd)) {
+                Some(e) => {
+                    spds[e].1 += pmf;
+                    light_spd.push(Some(e));
+                }
+                None => {
+                    light_spd.push(Some(spds.len()));
+                    spds.push((spd, pmf));
+                }
             }
         }
         let total: f64 = spds.iter().map(|e| e.1).sum();
@@ -80,6 +91,7 @@ impl WavelengthMixture {
             cdf,
             lines,
             emission_weight: 0.5,
+            light_spd,
         }
     }
 
@@ -121,6 +133,7 @@ impl WavelengthMixture {
             cdf: Vec::new(),
             lines: Vec::new(),
             emission_weight: 0.0,
+            light_spd: Vec::new(),
         }
     }
 
@@ -219,6 +232,51 @@ impl WavelengthMixture {
         }
         let spd = self.pick_spd(u_spd);
         Some(self.lanes(u, Some(spd), 1.0, |l| self.emission_pdf(l)))
+    }
+
+    /// bdpt's own light wavelengths in a fluorescent scene: lane `i` drawn from light
+    /// `light`'s spectrum at `frac(u + i/LANES)`, each lane carrying
+    /// [`light_lane_density`](Self::light_lane_density) (a line's share of that spectrum on a
+    /// line, the density elsewhere). `None` for a light without an evaluable spectrum here
+    /// (beams-only, or a mixture built without lights).
+    pub fn sample_light(&self, light: usize, u: f64) -> Option<SampledWavelengths> {
+        let spd = self.spds[(*self.light_spd.get(light)?)?].0.as_ref();
+        let mut out = SampledWavelengths {
+            lambda: [0.0; LANES],
+            pdf: [0.0; LANES],
+            lanes: LaneMask::ALL,
+        };
+        for i in 0..LANES {
+            let d = spd.sample(rotated(u, i, LANES));
+            let l = if d.is_delta {
+                d.lambda as f32
+            } else {
+                off_lines(d.lambda as f32, &self.lines)
+            };
+            out.lambda[i] = l;
+            out.pdf[i] = self.light_lane_density(light, l) as f32;
+        }
+        Some(out)
+    }
+
+    /// The probability with which [`sample_light`](Self::sample_light) for light `light` gives
+    /// a lane at `lambda_nm` (as the lane stores it): the share of the light's spectrum in a
+    /// line there (discrete), 0 on another light's line (continuous draws are moved off every
+    /// line), else the spectrum's density (1/nm).
+    pub fn light_lane_density(&self, light: usize, lambda_nm: f32) -> f64 {
+        let Some(Some(e)) = self.light_spd.get(light) else {
+            return 0.0;
+        };
+        let spd = self.spds[*e].0.as_ref();
+        if is_line_lane(&self.lines, lambda_nm) {
+            return spd
+                .delta_lines()
+                .iter()
+                .filter(|l| l.lambda as f32 == lambda_nm)
+                .map(|l| l.weight)
+                .sum();
+        }
+        spd.pdf(lambda_nm as f64)
     }
 
     /// Draw the pair's wavelengths: three uniforms from `rng` (component, SPD, hero).
