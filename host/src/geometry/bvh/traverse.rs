@@ -1,0 +1,375 @@
+//! Closest-first traversal of the eight-wide tree with two box-test kernels (AVX2 chosen at
+//! run time, and a portable four-wide one) that visit the same nodes in the same order.
+
+use std::mem::MaybeUninit;
+
+use glam::{Vec3A, Vec4};
+
+use super::wide_node::{WideNode, WIDTH};
+use super::Bvh;
+use crate::geometry::float_error::gamma;
+use crate::geometry::Ray;
+
+/// Traversal stack entries kept on the machine stack: at most seven are pushed per wide level,
+/// so 64 cover nine levels even when every box is hit; deeper searches spill into a `Vec`. The
+/// array is left uninitialised (zeroing it for every ray cost 4% of traversal).
+pub(super) const STACK_SIZE: usize = 64;
+
+/// Which box-test kernel the traversal runs (see the module documentation).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TraversalKernel {
+    /// Two four-wide halves per node (`glam::Vec4`); runs everywhere.
+    #[default]
+    Portable,
+    /// One 256-bit AVX operation per node; only where the CPU has AVX2.
+    Avx2,
+}
+
+impl TraversalKernel {
+    /// The fastest kernel this CPU runs.
+    pub fn best_available() -> TraversalKernel {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            return TraversalKernel::Avx2;
+        }
+        TraversalKernel::Portable
+    }
+}
+
+/// A traversal stack entry: a wide node (`count == 0`) or a leaf's primitives, and the
+/// distance at which the ray enters its box.
+#[derive(Clone, Copy)]
+pub(super) struct Entry {
+    /// Interior: wide node index. Leaf: first primitive in leaf order.
+    pub(super) child: u32,
+    /// Leaf: number of primitives; 0 for a wide node.
+    pub(super) count: u32,
+    /// Entry distance into the box (units of `ray.dir`).
+    pub(super) near: f32,
+}
+
+/// What the box-test kernels need of a ray, computed once per ray.
+pub(super) struct RayBoxes {
+    pub(super) origin: [f32; 3],
+    pub(super) inv_dir: [f32; 3],
+}
+
+impl Bvh {
+    /// Visits, near-first, every primitive whose leaf box the ray reaches before `t_max`.
+    /// `test(slot, t_max)` gets the primitive's position in leaf order (primitive
+    /// `order_ref()[slot]` of the build input; callers usually store their primitives in that
+    /// order) and returns the hit distance if the primitive is hit closer than `t_max`;
+    /// the search then shrinks to that distance. With `any_hit` the walk stops at the first hit.
+    /// Returns the closest distance found (or the first, for `any_hit`).
+    #[inline]
+    pub fn traverse<F: FnMut(u32, f32) -> Option<f32>>(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        any_hit: bool,
+        test: F,
+    ) -> Option<f32> {
+        self.traverse_with_stack::<STACK_SIZE, F>(ray, t_max, any_hit, test)
+    }
+
+    /// [`Bvh::traverse`] with `N` fixed stack entries before spilling (tests use a tiny `N`).
+    #[inline]
+    pub(super) fn traverse_with_stack<const N: usize, F: FnMut(u32, f32) -> Option<f32>>(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        any_hit: bool,
+        test: F,
+    ) -> Option<f32> {
+        if self.nodes.is_empty() {
+            return None;
+        }
+        #[cfg(target_arch = "x86_64")]
+        if self.kernel == TraversalKernel::Avx2 {
+            // SAFETY: `kernel` is `Avx2` only when the CPU reports AVX2 (`best_available`,
+            // `set_kernel`).
+            return unsafe { self.traverse_avx2::<N, F>(ray, t_max, any_hit, test) };
+        }
+        self.traverse_loop::<N, false, F>(ray, t_max, any_hit, test)
+    }
+
+    /// The traversal loop compiled with AVX2 enabled, so the eight-box test is one 256-bit
+    /// operation and the loop around it (and the inlined primitive test) is compiled for it.
+    ///
+    /// # Safety
+    /// The CPU must support AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn traverse_avx2<const N: usize, F: FnMut(u32, f32) -> Option<f32>>(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        any_hit: bool,
+        test: F,
+    ) -> Option<f32> {
+        self.traverse_loop::<N, true, F>(ray, t_max, any_hit, test)
+    }
+
+    /// The one traversal loop; `AVX2` picks the box-test kernel (true only when called from
+    /// [`Bvh::traverse_avx2`]).
+    #[inline(always)]
+    fn traverse_loop<const N: usize, const AVX2: bool, F: FnMut(u32, f32) -> Option<f32>>(
+        &self,
+        ray: &Ray,
+        mut t_max: f32,
+        any_hit: bool,
+        mut test: F,
+    ) -> Option<f32> {
+        let inv_dir = Vec3A::ONE / ray.dir;
+        let rb = RayBoxes {
+            origin: ray.origin.to_array(),
+            inv_dir: inv_dir.to_array(),
+        };
+        // Uninitialised: only entries below `sp` are ever read.
+        let mut stack = [const { MaybeUninit::<Entry>::uninit() }; N];
+        let mut sp = 0usize;
+        // Older entries moved out when the fixed stack was full (newest last); they lie below
+        // everything on the fixed stack. Empty, and so never allocated, for the trees the
+        // build makes in practice.
+        let mut spill: Vec<Entry> = Vec::new();
+        let mut entry = Entry {
+            child: 0,
+            count: 0,
+            near: 0.0,
+        };
+        let mut found = None;
+        loop {
+            // Entries pushed before the search shrank may now lie beyond it.
+            if entry.near <= t_max {
+                if entry.count > 0 {
+                    for slot in entry.child..entry.child + entry.count {
+                        if let Some(t) = test(slot, t_max) {
+                            t_max = t;
+                            found = Some(t);
+                            if any_hit {
+                                return found;
+                            }
+                        }
+                    }
+                } else {
+                    let n = &self.nodes[entry.child as usize];
+                    let mut near = [0.0f32; WIDTH];
+                    #[cfg(target_arch = "x86_64")]
+                    let mask = if AVX2 {
+                        // SAFETY: `AVX2` is true only inside `traverse_avx2`.
+                        unsafe { node_hits_avx2(n, &rb, t_max, &mut near) }
+                    } else {
+                        node_hits_portable(n, &rb, t_max, &mut near)
+                    };
+                    #[cfg(not(target_arch = "x86_64"))]
+                    let mask = node_hits_portable(n, &rb, t_max, &mut near);
+                    if mask != 0 {
+                        // `i` is a set bit of an eight-bit mask; `& 7` lets the compiler
+                        // drop the bounds checks.
+                        let at = |i: u32| {
+                            let i = i as usize & (WIDTH - 1);
+                            Entry {
+                                child: n.child[i],
+                                count: n.count[i] as u32,
+                                near: near[i],
+                            }
+                        };
+                        let first = mask.trailing_zeros();
+                        let rest = mask & (mask - 1);
+                        if rest == 0 {
+                            // One box hit (the common case deep in the tree): no stack.
+                            entry = at(first);
+                            continue;
+                        }
+                        if any_hit {
+                            // Any hit ends the search, so order does not matter: no sort.
+                            let mut m = rest;
+                            while m != 0 {
+                                push(&mut stack, &mut sp, &mut spill, at(m.trailing_zeros()));
+                                m &= m - 1;
+                            }
+                            entry = at(first);
+                            continue;
+                        }
+                        let second = rest.trailing_zeros();
+                        if rest & (rest - 1) == 0 {
+                            // Two boxes: visit the nearer (the first slot on a tie).
+                            let (a, b) = (at(first), at(second));
+                            let (now, later) = if b.near < a.near { (b, a) } else { (a, b) };
+                            push(&mut stack, &mut sp, &mut spill, later);
+                            entry = now;
+                            continue;
+                        }
+                        // Three or more: insertion sort by entry distance (stable, so ties
+                        // keep slot order), visit the nearest, push the others farthest first.
+                        let mut hits = [Entry {
+                            child: 0,
+                            count: 0,
+                            near: 0.0,
+                        }; WIDTH];
+                        let mut k = 0;
+                        let mut m = mask;
+                        while m != 0 {
+                            let e = at(m.trailing_zeros());
+                            m &= m - 1;
+                            let mut j = k;
+                            while j > 0 && hits[j - 1].near > e.near {
+                                hits[j] = hits[j - 1];
+                                j -= 1;
+                            }
+                            hits[j] = e;
+                            k += 1;
+                        }
+                        for h in hits[1..k].iter().rev() {
+                            push(&mut stack, &mut sp, &mut spill, *h);
+                        }
+                        entry = hits[0];
+                        continue;
+                    }
+                }
+            }
+            if sp > 0 {
+                sp -= 1;
+                // SAFETY: entries below the old `sp` were written by `push`.
+                entry = unsafe { stack[sp].assume_init() };
+            } else if let Some(e) = spill.pop() {
+                entry = e;
+            } else {
+                return found;
+            }
+        }
+    }
+}
+
+/// Pushes `e` on the traversal stack. When the `N` fixed entries are used they move, in order,
+/// to the end of `spill` (below every later entry), so a pop looks at `spill` only once the
+/// fixed stack is empty and the visiting order is the same as with one unbounded stack.
+#[inline(always)]
+pub(super) fn push<const N: usize>(
+    stack: &mut [MaybeUninit<Entry>; N],
+    sp: &mut usize,
+    spill: &mut Vec<Entry>,
+    e: Entry,
+) {
+    if *sp == N {
+        spill_stack(stack, spill);
+        *sp = 0;
+    }
+    stack[*sp].write(e);
+    *sp += 1;
+}
+
+/// Moves the full fixed stack to the end of `spill` (kept out of line: it never runs for the
+/// trees the build makes in practice).
+#[cold]
+#[inline(never)]
+pub(super) fn spill_stack<const N: usize>(stack: &[MaybeUninit<Entry>; N], spill: &mut Vec<Entry>) {
+    // SAFETY: called only when all `N` entries were written.
+    spill.extend(stack.iter().map(|e| unsafe { e.assume_init() }));
+}
+
+/// Slab test of a node's eight boxes with two four-wide halves: the bit mask of the used slots
+/// the ray meets before `t_max`, and each box's entry distance in `near`. Operand order matters
+/// for NaN (a ray parallel to a slab and starting on its plane): SSE `min`/`max` return their
+/// second operand when either is NaN, as `Aabb::hit` relies on too; [`node_hits_avx2`] does
+/// exactly the same operations.
+#[inline(always)]
+pub(super) fn node_hits_portable(
+    n: &WideNode,
+    r: &RayBoxes,
+    t_max: f32,
+    near: &mut [f32; WIDTH],
+) -> u32 {
+    let (ox, oy, oz) = (
+        Vec4::splat(r.origin[0]),
+        Vec4::splat(r.origin[1]),
+        Vec4::splat(r.origin[2]),
+    );
+    let (ix, iy, iz) = (
+        Vec4::splat(r.inv_dir[0]),
+        Vec4::splat(r.inv_dir[1]),
+        Vec4::splat(r.inv_dir[2]),
+    );
+    // Enlarging the far distance by 1 + 2γ₃ keeps the test conservative (see `Aabb::hit`).
+    let far_scale = Vec4::splat(1.0 + 2.0 * gamma(3));
+    let t_max = Vec4::splat(t_max);
+    let mut mask = 0;
+    for half in 0..2 {
+        let lane = |a: &[f32; WIDTH]| Vec4::from_slice(&a[4 * half..4 * half + 4]);
+        let tx0 = (lane(&n.min_x) - ox) * ix;
+        let tx1 = (lane(&n.max_x) - ox) * ix;
+        let ty0 = (lane(&n.min_y) - oy) * iy;
+        let ty1 = (lane(&n.max_y) - oy) * iy;
+        let tz0 = (lane(&n.min_z) - oz) * iz;
+        let tz1 = (lane(&n.max_z) - oz) * iz;
+        let t_near = tx0
+            .min(tx1)
+            .max(ty0.min(ty1).max(tz0.min(tz1).max(Vec4::ZERO)));
+        let t_far = tx0.max(tx1).min(ty0.max(ty1).min(tz0.max(tz1).min(t_max))) * far_scale;
+        mask |= t_near.cmple(t_far).bitmask() << (4 * half);
+        t_near.write_to_slice(&mut near[4 * half..4 * half + 4]);
+    }
+    // Unused slots sit at the end; their empty boxes can pass the slab test (±∞ − ±∞
+    // orders), so they are masked out by the slot count.
+    mask & ((1u32 << n.slots) - 1)
+}
+
+/// [`node_hits_portable`] as one 256-bit operation per step: the same IEEE operations with the
+/// same operand order on every lane (`_mm256_min_ps(a, b)` returns `b` on NaN like
+/// `_mm_min_ps`), so the same mask and the same distances bit for bit.
+///
+/// # Safety
+/// The CPU must support AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+pub(super) unsafe fn node_hits_avx2(
+    n: &WideNode,
+    r: &RayBoxes,
+    t_max: f32,
+    near: &mut [f32; WIDTH],
+) -> u32 {
+    use std::arch::x86_64::*;
+    let (ox, oy, oz) = (
+        _mm256_set1_ps(r.origin[0]),
+        _mm256_set1_ps(r.origin[1]),
+        _mm256_set1_ps(r.origin[2]),
+    );
+    let (ix, iy, iz) = (
+        _mm256_set1_ps(r.inv_dir[0]),
+        _mm256_set1_ps(r.inv_dir[1]),
+        _mm256_set1_ps(r.inv_dir[2]),
+    );
+    let far_scale = _mm256_set1_ps(1.0 + 2.0 * gamma(3));
+    let t_max = _mm256_set1_ps(t_max);
+    // SAFETY: the arrays are 32 bytes each at 32-byte offsets of a 64-byte-aligned node.
+    let lane = |a: &[f32; WIDTH]| unsafe { _mm256_load_ps(a.as_ptr()) };
+    let tx0 = _mm256_mul_ps(_mm256_sub_ps(lane(&n.min_x), ox), ix);
+    let tx1 = _mm256_mul_ps(_mm256_sub_ps(lane(&n.max_x), ox), ix);
+    let ty0 = _mm256_mul_ps(_mm256_sub_ps(lane(&n.min_y), oy), iy);
+    let ty1 = _mm256_mul_ps(_mm256_sub_ps(lane(&n.max_y), oy), iy);
+    let tz0 = _mm256_mul_ps(_mm256_sub_ps(lane(&n.min_z), oz), iz);
+    let tz1 = _mm256_mul_ps(_mm256_sub_ps(lane(&n.max_z), oz), iz);
+    let t_near = _mm256_max_ps(
+        _mm256_min_ps(tx0, tx1),
+        _mm256_max_ps(
+            _mm256_min_ps(ty0, ty1),
+            _mm256_max_ps(_mm256_min_ps(tz0, tz1), _mm256_setzero_ps()),
+        ),
+    );
+    let t_far = _mm256_mul_ps(
+        _mm256_min_ps(
+            _mm256_max_ps(tx0, tx1),
+            _mm256_min_ps(
+                _mm256_max_ps(ty0, ty1),
+                _mm256_min_ps(_mm256_max_ps(tz0, tz1), t_max),
+            ),
+        ),
+        far_scale,
+    );
+    // `_CMP_LE_OQ` is false on NaN, like SSE's `cmpleps`.
+    let mask = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(t_near, t_far)) as u32;
+    // SAFETY: `near` holds eight f32.
+    unsafe { _mm256_storeu_ps(near.as_mut_ptr(), t_near) };
+    mask & ((1u32 << n.slots) - 1)
+}
