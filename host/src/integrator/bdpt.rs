@@ -433,7 +433,7 @@ pub fn mis_weight(
     };
     let light_v = |i: usize| -> &Vertex {
         if i + 1 == s {
-            qs.unwrap_or(&light_path[i])
+            qs.unwrap_or_else(|| &light_path[i])
         } else {
             &light_path[i]
         }

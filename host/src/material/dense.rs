@@ -239,6 +239,7 @@ mod tests {
         assert_eq!(far.value(900.0), 900.0);
         assert_eq!(far.value(830.0), 830.0);
     }
+
     /// Quantity: `eval`'s four-lane vector path against `value` lane by lane, bit for bit
     /// (images depend on it), on 20 000 wavelength quadruples over 355–835 nm (off-grid lanes,
     /// grid nodes, 830 nm itself, the cell ends either side of the step at 700 nm, which is
