@@ -365,6 +365,7 @@ macro_rules! export_plugin {
         /// The exported extension module, version 1 (looked up by name by the host).
         #[no_mangle]
         pub extern "C" fn spectrace_plugin_extensions_v1() -> $crate::extension::ExtensionsV1Export {
+            $crate::guard::set_library_mode();
             extensions_v1()
         }
 
@@ -440,6 +441,7 @@ macro_rules! export_plugin {
         /// The exported extension module, version 2 (looked up by name by the host).
         #[no_mangle]
         pub extern "C" fn spectrace_plugin_extensions_v2() -> $crate::extension::ExtensionsV2Export {
+            $crate::guard::set_library_mode();
             extensions_v2()
         }
 
@@ -482,6 +484,7 @@ macro_rules! export_plugin {
         /// The exported extension module, version 3 (looked up by name by the host).
         #[no_mangle]
         pub extern "C" fn spectrace_plugin_extensions_v3() -> $crate::extension::ExtensionsV3Export {
+            $crate::guard::set_library_mode();
             extensions_v3()
         }
 
@@ -543,7 +546,53 @@ macro_rules! export_plugin {
         /// The exported extension module, version 4 (looked up by name by the host).
         #[no_mangle]
         pub extern "C" fn spectrace_plugin_extensions_v4() -> $crate::extension::ExtensionsV4Export {
+            $crate::guard::set_library_mode();
             extensions_v4()
+        }
+
+        /// This plugin's extension module, version 5 (see `spectrace_plugin_api::extension`).
+        pub fn extensions_v5() -> $crate::extension::ExtensionsV5Export {
+            use $crate::__private::PrefixTypeTrait as _;
+            use $crate::__private::{RResult, RStr};
+            use $crate::error::PluginError;
+            use $crate::export::{construct, save, unknown_type, PluginType};
+            use $crate::extension::{
+                ExtensionsV5, ExtensionsV5Export, ExtensionsV5Ref, MaterialWithV5,
+            };
+            use $crate::guard::guarded;
+            use $crate::host::HostRef;
+            use $crate::module::{ObjectKind, ObjectSource};
+
+            extern "C" fn create_material(
+                type_name: RStr<'_>,
+                source: ObjectSource<'_>,
+                host: HostRef<'_>,
+            ) -> RResult<MaterialWithV5, PluginError> {
+                guarded("create_material (v5)", || {
+                    let name = type_name.as_str();
+                    $(if name == <$material as PluginType>::TYPE_NAME {
+                        let obj = construct::<$material>(source, &host)?;
+                        return $crate::material::GuardedMaterial::boxed_v5(obj, save::<$material>)
+                            .into_result();
+                    })*
+                    Err(unknown_type(
+                        ObjectKind::Material, name, &[$(<$material as PluginType>::TYPE_NAME),*]
+                    ))
+                })
+            }
+            ExtensionsV5Export {
+                layout: <ExtensionsV5Ref as $crate::__private::StableAbi>::LAYOUT,
+                module: ExtensionsV5 { create_material }.leak_into_prefix(),
+            }
+        }
+
+        /// The exported extension module, version 5 (looked up by name by the host). Every
+        /// extension symbol also puts the library's guards in library mode (only a host loading
+        /// the library reaches them; see `spectrace_plugin_api::guard`).
+        #[no_mangle]
+        pub extern "C" fn spectrace_plugin_extensions_v5() -> $crate::extension::ExtensionsV5Export {
+            $crate::guard::set_library_mode();
+            extensions_v5()
         }
 
         /// The exported root module (what the host finds in the library).

@@ -55,13 +55,23 @@
 //! more than calling one of its own materials. A library older than v4 is served through v3
 //! (not flat, not uniform: always safe).
 //!
+//! Version 5 (`spectrace_plugin_extensions_v5`): a material says whether its BSDF value is the
+//! same for every direction on a side
+//! ([`Material::f_same_for_all_directions`](crate::Material::f_same_for_all_directions): an
+//! ideal diffuse reflector), so the host reuses a sampled value for next-event estimation
+//! instead of calling `eval` again; and its face [`AbiMaterialV5`] takes the query with the
+//! surface by reference ([`QueryV5`]: the host's own record, not a copy) and writes its result
+//! through a reference, with a panic guard that needs no thread-local (`guard::guarded_call_v5`). Read once when the material is built and
+//! carried in [`MaterialWithV5`]; the host checks the claim. Lights are built through v4 as
+//! before. A library older than v5 is served through v4 (evaluated again: always safe).
+//!
 //! [`export_plugin!`](crate::export_plugin) exports every version for every plugin.
 //!
 //! [`LightSource::scene_bounds`]: crate::LightSource::scene_bounds
 //! [`LightSource::emission_spectrum`]: crate::LightSource::emission_spectrum
 
 use crate::error::PluginError;
-use crate::fast::{MaterialQuery, ScatterF32};
+use crate::fast::{MaterialQuery, QueryV5, ScatterF32};
 use crate::guard::guarded;
 use crate::host::HostRef;
 use crate::light::LightBox;
@@ -434,4 +444,78 @@ pub struct ExtensionsV4Export {
     pub layout: &'static TypeLayout,
     /// The module.
     pub module: ExtensionsV4Ref,
+}
+
+// ----------------------------------------------------------------------------------------------
+// Version 5
+
+/// The symbol (NUL-terminated) of extension version 5: an `extern "C" fn() ->`
+/// [`ExtensionsV5Export`].
+pub const EXTENSIONS_V5_SYMBOL: &[u8] = b"spectrace_plugin_extensions_v5\0";
+
+/// The material calls of version 5: those of [`AbiMaterialV4`] with the surface by reference
+/// ([`QueryV5`], pointing at the host's own record of it) and the result written through `out`
+/// instead of returned: `sample` answers whether it scattered (`false`: absorbed, `out`
+/// untouched), `eval` writes the BSDF value per lane (1/sr), `pdf` the density (1/sr). An error,
+/// or a panic caught on the plugin's side, comes back as `RErr` and `out` is not to be read.
+#[sabi_trait]
+pub trait AbiMaterialV5: Send + Sync {
+    /// See [`crate::Material::sample_v5`].
+    fn sample(&self, q: &QueryV5<'_>, out: &mut ScatterF32) -> RResult<bool, PluginError>;
+    /// See [`crate::Material::eval_v5`].
+    fn eval(&self, q: &QueryV5<'_>, out: &mut [f32; LANES]) -> RResult<(), PluginError>;
+    /// See [`crate::Material::pdf_v5`].
+    #[sabi(last_prefix_field)]
+    fn pdf(&self, q: &QueryV5<'_>, out: &mut f32) -> RResult<(), PluginError>;
+}
+
+/// The version-5 face of a material, owned.
+pub type MaterialV5Box = AbiMaterialV5_TO<'static, RBox<()>>;
+
+/// A material built through version 5: the faces of versions 1–3, the v5 calls, and what the
+/// material declares. All faces share one object.
+#[repr(C)]
+#[derive(StableAbi)]
+pub struct MaterialWithV5 {
+    /// What the root module's `create_material` returns.
+    pub material: MaterialBox,
+    /// The calls added in version 2, on the same object.
+    pub v2: MaterialV2Box,
+    /// The re-radiation added in version 3; none for a material that does not fluoresce.
+    pub reradiation: ROption<ReradiationBox>,
+    /// The calls of version 5, on the same object.
+    pub v5: MaterialV5Box,
+    /// [`Material::spectrally_flat`](crate::Material::spectrally_flat), read once when the
+    /// material was built.
+    pub spectrally_flat: bool,
+    /// [`Material::f_same_for_all_directions`](crate::Material::f_same_for_all_directions),
+    /// read once when the material was built.
+    pub f_same_for_all_directions: bool,
+}
+
+/// Extension version 5: a material constructor returning the v5 face and declarations.
+/// Parameters and saved state as for the root module's.
+#[repr(C)]
+#[derive(StableAbi)]
+#[sabi(kind(Prefix(prefix_ref = ExtensionsV5Ref)))]
+#[sabi(missing_field(panic))]
+pub struct ExtensionsV5 {
+    /// Build a material with its faces and declarations.
+    #[sabi(last_prefix_field)]
+    pub create_material: extern "C" fn(
+        type_name: RStr<'_>,
+        source: ObjectSource<'_>,
+        host: HostRef<'_>,
+    ) -> RResult<MaterialWithV5, PluginError>,
+}
+
+/// What the version-5 symbol returns: the module's layout (checked by the host against its own
+/// before the module is touched) and the module.
+#[repr(C)]
+#[derive(StableAbi, Clone, Copy)]
+pub struct ExtensionsV5Export {
+    /// `<ExtensionsV5Ref as StableAbi>::LAYOUT` as the plugin was compiled.
+    pub layout: &'static TypeLayout,
+    /// The module.
+    pub module: ExtensionsV5Ref,
 }

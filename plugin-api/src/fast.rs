@@ -18,6 +18,7 @@
 //! | [`LanesF32`] | wavelengths, their sampling densities, live-lane bits | nm, 1/nm |
 //! | [`MaterialQuery`] | the surface, `wo`, `wi` (local frame), wavelengths, 3 uniforms, transport mode | |
 //! | [`ScatterF32`] | sampled `wi`, BSDF value per lane, density, event bits, relative IOR | 1/sr, 1/sr |
+//! | [`QueryV5`] | as [`MaterialQuery`], the surface by reference (extension v5) | |
 
 use crate::material::{ScatterSample, SurfaceContext};
 use crate::types::{Flags, RandomSample, SpectralValues, TransportMode, Vec3, Wavelengths, LANES};
@@ -135,6 +136,48 @@ impl MaterialQuery {
         s.u[1] = self.u[1] as f64;
         s.u[2] = self.u[2] as f64;
         s
+    }
+}
+
+/// Everything one material call of extension v5 takes: [`MaterialQuery`] with the surface passed
+/// by reference, pointing at the host's own record of the surface point (the same layout), so
+/// that nothing is copied for it. The surface's vectors' `w` lanes are whatever the host's
+/// memory holds there: read `x, y, z` only. [`Self::to_v4`] gives the v4 query.
+#[repr(C)]
+#[derive(StableAbi, Clone, Copy, Debug, PartialEq)]
+pub struct QueryV5<'a> {
+    /// The surface point (its vectors' `w` unspecified).
+    pub ctx: &'a SurfaceF32,
+    /// Outgoing direction, local frame, away from the surface (`w` = 0).
+    pub wo: Vec4f,
+    /// Incident direction, local frame (eval and pdf; unused by sample; `w` = 0).
+    pub wi: Vec4f,
+    /// The path's wavelengths.
+    pub lambda: LanesF32,
+    /// Uniforms in [0, 1) for sample, as [`MaterialQuery::u`].
+    pub u: [f32; 3],
+    /// Radiance (camera paths) or importance (light paths).
+    pub mode: TransportMode,
+}
+
+impl QueryV5<'_> {
+    /// The same query in v4's form (the surface copied, its `w` lanes set to 0).
+    #[inline]
+    pub fn to_v4(&self) -> MaterialQuery {
+        let v = |v: Vec4f| Vec4f::new(v.x, v.y, v.z);
+        MaterialQuery {
+            ctx: SurfaceF32 {
+                uv: self.ctx.uv,
+                position: v(self.ctx.position),
+                geometric_normal: v(self.ctx.geometric_normal),
+                shading_normal: v(self.ctx.shading_normal),
+            },
+            wo: self.wo,
+            wi: self.wi,
+            lambda: self.lambda,
+            u: self.u,
+            mode: self.mode,
+        }
     }
 }
 

@@ -10,11 +10,27 @@
 //! before. Panic hooks are process-wide, but a plugin library has its own copy of std and so its
 //! own hook; when a plugin is linked into the host instead (tests), the chaining keeps the
 //! host's panics reported exactly as before.
+//!
+//! What the hook must know is whether a guard will catch the panic. Outside library mode (below)
+//! [`guarded`] tells it through a thread-local depth counter; in a library (a `cdylib`) every
+//! access to it is a call to `__tls_get_addr`, about 50 instructions per guarded call counting
+//! both accesses. Library mode does without it: a library whose extension module the host has
+//! fetched through an exported symbol ([`set_library_mode`]; only a host loading the library
+//! reaches those) has a hook that sees only the plugin's own panics, so it can defer every
+//! panic instead of asking, and every guard ([`guarded`], [`guarded_call`],
+//! [`guarded_call_v5`]) is then `catch_unwind` alone. A deferred report is taken by the guard that catches the
+//! panic (it becomes the error's location, as before); a report no guard takes is never lost: it
+//! is printed when the same thread panics again (a panic that cannot unwind, about to abort, is
+//! such a second panic) and when the thread ends (a plugin's own thread that died of it).
+//! Outside library mode (a plugin linked into the host) [`guarded_call_v5`] panics reach the
+//! previous hook like any unguarded panic: reported at once, still caught and returned as an
+//! error.
 
 use crate::error::{ErrorKind, PluginError};
 use abi_stable::std_types::RResult;
 use std::cell::{Cell, RefCell};
 use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Once;
 
 thread_local! {
@@ -22,20 +38,93 @@ thread_local! {
     static DEPTH: Cell<u32> = const { Cell::new(0) };
     /// Location of the last panic caught by a guard on this thread.
     static LOCATION: RefCell<Option<String>> = const { RefCell::new(None) };
+    /// A panic deferred in library mode that no guard has taken yet: printed when the thread
+    /// panics again or ends (see the module docs).
+    static UNCLAIMED: Unclaimed = const { Unclaimed(RefCell::new(None)) };
 }
 
 static HOOK: Once = Once::new();
+
+/// Set once the host has fetched extension v5 through the library's exported symbol: this copy
+/// of std (and its panic hook) then serves the plugin's code alone.
+static LIBRARY_MODE: AtomicBool = AtomicBool::new(false);
+
+/// Deferred reports printed because no guard took them (for the tests).
+static PRINTED_UNCLAIMED: AtomicUsize = AtomicUsize::new(0);
+
+/// A deferred panic report: location and message.
+struct Report {
+    at: Option<String>,
+    text: String,
+}
+
+/// The slot of [`UNCLAIMED`]: prints what is left in it when the thread ends.
+struct Unclaimed(RefCell<Option<Report>>);
+
+impl Drop for Unclaimed {
+    fn drop(&mut self) {
+        if let Some(r) = self.0.get_mut().take() {
+            print_unclaimed(&r);
+        }
+    }
+}
+
+#[cold]
+fn print_unclaimed(r: &Report) {
+    PRINTED_UNCLAIMED.fetch_add(1, Ordering::Relaxed);
+    let at = r.at.as_deref().unwrap_or("an unknown location");
+    let thread = std::thread::current();
+    let name = thread.name().unwrap_or("<unnamed>");
+    eprintln!("plugin thread '{name}' panicked at {at}:\n{}", r.text);
+}
+
+/// The panic's message, when it is text.
+fn payload_text(payload: &(dyn std::any::Any + Send)) -> String {
+    if let Some(s) = payload.downcast_ref::<&str>() {
+        (*s).to_string()
+    } else if let Some(s) = payload.downcast_ref::<String>() {
+        s.clone()
+    } else {
+        "non-string panic payload".to_string()
+    }
+}
+
+/// Library mode (see the module docs): called by the exported symbols of the extension modules,
+/// which only a host reaches (through the dynamic loader), never code linked into the host.
+pub fn set_library_mode() {
+    install_quiet_hook();
+    LIBRARY_MODE.store(true, Ordering::Relaxed);
+}
 
 fn install_quiet_hook() {
     HOOK.call_once(|| {
         let previous = std::panic::take_hook();
         std::panic::set_hook(Box::new(move |info| {
+            let at = info
+                .location()
+                .map(|l| format!("{}:{}", l.file(), l.line()));
             if DEPTH.with(Cell::get) > 0 {
-                let at = info
-                    .location()
-                    .map(|l| format!("{}:{}", l.file(), l.line()));
                 LOCATION.with(|c| *c.borrow_mut() = at);
+            } else if LIBRARY_MODE.load(Ordering::Relaxed) {
+                let report = Report {
+                    at,
+                    text: payload_text(info.payload()),
+                };
+                // A report still unclaimed is printed now: nothing caught its panic. On a thread
+                // whose slot is already gone (a panic while it ends) the report is printed at once.
+                let mut report = Some(report);
+                let _ = UNCLAIMED.try_with(|u| {
+                    if let Some(r) = report.take() {
+                        if let Some(old) = u.0.borrow_mut().replace(r) {
+                            print_unclaimed(&old);
+                        }
+                    }
+                });
+                if let Some(r) = report {
+                    print_unclaimed(&r);
+                }
             } else {
+                LOCATION.with(|c| *c.borrow_mut() = at);
                 previous(info);
             }
         }));
@@ -65,6 +154,9 @@ pub fn guarded<T>(
     what: &str,
     f: impl FnOnce() -> Result<T, PluginError>,
 ) -> RResult<T, PluginError> {
+    if LIBRARY_MODE.load(Ordering::Relaxed) {
+        return guarded_call_v5(what, f).into();
+    }
     install_quiet_hook();
     let depth = Depth::enter();
     let r = catch_unwind(AssertUnwindSafe(f));
@@ -92,6 +184,9 @@ pub fn guarded_call<T>(
     what: &str,
     f: impl FnOnce() -> Result<T, PluginError>,
 ) -> RResult<T, PluginError> {
+    if LIBRARY_MODE.load(Ordering::Relaxed) {
+        return guarded_call_v5(what, f).into();
+    }
     let r = DEPTH.with(|d| {
         d.set(d.get() + 1);
         // `f` cannot unwind past this point, so the decrement always runs.
@@ -106,19 +201,35 @@ pub fn guarded_call<T>(
     }
 }
 
-/// The error for a caught panic: `"{what} panicked at {file}:{line}: {message}"`.
+/// [`guarded`] for the per-call entry points of extension v5 (a material's `sample`, `eval`,
+/// `pdf`): no thread-local on the way in or out, only `catch_unwind`, which costs nothing while
+/// nothing panics. The panic hook learns nothing from it; in library mode it defers the report,
+/// which the error here takes (see the module docs). The same message as [`guarded`].
+#[inline]
+pub fn guarded_call_v5<T>(
+    what: &str,
+    f: impl FnOnce() -> Result<T, PluginError>,
+) -> Result<T, PluginError> {
+    match catch_unwind(AssertUnwindSafe(f)) {
+        Ok(r) => r,
+        Err(payload) => Err(panic_error(what, payload)),
+    }
+}
+
+/// The error for a caught panic: `"{what} panicked at {file}:{line}: {message}"`. The location is
+/// the one the hook left: a deferred report (library mode) or the guard's.
 #[cold]
 fn panic_error(what: &str, payload: Box<dyn std::any::Any + Send>) -> PluginError {
-    let msg = if let Some(s) = payload.downcast_ref::<&str>() {
-        (*s).to_string()
-    } else if let Some(s) = payload.downcast_ref::<String>() {
-        s.clone()
-    } else {
-        "non-string panic payload".to_string()
-    };
-    let at = LOCATION
-        .with(|c| c.borrow_mut().take())
-        .unwrap_or_else(|| "an unknown location".to_string());
+    let msg = payload_text(&*payload);
+    let deferred = UNCLAIMED
+        .try_with(|u| u.0.borrow_mut().take())
+        .ok()
+        .flatten();
+    let at = match deferred {
+        Some(r) => r.at,
+        None => LOCATION.with(|c| c.borrow_mut().take()),
+    }
+    .unwrap_or_else(|| "an unknown location".to_string());
     PluginError::new(ErrorKind::Panic, format!("{what} panicked at {at}: {msg}"))
 }
 
@@ -156,5 +267,34 @@ mod tests {
             e.message.contains("guard.rs:") && e.message.ends_with("fast 1"),
             "{e}"
         );
+    }
+
+    // Library mode, in one test because it is process-wide (no other test of this crate panics
+    // outside a guard). A panic inside the v5 guard comes back as the same error with its
+    // location, and its deferred report is taken (nothing printed); a panic on a thread of the
+    // plugin's own, outside any guard, is printed when that thread ends (counted: exactly one).
+    #[test]
+    fn library_mode_loses_no_report() {
+        set_library_mode();
+        let before = PRINTED_UNCLAIMED.load(Ordering::Relaxed);
+        let e = guarded_call_v5::<()>("pdf (v5)", || panic!("v5 {}", 2)).unwrap_err();
+        assert_eq!(e.kind, ErrorKind::Panic);
+        let site = e.message.split(": ").next().unwrap();
+        assert!(
+            site.starts_with("pdf (v5) panicked at ") && site.contains("guard.rs:"),
+            "{e}"
+        );
+        assert!(e.message.ends_with("v5 2"), "{e}");
+        assert_eq!(PRINTED_UNCLAIMED.load(Ordering::Relaxed), before);
+        let r = std::thread::spawn(|| panic!("the plugin's own thread")).join();
+        assert!(r.is_err());
+        assert_eq!(PRINTED_UNCLAIMED.load(Ordering::Relaxed), before + 1);
+        // The older guards take the same path in library mode, with the same message.
+        let e = guarded::<()>("x", || panic!("old guard")).unwrap_err();
+        assert!(
+            e.message.starts_with("x panicked at ") && e.message.contains("guard.rs:"),
+            "{e}"
+        );
+        assert_eq!(PRINTED_UNCLAIMED.load(Ordering::Relaxed), before + 1);
     }
 }

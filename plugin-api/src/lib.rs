@@ -43,7 +43,7 @@ pub mod types;
 
 pub use error::{ErrorKind, PluginError, PluginResult};
 pub use export::{ParamDoc, PluginType};
-pub use fast::{LanesF32, MaterialQuery, ScatterF32, SurfaceF32, Vec4f};
+pub use fast::{LanesF32, MaterialQuery, QueryV5, ScatterF32, SurfaceF32, Vec4f};
 pub use host::{Host, HostRef};
 pub use light::{
     light_flags, EmissionPdf, EmissionSample, IncidentSample, LightBox, LightSource,

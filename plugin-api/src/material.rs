@@ -3,11 +3,11 @@
 
 use crate::error::{PluginError, PluginResult};
 use crate::extension::{
-    AbiMaterialV2, AbiMaterialV4, MaterialEmission, MaterialWithV2, MaterialWithV3, MaterialWithV4,
-    SpdWithLines,
+    AbiMaterialV2, AbiMaterialV4, AbiMaterialV5, MaterialEmission, MaterialWithV2, MaterialWithV3,
+    MaterialWithV4, MaterialWithV5, SpdWithLines,
 };
-use crate::fast::{values_f32, MaterialQuery, ScatterF32};
-use crate::guard::{guarded, guarded_call};
+use crate::fast::{values_f32, MaterialQuery, QueryV5, ScatterF32};
+use crate::guard::{guarded, guarded_call, guarded_call_v5};
 use crate::reradiation::{GuardedReradiation, Reradiation};
 use crate::spd::Spd;
 use crate::types::{Flags, RandomSample, SpectralValues, TransportMode, Vec3, Wavelengths, LANES};
@@ -237,6 +237,15 @@ pub trait Material: Send + Sync + 'static {
     fn spectrally_flat(&self) -> bool {
         false
     }
+    /// True when `f(wo, wi)` is one value for every `wi` on `wo`'s side of the surface and 0 on
+    /// the other (an ideal diffuse reflector), and `sample` returns exactly that value
+    /// (extension v5). The host then reuses a sampled direction's value for next-event
+    /// estimation at the same point instead of calling `eval` again, as for its own Lambertian.
+    /// Asked once, when the material is built; the host checks the claim at a few directions
+    /// and refuses a material whose answers contradict it. `false` (the default) is always safe.
+    fn f_same_for_all_directions(&self) -> bool {
+        false
+    }
     /// [`sample_at`](Self::sample_at) in the host's single-precision layout (extension v4; see
     /// [`crate::fast`]). The default converts the query to `f64`, calls `sample_at` and rounds
     /// the result to `f32`, exactly what the host did with the older calls; a material that
@@ -274,6 +283,22 @@ pub trait Material: Send + Sync + 'static {
             q.mode,
         )?;
         Ok(p as f32)
+    }
+    /// [`sample_v4`](Self::sample_v4) with the surface by reference (extension v5; see
+    /// [`QueryV5`]). The default copies the query into v4's form and calls `sample_v4`; a
+    /// material that reads the surface in place may override it.
+    fn sample_v5(&self, q: &QueryV5<'_>) -> PluginResult<Option<ScatterF32>> {
+        self.sample_v4(&q.to_v4())
+    }
+    /// [`eval_v4`](Self::eval_v4) with the surface by reference (extension v5), as
+    /// [`sample_v5`](Self::sample_v5).
+    fn eval_v5(&self, q: &QueryV5<'_>) -> PluginResult<[f32; LANES]> {
+        self.eval_v4(&q.to_v4())
+    }
+    /// [`pdf_v4`](Self::pdf_v4) with the surface by reference (extension v5), as
+    /// [`sample_v5`](Self::sample_v5).
+    fn pdf_v5(&self, q: &QueryV5<'_>) -> PluginResult<f32> {
+        self.pdf_v4(&q.to_v4())
     }
 }
 
@@ -424,6 +449,72 @@ impl<T: Material> GuardedMaterial<T> {
             ),
             spectrally_flat,
         })
+    }
+}
+
+impl<T: Material> GuardedMaterial<T> {
+    /// Box `inner` behind the ABI with every face (versions 2–5) and its declarations
+    /// (extensions v4 and v5); one object behind all of them.
+    pub fn boxed_v5(
+        inner: T,
+        state: fn(&T) -> PluginResult<Vec<u8>>,
+    ) -> RResult<MaterialWithV5, PluginError> {
+        crate::guard::install();
+        let declared = guarded("spectrally_flat", || {
+            Ok((inner.spectrally_flat(), inner.f_same_for_all_directions()))
+        });
+        let (spectrally_flat, f_same_for_all_directions) = match declared {
+            RResult::ROk(d) => d,
+            RResult::RErr(e) => return RResult::RErr(e),
+        };
+        let inner = Arc::new(inner);
+        let v3 = match Self::faces_v3(inner.clone(), state) {
+            RResult::ROk(m) => m,
+            RResult::RErr(e) => return RResult::RErr(e),
+        };
+        RResult::ROk(MaterialWithV5 {
+            material: v3.material,
+            v2: v3.v2,
+            reradiation: v3.reradiation,
+            v5: crate::extension::AbiMaterialV5_TO::from_value(
+                Self { inner, state },
+                abi_stable::sabi_trait::TD_Opaque,
+            ),
+            spectrally_flat,
+            f_same_for_all_directions,
+        })
+    }
+}
+
+impl<T: Material> AbiMaterialV5 for GuardedMaterial<T> {
+    #[inline]
+    fn sample(&self, q: &QueryV5<'_>, out: &mut ScatterF32) -> RResult<bool, PluginError> {
+        guarded_call_v5("sample (v5)", || {
+            Ok(match self.inner.sample_v5(q)? {
+                Some(s) => {
+                    *out = s;
+                    true
+                }
+                None => false,
+            })
+        })
+        .into()
+    }
+    #[inline]
+    fn eval(&self, q: &QueryV5<'_>, out: &mut [f32; LANES]) -> RResult<(), PluginError> {
+        guarded_call_v5("eval (v5)", || {
+            *out = self.inner.eval_v5(q)?;
+            Ok(())
+        })
+        .into()
+    }
+    #[inline]
+    fn pdf(&self, q: &QueryV5<'_>, out: &mut f32) -> RResult<(), PluginError> {
+        guarded_call_v5("pdf (v5)", || {
+            *out = self.inner.pdf_v5(q)?;
+            Ok(())
+        })
+        .into()
     }
 }
 

@@ -33,10 +33,12 @@
 //! `spectrace_plugin_extensions_v3` (fluorescent materials' re-radiation, see
 //! [`reradiation`](crate::reradiation)) and `spectrace_plugin_extensions_v4` (spectral flatness
 //! of materials, one spectral shape of lights, and the material calls in the host's layout, see
-//! [`fast`](crate::fast)). The workspace test `api_growth` loads plugins built against frozen
-//! copies of the API at 0.1.0 (`plugins/fixtures/api-0.1.0/`), at extension v1
-//! (`plugins/fixtures/api-ext-v1/`), at extension v2 (`plugins/fixtures/api-ext-v2/`) and at
-//! extension v3 (`plugins/fixtures/api-ext-v3/`).
+//! [`fast`](crate::fast)) and `spectrace_plugin_extensions_v5` (one BSDF value for every
+//! direction, the material calls with the surface by reference and results through a
+//! reference). The workspace test `api_growth` loads plugins built against frozen copies of the
+//! API at 0.1.0 (`plugins/fixtures/api-0.1.0/`), at extension v1 (`plugins/fixtures/api-ext-v1/`),
+//! at extension v2 (`plugins/fixtures/api-ext-v2/`), at extension v3
+//! (`plugins/fixtures/api-ext-v3/`) and at extension v4 (`plugins/fixtures/api-ext-v4/`).
 
 use crate::error::PluginError;
 use crate::host::HostRef;

@@ -427,3 +427,45 @@ fn surface_normals_reach_plugin_materials() {
     assert!((m / (0.8 * l) - 1.0).abs() < 0.02, "{m} vs {}", 0.8 * l);
     assert_eq!(faults.count(), 0, "{:?}", faults.first());
 }
+
+/// A plugin light's claim to emit one spectral shape everywhere (extension v4) is checked when
+/// the light is built. `fixture_quad_light` with `uniform: true` emits `20·S_e(λ)` at every point
+/// and passes: the scene builds and the light keeps its declaration. With `tinted_half: true` as
+/// well, half of the quad emits `20·S_e(λ)·λ/560 nm`, a different colour: the scene is refused
+/// with a message naming the plugin, the scene's light and a wavelength where the emission
+/// departs from the spectrum's shape. Quantities: the declaration (exact) and the message's
+/// content (the probe's tolerance, 1e-4 relative, is far below the tint's 32% at 380 nm).
+#[test]
+fn a_plugin_lights_uniform_shape_claim_is_checked() {
+    let quad = |extra: &str| {
+        lit_floor(
+            "",
+            "",
+            &format!(
+                r#"(name: "lamp", type: "fixture_quad_light",
+                    params: (corner: (-0.25, 1, -0.25), edge0: (0.5, 0, 0), edge1: (0, 0, 0.5),
+                             scale: 20, uniform: true{extra}))"#
+            ),
+        )
+    };
+    let (honest, _) = scene(&quad(""));
+    assert!(honest.lights.lights()[0].uniform_spectral_shape());
+
+    let faults = PluginFaults::new();
+    let plugins = PluginFactory::new(Arc::new(registry()), faults);
+    let factories: [&dyn ObjectFactory; 2] = [&BuiltinFactory, &plugins];
+    let file = Path::new("fixture.ron");
+    let desc = parse_scene_str(&quad(", tinted_half: true"), file).unwrap();
+    let e = match build_scene(&desc, Path::new("."), file, &factories) {
+        Ok(_) => panic!("a light that changes colour across its surface must be refused"),
+        Err(e) => e.to_string(),
+    };
+    assert!(
+        e.contains("fixture_quad_light")
+            && e.contains("fixture-emitters")
+            && e.contains("lamp")
+            && e.contains("uniform_spectral_shape")
+            && e.contains(" nm "),
+        "{e}"
+    );
+}

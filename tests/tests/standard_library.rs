@@ -487,9 +487,12 @@ fn scenes_render_bit_for_bit_with_all_types_from_the_library() {
 /// pass with no declaration crossing the interface at all): the emitters and the grey
 /// materials of `fluorescence.ron` (flat objects: Cornell box 1 of 8, `materials.ron` 1 of 7,
 /// `sun_and_sky.ron` 0 of 3, `fluorescence.ron` 3 of 7), and the area lights (1, 1, 0, 2).
+/// Likewise whether its BSDF value is the same for every direction
+/// (`Material::f_same_for_all_directions`, extension v5, also checked by the host when built;
+/// the Lambertian surfaces, which every scene but `sun_and_sky.ron` has).
 #[test]
 fn library_declares_flatness_where_the_builtins_do() {
-    let (mut flat, mut uniform) = (0, 0);
+    let (mut flat, mut uniform, mut same_f) = (0, 0, 0);
     for (name, desc) in scenes() {
         let (a, _) = build(&desc, spectrace::plugin::builtin_registry());
         let (b, _) = build(&desc, library_registry());
@@ -509,6 +512,15 @@ fn library_declares_flatness_where_the_builtins_do() {
         };
         assert_eq!(objects(&a), objects(&b), "{name}: spectrally flat objects");
         assert_eq!(lights(&a), lights(&b), "{name}: uniform lights");
+        let same = |s: &spectrace::scene::Scene| -> Vec<bool> {
+            s.objects
+                .objects()
+                .iter()
+                .map(|o| o.material.f_same_for_all_directions())
+                .collect()
+        };
+        assert_eq!(same(&a), same(&b), "{name}: f the same for all directions");
+        same_f += same(&a).iter().filter(|&&f| f).count();
         flat += objects(&a).iter().filter(|o| o.1).count();
         uniform += lights(&a).iter().filter(|&&u| u).count();
         eprintln!(
@@ -519,7 +531,10 @@ fn library_declares_flatness_where_the_builtins_do() {
             lights(&a).len()
         );
     }
-    assert!(flat > 0 && uniform > 0, "flat {flat}, uniform {uniform}");
+    assert!(
+        flat > 0 && uniform > 0 && same_f > 0,
+        "flat {flat}, uniform {uniform}, same f {same_f}"
+    );
 }
 
 /// Quantity: the Cornell box with no built-in materials, lights, SPDs or observers

@@ -61,8 +61,11 @@ pub enum TransportMode {
     Importance,
 }
 
-/// What a material may know about the surface point besides the directions.
+/// What a material may know about the surface point besides the directions. Laid out as the
+/// plugin interface's `SurfaceF32` (`#[repr(C)]`), so extension v5 passes it to plugins by
+/// reference (`plugin::layout`).
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
+#[repr(C)]
 pub struct ShadingContext {
     /// Surface parameterisation (for textures).
     pub uv: Vec2,

@@ -24,10 +24,11 @@ use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spd, SpdSample, LANES
 use glam::{Vec2, Vec3A};
 use spectrace_plugin_api::abi::std_types::{ROption, RResult};
 use spectrace_plugin_api::extension::{
-    LightV2Box, LightWithV2, LightWithV4, MaterialV2Box, MaterialV4Box, MaterialWithV2,
-    MaterialWithV3, MaterialWithV4, RepresentedLightBox, SpdWithLines,
+    LightV2Box, LightWithV2, LightWithV4, MaterialV2Box, MaterialV4Box, MaterialV5Box,
+    MaterialWithV2, MaterialWithV3, MaterialWithV4, MaterialWithV5, RepresentedLightBox,
+    SpdWithLines,
 };
-use spectrace_plugin_api::fast::{LanesF32, MaterialQuery, ScatterF32, SurfaceF32, Vec4f};
+use spectrace_plugin_api::fast::{LanesF32, MaterialQuery, QueryV5, ScatterF32, SurfaceF32, Vec4f};
 use spectrace_plugin_api::{
     light_flags, material_flags, spd_flags, Beam, Flags, LightBox, MaterialBox, ObserverBox,
     PluginError, RandomSample, SceneBounds, SpdBox, SpectralValues, SurfaceContext, TransportMode,
@@ -441,14 +442,30 @@ fn material_bits(f: Flags, transmission_event: Option<bool>) -> MaterialFlags {
 /// SPECULAR (1, 2, 4), TRANSMISSION (8) and DISPERSIVE, EMISSIVE, FLUORESCENT (16, 32, 64) are
 /// the host's (4, 8, 16), (2) and (32, 64, 128), and a lobe without TRANSMISSION reflects. The
 /// test `event_bits_match_material_bits` checks it against [`material_bits`] for all 128
-/// combinations.
-#[inline]
-fn event_bits(f: Flags) -> MaterialFlags {
-    let b = f.0;
+/// combinations. Looked up in [`EVENT_TABLE`], made from these operations at compile time (one
+/// load per event instead of a dozen instructions); bits above the seven are ignored, as here.
+const fn event_bits_ops(b: u32) -> u32 {
     let lobes = b & 0b111;
     let transmits = (b >> 3) & 1;
-    let reflects = u32::from(lobes != 0 && transmits == 0);
-    MaterialFlags(reflects | (transmits << 1) | (lobes << 2) | (((b >> 4) & 0b111) << 5))
+    let reflects = (lobes != 0 && transmits == 0) as u32;
+    reflects | (transmits << 1) | (lobes << 2) | (((b >> 4) & 0b111) << 5)
+}
+
+/// [`event_bits_ops`] of every combination of the interface's seven event bits.
+const EVENT_TABLE: [u8; 128] = {
+    let mut t = [0u8; 128];
+    let mut b = 0;
+    while b < 128 {
+        t[b] = event_bits_ops(b as u32) as u8;
+        b += 1;
+    }
+    t
+};
+
+/// The host's bits of one scattering event (see [`event_bits_ops`]).
+#[inline]
+fn event_bits(f: Flags) -> MaterialFlags {
+    MaterialFlags(u32::from(EVENT_TABLE[(f.0 & 0x7f) as usize]))
 }
 
 /// The host's vector in the interface's layout: one SIMD register, `w` cleared.
@@ -495,6 +512,31 @@ fn query(
     }
 }
 
+/// One extension-v5 material query: the surface by reference (the host's own record, see
+/// [`super::layout`]), the rest copied as for v4.
+#[inline]
+fn query_v5<'a>(
+    wo: Vec3A,
+    wi: Vec3A,
+    ctx: &'a ShadingContext,
+    lambda: &SampledWavelengths,
+    u: [f32; 3],
+    m: HostMode,
+) -> QueryV5<'a> {
+    QueryV5 {
+        ctx: super::layout::as_surface(ctx),
+        wo: v4f(wo),
+        wi: v4f(wi),
+        lambda: LanesF32 {
+            nm: lambda.lambda,
+            pdf: lambda.pdf,
+            live: u32::from(lambda.lanes.bits()),
+        },
+        u,
+        mode: mode(m),
+    }
+}
+
 /// A plugin material as a host [`Material`]. An EMISSIVE one also describes its emission
 /// ([`Material::emission`]), so the scene builds an area light on every object that uses it,
 /// sampled and MIS-weighted like the built-in `emissive`. A FLUORESCENT one built through
@@ -512,8 +554,14 @@ pub struct PluginMaterial {
     /// The same material's version-4 face (extension v4): when present, `sample`, `eval` and
     /// `pdf` go through it, in the host's own layout.
     v4: Option<MaterialV4Box>,
+    /// The same material's version-5 face (extension v5): when present, `sample`, `eval` and
+    /// `pdf` go through it (results written through a reference, no thread-local guard).
+    v5: Option<MaterialV5Box>,
     /// Declared spectrally flat (extension v4) and found so when built ([`Self::new_v4`]).
     flat: bool,
+    /// Declared to have one BSDF value for every direction (extension v5) and found so when
+    /// built ([`Self::new_v5`]).
+    same_f: bool,
     origin: Origin,
 }
 
@@ -586,6 +634,52 @@ impl PluginMaterial {
         Ok(m)
     }
 
+    /// Wrap a material built through extension v5: as [`Self::new_v3`], with `sample`, `eval`
+    /// and `pdf` through the v5 face, and its declarations checked: spectral flatness (see
+    /// [`super::flatness`]) and one BSDF value for every direction (see [`super::same_f`]). A
+    /// claim the material's own answers contradict is refused, naming the plugin object and
+    /// `item`.
+    pub fn new_v5(material: MaterialWithV5, origin: Origin, item: &str) -> Result<Self, String> {
+        let MaterialWithV5 {
+            material,
+            v2,
+            reradiation,
+            v5,
+            spectrally_flat,
+            f_same_for_all_directions,
+        } = material;
+        let mut m = Self::new_v3(
+            MaterialWithV3 {
+                material,
+                v2,
+                reradiation,
+            },
+            origin,
+            item,
+        )?;
+        m.v5 = Some(v5);
+        if spectrally_flat {
+            super::flatness::check(&m, m.flags, m.reradiation.is_some()).map_err(|e| {
+                format!(
+                    "{} as {item}: declares itself spectrally flat (extension v4), but {e}",
+                    m.origin.label
+                )
+            })?;
+            m.flat = true;
+        }
+        if f_same_for_all_directions {
+            super::same_f::check(&m).map_err(|e| {
+                format!(
+                    "{} as {item}: declares one BSDF value for every direction \
+                     (f_same_for_all_directions, extension v5), but {e}",
+                    m.origin.label
+                )
+            })?;
+            m.same_f = true;
+        }
+        Ok(m)
+    }
+
     fn build(material: MaterialBox, v2: Option<MaterialV2Box>, origin: Origin) -> Self {
         let flags = material_bits(material.capabilities(), None);
         let emission = if flags.contains(MaterialFlags::EMISSIVE) {
@@ -612,7 +706,9 @@ impl PluginMaterial {
             emission,
             reradiation: None,
             v4: None,
+            v5: None,
             flat: false,
+            same_f: false,
             origin,
         }
     }
@@ -717,6 +813,21 @@ impl Material for PluginMaterial {
         u: Vec2,
         m: HostMode,
     ) -> Option<BsdfSample> {
+        if let Some(v5) = &self.v5 {
+            let q = query_v5(wo, Vec3A::ZERO, ctx, lambda, [u_lobe, u.x, u.y], m);
+            let mut s = ScatterF32::default();
+            return match v5.sample(&q, &mut s) {
+                RResult::ROk(true) => match checked::scatter_f32(&s) {
+                    Ok(()) => Some(Self::bsdf_sample(&s)),
+                    Err(reason) => {
+                        self.origin.dropped(reason);
+                        None
+                    }
+                },
+                RResult::ROk(false) => None,
+                RResult::RErr(e) => self.origin.fail(e, None),
+            };
+        }
         if let Some(v4) = &self.v4 {
             let q = query(wo, Vec3A::ZERO, ctx, lambda, [u_lobe, u.x, u.y], m);
             return match v4.sample(&q) {
@@ -763,6 +874,20 @@ impl Material for PluginMaterial {
         lambda: &SampledWavelengths,
         m: HostMode,
     ) -> SampledSpectrum {
+        if let Some(v5) = &self.v5 {
+            let q = query_v5(wo, wi, ctx, lambda, [0.0; 3], m);
+            let mut v = [0.0; LANES];
+            return match v5.eval(&q, &mut v) {
+                RResult::ROk(()) => match checked::values_f32(&v) {
+                    Ok(()) => SampledSpectrum(v),
+                    Err(reason) => {
+                        self.origin.dropped(reason);
+                        SampledSpectrum::zero()
+                    }
+                },
+                RResult::RErr(e) => self.origin.fail(e, SampledSpectrum::zero()),
+            };
+        }
         if let Some(v4) = &self.v4 {
             let q = query(wo, wi, ctx, lambda, [0.0; 3], m);
             return match v4.eval(&q) {
@@ -794,6 +919,20 @@ impl Material for PluginMaterial {
         lambda: &SampledWavelengths,
         m: HostMode,
     ) -> f32 {
+        if let Some(v5) = &self.v5 {
+            let q = query_v5(wo, wi, ctx, lambda, [0.0; 3], m);
+            let mut p = 0.0;
+            return match v5.pdf(&q, &mut p) {
+                RResult::ROk(()) => match checked::density_f32(p) {
+                    Ok(()) => p,
+                    Err(reason) => {
+                        self.origin.dropped(reason);
+                        0.0
+                    }
+                },
+                RResult::RErr(e) => self.origin.fail(e, 0.0),
+            };
+        }
         if let Some(v4) = &self.v4 {
             let q = query(wo, wi, ctx, lambda, [0.0; 3], m);
             return match v4.pdf(&q) {
@@ -823,6 +962,10 @@ impl Material for PluginMaterial {
 
     fn spectrally_flat(&self) -> bool {
         self.flat
+    }
+
+    fn f_same_for_all_directions(&self) -> bool {
+        self.same_f
     }
 
     fn reradiation(&self) -> Option<&dyn crate::spectrum::reradiation::Reradiation> {
@@ -1054,11 +1197,25 @@ impl PluginLight {
     }
 
     /// Wrap a light built through extension v4: as [`Self::new_v2`], with its declaration of
-    /// one spectral shape everywhere ([`Light::uniform_spectral_shape`]; taken as declared).
-    pub fn new_v4(light: LightWithV4, origin: Origin) -> Self {
+    /// one spectral shape everywhere ([`Light::uniform_spectral_shape`]), checked where it
+    /// matters (see [`super::uniform_shape`]): a claim the light's own emission contradicts is
+    /// refused, naming the plugin object, `item` (the scene's name for it) and the wavelength.
+    /// A light that only hands out beams gets no exact colour, so its claim is not probed.
+    pub fn new_v4(light: LightWithV4, origin: Origin, item: &str) -> Result<Self, String> {
         let mut l = Self::build(light.light, Some(light.v2), origin);
+        if light.uniform_spectral_shape && !l.flags.contains(LightFlags::BEAMS_ONLY) {
+            super::uniform_shape::check(&l.light, &*l.spectrum, l.environment.is_some()).map_err(
+                |e| {
+                    format!(
+                        "{} as {item}: declares one spectral shape everywhere \
+                         (uniform_spectral_shape, extension v4), but {e}",
+                        l.origin.label
+                    )
+                },
+            )?;
+        }
         l.uniform = light.uniform_spectral_shape;
-        l
+        Ok(l)
     }
 
     fn build(light: LightBox, v2: Option<LightV2Box>, origin: Origin) -> Self {

@@ -206,10 +206,16 @@ impl PluginFactory {
         // Through the newest extension the library has (v2: the objects then also get the
         // scene's bounds, normals, exact emission spectra and spectral lines; v3: fluorescent
         // materials' re-radiation; v4: spectral flatness and uniform emission shapes, and the
-        // material calls in the host's layout), else the root module.
+        // material calls in the host's layout; v5: one BSDF value for every direction, results
+        // through a reference), else the root module.
         Ok(match kind {
             Kind::Material => {
                 let m = if let Some(m) = r
+                    .create_plugin_material_v5(type_name, object_source)
+                    .map_err(construct_error)?
+                {
+                    PluginMaterial::new_v5(m, origin, &ctx.item).map_err(FactoryError::Param)?
+                } else if let Some(m) = r
                     .create_plugin_material_v4(type_name, object_source)
                     .map_err(construct_error)?
                 {
@@ -239,7 +245,7 @@ impl PluginFactory {
                     .create_plugin_light_v4(type_name, object_source)
                     .map_err(construct_error)?
                 {
-                    PluginLight::new_v4(l, origin)
+                    PluginLight::new_v4(l, origin, &ctx.item).map_err(FactoryError::Param)?
                 } else if let Some(l) = r
                     .create_plugin_light_v2(type_name, object_source)
                     .map_err(construct_error)?

@@ -9,8 +9,10 @@ pub mod extension_lookup;
 pub mod extension_v2;
 pub mod extension_v3;
 pub mod extension_v4;
+pub mod extension_v5;
 pub mod factory;
 pub mod flatness;
+pub mod layout;
 pub mod library_check;
 pub mod loader;
 pub mod reference;
@@ -18,8 +20,10 @@ pub mod registry;
 pub mod representation;
 pub mod reradiation;
 pub mod ron_text;
+pub mod same_f;
 pub mod services;
 pub mod type_doc;
+pub mod uniform_shape;
 
 pub use loader::{LoadError, LoadedPlugin};
 

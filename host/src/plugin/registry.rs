@@ -8,7 +8,8 @@ use super::type_doc::{Kind, TypeDoc};
 use crate::builtin::BuiltinType;
 use spectrace_plugin_api::abi::std_types::{RResult, RSlice, RStr};
 use spectrace_plugin_api::extension::{
-    LightWithV2, LightWithV4, MaterialWithV2, MaterialWithV3, MaterialWithV4, SpdWithLines,
+    LightWithV2, LightWithV4, MaterialWithV2, MaterialWithV3, MaterialWithV4, MaterialWithV5,
+    SpdWithLines,
 };
 use spectrace_plugin_api::module::ObjectSource;
 use spectrace_plugin_api::{ErrorKind, HostRef};
@@ -524,6 +525,38 @@ impl Registry {
         source: ObjectSource<'_>,
     ) -> Result<Option<MaterialWithV4>, RegistryError> {
         let Some(ext) = self.extensions_v4(ObjectKind::Material, name)? else {
+            return Ok(None);
+        };
+        self.call_plugin(ObjectKind::Material, name, |_, host| {
+            (ext.create_material())(RStr::from_str(name), source, host)
+        })
+        .map(Some)
+    }
+
+    fn extensions_v5(
+        &self,
+        kind: ObjectKind,
+        name: &str,
+    ) -> Result<Option<spectrace_plugin_api::extension::ExtensionsV5Ref>, RegistryError> {
+        let (plugin, provider) = self.plugin_entry(kind, name)?;
+        super::extension_v5::extensions_v5(&plugin.path).map_err(|e| {
+            construct_error(
+                kind.into(),
+                name,
+                provider,
+                PluginError::new(ErrorKind::Other, e),
+            )
+        })
+    }
+
+    /// Build a plugin material with its faces (v2, v3, v5) and declarations (extension v5);
+    /// `None` when its library predates v5.
+    pub fn create_plugin_material_v5(
+        &self,
+        name: &str,
+        source: ObjectSource<'_>,
+    ) -> Result<Option<MaterialWithV5>, RegistryError> {
+        let Some(ext) = self.extensions_v5(ObjectKind::Material, name)? else {
             return Ok(None);
         };
         self.call_plugin(ObjectKind::Material, name, |_, host| {

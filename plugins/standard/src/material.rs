@@ -21,12 +21,13 @@ use spectrace::material::{
     Material as HostMaterial, MaterialFlags, ShadingContext as HostContext,
     TransportMode as HostMode,
 };
+use spectrace::plugin::layout::as_shading_context;
 use spectrace::spectrum::{SampledSpectrum, SampledWavelengths, LANES};
 use spectrace_plugin_api::{
     material_flags, Emission, Flags, Host, LanesF32, Material, MaterialQuery, ParamDoc,
-    PluginError, PluginResult, PluginType, RandomSample, Reradiation, ScatterF32, ScatterSample,
-    ShadingContext, SpectralValues, SurfaceContext, SurfaceF32, TransportMode, Vec3, Vec4f,
-    WavelengthDraw, Wavelengths,
+    PluginError, PluginResult, PluginType, QueryV5, RandomSample, Reradiation, ScatterF32,
+    ScatterSample, ShadingContext, SpectralValues, SurfaceContext, SurfaceF32, TransportMode, Vec3,
+    Vec4f, WavelengthDraw, Wavelengths,
 };
 use std::sync::Arc;
 
@@ -122,11 +123,28 @@ fn lambdas_v4(l: &LanesF32) -> SampledWavelengths {
 
 /// [`bits`] in a few bit operations (the host's DIFFUSE, GLOSSY, SPECULAR are 4, 8, 16,
 /// TRANSMISSION 2, DISPERSIVE, EMISSIVE, FLUORESCENT 32, 64, 128; REFLECTION and THIN_FILM have
-/// no interface bit). The test below checks it against [`bits`].
+/// no interface bit). The test below checks it against [`bits`]. Looked up in
+/// [`EVENT_TABLE`], made from these operations at compile time (one load per event); bits 0
+/// and above 7 are ignored, as here.
+const fn event_bits_ops(b: u32) -> u32 {
+    ((b >> 2) & 0b111) | (((b >> 1) & 1) << 3) | (((b >> 5) & 0b111) << 4)
+}
+
+/// [`event_bits_ops`] of every combination of the host's bits 0–7.
+const EVENT_TABLE: [u8; 256] = {
+    let mut t = [0u8; 256];
+    let mut b = 0;
+    while b < 256 {
+        t[b] = event_bits_ops(b as u32) as u8;
+        b += 1;
+    }
+    t
+};
+
+/// The interface's bits of one scattering event (see [`event_bits_ops`]).
 #[inline]
 fn event_bits(f: MaterialFlags) -> Flags {
-    let b = f.0;
-    Flags(((b >> 2) & 0b111) | (((b >> 1) & 1) << 3) | (((b >> 5) & 0b111) << 4))
+    Flags(u32::from(EVENT_TABLE[(f.0 & 0xff) as usize]))
 }
 
 #[inline]
@@ -134,6 +152,30 @@ fn sample_v4(m: &dyn HostMaterial, q: &MaterialQuery) -> Option<ScatterF32> {
     let s = m.sample(
         host_v(q.wo),
         &ctx_v4(&q.ctx),
+        &lambdas_v4(&q.lambda),
+        q.u[0],
+        Vec2::new(q.u[1], q.u[2]),
+        host_mode(q.mode),
+    )?;
+    Some(ScatterF32 {
+        wi: {
+            let [x, y, z, w] = s.wi.extend(0.0).to_array();
+            Vec4f { x, y, z, w }
+        },
+        value: s.f.0,
+        pdf: s.pdf,
+        flags: event_bits(s.flags),
+        eta: s.eta,
+    })
+}
+
+/// [`sample_v4`] with the surface by reference (extension v5): the host's own record, read in
+/// place (`spectrace::plugin::layout`).
+#[inline]
+fn sample_v5(m: &dyn HostMaterial, q: &QueryV5<'_>) -> Option<ScatterF32> {
+    let s = m.sample(
+        host_v(q.wo),
+        as_shading_context(q.ctx),
         &lambdas_v4(&q.lambda),
         q.u[0],
         Vec2::new(q.u[1], q.u[2]),
@@ -377,6 +419,34 @@ macro_rules! material_type {
             }
             fn spectrally_flat(&self) -> bool {
                 self.material.spectrally_flat()
+            }
+            fn f_same_for_all_directions(&self) -> bool {
+                self.material.f_same_for_all_directions()
+            }
+            #[inline]
+            fn sample_v5(&self, q: &QueryV5<'_>) -> PluginResult<Option<ScatterF32>> {
+                Ok(sample_v5(&*self.material, q))
+            }
+            #[inline]
+            fn eval_v5(&self, q: &QueryV5<'_>) -> PluginResult<[f32; LANES]> {
+                let f = self.material.eval(
+                    host_v(q.wo),
+                    host_v(q.wi),
+                    as_shading_context(q.ctx),
+                    &lambdas_v4(&q.lambda),
+                    host_mode(q.mode),
+                );
+                Ok(f.0)
+            }
+            #[inline]
+            fn pdf_v5(&self, q: &QueryV5<'_>) -> PluginResult<f32> {
+                Ok(self.material.pdf(
+                    host_v(q.wo),
+                    host_v(q.wi),
+                    as_shading_context(q.ctx),
+                    &lambdas_v4(&q.lambda),
+                    host_mode(q.mode),
+                ))
             }
             #[inline]
             fn sample_v4(&self, q: &MaterialQuery) -> PluginResult<Option<ScatterF32>> {
