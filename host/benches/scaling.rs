@@ -16,6 +16,12 @@
 //! A plain timing program, not criterion: each figure is the best of three runs, so that a
 //! shared machine's interruptions count less. Run:
 //! `cargo bench -p spectrace --bench scaling` (prints a Markdown table for docs/performance.md).
+//!
+//! `SPECTRACE_SCALING_SIZES=8,9,9x2` picks the meshes by subdivision count instead; `9x2` is
+//! two 9-subdivision spheres side by side in one mesh (10.5 M triangles, half the memory of
+//! the 21 M sphere). `SPECTRACE_SCALING_BUILDS=<repetitions>` times only the builds of those
+//! sizes (default 8), one and two threads interleaved, and prints each run, the median and
+//! range, the peak resident memory and the tree's fingerprint on both thread counts.
 
 use std::time::Instant;
 
@@ -23,7 +29,7 @@ use glam::Vec3A;
 use rayon::prelude::*;
 use spectrace::geometry::generate::icosphere;
 use spectrace::geometry::{
-    Geometry, Ray, Shape, ShapeDesc, Transform, TraversalKernel, TriangleMesh,
+    Aabb, Bvh, Geometry, Ray, Shape, ShapeDesc, Transform, TraversalKernel, TriangleMesh,
 };
 
 const RAYS: usize = 262_144;
@@ -38,6 +44,137 @@ fn bumpy_sphere(subdivisions: u32) -> TriangleMesh {
     }
     m.normals = None;
     m
+}
+
+/// A generated test mesh: `copies` (1 or 2) bumpy spheres of `subdivisions`.
+#[derive(Clone, Copy)]
+struct Size {
+    subdivisions: u32,
+    copies: u32,
+}
+
+impl Size {
+    /// `"9"` or `"9x2"`.
+    fn parse(s: &str) -> Option<Size> {
+        let (sub, copies) = s.trim().split_once('x').unwrap_or((s.trim(), "1"));
+        let size = Size {
+            subdivisions: sub.parse().ok()?,
+            copies: copies.parse().ok()?,
+        };
+        (size.subdivisions <= 10 && (1..=2).contains(&size.copies)).then_some(size)
+    }
+
+    /// The mesh: one sphere, or two of radius 0.55 centred at x = ±0.6 (inside the random
+    /// rays' cube and the camera's view) merged into one mesh.
+    fn mesh(self) -> TriangleMesh {
+        let one = bumpy_sphere(self.subdivisions);
+        if self.copies == 1 {
+            return one;
+        }
+        let mut m = TriangleMesh {
+            positions: Vec::with_capacity(2 * one.positions.len()),
+            normals: None,
+            uvs: None,
+            indices: Vec::with_capacity(2 * one.indices.len()),
+        };
+        for x in [-0.6f32, 0.6] {
+            let base = m.positions.len() as u32;
+            let shift = Vec3A::new(x, 0.0, 0.0);
+            m.positions
+                .extend(one.positions.iter().map(|&p| p * 0.55 + shift));
+            m.indices
+                .extend(one.indices.iter().map(|t| t.map(|i| i + base)));
+        }
+        m
+    }
+}
+
+/// Sizes from `SPECTRACE_SCALING_SIZES` (comma-separated, e.g. `8,9,9x2`), else `default`.
+fn sizes_from_env(default: &[Size]) -> Vec<Size> {
+    match std::env::var("SPECTRACE_SCALING_SIZES") {
+        Ok(list) => list
+            .split(',')
+            .map(|s| {
+                Size::parse(s).unwrap_or_else(|| {
+                    panic!("SPECTRACE_SCALING_SIZES: `{s}` is not `<subdivisions ≤ 10>[x2]`")
+                })
+            })
+            .collect(),
+        Err(_) => default.to_vec(),
+    }
+}
+
+/// Peak resident memory of this process so far (bytes), from `/proc/self/status`.
+fn peak_rss_bytes() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}
+
+fn scene(mesh: &TriangleMesh) -> Vec<ShapeDesc> {
+    vec![ShapeDesc {
+        shape: Shape::Mesh(mesh.clone()),
+        transform: Transform::IDENTITY,
+    }]
+}
+
+/// `SPECTRACE_SCALING_BUILDS=<repetitions>`: builds of each size on one and two threads,
+/// interleaved (1, 2, 1, 2, …) so that a shared machine's load falls on both alike; each run,
+/// then the median and range per thread count and the fingerprints of the BVH built on one
+/// and on two threads (they must be equal).
+fn builds_run(reps: usize) {
+    let sizes = sizes_from_env(&[Size {
+        subdivisions: 8,
+        copies: 1,
+    }]);
+    for size in sizes {
+        let mesh = size.mesh();
+        let tris = mesh.indices.len();
+        let mut times = [Vec::new(), Vec::new()];
+        let mut fingerprints = [0u64; 2];
+        let mut bvh_bytes = 0;
+        for rep in 0..reps {
+            for threads in [1, 2] {
+                let d = scene(&mesh);
+                let p = pool(threads);
+                let t = Instant::now();
+                let g = p.install(|| Geometry::build(d).expect("valid mesh"));
+                let s = t.elapsed().as_secs_f64();
+                println!("{tris} triangles, run {rep}, {threads} thread(s): {s:.3} s");
+                times[threads - 1].push(s);
+                bvh_bytes = g.bvh_memory_bytes();
+            }
+        }
+        let bounds: Vec<Aabb> = mesh
+            .indices
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|i| mesh.positions[i as usize]);
+                Aabb::from_point(a).grow(b).grow(c)
+            })
+            .collect();
+        for threads in [1, 2] {
+            fingerprints[threads - 1] = pool(threads).install(|| Bvh::build(&bounds).fingerprint());
+        }
+        let stats = |v: &mut Vec<f64>| {
+            v.sort_by(f64::total_cmp);
+            (v[v.len() / 2], v[0], v[v.len() - 1])
+        };
+        let (m1, lo1, hi1) = stats(&mut times[0]);
+        let (m2, lo2, hi2) = stats(&mut times[1]);
+        println!(
+            "{tris} triangles, {reps} interleaved runs: 1 thread median {m1:.3} s \
+             ({lo1:.3}–{hi1:.3}), 2 threads median {m2:.3} s ({lo2:.3}–{hi2:.3}), \
+             speed-up of medians {:.3}; BVH {:.1} bytes/triangle; peak resident {} \
+             bytes/triangle; fingerprint {:016x} (1 thread) {:016x} (2 threads)",
+            m1 / m2,
+            bvh_bytes as f64 / tris as f64,
+            peak_rss_bytes().map_or("?".into(), |b| format!("{:.0}", b as f64 / tris as f64)),
+            fingerprints[0],
+            fingerprints[1],
+        );
+    }
 }
 
 /// SplitMix64 → uniform f32 in [0, 1).
@@ -203,15 +340,15 @@ fn run_harness(exe: &std::path::Path, input: &std::path::Path) -> Result<String,
     Ok(String::from_utf8_lossy(&out.stdout).trim().to_string())
 }
 
-/// `SPECTRACE_SCALING_PROFILE=<subdivisions>`: one build and one pass of the random rays on
+/// `SPECTRACE_SCALING_PROFILE=<subdivisions>[x2]`: one build and one pass of the random rays on
 /// the calling thread, nothing else, for instruction counts under
 /// `valgrind --tool=callgrind` (a shared machine's wall times vary too much for small A/B
 /// differences). Prints the hit count. `SPECTRACE_SCALING_KERNEL=portable` traces with the
 /// portable (SSE) box test instead of AVX2. `SPECTRACE_SCALING_INPUT=<file>` only writes the
 /// Embree/obvhs harnesses' input (same triangles and random rays) there, to count their
 /// instructions the same way.
-fn profile_run(subdivisions: u32) {
-    let mesh = bumpy_sphere(subdivisions);
+fn profile_run(size: Size) {
+    let mesh = size.mesh();
     if let Some(path) = std::env::var_os("SPECTRACE_SCALING_INPUT") {
         // Only the harnesses' input, to run them under callgrind too.
         let path = std::path::PathBuf::from(path);
@@ -252,9 +389,16 @@ fn profile_run(subdivisions: u32) {
 fn main() {
     if let Some(s) = std::env::var("SPECTRACE_SCALING_PROFILE")
         .ok()
-        .and_then(|v| v.parse().ok())
+        .and_then(|v| Size::parse(&v))
     {
         profile_run(s);
+        return;
+    }
+    if let Some(reps) = std::env::var("SPECTRACE_SCALING_BUILDS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+    {
+        builds_run(reps);
         return;
     }
     let max: u32 = std::env::var("SPECTRACE_SCALING_MAX")
@@ -272,18 +416,18 @@ fn main() {
          | camera Mrays/s 1 thr | 2 thr | speed-up | random Mrays/s 1 thr | 2 thr | speed-up |"
     );
     println!("|---|---|---|---|---|---|---|---|---|---|---|");
-    for subdivisions in [3u32, 6, 8, 9, 10] {
-        if subdivisions > max {
-            continue;
-        }
-        let mesh = bumpy_sphere(subdivisions);
+    let default: Vec<Size> = [3u32, 6, 8, 9, 10]
+        .into_iter()
+        .filter(|&s| s <= max)
+        .map(|subdivisions| Size {
+            subdivisions,
+            copies: 1,
+        })
+        .collect();
+    for size in sizes_from_env(&default) {
+        let mesh = size.mesh();
         let tris = mesh.indices.len();
-        let desc = || {
-            vec![ShapeDesc {
-                shape: Shape::Mesh(mesh.clone()),
-                transform: Transform::IDENTITY,
-            }]
-        };
+        let desc = || scene(&mesh);
         let build = |threads: usize| {
             let p = pool(threads);
             (0..RUNS)

@@ -694,7 +694,7 @@ fn build_object(desc: ShapeDesc) -> Result<Object, String> {
                 cdf.push(total);
             }
             let cdf = if total > 0.0 {
-                cdf.iter().map(|&c| (c / total) as f32).collect()
+                cdf.par_iter().map(|&c| (c / total) as f32).collect()
             } else {
                 Vec::new()
             };

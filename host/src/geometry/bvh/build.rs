@@ -58,45 +58,444 @@ pub(super) fn leaf(prims: &[BuildPrim], bounds: Aabb, first: usize) -> Node {
     }
 }
 
-/// Builds the subtree for `prims` (whose first element is primitive `first` of the final
-/// order) and returns its nodes with child offsets relative to the subtree's own start.
-pub(super) fn build_range(prims: &mut [BuildPrim], first: usize, depth: usize) -> Vec<Node> {
-    let mut out = Vec::new();
-    build_into(prims, first, depth, &mut out);
-    out
+/// The bounds of a node's primitives and of their centroids. The root computes them in one
+/// pass; every other node gets them from its parent's split (the bins on the split axis give
+/// the children's boxes, the partition collects their centroid boxes), so no node passes over
+/// its primitives just to find its bounds.
+#[derive(Clone, Copy)]
+pub(super) struct NodeBounds {
+    pub(super) bounds: Aabb,
+    pub(super) centroids: Aabb,
 }
 
-/// Chooses a split position (number of primitives going left) or `None` for a leaf.
+impl NodeBounds {
+    const EMPTY: NodeBounds = NodeBounds {
+        bounds: Aabb::EMPTY,
+        centroids: Aabb::EMPTY,
+    };
+
+    fn add(self, p: &BuildPrim) -> NodeBounds {
+        NodeBounds {
+            bounds: self.bounds.union(&p.bounds),
+            centroids: self.centroids.grow(p.centroid),
+        }
+    }
+
+    fn union(self, o: NodeBounds) -> NodeBounds {
+        NodeBounds {
+            bounds: self.bounds.union(&o.bounds),
+            centroids: self.centroids.union(&o.centroids),
+        }
+    }
+
+    /// Both boxes of `prims` in one pass (parallel for large nodes; min/max are exact, so the
+    /// result is the same however the chunks combine).
+    pub(super) fn of(prims: &[BuildPrim]) -> NodeBounds {
+        if prims.len() > PARALLEL_NODE_THRESHOLD {
+            prims
+                .par_chunks(CHUNK)
+                .map(|c| c.iter().fold(NodeBounds::EMPTY, NodeBounds::add))
+                .reduce(|| NodeBounds::EMPTY, NodeBounds::union)
+        } else {
+            prims.iter().fold(NodeBounds::EMPTY, NodeBounds::add)
+        }
+    }
+}
+
+/// The primitives with non-empty, finite bounds, in input order, and their [`NodeBounds`]
+/// (the root's), in one parallel pass: each chunk counts its usable boxes, prefix sums place
+/// every chunk's output, and the chunks write their primitives and fold their bounds at once.
+pub(super) fn build_prims(bounds: &[Aabb]) -> (Vec<BuildPrim>, NodeBounds) {
+    let usable = |b: &Aabb| !b.is_empty() && b.min.is_finite() && b.max.is_finite();
+    let counts: Vec<usize> = bounds
+        .par_chunks(CHUNK)
+        .map(|c| c.iter().filter(|b| usable(b)).count())
+        .collect();
+    let total = counts.iter().sum();
+    let mut prims: Vec<BuildPrim> = Vec::with_capacity(total);
+    let mut rest = &mut prims.spare_capacity_mut()[..total];
+    let mut targets = Vec::with_capacity(counts.len());
+    for &n in &counts {
+        let (t, r) = std::mem::take(&mut rest).split_at_mut(n);
+        targets.push(t);
+        rest = r;
+    }
+    let root = bounds
+        .par_chunks(CHUNK)
+        .zip(targets)
+        .enumerate()
+        .map(|(k, (src, dst))| {
+            let mut nb = NodeBounds::EMPTY;
+            let usable_prims = src.iter().enumerate().filter(|(_, b)| usable(b));
+            for ((i, b), d) in usable_prims.zip(dst.iter_mut()) {
+                let p = BuildPrim {
+                    bounds: *b,
+                    centroid: b.centroid(),
+                    index: (k * CHUNK + i) as u32,
+                };
+                nb = nb.add(&p);
+                d.write(p);
+            }
+            nb
+        })
+        .reduce(|| NodeBounds::EMPTY, NodeBounds::union);
+    // SAFETY: the chunks' targets tile the first `total` slots, and chunk k's target has
+    // exactly as many slots as chunk k has usable boxes, each of which wrote one.
+    unsafe { prims.set_len(total) };
+    (prims, root)
+}
+
+/// Builds the tree for `prims` (whose first element is primitive `first` of the final order)
+/// and returns its nodes depth-first, interior offsets counted from the first node.
+#[cfg(test)]
+pub(super) fn build_range(prims: &mut [BuildPrim], first: usize, depth: usize) -> Vec<Node> {
+    let root = NodeBounds::of(prims);
+    build_tree(prims, first, depth, root)
+}
+
+/// [`build_range`] with the root's bounds known. Subtrees above [`PARALLEL_THRESHOLD`]
+/// primitives are built in parallel into separate parts whose interior offsets are distances
+/// (second child minus node), which do not change when a part moves; the parts are then
+/// copied once, in parallel, into their final places, turning distances into indices. (Each
+/// `rayon::join` used to append its two subtrees to its node's list, rebasing every offset: a
+/// copy of the whole tree per parallel level, the root's on one thread.)
+pub(super) fn build_tree(
+    prims: &mut [BuildPrim],
+    first: usize,
+    depth: usize,
+    root: NodeBounds,
+) -> Vec<Node> {
+    // The top nodes partition from one buffer into the other and back (see `build_parts`);
+    // the scratch buffer's pages are only touched by those partitions, in parallel.
+    let mut scratch: Vec<BuildPrim> = Vec::new();
+    if prims.len() > PARALLEL_NODE_THRESHOLD {
+        scratch.reserve_exact(prims.len());
+    }
+    let spare_len = prims.len().min(scratch.capacity());
+    let spare = &mut scratch.spare_capacity_mut()[..spare_len];
+    let mut parts = Vec::new();
+    let node = Subtree {
+        first,
+        depth,
+        nb: root,
+    };
+    let total = build_parts(prims, spare, true, node, &mut parts);
+    // Freed before the parts are copied, so that it never coexists with both copies of the
+    // nodes (the build's peak memory).
+    drop(scratch);
+    if parts.len() == 1 {
+        let mut nodes = parts.pop().unwrap_or_default();
+        for (i, n) in nodes.iter_mut().enumerate() {
+            if n.count == 0 {
+                n.offset += i as u32;
+            }
+        }
+        return nodes;
+    }
+    let mut nodes: Vec<Node> = Vec::with_capacity(total);
+    let mut rest = &mut nodes.spare_capacity_mut()[..total];
+    let mut targets = Vec::with_capacity(parts.len());
+    let mut start = 0;
+    for part in &parts {
+        let (t, r) = std::mem::take(&mut rest).split_at_mut(part.len());
+        targets.push((start, t));
+        start += part.len();
+        rest = r;
+    }
+    // Each part is freed as soon as it is copied.
+    parts
+        .into_par_iter()
+        .zip(targets)
+        .for_each(|(part, (start, dst))| {
+            for (i, (n, d)) in part.iter().zip(dst.iter_mut()).enumerate() {
+                let mut n = *n;
+                if n.count == 0 {
+                    n.offset += (start + i) as u32;
+                }
+                d.write(n);
+            }
+        });
+    // SAFETY: the targets tile the first `total` slots (the parts' lengths sum to `total`)
+    // and every slot was written above.
+    unsafe { nodes.set_len(total) };
+    nodes
+}
+
+/// A subtree to build: its first primitive's place in the final order, its depth and its
+/// primitives' bounds.
+#[derive(Clone, Copy)]
+struct Subtree {
+    first: usize,
+    depth: usize,
+    nb: NodeBounds,
+}
+
+/// Appends the parts of the subtree over `data` to `parts` in depth-first order; returns its
+/// node count. Interior offsets are distances from the node to its second child.
+///
+/// Nodes above [`PARALLEL_NODE_THRESHOLD`] primitives partition `data` stably into `spare`
+/// (as long, free), which then holds their children's primitives while `data` becomes the
+/// children's free space: one pass per top level, where partitioning into a new buffer and
+/// copying back took two and a new allocation. `home` says whether `data` lies in the final
+/// primitive array; a subtree that is not there moves back once, when it gets small enough
+/// for in-place partitions (in its own task, so in parallel with its siblings).
+fn build_parts(
+    data: &mut [BuildPrim],
+    spare: &mut [MaybeUninit<BuildPrim>],
+    home: bool,
+    node: Subtree,
+    parts: &mut Vec<Vec<Node>>,
+) -> usize {
+    let n = data.len();
+    if !home && (n <= PARALLEL_NODE_THRESHOLD) {
+        let data = move_to(data, spare);
+        return build_parts(data, &mut [], true, node, parts);
+    }
+    let Subtree { first, depth, nb } = node;
+    if n <= PARALLEL_THRESHOLD {
+        // A binary tree over n primitives has at most 2n − 1 nodes; reserving them saves
+        // the growing vector's copies, and giving back the unused tail (about half: leaves
+        // hold several primitives) keeps it from raising the peak memory.
+        let mut out = Vec::with_capacity(2 * n);
+        build_into(data, first, depth, nb, &mut out);
+        out.shrink_to_fit();
+        parts.push(out);
+        return parts.last().map_or(0, Vec::len);
+    }
+    let split = if n > PARALLEL_NODE_THRESHOLD {
+        split_large(data, spare, &nb, depth)
+    } else {
+        choose_split(data, &nb, depth).map(|s| (s, false))
+    };
+    let Some((split, moved)) = split else {
+        let data = if home { data } else { move_to(data, spare) };
+        parts.push(vec![leaf(data, nb.bounds, first)]);
+        return 1;
+    };
+    // After a partition into `spare` the primitives are there and `data` is free.
+    let (data, spare, home) = if moved {
+        // SAFETY: `split_large` wrote every element of `spare` (see `partition_into`).
+        (unsafe { assume_init(spare) }, as_uninit(data), !home)
+    } else {
+        (data, spare, home)
+    };
+    let me = parts.len();
+    parts.push(vec![interior(&nb.bounds, split.axis)]);
+    let (left, right) = data.split_at_mut(split.mid);
+    let (l_spare, r_spare) = spare.split_at_mut(split.mid.min(spare.len()));
+    let left_node = Subtree {
+        first,
+        depth: depth + 1,
+        nb: split.left,
+    };
+    let right_node = Subtree {
+        first: first + split.mid,
+        depth: depth + 1,
+        nb: split.right,
+    };
+    let ((lparts, llen), (rparts, rlen)) = rayon::join(
+        || {
+            let mut p = Vec::new();
+            let n = build_parts(left, l_spare, home, left_node, &mut p);
+            (p, n)
+        },
+        || {
+            let mut p = Vec::new();
+            let n = build_parts(right, r_spare, home, right_node, &mut p);
+            (p, n)
+        },
+    );
+    parts[me][0].offset = 1 + llen as u32;
+    parts.extend(lparts);
+    parts.extend(rparts);
+    1 + llen + rlen
+}
+
+/// Copies `data` into `dst` (as long) in parallel chunks and returns it as initialised.
+fn move_to<'a>(data: &[BuildPrim], dst: &'a mut [MaybeUninit<BuildPrim>]) -> &'a mut [BuildPrim] {
+    assert_eq!(
+        data.len(),
+        dst.len(),
+        "a subtree's two buffers have one length"
+    );
+    dst.par_chunks_mut(CHUNK)
+        .zip(data.par_chunks(CHUNK))
+        .for_each(|(d, s)| {
+            for (d, s) in d.iter_mut().zip(s) {
+                d.write(*s);
+            }
+        });
+    // SAFETY: every element of `dst` was written just above.
+    unsafe { assume_init(dst) }
+}
+
+/// Views initialised primitives as free space. Only whole primitives are ever written
+/// through it, so the slice stays initialised.
+fn as_uninit(s: &mut [BuildPrim]) -> &mut [MaybeUninit<BuildPrim>] {
+    // SAFETY: `MaybeUninit<T>` has `T`'s layout, and every initialised value is a valid
+    // `MaybeUninit<T>`.
+    unsafe { &mut *(s as *mut [BuildPrim] as *mut [MaybeUninit<BuildPrim>]) }
+}
+
+/// # Safety
+/// Every element of `s` must have been written.
+unsafe fn assume_init(s: &mut [MaybeUninit<BuildPrim>]) -> &mut [BuildPrim] {
+    // SAFETY: same layout, and the caller guarantees that every element is initialised.
+    unsafe { &mut *(s as *mut [MaybeUninit<BuildPrim>] as *mut [BuildPrim]) }
+}
+
+fn interior(bounds: &Aabb, axis: usize) -> Node {
+    Node {
+        min: bounds.min.into(),
+        offset: 0,
+        max: bounds.max.into(),
+        count: 0,
+        axis: axis as u8,
+        _pad: 0,
+    }
+}
+
+/// A node's split: the axis, the number of primitives going left (they are moved to the
+/// front) and the bounds of both sides.
+pub(super) struct Split {
+    pub(super) axis: usize,
+    pub(super) mid: usize,
+    pub(super) left: NodeBounds,
+    pub(super) right: NodeBounds,
+}
+
+impl Split {
+    /// The SAH split at bin `boundary` of axis `ax`, `mid` primitives left with centroid
+    /// bounds `lc`, the rest with `rc`. The sides' boxes are the unions of their bins' boxes
+    /// on that axis: the same primitives' bounds, combined by exact min/max.
+    fn from_bins(bins: &Bins, ax: usize, boundary: usize, mid: usize, lc: Aabb, rc: Aabb) -> Split {
+        let side = |r: std::ops::Range<usize>| {
+            bins.boxes[ax][r]
+                .iter()
+                .fold(Aabb::EMPTY, |acc, b| acc.union(b))
+        };
+        Split {
+            axis: ax,
+            mid,
+            left: NodeBounds {
+                bounds: side(0..boundary),
+                centroids: lc,
+            },
+            right: NodeBounds {
+                bounds: side(boundary..BIN_COUNT),
+                centroids: rc,
+            },
+        }
+    }
+
+    /// Split at `mid` without SAH bins (the halves' bounds computed from the primitives).
+    fn at(prims: &[BuildPrim], axis: usize, mid: usize) -> Split {
+        Split {
+            axis,
+            mid,
+            left: NodeBounds::of(&prims[..mid]),
+            right: NodeBounds::of(&prims[mid..]),
+        }
+    }
+}
+
+/// Chooses a split (and partitions `prims` in place for it) or `None` for a leaf. For nodes
+/// of at most [`PARALLEL_NODE_THRESHOLD`] primitives; larger ones use [`split_large`], which
+/// gives the same split.
 pub(super) fn choose_split(
     prims: &mut [BuildPrim],
-    bounds: &Aabb,
+    nb: &NodeBounds,
     depth: usize,
-) -> Option<(usize, usize)> {
+) -> Option<Split> {
     let n = prims.len();
     if n <= 1 {
         return None;
     }
-    let centroid_bounds = centroid_bounds(prims);
+    let centroid_bounds = nb.centroids;
     let axis = centroid_bounds.longest_axis();
     let extent = centroid_bounds.max - centroid_bounds.min;
-    // Deep trees must not overflow the traversal stack: force median splits near the limit.
-    let force_split = depth + 8 >= MAX_DEPTH;
     if extent[axis] <= 0.0 {
         // All centroids coincide: SAH cannot separate them; split by index if too many.
-        return if n > MAX_LEAF_SIZE {
-            Some((axis, n / 2))
-        } else {
-            None
-        };
+        return (n > MAX_LEAF_SIZE).then(|| Split::at(prims, axis, n / 2));
     }
-    if force_split {
+    // Deep trees must not overflow the traversal stack: force median splits near the limit.
+    if depth + 8 >= MAX_DEPTH {
         prims.select_nth_unstable_by(n / 2, |a, b| a.centroid[axis].total_cmp(&b.centroid[axis]));
-        return Some((axis, n / 2));
+        return Some(Split::at(prims, axis, n / 2));
     }
+    let mut bins = Bins::EMPTY;
+    bins.add(prims, &centroid_bounds);
+    let (cost, ax, boundary) = best_split(&bins, extent)?;
+    let area = nb.bounds.surface_area();
+    let split_cost = TRAVERSAL_COST + if area > 0.0 { cost / area } else { 0.0 };
+    if n <= MAX_LEAF_SIZE && n as f32 <= split_cost {
+        return None;
+    }
+    let (min, scale) = (centroid_bounds.min[ax], BIN_COUNT as f32 / extent[ax]);
+    let (mid, lc, rc) = partition(prims, |p| bin_of(p.centroid[ax], min, scale) < boundary);
+    if mid == 0 || mid == n {
+        return (n > MAX_LEAF_SIZE).then(|| Split::at(prims, ax, n / 2));
+    }
+    Some(Split::from_bins(&bins, ax, boundary, mid, lc, rc))
+}
 
-    // Bin along every axis with a non-zero centroid extent; keep the cheapest split.
-    let bins = bin_all(prims, &centroid_bounds);
-    let mut best: Option<(f32, usize, usize)> = None; // (cost, axis, bin boundary)
+/// [`choose_split`] for nodes above [`PARALLEL_NODE_THRESHOLD`] primitives: bins in parallel
+/// chunks and partitions stably from `data` into `spare` (then `true`: the primitives are in
+/// `spare`, every element written) or splits in place (`false`). Such nodes are never leaves
+/// unless no split exists at all (then `None`, nothing moved).
+fn split_large(
+    data: &mut [BuildPrim],
+    spare: &mut [MaybeUninit<BuildPrim>],
+    nb: &NodeBounds,
+    depth: usize,
+) -> Option<(Split, bool)> {
+    let n = data.len();
+    let centroid_bounds = nb.centroids;
+    let axis = centroid_bounds.longest_axis();
+    let extent = centroid_bounds.max - centroid_bounds.min;
+    if extent[axis] <= 0.0 {
+        return Some((Split::at(data, axis, n / 2), false));
+    }
+    if depth + 8 >= MAX_DEPTH {
+        data.select_nth_unstable_by(n / 2, |a, b| a.centroid[axis].total_cmp(&b.centroid[axis]));
+        return Some((Split::at(data, axis, n / 2), false));
+    }
+    // Each chunk's bins are kept: their counts place the chunk's output in the partition.
+    // Counts add and boxes take min/max, both exact, so the merged bins do not depend on how
+    // the chunks were scheduled.
+    let chunks: Vec<Bins> = data
+        .par_chunks(CHUNK)
+        .map(|c| {
+            let mut b = Bins::EMPTY;
+            b.add(c, &centroid_bounds);
+            b
+        })
+        .collect();
+    let mut bins = Bins::EMPTY;
+    for c in &chunks {
+        bins.merge(c);
+    }
+    // (The SAH leaf test of `choose_split` never applies above `MAX_LEAF_SIZE`.)
+    let (_, ax, boundary) = best_split(&bins, extent)?;
+    let lefts: Vec<usize> = chunks
+        .iter()
+        .map(|b| b.counts[ax][..boundary].iter().sum::<u32>() as usize)
+        .collect();
+    let (min, scale) = (centroid_bounds.min[ax], BIN_COUNT as f32 / extent[ax]);
+    let goes_left = |p: &BuildPrim| bin_of(p.centroid[ax], min, scale) < boundary;
+    let (mid, lc, rc) = partition_into(data, spare, &lefts, goes_left);
+    if mid == 0 || mid == n {
+        // SAFETY: `partition_into` wrote every element of `spare`.
+        let moved = unsafe { assume_init(spare) };
+        return Some((Split::at(moved, ax, n / 2), true));
+    }
+    Some((Split::from_bins(&bins, ax, boundary, mid, lc, rc), true))
+}
+
+/// The cheapest split by the SAH over the bins of every axis with a non-zero centroid
+/// extent: (cost, axis, first bin of the right side).
+fn best_split(bins: &Bins, extent: Vec3A) -> Option<(f32, usize, usize)> {
+    let mut best: Option<(f32, usize, usize)> = None;
     for ax in 0..3 {
         if extent[ax] <= 0.0 {
             continue;
@@ -138,27 +537,7 @@ pub(super) fn choose_split(
             }
         }
     }
-    let area = bounds.surface_area();
-    let (cost, ax, boundary) = best?;
-    let split_cost = TRAVERSAL_COST + if area > 0.0 { cost / area } else { 0.0 };
-    if n <= MAX_LEAF_SIZE && n as f32 <= split_cost {
-        return None;
-    }
-    let min = centroid_bounds.min[ax];
-    let scale = BIN_COUNT as f32 / extent[ax];
-    let mid = if n > PARALLEL_NODE_THRESHOLD {
-        partition_stable_parallel(prims, |p| bin_of(p.centroid[ax], min, scale) < boundary)
-    } else {
-        partition(prims, |p| bin_of(p.centroid[ax], min, scale) < boundary)
-    };
-    if mid == 0 || mid == n {
-        return if n > MAX_LEAF_SIZE {
-            Some((ax, n / 2))
-        } else {
-            None
-        };
-    }
-    Some((ax, mid))
+    best
 }
 
 #[inline]
@@ -166,15 +545,24 @@ pub(super) fn bin_of(c: f32, min: f32, scale: f32) -> usize {
     (((c - min) * scale) as usize).min(BIN_COUNT - 1)
 }
 
-pub(super) fn partition<F: Fn(&BuildPrim) -> bool>(prims: &mut [BuildPrim], left: F) -> usize {
+/// In-place (unstable) partition; also returns the centroid bounds of both sides, gathered
+/// in the same pass.
+pub(super) fn partition<F: Fn(&BuildPrim) -> bool>(
+    prims: &mut [BuildPrim],
+    left: F,
+) -> (usize, Aabb, Aabb) {
+    let (mut lc, mut rc) = (Aabb::EMPTY, Aabb::EMPTY);
     let mut i = 0;
     for j in 0..prims.len() {
         if left(&prims[j]) {
+            lc = lc.grow(prims[j].centroid);
             prims.swap(i, j);
             i += 1;
+        } else {
+            rc = rc.grow(prims[j].centroid);
         }
     }
-    i
+    (i, lc, rc)
 }
 
 /// Primitive counts and bounds per bin along each axis.
@@ -204,64 +592,20 @@ impl Bins {
         }
     }
 
-    fn merge(mut self, o: Bins) -> Bins {
+    fn merge(&mut self, o: &Bins) {
         for ax in 0..3 {
             for b in 0..BIN_COUNT {
                 self.counts[ax][b] += o.counts[ax][b];
                 self.boxes[ax][b] = self.boxes[ax][b].union(&o.boxes[ax][b]);
             }
         }
-        self
     }
 }
 
-/// Bins `prims` along all three axes; in parallel chunks for large nodes. Counts add and boxes
-/// take min/max, both exact, so the result does not depend on how the chunks are combined.
-pub(super) fn bin_all(prims: &[BuildPrim], centroids: &Aabb) -> Bins {
-    if prims.len() > PARALLEL_NODE_THRESHOLD {
-        prims
-            .par_chunks(CHUNK)
-            .map(|c| {
-                let mut b = Bins::EMPTY;
-                b.add(c, centroids);
-                b
-            })
-            .reduce(|| Bins::EMPTY, Bins::merge)
-    } else {
-        let mut b = Bins::EMPTY;
-        b.add(prims, centroids);
-        b
-    }
-}
-
-/// Union of the primitives' bounds (parallel for large nodes; min/max are exact, so the
-/// result is the same however the chunks combine).
-pub(super) fn prim_bounds(prims: &[BuildPrim]) -> Aabb {
-    if prims.len() > PARALLEL_NODE_THRESHOLD {
-        prims
-            .par_chunks(CHUNK)
-            .map(|c| c.iter().fold(Aabb::EMPTY, |b, p| b.union(&p.bounds)))
-            .reduce(|| Aabb::EMPTY, |a, b| a.union(&b))
-    } else {
-        prims.iter().fold(Aabb::EMPTY, |b, p| b.union(&p.bounds))
-    }
-}
-
-/// Bounds of the primitives' centroids (parallel for large nodes, exact as [`prim_bounds`]).
-pub(super) fn centroid_bounds(prims: &[BuildPrim]) -> Aabb {
-    if prims.len() > PARALLEL_NODE_THRESHOLD {
-        prims
-            .par_chunks(CHUNK)
-            .map(|c| c.iter().fold(Aabb::EMPTY, |b, p| b.grow(p.centroid)))
-            .reduce(|| Aabb::EMPTY, |a, b| a.union(&b))
-    } else {
-        prims.iter().fold(Aabb::EMPTY, |b, p| b.grow(p.centroid))
-    }
-}
-
-/// Stable partition in parallel chunks: each chunk counts its left primitives, the prefix sums
-/// give every chunk its own ranges of the output, and chunks copy there independently. The
-/// result (both sides in input order) depends only on the input, never on the thread count.
+/// Stable partition in parallel chunks (both sides keep the input order), counting each
+/// chunk's left primitives first, into a new buffer copied back. The result depends only on
+/// the input, never on the thread count.
+#[cfg(test)]
 pub(super) fn partition_stable_parallel<F: Fn(&BuildPrim) -> bool + Sync>(
     prims: &mut [BuildPrim],
     left: F,
@@ -270,90 +614,90 @@ pub(super) fn partition_stable_parallel<F: Fn(&BuildPrim) -> bool + Sync>(
         .par_chunks(CHUNK)
         .map(|c| c.iter().filter(|p| left(p)).count())
         .collect();
+    let mut out: Vec<BuildPrim> = Vec::with_capacity(prims.len());
+    let (mid, _, _) = partition_into(
+        prims,
+        &mut out.spare_capacity_mut()[..prims.len()],
+        &lefts,
+        left,
+    );
+    // SAFETY: `partition_into` wrote every element.
+    unsafe { out.set_len(prims.len()) };
+    prims.copy_from_slice(&out);
+    mid
+}
+
+/// Stable partition of `src` into `dst` (as long) in parallel chunks of [`CHUNK`] whose left
+/// counts `lefts` are known (from the chunks' bins): prefix sums give every chunk its own
+/// ranges of `dst`, and chunks copy there independently, gathering both sides' centroid
+/// bounds as they go. Writes every element of `dst`; returns the left count and the sides'
+/// centroid bounds.
+pub(super) fn partition_into<F: Fn(&BuildPrim) -> bool + Sync>(
+    src: &[BuildPrim],
+    dst: &mut [MaybeUninit<BuildPrim>],
+    lefts: &[usize],
+    left: F,
+) -> (usize, Aabb, Aabb) {
+    assert_eq!(
+        src.len(),
+        dst.len(),
+        "partition source and target have one length"
+    );
     let mid: usize = lefts.iter().sum();
-    // Left uninitialised (every element is written below by exactly one chunk): a copy of the
-    // input here was a serial pass over the largest node, the first touch of its pages too.
-    let mut out: Vec<MaybeUninit<BuildPrim>> = Vec::with_capacity(prims.len());
-    out.resize_with(prims.len(), MaybeUninit::uninit);
-    let (mut l_rest, mut r_rest) = out.split_at_mut(mid);
+    let (mut l_rest, mut r_rest) = dst.split_at_mut(mid);
     let mut targets = Vec::with_capacity(lefts.len());
     for (k, &nl) in lefts.iter().enumerate() {
-        let len = CHUNK.min(prims.len() - k * CHUNK);
+        let len = CHUNK.min(src.len() - k * CHUNK);
         let (l, lr) = std::mem::take(&mut l_rest).split_at_mut(nl);
         let (r, rr) = std::mem::take(&mut r_rest).split_at_mut(len - nl);
         (l_rest, r_rest) = (lr, rr);
         targets.push((l, r));
     }
-    prims
+    // The chunks' left and right ranges tile `dst` exactly (their lengths sum to each
+    // chunk's length, the left ones to `mid`), so every element is written once.
+    let (lc, rc) = src
         .par_chunks(CHUNK)
         .zip(targets.into_par_iter())
-        .for_each(|(src, (l, r))| {
+        .map(|(src, (l, r))| {
             let (mut i, mut j) = (0, 0);
+            let (mut lc, mut rc) = (Aabb::EMPTY, Aabb::EMPTY);
             for p in src {
                 if left(p) {
+                    lc = lc.grow(p.centroid);
                     l[i].write(*p);
                     i += 1;
                 } else {
+                    rc = rc.grow(p.centroid);
                     r[j].write(*p);
                     j += 1;
                 }
             }
-        });
-    prims
-        .par_chunks_mut(CHUNK)
-        .zip(out.par_chunks(CHUNK))
-        .for_each(|(d, s)| {
-            for (d, s) in d.iter_mut().zip(s) {
-                // SAFETY: the chunks' left and right ranges tile `out` exactly (their lengths
-                // sum to each chunk's length), so every element was written above.
-                *d = unsafe { s.assume_init() };
-            }
-        });
-    mid
+            (lc, rc)
+        })
+        .reduce(
+            || (Aabb::EMPTY, Aabb::EMPTY),
+            |a, b| (a.0.union(&b.0), a.1.union(&b.1)),
+        );
+    (mid, lc, rc)
 }
 
-pub(super) fn build_into(prims: &mut [BuildPrim], first: usize, depth: usize, out: &mut Vec<Node>) {
-    let bounds = prim_bounds(prims);
-    let Some((axis, mid)) = choose_split(prims, &bounds, depth) else {
-        out.push(leaf(prims, bounds, first));
+/// The serial build of a subtree (below [`PARALLEL_THRESHOLD`] primitives) into `out`,
+/// depth-first; interior offsets are distances from the node to its second child.
+pub(super) fn build_into(
+    prims: &mut [BuildPrim],
+    first: usize,
+    depth: usize,
+    nb: NodeBounds,
+    out: &mut Vec<Node>,
+) {
+    let Some(split) = choose_split(prims, &nb, depth) else {
+        out.push(leaf(prims, nb.bounds, first));
         return;
     };
     let me = out.len();
-    out.push(Node {
-        min: bounds.min.into(),
-        offset: 0,
-        max: bounds.max.into(),
-        count: 0,
-        axis: axis as u8,
-        _pad: 0,
-    });
-    let (left, right) = prims.split_at_mut(mid);
-    if prims_len(left, right) > PARALLEL_THRESHOLD {
-        let (l, r) = rayon::join(
-            || build_range(left, first, depth + 1),
-            || build_range(right, first + mid, depth + 1),
-        );
-        append_shifted(out, l);
-        out[me].offset = out.len() as u32;
-        append_shifted(out, r);
-    } else {
-        build_into(left, first, depth + 1, out);
-        out[me].offset = out.len() as u32;
-        build_into(right, first + mid, depth + 1, out);
-    }
-}
-
-pub(super) fn prims_len(a: &[BuildPrim], b: &[BuildPrim]) -> usize {
-    a.len() + b.len()
-}
-
-/// Appends a separately built subtree, rebasing its interior offsets to its new position.
-pub(super) fn append_shifted(out: &mut Vec<Node>, sub: Vec<Node>) {
-    let base = out.len() as u32;
-    out.extend(sub.into_iter().map(|mut n| {
-        if n.count == 0 {
-            n.offset += base;
-        }
-        n
-    }));
+    out.push(interior(&nb.bounds, split.axis));
+    let (left, right) = prims.split_at_mut(split.mid);
+    build_into(left, first, depth + 1, split.left, out);
+    out[me].offset = (out.len() - me) as u32;
+    build_into(right, first + split.mid, depth + 1, split.right, out);
 }

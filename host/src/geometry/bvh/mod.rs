@@ -42,7 +42,7 @@ use glam::Vec3A;
 use rayon::prelude::*;
 
 use super::Aabb;
-use build::{build_range, BuildPrim};
+use build::{build_prims, build_tree};
 use collapse::collapse;
 use wide_node::WideNode;
 
@@ -66,21 +66,12 @@ impl Bvh {
     /// Builds over primitives with the given bounds. Primitives with empty or non-finite bounds
     /// are left out (they can never be hit).
     pub fn build(bounds: &[Aabb]) -> Bvh {
-        // In parallel and in order (rayon's collect keeps the input order).
-        let mut prims: Vec<BuildPrim> = bounds
-            .par_iter()
-            .enumerate()
-            .filter(|(_, b)| !b.is_empty() && b.min.is_finite() && b.max.is_finite())
-            .map(|(i, b)| BuildPrim {
-                bounds: *b,
-                centroid: b.centroid(),
-                index: i as u32,
-            })
-            .collect();
+        // In parallel and in order, with the root's bounds in the same pass.
+        let (mut prims, root) = build_prims(bounds);
         if prims.is_empty() {
             return Bvh::default();
         }
-        let binary = build_range(&mut prims, 0, 0);
+        let binary = build_tree(&mut prims, 0, 0, root);
         let order = prims.par_iter().map(|p| p.index).collect();
         let root = &binary[0];
         let bounds = Some(Aabb {
@@ -93,6 +84,28 @@ impl Bvh {
             bounds,
             kernel: TraversalKernel::best_available(),
         }
+    }
+
+    /// 64-bit FNV-1a hash of every node's bits and of the leaf order. Equal trees give equal
+    /// fingerprints, so a change meant to keep the tree (a faster build) can be checked on
+    /// scenes too large for a stored copy (the scaling bench prints it).
+    pub fn fingerprint(&self) -> u64 {
+        let mut h = 0xcbf2_9ce4_8422_2325u64;
+        let mut mix = |w: u32| {
+            for b in w.to_le_bytes() {
+                h = (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
+            }
+        };
+        for n in &self.nodes {
+            for a in [&n.min_x, &n.min_y, &n.min_z, &n.max_x, &n.max_y, &n.max_z] {
+                a.iter().for_each(|v| mix(v.to_bits()));
+            }
+            n.child.iter().for_each(|&c| mix(c));
+            n.count.iter().for_each(|&c| mix(u32::from(c)));
+            mix(n.slots);
+        }
+        self.order.iter().for_each(|&i| mix(i));
+        h
     }
 
     /// Primitive indices (into the list given to [`Bvh::build`]) in leaf order.
