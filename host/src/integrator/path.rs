@@ -278,7 +278,8 @@ impl PathTracer {
         // The wavelengths each group's lanes carry now, once a fluorescent event has shifted
         // one (see `super::fluorescence`); the film keeps weighing `lambdas`, the observed ones.
         let mut shifted: Option<[[f32; LANES]; MAX_GROUPS]> = None;
-        let mut cur_buf = [*lambdas.groups().first().expect("a group"); MAX_GROUPS];
+        // Filled only once a fluorescent event has shifted a lane (most paths never do).
+        let mut cur_buf: Option<[SampledWavelengths; MAX_GROUPS]> = None;
         loop {
             let cur = current(lambdas.groups(), shifted.as_ref(), &mut cur_buf);
             stats.rays += 1;
@@ -579,11 +580,12 @@ impl PathTracer {
 fn current<'a>(
     groups: &'a [SampledWavelengths],
     shifted: Option<&[[f32; LANES]; MAX_GROUPS]>,
-    buf: &'a mut [SampledWavelengths; MAX_GROUPS],
+    buf: &'a mut Option<[SampledWavelengths; MAX_GROUPS]>,
 ) -> &'a [SampledWavelengths] {
     let Some(sh) = shifted else {
         return groups;
     };
+    let buf = buf.get_or_insert([groups[0]; MAX_GROUPS]);
     for (g, w) in groups.iter().enumerate() {
         buf[g] = SampledWavelengths {
             lambda: sh[g],

@@ -98,12 +98,14 @@ pub fn random_walk(
         };
         let wo_world = -ray.dir.normalize();
         let prev = path[path.len() - 1];
+        let frame = Frame::from_normal(hit.shading_normal);
         let mut v = Vertex {
             kind: VertexKind::Surface { object: hit.object },
             p: hit.point,
             p_error: hit.point_error,
             ng: hit.geometric_normal,
             ns: hit.shading_normal,
+            frame,
             uv: hit.uv,
             wo: wo_world,
             beta,
@@ -160,7 +162,6 @@ pub fn random_walk(
         } else {
             scene.objects.material(hit.object)
         };
-        let frame = Frame::from_normal(hit.shading_normal);
         let wo = frame.to_local(wo_world);
         let ctx = ShadingContext::at(hit.point, hit.geometric_normal, hit.shading_normal, hit.uv);
         let u_lobe = rng.next_1d();

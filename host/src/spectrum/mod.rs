@@ -15,6 +15,7 @@ pub mod curve;
 pub mod discrete;
 pub mod error;
 pub mod fluorescence_model;
+pub mod guide_table;
 pub mod lane_mask;
 pub mod line_spd;
 pub mod piecewise_constant;

@@ -1,5 +1,8 @@
 //! Sampling a piecewise-linear density by exact inversion of its CDF (seed §5, "replacing gaps
-//! with a linear function"), with the segment integrals precomputed and an O(log n) search.
+//! with a linear function"), with the segment integrals precomputed. The segment holding a
+//! wavelength or a CDF value is found through a [`GuideTable`] (expected O(1), the same segment
+//! as a binary search): wavelength sampling evaluates and samples light spectra for every
+//! lane of every BDPT sample, where the binary searches were about half of the cost.
 //!
 //! Inside a segment with end values `a`, `b` and area fraction `t ∈ [0,1)`, the position
 //! `s ∈ [0,1]` solves `(b−a)s² + 2as − t(a+b) = 0`. The textbook root `(√(a²+t(b²−a²)) − a)/(b−a)`
@@ -7,6 +10,8 @@
 //! `s = t(a+b) / (a + √((1−t)a² + tb²))`, which is exact for `a = b` (gives `s = t`) and for
 //! `a = 0` (gives `s = √t`). Values are rescaled by `max(a,b)` first so 1e±30 data cannot
 //! overflow the squares.
+
+use super::guide_table::GuideTable;
 
 /// A density on `[x₀, x_{n−1}]` proportional to the linear interpolation of `(x_i, f_i)`.
 #[derive(Clone, Debug, PartialEq)]
@@ -17,6 +22,9 @@ pub struct PiecewiseLinear1D {
     cdf: Vec<f64>,
     /// Index of the last segment with positive area.
     last_positive: usize,
+    /// Search guides for `x` and `cdf`.
+    x_guide: GuideTable,
+    cdf_guide: GuideTable,
 }
 
 impl PiecewiseLinear1D {
@@ -49,6 +57,8 @@ impl PiecewiseLinear1D {
             return None;
         }
         Some(Self {
+            x_guide: GuideTable::new(x),
+            cdf_guide: GuideTable::new(&cdf),
             x: x.to_vec(),
             f: f.to_vec(),
             cdf,
@@ -78,7 +88,14 @@ impl PiecewiseLinear1D {
 
     /// Linearly interpolated unnormalized value at `x`, 0 outside the range.
     pub fn value(&self, x: f64) -> f64 {
-        super::tabulation::interpolate(&self.x, &self.f, x)
+        // `tabulation::interpolate` with the guided search (the same segment, the same value).
+        let (xs, f, n) = (&self.x, &self.f, self.x.len());
+        if !(x >= xs[0] && x <= xs[n - 1]) {
+            return 0.0;
+        }
+        let i = (self.x_guide.partition_point(xs, x).max(1) - 1).min(n - 2);
+        let s = (x - xs[i]) / (xs[i + 1] - xs[i]);
+        (1.0 - s) * f[i] + s * f[i + 1]
     }
 
     /// Normalized density at `x` (1/unit of x).
@@ -91,7 +108,8 @@ impl PiecewiseLinear1D {
     pub fn sample(&self, u: f64) -> (f64, f64) {
         let total = self.integral();
         let target = u.clamp(0.0, 1.0) * total;
-        let i = (self.cdf.partition_point(|&c| c <= target).max(1) - 1).min(self.last_positive);
+        let i =
+            (self.cdf_guide.partition_point(&self.cdf, target).max(1) - 1).min(self.last_positive);
         let area = self.cdf[i + 1] - self.cdf[i];
         // Keep t strictly inside (0,1) so a zero-valued segment end is never returned.
         let t = ((target - self.cdf[i]) / area).clamp(f64::EPSILON, 1.0 - f64::EPSILON);
@@ -158,6 +176,44 @@ mod tests {
     }
 
     // A flat segment must map t to s = t exactly (the case the textbook form gets wrong).
+    /// Quantity: `value` (guided search) against `tabulation::interpolate` (binary search) on
+    /// an uneven table at 20 000 points in and around its range, and `sample`'s wavelength
+    /// against a binary search of the CDF for the segment. Tolerance: bit equality, since both
+    /// find the same segment and then do the same arithmetic.
+    #[test]
+    fn guided_lookups_equal_binary_search() {
+        let x: Vec<f64> = (0..300)
+            .map(|i| 380.0 + i as f64 + 0.003 * (i * i) as f64)
+            .collect();
+        let f: Vec<f64> = (0..300)
+            .map(|i| {
+                if (40..60).contains(&i) {
+                    0.0
+                } else {
+                    1.0 + (i % 7) as f64
+                }
+            })
+            .collect();
+        let d = PiecewiseLinear1D::new(&x, &f).unwrap();
+        let (lo, hi) = d.range();
+        for k in 0..20_000 {
+            let l = lo - 5.0 + (hi - lo + 10.0) * k as f64 / 19_999.0;
+            assert_eq!(
+                d.value(l).to_bits(),
+                super::super::tabulation::interpolate(&x, &f, l).to_bits(),
+                "{l}"
+            );
+            let u = k as f64 / 20_000.0;
+            let target = u * d.integral();
+            let i = (d.cdf.partition_point(|&c| c <= target).max(1) - 1).min(d.last_positive);
+            let (l, _) = d.sample(u);
+            assert!(
+                l >= x[i] && l <= x[i + 1],
+                "u = {u}: {l} outside segment {i}"
+            );
+        }
+    }
+
     #[test]
     fn flat_segment_is_exact() {
         for k in 0..100 {
