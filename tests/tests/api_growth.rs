@@ -382,6 +382,59 @@ fn a_plugin_built_against_extension_v2_loads_and_renders() {
     }
 }
 
+/// Two scene files with one floor (ρ = 0.5) under the built-in point light: the plugin's
+/// `{tag}_grey` and the built-in `lambertian` (the fall-back tests of the frozen APIs).
+fn grey_floor_scenes(tag: &str) -> (PathBuf, PathBuf) {
+    let light =
+        r#"(name: "bulb", type: "point", params: (position: (0, 1, 0), power: 20, spd: "d65"))"#;
+    let write = |name: String, ty: String| {
+        let path = tmp(&name);
+        let object = format!(r#"(name: "floor", type: "{ty}", params: (reflectance: 0.5))"#);
+        std::fs::write(&path, scene_text_with(&object, light)).unwrap();
+        path
+    };
+    (
+        write(format!("{tag}-plugin.ron"), format!("{tag}_grey")),
+        write(format!("{tag}-native.ron"), "lambertian".to_string()),
+    )
+}
+
+/// The image mean Y of the plugin's floor against the built-in's (light tracing, 4 seeds of
+/// 256 spp each): within 4 standard errors of the difference, with 4σ below 2% so that a broken
+/// fall-back (a lost or doubled reflectance) would be seen. No plugin faults. Removes the files.
+fn assert_renders_like_the_builtin(
+    registry: &Arc<spectrace::plugin::Registry>,
+    plugin_scene: PathBuf,
+    native_scene: PathBuf,
+    tag: &str,
+) {
+    let mut p = Vec::new();
+    let mut n = Vec::new();
+    for seed in 0..4 {
+        let (m, faults) = render_mean(&plugin_scene, registry, seed);
+        assert_eq!(faults.count(), 0, "{:?}", faults.report());
+        assert_eq!(faults.invalid_count(), 0, "{:?}", faults.report());
+        p.push(m);
+        n.push(render_mean(&native_scene, registry, 100 + seed).0);
+    }
+    let ((mp, sp), (mn, sn)) = (mean_and_se(&p), mean_and_se(&n));
+    let se = (sp * sp + sn * sn).sqrt();
+    eprintln!(
+        "{tag} plugin {mp:.6} ± {sp:.2e}, built-in lambertian {mn:.6} ± {sn:.2e} ({:+.3}%, {:+.1} σ)",
+        100.0 * (mp - mn) / mn,
+        (mp - mn) / se
+    );
+    assert!(mp > 0.0);
+    assert!(
+        4.0 * se < 0.02 * mn,
+        "σ {se} too large for the test to be sharp"
+    );
+    assert!((mp - mn).abs() < 4.0 * se, "plugin {mp} vs built-in {mn}");
+    for f in [plugin_scene, native_scene] {
+        let _ = std::fs::remove_file(f);
+    }
+}
+
 /// A plugin built against the API of extension v3, before v4 (`plugins/fixtures/api-ext-v3/`, a
 /// frozen copy of the API source at that point, and `plugins/fixtures/api-ext-v3-plugin/` built
 /// on it) keeps loading: it exports extensions v1–v3 but not v4, so the host reads v4 as absent
@@ -426,26 +479,7 @@ fn a_plugin_built_against_extension_v3_loads_and_renders() {
         .is_none());
     let registry = Arc::new(registry);
 
-    let light =
-        r#"(name: "bulb", type: "point", params: (position: (0, 1, 0), power: 20, spd: "d65"))"#;
-    let plugin_scene = tmp("v3-plugin.ron");
-    std::fs::write(
-        &plugin_scene,
-        scene_text_with(
-            r#"(name: "floor", type: "v3_grey", params: (reflectance: 0.5))"#,
-            light,
-        ),
-    )
-    .unwrap();
-    let native_scene = tmp("v3-native.ron");
-    std::fs::write(
-        &native_scene,
-        scene_text_with(
-            r#"(name: "floor", type: "lambertian", params: (reflectance: 0.5))"#,
-            light,
-        ),
-    )
-    .unwrap();
+    let (plugin_scene, native_scene) = grey_floor_scenes("v3");
     for (scene, flat) in [(&plugin_scene, false), (&native_scene, true)] {
         let plugins = PluginFactory::new(registry.clone(), PluginFaults::new());
         let factories: [&dyn ObjectFactory; 2] = [&BuiltinFactory, &plugins];
@@ -454,31 +488,7 @@ fn a_plugin_built_against_extension_v3_loads_and_renders() {
         assert_eq!(floor.name, "floor");
         assert_eq!(floor.material.spectrally_flat(), flat, "{}", floor.name);
     }
-    let mut p = Vec::new();
-    let mut n = Vec::new();
-    for seed in 0..4 {
-        let (m, faults) = render_mean(&plugin_scene, &registry, seed);
-        assert_eq!(faults.count(), 0, "{:?}", faults.report());
-        assert_eq!(faults.invalid_count(), 0, "{:?}", faults.report());
-        p.push(m);
-        n.push(render_mean(&native_scene, &registry, 100 + seed).0);
-    }
-    let ((mp, sp), (mn, sn)) = (mean_and_se(&p), mean_and_se(&n));
-    let se = (sp * sp + sn * sn).sqrt();
-    eprintln!(
-        "v3 plugin {mp:.6} ± {sp:.2e}, built-in lambertian {mn:.6} ± {sn:.2e} ({:+.3}%, {:+.1} σ)",
-        100.0 * (mp - mn) / mn,
-        (mp - mn) / se
-    );
-    assert!(mp > 0.0);
-    assert!(
-        4.0 * se < 0.02 * mn,
-        "σ {se} too large for the test to be sharp"
-    );
-    assert!((mp - mn).abs() < 4.0 * se, "plugin {mp} vs built-in {mn}");
-    for f in [plugin_scene, native_scene] {
-        let _ = std::fs::remove_file(f);
-    }
+    assert_renders_like_the_builtin(&registry, plugin_scene, native_scene, "v3");
 }
 
 /// A plugin built against the API of extension v4, before v5 (`plugins/fixtures/api-ext-v4/`, a
@@ -526,26 +536,7 @@ fn a_plugin_built_against_extension_v4_loads_and_renders() {
         .is_none());
     let registry = Arc::new(registry);
 
-    let light =
-        r#"(name: "bulb", type: "point", params: (position: (0, 1, 0), power: 20, spd: "d65"))"#;
-    let plugin_scene = tmp("v4-plugin.ron");
-    std::fs::write(
-        &plugin_scene,
-        scene_text_with(
-            r#"(name: "floor", type: "v4_grey", params: (reflectance: 0.5))"#,
-            light,
-        ),
-    )
-    .unwrap();
-    let native_scene = tmp("v4-native.ron");
-    std::fs::write(
-        &native_scene,
-        scene_text_with(
-            r#"(name: "floor", type: "lambertian", params: (reflectance: 0.5))"#,
-            light,
-        ),
-    )
-    .unwrap();
+    let (plugin_scene, native_scene) = grey_floor_scenes("v4");
     for (scene, same_f) in [(&plugin_scene, false), (&native_scene, true)] {
         let plugins = PluginFactory::new(registry.clone(), PluginFaults::new());
         let factories: [&dyn ObjectFactory; 2] = [&BuiltinFactory, &plugins];
@@ -560,29 +551,5 @@ fn a_plugin_built_against_extension_v4_loads_and_renders() {
             floor.name
         );
     }
-    let mut p = Vec::new();
-    let mut n = Vec::new();
-    for seed in 0..4 {
-        let (m, faults) = render_mean(&plugin_scene, &registry, seed);
-        assert_eq!(faults.count(), 0, "{:?}", faults.report());
-        assert_eq!(faults.invalid_count(), 0, "{:?}", faults.report());
-        p.push(m);
-        n.push(render_mean(&native_scene, &registry, 100 + seed).0);
-    }
-    let ((mp, sp), (mn, sn)) = (mean_and_se(&p), mean_and_se(&n));
-    let se = (sp * sp + sn * sn).sqrt();
-    eprintln!(
-        "v4 plugin {mp:.6} ± {sp:.2e}, built-in lambertian {mn:.6} ± {sn:.2e} ({:+.3}%, {:+.1} σ)",
-        100.0 * (mp - mn) / mn,
-        (mp - mn) / se
-    );
-    assert!(mp > 0.0);
-    assert!(
-        4.0 * se < 0.02 * mn,
-        "σ {se} too large for the test to be sharp"
-    );
-    assert!((mp - mn).abs() < 4.0 * se, "plugin {mp} vs built-in {mn}");
-    for f in [plugin_scene, native_scene] {
-        let _ = std::fs::remove_file(f);
-    }
+    assert_renders_like_the_builtin(&registry, plugin_scene, native_scene, "v4");
 }
