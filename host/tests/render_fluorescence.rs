@@ -523,10 +523,10 @@ fn band_tiles(img: &spectrace::film::XyzImage, rows: std::ops::Range<u32>) -> [f
 /// through fluorescent endpoints (`integrator/fluorescent_join.rs`). Tolerance: 4 combined
 /// standard errors of the two means (from the seeds' spread; with 7 degrees of freedom a
 /// true mean lies beyond that about 0.5% of the time), printed with the differences. Long
-/// (about 10 minutes of two cores): `cargo test --release --test render_fluorescence --
+/// (about 3 minutes on two idle cores): `cargo test --release --test render_fluorescence --
 /// --ignored`.
 #[test]
-#[ignore = "long: about 10 minutes on 2 cores"]
+#[ignore = "long: about 3 minutes on 2 idle cores"]
 fn bdpt_agrees_on_the_bundled_fluorescence_scenes() {
     let data = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     let load = |rel: &str| -> Scene {
