@@ -278,20 +278,10 @@ impl PixelSampler {
             .get_or_insert_with(|| SampleRng::for_sample(seed, pixel, sample))
     }
 
-    /// The seeds of the current request, from one hash of (pixel, request number): its low
-    /// half seeds the index shuffle, its high half the first coordinate's scramble, and the
-    /// high half of its product with an odd constant (which mixes every bit of it into the
-    /// high bits) the second coordinate's. One SplitMix finaliser per request instead of one
-    /// per seed: a third of the 2D request's hashing, the same nested uniform scrambles.
     #[inline]
-    fn dim_seeds(&self) -> (u32, u32, u32) {
-        let h =
-            mix64(self.pixel_seed ^ (self.dimension as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
-        (
-            h as u32,
-            (h >> 32) as u32,
-            (h.wrapping_mul(0xD1B5_4A32_D192_ED03) >> 32) as u32,
-        )
+    fn dim_seed(&self, salt: u64) -> u32 {
+        mix64(self.pixel_seed ^ (self.dimension as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ salt)
+            as u32
     }
 
     /// One uniform number in [0, 1).
@@ -302,9 +292,8 @@ impl PixelSampler {
         }
         // The shuffled index is `i = reverse(j)` (the index Owen-scrambled); its dimension-0
         // Sobol' point `reverse(i)`, reversed for scrambling, is `i` itself.
-        let (shuffle, scramble, _) = self.dim_seeds();
-        let j = laine_karras(self.index_reversed, shuffle);
-        let x = laine_karras(j.reverse_bits(), scramble).reverse_bits();
+        let j = laine_karras(self.index_reversed, self.dim_seed(1));
+        let x = laine_karras(j.reverse_bits(), self.dim_seed(2)).reverse_bits();
         self.dimension += 1;
         to_unit(x)
     }
@@ -315,10 +304,9 @@ impl PixelSampler {
         if self.dimension >= self.ld_end {
             return self.rng().next_2d();
         }
-        let (shuffle, scramble_x, scramble_y) = self.dim_seeds();
-        let j = laine_karras(self.index_reversed, shuffle);
-        let x = laine_karras(j.reverse_bits(), scramble_x);
-        let y = laine_karras(sobol_dim1_reversed(j), scramble_y);
+        let j = laine_karras(self.index_reversed, self.dim_seed(3));
+        let x = laine_karras(j.reverse_bits(), self.dim_seed(4));
+        let y = laine_karras(sobol_dim1_reversed(j), self.dim_seed(5));
         // Both coordinates reversed back by one 64-bit reversal (x86 has no bit-reverse
         // instruction; each reversal is about fifteen): reverse(y·2³² + x) = reverse(x)·2³² +
         // reverse(y).
@@ -527,22 +515,19 @@ mod ld_tests {
             rng: SampleRng,
         }
         impl Plain {
-            fn seed(&self, which: u32) -> u32 {
-                let h = mix64(
-                    self.pixel_seed ^ (self.dimension as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15),
-                );
-                match which {
-                    0 => h as u32,
-                    1 => (h >> 32) as u32,
-                    _ => (h.wrapping_mul(0xD1B5_4A32_D192_ED03) >> 32) as u32,
-                }
+            fn seed(&self, salt: u64) -> u32 {
+                mix64(
+                    self.pixel_seed
+                        ^ (self.dimension as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
+                        ^ salt,
+                ) as u32
             }
             fn next_1d(&mut self) -> f32 {
                 if self.dimension >= self.ld_end {
                     return self.rng.next_1d();
                 }
-                let j = laine_karras(self.index_reversed, self.seed(0));
-                let x = laine_karras(j.reverse_bits(), self.seed(1)).reverse_bits();
+                let j = laine_karras(self.index_reversed, self.seed(1));
+                let x = laine_karras(j.reverse_bits(), self.seed(2)).reverse_bits();
                 self.dimension += 1;
                 to_unit(x)
             }
@@ -550,9 +535,9 @@ mod ld_tests {
                 if self.dimension >= self.ld_end {
                     return self.rng.next_2d();
                 }
-                let j = laine_karras(self.index_reversed, self.seed(0));
-                let x = laine_karras(j.reverse_bits(), self.seed(1)).reverse_bits();
-                let y = laine_karras(sobol_dim1_reversed(j), self.seed(2)).reverse_bits();
+                let j = laine_karras(self.index_reversed, self.seed(3));
+                let x = laine_karras(j.reverse_bits(), self.seed(4)).reverse_bits();
+                let y = laine_karras(sobol_dim1_reversed(j), self.seed(5)).reverse_bits();
                 self.dimension += 1;
                 Vec2::new(to_unit(x), to_unit(y))
             }
