@@ -7,6 +7,7 @@ use std::mem::MaybeUninit;
 use glam::Vec3A;
 use rayon::prelude::*;
 
+use super::parts::place_parts;
 use crate::geometry::Aabb;
 
 /// Number of centroid bins per axis in the SAH build.
@@ -183,42 +184,11 @@ pub(super) fn build_tree(
     // Freed before the parts are copied, so that it never coexists with both copies of the
     // nodes (the build's peak memory).
     drop(scratch);
-    if parts.len() == 1 {
-        let mut nodes = parts.pop().unwrap_or_default();
-        for (i, n) in nodes.iter_mut().enumerate() {
-            if n.count == 0 {
-                n.offset += i as u32;
-            }
+    place_parts(parts, total, |n, start, i| {
+        if n.count == 0 {
+            n.offset += (start + i) as u32;
         }
-        return nodes;
-    }
-    let mut nodes: Vec<Node> = Vec::with_capacity(total);
-    let mut rest = &mut nodes.spare_capacity_mut()[..total];
-    let mut targets = Vec::with_capacity(parts.len());
-    let mut start = 0;
-    for part in &parts {
-        let (t, r) = std::mem::take(&mut rest).split_at_mut(part.len());
-        targets.push((start, t));
-        start += part.len();
-        rest = r;
-    }
-    // Each part is freed as soon as it is copied.
-    parts
-        .into_par_iter()
-        .zip(targets)
-        .for_each(|(part, (start, dst))| {
-            for (i, (n, d)) in part.iter().zip(dst.iter_mut()).enumerate() {
-                let mut n = *n;
-                if n.count == 0 {
-                    n.offset += (start + i) as u32;
-                }
-                d.write(n);
-            }
-        });
-    // SAFETY: the targets tile the first `total` slots (the parts' lengths sum to `total`)
-    // and every slot was written above.
-    unsafe { nodes.set_len(total) };
-    nodes
+    })
 }
 
 /// A subtree to build: its first primitive's place in the final order, its depth and its

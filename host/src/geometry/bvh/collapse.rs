@@ -1,22 +1,84 @@
-//! Collapsing the binary build tree into eight-wide nodes, near the root in parallel.
+//! Collapsing the binary build tree into eight-wide nodes, float or quantised, near the root
+//! in parallel.
+//!
+//! Every wide node is made from its float form on the spot ([`WideOut::from_float`]), so a
+//! quantised tree never holds the float nodes (a pass less over all nodes, half the bytes
+//! written). Subtrees are collapsed in parallel into parts whose child references count from
+//! the part's start; the parts are then copied once, in parallel, into their final slots
+//! ([`place_parts`]), which is exactly the depth-first layout of a sequential collapse.
 
 use glam::Vec3A;
 use rayon::prelude::*;
 
 use super::build::Node;
-use super::wide_node::{WideNode, WIDTH};
+use super::parts::place_parts;
+use super::wide_node::{QuantNode, WideNode, WIDTH};
 use crate::geometry::Aabb;
+
+/// A wide node layout the collapse writes.
+pub(super) trait WideOut: Copy + Send + Sync {
+    /// The stored form of a float node (child references are set afterwards); `None` where
+    /// the layout cannot hold it, which makes the whole collapse give `None`.
+    fn from_float(w: &WideNode) -> Option<Self>;
+    /// Adds `base` to the child reference of every interior slot.
+    fn rebase(&mut self, base: u32);
+    /// Sets the child reference of `slot`.
+    fn set_child(&mut self, slot: usize, child: u32);
+}
+
+/// Adds `base` to the references of the used slots with no primitive count (interior ones).
+fn rebase_slots(child: &mut [u32; WIDTH], count: &[u16; WIDTH], slots: u32, base: u32) {
+    for k in 0..(slots as usize).min(WIDTH) {
+        if count[k] == 0 {
+            child[k] += base;
+        }
+    }
+}
+
+impl WideOut for WideNode {
+    fn from_float(w: &WideNode) -> Option<Self> {
+        Some(*w)
+    }
+    fn rebase(&mut self, base: u32) {
+        rebase_slots(&mut self.child, &self.count, self.slots, base);
+    }
+    fn set_child(&mut self, slot: usize, child: u32) {
+        self.child[slot] = child;
+    }
+}
+
+impl WideOut for QuantNode {
+    fn from_float(w: &WideNode) -> Option<Self> {
+        QuantNode::from_wide(w)
+    }
+    fn rebase(&mut self, base: u32) {
+        rebase_slots(&mut self.child, &self.count, self.slots, base);
+    }
+    fn set_child(&mut self, slot: usize, child: u32) {
+        self.child[slot] = child;
+    }
+}
 
 /// Collapses the binary tree (depth-first, first child next, `offset` the second) into wide
 /// nodes, depth-first. Each wide node takes its binary node's two children and repeatedly
 /// replaces the interior one with the largest surface area by its two children, up to eight.
-pub(super) fn collapse(binary: &[Node]) -> Vec<WideNode> {
-    let root_children = if binary[0].count > 0 {
-        vec![0]
+/// `None` only where `T` cannot hold a node (see [`WideOut::from_float`]).
+pub(super) fn collapse<T: WideOut>(binary: &[Node]) -> Option<Vec<T>> {
+    let root = if binary[0].count > 0 {
+        Children::one(0, 0.0)
     } else {
-        binary_children(binary, 0).to_vec()
+        Children::of(binary, 0)
     };
-    wide_subtree(binary, root_children, 0)
+    let mut parts = Vec::new();
+    let total = collapse_parts(binary, root, 0, &mut parts)?;
+    Some(place_parts(parts, total, |w: &mut T, start, _| {
+        w.rebase(start as u32)
+    }))
+}
+
+/// [`collapse`] into float nodes, which hold every node.
+pub(super) fn collapse_float(binary: &[Node]) -> Vec<WideNode> {
+    collapse(binary).unwrap_or_default()
 }
 
 pub(super) fn binary_children(binary: &[Node], i: usize) -> [usize; 2] {
@@ -34,91 +96,169 @@ pub(super) fn node_area(n: &Node) -> f32 {
 /// Wide levels whose subtrees are collapsed in parallel (8² = 64 tasks at most).
 pub(super) const PARALLEL_COLLAPSE_DEPTH: usize = 2;
 
-/// The wide subtree over `children` (binary node indices) with its root at index 0 and child
-/// indices relative to it. Near the root the interior children's subtrees are collapsed in
-/// parallel and appended in slot order, which is exactly the depth-first layout
-/// [`fill_wide`] makes, so the result is the same for any thread count.
-pub(super) fn wide_subtree(binary: &[Node], children: Vec<usize>, depth: usize) -> Vec<WideNode> {
-    let mut out = vec![WideNode::EMPTY];
+/// The binary nodes that become one wide node's children (at most [`WIDTH`]), with their
+/// surface areas (computed once per node, not once per expansion step).
+#[derive(Clone, Copy)]
+pub(super) struct Children {
+    node: [usize; WIDTH],
+    area: [f32; WIDTH],
+    len: usize,
+}
+
+impl Children {
+    fn one(i: usize, area: f32) -> Children {
+        let mut c = Children {
+            node: [0; WIDTH],
+            area: [0.0; WIDTH],
+            len: 1,
+        };
+        c.node[0] = i;
+        c.area[0] = area;
+        c
+    }
+
+    /// The two children of binary node `i`.
+    pub(super) fn of(binary: &[Node], i: usize) -> Children {
+        let [l, r] = binary_children(binary, i);
+        let mut c = Children::one(l, node_area(&binary[l]));
+        c.node[1] = r;
+        c.area[1] = node_area(&binary[r]);
+        c.len = 2;
+        c
+    }
+
+    pub(super) fn nodes(&self) -> &[usize] {
+        &self.node[..self.len]
+    }
+}
+
+/// Expands `c` by repeatedly replacing the interior child with the largest box by its two
+/// children, up to [`WIDTH`].
+pub(super) fn expand_children(binary: &[Node], mut c: Children) -> Children {
+    while c.len < WIDTH {
+        // The interior child with the largest box (first such on ties, for determinism).
+        let mut pick = None::<(usize, f32)>;
+        for k in 0..c.len {
+            if binary[c.node[k]].count != 0 {
+                continue;
+            }
+            let a = c.area[k];
+            match pick {
+                Some((_, ba)) if ba >= a => {}
+                _ => pick = Some((k, a)),
+            }
+        }
+        let Some((k, _)) = pick else { break };
+        let [l, r] = binary_children(binary, c.node[k]);
+        c.node.copy_within(k + 1..c.len, k + 2);
+        c.area.copy_within(k + 1..c.len, k + 2);
+        c.node[k] = l;
+        c.area[k] = node_area(&binary[l]);
+        c.node[k + 1] = r;
+        c.area[k + 1] = node_area(&binary[r]);
+        c.len += 1;
+    }
+    c
+}
+
+/// The float wide node over `children` (already expanded): boxes, leaf references and
+/// counts; interior children's references are set by the caller.
+fn wide_node(binary: &[Node], children: &Children) -> WideNode {
+    let mut w = WideNode::EMPTY;
+    w.slots = children.len as u32;
+    for (slot, &c) in children.nodes().iter().enumerate() {
+        let n = &binary[c];
+        w.set_box(slot, n);
+        if n.count > 0 {
+            w.child[slot] = n.offset;
+            w.count[slot] = n.count;
+        }
+    }
+    w
+}
+
+/// Appends the parts of the wide subtree over `children` to `parts` in depth-first order and
+/// returns its node count. Interior child references count from the start of the part
+/// holding the node. Near the root every wide node is a part of its own and its interior
+/// children's subtrees are collapsed in parallel; from [`PARALLEL_COLLAPSE_DEPTH`] on a
+/// subtree is one part, collapsed by [`fill_wide`].
+fn collapse_parts<T: WideOut>(
+    binary: &[Node],
+    children: Children,
+    depth: usize,
+    parts: &mut Vec<Vec<T>>,
+) -> Option<usize> {
     if depth >= PARALLEL_COLLAPSE_DEPTH {
-        fill_wide(binary, children, 0, &mut out);
-        return out;
+        let mut out = Vec::with_capacity(wide_bound(binary, &children));
+        fill_wide(binary, children, &mut out)?;
+        let n = out.len();
+        parts.push(out);
+        return Some(n);
     }
     let children = expand_children(binary, children);
-    let subs: Vec<Option<Vec<WideNode>>> = children
+    let me = parts.len();
+    parts.push(vec![T::from_float(&wide_node(binary, &children))?]);
+    let subs: Vec<Option<(Vec<Vec<T>>, usize)>> = children
+        .nodes()
         .par_iter()
         .map(|&c| {
-            (binary[c].count == 0)
-                .then(|| wide_subtree(binary, binary_children(binary, c).to_vec(), depth + 1))
+            let mut p = Vec::new();
+            let n = if binary[c].count == 0 {
+                collapse_parts(binary, Children::of(binary, c), depth + 1, &mut p)?
+            } else {
+                0
+            };
+            Some((p, n))
         })
         .collect();
-    out[0].slots = children.len() as u32;
-    for (slot, (&c, sub)) in children.iter().zip(subs).enumerate() {
-        let n = &binary[c];
-        out[0].set_box(slot, n);
-        match sub {
-            None => {
-                out[0].child[slot] = n.offset;
-                out[0].count[slot] = n.count;
-            }
-            Some(sub) => {
-                let base = out.len() as u32;
-                out[0].child[slot] = base;
-                out.extend(sub.into_iter().map(|mut w| {
-                    for k in 0..w.slots as usize {
-                        if w.count[k] == 0 {
-                            w.child[k] += base;
-                        }
-                    }
-                    w
-                }));
-            }
+    // The node is its part's first element: its children's subtrees follow it in slot order.
+    let mut next = 1;
+    for (slot, (&c, sub)) in children.nodes().iter().zip(subs).enumerate() {
+        let (p, n) = sub?;
+        if binary[c].count == 0 {
+            parts[me][0].set_child(slot, next as u32);
+            next += n;
+            parts.extend(p);
         }
     }
-    out
+    Some(next)
 }
 
-/// Expands `children` (binary node indices) by repeatedly replacing the interior one with the
-/// largest box by its two children, up to [`WIDTH`].
-pub(super) fn expand_children(binary: &[Node], mut children: Vec<usize>) -> Vec<usize> {
-    while children.len() < WIDTH {
-        // The interior child with the largest box (first such on ties, for determinism).
-        let pick = children
-            .iter()
-            .enumerate()
-            .filter(|(_, &c)| binary[c].count == 0)
-            .fold(None::<(usize, f32)>, |best, (k, &c)| {
-                let a = node_area(&binary[c]);
-                match best {
-                    Some((_, ba)) if ba >= a => best,
-                    _ => Some((k, a)),
-                }
-            });
-        let Some((k, _)) = pick else { break };
-        let c = children[k];
-        let [l, r] = binary_children(binary, c);
-        children[k] = l;
-        children.insert(k + 1, r);
-    }
+/// An upper bound of the wide nodes over `children`: every wide node stands for a distinct
+/// interior binary node, and a binary subtree of s nodes has (s − 1) / 2 interior ones. The
+/// subtree of node c ends after its last descendant, found by following second children.
+fn wide_bound(binary: &[Node], children: &Children) -> usize {
     children
+        .nodes()
+        .iter()
+        .map(|&c| {
+            let mut last = c;
+            while binary[last].count == 0 {
+                last = binary[last].offset as usize;
+            }
+            (last + 1 - c) / 2
+        })
+        .sum::<usize>()
+        + 1
 }
 
-/// Fills wide node `me` with the subtrees `children` (binary node indices), expanding interior
-/// ones until there are [`WIDTH`], then builds the wide nodes of the interior children.
-pub(super) fn fill_wide(binary: &[Node], children: Vec<usize>, me: usize, out: &mut Vec<WideNode>) {
+/// Appends the wide subtree over `children` (binary node indices) to `out`, depth-first:
+/// expands them until there are [`WIDTH`], stores the node, then the subtrees of its
+/// interior children. Child references are indices into `out`.
+pub(super) fn fill_wide<T: WideOut>(
+    binary: &[Node],
+    children: Children,
+    out: &mut Vec<T>,
+) -> Option<()> {
     let children = expand_children(binary, children);
-    out[me].slots = children.len() as u32;
-    for (slot, &c) in children.iter().enumerate() {
-        let n = &binary[c];
-        out[me].set_box(slot, n);
-        if n.count > 0 {
-            out[me].child[slot] = n.offset;
-            out[me].count[slot] = n.count;
-        } else {
-            let idx = out.len();
-            out.push(WideNode::EMPTY);
-            out[me].child[slot] = idx as u32;
-            fill_wide(binary, binary_children(binary, c).to_vec(), idx, out);
+    let me = out.len();
+    out.push(T::from_float(&wide_node(binary, &children))?);
+    for (slot, &c) in children.nodes().iter().enumerate() {
+        if binary[c].count == 0 {
+            let idx = out.len() as u32;
+            out[me].set_child(slot, idx);
+            fill_wide(binary, Children::of(binary, c), out)?;
         }
     }
+    Some(())
 }

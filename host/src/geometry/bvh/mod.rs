@@ -37,6 +37,7 @@
 
 mod build;
 mod collapse;
+mod parts;
 #[cfg(test)]
 mod tests;
 mod traverse;
@@ -47,7 +48,7 @@ use rayon::prelude::*;
 
 use super::Aabb;
 use build::{build_prims, build_tree};
-use collapse::collapse;
+use collapse::{collapse, collapse_float};
 use wide_node::{QuantNode, WideNode};
 
 pub use build::{BIN_COUNT, MAX_LEAF_SIZE};
@@ -109,21 +110,21 @@ impl Bvh {
             min: Vec3A::from(root.min),
             max: Vec3A::from(root.max),
         });
-        let nodes = collapse(&binary);
         let quantise = match layout {
             NodeLayout::Auto => order.len() >= QUANTISE_MIN_PRIMITIVES,
             NodeLayout::Float => false,
             NodeLayout::Quantised => true,
         };
-        // The same for any thread count: each node is quantised from its own float boxes.
-        let qnodes: Option<Vec<QuantNode>> = if quantise {
-            nodes.par_iter().map(QuantNode::from_wide).collect()
+        // Each node is quantised from its own float boxes as the collapse makes it (the same
+        // for any thread count); where one cannot be, the whole tree stays float.
+        let qnodes = if quantise {
+            collapse::<QuantNode>(&binary)
         } else {
             None
         };
         let (nodes, qnodes) = match qnodes {
             Some(q) => (Vec::new(), q),
-            None => (nodes, Vec::new()),
+            None => (collapse_float(&binary), Vec::new()),
         };
         Bvh {
             nodes,

@@ -50,10 +50,10 @@ fn build_is_independent_of_thread_count() {
     assert_eq!(a.nodes, b.nodes);
 }
 
-// The collapse near the root runs its subtrees in parallel and appends them; the layout must
-// be exactly the sequential depth-first one (every node's boxes, children, leaf sizes and
-// slot counts compared exactly), and the parallel stable partition must equal a sequential
-// stable partition.
+// The collapse near the root runs its subtrees in parallel into parts placed afterwards; the
+// layout must be exactly the sequential depth-first one (every node's boxes, children, leaf
+// sizes and slot counts compared exactly; float and quantised), and the parallel stable
+// partition must equal a sequential stable partition.
 #[test]
 fn parallel_collapse_and_partition_match_sequential() {
     let mut next = uniform_stream(4242);
@@ -80,14 +80,14 @@ fn parallel_collapse_and_partition_match_sequential() {
     assert_eq!(par.iter().map(|p| p.index).collect::<Vec<_>>(), seq);
 
     let binary = build_range(&mut prims, 0, 0);
-    let mut sequential = vec![WideNode::EMPTY];
-    fill_wide(
-        &binary,
-        binary_children(&binary, 0).to_vec(),
-        0,
-        &mut sequential,
-    );
-    assert_eq!(collapse(&binary), sequential);
+    let mut sequential: Vec<WideNode> = Vec::new();
+    fill_wide(&binary, Children::of(&binary, 0), &mut sequential);
+    assert_eq!(collapse::<WideNode>(&binary).as_ref(), Some(&sequential));
+    // The quantised collapse makes each node from its float form on the spot: the same as
+    // quantising the sequential float nodes one by one.
+    let quantised: Option<Vec<QuantNode>> = sequential.iter().map(QuantNode::from_wide).collect();
+    assert!(quantised.is_some());
+    assert_eq!(collapse::<QuantNode>(&binary), quantised);
 }
 
 // Every primitive must appear exactly once in the leaf order (a permutation), and every
