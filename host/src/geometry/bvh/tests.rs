@@ -64,14 +64,10 @@ fn parallel_collapse_and_partition_match_sequential() {
                 min: p,
                 max: p + Vec3A::splat(0.5),
             };
-            BuildPrim {
-                bounds: b,
-                centroid: b.centroid(),
-                index: i as u32,
-            }
+            BuildPrim::new(&b, i as u32)
         })
         .collect();
-    let left = |p: &BuildPrim| p.centroid.x < 37.0;
+    let left = |p: &BuildPrim| p.centroid().x < 37.0;
     let mut seq: Vec<u32> = prims.iter().filter(|p| left(p)).map(|p| p.index).collect();
     seq.extend(prims.iter().filter(|p| !left(p)).map(|p| p.index));
     let mut par = prims.clone();
@@ -385,11 +381,7 @@ fn binary_tree_matches_recorded_build() {
         .map(|t| {
             let [a, b, c] = mesh.triangle(t);
             let bounds = Aabb::from_point(a).grow(b).grow(c);
-            BuildPrim {
-                bounds,
-                centroid: bounds.centroid(),
-                index: t as u32,
-            }
+            BuildPrim::new(&bounds, t as u32)
         })
         .collect();
     assert!(prims.len() > PARALLEL_NODE_THRESHOLD);
