@@ -236,7 +236,18 @@ impl Geometry {
                 }
             }
         }
-        let bvh = Bvh::build_with_layout(&bounds, layout);
+        // The meshes' area CDFs end in a running sum in order (serial): computed beside the
+        // BVH build, which keeps the other thread busy meanwhile.
+        let (bvh, ()) = rayon::join(
+            || Bvh::build_with_layout(&bounds, layout),
+            || {
+                built.par_iter_mut().for_each(|obj| {
+                    if let WorldShape::Mesh(m) = &obj.shape {
+                        (obj.area, obj.cdf) = mesh_area_cdf(m);
+                    }
+                });
+            },
+        );
         let prims = bvh
             .order_ref()
             .par_iter()
@@ -668,54 +679,57 @@ fn area_to_solid_angle(
     Some(pdf_area * dist2 / cos)
 }
 
+/// A mesh's total area and its triangles' cumulative areas normalised to end at 1 (empty
+/// for a mesh of zero area). Areas in parallel (the f64 cross product and square root are the
+/// cost), then the running sum in order, so the CDF is the same for any thread count.
+fn mesh_area_cdf(mesh: &TriangleMesh) -> (f32, Vec<f32>) {
+    let areas: Vec<f32> = (0..mesh.indices.len())
+        .into_par_iter()
+        .map(|t| {
+            let [a, b, c] = mesh.triangle(t);
+            triangle_area(a, b, c)
+        })
+        .collect();
+    let mut cdf = Vec::with_capacity(mesh.indices.len());
+    let mut total = 0.0f64;
+    for &area in &areas {
+        total += area as f64;
+        cdf.push(total);
+    }
+    let cdf = if total > 0.0 {
+        cdf.par_iter().map(|&c| (c / total) as f32).collect()
+    } else {
+        Vec::new()
+    };
+    (total as f32, cdf)
+}
+
 fn build_object(desc: ShapeDesc) -> Result<Object, String> {
     let xf = desc.transform;
     match desc.shape {
         Shape::Mesh(mut mesh) => {
             mesh.validate().map_err(|e| e.to_string())?;
             if !xf.is_identity() {
-                for p in &mut mesh.positions {
-                    *p = xf.point(*p);
-                }
+                // In parallel (elementwise, the same values for any thread count).
+                mesh.positions
+                    .par_iter_mut()
+                    .for_each(|p| *p = xf.point(*p));
                 if let Some(ns) = &mut mesh.normals {
-                    for n in ns.iter_mut() {
-                        *n = xf.normal(*n);
-                    }
+                    ns.par_iter_mut().for_each(|n| *n = xf.normal(*n));
                 }
                 if xf.flips_handedness() {
                     // Keep the winding's front side the same physical side after a mirror.
-                    for t in &mut mesh.indices {
-                        t.swap(1, 2);
-                    }
+                    mesh.indices.par_iter_mut().for_each(|t| t.swap(1, 2));
                 }
                 if let Some(i) = mesh.positions.iter().position(|p| !p.is_finite()) {
                     return Err(format!("vertex {i} is not finite after the transform"));
                 }
             }
-            // Areas in parallel (the f64 cross product and square root are the cost), then the
-            // running sum in order, so the CDF is the same for any thread count.
-            let areas: Vec<f32> = (0..mesh.indices.len())
-                .into_par_iter()
-                .map(|t| {
-                    let [a, b, c] = mesh.triangle(t);
-                    triangle_area(a, b, c)
-                })
-                .collect();
-            let mut cdf = Vec::with_capacity(mesh.indices.len());
-            let mut total = 0.0f64;
-            for &area in &areas {
-                total += area as f64;
-                cdf.push(total);
-            }
-            let cdf = if total > 0.0 {
-                cdf.par_iter().map(|&c| (c / total) as f32).collect()
-            } else {
-                Vec::new()
-            };
+            // The area and its CDF come later, beside the BVH build (`mesh_area_cdf`).
             Ok(Object {
                 shape: WorldShape::Mesh(mesh),
-                area: total as f32,
-                cdf,
+                area: 0.0,
+                cdf: Vec::new(),
             })
         }
         Shape::Sphere { center, radius } => {
