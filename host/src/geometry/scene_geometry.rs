@@ -248,28 +248,34 @@ impl Geometry {
                 });
             },
         );
-        let prims = bvh
-            .order_ref()
-            .par_iter()
-            .map(|&i| {
-                let prim: Primitive = prims[i as usize];
-                match &built[prim.object as usize].shape {
-                    WorldShape::Mesh(m) => {
-                        let [a, b, c] = m.triangle(prim.index as usize);
-                        LeafRecord {
-                            vertices: [a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z],
-                            prim,
-                            kind: LeafRecord::TRIANGLE,
+        // The per-primitive boxes are freed beside the leaf records' pass (giving back a
+        // large buffer's pages is serial work in the kernel).
+        let ((), prims) = rayon::join(
+            move || drop(bounds),
+            || {
+                bvh.order_ref()
+                    .par_iter()
+                    .map(|&i| {
+                        let prim: Primitive = prims[i as usize];
+                        match &built[prim.object as usize].shape {
+                            WorldShape::Mesh(m) => {
+                                let [a, b, c] = m.triangle(prim.index as usize);
+                                LeafRecord {
+                                    vertices: [a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z],
+                                    prim,
+                                    kind: LeafRecord::TRIANGLE,
+                                }
+                            }
+                            _ => LeafRecord {
+                                vertices: [0.0; 9],
+                                prim,
+                                kind: LeafRecord::OTHER,
+                            },
                         }
-                    }
-                    _ => LeafRecord {
-                        vertices: [0.0; 9],
-                        prim,
-                        kind: LeafRecord::OTHER,
-                    },
-                }
-            })
-            .collect();
+                    })
+                    .collect()
+            },
+        );
         Ok(Geometry {
             objects: built,
             prims,

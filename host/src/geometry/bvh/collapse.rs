@@ -62,22 +62,28 @@ impl WideOut for QuantNode {
 /// Collapses the binary tree (depth-first, first child next, `offset` the second) into wide
 /// nodes, depth-first. Each wide node takes its binary node's two children and repeatedly
 /// replaces the interior one with the largest surface area by its two children, up to eight.
-/// `None` only where `T` cannot hold a node (see [`WideOut::from_float`]).
-pub(super) fn collapse<T: WideOut>(binary: &[Node]) -> Option<Vec<T>> {
+/// Consumes the binary tree: its pages are given back (serial work in the kernel, a few
+/// milliseconds at a million primitives) while the parts are placed. Gives it back where `T`
+/// cannot hold a node (see [`WideOut::from_float`]).
+pub(super) fn collapse<T: WideOut>(binary: Vec<Node>) -> Result<Vec<T>, Vec<Node>> {
     let root = if binary[0].count > 0 {
         Children::one(0, 0.0)
     } else {
-        Children::of(binary, 0)
+        Children::of(&binary, 0)
     };
     let mut parts = Vec::new();
-    let total = collapse_parts(binary, root, 0, &mut parts)?;
-    Some(place_parts(parts, total, |w: &mut T, start, _| {
-        w.rebase(start as u32)
-    }))
+    let Some(total) = collapse_parts(&binary, root, 0, &mut parts) else {
+        return Err(binary);
+    };
+    let ((), nodes) = rayon::join(
+        move || drop(binary),
+        move || place_parts(parts, total, |w: &mut T, start, _| w.rebase(start as u32)),
+    );
+    Ok(nodes)
 }
 
 /// [`collapse`] into float nodes, which hold every node.
-pub(super) fn collapse_float(binary: &[Node]) -> Vec<WideNode> {
+pub(super) fn collapse_float(binary: Vec<Node>) -> Vec<WideNode> {
     collapse(binary).unwrap_or_default()
 }
 

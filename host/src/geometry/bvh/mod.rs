@@ -115,17 +115,24 @@ impl Bvh {
             NodeLayout::Float => false,
             NodeLayout::Quantised => true,
         };
+        // The primitive references are freed beside the collapse: giving back a large
+        // buffer's pages is serial work in the kernel (milliseconds at a million primitives).
         // Each node is quantised from its own float boxes as the collapse makes it (the same
         // for any thread count); where one cannot be, the whole tree stays float.
-        let qnodes = if quantise {
-            collapse::<QuantNode>(&binary)
-        } else {
-            None
-        };
-        let (nodes, qnodes) = match qnodes {
-            Some(q) => (Vec::new(), q),
-            None => (collapse_float(&binary), Vec::new()),
-        };
+        let ((), (nodes, qnodes)) = rayon::join(
+            move || drop(prims),
+            move || {
+                let quantised = if quantise {
+                    collapse::<QuantNode>(binary)
+                } else {
+                    Err(binary)
+                };
+                match quantised {
+                    Ok(q) => (Vec::new(), q),
+                    Err(binary) => (collapse_float(binary), Vec::new()),
+                }
+            },
+        );
         Bvh {
             nodes,
             qnodes,
