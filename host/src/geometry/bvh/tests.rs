@@ -408,3 +408,36 @@ fn binary_tree_matches_recorded_build() {
         "the tree differs from the recorded build"
     );
 }
+
+// Where a node cannot be quantised (here the root's children span ±10³⁸, beyond 255 steps of
+// the largest grid step, 2¹⁰⁰), the quantised collapse gives the binary tree back and the
+// whole tree is float: exactly the tree of a float build (nodes and leaf order compared
+// exactly), on 1 and 2 threads.
+#[test]
+fn unquantisable_tree_falls_back_to_float() {
+    let mut next = uniform_stream(99);
+    let mut boxes: Vec<Aabb> = (0..2_000)
+        .map(|_| {
+            let p = Vec3A::new(next(), next(), next()) * 10.0;
+            Aabb {
+                min: p,
+                max: p + Vec3A::splat(0.1),
+            }
+        })
+        .collect();
+    for x in [-1.0e38f32, 1.0e38] {
+        let p = Vec3A::new(x, 0.0, 0.0);
+        boxes.push(Aabb { min: p, max: p });
+    }
+    let float = Bvh::build_with_layout(&boxes, NodeLayout::Float);
+    for threads in [1, 2] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let quant = pool.install(|| Bvh::build_with_layout(&boxes, NodeLayout::Quantised));
+        assert_eq!(quant.layout(), NodeLayout::Float);
+        assert_eq!(quant.nodes, float.nodes);
+        assert_eq!(quant.order, float.order);
+    }
+}
