@@ -186,6 +186,14 @@ pub trait Material: Send + Sync + Debug {
         false
     }
 
+    /// True when [`sample`](Self::sample) draws `wi` with the cosine-weighted density, so that
+    /// [`pdf`](Self::pdf) is `|cos θi|/π` on `wo`'s side and 0 on the other (an ideal diffuse
+    /// reflector): a plugin material that declares it has its density computed by the host
+    /// instead of called for (`plugin::cosine_pdf`). The default `false` is always safe.
+    fn cosine_weighted_pdf(&self) -> bool {
+        false
+    }
+
     /// This material with the effects in `off` switched off (the render plan's
     /// `--effect NAME=off`), and one sentence saying what changed; `None` when none of them
     /// applies or the material cannot switch them off.
