@@ -85,8 +85,10 @@ impl ShadingContext {
     }
 }
 
-/// A sampled scattering direction.
+/// A sampled scattering direction. `#[repr(C)]` in the plugin interface's `ScatterF32` layout:
+/// a plugin material writes it in place (`plugin::layout`).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C)]
 pub struct BsdfSample {
     /// Sampled incident direction, local frame, unit.
     pub wi: Vec3A,

@@ -470,10 +470,19 @@ fn event_bits(f: Flags) -> MaterialFlags {
     MaterialFlags(u32::from(EVENT_TABLE[(f.0 & 0x7f) as usize]))
 }
 
-/// The host's vector in the interface's layout: one SIMD register, `w` cleared.
+/// The host's vector in the interface's layout: one SIMD register, `w` cleared (a lane select
+/// against zero, one AND on SSE, so `x, y, z` keep their bits).
 #[inline]
 fn v4f(v: Vec3A) -> Vec4f {
-    let [x, y, z, w] = v.extend(0.0).to_array();
+    #[cfg(target_arch = "x86_64")]
+    let v = glam::Vec4::select(
+        glam::BVec4A::new(true, true, true, false),
+        glam::Vec4::from(std::arch::x86_64::__m128::from(v)),
+        glam::Vec4::ZERO,
+    );
+    #[cfg(not(target_arch = "x86_64"))]
+    let v = v.extend(0.0);
+    let [x, y, z, w] = v.to_array();
     Vec4f { x, y, z, w }
 }
 
@@ -867,10 +876,22 @@ impl Material for PluginMaterial {
     ) -> Option<BsdfSample> {
         if let Some(v5) = &self.v5 {
             let q = query_v5(wo, Vec3A::ZERO, ctx, lambda, [u_lobe, u.x, u.y], m);
-            let mut s = ScatterF32::default();
-            return match v5.sample(&q, &mut s) {
-                RResult::ROk(true) => match checked::scatter_f32(&s) {
-                    Ok(()) => Some(Self::bsdf_sample(&s)),
+            // Written by the plugin in place (see `super::layout`), checked, and its event bits
+            // translated to the host's.
+            let mut s = BsdfSample {
+                wi: Vec3A::ZERO,
+                f: SampledSpectrum::zero(),
+                pdf: 0.0,
+                flags: MaterialFlags::NONE,
+                eta: 0.0,
+            };
+            let out = super::layout::as_scatter_mut(&mut s);
+            return match v5.sample(&q, out) {
+                RResult::ROk(true) => match checked::scatter_f32(out) {
+                    Ok(()) => {
+                        s.flags = event_bits(Flags(s.flags.0));
+                        Some(s)
+                    }
                     Err(reason) => {
                         self.origin.dropped(reason);
                         None

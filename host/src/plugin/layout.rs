@@ -11,10 +11,11 @@
 //! (`QueryV5`), and readers use `x, y, z` only.
 
 use crate::light::{LightLiSample, LightSampleContext};
-use crate::material::ShadingContext;
+use crate::material::{BsdfSample, MaterialFlags, ShadingContext};
 use crate::spectrum::SampledSpectrum;
 use glam::{Vec2, Vec3A};
-use spectrace_plugin_api::fast::{IncidentF32, ReceiverF32, SurfaceF32, Vec4f};
+use spectrace_plugin_api::fast::{IncidentF32, ReceiverF32, ScatterF32, SurfaceF32, Vec4f};
+use spectrace_plugin_api::Flags;
 use std::mem::{align_of, offset_of, size_of};
 
 const _: () = {
@@ -45,6 +46,15 @@ const _: () = {
     assert!(offset_of!(LightLiSample, p_light) == offset_of!(IncidentF32, point));
     assert!(offset_of!(LightLiSample, p_light_error) == offset_of!(IncidentF32, point_error));
     assert!(offset_of!(LightLiSample, n_light) == offset_of!(IncidentF32, normal));
+
+    assert!(size_of::<MaterialFlags>() == size_of::<Flags>());
+    assert!(size_of::<BsdfSample>() == size_of::<ScatterF32>());
+    assert!(align_of::<BsdfSample>() == align_of::<ScatterF32>());
+    assert!(offset_of!(BsdfSample, wi) == offset_of!(ScatterF32, wi));
+    assert!(offset_of!(BsdfSample, f) == offset_of!(ScatterF32, value));
+    assert!(offset_of!(BsdfSample, pdf) == offset_of!(ScatterF32, pdf));
+    assert!(offset_of!(BsdfSample, flags) == offset_of!(ScatterF32, flags));
+    assert!(offset_of!(BsdfSample, eta) == offset_of!(ScatterF32, eta));
 };
 
 /// `ctx` as the interface's surface record (the same memory).
@@ -87,6 +97,17 @@ pub fn as_incident_mut(s: &mut LightLiSample) -> &mut IncidentF32 {
     // field on both sides is plain `f32`s (Vec3A, SampledSpectrum, f32), so whatever the plugin
     // writes is a valid value of the host's record, and the exclusive borrow is carried over.
     unsafe { &mut *(s as *mut LightLiSample).cast::<IncidentF32>() }
+}
+
+/// The host's BSDF sample as the interface's record, for a plugin material to write in place.
+/// What the plugin writes in `flags` are the interface's bits: the caller translates them before
+/// the sample is used.
+#[inline]
+pub fn as_scatter_mut(s: &mut BsdfSample) -> &mut ScatterF32 {
+    // SAFETY: same size, alignment and field offsets (asserted above); every field on both
+    // sides is plain `f32`s or one `u32` (Vec3A, SampledSpectrum, f32, MaterialFlags/Flags), so
+    // whatever the plugin writes is a valid value of the host's record.
+    unsafe { &mut *(s as *mut BsdfSample).cast::<ScatterF32>() }
 }
 
 /// The interface's incident record as the host's light sample (the same memory): where the
