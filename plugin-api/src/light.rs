@@ -5,7 +5,9 @@
 
 use crate::error::{PluginError, PluginResult};
 use crate::export::PluginType;
-use crate::extension::{AbiLightV2, AbiLightV6, LightWithV2, LightWithV4, LightWithV6, SpdWithLines};
+use crate::extension::{
+    AbiLightV2, AbiLightV6, LightWithV2, LightWithV4, LightWithV6, SpdWithLines,
+};
 use crate::fast::{EmissionF32, IncidentF32, LanesF32, ReceiverF32, Vec4f};
 use crate::guard::{guarded, guarded_call_v5};
 use crate::representation::{BeamRepresentation, RepresentedBeam};

@@ -1636,14 +1636,15 @@ impl Light for PluginLight {
         if let Some(v6) = &self.v6 {
             let mut p = [0.0; 2];
             return match v6.emission_pdf(&v4f(ray.origin), &v4f(ray.dir), &mut p) {
-                RResult::ROk(()) => match checked::density_f32(p[0]).and(checked::density_f32(p[1]))
-                {
-                    Ok(()) => (p[0], p[1]),
-                    Err(reason) => {
-                        self.origin.dropped(reason);
-                        (0.0, 0.0)
+                RResult::ROk(()) => {
+                    match checked::density_f32(p[0]).and(checked::density_f32(p[1])) {
+                        Ok(()) => (p[0], p[1]),
+                        Err(reason) => {
+                            self.origin.dropped(reason);
+                            (0.0, 0.0)
+                        }
                     }
-                },
+                }
                 RResult::RErr(e) => self.origin.fail(e, (0.0, 0.0)),
             };
         }

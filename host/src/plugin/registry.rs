@@ -8,8 +8,8 @@ use super::type_doc::{Kind, TypeDoc};
 use crate::builtin::BuiltinType;
 use spectrace_plugin_api::abi::std_types::{RResult, RSlice, RStr};
 use spectrace_plugin_api::extension::{
-    LightWithV2, LightWithV4, MaterialWithV2, MaterialWithV3, MaterialWithV4, MaterialWithV5, MaterialWithV6, LightWithV6,
-    SpdWithLines,
+    LightWithV2, LightWithV4, LightWithV6, MaterialWithV2, MaterialWithV3, MaterialWithV4,
+    MaterialWithV5, MaterialWithV6, SpdWithLines,
 };
 use spectrace_plugin_api::module::ObjectSource;
 use spectrace_plugin_api::{ErrorKind, HostRef};

@@ -10,6 +10,7 @@
 //! bounds and asks this one for radiance, incident-direction sampling and power.
 
 use crate::material::{host_lambdas, v3, va, values};
+use crate::material::{host_v, lambdas_v4, v4f};
 use crate::wrap::{context, params_doc, plugin_error, HostParams, HostSpd};
 use glam::{Vec2, Vec3A};
 use spectrace::builtin::light::{directional, environment, point, spot};
@@ -18,7 +19,6 @@ use spectrace::light::{
     ConstantEnvironment, EnvironmentLight, EnvironmentRadiance, Light as HostLight, LightFlags,
     LightSampleContext,
 };
-use crate::material::{host_v, lambdas_v4, v4f};
 use spectrace::plugin::layout::{as_light_context, as_light_sample_mut};
 use spectrace_plugin_api::{
     light_flags, Beam, EmissionF32, EmissionPdf, EmissionSample, Flags, Host, IncidentF32,
