@@ -183,8 +183,9 @@ pub trait LightSource: Send + Sync + 'static {
     /// Extension v6: [`sample_toward`](Self::sample_toward) in the host's single-precision
     /// layout (see [`crate::fast`]), writing the sample into `out` (`Ok(false)`: none; a
     /// density of 0 in `out` means none as well). The default converts to `f64`, calls
-    /// `sample_toward` and rounds the result to `f32`, exactly what the host did with that call;
-    /// a light that computes in `f32` may override it and skip both conversions.
+    /// `sample_toward` and rounds the result to `f32`, exactly what the host did with that call
+    /// (the sample's `distance` is not passed on: the host measures it from the points); a light
+    /// that computes in `f32` may override it and skip both conversions.
     fn sample_toward_v6(
         &self,
         receiver: &ReceiverF32,
@@ -196,10 +197,6 @@ pub trait LightSource: Send + Sync + 'static {
         sample.u[0] = u[0] as f64;
         sample.u[1] = u[1] as f64;
         let s = self.sample_toward(receiver.p.to_f64(), &sample, &lambda.to_f64())?;
-        // A sample without a distance is no sample (the older call's check).
-        if !(s.distance > 0.0) {
-            return Ok(false);
-        }
         *out = IncidentF32::from_f64(&s);
         Ok(true)
     }

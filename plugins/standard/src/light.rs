@@ -6,6 +6,11 @@
 //! `preprocess`/`preprocess_view`: a directional light's emitting disc and power, and an
 //! environment's sphere and power, come from it exactly as for the built-ins.
 //!
+//! Through extension v6 the three calls the renderer makes per sample (`sample_toward`,
+//! `sample_emission`, `emission_pdf`) cross in the host's own `f32` layout: the host's receiver
+//! is read in place and the host light's sample is written straight into the host's record
+//! (`spectrace::plugin::layout`), so nothing is converted.
+//!
 //! `environment` is an ENVIRONMENT light: the host places its own sky sphere around the same
 //! bounds and asks this one for radiance, incident-direction sampling and power.
 
