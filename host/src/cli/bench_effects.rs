@@ -136,6 +136,7 @@ pub fn run_bench(args: &EffectsBenchArgs) -> Result<(), String> {
                 Switch::ThinFilm => auto_plan.thin_film(),
                 Switch::NarrowbandEmission => auto_plan.emission_wavelengths(),
                 Switch::FlatPathColour => auto_plan.flat_path_colour(),
+                Switch::Manifold => auto_plan.manifold(),
             })
             .collect();
         for &kind in &args.integrators {

@@ -14,6 +14,7 @@
 //! | `thin-film`                            | per-lane Airy reflectance of the film                       | thin-film materials become their bare base (film thickness 0 nm) |
 //! | `narrowband-emission` (alias `line-emission`) | pt draws wavelengths half from the observer, half from the lights' spectra (lines with their discrete probability) | every integrator draws wavelengths from the observer alone: lines and narrow bands render black (warned) |
 //! | `flat-path-colour`                     | bdpt and lt give a path whose every vertex is spectrally flat the exact colour of its emitter's spectrum ([`FlatColour`]; found when some light has one spectral shape everywhere) | every path's colour is estimated from its four wavelengths |
+//! | `manifold` (alias `mnee`)              | bdpt adds the specular-chain connection (`integrator::manifold_connection`) for paths that only `s = 0` can make otherwise (found with specular chains) | those paths come from `s = 0` alone |
 //!
 //! bdpt and lt always draw the pair's wavelengths from the observer-plus-emission mixture
 //! ([`WavelengthMixture`]) unless `narrowband-emission` is forced off; the plan builds that
@@ -65,16 +66,20 @@ pub enum Switch {
     /// The exact colour of spectrally flat paths (an optimisation, not an optical effect:
     /// the image's expectation is the same either way).
     FlatPathColour,
+    /// bdpt's specular-chain (manifold) connection (a strategy, not an optical effect: the
+    /// image's expectation is the same either way).
+    Manifold,
 }
 
 impl Switch {
     /// Every switch, in the order summaries print them.
-    pub const ALL: [Self; 5] = [
+    pub const ALL: [Self; 6] = [
         Self::Dispersion,
         Self::Fluorescence,
         Self::ThinFilm,
         Self::NarrowbandEmission,
         Self::FlatPathColour,
+        Self::Manifold,
     ];
 
     /// Name on the command line and in summaries.
@@ -85,6 +90,7 @@ impl Switch {
             Self::ThinFilm => "thin-film",
             Self::NarrowbandEmission => "narrowband-emission",
             Self::FlatPathColour => "flat-path-colour",
+            Self::Manifold => "manifold",
         }
     }
 
@@ -97,6 +103,7 @@ impl Switch {
             Self::NarrowbandEmission => &[Effect::NarrowbandEmission, Effect::LineEmission],
             // Decided from the lights themselves (see `RenderPlan::new`).
             Self::FlatPathColour => &[],
+            Self::Manifold => &[Effect::SpecularChains],
         }
     }
 
@@ -108,6 +115,7 @@ impl Switch {
             "thin-film" => Ok(Self::ThinFilm),
             "narrowband-emission" | "line-emission" | "narrowband" => Ok(Self::NarrowbandEmission),
             "flat-path-colour" | "flat-path-color" => Ok(Self::FlatPathColour),
+            "manifold" | "mnee" | "manifold-next-event" => Ok(Self::Manifold),
             _ => {
                 let fixed = Effect::ALL.iter().find(|e| e.name() == n);
                 let names: Vec<&str> = Self::ALL.iter().map(|s| s.name()).collect();
@@ -224,7 +232,7 @@ impl Decision {
 pub struct RenderPlan {
     effects: EffectSet,
     request: EffectsRequest,
-    decisions: [Decision; 5],
+    decisions: [Decision; 6],
     light_paths: Vec<String>,
     mixture: Arc<WavelengthMixture>,
     notes: Vec<String>,
@@ -405,6 +413,11 @@ impl RenderPlan {
         self.decision(Switch::FlatPathColour).on
     }
 
+    /// bdpt adds the specular-chain connection (`integrator::manifold_connection`).
+    pub fn manifold(&self) -> bool {
+        self.decision(Switch::Manifold).on
+    }
+
     /// The flat-path colour tables for `scene` under `observer` when the switch is on and
     /// some light qualifies (see [`FlatColour::new`]).
     pub fn flat_colour(
@@ -523,6 +536,11 @@ impl RenderPlan {
                 (Switch::FlatPathColour, false) => {
                     "every path's colour is estimated from its wavelengths"
                 }
+                (Switch::Manifold, true) => {
+                    "bdpt: paths camera → specular → diffuse → refractions → area light also \
+                     by solving the refraction chain to a sampled light point (MIS with s = 0)"
+                }
+                (Switch::Manifold, false) => "those paths come from s = 0 alone",
             };
             out.push_str(&format!("  {}: {} — {what}\n", s.name(), d.text()));
         }

@@ -22,6 +22,7 @@
 
 pub mod aabb;
 pub mod bvh;
+pub mod derivatives;
 pub mod error;
 pub mod float_error;
 pub mod generate;
@@ -39,6 +40,7 @@ pub mod triangle;
 
 pub use aabb::Aabb;
 pub use bvh::{Bvh, NodeLayout, TraversalKernel, QUANTISE_MIN_PRIMITIVES};
+pub use derivatives::SurfaceDerivatives;
 pub use error::GeometryError;
 pub use mesh::TriangleMesh;
 pub use obj::{load_obj, parse_obj};

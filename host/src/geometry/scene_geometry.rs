@@ -538,6 +538,27 @@ impl Geometry {
         }
     }
 
+    /// ∂p/∂(u, v) and ∂n/∂(u, v) of the shading normal at `point` on primitive `primitive`
+    /// of `object` (as in a [`Hit`]), in the shape's own parameters (see
+    /// [`super::SurfaceDerivatives`]). `None` for unknown objects and degenerate triangles.
+    pub fn derivatives(
+        &self,
+        object: u32,
+        primitive: u32,
+        point: Vec3A,
+    ) -> Option<super::SurfaceDerivatives> {
+        match self.shape(object)? {
+            WorldShape::Sphere(s) => Some(s.derivatives(point)),
+            WorldShape::Quad(q) => Some(q.derivatives()),
+            WorldShape::Mesh(m) => {
+                if primitive as usize >= m.indices.len() {
+                    return None;
+                }
+                m.derivatives(primitive as usize, point)
+            }
+        }
+    }
+
     /// Samples a point on `object` uniformly by area from `u ∈ [0,1)²` (`u.x` also picks the
     /// triangle of a mesh, in proportion to its area). `pdf` is `1/area` per unit area.
     /// `None` for unknown or zero-area objects.

@@ -10,6 +10,7 @@ use glam::{DVec3, Vec2, Vec3A};
 
 use super::float_error::gamma;
 use super::Ray;
+use super::SurfaceDerivatives;
 
 /// Per-ray data for the watertight test, computed once per ray and reused for every triangle.
 #[derive(Clone, Copy, Debug)]
@@ -220,6 +221,29 @@ pub fn geometric_normal(p0: Vec3A, p1: Vec3A, p2: Vec3A) -> Vec3A {
 #[inline]
 pub fn triangle_area(p0: Vec3A, p1: Vec3A, p2: Vec3A) -> f32 {
     (0.5 * edge_cross(p0, p1, p2).length()) as f32
+}
+
+/// Barycentrics `(b0, b1, b2)` of `p` projected onto the plane of `p0 p1 p2` (in f64;
+/// `None` for a degenerate triangle).
+pub fn barycentrics_of(p: Vec3A, p0: Vec3A, p1: Vec3A, p2: Vec3A) -> Option<(f32, f32, f32)> {
+    let (p, p0) = (p.as_dvec3(), p0.as_dvec3());
+    let (e1, e2, d) = (p1.as_dvec3() - p0, p2.as_dvec3() - p0, p - p0);
+    let (a, b, c) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
+    let det = a * c - b * b;
+    if !(det > 0.0) {
+        return None;
+    }
+    let (r1, r2) = (d.dot(e1), d.dot(e2));
+    let b1 = (c * r1 - b * r2) / det;
+    let b2 = (a * r2 - b * r1) / det;
+    Some(((1.0 - b1 - b2) as f32, b1 as f32, b2 as f32))
+}
+
+/// ∂p/∂(b1, b2) of the flat triangle `p0 p1 p2` (`p = p0 + b1 (p1 − p0) + b2 (p2 − p0)`); its
+/// normal does not turn.
+#[inline]
+pub fn triangle_derivatives(p0: Vec3A, p1: Vec3A, p2: Vec3A) -> SurfaceDerivatives {
+    SurfaceDerivatives::flat(p1 - p0, p2 - p0)
 }
 
 /// Uniform barycentrics on a triangle from `u ∈ [0,1)²` (square-root warp; density is

@@ -33,6 +33,7 @@ use super::flat_colour::FlatColour;
 use super::fluorescent_join::{connect_own, t1_wavelengths, LightMode, SHARED_MODE_PROBABILITY};
 use super::fluorescent_mis::mis_weight_lanes;
 use super::light_subpath::{generate_light_subpath_own, generate_light_subpath_with, LightStart};
+use super::manifold_connection::{anchor, connect_manifold, s0_weight};
 use super::pixel_max::PixelMaxY;
 use super::random_walk::{generate_camera_subpath, WalkShift};
 use super::render::ProgressFn;
@@ -678,6 +679,8 @@ fn render_bdpt(
     let flat = plan
         .flat_colour(scene, sensor.observer().as_ref())
         .filter(|_| !scene.objects.fluorescence());
+    // Not with fluorescence: the strategy does not follow wavelength shifts.
+    let manifold = plan.manifold() && !scene.objects.fluorescence();
     let strategies = bdpt
         .strategy_images
         .then(|| StrategyFilms::new(width, height));
@@ -717,6 +720,7 @@ fn render_bdpt(
                             &pixel_max,
                             strategies.as_ref(),
                             flat.as_ref(),
+                            manifold,
                             &mut worker,
                         );
                         buf.add(x, y, xyz, "bdpt camera film (t ≥ 2)");
@@ -803,6 +807,7 @@ impl Bdpt {
         pixel_max: &PixelMaxY,
         strategies: Option<&StrategyFilms>,
         flat: Option<&FlatColour>,
+        manifold: bool,
         worker: &mut Worker,
     ) -> [f64; 3] {
         let camera = cam.camera.as_ref();
@@ -885,7 +890,7 @@ impl Bdpt {
                 {
                     continue;
                 }
-                let Some(c) = connect(
+                let Some(mut c) = connect(
                     scene,
                     camera,
                     mixture,
@@ -900,6 +905,12 @@ impl Bdpt {
                 ) else {
                     continue;
                 };
+                if manifold && s == 0 {
+                    // A path the specular-chain connection can make too: its share.
+                    if let Some(w) = s0_weight(scene, camera, &camera_path, t, &lambda) {
+                        c.weight *= w;
+                    }
+                }
                 // A t = 1 splat in a fluorescent scene: the observer weighs the wavelengths
                 // that reach the camera, each divided by its lane's start density over both
                 // modes (`t1_wavelengths`).
@@ -952,6 +963,58 @@ impl Bdpt {
                         if strategies.is_some() {
                             per_strategy.push((s, t, xyz));
                         }
+                    }
+                }
+            }
+        }
+        if let Some(j) = manifold.then(|| anchor(scene, &camera_path)).flatten() {
+            // The specular-chain connection from the first non-specular camera vertex.
+            let u = (rng.next_1d(), rng.next_2d());
+            let m = connect_manifold(
+                scene,
+                camera,
+                &camera_path,
+                j,
+                &lambda,
+                u,
+                max_depth,
+                &mut worker.stats,
+            );
+            if let Some(m) = m {
+                let c = Connection {
+                    l: m.l,
+                    weight: SampledSpectrum::splat(m.weight),
+                    raster: None,
+                    lanes: m.lanes,
+                    emitter: Some(m.emitter),
+                };
+                // Flat-path colour as for s = 1 at the same vertex, if the chain is flat too.
+                let xyz = connection_xyz(
+                    flat.filter(|_| m.flat_chain),
+                    (&worker.camera_flat, &worker.light_flat),
+                    1,
+                    j + 1,
+                    &c,
+                    &weights,
+                    &lambda,
+                );
+                if let Some(kind) = check_sample(&xyz) {
+                    splats.reject(Rejection {
+                        x,
+                        y,
+                        strategy: "bdpt specular chain".into(),
+                        kind,
+                    });
+                } else {
+                    for k in 0..3 {
+                        total[k] += xyz[k];
+                    }
+                    if spectral.is_some() {
+                        total_lanes.accumulate(&weights.energies(&(c.l * c.weight), c.lanes));
+                    }
+                    if strategies.is_some() {
+                        // Filed with s = 0 of the same path: the two share its class.
+                        per_strategy.push((0, m.t_equivalent, xyz));
                     }
                 }
             }

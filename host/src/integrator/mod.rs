@@ -3,7 +3,7 @@
 //! bidirectional path tracing ([`bdpt`]) and light tracing ([`light_tracer`]). The path-building
 //! blocks they share live in files of their own ([`random_walk`], [`light_subpath`],
 //! [`camera_connection`], [`beam`], [`flat_colour`], [`wavelength_mixture`], [`xyz_weights`], [`pixel_max`],
-//! [`vertex`], [`wavelength_groups`]), as do the render settings ([`render`]) and the tiled,
+//! [`vertex`], [`wavelength_groups`], [`specular_chain`], [`manifold_connection`]), as do the render settings ([`render`]) and the tiled,
 //! parallel, deterministic pass loop ([`tiled`]). No integrator imports another.
 
 pub mod bdpt;
@@ -16,12 +16,14 @@ pub mod fluorescent_join;
 pub mod fluorescent_mis;
 pub mod light_subpath;
 pub mod light_tracer;
+pub mod manifold_connection;
 pub mod path;
 pub mod pixel_max;
 pub mod random_walk;
 pub mod render;
 pub mod sampler;
 pub mod select;
+pub mod specular_chain;
 pub mod tiled;
 pub mod vertex;
 pub mod wavelength_groups;
