@@ -69,7 +69,7 @@ pub struct RenderArgs {
     #[arg(long = "wavelengths-per-path")]
     pub wavelengths_per_path: Option<u32>,
     /// Path tracing only: how camera paths draw wavelengths: product (observer importance times
-    /// the square root of the lights' emission, plus 10% observer importance; the default), visible
+    /// the square root of the lights' emission, plus ¼ observer importance; the default), visible
     /// (observer importance), uniform, or light (the scene's emission SPDs).
     #[arg(long = "wavelength-sampling")]
     pub wavelength_sampling: Option<crate::integrator::WavelengthSampling>,
@@ -772,7 +772,7 @@ pub fn run_with_factories(
                     }
                     crate::integrator::WavelengthSampling::Visible => "visible-importance sampling",
                     crate::integrator::WavelengthSampling::Product => {
-                        "observer × √emission importance (90%) with visible importance (10%)"
+                        "observer × √emission importance (¾) with visible importance (¼)"
                     }
                     crate::integrator::WavelengthSampling::Uniform => "uniform sampling",
                     crate::integrator::WavelengthSampling::LightSpd => {

@@ -160,10 +160,10 @@ impl Default for PathTracer {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum WavelengthSampling {
     /// Importance-sampled for the observer and the scene's emission together (the default):
-    /// 90% of the density is the visible-importance shape times the square root of the lights'
-    /// emission, 10% the visible-importance density alone, one tabulated density (see
+    /// ¾ of the density is the visible-importance shape times the square root of the lights'
+    /// emission, ¼ the visible-importance density alone, one tabulated density (see
     /// [`super::wavelength_groups`]). Fewer lanes land where the lights emit little; the
-    /// visible tenth keeps every visible wavelength possible. Falls back to `Visible` where it
+    /// visible quarter keeps every visible wavelength possible. Falls back to `Visible` where it
     /// cannot apply (no evaluable light, fluorescence) and to the render plan's mixture where
     /// the plan draws from the lights' spectra.
     #[default]

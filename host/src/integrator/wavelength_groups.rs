@@ -34,23 +34,25 @@
 //! # Observer × emission importance ([`WavelengthSampling::Product`], the default)
 //! What a camera path carries at λ is proportional to the emission there, and the film weighs
 //! it by the observer's response, so wavelengths are drawn from
-//! `p(λ) = 0.9·V(λ)·√p_emit(λ)/∫V·√p_emit + 0.1·V(λ)/∫V`, with `V` the visible-importance
+//! `p(λ) = ¾·V(λ)·√p_emit(λ)/∫V·√p_emit + ¼·V(λ)/∫V`, with `V` the visible-importance
 //! shape (`sech²(0.0072 (λ − 538 nm))` on 360–830 nm) and `p_emit` the emission component
 //! above, tabulated once per render as an equal-probability table ([`WavelengthTable`];
-//! drawing costs what visible-importance sampling costs). The visible tenth keeps the density
-//! positive wherever visible importance is, so the estimator stays unbiased whatever the
-//! lights' SPDs say (a textured or plugin emitter whose `spd` is only indicative, emission
+//! drawing costs what visible-importance sampling costs). The visible quarter keeps the
+//! density positive wherever visible importance is, so the estimator stays unbiased whatever
+//! the lights' SPDs say (a textured or plugin emitter whose `spd` is only indicative, emission
 //! outside the SPD's range, light reflected at wavelengths a light emits little).
 //!
 //! The shape was chosen by measurement on the Cornell box (its light emits nothing at 400 nm
 //! and most at 700 nm; path tracer, 32 spp, 4–8 seeds, against the Mitsuba reference):
 //! MSE, relative MSE and mean ΔE of `V·p_emit^γ` mixed with a share `s` of `V`, relative to
-//! visible importance alone: γ = 1, s = 0.25: 0.874, 0.92, 1.02 (the blue channel, where the
-//! light is weak, gets noisier than it gains elsewhere in ΔE); γ = ½, s = 0.1: 0.869, 0.89,
-//! 0.957; γ = ⅓ and ⅔ and s = 0, 0.15 and 0.25 lie within 1% of that in MSE. The light-SPD
-//! density alone gave 0.91 in MSE for 14% more instructions (its mixture search per lane).
-//! The square root tempers the emission's weight: the film's three channels want different
-//! wavelengths, and the blue one sees little of a reddish light.
+//! visible importance alone: γ = 1, s = ¼: 0.874, 0.92, 1.02 (the blue channel, where the
+//! light is weak, gets noisier than the others gain in ΔE); γ = ½, s = 0.1: 0.869, 0.89,
+//! 0.957; γ = ½, s = ¼: 0.876, 0.90, 0.950; γ = ⅓, ⅔ and s = 0, 0.15 lie within 1% of these
+//! in MSE. The light-SPD density alone gave 0.91 in MSE for 14% more instructions (its mixture
+//! search per lane). The square root and the quarter temper the emission's weight: the film's
+//! three channels want different wavelengths, and the blue one sees little of a reddish
+//! light (on the Cornell box at 16 spp the blue channel's image mean still spreads about 1.3×
+//! as much over 8 seeds as with visible importance, red and green 0.8–1.0×).
 //!
 //! It applies without fluorescence (visible importance is used there: fluorescent light
 //! appears at wavelengths no light emits) and where the render plan does not draw from the
@@ -184,7 +186,7 @@ pub struct PathWavelengthSampler {
 
 /// Share of the visible-importance density in [`WavelengthSampling::Product`]'s mixture (the
 /// rest is visible importance × emission; see the module docs for how it was chosen).
-pub const PRODUCT_VISIBLE_SHARE: f64 = 0.1;
+pub const PRODUCT_VISIBLE_SHARE: f64 = 0.25;
 
 /// The table of [`WavelengthSampling::Product`] for the emission component of `mixture`
 /// (which must have one): `(1 − s)·V·√p_emit/∫V·√p_emit + s·V/∫V` on [`VISIBLE_RANGE`],
@@ -383,9 +385,9 @@ mod tests {
 
     // Observer × emission sampling: every lane stores the product table's density at its
     // wavelength, and that density is positive over the whole visible range (the visible
-    // tenth), so the MC estimate of ∫_{360}^{830} 1 dλ = 470 nm over all lanes is within 1%
+    // quarter), so the MC estimate of ∫_{360}^{830} 1 dλ = 470 nm over all lanes is within 1%
     // (the estimator's relative standard error with 5·10⁴ paths × 16 lanes is below 0.3%; 1/p
-    // is at most 10/V's density in the far tails). A fluorescent scene falls back
+    // is at most 4/V's density in the far tails). A fluorescent scene falls back
     // to visible importance.
     #[test]
     fn product_lanes_carry_their_density_over_the_visible_range() {
