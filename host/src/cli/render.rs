@@ -738,8 +738,12 @@ pub fn run_with_factories(
             settings.tracer.wavelengths,
             settings.tracer.wavelengths_per_path,
         );
-        let sampler =
-            crate::integrator::wavelength_groups::PathWavelengthSampler::new(&plan, sampling, n);
+        let sampler = crate::integrator::wavelength_groups::PathWavelengthSampler::new(
+            &plan,
+            sampling,
+            n,
+            scene.objects.fluorescence(),
+        );
         let fell_back = sampling == crate::integrator::WavelengthSampling::LightSpd
             && sampler.as_ref().is_ok_and(|s| s.light_spd_fell_back());
         let refused = sampler

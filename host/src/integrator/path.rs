@@ -697,6 +697,7 @@ pub fn render_film_spectral(
         plan,
         settings.tracer.wavelengths,
         settings.tracer.wavelengths_per_path,
+        scene.objects.fluorescence(),
     )
     .map_err(RenderError::Setup)?;
     let sensor = Sensor::new(scene.observer.clone());

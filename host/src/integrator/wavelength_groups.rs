@@ -211,10 +211,15 @@ impl PathWavelengthSampler {
     /// The sampler for a scene under `plan` with `per_path` wavelengths per path (see
     /// [`groups_for`]). Whether the lights' spectra are sampled is the plan's decision
     /// ([`RenderPlan::emission_wavelengths`]), made once from the scene analysis.
+    ///
+    /// `scene_fluoresces` is whether the scene's objects shift wavelengths
+    /// (`Objects::fluorescence`, which path tracing follows); observer × emission sampling
+    /// falls back to visible importance only when both it and the plan say so.
     pub fn new(
         plan: &RenderPlan,
         sampling: WavelengthSampling,
         per_path: u32,
+        scene_fluoresces: bool,
     ) -> Result<Self, String> {
         let groups = groups_for(per_path)?;
         let mixture = || Some(plan.mixture().clone()).filter(|m| m.has_emission());
@@ -227,7 +232,9 @@ impl PathWavelengthSampler {
         };
         // Observer × emission where it applies (see the module docs), else visible importance.
         let product = match sampling {
-            WavelengthSampling::Product if !plan.fluorescence() && !plan.emission_wavelengths() => {
+            WavelengthSampling::Product
+                if !(plan.fluorescence() && scene_fluoresces) && !plan.emission_wavelengths() =>
+            {
                 mixture().and_then(|m| product_table(&m).ok())
             }
             _ => None,
@@ -343,9 +350,13 @@ mod tests {
     #[test]
     fn lanes_are_rotations_of_one_sample() {
         let scene = crate::scene::default_scene().unwrap();
-        let s =
-            PathWavelengthSampler::new(&RenderPlan::auto(&scene), WavelengthSampling::Uniform, 16)
-                .unwrap();
+        let s = PathWavelengthSampler::new(
+            &RenderPlan::auto(&scene),
+            WavelengthSampling::Uniform,
+            16,
+            false,
+        )
+        .unwrap();
         let mut rng = PixelSampler::new(1, 2, 3);
         let w = s.sample(&mut rng);
         let mut all: Vec<f32> = w.groups().iter().flat_map(|g| g.lambda).collect();
@@ -393,7 +404,7 @@ mod tests {
     fn product_lanes_carry_their_density_over_the_visible_range() {
         let scene = crate::scene::default_scene().unwrap();
         let plan = RenderPlan::auto(&scene);
-        let s = PathWavelengthSampler::new(&plan, WavelengthSampling::Product, 16).unwrap();
+        let s = PathWavelengthSampler::new(&plan, WavelengthSampling::Product, 16, false).unwrap();
         assert_eq!(s.sampling(), WavelengthSampling::Product);
         let table = product_table(plan.mixture()).unwrap();
         let n = 50_000u32;
@@ -423,7 +434,13 @@ mod tests {
         let fl = crate::scene::load_scene_file(&path, &[&crate::scene::BuiltinFactory]).unwrap();
         let plan = RenderPlan::auto(&fl);
         assert!(plan.fluorescence());
-        let s = PathWavelengthSampler::new(&plan, WavelengthSampling::Product, 4).unwrap();
+        let s = PathWavelengthSampler::new(
+            &plan,
+            WavelengthSampling::Product,
+            4,
+            fl.objects.fluorescence(),
+        )
+        .unwrap();
         assert_eq!(s.sampling(), WavelengthSampling::Visible);
     }
 
@@ -434,9 +451,13 @@ mod tests {
     #[test]
     fn light_spd_lanes_carry_emission_density() {
         let scene = crate::scene::default_scene().unwrap();
-        let s =
-            PathWavelengthSampler::new(&RenderPlan::auto(&scene), WavelengthSampling::LightSpd, 16)
-                .unwrap();
+        let s = PathWavelengthSampler::new(
+            &RenderPlan::auto(&scene),
+            WavelengthSampling::LightSpd,
+            16,
+            false,
+        )
+        .unwrap();
         assert!(!s.light_spd_fell_back());
         let m = WavelengthMixture::new(&scene);
         let n = 50_000u32;
