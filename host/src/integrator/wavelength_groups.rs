@@ -231,10 +231,9 @@ impl PathWavelengthSampler {
             sampling
         };
         // Observer × emission where it applies (see the module docs), else visible importance.
+        let fluoresces = plan.fluorescence() && scene_fluoresces;
         let product = match sampling {
-            WavelengthSampling::Product
-                if !(plan.fluorescence() && scene_fluoresces) && !plan.emission_wavelengths() =>
-            {
+            WavelengthSampling::Product if !fluoresces && !plan.emission_wavelengths() => {
                 mixture().and_then(|m| product_table(&m).ok())
             }
             _ => None,
