@@ -155,6 +155,8 @@ fn assert_agree(
     }
     let (w, h) = (a[0].width as usize, a[0].height as usize);
     let tile = 8;
+    // Outliers are counted per tile, as the module docs state: a tile's three channels share
+    // their paths, so one unusual tile often moves all three together and is one event.
     let (mut tiles, mut outliers, mut worst) = (0usize, 0usize, 0.0f64);
     for ty in (0..h).step_by(tile) {
         for tx in (0..w).step_by(tile) {
@@ -165,6 +167,7 @@ fn assert_agree(
             if idx.len() < tile * tile / 2 {
                 continue;
             }
+            let (mut tested, mut out) = (false, false);
             for c in 0..3 {
                 let tm = |imgs: &[XyzImage]| -> Vec<f64> {
                     imgs.iter()
@@ -181,18 +184,20 @@ fn assert_agree(
                     continue;
                 }
                 let z = (m_a - m_b) / se;
-                tiles += 1;
+                tested = true;
                 worst = worst.max(z.abs());
                 if z.abs() > 4.0 {
-                    outliers += 1;
+                    out = true;
                     eprintln!(
                         "{name}: tile ({tx}, {ty}) channel {c}: {m_a:.6} vs {m_b:.6}, z {z:.2}"
                     );
                 }
             }
+            tiles += usize::from(tested);
+            outliers += usize::from(out);
         }
     }
-    eprintln!("{name}: {outliers} of {tiles} tile-channels with |z| > 4 (max |z| {worst:.2})");
+    eprintln!("{name}: {outliers} of {tiles} tiles with a channel at |z| > 4 (max |z| {worst:.2})");
     assert!(failures.is_empty(), "{name}: {}", failures.join("; "));
     if !tile_test {
         return;
@@ -200,7 +205,7 @@ fn assert_agree(
     assert!(tiles > 0);
     assert!(
         outliers as f64 <= (0.02 * tiles as f64).max(2.0),
-        "{name}: {outliers} of {tiles} tile-channels differ by more than 4σ"
+        "{name}: {outliers} of {tiles} tiles differ by more than 4σ in a channel"
     );
 }
 

@@ -68,8 +68,9 @@ pub struct RenderArgs {
     /// 16 (default 4).
     #[arg(long = "wavelengths-per-path")]
     pub wavelengths_per_path: Option<u32>,
-    /// Path tracing only: how camera paths draw wavelengths: visible (observer importance,
-    /// default), uniform, or light (the scene's emission SPDs).
+    /// Path tracing only: how camera paths draw wavelengths: product (observer importance times
+    /// the square root of the lights' emission, plus ¼ observer importance; the default), visible
+    /// (observer importance), uniform, or light (the scene's emission SPDs).
     #[arg(long = "wavelength-sampling")]
     pub wavelength_sampling: Option<crate::integrator::WavelengthSampling>,
     /// Numbers of camera samples and light paths: sobol (shuffled, Owen-scrambled Sobol'
@@ -737,8 +738,12 @@ pub fn run_with_factories(
             settings.tracer.wavelengths,
             settings.tracer.wavelengths_per_path,
         );
-        let sampler =
-            crate::integrator::wavelength_groups::PathWavelengthSampler::new(&plan, sampling, n);
+        let sampler = crate::integrator::wavelength_groups::PathWavelengthSampler::new(
+            &plan,
+            sampling,
+            n,
+            scene.objects.fluorescence(),
+        );
         let fell_back = sampling == crate::integrator::WavelengthSampling::LightSpd
             && sampler.as_ref().is_ok_and(|s| s.light_spd_fell_back());
         let refused = sampler
@@ -751,7 +756,8 @@ pub fn run_with_factories(
             } else if fell_back {
                 "light-SPD sampling requested but no light has an evaluable spectrum: visible-importance used".to_string()
             } else {
-                match sampling {
+                let used = sampler.as_ref().map_or(sampling, |s| s.sampling());
+                match used {
                     crate::integrator::WavelengthSampling::Visible
                         if plan.emission_wavelengths()
                             && plan.mixture().emission_weight() >= 1.0 =>
@@ -763,7 +769,15 @@ pub fn run_with_factories(
                     {
                         "half visible-importance, half from the lights' spectra (render plan)"
                     }
+                    crate::integrator::WavelengthSampling::Visible
+                        if sampling == crate::integrator::WavelengthSampling::Product =>
+                    {
+                        "visible-importance sampling (observer × emission does not apply: no evaluable light, or fluorescence)"
+                    }
                     crate::integrator::WavelengthSampling::Visible => "visible-importance sampling",
+                    crate::integrator::WavelengthSampling::Product => {
+                        "observer × √emission importance (¾) with visible importance (¼)"
+                    }
                     crate::integrator::WavelengthSampling::Uniform => "uniform sampling",
                     crate::integrator::WavelengthSampling::LightSpd => {
                         "light-SPD importance sampling"

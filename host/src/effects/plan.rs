@@ -490,7 +490,7 @@ impl RenderPlan {
         } else if self.emission_wavelengths() {
             "wavelengths half from the observer, half from the lights' spectra (pt, bdpt, lt)"
         } else {
-            "wavelengths: pt from the observer, bdpt/lt half observer, half lights' spectra"
+            "wavelengths: pt by its wavelength sampling (default observer × emission), bdpt/lt half observer, half lights' spectra"
         };
         format!(
             "plan (--effects {}): {}; {wl}; {lp}",

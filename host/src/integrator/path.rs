@@ -47,8 +47,8 @@ pub const INFO: IntegratorInfo = IntegratorInfo {
         ParamDoc::optional(
             "wavelengths",
             "",
-            "visible",
-            "how camera paths draw wavelengths: visible, uniform or light; --wavelength-sampling",
+            "product",
+            "how camera paths draw wavelengths: product (observer × emission), visible, uniform or light; --wavelength-sampling",
         ),
         ParamDoc::optional(
             "wavelengths_per_path",
@@ -150,7 +150,7 @@ impl Default for PathTracer {
             max_depth: 64,
             rr_depth: 3,
             direct_only: false,
-            wavelengths: WavelengthSampling::Visible,
+            wavelengths: WavelengthSampling::Product,
             wavelengths_per_path: 4,
         }
     }
@@ -159,9 +159,17 @@ impl Default for PathTracer {
 /// How camera paths draw their wavelengths (each lane's pdf is kept, so all are unbiased).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum WavelengthSampling {
+    /// Importance-sampled for the observer and the scene's emission together (the default):
+    /// ¾ of the density is the visible-importance shape times the square root of the lights'
+    /// emission, ¼ the visible-importance density alone, one tabulated density (see
+    /// [`super::wavelength_groups`]). Fewer lanes land where the lights emit little; the
+    /// visible quarter keeps every visible wavelength possible. Falls back to `Visible` where it
+    /// cannot apply (no evaluable light, fluorescence) and to the render plan's mixture where
+    /// the plan draws from the lights' spectra.
+    #[default]
+    Product,
     /// Importance-sampled for the observer's luminance response (pbrt-v4's sech² fit):
     /// fewer wavelengths wasted where x̄ȳz̄ are near zero.
-    #[default]
     Visible,
     /// Uniform over 360–830 nm: the plain baseline, more colour noise per sample.
     Uniform,
@@ -176,11 +184,12 @@ impl std::str::FromStr for WavelengthSampling {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, String> {
         match s.to_ascii_lowercase().as_str() {
+            "product" | "visible-emission" => Ok(Self::Product),
             "visible" => Ok(Self::Visible),
             "uniform" => Ok(Self::Uniform),
             "light" | "light-spd" | "lightspd" => Ok(Self::LightSpd),
             other => Err(format!(
-                "unknown wavelength sampling {other:?}: expected visible, uniform or light"
+                "unknown wavelength sampling {other:?}: expected product, visible, uniform or light"
             )),
         }
     }
@@ -189,6 +198,7 @@ impl std::str::FromStr for WavelengthSampling {
 impl std::fmt::Display for WavelengthSampling {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(match self {
+            Self::Product => "product",
             Self::Visible => "visible",
             Self::Uniform => "uniform",
             Self::LightSpd => "light",
@@ -687,6 +697,7 @@ pub fn render_film_spectral(
         plan,
         settings.tracer.wavelengths,
         settings.tracer.wavelengths_per_path,
+        scene.objects.fluorescence(),
     )
     .map_err(RenderError::Setup)?;
     let sensor = Sensor::new(scene.observer.clone());

@@ -28,6 +28,7 @@ pub mod sum_spd;
 pub mod tabulated_spd;
 pub mod tabulation;
 pub mod wavelength_sampling;
+pub mod wavelength_table;
 
 pub use builtin_spd::BuiltinSpd;
 pub use curve::SpectralCurve;
