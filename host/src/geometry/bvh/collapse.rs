@@ -10,6 +10,7 @@ use crate::geometry::Aabb;
 /// Collapses the binary tree (depth-first, first child next, `offset` the second) into wide
 /// nodes, depth-first. Each wide node takes its binary node's two children and repeatedly
 /// replaces the interior one with the largest surface area by its two children, up to eight.
+/// A binary subtree of at most [`MERGE_LEAF_PRIMITIVES`] primitives becomes one leaf slot.
 pub(super) fn collapse(binary: &[Node]) -> Vec<WideNode> {
     let root_children = if binary[0].count > 0 {
         vec![0]
@@ -17,6 +18,37 @@ pub(super) fn collapse(binary: &[Node]) -> Vec<WideNode> {
         binary_children(binary, 0).to_vec()
     };
     wide_subtree(binary, root_children, 0)
+}
+
+/// Binary subtrees with at most this many primitives become one leaf of the wide tree (their
+/// primitives are contiguous in leaf order). The binary SAH splits small nodes as if a box test
+/// cost one primitive test; in the wide tree a level costs an eight-box test and up to four
+/// cache lines, so leaves of up to this size cut the node memory to a third and the cache
+/// misses per ray by a fifth (`docs/performance.md`, "Larger leaves from the collapse").
+pub(super) const MERGE_LEAF_PRIMITIVES: usize = 4;
+
+/// The leaf slot binary node `i` becomes, `(first primitive, count)`: a binary leaf, or an
+/// interior node whose subtree holds at most [`MERGE_LEAF_PRIMITIVES`] primitives (found by
+/// visiting at most about twice that many nodes); `None` for a larger subtree.
+pub(super) fn as_leaf(binary: &[Node], i: usize) -> Option<(u32, u16)> {
+    let n = &binary[i];
+    if n.count > 0 {
+        return Some((n.offset, n.count));
+    }
+    small_subtree(binary, i, MERGE_LEAF_PRIMITIVES)
+}
+
+/// `(first primitive, count)` of the subtree under binary node `i` if it holds at most `limit`
+/// primitives.
+fn small_subtree(binary: &[Node], i: usize, limit: usize) -> Option<(u32, u16)> {
+    let n = &binary[i];
+    if n.count > 0 {
+        return (n.count as usize <= limit).then_some((n.offset, n.count));
+    }
+    // Each child holds at least one primitive.
+    let (first, l) = small_subtree(binary, i + 1, limit.checked_sub(1)?)?;
+    let (_, r) = small_subtree(binary, n.offset as usize, limit - l as usize)?;
+    Some((first, l + r))
 }
 
 pub(super) fn binary_children(binary: &[Node], i: usize) -> [usize; 2] {
@@ -45,23 +77,26 @@ pub(super) fn wide_subtree(binary: &[Node], children: Vec<usize>, depth: usize) 
         return out;
     }
     let children = expand_children(binary, children);
-    let subs: Vec<Option<Vec<WideNode>>> = children
+    let subs = children
         .par_iter()
-        .map(|&c| {
-            (binary[c].count == 0)
-                .then(|| wide_subtree(binary, binary_children(binary, c).to_vec(), depth + 1))
+        .map(|&c| match as_leaf(binary, c) {
+            Some(leaf) => Err(leaf),
+            None => Ok(wide_subtree(
+                binary,
+                binary_children(binary, c).to_vec(),
+                depth + 1,
+            )),
         })
-        .collect();
+        .collect::<Vec<_>>();
     out[0].slots = children.len() as u32;
     for (slot, (&c, sub)) in children.iter().zip(subs).enumerate() {
-        let n = &binary[c];
-        out[0].set_box(slot, n);
+        out[0].set_box(slot, &binary[c]);
         match sub {
-            None => {
-                out[0].child[slot] = n.offset;
-                out[0].count[slot] = n.count;
+            Err((first, count)) => {
+                out[0].child[slot] = first;
+                out[0].count[slot] = count;
             }
-            Some(sub) => {
+            Ok(sub) => {
                 let base = out.len() as u32;
                 out[0].child[slot] = base;
                 out.extend(sub.into_iter().map(|mut w| {
@@ -86,7 +121,7 @@ pub(super) fn expand_children(binary: &[Node], mut children: Vec<usize>) -> Vec<
         let pick = children
             .iter()
             .enumerate()
-            .filter(|(_, &c)| binary[c].count == 0)
+            .filter(|(_, &c)| as_leaf(binary, c).is_none())
             .fold(None::<(usize, f32)>, |best, (k, &c)| {
                 let a = node_area(&binary[c]);
                 match best {
@@ -109,11 +144,10 @@ pub(super) fn fill_wide(binary: &[Node], children: Vec<usize>, me: usize, out: &
     let children = expand_children(binary, children);
     out[me].slots = children.len() as u32;
     for (slot, &c) in children.iter().enumerate() {
-        let n = &binary[c];
-        out[me].set_box(slot, n);
-        if n.count > 0 {
-            out[me].child[slot] = n.offset;
-            out[me].count[slot] = n.count;
+        out[me].set_box(slot, &binary[c]);
+        if let Some((first, count)) = as_leaf(binary, c) {
+            out[me].child[slot] = first;
+            out[me].count[slot] = count;
         } else {
             let idx = out.len();
             out.push(WideNode::EMPTY);

@@ -140,6 +140,59 @@ fn order_is_permutation_and_boxes_nest() {
     assert_eq!(leaves, bounds.len());
 }
 
+// The collapse makes every binary subtree of at most `MERGE_LEAF_PRIMITIVES` primitives one
+// leaf slot: every interior child of a wide node must hold more primitives than that, every
+// leaf at most `max(MAX_LEAF_SIZE, MERGE_LEAF_PRIMITIVES)`, and there must be fewer leaf slots
+// than binary leaves (exact counts over 5000 random boxes; the boxes' nesting is checked by
+// `order_is_permutation_and_boxes_nest`).
+#[test]
+fn small_subtrees_become_leaves() {
+    let mut next = uniform_stream(777);
+    let mut prims: Vec<BuildPrim> = (0..5000)
+        .map(|i| {
+            let p = Vec3A::new(next(), next(), next()) * 100.0;
+            let b = Aabb {
+                min: p,
+                max: p + Vec3A::splat(next() * 3.0),
+            };
+            BuildPrim {
+                bounds: b,
+                centroid: b.centroid(),
+                index: i as u32,
+            }
+        })
+        .collect();
+    let binary = build_range(&mut prims, 0, 0);
+    let binary_leaves = binary.iter().filter(|n| n.count > 0).count();
+    let wide = collapse(&binary);
+    fn under(wide: &[WideNode], i: usize) -> usize {
+        let n = &wide[i];
+        (0..n.slots as usize)
+            .map(|s| match n.count[s] {
+                0 => under(wide, n.child[s] as usize),
+                c => c as usize,
+            })
+            .sum()
+    }
+    assert_eq!(under(&wide, 0), prims.len());
+    let mut leaf_slots = 0;
+    for n in &wide {
+        for s in 0..n.slots as usize {
+            match n.count[s] as usize {
+                0 => assert!(under(&wide, n.child[s] as usize) > MERGE_LEAF_PRIMITIVES),
+                c => {
+                    assert!(c <= MAX_LEAF_SIZE.max(MERGE_LEAF_PRIMITIVES));
+                    leaf_slots += 1;
+                }
+            }
+        }
+    }
+    assert!(
+        leaf_slots < binary_leaves,
+        "{leaf_slots} leaf slots for {binary_leaves} binary leaves"
+    );
+}
+
 // The wide traversal must find exactly the closest hit a brute-force loop finds, with float
 // and with quantised nodes: primitives are boxes, "hit" is the conservative slab test's entry
 // distance, 2000 random rays over 3000 random boxes (small and large, overlapping); compared
