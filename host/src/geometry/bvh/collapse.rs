@@ -10,7 +10,8 @@ use crate::geometry::Aabb;
 /// Collapses the binary tree (depth-first, first child next, `offset` the second) into wide
 /// nodes, depth-first. Each wide node takes its binary node's two children and repeatedly
 /// replaces the interior one with the largest surface area by its two children, up to eight.
-/// A binary subtree of at most [`MERGE_LEAF_PRIMITIVES`] primitives becomes one leaf slot.
+/// Small binary subtrees become one leaf slot where the surface area heuristic accepts it
+/// ([`as_leaf`]).
 pub(super) fn collapse(binary: &[Node]) -> Vec<WideNode> {
     let root_children = if binary[0].count > 0 {
         vec![0]
@@ -20,35 +21,50 @@ pub(super) fn collapse(binary: &[Node]) -> Vec<WideNode> {
     wide_subtree(binary, root_children, 0)
 }
 
-/// Binary subtrees with at most this many primitives become one leaf of the wide tree (their
-/// primitives are contiguous in leaf order). The binary SAH splits small nodes as if a box test
-/// cost one primitive test; in the wide tree a level costs an eight-box test and up to four
-/// cache lines, so leaves of up to this size cut the node memory to a third and the cache
-/// misses per ray by a fifth (`docs/performance.md`, "Larger leaves from the collapse").
+/// Binary subtrees with at most this many primitives can become one leaf of the wide tree
+/// (their primitives are contiguous in leaf order). The binary SAH splits small nodes as if a
+/// box test cost one primitive test; in the wide tree a level costs an eight-box test on up to
+/// four cache lines, so merging cuts node memory and node visits where the merged leaf costs
+/// few extra primitive tests ([`MERGE_EXTRA_TESTS`]; `docs/performance.md`, "Larger leaves from
+/// the collapse").
 pub(super) const MERGE_LEAF_PRIMITIVES: usize = 4;
 
+/// How many more primitive tests per visit of a merged leaf's box the merge may cost, against
+/// its separate binary leaves weighted by area (the surface area heuristic's hit
+/// probabilities). Small triangles of a smooth surface merge; large ones far apart within
+/// their box (the Cornell box's walls) stay apart. Measured (`docs/performance.md`, "Larger
+/// leaves from the collapse"): 2 already costs the Cornell box 9.5% more instructions in
+/// closest-hit queries, 1.5 none, 1 merges almost nothing on the spheres of the scaling bench.
+pub(super) const MERGE_EXTRA_TESTS: f32 = 1.5;
+
 /// The leaf slot binary node `i` becomes, `(first primitive, count)`: a binary leaf, or an
-/// interior node whose subtree holds at most [`MERGE_LEAF_PRIMITIVES`] primitives (found by
-/// visiting at most about twice that many nodes); `None` for a larger subtree.
+/// interior node whose subtree holds at most [`MERGE_LEAF_PRIMITIVES`] primitives and whose
+/// merged leaf the surface area heuristic accepts (see [`MERGE_EXTRA_TESTS`]); `None`
+/// otherwise. Visits at most about twice [`MERGE_LEAF_PRIMITIVES`] nodes.
 pub(super) fn as_leaf(binary: &[Node], i: usize) -> Option<(u32, u16)> {
     let n = &binary[i];
     if n.count > 0 {
         return Some((n.offset, n.count));
     }
-    small_subtree(binary, i, MERGE_LEAF_PRIMITIVES)
+    let (first, count, tests) = small_subtree(binary, i, MERGE_LEAF_PRIMITIVES)?;
+    let area = node_area(n);
+    // Expected triangle tests per visit of this box: all `count` as one leaf, against the
+    // area-weighted tests of its separate leaves plus the allowance.
+    (count as f32 * area <= tests + MERGE_EXTRA_TESTS * area).then_some((first, count))
 }
 
-/// `(first primitive, count)` of the subtree under binary node `i` if it holds at most `limit`
-/// primitives.
-fn small_subtree(binary: &[Node], i: usize, limit: usize) -> Option<(u32, u16)> {
+/// `(first primitive, count, Σ count · area over its binary leaves)` of the subtree under
+/// binary node `i` if it holds at most `limit` primitives.
+fn small_subtree(binary: &[Node], i: usize, limit: usize) -> Option<(u32, u16, f32)> {
     let n = &binary[i];
     if n.count > 0 {
-        return (n.count as usize <= limit).then_some((n.offset, n.count));
+        return (n.count as usize <= limit)
+            .then(|| (n.offset, n.count, n.count as f32 * node_area(n)));
     }
     // Each child holds at least one primitive.
-    let (first, l) = small_subtree(binary, i + 1, limit.checked_sub(1)?)?;
-    let (_, r) = small_subtree(binary, n.offset as usize, limit - l as usize)?;
-    Some((first, l + r))
+    let (first, l, tl) = small_subtree(binary, i + 1, limit.checked_sub(1)?)?;
+    let (_, r, tr) = small_subtree(binary, n.offset as usize, limit - l as usize)?;
+    Some((first, l + r, tl + tr))
 }
 
 pub(super) fn binary_children(binary: &[Node], i: usize) -> [usize; 2] {

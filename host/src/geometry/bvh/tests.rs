@@ -140,57 +140,59 @@ fn order_is_permutation_and_boxes_nest() {
     assert_eq!(leaves, bounds.len());
 }
 
-// The collapse makes every binary subtree of at most `MERGE_LEAF_PRIMITIVES` primitives one
-// leaf slot: every interior child of a wide node must hold more primitives than that, every
-// leaf at most `max(MAX_LEAF_SIZE, MERGE_LEAF_PRIMITIVES)`, and there must be fewer leaf slots
-// than binary leaves (exact counts over 5000 random boxes; the boxes' nesting is checked by
-// `order_is_permutation_and_boxes_nest`).
+// The collapse merges a small binary subtree into one leaf slot only where the surface area
+// heuristic accepts it. A hand-made binary tree: four equal overlapping boxes (merging costs
+// no extra tests: one leaf of four) and four tiny boxes at the corners of a 100-unit square
+// (merged, every ray reaching the square would test all four: four leaves of one). The root
+// wide node must hold exactly those five slots (compared exactly).
 #[test]
-fn small_subtrees_become_leaves() {
-    let mut next = uniform_stream(777);
-    let mut prims: Vec<BuildPrim> = (0..5000)
-        .map(|i| {
-            let p = Vec3A::new(next(), next(), next()) * 100.0;
-            let b = Aabb {
-                min: p,
-                max: p + Vec3A::splat(next() * 3.0),
-            };
-            BuildPrim {
-                bounds: b,
-                centroid: b.centroid(),
-                index: i as u32,
-            }
-        })
-        .collect();
-    let binary = build_range(&mut prims, 0, 0);
-    let binary_leaves = binary.iter().filter(|n| n.count > 0).count();
-    let wide = collapse(&binary);
-    fn under(wide: &[WideNode], i: usize) -> usize {
-        let n = &wide[i];
-        (0..n.slots as usize)
-            .map(|s| match n.count[s] {
-                0 => under(wide, n.child[s] as usize),
-                c => c as usize,
-            })
-            .sum()
-    }
-    assert_eq!(under(&wide, 0), prims.len());
-    let mut leaf_slots = 0;
-    for n in &wide {
-        for s in 0..n.slots as usize {
-            match n.count[s] as usize {
-                0 => assert!(under(&wide, n.child[s] as usize) > MERGE_LEAF_PRIMITIVES),
-                c => {
-                    assert!(c <= MAX_LEAF_SIZE.max(MERGE_LEAF_PRIMITIVES));
-                    leaf_slots += 1;
-                }
+fn collapse_merges_by_surface_area() {
+    /// A balanced binary tree over unit-count leaves, depth-first, first child next.
+    fn tree(boxes: &[([f32; 3], [f32; 3])], first: u32, out: &mut Vec<Node>) -> usize {
+        let me = out.len();
+        let mut n = Node {
+            min: [f32::INFINITY; 3],
+            offset: first,
+            max: [f32::NEG_INFINITY; 3],
+            count: 1,
+            axis: 0,
+            _pad: 0,
+        };
+        for (lo, hi) in boxes {
+            for a in 0..3 {
+                n.min[a] = n.min[a].min(lo[a]);
+                n.max[a] = n.max[a].max(hi[a]);
             }
         }
+        out.push(n);
+        if boxes.len() > 1 {
+            let half = boxes.len() / 2;
+            tree(&boxes[..half], first, out);
+            let right = tree(&boxes[half..], first + half as u32, out);
+            out[me].offset = right as u32;
+            out[me].count = 0;
+        }
+        me
     }
-    assert!(
-        leaf_slots < binary_leaves,
-        "{leaf_slots} leaf slots for {binary_leaves} binary leaves"
-    );
+    let unit = ([0.0, 0.0, 0.0], [1.0, 1.0, 1.0]);
+    let tiny = |x: f32, y: f32| ([x, y, 5.0], [x + 0.01, y + 0.01, 5.01]);
+    let mut boxes = vec![unit; 4];
+    boxes.extend([
+        tiny(200.0, 0.0),
+        tiny(300.0, 0.0),
+        tiny(200.0, 100.0),
+        tiny(300.0, 100.0),
+    ]);
+    let mut binary = Vec::new();
+    tree(&boxes, 0, &mut binary);
+    let wide = collapse(&binary);
+    let root = &wide[0];
+    let mut slots: Vec<(u32, u16)> = (0..root.slots as usize)
+        .map(|s| (root.child[s], root.count[s]))
+        .collect();
+    slots.sort_unstable();
+    assert_eq!(slots, vec![(0, 4), (4, 1), (5, 1), (6, 1), (7, 1)]);
+    assert_eq!(wide.len(), 1);
 }
 
 // The wide traversal must find exactly the closest hit a brute-force loop finds, with float
