@@ -262,7 +262,11 @@ impl Geometry {
                 }
             }
         }
-        let bvh = Bvh::build_with_layout(&bounds, layout);
+        // Merged leaves pay only where every primitive is a triangle (see
+        // `Bvh::build_with_options`): the caustic's three quads and sphere in one leaf cost its
+        // BDPT 7.6% more instructions.
+        let triangles_only = built.iter().all(|o| matches!(o.shape, WorldShape::Mesh(_)));
+        let bvh = Bvh::build_with_options(&bounds, layout, triangles_only);
         let prims: Vec<Primitive> = bvh
             .order_ref()
             .par_iter()

@@ -12,13 +12,17 @@ use crate::geometry::Aabb;
 /// replaces the interior one with the largest surface area by its two children, up to eight.
 /// Small binary subtrees become one leaf slot where the surface area heuristic accepts it
 /// ([`as_leaf`]).
-pub(super) fn collapse(binary: &[Node]) -> Vec<WideNode> {
+///
+/// `merge` is [`MERGE_LEAF_PRIMITIVES`] to allow merging, 0 for none (the heuristic counts
+/// every primitive test the same, which holds for triangles only: scenes with analytic spheres
+/// or quads, whose tests cost several triangle tests, keep their binary leaves).
+pub(super) fn collapse(binary: &[Node], merge: usize) -> Vec<WideNode> {
     let root_children = if binary[0].count > 0 {
         vec![0]
     } else {
         binary_children(binary, 0).to_vec()
     };
-    wide_subtree(binary, root_children, 0)
+    wide_subtree(binary, root_children, 0, merge)
 }
 
 /// Binary subtrees with at most this many primitives can become one leaf of the wide tree
@@ -27,7 +31,7 @@ pub(super) fn collapse(binary: &[Node]) -> Vec<WideNode> {
 /// four cache lines, so merging cuts node memory and node visits where the merged leaf costs
 /// few extra primitive tests ([`MERGE_EXTRA_TESTS`]; `docs/performance.md`, "Larger leaves from
 /// the collapse").
-pub(super) const MERGE_LEAF_PRIMITIVES: usize = 4;
+pub const MERGE_LEAF_PRIMITIVES: usize = 4;
 
 /// How many more primitive tests per visit of a merged leaf's box the merge may cost, against
 /// its separate binary leaves weighted by area (the surface area heuristic's hit
@@ -38,15 +42,15 @@ pub(super) const MERGE_LEAF_PRIMITIVES: usize = 4;
 pub(super) const MERGE_EXTRA_TESTS: f32 = 1.5;
 
 /// The leaf slot binary node `i` becomes, `(first primitive, count)`: a binary leaf, or an
-/// interior node whose subtree holds at most [`MERGE_LEAF_PRIMITIVES`] primitives and whose
-/// merged leaf the surface area heuristic accepts (see [`MERGE_EXTRA_TESTS`]); `None`
-/// otherwise. Visits at most about twice [`MERGE_LEAF_PRIMITIVES`] nodes.
-pub(super) fn as_leaf(binary: &[Node], i: usize) -> Option<(u32, u16)> {
+/// interior node whose subtree holds at most `merge` primitives and whose merged leaf the
+/// surface area heuristic accepts (see [`MERGE_EXTRA_TESTS`]); `None` otherwise. Visits at
+/// most about twice `merge` nodes.
+pub(super) fn as_leaf(binary: &[Node], i: usize, merge: usize) -> Option<(u32, u16)> {
     let n = &binary[i];
     if n.count > 0 {
         return Some((n.offset, n.count));
     }
-    let (first, count, tests) = small_subtree(binary, i, MERGE_LEAF_PRIMITIVES)?;
+    let (first, count, tests) = small_subtree(binary, i, merge)?;
     let area = node_area(n);
     // Expected triangle tests per visit of this box: all `count` as one leaf, against the
     // area-weighted tests of its separate leaves plus the allowance.
@@ -86,21 +90,27 @@ pub(super) const PARALLEL_COLLAPSE_DEPTH: usize = 2;
 /// indices relative to it. Near the root the interior children's subtrees are collapsed in
 /// parallel and appended in slot order, which is exactly the depth-first layout
 /// [`fill_wide`] makes, so the result is the same for any thread count.
-pub(super) fn wide_subtree(binary: &[Node], children: Vec<usize>, depth: usize) -> Vec<WideNode> {
+pub(super) fn wide_subtree(
+    binary: &[Node],
+    children: Vec<usize>,
+    depth: usize,
+    merge: usize,
+) -> Vec<WideNode> {
     let mut out = vec![WideNode::EMPTY];
     if depth >= PARALLEL_COLLAPSE_DEPTH {
-        fill_wide(binary, children, 0, &mut out);
+        fill_wide(binary, children, 0, &mut out, merge);
         return out;
     }
-    let children = expand_children(binary, children);
+    let children = expand_children(binary, children, merge);
     let subs = children
         .par_iter()
-        .map(|&c| match as_leaf(binary, c) {
+        .map(|&c| match as_leaf(binary, c, merge) {
             Some(leaf) => Err(leaf),
             None => Ok(wide_subtree(
                 binary,
                 binary_children(binary, c).to_vec(),
                 depth + 1,
+                merge,
             )),
         })
         .collect::<Vec<_>>();
@@ -131,13 +141,17 @@ pub(super) fn wide_subtree(binary: &[Node], children: Vec<usize>, depth: usize) 
 
 /// Expands `children` (binary node indices) by repeatedly replacing the interior one with the
 /// largest box by its two children, up to [`WIDTH`].
-pub(super) fn expand_children(binary: &[Node], mut children: Vec<usize>) -> Vec<usize> {
+pub(super) fn expand_children(
+    binary: &[Node],
+    mut children: Vec<usize>,
+    merge: usize,
+) -> Vec<usize> {
     while children.len() < WIDTH {
         // The interior child with the largest box (first such on ties, for determinism).
         let pick = children
             .iter()
             .enumerate()
-            .filter(|(_, &c)| as_leaf(binary, c).is_none())
+            .filter(|(_, &c)| as_leaf(binary, c, merge).is_none())
             .fold(None::<(usize, f32)>, |best, (k, &c)| {
                 let a = node_area(&binary[c]);
                 match best {
@@ -156,19 +170,25 @@ pub(super) fn expand_children(binary: &[Node], mut children: Vec<usize>) -> Vec<
 
 /// Fills wide node `me` with the subtrees `children` (binary node indices), expanding interior
 /// ones until there are [`WIDTH`], then builds the wide nodes of the interior children.
-pub(super) fn fill_wide(binary: &[Node], children: Vec<usize>, me: usize, out: &mut Vec<WideNode>) {
-    let children = expand_children(binary, children);
+pub(super) fn fill_wide(
+    binary: &[Node],
+    children: Vec<usize>,
+    me: usize,
+    out: &mut Vec<WideNode>,
+    merge: usize,
+) {
+    let children = expand_children(binary, children, merge);
     out[me].slots = children.len() as u32;
     for (slot, &c) in children.iter().enumerate() {
         out[me].set_box(slot, &binary[c]);
-        if let Some((first, count)) = as_leaf(binary, c) {
+        if let Some((first, count)) = as_leaf(binary, c, merge) {
             out[me].child[slot] = first;
             out[me].count[slot] = count;
         } else {
             let idx = out.len();
             out.push(WideNode::EMPTY);
             out[me].child[slot] = idx as u32;
-            fill_wide(binary, binary_children(binary, c).to_vec(), idx, out);
+            fill_wide(binary, binary_children(binary, c).to_vec(), idx, out, merge);
         }
     }
 }

@@ -86,8 +86,9 @@ fn parallel_collapse_and_partition_match_sequential() {
         binary_children(&binary, 0).to_vec(),
         0,
         &mut sequential,
+        MERGE_LEAF_PRIMITIVES,
     );
-    assert_eq!(collapse(&binary), sequential);
+    assert_eq!(collapse(&binary, MERGE_LEAF_PRIMITIVES), sequential);
 }
 
 // Every primitive must appear exactly once in the leaf order (a permutation), and every
@@ -185,7 +186,10 @@ fn collapse_merges_by_surface_area() {
     ]);
     let mut binary = Vec::new();
     tree(&boxes, 0, &mut binary);
-    let wide = collapse(&binary);
+    // Without merging, the eight binary leaves stay apart.
+    let apart = collapse(&binary, 0);
+    assert_eq!(apart[0].count[..apart[0].slots as usize], [1; 8]);
+    let wide = collapse(&binary, MERGE_LEAF_PRIMITIVES);
     let root = &wide[0];
     let mut slots: Vec<(u32, u16)> = (0..root.slots as usize)
         .map(|s| (root.child[s], root.count[s]))
