@@ -122,11 +122,11 @@ struct Primitive {
 /// The triangle the traversal tests at one leaf slot: its three world-space vertices (x, y, z
 /// of p0, p1, p2), stored in leaf order, so the innermost loop reads one contiguous 36-byte
 /// record instead of following object → mesh → index triple → three positions. Which object
-/// and primitive a slot is lives apart ([`Geometry::prims`]) and is read only for the hit
-/// kept (the records were 48 bytes with it: −25% leaf memory, `docs/performance.md`, "Leaf
-/// records of 36 bytes"). A slot holding a sphere or a quad, rare in large scenes, has NaN
-/// coordinates (mesh positions are finite, checked when a mesh is made) and is tested through
-/// its object.
+/// and primitive a slot is lives apart (`Geometry::prims`) and is read only for the hit kept
+/// (the records were 48 bytes with it: −25% leaf memory; `docs/performance.md`, "Larger
+/// leaves from the collapse, 36-byte leaf records, …"). A slot holding a sphere or a quad,
+/// rare in large scenes, has NaN coordinates (mesh positions are finite, checked when a mesh
+/// is made) and is tested through its object.
 #[derive(Clone, Copy, Debug)]
 #[repr(transparent)]
 struct LeafTriangle([f32; 9]);

@@ -200,9 +200,10 @@ fn collapse_merges_by_surface_area() {
 }
 
 // The wide traversal must find exactly the closest hit a brute-force loop finds, with float
-// and with quantised nodes: primitives are boxes, "hit" is the conservative slab test's entry
-// distance, 2000 random rays over 3000 random boxes (small and large, overlapping); compared
-// exactly, and any-hit must agree on whether anything is hit at all.
+// and with quantised nodes (merged leaves) and with float nodes without merged leaves:
+// primitives are boxes, "hit" is the conservative slab test's entry distance, 2000 random rays
+// over 3000 random boxes (small and large, overlapping); compared exactly, and any-hit must
+// agree on whether anything is hit at all.
 #[test]
 fn wide_traversal_matches_brute_force() {
     let mut next = uniform_stream(99);
@@ -217,10 +218,33 @@ fn wide_traversal_matches_brute_force() {
         });
     }
     let layouts = [NodeLayout::Float, NodeLayout::Quantised];
-    let bvhs = layouts.map(|l| Bvh::build_with_layout(&boxes, l));
+    let mut bvhs: Vec<Bvh> = layouts
+        .iter()
+        .map(|&l| Bvh::build_with_layout(&boxes, l))
+        .collect();
     for (bvh, layout) in bvhs.iter().zip(layouts) {
         assert_eq!(bvh.layout(), layout);
     }
+    // And the tree without merged leaves; the merged one must hold fewer leaf slots, so that
+    // merged leaves are part of what is compared.
+    let apart = Bvh::build_with_options(&boxes, NodeLayout::Float, false);
+    let leaf_slots = |b: &Bvh| -> usize {
+        b.nodes
+            .iter()
+            .map(|n| {
+                n.count[..n.slots as usize]
+                    .iter()
+                    .filter(|&&c| c > 0)
+                    .count()
+            })
+            .sum()
+    };
+    let (merged, separate) = (leaf_slots(&bvhs[0]), leaf_slots(&apart));
+    assert!(
+        merged < separate,
+        "{merged} merged against {separate} leaf slots"
+    );
+    bvhs.push(apart);
     let entry = |b: &Aabb, ray: &Ray, t_max: f32| -> Option<f32> {
         let inv = Vec3A::ONE / ray.dir;
         if !b.hit(ray.origin, inv, t_max) {
