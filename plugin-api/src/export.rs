@@ -595,6 +595,68 @@ macro_rules! export_plugin {
             extensions_v5()
         }
 
+        /// This plugin's extension module, version 6 (see `spectrace_plugin_api::extension`).
+        pub fn extensions_v6() -> $crate::extension::ExtensionsV6Export {
+            use $crate::__private::PrefixTypeTrait as _;
+            use $crate::__private::{RResult, RStr};
+            use $crate::error::PluginError;
+            use $crate::export::{construct, save, unknown_type, PluginType};
+            use $crate::extension::{
+                ExtensionsV6, ExtensionsV6Export, ExtensionsV6Ref, LightWithV6, MaterialWithV6,
+            };
+            use $crate::guard::guarded;
+            use $crate::host::HostRef;
+            use $crate::module::{ObjectKind, ObjectSource};
+
+            extern "C" fn create_light(
+                type_name: RStr<'_>,
+                source: ObjectSource<'_>,
+                host: HostRef<'_>,
+            ) -> RResult<LightWithV6, PluginError> {
+                guarded("create_light (v6)", || {
+                    let name = type_name.as_str();
+                    $(if name == <$light as PluginType>::TYPE_NAME {
+                        let obj = construct::<$light>(source, &host)?;
+                        return $crate::light::GuardedLight::boxed_v6(obj, save::<$light>)
+                            .into_result();
+                    })*
+                    Err(unknown_type(ObjectKind::Light, name, &[$(<$light as PluginType>::TYPE_NAME),*]))
+                })
+            }
+            extern "C" fn create_material(
+                type_name: RStr<'_>,
+                source: ObjectSource<'_>,
+                host: HostRef<'_>,
+            ) -> RResult<MaterialWithV6, PluginError> {
+                guarded("create_material (v6)", || {
+                    let name = type_name.as_str();
+                    $(if name == <$material as PluginType>::TYPE_NAME {
+                        let obj = construct::<$material>(source, &host)?;
+                        return $crate::material::GuardedMaterial::boxed_v6(obj, save::<$material>)
+                            .into_result();
+                    })*
+                    Err(unknown_type(
+                        ObjectKind::Material, name, &[$(<$material as PluginType>::TYPE_NAME),*]
+                    ))
+                })
+            }
+            ExtensionsV6Export {
+                layout: <ExtensionsV6Ref as $crate::__private::StableAbi>::LAYOUT,
+                module: ExtensionsV6 {
+                    create_light,
+                    create_material,
+                }
+                .leak_into_prefix(),
+            }
+        }
+
+        /// The exported extension module, version 6 (looked up by name by the host).
+        #[no_mangle]
+        pub extern "C" fn spectrace_plugin_extensions_v6() -> $crate::extension::ExtensionsV6Export {
+            $crate::guard::set_library_mode();
+            extensions_v6()
+        }
+
         /// The exported root module (what the host finds in the library).
         #[$crate::__private::export_root_module]
         pub fn spectrace_plugin_root_module() -> $crate::module::PluginModuleRef {

@@ -65,13 +65,27 @@
 //! carried in [`MaterialWithV5`]; the host checks the claim. Lights are built through v4 as
 //! before. A library older than v5 is served through v4 (evaluated again: always safe).
 //!
+//! Version 6 (`spectrace_plugin_extensions_v6`): a material says whether it samples directions
+//! with the cosine-weighted density
+//! ([`Material::cosine_weighted_pdf`](crate::Material::cosine_weighted_pdf): `|cos θi|/π` on
+//! `wo`'s side, 0 on the other), so the host computes the density itself instead of calling
+//! `pdf` (checked when the material is built); its emission comes through the host's layout
+//! ([`AbiMaterialEmittedV6`]); and lights get a face in the host's layout ([`AbiLightV6`]:
+//! `sample_toward`, `sample_emission` and `emission_pdf` with [`ReceiverF32`], [`IncidentF32`]
+//! and [`EmissionF32`] by reference, results written through a reference, no `f64`). The
+//! material calls of v5 stay as they are (already in the host's layout) and travel in
+//! [`MaterialWithV6`]. A library older than v6 is served through v5 (its density asked for, its
+//! lights through the `f64` calls: always safe).
+//!
 //! [`export_plugin!`](crate::export_plugin) exports every version for every plugin.
 //!
 //! [`LightSource::scene_bounds`]: crate::LightSource::scene_bounds
 //! [`LightSource::emission_spectrum`]: crate::LightSource::emission_spectrum
 
 use crate::error::PluginError;
-use crate::fast::{MaterialQuery, QueryV5, ScatterF32};
+use crate::fast::{
+    EmissionF32, IncidentF32, LanesF32, MaterialQuery, QueryV5, ReceiverF32, ScatterF32, Vec4f,
+};
 use crate::guard::guarded;
 use crate::host::HostRef;
 use crate::light::LightBox;
@@ -518,4 +532,133 @@ pub struct ExtensionsV5Export {
     pub layout: &'static TypeLayout,
     /// The module.
     pub module: ExtensionsV5Ref,
+}
+
+// ----------------------------------------------------------------------------------------------
+// Version 6
+
+/// The symbol (NUL-terminated) of extension version 6: an `extern "C" fn() ->`
+/// [`ExtensionsV6Export`].
+pub const EXTENSIONS_V6_SYMBOL: &[u8] = b"spectrace_plugin_extensions_v6\0";
+
+/// A material's emission in the host's layout (extension v6): writes the radiance towards
+/// `q.wo` per lane (W/(m²·sr·nm)) through `out`. An error, or a panic caught on the plugin's
+/// side, comes back as `RErr` and `out` is not to be read.
+#[sabi_trait]
+pub trait AbiMaterialEmittedV6: Send + Sync {
+    /// See [`crate::Material::emitted_v6`].
+    #[sabi(last_prefix_field)]
+    fn emitted(&self, q: &QueryV5<'_>, out: &mut [f32; LANES]) -> RResult<(), PluginError>;
+}
+
+/// The version-6 emission face of a material, owned.
+pub type MaterialEmittedV6Box = AbiMaterialEmittedV6_TO<'static, RBox<()>>;
+
+/// A material built through version 6: the faces of versions 1–3, the v5 calls, its emission
+/// in the host's layout, and what the material declares. All faces share one object.
+#[repr(C)]
+#[derive(StableAbi)]
+pub struct MaterialWithV6 {
+    /// What the root module's `create_material` returns.
+    pub material: MaterialBox,
+    /// The calls added in version 2, on the same object.
+    pub v2: MaterialV2Box,
+    /// The re-radiation added in version 3; none for a material that does not fluoresce.
+    pub reradiation: ROption<ReradiationBox>,
+    /// The calls of version 5 (sample, eval, pdf), on the same object.
+    pub v5: MaterialV5Box,
+    /// The emission of version 6, on the same object.
+    pub emitted: MaterialEmittedV6Box,
+    /// [`Material::spectrally_flat`](crate::Material::spectrally_flat), read once.
+    pub spectrally_flat: bool,
+    /// [`Material::f_same_for_all_directions`](crate::Material::f_same_for_all_directions),
+    /// read once.
+    pub f_same_for_all_directions: bool,
+    /// [`Material::cosine_weighted_pdf`](crate::Material::cosine_weighted_pdf), read once.
+    pub cosine_weighted_pdf: bool,
+}
+
+/// The light calls of version 6: those of the root module that the renderer makes per sample,
+/// in the host's single-precision layout, by reference, the result written through `out`
+/// (`sample_toward` and `sample_emission` answer whether they wrote one; a density of 0 in it
+/// also means no sample). An error, or a panic caught on the plugin's side, comes back as `RErr`
+/// and `out` is not to be read.
+#[sabi_trait]
+pub trait AbiLightV6: Send + Sync {
+    /// See [`crate::LightSource::sample_toward_v6`].
+    fn sample_toward(
+        &self,
+        receiver: &ReceiverF32,
+        u: &[f32; 2],
+        lambda: &LanesF32,
+        out: &mut IncidentF32,
+    ) -> RResult<bool, PluginError>;
+    /// See [`crate::LightSource::sample_emission_v6`].
+    fn sample_emission(
+        &self,
+        u: &[f32; 4],
+        lambda: &LanesF32,
+        out: &mut EmissionF32,
+    ) -> RResult<bool, PluginError>;
+    /// See [`crate::LightSource::emission_pdf_v6`]: writes the densities of position (1/m²) and
+    /// direction (1/sr).
+    #[sabi(last_prefix_field)]
+    fn emission_pdf(
+        &self,
+        origin: &Vec4f,
+        direction: &Vec4f,
+        out: &mut [f32; 2],
+    ) -> RResult<(), PluginError>;
+}
+
+/// The version-6 face of a light, owned.
+pub type LightV6Box = AbiLightV6_TO<'static, RBox<()>>;
+
+/// A light built through version 6: the faces of versions 1, 2 and 6 and what the light
+/// declares about its spectrum. All faces share one object.
+#[repr(C)]
+#[derive(StableAbi)]
+pub struct LightWithV6 {
+    /// What the root module's `create_light` returns.
+    pub light: LightBox,
+    /// The calls added in version 2, on the same object.
+    pub v2: LightV2Box,
+    /// The calls of version 6, on the same object.
+    pub v6: LightV6Box,
+    /// [`LightSource::uniform_spectral_shape`](crate::LightSource::uniform_spectral_shape),
+    /// read once when the light was built.
+    pub uniform_spectral_shape: bool,
+}
+
+/// Extension version 6: constructors returning the v6 faces and declarations. Parameters and
+/// saved state as for the root module's.
+#[repr(C)]
+#[derive(StableAbi)]
+#[sabi(kind(Prefix(prefix_ref = ExtensionsV6Ref)))]
+#[sabi(missing_field(panic))]
+pub struct ExtensionsV6 {
+    /// Build a light with its faces and declaration.
+    pub create_light: extern "C" fn(
+        type_name: RStr<'_>,
+        source: ObjectSource<'_>,
+        host: HostRef<'_>,
+    ) -> RResult<LightWithV6, PluginError>,
+    /// Build a material with its faces and declarations.
+    #[sabi(last_prefix_field)]
+    pub create_material: extern "C" fn(
+        type_name: RStr<'_>,
+        source: ObjectSource<'_>,
+        host: HostRef<'_>,
+    ) -> RResult<MaterialWithV6, PluginError>,
+}
+
+/// What the version-6 symbol returns: the module's layout (checked by the host against its own
+/// before the module is touched) and the module.
+#[repr(C)]
+#[derive(StableAbi, Clone, Copy)]
+pub struct ExtensionsV6Export {
+    /// `<ExtensionsV6Ref as StableAbi>::LAYOUT` as the plugin was compiled.
+    pub layout: &'static TypeLayout,
+    /// The module.
+    pub module: ExtensionsV6Ref,
 }

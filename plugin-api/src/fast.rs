@@ -19,6 +19,9 @@
 //! | [`MaterialQuery`] | the surface, `wo`, `wi` (local frame), wavelengths, 3 uniforms, transport mode | |
 //! | [`ScatterF32`] | sampled `wi`, BSDF value per lane, density, event bits, relative IOR | 1/sr, 1/sr |
 //! | [`QueryV5`] | as [`MaterialQuery`], the surface by reference (extension v5) | |
+//! | [`ReceiverF32`] | the point a light is sampled from: position, its error bound, geometric normal (extension v6) | scene units |
+//! | [`IncidentF32`] | radiance per lane, unit direction to the light, density, point on the light, its error bound, light normal (extension v6) | W/(m²·sr·nm), 1/sr, scene units |
+//! | [`EmissionF32`] | origin, unit direction, emitted value per lane, densities of origin and direction, normal (extension v6) | scene units, W/(sr·nm) or W/(m²·sr·nm), 1/m², 1/sr |
 
 use crate::material::{ScatterSample, SurfaceContext};
 use crate::types::{Flags, RandomSample, SpectralValues, TransportMode, Vec3, Wavelengths, LANES};
@@ -215,4 +218,88 @@ impl ScatterF32 {
 #[inline]
 pub fn values_f32(v: &SpectralValues) -> [f32; LANES] {
     v.v.map(|x| x as f32)
+}
+
+/// The point a light is sampled from (extension v6): the `f32` form of the receiver of
+/// [`LightSource::sample_toward`](crate::LightSource::sample_toward), laid out as the host's own
+/// record of it and passed by reference. Vectors' `w` lanes are unspecified: read `x, y, z` only.
+#[repr(C)]
+#[derive(StableAbi, Clone, Copy, Debug, Default, PartialEq)]
+pub struct ReceiverF32 {
+    /// The point being lit (world, scene units).
+    pub p: Vec4f,
+    /// Its floating-point error bound per axis (scene units; 0 when unknown).
+    pub p_error: Vec4f,
+    /// Its geometric normal (world, unit; zero for points in media).
+    pub n: Vec4f,
+}
+
+/// A point on a light chosen as seen from a receiver (extension v6): the `f32` form of
+/// [`IncidentSample`](crate::IncidentSample), laid out as the host's own record, which the call
+/// writes in place. No distance: the host measures it from the two points.
+#[repr(C)]
+#[derive(StableAbi, Clone, Copy, Debug, Default, PartialEq)]
+pub struct IncidentF32 {
+    /// Radiance arriving at the receiver per lane, W/(m²·sr·nm) (for delta lights `I/d²`).
+    pub value: [f32; LANES],
+    /// Unit direction from the receiver towards the light.
+    pub direction: Vec4f,
+    /// Solid-angle density of `direction` (1/sr), or 1 for delta lights; 0: no sample.
+    pub pdf: f32,
+    /// The point on the light (scene units).
+    pub point: Vec4f,
+    /// Its floating-point error bound per axis (0 when exact).
+    pub point_error: Vec4f,
+    /// Light surface normal at `point`; zero when the light has no surface.
+    pub normal: Vec4f,
+}
+
+impl IncidentF32 {
+    /// From the `f64` sample of the older calls, rounded to `f32` (what the host did with them).
+    #[inline]
+    pub fn from_f64(s: &crate::IncidentSample) -> Self {
+        Self {
+            value: values_f32(&s.value),
+            direction: Vec4f::from_f64(s.direction),
+            pdf: s.pdf as f32,
+            point: Vec4f::from_f64(s.point),
+            point_error: Vec4f::default(),
+            normal: Vec4f::from_f64(s.normal),
+        }
+    }
+}
+
+/// A ray leaving a light (extension v6): the `f32` form of
+/// [`EmissionSample`](crate::EmissionSample).
+#[repr(C)]
+#[derive(StableAbi, Clone, Copy, Debug, Default, PartialEq)]
+pub struct EmissionF32 {
+    /// Start point (scene units).
+    pub origin: Vec4f,
+    /// Unit direction of travel.
+    pub direction: Vec4f,
+    /// Emitted value per lane: intensity W/(sr·nm) for point-like sources, radiance
+    /// W/(m²·sr·nm) for surfaces.
+    pub value: [f32; LANES],
+    /// Density of `origin`: per area (1/m²), or 1 for a delta position; 0: no sample.
+    pub pdf_position: f32,
+    /// Density of `direction`: per solid angle (1/sr), or 1 for a delta direction; 0: no sample.
+    pub pdf_direction: f32,
+    /// Surface normal at `origin`; zero for lights without a surface.
+    pub normal: Vec4f,
+}
+
+impl EmissionF32 {
+    /// From the `f64` sample of the older calls, rounded to `f32`.
+    #[inline]
+    pub fn from_f64(s: &crate::EmissionSample) -> Self {
+        Self {
+            origin: Vec4f::from_f64(s.origin),
+            direction: Vec4f::from_f64(s.direction),
+            value: values_f32(&s.value),
+            pdf_position: s.pdf_position as f32,
+            pdf_direction: s.pdf_direction as f32,
+            normal: Vec4f::from_f64(s.normal),
+        }
+    }
 }

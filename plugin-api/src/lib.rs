@@ -16,7 +16,9 @@
 //! for what later versions added (v2: scene bounds and emission spectra for lights, the
 //! surface's normals and exact emission for materials, spectral lines for SPDs; v3: fluorescent
 //! materials' re-radiation, see `reradiation`; v4: spectral flatness of materials and one
-//! spectral shape of lights, and the material calls in the host's own layout, see `fast`):
+//! spectral shape of lights, and the material calls in the host's own layout, see `fast`; v5:
+//! one BSDF value for every direction, the surface by reference; v6: the cosine-weighted
+//! density declared, emission and the lights' calls in the host's layout):
 //! provided methods of the same traits, so a plugin uses them by overriding them.
 //!
 //! Units: lengths in scene units, wavelengths in nm, power in W, solid angle in sr.
@@ -43,7 +45,10 @@ pub mod types;
 
 pub use error::{ErrorKind, PluginError, PluginResult};
 pub use export::{ParamDoc, PluginType};
-pub use fast::{LanesF32, MaterialQuery, QueryV5, ScatterF32, SurfaceF32, Vec4f};
+pub use fast::{
+    EmissionF32, IncidentF32, LanesF32, MaterialQuery, QueryV5, ReceiverF32, ScatterF32,
+    SurfaceF32, Vec4f,
+};
 pub use host::{Host, HostRef};
 pub use light::{
     light_flags, EmissionPdf, EmissionSample, IncidentSample, LightBox, LightSource,

@@ -5,8 +5,11 @@
 
 use crate::error::{PluginError, PluginResult};
 use crate::export::PluginType;
-use crate::extension::{AbiLightV2, LightWithV2, LightWithV4, SpdWithLines};
-use crate::guard::guarded;
+use crate::extension::{
+    AbiLightV2, AbiLightV6, LightWithV2, LightWithV4, LightWithV6, SpdWithLines,
+};
+use crate::fast::{EmissionF32, IncidentF32, LanesF32, ReceiverF32, Vec4f};
+use crate::guard::{guarded, guarded_call_v5};
 use crate::representation::{BeamRepresentation, RepresentedBeam};
 use crate::spd::Spd;
 use crate::types::{Beam, Flags, RandomSample, SceneBounds, SpectralValues, Vec3, Wavelengths};
@@ -177,6 +180,49 @@ pub trait LightSource: Send + Sync + 'static {
     fn uniform_spectral_shape(&self) -> bool {
         false
     }
+    /// Extension v6: [`sample_toward`](Self::sample_toward) in the host's single-precision
+    /// layout (see [`crate::fast`]), writing the sample into `out` (`Ok(false)`: none; a
+    /// density of 0 in `out` means none as well). The default converts to `f64`, calls
+    /// `sample_toward` and rounds the result to `f32`, exactly what the host did with that call
+    /// (the sample's `distance` is not passed on: the host measures it from the points); a light
+    /// that computes in `f32` may override it and skip both conversions.
+    fn sample_toward_v6(
+        &self,
+        receiver: &ReceiverF32,
+        u: [f32; 2],
+        lambda: &LanesF32,
+        out: &mut IncidentF32,
+    ) -> PluginResult<bool> {
+        let mut sample = RandomSample::default();
+        sample.u[0] = u[0] as f64;
+        sample.u[1] = u[1] as f64;
+        let s = self.sample_toward(receiver.p.to_f64(), &sample, &lambda.to_f64())?;
+        *out = IncidentF32::from_f64(&s);
+        Ok(true)
+    }
+    /// Extension v6: [`sample_emission`](Self::sample_emission) in the host's layout (`u` as
+    /// its `sample.u[0..4]`), writing into `out`. The default converts as
+    /// [`sample_toward_v6`](Self::sample_toward_v6) does.
+    fn sample_emission_v6(
+        &self,
+        u: [f32; 4],
+        lambda: &LanesF32,
+        out: &mut EmissionF32,
+    ) -> PluginResult<bool> {
+        let mut sample = RandomSample::default();
+        for (d, s) in sample.u.iter_mut().zip(u) {
+            *d = s as f64;
+        }
+        *out = EmissionF32::from_f64(&self.sample_emission(&sample, &lambda.to_f64())?);
+        Ok(true)
+    }
+    /// Extension v6: [`emission_pdf`](Self::emission_pdf) in the host's layout: the densities
+    /// of position (1/m²) and direction (1/sr). The default converts as
+    /// [`sample_toward_v6`](Self::sample_toward_v6) does.
+    fn emission_pdf_v6(&self, origin: &Vec4f, direction: &Vec4f) -> PluginResult<[f32; 2]> {
+        let p = self.emission_pdf(origin.to_f64(), direction.to_f64())?;
+        Ok([p.position as f32, p.direction as f32])
+    }
 }
 
 /// The stable-ABI face of a light source. Hosts call this; authors implement [`LightSource`].
@@ -294,6 +340,37 @@ impl<T: LightSource + PluginType> GuardedLight<T> {
         })
     }
 
+    /// Box `inner` behind the ABI with its faces of versions 2 and 6 and its declaration
+    /// (extension v6), one object behind every face.
+    pub fn boxed_v6(
+        inner: T,
+        state: fn(&T) -> PluginResult<Vec<u8>>,
+    ) -> RResult<LightWithV6, PluginError> {
+        crate::guard::install();
+        let uniform = match guarded("uniform_spectral_shape", || {
+            Ok(inner.uniform_spectral_shape())
+        }) {
+            RResult::ROk(u) => u,
+            RResult::RErr(e) => return RResult::RErr(e),
+        };
+        let guarded = Self::new(inner, state);
+        RResult::ROk(LightWithV6 {
+            light: AbiLightSource_TO::from_value(
+                guarded.clone(),
+                abi_stable::sabi_trait::TD_Opaque,
+            ),
+            v2: crate::extension::AbiLightV2_TO::from_value(
+                guarded.clone(),
+                abi_stable::sabi_trait::TD_Opaque,
+            ),
+            v6: crate::extension::AbiLightV6_TO::from_value(
+                guarded,
+                abi_stable::sabi_trait::TD_Opaque,
+            ),
+            uniform_spectral_shape: uniform,
+        })
+    }
+
     /// Box `inner` behind the ABI as a light in its own representation
     /// ([`crate::extension::AbiRepresentedLight`]).
     pub fn boxed_represented(
@@ -324,6 +401,47 @@ impl<T: LightSource + PluginType> AbiLightV2 for GuardedLight<T> {
             RResult::ROk(None) => RResult::ROk(ROption::RNone),
             RResult::RErr(e) => RResult::RErr(e),
         }
+    }
+}
+
+impl<T: LightSource + PluginType> AbiLightV6 for GuardedLight<T> {
+    #[inline]
+    fn sample_toward(
+        &self,
+        receiver: &ReceiverF32,
+        u: &[f32; 2],
+        lambda: &LanesF32,
+        out: &mut IncidentF32,
+    ) -> RResult<bool, PluginError> {
+        guarded_call_v5("sample_toward (v6)", || {
+            self.inner.sample_toward_v6(receiver, *u, lambda, out)
+        })
+        .into()
+    }
+    #[inline]
+    fn sample_emission(
+        &self,
+        u: &[f32; 4],
+        lambda: &LanesF32,
+        out: &mut EmissionF32,
+    ) -> RResult<bool, PluginError> {
+        guarded_call_v5("sample_emission (v6)", || {
+            self.inner.sample_emission_v6(*u, lambda, out)
+        })
+        .into()
+    }
+    #[inline]
+    fn emission_pdf(
+        &self,
+        origin: &Vec4f,
+        direction: &Vec4f,
+        out: &mut [f32; 2],
+    ) -> RResult<(), PluginError> {
+        guarded_call_v5("emission_pdf (v6)", || {
+            *out = self.inner.emission_pdf_v6(origin, direction)?;
+            Ok(())
+        })
+        .into()
     }
 }
 

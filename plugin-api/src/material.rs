@@ -3,8 +3,8 @@
 
 use crate::error::{PluginError, PluginResult};
 use crate::extension::{
-    AbiMaterialV2, AbiMaterialV4, AbiMaterialV5, MaterialEmission, MaterialWithV2, MaterialWithV3,
-    MaterialWithV4, MaterialWithV5, SpdWithLines,
+    AbiMaterialEmittedV6, AbiMaterialV2, AbiMaterialV4, AbiMaterialV5, MaterialEmission,
+    MaterialWithV2, MaterialWithV3, MaterialWithV4, MaterialWithV5, MaterialWithV6, SpdWithLines,
 };
 use crate::fast::{values_f32, MaterialQuery, QueryV5, ScatterF32};
 use crate::guard::{guarded, guarded_call, guarded_call_v5};
@@ -246,6 +246,24 @@ pub trait Material: Send + Sync + 'static {
     fn f_same_for_all_directions(&self) -> bool {
         false
     }
+    /// True when `sample` draws `wi` with the cosine-weighted density on `wo`'s side, so that
+    /// `pdf(wo, wi)` is `|cos θi|/π` for `wi` on that side and 0 on the other (an ideal diffuse
+    /// reflector sampled as usual), and `sample`'s own density is that value (extension v6).
+    /// The host then computes the density itself instead of calling `pdf`, as its own
+    /// Lambertian costs. Asked once, when the material is built; the host checks the claim at
+    /// a few directions and refuses a material whose answers contradict it. `false` (the
+    /// default) is always safe.
+    fn cosine_weighted_pdf(&self) -> bool {
+        false
+    }
+    /// [`emitted_at`](Self::emitted_at) in the host's layout (extension v6), with the query
+    /// of the v5 calls (`wo` and the surface; `wi` and the uniforms unused): the radiance
+    /// towards `wo` per lane, W/(m²·sr·nm). The default converts the query to `f64`, calls
+    /// `emitted_at` and rounds to `f32`, what the host did with the older call.
+    fn emitted_v6(&self, q: &QueryV5<'_>) -> PluginResult<[f32; LANES]> {
+        let v = self.emitted_at(&q.ctx.to_f64(), q.wo.to_f64(), &q.lambda.to_f64())?;
+        Ok(values_f32(&v))
+    }
     /// [`sample_at`](Self::sample_at) in the host's single-precision layout (extension v4; see
     /// [`crate::fast`]). The default converts the query to `f64`, calls `sample_at` and rounds
     /// the result to `f32`, exactly what the host did with the older calls; a material that
@@ -483,6 +501,63 @@ impl<T: Material> GuardedMaterial<T> {
             spectrally_flat,
             f_same_for_all_directions,
         })
+    }
+}
+
+impl<T: Material> GuardedMaterial<T> {
+    /// Box `inner` behind the ABI with every face (versions 2, 3, 5 and 6) and its
+    /// declarations (extensions v4 to v6); one object behind all of them.
+    pub fn boxed_v6(
+        inner: T,
+        state: fn(&T) -> PluginResult<Vec<u8>>,
+    ) -> RResult<MaterialWithV6, PluginError> {
+        crate::guard::install();
+        let declared = guarded("spectrally_flat", || {
+            Ok((
+                inner.spectrally_flat(),
+                inner.f_same_for_all_directions(),
+                inner.cosine_weighted_pdf(),
+            ))
+        });
+        let (spectrally_flat, f_same_for_all_directions, cosine_weighted_pdf) = match declared {
+            RResult::ROk(d) => d,
+            RResult::RErr(e) => return RResult::RErr(e),
+        };
+        let inner = Arc::new(inner);
+        let v3 = match Self::faces_v3(inner.clone(), state) {
+            RResult::ROk(m) => m,
+            RResult::RErr(e) => return RResult::RErr(e),
+        };
+        RResult::ROk(MaterialWithV6 {
+            material: v3.material,
+            v2: v3.v2,
+            reradiation: v3.reradiation,
+            v5: crate::extension::AbiMaterialV5_TO::from_value(
+                Self {
+                    inner: inner.clone(),
+                    state,
+                },
+                abi_stable::sabi_trait::TD_Opaque,
+            ),
+            emitted: crate::extension::AbiMaterialEmittedV6_TO::from_value(
+                Self { inner, state },
+                abi_stable::sabi_trait::TD_Opaque,
+            ),
+            spectrally_flat,
+            f_same_for_all_directions,
+            cosine_weighted_pdf,
+        })
+    }
+}
+
+impl<T: Material> AbiMaterialEmittedV6 for GuardedMaterial<T> {
+    #[inline]
+    fn emitted(&self, q: &QueryV5<'_>, out: &mut [f32; LANES]) -> RResult<(), PluginError> {
+        guarded_call_v5("emitted (v6)", || {
+            *out = self.inner.emitted_v6(q)?;
+            Ok(())
+        })
+        .into()
     }
 }
 

@@ -35,10 +35,12 @@
 //! of materials, one spectral shape of lights, and the material calls in the host's layout, see
 //! [`fast`](crate::fast)) and `spectrace_plugin_extensions_v5` (one BSDF value for every
 //! direction, the material calls with the surface by reference and results through a
-//! reference). The workspace test `api_growth` loads plugins built against frozen copies of the
-//! API at 0.1.0 (`plugins/fixtures/api-0.1.0/`), at extension v1 (`plugins/fixtures/api-ext-v1/`),
-//! at extension v2 (`plugins/fixtures/api-ext-v2/`), at extension v3
-//! (`plugins/fixtures/api-ext-v3/`) and at extension v4 (`plugins/fixtures/api-ext-v4/`).
+//! reference) and `spectrace_plugin_extensions_v6` (the cosine-weighted density, emission and
+//! the lights' calls in the host's layout). The workspace test `api_growth` loads plugins built
+//! against frozen copies of the API at 0.1.0 (`plugins/fixtures/api-0.1.0/`), at extension v1
+//! (`plugins/fixtures/api-ext-v1/`), at extension v2 (`plugins/fixtures/api-ext-v2/`), at
+//! extension v3 (`plugins/fixtures/api-ext-v3/`), at extension v4 (`plugins/fixtures/api-ext-v4/`)
+//! and at extension v5 (`plugins/fixtures/api-ext-v5/`).
 
 use crate::error::PluginError;
 use crate::host::HostRef;

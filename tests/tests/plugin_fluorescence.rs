@@ -142,6 +142,36 @@ fn energy_creating_or_nan_reradiation_is_refused_when_built() {
     }
 }
 
+/// A false claim of the cosine-weighted density (extension v6: the host would compute `pdf`
+/// itself and never see the material's own) is refused when the material is built, naming the
+/// plugin, the type, the scene's material, the declaration and the density found against the
+/// cosine's. The liar's `sample` and `pdf` say 1/(2π) = 0.159 1/sr, where the cosine density
+/// of its first probe direction is far from it; the honest liar keeps the claim off and its
+/// density is asked for as before (`cosine_weighted_pdf` false on the built scene).
+#[test]
+fn a_false_cosine_density_claim_is_refused_when_built() {
+    let f = factory();
+    let Err(e) = build(&f, &scene_text("liar", "(lie: \"cosine\")", 400)) else {
+        panic!("a false claim of the cosine-weighted density is refused");
+    };
+    eprintln!("{e}");
+    for want in [
+        "lying-fluorescent",
+        "material `liar`",
+        "material \"patch\"",
+        "cosine-weighted density",
+        "cosine_weighted_pdf",
+        "`sample`",
+        "0.15915",
+    ] {
+        assert!(e.contains(want), "missing {want:?} in: {e}");
+    }
+    let scene = build(&f, &scene_text("liar", "(lie: \"none\")", 400)).unwrap();
+    let patch = &scene.objects.objects()[0];
+    assert_eq!(patch.name, "patch");
+    assert!(!patch.material.cosine_weighted_pdf());
+}
+
 /// Lies that only show while rendering: the render finishes with a finite image, the bad
 /// results are dropped (they contribute nothing) and counted per plugin object and reason, and
 /// the report names the plugin, the scene's material and what was wrong. NaN densities of

@@ -489,10 +489,12 @@ fn scenes_render_bit_for_bit_with_all_types_from_the_library() {
 /// `sun_and_sky.ron` 0 of 3, `fluorescence.ron` 3 of 7), and the area lights (1, 1, 0, 2).
 /// Likewise whether its BSDF value is the same for every direction
 /// (`Material::f_same_for_all_directions`, extension v5, also checked by the host when built;
-/// the Lambertian surfaces, which every scene but `sun_and_sky.ron` has).
+/// the Lambertian surfaces, which every scene but `sun_and_sky.ron` has), and whether it samples
+/// with the cosine-weighted density (`Material::cosine_weighted_pdf`, extension v6, checked
+/// when built; the same Lambertian surfaces).
 #[test]
 fn library_declares_flatness_where_the_builtins_do() {
-    let (mut flat, mut uniform, mut same_f) = (0, 0, 0);
+    let (mut flat, mut uniform, mut same_f, mut cosine) = (0, 0, 0, 0);
     for (name, desc) in scenes() {
         let (a, _) = build(&desc, spectrace::plugin::builtin_registry());
         let (b, _) = build(&desc, library_registry());
@@ -521,6 +523,15 @@ fn library_declares_flatness_where_the_builtins_do() {
         };
         assert_eq!(same(&a), same(&b), "{name}: f the same for all directions");
         same_f += same(&a).iter().filter(|&&f| f).count();
+        let cos = |s: &spectrace::scene::Scene| -> Vec<bool> {
+            s.objects
+                .objects()
+                .iter()
+                .map(|o| o.material.cosine_weighted_pdf())
+                .collect()
+        };
+        assert_eq!(cos(&a), cos(&b), "{name}: cosine-weighted density");
+        cosine += cos(&a).iter().filter(|&&c| c).count();
         flat += objects(&a).iter().filter(|o| o.1).count();
         uniform += lights(&a).iter().filter(|&&u| u).count();
         eprintln!(
@@ -532,8 +543,8 @@ fn library_declares_flatness_where_the_builtins_do() {
         );
     }
     assert!(
-        flat > 0 && uniform > 0 && same_f > 0,
-        "flat {flat}, uniform {uniform}, same f {same_f}"
+        flat > 0 && uniform > 0 && same_f > 0 && cosine > 0,
+        "flat {flat}, uniform {uniform}, same f {same_f}, cosine {cosine}"
     );
 }
 

@@ -31,8 +31,10 @@ use glam::{Vec2, Vec3A};
 use std::fmt::Debug;
 use std::sync::Arc;
 
-/// The receiving point of a light sample.
+/// The receiving point of a light sample. `#[repr(C)]` in the plugin interface's `ReceiverF32`
+/// layout: extension v6 passes it to plugin lights by reference (`plugin::layout`).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C)]
 pub struct LightSampleContext {
     /// Point being lit (world).
     pub p: Vec3A,
@@ -42,8 +44,10 @@ pub struct LightSampleContext {
     pub n: Vec3A,
 }
 
-/// Light arriving at a point from a sampled light position.
+/// Light arriving at a point from a sampled light position. `#[repr(C)]` in the plugin
+/// interface's `IncidentF32` layout: a plugin light writes it in place (extension v6).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C)]
 pub struct LightLiSample {
     /// Incident radiance carried along `wi` (W/(m²·sr·nm)); for delta lights the equivalent
     /// `I/d²` or `E` so that the estimator is `f·L·|cos|/pdf` in every case.

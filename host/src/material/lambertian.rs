@@ -33,6 +33,11 @@ impl Material for Lambertian {
         true
     }
 
+    /// `sample` draws the cosine-weighted hemisphere and `pdf` is `|cos θi|/π` on `wo`'s side.
+    fn cosine_weighted_pdf(&self) -> bool {
+        true
+    }
+
     fn spectrally_flat(&self) -> bool {
         self.reflectance.grey().is_some()
     }

@@ -85,8 +85,10 @@ impl ShadingContext {
     }
 }
 
-/// A sampled scattering direction.
+/// A sampled scattering direction. `#[repr(C)]` in the plugin interface's `ScatterF32` layout:
+/// a plugin material writes it in place (`plugin::layout`).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C)]
 pub struct BsdfSample {
     /// Sampled incident direction, local frame, unit.
     pub wi: Vec3A,
@@ -183,6 +185,14 @@ pub trait Material: Send + Sync + Debug {
     /// next-event estimation at the same point instead of evaluating the reflectance again.
     /// The default `false` is always safe.
     fn f_same_for_all_directions(&self) -> bool {
+        false
+    }
+
+    /// True when [`sample`](Self::sample) draws `wi` with the cosine-weighted density, so that
+    /// [`pdf`](Self::pdf) is `|cos θi|/π` on `wo`'s side and 0 on the other (an ideal diffuse
+    /// reflector): a plugin material that declares it has its density computed by the host
+    /// instead of called for (`plugin::cosine_pdf`). The default `false` is always safe.
+    fn cosine_weighted_pdf(&self) -> bool {
         false
     }
 

@@ -24,11 +24,13 @@ use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spd, SpdSample, LANES
 use glam::{Vec2, Vec3A};
 use spectrace_plugin_api::abi::std_types::{ROption, RResult};
 use spectrace_plugin_api::extension::{
-    LightV2Box, LightWithV2, LightWithV4, MaterialV2Box, MaterialV4Box, MaterialV5Box,
-    MaterialWithV2, MaterialWithV3, MaterialWithV4, MaterialWithV5, RepresentedLightBox,
-    SpdWithLines,
+    LightV2Box, LightV6Box, LightWithV2, LightWithV4, LightWithV6, MaterialEmittedV6Box,
+    MaterialV2Box, MaterialV4Box, MaterialV5Box, MaterialWithV2, MaterialWithV3, MaterialWithV4,
+    MaterialWithV5, MaterialWithV6, RepresentedLightBox, SpdWithLines,
 };
-use spectrace_plugin_api::fast::{LanesF32, MaterialQuery, QueryV5, ScatterF32, SurfaceF32, Vec4f};
+use spectrace_plugin_api::fast::{
+    EmissionF32, LanesF32, MaterialQuery, QueryV5, ScatterF32, SurfaceF32, Vec4f,
+};
 use spectrace_plugin_api::{
     light_flags, material_flags, spd_flags, Beam, Flags, LightBox, MaterialBox, ObserverBox,
     PluginError, RandomSample, SceneBounds, SpdBox, SpectralValues, SurfaceContext, TransportMode,
@@ -468,10 +470,19 @@ fn event_bits(f: Flags) -> MaterialFlags {
     MaterialFlags(u32::from(EVENT_TABLE[(f.0 & 0x7f) as usize]))
 }
 
-/// The host's vector in the interface's layout: one SIMD register, `w` cleared.
+/// The host's vector in the interface's layout: one SIMD register, `w` cleared (a lane select
+/// against zero, one AND on SSE, so `x, y, z` keep their bits).
 #[inline]
 fn v4f(v: Vec3A) -> Vec4f {
-    let [x, y, z, w] = v.extend(0.0).to_array();
+    #[cfg(target_arch = "x86_64")]
+    let v = glam::Vec4::select(
+        glam::BVec4A::new(true, true, true, false),
+        glam::Vec4::from(std::arch::x86_64::__m128::from(v)),
+        glam::Vec4::ZERO,
+    );
+    #[cfg(not(target_arch = "x86_64"))]
+    let v = v.extend(0.0);
+    let [x, y, z, w] = v.to_array();
     Vec4f { x, y, z, w }
 }
 
@@ -480,6 +491,16 @@ fn v4f(v: Vec3A) -> Vec4f {
 #[inline]
 fn host_v(v: Vec4f) -> Vec3A {
     Vec3A::new(v.x, v.y, v.z)
+}
+
+/// The path's wavelengths in the interface's layout (the same `f32`s).
+#[inline]
+fn lanes_f32(lambda: &SampledWavelengths) -> LanesF32 {
+    LanesF32 {
+        nm: lambda.lambda,
+        pdf: lambda.pdf,
+        live: u32::from(lambda.lanes.bits()),
+    }
 }
 
 /// One extension-v4 material query: the host's own `f32` data copied into the interface's
@@ -502,11 +523,7 @@ fn query(
         },
         wo: v4f(wo),
         wi: v4f(wi),
-        lambda: LanesF32 {
-            nm: lambda.lambda,
-            pdf: lambda.pdf,
-            live: u32::from(lambda.lanes.bits()),
-        },
+        lambda: lanes_f32(lambda),
         u,
         mode: mode(m),
     }
@@ -527,11 +544,7 @@ fn query_v5<'a>(
         ctx: super::layout::as_surface(ctx),
         wo: v4f(wo),
         wi: v4f(wi),
-        lambda: LanesF32 {
-            nm: lambda.lambda,
-            pdf: lambda.pdf,
-            live: u32::from(lambda.lanes.bits()),
-        },
+        lambda: lanes_f32(lambda),
         u,
         mode: mode(m),
     }
@@ -562,6 +575,11 @@ pub struct PluginMaterial {
     /// Declared to have one BSDF value for every direction (extension v5) and found so when
     /// built ([`Self::new_v5`]).
     same_f: bool,
+    /// The same material's emission in the host's layout (extension v6).
+    emitted_v6: Option<MaterialEmittedV6Box>,
+    /// Declared to sample with the cosine-weighted density (extension v6) and found so when
+    /// built ([`Self::new_v6`]): `pdf` is then computed here ([`super::cosine_pdf`]).
+    cosine: bool,
     origin: Origin,
 }
 
@@ -680,6 +698,47 @@ impl PluginMaterial {
         Ok(m)
     }
 
+    /// Wrap a material built through extension v6: as [`Self::new_v5`] (the v5 calls, both
+    /// declarations checked), with its emission in the host's layout and its declaration of the
+    /// cosine-weighted density, checked (see [`super::cosine_pdf`]): a claim the material's own
+    /// answers contradict is refused, naming the plugin object and `item`.
+    pub fn new_v6(material: MaterialWithV6, origin: Origin, item: &str) -> Result<Self, String> {
+        let MaterialWithV6 {
+            material,
+            v2,
+            reradiation,
+            v5,
+            emitted,
+            spectrally_flat,
+            f_same_for_all_directions,
+            cosine_weighted_pdf,
+        } = material;
+        let mut m = Self::new_v5(
+            MaterialWithV5 {
+                material,
+                v2,
+                reradiation,
+                v5,
+                spectrally_flat,
+                f_same_for_all_directions,
+            },
+            origin,
+            item,
+        )?;
+        m.emitted_v6 = Some(emitted);
+        if cosine_weighted_pdf {
+            super::cosine_pdf::check(&m).map_err(|e| {
+                format!(
+                    "{} as {item}: declares the cosine-weighted density \
+                     (cosine_weighted_pdf, extension v6), but {e}",
+                    m.origin.label
+                )
+            })?;
+            m.cosine = true;
+        }
+        Ok(m)
+    }
+
     fn build(material: MaterialBox, v2: Option<MaterialV2Box>, origin: Origin) -> Self {
         let flags = material_bits(material.capabilities(), None);
         let emission = if flags.contains(MaterialFlags::EMISSIVE) {
@@ -709,6 +768,8 @@ impl PluginMaterial {
             v5: None,
             flat: false,
             same_f: false,
+            emitted_v6: None,
+            cosine: false,
             origin,
         }
     }
@@ -815,10 +876,22 @@ impl Material for PluginMaterial {
     ) -> Option<BsdfSample> {
         if let Some(v5) = &self.v5 {
             let q = query_v5(wo, Vec3A::ZERO, ctx, lambda, [u_lobe, u.x, u.y], m);
-            let mut s = ScatterF32::default();
-            return match v5.sample(&q, &mut s) {
-                RResult::ROk(true) => match checked::scatter_f32(&s) {
-                    Ok(()) => Some(Self::bsdf_sample(&s)),
+            // Written by the plugin in place (see `super::layout`), checked, and its event bits
+            // translated to the host's.
+            let mut s = BsdfSample {
+                wi: Vec3A::ZERO,
+                f: SampledSpectrum::zero(),
+                pdf: 0.0,
+                flags: MaterialFlags::NONE,
+                eta: 0.0,
+            };
+            let out = super::layout::as_scatter_mut(&mut s);
+            return match v5.sample(&q, out) {
+                RResult::ROk(true) => match checked::scatter_f32(out) {
+                    Ok(()) => {
+                        s.flags = event_bits(Flags(s.flags.0));
+                        Some(s)
+                    }
                     Err(reason) => {
                         self.origin.dropped(reason);
                         None
@@ -919,6 +992,9 @@ impl Material for PluginMaterial {
         lambda: &SampledWavelengths,
         m: HostMode,
     ) -> f32 {
+        if self.cosine {
+            return super::cosine_pdf::cosine_pdf(wo, wi);
+        }
         if let Some(v5) = &self.v5 {
             let q = query_v5(wo, wi, ctx, lambda, [0.0; 3], m);
             let mut p = 0.0;
@@ -968,6 +1044,10 @@ impl Material for PluginMaterial {
         self.same_f
     }
 
+    fn cosine_weighted_pdf(&self) -> bool {
+        self.cosine
+    }
+
     fn reradiation(&self) -> Option<&dyn crate::spectrum::reradiation::Reradiation> {
         self.reradiation
             .as_ref()
@@ -982,6 +1062,20 @@ impl Material for PluginMaterial {
     ) -> SampledSpectrum {
         if !self.flags.contains(MaterialFlags::EMISSIVE) {
             return SampledSpectrum::zero();
+        }
+        if let Some(e) = &self.emitted_v6 {
+            let q = query_v5(wo, Vec3A::ZERO, ctx, lambda, [0.0; 3], HostMode::Radiance);
+            let mut v = [0.0; LANES];
+            return match e.emitted(&q, &mut v) {
+                RResult::ROk(()) => match checked::values_f32(&v) {
+                    Ok(()) => SampledSpectrum(v),
+                    Err(reason) => {
+                        self.origin.dropped(reason);
+                        SampledSpectrum::zero()
+                    }
+                },
+                RResult::RErr(e) => self.origin.fail(e, SampledSpectrum::zero()),
+            };
         }
         let r = match &self.v2 {
             Some(v2) => v2.emitted(&Self::surface(ctx), v3(wo), &lambdas(lambda)),
@@ -1183,6 +1277,9 @@ pub struct PluginLight {
     represented: Option<(RepresentedLightBox, BeamConverter)>,
     /// Declared through extension v4: the emission has one spectral shape everywhere.
     uniform: bool,
+    /// The same light's calls in the host's layout (extension v6); not for environments,
+    /// which the host samples itself.
+    v6: Option<LightV6Box>,
 }
 
 impl PluginLight {
@@ -1215,6 +1312,30 @@ impl PluginLight {
             )?;
         }
         l.uniform = light.uniform_spectral_shape;
+        Ok(l)
+    }
+
+    /// Wrap a light built through extension v6: as [`Self::new_v4`] (its declaration checked),
+    /// with `sample_li`, `sample_le` and `pdf_le` through the v6 face, in the host's layout.
+    pub fn new_v6(light: LightWithV6, origin: Origin, item: &str) -> Result<Self, String> {
+        let LightWithV6 {
+            light,
+            v2,
+            v6,
+            uniform_spectral_shape,
+        } = light;
+        let mut l = Self::new_v4(
+            LightWithV4 {
+                light,
+                v2,
+                uniform_spectral_shape,
+            },
+            origin,
+            item,
+        )?;
+        if l.environment.is_none() {
+            l.v6 = Some(v6);
+        }
         Ok(l)
     }
 
@@ -1276,6 +1397,7 @@ impl PluginLight {
             environment,
             represented: None,
             uniform: false,
+            v6: None,
         }
     }
 
@@ -1356,6 +1478,31 @@ impl Light for PluginLight {
         if self.flags.contains(LightFlags::BEAMS_ONLY) {
             return None;
         }
+        if let Some(v6) = &self.v6 {
+            // Written by the plugin in place (see `super::layout`), then checked.
+            let mut s = LightLiSample {
+                radiance: SampledSpectrum::zero(),
+                wi: Vec3A::ZERO,
+                pdf: 0.0,
+                p_light: Vec3A::ZERO,
+                p_light_error: Vec3A::ZERO,
+                n_light: Vec3A::ZERO,
+            };
+            let receiver = super::layout::as_receiver(ctx);
+            let out = super::layout::as_incident_mut(&mut s);
+            return match v6.sample_toward(receiver, &[u.x, u.y], &lanes_f32(lambda), out) {
+                RResult::ROk(true) => match checked::incident_f32(out) {
+                    Ok(()) if s.pdf > 0.0 => Some(s),
+                    Ok(()) => None,
+                    Err(reason) => {
+                        self.origin.dropped(reason);
+                        None
+                    }
+                },
+                RResult::ROk(false) => None,
+                RResult::RErr(e) => self.origin.fail(e, None),
+            };
+        }
         let r = self
             .light
             .sample_toward(v3(ctx.p), &sample_from(&[u.x, u.y]), &lambdas(lambda));
@@ -1407,6 +1554,30 @@ impl Light for PluginLight {
         }
         if self.flags.contains(LightFlags::BEAMS_ONLY) {
             return None;
+        }
+        if let Some(v6) = &self.v6 {
+            let mut s = EmissionF32::default();
+            let u = [u1.x, u1.y, u2.x, u2.y];
+            return match v6.sample_emission(&u, &lanes_f32(lambda), &mut s) {
+                RResult::ROk(true) => match checked::emission_f32(&s) {
+                    Ok(()) if s.pdf_position > 0.0 && s.pdf_direction > 0.0 => {
+                        Some(LightLeSample {
+                            ray: Ray::new(host_v(s.origin), host_v(s.direction)),
+                            radiance: SampledSpectrum(s.value),
+                            pdf_pos: s.pdf_position,
+                            pdf_dir: s.pdf_direction,
+                            normal: host_v(s.normal),
+                        })
+                    }
+                    Ok(()) => None,
+                    Err(reason) => {
+                        self.origin.dropped(reason);
+                        None
+                    }
+                },
+                RResult::ROk(false) => None,
+                RResult::RErr(e) => self.origin.fail(e, None),
+            };
         }
         let r = self
             .light
@@ -1461,6 +1632,21 @@ impl Light for PluginLight {
         }
         if self.flags.contains(LightFlags::BEAMS_ONLY) {
             return (0.0, 0.0);
+        }
+        if let Some(v6) = &self.v6 {
+            let mut p = [0.0; 2];
+            return match v6.emission_pdf(&v4f(ray.origin), &v4f(ray.dir), &mut p) {
+                RResult::ROk(()) => {
+                    match checked::density_f32(p[0]).and(checked::density_f32(p[1])) {
+                        Ok(()) => (p[0], p[1]),
+                        Err(reason) => {
+                            self.origin.dropped(reason);
+                            (0.0, 0.0)
+                        }
+                    }
+                }
+                RResult::RErr(e) => self.origin.fail(e, (0.0, 0.0)),
+            };
         }
         let r = self.light.emission_pdf(v3(ray.origin), v3(ray.dir));
         match self.origin.checked(r, |p| {

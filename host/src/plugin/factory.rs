@@ -207,10 +207,16 @@ impl PluginFactory {
         // scene's bounds, normals, exact emission spectra and spectral lines; v3: fluorescent
         // materials' re-radiation; v4: spectral flatness and uniform emission shapes, and the
         // material calls in the host's layout; v5: one BSDF value for every direction, results
-        // through a reference), else the root module.
+        // through a reference; v6: the cosine-weighted density, emission and the lights' calls
+        // in the host's layout), else the root module.
         Ok(match kind {
             Kind::Material => {
                 let m = if let Some(m) = r
+                    .create_plugin_material_v6(type_name, object_source)
+                    .map_err(construct_error)?
+                {
+                    PluginMaterial::new_v6(m, origin, &ctx.item).map_err(FactoryError::Param)?
+                } else if let Some(m) = r
                     .create_plugin_material_v5(type_name, object_source)
                     .map_err(construct_error)?
                 {
@@ -242,6 +248,11 @@ impl PluginFactory {
             // A type whose beams are in another representation is wrapped in its adapters.
             Kind::Light => {
                 let l = if let Some(l) = r
+                    .create_plugin_light_v6(type_name, object_source)
+                    .map_err(construct_error)?
+                {
+                    PluginLight::new_v6(l, origin, &ctx.item).map_err(FactoryError::Param)?
+                } else if let Some(l) = r
                     .create_plugin_light_v4(type_name, object_source)
                     .map_err(construct_error)?
                 {

@@ -1,16 +1,21 @@
-//! The host's record of a surface point seen as the plugin interface's, and back, without a
-//! copy: extension v5 passes `ShadingContext` to plugins by reference as a `SurfaceF32`
-//! (`spectrace_plugin_api::fast::QueryV5`). Both are `#[repr(C)]` with the same fields in the
-//! same places (texture coordinates, then position, geometric and shading normal as 16-byte
-//! vectors); the assertions below stop the build if either ever changes. Written by hand
-//! because it is two pointer casts that a crate would not make safer than these assertions.
+//! The host's records seen as the plugin interface's, and back, without a copy: extension v5
+//! passes `ShadingContext` to plugins by reference as a `SurfaceF32`
+//! (`spectrace_plugin_api::fast::QueryV5`), extension v6 a light sample's receiver
+//! (`LightSampleContext` as `ReceiverF32`) and lets a plugin light write its sample into the
+//! host's `LightLiSample` (as `IncidentF32`). Each pair is `#[repr(C)]` with the same fields in
+//! the same places (16-byte vectors, four-lane values, `f32`s); the assertions below stop the
+//! build if either side ever changes. Written by hand because these are pointer casts that a
+//! crate would not make safer than these assertions.
 //!
 //! The vectors' fourth lanes are the host's (glam keeps anything there); the interface says so
 //! (`QueryV5`), and readers use `x, y, z` only.
 
-use crate::material::ShadingContext;
+use crate::light::{LightLiSample, LightSampleContext};
+use crate::material::{BsdfSample, MaterialFlags, ShadingContext};
+use crate::spectrum::SampledSpectrum;
 use glam::{Vec2, Vec3A};
-use spectrace_plugin_api::fast::{SurfaceF32, Vec4f};
+use spectrace_plugin_api::fast::{IncidentF32, ReceiverF32, ScatterF32, SurfaceF32, Vec4f};
+use spectrace_plugin_api::Flags;
 use std::mem::{align_of, offset_of, size_of};
 
 const _: () = {
@@ -23,6 +28,33 @@ const _: () = {
     assert!(size_of::<Vec2>() == size_of::<[f32; 2]>() && align_of::<Vec2>() <= 4);
     assert!(size_of::<Vec3A>() == size_of::<Vec4f>());
     assert!(align_of::<Vec3A>() == align_of::<Vec4f>());
+
+    assert!(size_of::<LightSampleContext>() == size_of::<ReceiverF32>());
+    assert!(align_of::<LightSampleContext>() == align_of::<ReceiverF32>());
+    assert!(offset_of!(LightSampleContext, p) == offset_of!(ReceiverF32, p));
+    assert!(offset_of!(LightSampleContext, p_error) == offset_of!(ReceiverF32, p_error));
+    assert!(offset_of!(LightSampleContext, n) == offset_of!(ReceiverF32, n));
+
+    // A one-field tuple struct of four `f32`s: the same size and alignment leave the field at 0.
+    assert!(size_of::<SampledSpectrum>() == size_of::<[f32; 4]>());
+    assert!(align_of::<SampledSpectrum>() == align_of::<[f32; 4]>());
+    assert!(size_of::<LightLiSample>() == size_of::<IncidentF32>());
+    assert!(align_of::<LightLiSample>() == align_of::<IncidentF32>());
+    assert!(offset_of!(LightLiSample, radiance) == offset_of!(IncidentF32, value));
+    assert!(offset_of!(LightLiSample, wi) == offset_of!(IncidentF32, direction));
+    assert!(offset_of!(LightLiSample, pdf) == offset_of!(IncidentF32, pdf));
+    assert!(offset_of!(LightLiSample, p_light) == offset_of!(IncidentF32, point));
+    assert!(offset_of!(LightLiSample, p_light_error) == offset_of!(IncidentF32, point_error));
+    assert!(offset_of!(LightLiSample, n_light) == offset_of!(IncidentF32, normal));
+
+    assert!(size_of::<MaterialFlags>() == size_of::<Flags>());
+    assert!(size_of::<BsdfSample>() == size_of::<ScatterF32>());
+    assert!(align_of::<BsdfSample>() == align_of::<ScatterF32>());
+    assert!(offset_of!(BsdfSample, wi) == offset_of!(ScatterF32, wi));
+    assert!(offset_of!(BsdfSample, f) == offset_of!(ScatterF32, value));
+    assert!(offset_of!(BsdfSample, pdf) == offset_of!(ScatterF32, pdf));
+    assert!(offset_of!(BsdfSample, flags) == offset_of!(ScatterF32, flags));
+    assert!(offset_of!(BsdfSample, eta) == offset_of!(ScatterF32, eta));
 };
 
 /// `ctx` as the interface's surface record (the same memory).
@@ -40,6 +72,50 @@ pub fn as_surface(ctx: &ShadingContext) -> &SurfaceF32 {
 pub fn as_shading_context(s: &SurfaceF32) -> &ShadingContext {
     // SAFETY: as for `as_surface`, the other way round.
     unsafe { &*(s as *const SurfaceF32).cast::<ShadingContext>() }
+}
+
+/// A light sample's receiver as the interface's (the same memory).
+#[inline]
+pub fn as_receiver(ctx: &LightSampleContext) -> &ReceiverF32 {
+    // SAFETY: same size, alignment and field offsets (asserted above); every field is a Vec3A
+    // (four initialised `f32`s), so every bit pattern of one is a valid value of the other.
+    unsafe { &*(ctx as *const LightSampleContext).cast::<ReceiverF32>() }
+}
+
+/// The interface's receiver as the host's (the same memory): what the standard library hands
+/// its lights.
+#[inline]
+pub fn as_light_context(r: &ReceiverF32) -> &LightSampleContext {
+    // SAFETY: as for `as_receiver`, the other way round.
+    unsafe { &*(r as *const ReceiverF32).cast::<LightSampleContext>() }
+}
+
+/// The host's light sample as the interface's record, for a plugin to write in place.
+#[inline]
+pub fn as_incident_mut(s: &mut LightLiSample) -> &mut IncidentF32 {
+    // SAFETY: same size, alignment and field offsets (asserted above), padding included; every
+    // field on both sides is plain `f32`s (Vec3A, SampledSpectrum, f32), so whatever the plugin
+    // writes is a valid value of the host's record, and the exclusive borrow is carried over.
+    unsafe { &mut *(s as *mut LightLiSample).cast::<IncidentF32>() }
+}
+
+/// The host's BSDF sample as the interface's record, for a plugin material to write in place.
+/// What the plugin writes in `flags` are the interface's bits: the caller translates them before
+/// the sample is used.
+#[inline]
+pub fn as_scatter_mut(s: &mut BsdfSample) -> &mut ScatterF32 {
+    // SAFETY: same size, alignment and field offsets (asserted above); every field on both
+    // sides is plain `f32`s or one `u32` (Vec3A, SampledSpectrum, f32, MaterialFlags/Flags), so
+    // whatever the plugin writes is a valid value of the host's record.
+    unsafe { &mut *(s as *mut BsdfSample).cast::<ScatterF32>() }
+}
+
+/// The interface's incident record as the host's light sample (the same memory): where the
+/// standard library writes its lights' samples.
+#[inline]
+pub fn as_light_sample_mut(s: &mut IncidentF32) -> &mut LightLiSample {
+    // SAFETY: as for `as_incident_mut`, the other way round.
+    unsafe { &mut *(s as *mut IncidentF32).cast::<LightLiSample>() }
 }
 
 #[cfg(test)]
@@ -61,5 +137,41 @@ mod tests {
         assert_eq!(s.geometric_normal.y, 1.0);
         assert_eq!(s.shading_normal.z, 1.0);
         assert_eq!(*as_shading_context(s), ctx);
+    }
+
+    // A light's receiver and sample are the same memory as the interface's records.
+    #[test]
+    fn the_light_records_are_the_same_memory() {
+        let ctx = LightSampleContext {
+            p: Vec3A::new(1.0, 2.0, 3.0),
+            p_error: Vec3A::splat(1e-6),
+            n: Vec3A::Y,
+        };
+        let r = as_receiver(&ctx);
+        assert_eq!([r.p.x, r.p.y, r.p.z], [1.0, 2.0, 3.0]);
+        assert_eq!(r.p_error.x, 1e-6);
+        assert_eq!(r.n.y, 1.0);
+        assert_eq!(*as_light_context(r), ctx);
+        let mut s = LightLiSample {
+            radiance: SampledSpectrum([0.0; 4]),
+            wi: Vec3A::ZERO,
+            pdf: 0.0,
+            p_light: Vec3A::ZERO,
+            p_light_error: Vec3A::ZERO,
+            n_light: Vec3A::ZERO,
+        };
+        let out = as_incident_mut(&mut s);
+        out.value = [1.0, 2.0, 3.0, 4.0];
+        out.direction = Vec4f::new(0.0, 1.0, 0.0);
+        out.pdf = 0.5;
+        out.point = Vec4f::new(4.0, 5.0, 6.0);
+        out.point_error = Vec4f::new(1e-5, 1e-5, 1e-5);
+        out.normal = Vec4f::new(0.0, -1.0, 0.0);
+        assert_eq!(s.radiance.0, [1.0, 2.0, 3.0, 4.0]);
+        assert_eq!(s.wi, Vec3A::Y);
+        assert_eq!(s.pdf, 0.5);
+        assert_eq!(s.p_light, Vec3A::new(4.0, 5.0, 6.0));
+        assert_eq!(s.p_light_error, Vec3A::splat(1e-5));
+        assert_eq!(s.n_light, -Vec3A::Y);
     }
 }

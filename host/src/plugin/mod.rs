@@ -5,11 +5,13 @@
 pub mod adapter;
 pub mod blob;
 pub mod checked;
+pub mod cosine_pdf;
 pub mod extension_lookup;
 pub mod extension_v2;
 pub mod extension_v3;
 pub mod extension_v4;
 pub mod extension_v5;
+pub mod extension_v6;
 pub mod factory;
 pub mod flatness;
 pub mod layout;

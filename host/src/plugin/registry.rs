@@ -8,8 +8,8 @@ use super::type_doc::{Kind, TypeDoc};
 use crate::builtin::BuiltinType;
 use spectrace_plugin_api::abi::std_types::{RResult, RSlice, RStr};
 use spectrace_plugin_api::extension::{
-    LightWithV2, LightWithV4, MaterialWithV2, MaterialWithV3, MaterialWithV4, MaterialWithV5,
-    SpdWithLines,
+    LightWithV2, LightWithV4, LightWithV6, MaterialWithV2, MaterialWithV3, MaterialWithV4,
+    MaterialWithV5, MaterialWithV6, SpdWithLines,
 };
 use spectrace_plugin_api::module::ObjectSource;
 use spectrace_plugin_api::{ErrorKind, HostRef};
@@ -573,6 +573,54 @@ impl Registry {
         source: ObjectSource<'_>,
     ) -> Result<Option<LightWithV4>, RegistryError> {
         let Some(ext) = self.extensions_v4(ObjectKind::Light, name)? else {
+            return Ok(None);
+        };
+        self.call_plugin(ObjectKind::Light, name, |_, host| {
+            (ext.create_light())(RStr::from_str(name), source, host)
+        })
+        .map(Some)
+    }
+
+    fn extensions_v6(
+        &self,
+        kind: ObjectKind,
+        name: &str,
+    ) -> Result<Option<spectrace_plugin_api::extension::ExtensionsV6Ref>, RegistryError> {
+        let (plugin, provider) = self.plugin_entry(kind, name)?;
+        super::extension_v6::extensions_v6(&plugin.path).map_err(|e| {
+            construct_error(
+                kind.into(),
+                name,
+                provider,
+                PluginError::new(ErrorKind::Other, e),
+            )
+        })
+    }
+
+    /// Build a plugin material with its faces (v2, v3, v5, v6) and declarations (extension
+    /// v6); `None` when its library predates v6.
+    pub fn create_plugin_material_v6(
+        &self,
+        name: &str,
+        source: ObjectSource<'_>,
+    ) -> Result<Option<MaterialWithV6>, RegistryError> {
+        let Some(ext) = self.extensions_v6(ObjectKind::Material, name)? else {
+            return Ok(None);
+        };
+        self.call_plugin(ObjectKind::Material, name, |_, host| {
+            (ext.create_material())(RStr::from_str(name), source, host)
+        })
+        .map(Some)
+    }
+
+    /// Build a plugin light with its faces (v2, v6) and its spectral declaration (extension
+    /// v6); `None` when its library predates v6.
+    pub fn create_plugin_light_v6(
+        &self,
+        name: &str,
+        source: ObjectSource<'_>,
+    ) -> Result<Option<LightWithV6>, RegistryError> {
+        let Some(ext) = self.extensions_v6(ObjectKind::Light, name)? else {
             return Ok(None);
         };
         self.call_plugin(ObjectKind::Light, name, |_, host| {

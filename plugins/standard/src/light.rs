@@ -6,10 +6,16 @@
 //! `preprocess`/`preprocess_view`: a directional light's emitting disc and power, and an
 //! environment's sphere and power, come from it exactly as for the built-ins.
 //!
+//! Through extension v6 the three calls the renderer makes per sample (`sample_toward`,
+//! `sample_emission`, `emission_pdf`) cross in the host's own `f32` layout: the host's receiver
+//! is read in place and the host light's sample is written straight into the host's record
+//! (`spectrace::plugin::layout`), so nothing is converted.
+//!
 //! `environment` is an ENVIRONMENT light: the host places its own sky sphere around the same
 //! bounds and asks this one for radiance, incident-direction sampling and power.
 
 use crate::material::{host_lambdas, v3, va, values};
+use crate::material::{host_v, lambdas_v4, v4f};
 use crate::wrap::{context, params_doc, plugin_error, HostParams, HostSpd};
 use glam::{Vec2, Vec3A};
 use spectrace::builtin::light::{directional, environment, point, spot};
@@ -18,10 +24,12 @@ use spectrace::light::{
     ConstantEnvironment, EnvironmentLight, EnvironmentRadiance, Light as HostLight, LightFlags,
     LightSampleContext,
 };
+use spectrace::plugin::layout::{as_light_context, as_light_sample_mut};
 use spectrace_plugin_api::{
-    light_flags, Beam, EmissionPdf, EmissionSample, Flags, Host, IncidentSample, LightSource,
-    ParamDoc, PluginError, PluginResult, PluginType, RandomSample, SceneBounds, Spd,
-    SpectralValues, Vec3, WavelengthSample, Wavelengths,
+    light_flags, Beam, EmissionF32, EmissionPdf, EmissionSample, Flags, Host, IncidentF32,
+    IncidentSample, LanesF32, LightSource, ParamDoc, PluginError, PluginResult, PluginType,
+    RandomSample, ReceiverF32, SceneBounds, Spd, SpectralValues, Vec3, Vec4f, WavelengthSample,
+    Wavelengths,
 };
 use std::sync::Arc;
 
@@ -74,6 +82,60 @@ fn emission_pdf(light: &dyn HostLight, origin: Vec3, direction: Vec3) -> Emissio
         position: position as f64,
         direction: direction as f64,
     }
+}
+
+/// `sample_toward` in the host's layout (extension v6): the host's receiver read in place and
+/// the host light's sample written in place (`spectrace::plugin::layout`), nothing converted.
+#[inline]
+fn sample_toward_v6(
+    light: &dyn HostLight,
+    receiver: &ReceiverF32,
+    u: [f32; 2],
+    lambda: &LanesF32,
+    out: &mut IncidentF32,
+) -> bool {
+    let ctx = as_light_context(receiver);
+    match light.sample_li(ctx, Vec2::new(u[0], u[1]), &lambdas_v4(lambda)) {
+        Some(s) => {
+            *as_light_sample_mut(out) = s;
+            true
+        }
+        None => false,
+    }
+}
+
+/// `sample_emission` in the host's layout (extension v6).
+#[inline]
+fn sample_emission_v6(
+    light: &dyn HostLight,
+    u: [f32; 4],
+    lambda: &LanesF32,
+    out: &mut EmissionF32,
+) -> bool {
+    let u1 = Vec2::new(u[0], u[1]);
+    let u2 = Vec2::new(u[2], u[3]);
+    match light.sample_le(u1, u2, &lambdas_v4(lambda)) {
+        Some(s) => {
+            *out = EmissionF32 {
+                origin: v4f(s.ray.origin),
+                direction: v4f(s.ray.dir),
+                value: s.radiance.0,
+                pdf_position: s.pdf_pos,
+                pdf_direction: s.pdf_dir,
+                normal: v4f(s.normal),
+            };
+            true
+        }
+        None => false,
+    }
+}
+
+/// `emission_pdf` in the host's layout (extension v6).
+#[inline]
+fn emission_pdf_v6(light: &dyn HostLight, origin: &Vec4f, direction: &Vec4f) -> [f32; 2] {
+    let ray = Ray::new(host_v(*origin), host_v(*direction));
+    let (position, direction) = light.pdf_le(&ray, Vec3A::ZERO);
+    [position, direction]
 }
 
 /// What a refused sample returns: valid fields, zero density (the host then skips it).
@@ -164,6 +226,29 @@ macro_rules! light_type {
             // Extension v4: declared exactly where the built-in declares it.
             fn uniform_spectral_shape(&self) -> bool {
                 self.light.uniform_spectral_shape()
+            }
+            #[inline]
+            fn sample_toward_v6(
+                &self,
+                receiver: &ReceiverF32,
+                u: [f32; 2],
+                lambda: &LanesF32,
+                out: &mut IncidentF32,
+            ) -> PluginResult<bool> {
+                Ok(sample_toward_v6(&*self.light, receiver, u, lambda, out))
+            }
+            #[inline]
+            fn sample_emission_v6(
+                &self,
+                u: [f32; 4],
+                lambda: &LanesF32,
+                out: &mut EmissionF32,
+            ) -> PluginResult<bool> {
+                Ok(sample_emission_v6(&*self.light, u, lambda, out))
+            }
+            #[inline]
+            fn emission_pdf_v6(&self, origin: &Vec4f, direction: &Vec4f) -> PluginResult<[f32; 2]> {
+                Ok(emission_pdf_v6(&*self.light, origin, direction))
             }
             fn sample_toward(
                 &self,

@@ -18,7 +18,7 @@ use spectrace::builtin::material::{
     conductor, dielectric, emissive, fluorescent, lambertian, mirror, rough_dielectric,
 };
 use spectrace::material::{
-    Material as HostMaterial, MaterialFlags, ShadingContext as HostContext,
+    BsdfSample, Material as HostMaterial, MaterialFlags, ShadingContext as HostContext,
     TransportMode as HostMode,
 };
 use spectrace::plugin::layout::as_shading_context;
@@ -96,8 +96,9 @@ fn bits(f: MaterialFlags) -> Flags {
 
 // Extension v4: the host's own f32 data on both sides, so nothing is converted.
 
+/// The host's vector from an interface vector (the same four lanes).
 #[inline]
-fn host_v(v: Vec4f) -> Vec3A {
+pub(crate) fn host_v(v: Vec4f) -> Vec3A {
     Vec3A::from_vec4(glam::Vec4::new(v.x, v.y, v.z, v.w))
 }
 
@@ -113,7 +114,7 @@ fn ctx_v4(c: &SurfaceF32) -> HostContext {
 
 /// The host's wavelengths exactly as the host passed them (densities and live lanes included).
 #[inline]
-fn lambdas_v4(l: &LanesF32) -> SampledWavelengths {
+pub(crate) fn lambdas_v4(l: &LanesF32) -> SampledWavelengths {
     SampledWavelengths {
         lambda: l.nm,
         pdf: l.pdf,
@@ -147,6 +148,25 @@ fn event_bits(f: MaterialFlags) -> Flags {
     Flags(u32::from(EVENT_TABLE[(f.0 & 0xff) as usize]))
 }
 
+/// The interface's vector from a host vector, `w` cleared.
+#[inline]
+pub(crate) fn v4f(v: Vec3A) -> Vec4f {
+    let [x, y, z, w] = v.extend(0.0).to_array();
+    Vec4f { x, y, z, w }
+}
+
+/// The interface's sample from the host's (the same `f32`s).
+#[inline]
+fn scatter(s: BsdfSample) -> ScatterF32 {
+    ScatterF32 {
+        wi: v4f(s.wi),
+        value: s.f.0,
+        pdf: s.pdf,
+        flags: event_bits(s.flags),
+        eta: s.eta,
+    }
+}
+
 #[inline]
 fn sample_v4(m: &dyn HostMaterial, q: &MaterialQuery) -> Option<ScatterF32> {
     let s = m.sample(
@@ -157,40 +177,38 @@ fn sample_v4(m: &dyn HostMaterial, q: &MaterialQuery) -> Option<ScatterF32> {
         Vec2::new(q.u[1], q.u[2]),
         host_mode(q.mode),
     )?;
-    Some(ScatterF32 {
-        wi: {
-            let [x, y, z, w] = s.wi.extend(0.0).to_array();
-            Vec4f { x, y, z, w }
-        },
-        value: s.f.0,
-        pdf: s.pdf,
-        flags: event_bits(s.flags),
-        eta: s.eta,
-    })
+    Some(scatter(s))
 }
 
-/// [`sample_v4`] with the surface by reference (extension v5): the host's own record, read in
-/// place (`spectrace::plugin::layout`).
+/// What every call with the surface by reference (extensions v5 and v6) reads from its query:
+/// the directions, the host's own surface record in place (`spectrace::plugin::layout`), the
+/// wavelengths and the transport mode.
+struct Read<'a> {
+    wo: Vec3A,
+    wi: Vec3A,
+    ctx: &'a HostContext,
+    lambda: SampledWavelengths,
+    mode: HostMode,
+}
+
+#[inline]
+fn read<'a>(q: &QueryV5<'a>) -> Read<'a> {
+    Read {
+        wo: host_v(q.wo),
+        wi: host_v(q.wi),
+        ctx: as_shading_context(q.ctx),
+        lambda: lambdas_v4(&q.lambda),
+        mode: host_mode(q.mode),
+    }
+}
+
+/// [`sample_v4`] with the surface by reference (extension v5).
 #[inline]
 fn sample_v5(m: &dyn HostMaterial, q: &QueryV5<'_>) -> Option<ScatterF32> {
-    let s = m.sample(
-        host_v(q.wo),
-        as_shading_context(q.ctx),
-        &lambdas_v4(&q.lambda),
-        q.u[0],
-        Vec2::new(q.u[1], q.u[2]),
-        host_mode(q.mode),
-    )?;
-    Some(ScatterF32 {
-        wi: {
-            let [x, y, z, w] = s.wi.extend(0.0).to_array();
-            Vec4f { x, y, z, w }
-        },
-        value: s.f.0,
-        pdf: s.pdf,
-        flags: event_bits(s.flags),
-        eta: s.eta,
-    })
+    let r = read(q);
+    let u = Vec2::new(q.u[1], q.u[2]);
+    let s = m.sample(r.wo, r.ctx, &r.lambda, q.u[0], u, r.mode)?;
+    Some(scatter(s))
 }
 
 /// Sample through the host material `m`.
@@ -429,24 +447,22 @@ macro_rules! material_type {
             }
             #[inline]
             fn eval_v5(&self, q: &QueryV5<'_>) -> PluginResult<[f32; LANES]> {
-                let f = self.material.eval(
-                    host_v(q.wo),
-                    host_v(q.wi),
-                    as_shading_context(q.ctx),
-                    &lambdas_v4(&q.lambda),
-                    host_mode(q.mode),
-                );
-                Ok(f.0)
+                let r = read(q);
+                Ok(self.material.eval(r.wo, r.wi, r.ctx, &r.lambda, r.mode).0)
             }
             #[inline]
             fn pdf_v5(&self, q: &QueryV5<'_>) -> PluginResult<f32> {
-                Ok(self.material.pdf(
-                    host_v(q.wo),
-                    host_v(q.wi),
-                    as_shading_context(q.ctx),
-                    &lambdas_v4(&q.lambda),
-                    host_mode(q.mode),
-                ))
+                let r = read(q);
+                Ok(self.material.pdf(r.wo, r.wi, r.ctx, &r.lambda, r.mode))
+            }
+            // Extension v6: declared exactly where the built-in declares it.
+            fn cosine_weighted_pdf(&self) -> bool {
+                self.material.cosine_weighted_pdf()
+            }
+            #[inline]
+            fn emitted_v6(&self, q: &QueryV5<'_>) -> PluginResult<[f32; LANES]> {
+                let r = read(q);
+                Ok(self.material.emitted(r.wo, r.ctx, &r.lambda).0)
             }
             #[inline]
             fn sample_v4(&self, q: &MaterialQuery) -> PluginResult<Option<ScatterF32>> {
