@@ -119,38 +119,61 @@ struct Primitive {
     index: u32,
 }
 
-/// What the traversal tests at one leaf slot, stored in leaf order. A mesh triangle carries
-/// its three world-space vertices, so the innermost loop reads one contiguous 48-byte record
-/// instead of following object → mesh → index triple → three positions (together with the
-/// four-wide BVH: −23% instructions on the Cornell box, `docs/performance.md`); spheres and
-/// quads, rare in large scenes, go through their object.
+/// The triangle the traversal tests at one leaf slot: its three world-space vertices (x, y, z
+/// of p0, p1, p2), stored in leaf order, so the innermost loop reads one contiguous 36-byte
+/// record instead of following object → mesh → index triple → three positions. Which object
+/// and primitive a slot is lives apart (`Geometry::prims`) and is read only for the hit kept
+/// (the records were 48 bytes with it: −25% leaf memory; `docs/performance.md`, "Larger
+/// leaves from the collapse, 36-byte leaf records, …"). A slot holding a sphere or a quad,
+/// rare in large scenes, has NaN coordinates (mesh positions are finite, checked when a mesh
+/// is made) and is tested through its object.
 #[derive(Clone, Copy, Debug)]
-struct LeafRecord {
-    /// Triangle vertices (x, y, z of p0, p1, p2); unused for other shapes.
-    vertices: [f32; 9],
-    prim: Primitive,
-    /// [`LeafRecord::TRIANGLE`] or [`LeafRecord::OTHER`].
-    kind: u32,
-}
+#[repr(transparent)]
+struct LeafTriangle([f32; 9]);
 
-impl LeafRecord {
-    const TRIANGLE: u32 = 0;
-    const OTHER: u32 = 1;
+impl LeafTriangle {
+    /// The marker of a slot that is not a mesh triangle.
+    const OTHER: LeafTriangle = LeafTriangle([f32::NAN; 9]);
 
-    #[inline]
-    fn triangle(&self) -> [Vec3A; 3] {
-        let v = &self.vertices;
-        [
-            Vec3A::new(v[0], v[1], v[2]),
-            Vec3A::new(v[3], v[4], v[5]),
-            Vec3A::new(v[6], v[7], v[8]),
-        ]
+    /// The vertices of `pair[0]`. On x86-64 each is one unaligned 16-byte load whose fourth
+    /// lane (the next coordinate, of `pair[1]` for p2) the triangle test never reads: three
+    /// loads instead of three gathers of three floats each (−9 instructions per triangle).
+    #[inline(always)]
+    fn vertices(pair: &[LeafTriangle; 2]) -> [Vec3A; 3] {
+        #[cfg(target_arch = "x86_64")]
+        {
+            use std::arch::x86_64::_mm_loadu_ps;
+            let p = pair.as_ptr().cast::<f32>();
+            // SAFETY: `pair` is 18 contiguous f32 (`repr(transparent)` over `[f32; 9]`); the
+            // loads read floats 0..4, 3..7 and 6..10 of them. SSE2 is part of x86-64.
+            unsafe {
+                [
+                    Vec3A::from(_mm_loadu_ps(p)),
+                    Vec3A::from(_mm_loadu_ps(p.add(3))),
+                    Vec3A::from(_mm_loadu_ps(p.add(6))),
+                ]
+            }
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            let v = &pair[0].0;
+            [
+                Vec3A::new(v[0], v[1], v[2]),
+                Vec3A::new(v[3], v[4], v[5]),
+                Vec3A::new(v[6], v[7], v[8]),
+            ]
+        }
     }
 }
 
 /// The closest candidate found during traversal; surface data is computed only for the winner.
 #[derive(Clone, Copy)]
 enum Candidate {
+    /// A mesh triangle found through its leaf record: leaf slot and barycentrics.
+    Slot {
+        slot: u32,
+        b: [f32; 3],
+    },
     Triangle {
         prim: Primitive,
         b: [f32; 3],
@@ -170,8 +193,11 @@ enum Candidate {
 #[derive(Clone, Debug)]
 pub struct Geometry {
     objects: Vec<Object>,
-    /// Leaf slots in BVH leaf order.
-    prims: Vec<LeafRecord>,
+    /// Triangle records in BVH leaf order, and one [`LeafTriangle::OTHER`] after the last so
+    /// that every record has a successor for [`LeafTriangle::vertices`]' last load.
+    tris: Vec<LeafTriangle>,
+    /// Object and primitive of every leaf slot, in BVH leaf order.
+    prims: Vec<Primitive>,
     bvh: Bvh,
 }
 
@@ -236,10 +262,14 @@ impl Geometry {
                 }
             }
         }
+        // Merged leaves pay only where every primitive is a triangle (see
+        // `Bvh::build_with_options`): the caustic's three quads and sphere in one leaf cost its
+        // BDPT 7.6% more instructions.
+        let triangles_only = built.iter().all(|o| matches!(o.shape, WorldShape::Mesh(_)));
         // The meshes' area CDFs end in a running sum in order (serial): computed beside the
         // BVH build, which keeps the other thread busy meanwhile.
         let (bvh, ()) = rayon::join(
-            || Bvh::build_with_layout(&bounds, layout),
+            || Bvh::build_with_options(&bounds, layout, triangles_only),
             || {
                 built.par_iter_mut().for_each(|obj| {
                     if let WorldShape::Mesh(m) = &obj.shape {
@@ -248,36 +278,33 @@ impl Geometry {
                 });
             },
         );
-        // The per-primitive boxes are freed beside the leaf records' pass (giving back a
+        // The per-primitive boxes are freed beside the leaf records' passes (giving back a
         // large buffer's pages is serial work in the kernel).
-        let ((), prims) = rayon::join(
+        let ((), (prims, tris)) = rayon::join(
             move || drop(bounds),
             || {
-                bvh.order_ref()
+                let prims: Vec<Primitive> = bvh
+                    .order_ref()
                     .par_iter()
-                    .map(|&i| {
-                        let prim: Primitive = prims[i as usize];
-                        match &built[prim.object as usize].shape {
-                            WorldShape::Mesh(m) => {
-                                let [a, b, c] = m.triangle(prim.index as usize);
-                                LeafRecord {
-                                    vertices: [a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z],
-                                    prim,
-                                    kind: LeafRecord::TRIANGLE,
-                                }
-                            }
-                            _ => LeafRecord {
-                                vertices: [0.0; 9],
-                                prim,
-                                kind: LeafRecord::OTHER,
-                            },
+                    .map(|&i| prims[i as usize])
+                    .collect();
+                let mut tris: Vec<LeafTriangle> = prims
+                    .par_iter()
+                    .map(|prim| match &built[prim.object as usize].shape {
+                        WorldShape::Mesh(m) => {
+                            let [a, b, c] = m.triangle(prim.index as usize);
+                            LeafTriangle([a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z])
                         }
+                        _ => LeafTriangle::OTHER,
                     })
-                    .collect()
+                    .collect();
+                tris.push(LeafTriangle::OTHER);
+                (prims, tris)
             },
         );
         Ok(Geometry {
             objects: built,
+            tris,
             prims,
             bvh,
         })
@@ -309,9 +336,11 @@ impl Geometry {
     }
 
     /// Bytes held by the BVH nodes and the leaf records (with their copies of triangle
-    /// vertices), not the meshes.
+    /// vertices, and every slot's object and primitive), not the meshes.
     pub fn bvh_memory_bytes(&self) -> usize {
-        self.bvh.memory_bytes() + self.prims.len() * std::mem::size_of::<LeafRecord>()
+        self.bvh.memory_bytes()
+            + self.tris.len() * std::mem::size_of::<LeafTriangle>()
+            + self.prims.len() * std::mem::size_of::<Primitive>()
     }
 
     /// The BVH's node layout ([`NodeLayout::Float`] or [`NodeLayout::Quantised`]).
@@ -364,8 +393,7 @@ impl Geometry {
             false,
             #[inline(always)]
             |i, t_max| {
-                let rec = &self.prims[i as usize];
-                let (t, cand) = self.test_primitive::<KZ>(ray, wr, rec, t_max)?;
+                let (t, cand) = self.test_primitive::<KZ>(ray, wr, i, t_max)?;
                 best = Some(cand);
                 Some(t)
             },
@@ -381,39 +409,37 @@ impl Geometry {
                 t_max,
                 true,
                 #[inline(always)]
-                |i, t_max| {
-                    let rec = &self.prims[i as usize];
-                    self.test_primitive::<KZ>(ray, wr, rec, t_max)
-                        .map(|(t, _)| t)
-                },
+                |i, t_max| self.test_primitive::<KZ>(ray, wr, i, t_max).map(|(t, _)| t),
             )
             .is_some()
     }
 
-    /// Tests one leaf record; `KZ` is the ray's dominant axis (see
-    /// [`intersect_triangle_axis`]). The triangle test is inlined into the traversal loop
-    /// (a call per primitive was ~10% of its instructions); other shapes take a call.
+    /// Tests leaf slot `i`; `KZ` is the ray's dominant axis (see [`intersect_triangle_axis`]).
+    /// The triangle test is inlined into the traversal loop (a call per primitive was ~10% of
+    /// its instructions); other shapes take a call.
     #[inline(always)]
     fn test_primitive<const KZ: usize>(
         &self,
         ray: &Ray,
         wr: &WatertightRay,
-        rec: &LeafRecord,
+        i: u32,
         t_max: f32,
     ) -> Option<(f32, Candidate)> {
-        let prim = rec.prim;
-        if rec.kind == LeafRecord::TRIANGLE {
-            let [a, b, c] = rec.triangle();
-            let h = intersect_triangle_axis::<KZ>(ray, wr, t_max, a, b, c)?;
-            return Some((
-                h.t,
-                Candidate::Triangle {
-                    prim,
-                    b: [h.b0, h.b1, h.b2],
-                },
-            ));
+        let slot = i as usize;
+        // The record and its successor (the padding record after the last).
+        let pair: &[LeafTriangle; 2] = self.tris[slot..slot + 2].try_into().ok()?;
+        if pair[0].0[0].is_nan() {
+            return self.test_object::<KZ>(ray, wr, self.prims[slot], t_max);
         }
-        self.test_object::<KZ>(ray, wr, prim, t_max)
+        let [a, b, c] = LeafTriangle::vertices(pair);
+        let h = intersect_triangle_axis::<KZ>(ray, wr, t_max, a, b, c)?;
+        Some((
+            h.t,
+            Candidate::Slot {
+                slot: i,
+                b: [h.b0, h.b1, h.b2],
+            },
+        ))
     }
 
     /// [`Geometry::test_primitive`] for a primitive tested through its object: spheres, quads
@@ -466,6 +492,10 @@ impl Geometry {
 
     fn make_hit(&self, ray: &Ray, t: f32, cand: Candidate) -> Hit {
         match cand {
+            Candidate::Slot { slot, b } => {
+                let prim = self.prims[slot as usize];
+                self.make_hit(ray, t, Candidate::Triangle { prim, b })
+            }
             Candidate::Triangle { prim, b } => {
                 let WorldShape::Mesh(m) = &self.objects[prim.object as usize].shape else {
                     unreachable!("triangle candidate always comes from a mesh")

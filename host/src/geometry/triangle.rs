@@ -121,7 +121,9 @@ pub fn intersect_triangle_axis<const KZ: usize>(
     let mut e0 = bx * cy - by * cx;
     let mut e1 = cx * ay - cy * ax;
     let mut e2 = ax * by - ay * bx;
-    if e0 == 0.0 || e1 == 0.0 || e2 == 0.0 {
+    // `|` and `&` rather than `||` and `&&`: one branch each instead of up to six
+    // data-dependent ones (the signs of a missed triangle's edge functions are unpredictable).
+    if (e0 == 0.0) | (e1 == 0.0) | (e2 == 0.0) {
         let (ax, ay, bx, by, cx, cy) = (
             ax as f64, ay as f64, bx as f64, by as f64, cx as f64, cy as f64,
         );
@@ -129,7 +131,7 @@ pub fn intersect_triangle_axis<const KZ: usize>(
         e1 = (cx * ay - cy * ax) as f32;
         e2 = (ax * by - ay * bx) as f32;
     }
-    if (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0) {
+    if ((e0 < 0.0) | (e1 < 0.0) | (e2 < 0.0)) & ((e0 > 0.0) | (e1 > 0.0) | (e2 > 0.0)) {
         return None;
     }
     let det = e0 + e1 + e2;

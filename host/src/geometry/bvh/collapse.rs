@@ -62,17 +62,23 @@ impl WideOut for QuantNode {
 /// Collapses the binary tree (depth-first, first child next, `offset` the second) into wide
 /// nodes, depth-first. Each wide node takes its binary node's two children and repeatedly
 /// replaces the interior one with the largest surface area by its two children, up to eight.
+/// Small binary subtrees become one leaf slot where the surface area heuristic accepts it
+/// ([`as_leaf`]); `merge` is [`MERGE_LEAF_PRIMITIVES`] to allow merging, 0 for none (the
+/// heuristic counts every primitive test the same, which holds for triangles only: scenes with
+/// analytic spheres or quads, whose tests cost several triangle tests, keep their binary
+/// leaves).
+///
 /// Consumes the binary tree: its pages are given back (serial work in the kernel, a few
 /// milliseconds at a million primitives) while the parts are placed. Gives it back where `T`
 /// cannot hold a node (see [`WideOut::from_float`]).
-pub(super) fn collapse<T: WideOut>(binary: Vec<Node>) -> Result<Vec<T>, Vec<Node>> {
+pub(super) fn collapse<T: WideOut>(binary: Vec<Node>, merge: usize) -> Result<Vec<T>, Vec<Node>> {
     let root = if binary[0].count > 0 {
         Children::one(0, 0.0)
     } else {
         Children::of(&binary, 0)
     };
     let mut parts = Vec::new();
-    let Some(total) = collapse_parts(&binary, root, 0, &mut parts) else {
+    let Some(total) = collapse_parts(&binary, root, 0, merge, &mut parts) else {
         return Err(binary);
     };
     let ((), nodes) = rayon::join(
@@ -83,8 +89,54 @@ pub(super) fn collapse<T: WideOut>(binary: Vec<Node>) -> Result<Vec<T>, Vec<Node
 }
 
 /// [`collapse`] into float nodes, which hold every node.
-pub(super) fn collapse_float(binary: Vec<Node>) -> Vec<WideNode> {
-    collapse(binary).unwrap_or_default()
+pub(super) fn collapse_float(binary: Vec<Node>, merge: usize) -> Vec<WideNode> {
+    collapse(binary, merge).unwrap_or_default()
+}
+
+/// Binary subtrees with at most this many primitives can become one leaf of the wide tree
+/// (their primitives are contiguous in leaf order). The binary SAH splits small nodes as if a
+/// box test cost one primitive test; in the wide tree a level costs an eight-box test on up to
+/// four cache lines, so merging cuts node memory and node visits where the merged leaf costs
+/// few extra primitive tests ([`MERGE_EXTRA_TESTS`]; `docs/performance.md`, "Larger leaves from
+/// the collapse").
+pub const MERGE_LEAF_PRIMITIVES: usize = 4;
+
+/// How many more primitive tests per visit of a merged leaf's box the merge may cost, against
+/// its separate binary leaves weighted by area (the surface area heuristic's hit
+/// probabilities). Small triangles of a smooth surface merge; large ones far apart within
+/// their box (the Cornell box's walls) stay apart. Measured (`docs/performance.md`, "Larger
+/// leaves from the collapse"): 2 already costs the Cornell box 9.5% more instructions in
+/// closest-hit queries, 1.5 none, 1 merges almost nothing on the spheres of the scaling bench.
+pub(super) const MERGE_EXTRA_TESTS: f32 = 1.5;
+
+/// The leaf slot binary node `i` becomes, `(first primitive, count)`: a binary leaf, or an
+/// interior node whose subtree holds at most `merge` primitives and whose merged leaf the
+/// surface area heuristic accepts (see [`MERGE_EXTRA_TESTS`]); `None` otherwise. Visits at
+/// most about twice `merge` nodes.
+pub(super) fn as_leaf(binary: &[Node], i: usize, merge: usize) -> Option<(u32, u16)> {
+    let n = &binary[i];
+    if n.count > 0 {
+        return Some((n.offset, n.count));
+    }
+    let (first, count, tests) = small_subtree(binary, i, merge)?;
+    let area = node_area(n);
+    // Expected triangle tests per visit of this box: all `count` as one leaf, against the
+    // area-weighted tests of its separate leaves plus the allowance.
+    (count as f32 * area <= tests + MERGE_EXTRA_TESTS * area).then_some((first, count))
+}
+
+/// `(first primitive, count, Σ count · area over its binary leaves)` of the subtree under
+/// binary node `i` if it holds at most `limit` primitives.
+fn small_subtree(binary: &[Node], i: usize, limit: usize) -> Option<(u32, u16, f32)> {
+    let n = &binary[i];
+    if n.count > 0 {
+        return (n.count as usize <= limit)
+            .then(|| (n.offset, n.count, n.count as f32 * node_area(n)));
+    }
+    // Each child holds at least one primitive.
+    let (first, l, tl) = small_subtree(binary, i + 1, limit.checked_sub(1)?)?;
+    let (_, r, tr) = small_subtree(binary, n.offset as usize, limit - l as usize)?;
+    Some((first, l + r, tl + tr))
 }
 
 pub(super) fn binary_children(binary: &[Node], i: usize) -> [usize; 2] {
@@ -140,12 +192,12 @@ impl Children {
 
 /// Expands `c` by repeatedly replacing the interior child with the largest box by its two
 /// children, up to [`WIDTH`].
-pub(super) fn expand_children(binary: &[Node], mut c: Children) -> Children {
+pub(super) fn expand_children(binary: &[Node], mut c: Children, merge: usize) -> Children {
     while c.len < WIDTH {
         // The interior child with the largest box (first such on ties, for determinism).
         let mut pick = None::<(usize, f32)>;
         for k in 0..c.len {
-            if binary[c.node[k]].count != 0 {
+            if as_leaf(binary, c.node[k], merge).is_some() {
                 continue;
             }
             let a = c.area[k];
@@ -169,15 +221,14 @@ pub(super) fn expand_children(binary: &[Node], mut c: Children) -> Children {
 
 /// The float wide node over `children` (already expanded): boxes, leaf references and
 /// counts; interior children's references are set by the caller.
-fn wide_node(binary: &[Node], children: &Children) -> WideNode {
+fn wide_node(binary: &[Node], children: &Children, merge: usize) -> WideNode {
     let mut w = WideNode::EMPTY;
     w.slots = children.len as u32;
     for (slot, &c) in children.nodes().iter().enumerate() {
-        let n = &binary[c];
-        w.set_box(slot, n);
-        if n.count > 0 {
-            w.child[slot] = n.offset;
-            w.count[slot] = n.count;
+        w.set_box(slot, &binary[c]);
+        if let Some((first, count)) = as_leaf(binary, c, merge) {
+            w.child[slot] = first;
+            w.count[slot] = count;
         }
     }
     w
@@ -192,25 +243,26 @@ fn collapse_parts<T: WideOut>(
     binary: &[Node],
     children: Children,
     depth: usize,
+    merge: usize,
     parts: &mut Vec<Vec<T>>,
 ) -> Option<usize> {
     if depth >= PARALLEL_COLLAPSE_DEPTH {
         let mut out = Vec::with_capacity(wide_bound(binary, &children));
-        fill_wide(binary, children, &mut out)?;
+        fill_wide(binary, children, merge, &mut out)?;
         let n = out.len();
         parts.push(out);
         return Some(n);
     }
-    let children = expand_children(binary, children);
+    let children = expand_children(binary, children, merge);
     let me = parts.len();
-    parts.push(vec![T::from_float(&wide_node(binary, &children))?]);
+    parts.push(vec![T::from_float(&wide_node(binary, &children, merge))?]);
     let subs: Vec<Option<(Vec<Vec<T>>, usize)>> = children
         .nodes()
         .par_iter()
         .map(|&c| {
             let mut p = Vec::new();
-            let n = if binary[c].count == 0 {
-                collapse_parts(binary, Children::of(binary, c), depth + 1, &mut p)?
+            let n = if as_leaf(binary, c, merge).is_none() {
+                collapse_parts(binary, Children::of(binary, c), depth + 1, merge, &mut p)?
             } else {
                 0
             };
@@ -221,7 +273,7 @@ fn collapse_parts<T: WideOut>(
     let mut next = 1;
     for (slot, (&c, sub)) in children.nodes().iter().zip(subs).enumerate() {
         let (p, n) = sub?;
-        if binary[c].count == 0 {
+        if as_leaf(binary, c, merge).is_none() {
             parts[me][0].set_child(slot, next as u32);
             next += n;
             parts.extend(p);
@@ -254,16 +306,17 @@ fn wide_bound(binary: &[Node], children: &Children) -> usize {
 pub(super) fn fill_wide<T: WideOut>(
     binary: &[Node],
     children: Children,
+    merge: usize,
     out: &mut Vec<T>,
 ) -> Option<()> {
-    let children = expand_children(binary, children);
+    let children = expand_children(binary, children, merge);
     let me = out.len();
-    out.push(T::from_float(&wide_node(binary, &children))?);
+    out.push(T::from_float(&wide_node(binary, &children, merge))?);
     for (slot, &c) in children.nodes().iter().enumerate() {
-        if binary[c].count == 0 {
+        if as_leaf(binary, c, merge).is_none() {
             let idx = out.len() as u32;
             out[me].set_child(slot, idx);
-            fill_wide(binary, Children::of(binary, c), out)?;
+            fill_wide(binary, Children::of(binary, c), merge, out)?;
         }
     }
     Some(())

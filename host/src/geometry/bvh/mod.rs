@@ -9,7 +9,8 @@
 //! exact min/max and integer sums, so the tree depends only on the input, never on the thread
 //! count or scheduling. The binary tree is
 //! then collapsed into eight-wide nodes (each binary node pulls up the grandchildren of its
-//! largest-area interior children until it has eight), as Embree does on AVX machines: a ray
+//! largest-area interior children until it has eight; small subtrees of triangles become one
+//! leaf where the surface area heuristic accepts it), as Embree does on AVX machines: a ray
 //! then makes one eight-box SIMD test where the binary tree needed up to seven node visits
 //! with one scalar box test each. Nodes store their children's boxes as structure-of-arrays
 //! (256 bytes, four cache lines) and are laid out depth-first. Trees of
@@ -52,6 +53,7 @@ use collapse::{collapse, collapse_float};
 use wide_node::{QuantNode, WideNode};
 
 pub use build::{BIN_COUNT, MAX_LEAF_SIZE};
+pub use collapse::MERGE_LEAF_PRIMITIVES;
 pub use traverse::TraversalKernel;
 
 /// Trees over at least this many primitives get quantised nodes ([`NodeLayout::Auto`]): below,
@@ -98,6 +100,15 @@ impl Bvh {
     /// [`Bvh::build`] with a chosen node layout (benchmarks and tests compare them; the
     /// closest hits are the same either way).
     pub fn build_with_layout(bounds: &[Aabb], layout: NodeLayout) -> Bvh {
+        Self::build_with_options(bounds, layout, true)
+    }
+
+    /// [`Bvh::build_with_layout`], saying whether the collapse may merge small subtrees into
+    /// one leaf (up to [`MERGE_LEAF_PRIMITIVES`] primitives, where the surface area heuristic
+    /// accepts it). Its cost model counts every primitive test the same, so callers whose
+    /// primitives are not all triangles (analytic spheres, quads: several triangle tests each)
+    /// pass `false`. The closest hits are the same either way.
+    pub fn build_with_options(bounds: &[Aabb], layout: NodeLayout, merge_leaves: bool) -> Bvh {
         // In parallel and in order, with the root's bounds in the same pass.
         let (mut prims, root) = build_prims(bounds);
         if prims.is_empty() {
@@ -110,6 +121,11 @@ impl Bvh {
             min: Vec3A::from(root.min),
             max: Vec3A::from(root.max),
         });
+        let merge = if merge_leaves {
+            MERGE_LEAF_PRIMITIVES
+        } else {
+            0
+        };
         let quantise = match layout {
             NodeLayout::Auto => order.len() >= QUANTISE_MIN_PRIMITIVES,
             NodeLayout::Float => false,
@@ -123,13 +139,13 @@ impl Bvh {
             move || drop(prims),
             move || {
                 let quantised = if quantise {
-                    collapse::<QuantNode>(binary)
+                    collapse::<QuantNode>(binary, merge)
                 } else {
                     Err(binary)
                 };
                 match quantised {
                     Ok(q) => (Vec::new(), q),
-                    Err(binary) => (collapse_float(binary), Vec::new()),
+                    Err(binary) => (collapse_float(binary, merge), Vec::new()),
                 }
             },
         );

@@ -77,16 +77,26 @@ fn parallel_collapse_and_partition_match_sequential() {
 
     let binary = build_range(&mut prims, 0, 0);
     let mut sequential: Vec<WideNode> = Vec::new();
-    fill_wide(&binary, Children::of(&binary, 0), &mut sequential);
+    fill_wide(
+        &binary,
+        Children::of(&binary, 0),
+        MERGE_LEAF_PRIMITIVES,
+        &mut sequential,
+    );
     assert_eq!(
-        collapse::<WideNode>(binary.clone()).ok().as_ref(),
+        collapse::<WideNode>(binary.clone(), MERGE_LEAF_PRIMITIVES)
+            .ok()
+            .as_ref(),
         Some(&sequential)
     );
     // The quantised collapse makes each node from its float form on the spot: the same as
     // quantising the sequential float nodes one by one.
     let quantised: Option<Vec<QuantNode>> = sequential.iter().map(QuantNode::from_wide).collect();
     assert!(quantised.is_some());
-    assert_eq!(collapse::<QuantNode>(binary).ok(), quantised);
+    assert_eq!(
+        collapse::<QuantNode>(binary, MERGE_LEAF_PRIMITIVES).ok(),
+        quantised
+    );
 }
 
 // Every primitive must appear exactly once in the leaf order (a permutation), and every
@@ -139,10 +149,69 @@ fn order_is_permutation_and_boxes_nest() {
     assert_eq!(leaves, bounds.len());
 }
 
+// The collapse merges a small binary subtree into one leaf slot only where the surface area
+// heuristic accepts it. A hand-made binary tree: four equal overlapping boxes (merging costs
+// no extra tests: one leaf of four) and four tiny boxes at the corners of a 100-unit square
+// (merged, every ray reaching the square would test all four: four leaves of one). The root
+// wide node must hold exactly those five slots (compared exactly).
+#[test]
+fn collapse_merges_by_surface_area() {
+    /// A balanced binary tree over unit-count leaves, depth-first, first child next.
+    fn tree(boxes: &[([f32; 3], [f32; 3])], first: u32, out: &mut Vec<Node>) -> usize {
+        let me = out.len();
+        let mut n = Node {
+            min: [f32::INFINITY; 3],
+            offset: first,
+            max: [f32::NEG_INFINITY; 3],
+            count: 1,
+            axis: 0,
+            _pad: 0,
+        };
+        for (lo, hi) in boxes {
+            for a in 0..3 {
+                n.min[a] = n.min[a].min(lo[a]);
+                n.max[a] = n.max[a].max(hi[a]);
+            }
+        }
+        out.push(n);
+        if boxes.len() > 1 {
+            let half = boxes.len() / 2;
+            tree(&boxes[..half], first, out);
+            let right = tree(&boxes[half..], first + half as u32, out);
+            out[me].offset = right as u32;
+            out[me].count = 0;
+        }
+        me
+    }
+    let unit = ([0.0, 0.0, 0.0], [1.0, 1.0, 1.0]);
+    let tiny = |x: f32, y: f32| ([x, y, 5.0], [x + 0.01, y + 0.01, 5.01]);
+    let mut boxes = vec![unit; 4];
+    boxes.extend([
+        tiny(200.0, 0.0),
+        tiny(300.0, 0.0),
+        tiny(200.0, 100.0),
+        tiny(300.0, 100.0),
+    ]);
+    let mut binary = Vec::new();
+    tree(&boxes, 0, &mut binary);
+    // Without merging, the eight binary leaves stay apart.
+    let apart = collapse_float(binary.clone(), 0);
+    assert_eq!(apart[0].count[..apart[0].slots as usize], [1; 8]);
+    let wide = collapse_float(binary, MERGE_LEAF_PRIMITIVES);
+    let root = &wide[0];
+    let mut slots: Vec<(u32, u16)> = (0..root.slots as usize)
+        .map(|s| (root.child[s], root.count[s]))
+        .collect();
+    slots.sort_unstable();
+    assert_eq!(slots, vec![(0, 4), (4, 1), (5, 1), (6, 1), (7, 1)]);
+    assert_eq!(wide.len(), 1);
+}
+
 // The wide traversal must find exactly the closest hit a brute-force loop finds, with float
-// and with quantised nodes: primitives are boxes, "hit" is the conservative slab test's entry
-// distance, 2000 random rays over 3000 random boxes (small and large, overlapping); compared
-// exactly, and any-hit must agree on whether anything is hit at all.
+// and with quantised nodes (merged leaves) and with float nodes without merged leaves:
+// primitives are boxes, "hit" is the conservative slab test's entry distance, 2000 random rays
+// over 3000 random boxes (small and large, overlapping); compared exactly, and any-hit must
+// agree on whether anything is hit at all.
 #[test]
 fn wide_traversal_matches_brute_force() {
     let mut next = uniform_stream(99);
@@ -157,10 +226,33 @@ fn wide_traversal_matches_brute_force() {
         });
     }
     let layouts = [NodeLayout::Float, NodeLayout::Quantised];
-    let bvhs = layouts.map(|l| Bvh::build_with_layout(&boxes, l));
+    let mut bvhs: Vec<Bvh> = layouts
+        .iter()
+        .map(|&l| Bvh::build_with_layout(&boxes, l))
+        .collect();
     for (bvh, layout) in bvhs.iter().zip(layouts) {
         assert_eq!(bvh.layout(), layout);
     }
+    // And the tree without merged leaves; the merged one must hold fewer leaf slots, so that
+    // merged leaves are part of what is compared.
+    let apart = Bvh::build_with_options(&boxes, NodeLayout::Float, false);
+    let leaf_slots = |b: &Bvh| -> usize {
+        b.nodes
+            .iter()
+            .map(|n| {
+                n.count[..n.slots as usize]
+                    .iter()
+                    .filter(|&&c| c > 0)
+                    .count()
+            })
+            .sum()
+    };
+    let (merged, separate) = (leaf_slots(&bvhs[0]), leaf_slots(&apart));
+    assert!(
+        merged < separate,
+        "{merged} merged against {separate} leaf slots"
+    );
+    bvhs.push(apart);
     let entry = |b: &Aabb, ray: &Ray, t_max: f32| -> Option<f32> {
         let inv = Vec3A::ONE / ray.dir;
         if !b.hit(ray.origin, inv, t_max) {
