@@ -20,11 +20,10 @@
 //! see (another density at directions it did not try) stays the plugin's responsibility, as the
 //! API's documentation says.
 
-use super::flatness::{REL_TOLERANCE, SET_A_NM};
-use super::same_f::PROBE_WI;
-use crate::material::{same_hemisphere, Material, MaterialFlags, ShadingContext, TransportMode};
-use crate::spectrum::{LaneMask, SampledWavelengths, LANES};
-use glam::{Vec2, Vec3A};
+use super::flatness::close;
+use super::same_f::{for_each_probe_sample, probe_directions};
+use crate::material::{same_hemisphere, Material, MaterialFlags};
+use glam::Vec3A;
 use std::f32::consts::FRAC_1_PI;
 
 /// The cosine-weighted density of `wi` given `wo` (1/sr): `|cos θi|/π` on `wo`'s side, 0 on the
@@ -39,10 +38,6 @@ pub fn cosine_pdf(wo: Vec3A, wi: Vec3A) -> f32 {
     }
 }
 
-fn close(a: f32, b: f32) -> bool {
-    a == b || (a - b).abs() <= REL_TOLERANCE * a.abs().max(b.abs())
-}
-
 /// `Ok` when the probes find `m` sampling with the cosine-weighted density; else what they
 /// found, as the end of a sentence. `m` is asked through its own `pdf` (the plugin's), never
 /// through [`cosine_pdf`].
@@ -50,53 +45,32 @@ pub fn check(m: &dyn Material) -> Result<(), String> {
     if m.flags().contains(MaterialFlags::SPECULAR) {
         return Err("it has a specular lobe, whose density is not the cosine's".to_string());
     }
-    let ctx = ShadingContext::at(Vec3A::ZERO, Vec3A::Z, Vec3A::Z, Vec2::splat(0.5));
-    let lambda = SampledWavelengths {
-        lambda: SET_A_NM,
-        pdf: [1.0; LANES],
-        lanes: LaneMask::ALL,
-    };
-    let wos = [
-        Vec3A::Z,
-        Vec3A::new(0.6, 0.0, 0.8),
-        Vec3A::new(-0.48, 0.6, -0.64),
-    ];
-    let us = [(0.1, 0.2, 0.3), (0.5, 0.7, 0.9), (0.9, 0.05, 0.6)];
-    let mode = TransportMode::Radiance;
-    for wo in wos {
-        for (u0, u1, u2) in us {
-            let Some(s) = m.sample(wo, &ctx, &lambda, u0, Vec2::new(u1, u2), mode) else {
-                continue;
-            };
-            let expected = cosine_pdf(wo, s.wi);
-            if !same_hemisphere(wo, s.wi) || !close(s.pdf, expected) {
-                return Err(format!(
-                    "`sample` at wo = {wo} returns wi = {} with density {} 1/sr where the \
+    for_each_probe_sample(m, |probe, wo, s| {
+        let expected = cosine_pdf(wo, s.wi);
+        if !same_hemisphere(wo, s.wi) || !close(s.pdf, expected) {
+            return Err(format!(
+                "`sample` at wo = {wo} returns wi = {} with density {} 1/sr where the \
                      cosine-weighted density is {expected} 1/sr",
-                    s.wi, s.pdf
+                s.wi, s.pdf
+            ));
+        }
+        for wi in probe_directions(s.wi) {
+            let p = m.pdf(wo, wi, &probe.ctx, &probe.lambda, probe.mode);
+            let expected = cosine_pdf(wo, wi);
+            let agrees = if expected > 0.0 {
+                close(p, expected)
+            } else {
+                p == 0.0
+            };
+            if !agrees {
+                return Err(format!(
+                    "`pdf` at wo = {wo}, wi = {wi} returns {p} 1/sr where the \
+                         cosine-weighted density is {expected} 1/sr"
                 ));
             }
-            let probes = PROBE_WI
-                .iter()
-                .flat_map(|&[x, y, z]| [Vec3A::new(x, y, z), Vec3A::new(x, y, -z)]);
-            for wi in std::iter::once(s.wi).chain(probes) {
-                let p = m.pdf(wo, wi, &ctx, &lambda, mode);
-                let expected = cosine_pdf(wo, wi);
-                let agrees = if expected > 0.0 {
-                    close(p, expected)
-                } else {
-                    p == 0.0
-                };
-                if !agrees {
-                    return Err(format!(
-                        "`pdf` at wo = {wo}, wi = {wi} returns {p} 1/sr where the \
-                         cosine-weighted density is {expected} 1/sr"
-                    ));
-                }
-            }
         }
-    }
-    Ok(())
+        Ok(())
+    })
 }
 
 #[cfg(test)]
@@ -104,8 +78,11 @@ mod tests {
     use super::*;
     use crate::material::lambertian::Lambertian;
     use crate::material::texture::ConstantTexture;
-    use crate::material::{BsdfSample, MaterialFlags};
-    use crate::spectrum::SampledSpectrum;
+    use crate::material::{BsdfSample, MaterialFlags, ShadingContext, TransportMode};
+    use crate::plugin::flatness::SET_A_NM;
+    use crate::plugin::same_f::PROBE_WI;
+    use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths, LANES};
+    use glam::Vec2;
     use std::sync::Arc;
 
     /// A liar: Lambertian values, but directions drawn uniformly over the hemisphere (density

@@ -37,7 +37,7 @@ fn lanes(nm: [f32; LANES]) -> SampledWavelengths {
     }
 }
 
-fn close(a: f32, b: f32) -> bool {
+pub(super) fn close(a: f32, b: f32) -> bool {
     a == b || (a - b).abs() <= REL_TOLERANCE * a.abs().max(b.abs())
 }
 

@@ -19,8 +19,8 @@
 //! see (a texture that changes the value elsewhere on the surface is fine: the claim is about
 //! directions at one point) stays the plugin's responsibility, as the API's documentation says.
 
-use super::flatness::{REL_TOLERANCE, SET_A_NM};
-use crate::material::{same_hemisphere, Material, ShadingContext, TransportMode};
+use super::flatness::{close, SET_A_NM};
+use crate::material::{same_hemisphere, BsdfSample, Material, ShadingContext, TransportMode};
 use crate::spectrum::{LaneMask, SampledWavelengths, LANES};
 use glam::{Vec2, Vec3A};
 
@@ -33,18 +33,71 @@ pub const PROBE_WI: [[f32; 3]; 4] = [
     [0.3, -0.4, 0.866_025_4],
 ];
 
-fn close(a: f32, b: f32) -> bool {
-    a == b || (a - b).abs() <= REL_TOLERANCE * a.abs().max(b.abs())
-}
-
 /// `Ok` when the probes find `f(wo, ·)` of `m` the same for every direction on `wo`'s side and
 /// 0 on the other; else what they found, as the end of a sentence.
 pub fn check(m: &dyn Material) -> Result<(), String> {
-    let ctx = ShadingContext::at(Vec3A::ZERO, Vec3A::Z, Vec3A::Z, Vec2::splat(0.5));
-    let lambda = SampledWavelengths {
-        lambda: SET_A_NM,
-        pdf: [1.0; LANES],
-        lanes: LaneMask::ALL,
+    for_each_probe_sample(m, |probe, wo, s| {
+        if !same_hemisphere(wo, s.wi) {
+            return Err(format!(
+                "`sample` at wo = {wo} returns wi = {} on the other side of the surface",
+                s.wi
+            ));
+        }
+        for wi in probe_directions(s.wi) {
+            let f = m.eval(wo, wi, &probe.ctx, &probe.lambda, probe.mode);
+            let same_side = same_hemisphere(wo, wi);
+            let agrees = f.0.iter().zip(&s.f.0).all(
+                |(&e, &v)| {
+                    if same_side {
+                        close(e, v)
+                    } else {
+                        e == 0.0
+                    }
+                },
+            );
+            if !agrees {
+                let expected = if same_side { s.f.0 } else { [0.0; LANES] };
+                return Err(format!(
+                    "`eval` at wo = {wo}, wi = {wi} returns {:?} at {:?} nm where {:?} was \
+                         expected ({})",
+                    f.0,
+                    SET_A_NM,
+                    expected,
+                    if same_side {
+                        "the value `sample` returned for that wo"
+                    } else {
+                        "0 on the other side"
+                    }
+                ));
+            }
+        }
+        Ok(())
+    })
+}
+
+/// The surface, wavelengths and transport mode every probe of a material's claim uses (see the
+/// module's table).
+pub(super) struct Probe {
+    pub ctx: ShadingContext,
+    pub lambda: SampledWavelengths,
+    pub mode: TransportMode,
+}
+
+/// Calls `visit(probe, wo, sample)` for each of the probe's nine `sample` calls of `m` (three
+/// outgoing directions × three uniform triples; directions `m` does not sample are skipped),
+/// stopping at the first error.
+pub(super) fn for_each_probe_sample(
+    m: &dyn Material,
+    mut visit: impl FnMut(&Probe, Vec3A, &BsdfSample) -> Result<(), String>,
+) -> Result<(), String> {
+    let probe = Probe {
+        ctx: ShadingContext::at(Vec3A::ZERO, Vec3A::Z, Vec3A::Z, Vec2::splat(0.5)),
+        lambda: SampledWavelengths {
+            lambda: SET_A_NM,
+            pdf: [1.0; LANES],
+            lanes: LaneMask::ALL,
+        },
+        mode: TransportMode::Radiance,
     };
     let wos = [
         Vec3A::Z,
@@ -52,53 +105,30 @@ pub fn check(m: &dyn Material) -> Result<(), String> {
         Vec3A::new(-0.48, 0.6, -0.64),
     ];
     let us = [(0.1, 0.2, 0.3), (0.5, 0.7, 0.9), (0.9, 0.05, 0.6)];
-    let mode = TransportMode::Radiance;
     for wo in wos {
         for (u0, u1, u2) in us {
-            let Some(s) = m.sample(wo, &ctx, &lambda, u0, Vec2::new(u1, u2), mode) else {
-                continue;
-            };
-            if !same_hemisphere(wo, s.wi) {
-                return Err(format!(
-                    "`sample` at wo = {wo} returns wi = {} on the other side of the surface",
-                    s.wi
-                ));
-            }
-            let probes = PROBE_WI
-                .iter()
-                .flat_map(|&[x, y, z]| [Vec3A::new(x, y, z), Vec3A::new(x, y, -z)]);
-            for wi in std::iter::once(s.wi).chain(probes) {
-                let f = m.eval(wo, wi, &ctx, &lambda, mode);
-                let same_side = same_hemisphere(wo, wi);
-                let agrees =
-                    f.0.iter().zip(&s.f.0).all(
-                        |(&e, &v)| {
-                            if same_side {
-                                close(e, v)
-                            } else {
-                                e == 0.0
-                            }
-                        },
-                    );
-                if !agrees {
-                    let expected = if same_side { s.f.0 } else { [0.0; LANES] };
-                    return Err(format!(
-                        "`eval` at wo = {wo}, wi = {wi} returns {:?} at {:?} nm where {:?} was \
-                         expected ({})",
-                        f.0,
-                        SET_A_NM,
-                        expected,
-                        if same_side {
-                            "the value `sample` returned for that wo"
-                        } else {
-                            "0 on the other side"
-                        }
-                    ));
-                }
+            let sample = m.sample(
+                wo,
+                &probe.ctx,
+                &probe.lambda,
+                u0,
+                Vec2::new(u1, u2),
+                probe.mode,
+            );
+            if let Some(s) = sample {
+                visit(&probe, wo, &s)?;
             }
         }
     }
     Ok(())
+}
+
+/// The sampled direction `wi`, then [`PROBE_WI`], each also mirrored below the surface.
+pub(super) fn probe_directions(wi: Vec3A) -> impl Iterator<Item = Vec3A> {
+    let probes = PROBE_WI
+        .iter()
+        .flat_map(|&[x, y, z]| [Vec3A::new(x, y, z), Vec3A::new(x, y, -z)]);
+    std::iter::once(wi).chain(probes)
 }
 
 #[cfg(test)]
