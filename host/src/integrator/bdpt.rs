@@ -27,6 +27,7 @@
 //! | `rr_depth`  | vertices | 3       | subpath length from which Russian roulette may stop  |
 
 use super::beam::trace_beam;
+use super::camera_chain::{CameraChain, ChainScratch};
 use super::camera_connection::connect_to_camera;
 use super::driver::{Integrator, IntegratorInfo, IntegratorOutput, Registration};
 use super::flat_colour::FlatColour;
@@ -589,6 +590,8 @@ struct Worker {
     /// Flatness of each subpath prefix (see [`FlatColour::prefix`]).
     camera_flat: Vec<bool>,
     light_flat: Vec<bool>,
+    /// Solutions of the camera-side chain connection.
+    chain_scratch: ChainScratch,
 }
 
 /// Film XYZ of connection `c` of strategy (s, t): the exact colour of its emitter when the
@@ -681,6 +684,10 @@ fn render_bdpt(
         .filter(|_| !scene.objects.fluorescence());
     // Not with fluorescence: the strategy does not follow wavelength shifts.
     let manifold = plan.manifold() && !scene.objects.fluorescence();
+    // The camera-side chains: pinhole cameras only (`CameraChain::new`), no fluorescence.
+    let camera_chain = (plan.camera_chain() && !scene.objects.fluorescence())
+        .then(|| CameraChain::new(scene, camera))
+        .flatten();
     let strategies = bdpt
         .strategy_images
         .then(|| StrategyFilms::new(width, height));
@@ -700,6 +707,7 @@ fn render_bdpt(
                 stats: PathStats::default(),
                 camera_flat: Vec::with_capacity(16),
                 light_flat: Vec::with_capacity(16),
+                chain_scratch: ChainScratch::default(),
             };
             for y in buf.y0..buf.y0 + buf.h {
                 for x in buf.x0..buf.x0 + buf.w {
@@ -720,7 +728,7 @@ fn render_bdpt(
                             &pixel_max,
                             strategies.as_ref(),
                             flat.as_ref(),
-                            manifold,
+                            (manifold, camera_chain.as_ref()),
                             &mut worker,
                         );
                         buf.add(x, y, xyz, "bdpt camera film (t ≥ 2)");
@@ -807,7 +815,7 @@ impl Bdpt {
         pixel_max: &PixelMaxY,
         strategies: Option<&StrategyFilms>,
         flat: Option<&FlatColour>,
-        manifold: bool,
+        (manifold, camera_chain): (bool, Option<&CameraChain>),
         worker: &mut Worker,
     ) -> [f64; 3] {
         let camera = cam.camera.as_ref();
@@ -909,6 +917,19 @@ impl Bdpt {
                     // A path the specular-chain connection can make too: its share.
                     if let Some(w) = s0_weight(scene, camera, &camera_path, t, &lambda) {
                         c.weight *= w;
+                    }
+                    if let Some(cc) = camera_chain {
+                        if let Some(w) = cc.s0_weight(
+                            scene,
+                            camera,
+                            &camera_path,
+                            t,
+                            &lambda,
+                            max_depth,
+                            &mut worker.chain_scratch,
+                        ) {
+                            c.weight *= w;
+                        }
                     }
                 }
                 // A t = 1 splat in a fluorescent scene: the observer weighs the wavelengths
@@ -1018,6 +1039,67 @@ impl Bdpt {
                     }
                 }
             }
+        }
+        if let Some(cc) = camera_chain {
+            // The camera-side chain connection, splatted like t = 1.
+            let u_run = rng.next_1d();
+            let u = if u_run < super::camera_chain::CAMERA_CHAIN_RATE {
+                (u_run, rng.next_1d(), rng.next_2d())
+            } else {
+                (u_run, 0.0, Vec2::ZERO)
+            };
+            cc.connect(
+                scene,
+                camera,
+                &lambda,
+                u,
+                max_depth,
+                &mut worker.chain_scratch,
+                &mut worker.stats,
+                |m| {
+                    let c = Connection {
+                        l: m.l,
+                        weight: SampledSpectrum::splat(m.weight),
+                        raster: Some(m.raster),
+                        lanes: m.lanes,
+                        emitter: Some(m.emitter),
+                    };
+                    let xyz = connection_xyz(
+                        flat.filter(|_| m.flat_chain),
+                        (&worker.camera_flat, &worker.light_flat),
+                        0,
+                        1,
+                        &c,
+                        &weights,
+                        &lambda,
+                    );
+                    if let Some(kind) = check_sample(&xyz) {
+                        splats.reject(Rejection {
+                            x,
+                            y,
+                            strategy: "bdpt camera chain".into(),
+                            kind,
+                        });
+                        return;
+                    }
+                    Self::record_splat(
+                        splats,
+                        strategies,
+                        pixel_max,
+                        m.raster,
+                        xyz,
+                        Some((0, m.t_equivalent)),
+                    );
+                    if let Some(sf) = spectral {
+                        sf.splat(
+                            m.raster.x,
+                            m.raster.y,
+                            &xyz,
+                            &weights.energies(&(c.l * c.weight), c.lanes),
+                        );
+                    }
+                },
+            );
         }
         worker.camera_path = camera_path;
         worker.light_path = light_path;

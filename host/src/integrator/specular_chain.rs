@@ -147,6 +147,30 @@ impl Chain {
         true
     }
 
+    /// A seed for [`solve`]: the surfaces and lobes `(object, lobe)` in order, the first
+    /// direction aimed from `x0` at `first` (only that direction and the surfaces matter: the
+    /// solve re-traces the chain from `x0`). At most [`MAX_CHAIN_VERTICES`] are kept.
+    pub fn template(first: Vec3A, surfaces: &[(u32, Lobe)]) -> Self {
+        let mut c = Self::new();
+        for &(object, lobe) in surfaces {
+            c.push(ChainVertex {
+                object,
+                primitive: 0,
+                lobe,
+                p: first,
+                p_error: Vec3A::ZERO,
+                ng: Vec3A::Z,
+                ns: Vec3A::Z,
+                uv: Vec2::ZERO,
+                eta: 1.0,
+                weight: SampledSpectrum::splat(1.0),
+                lobe_pdf: 1.0,
+                dispersive: false,
+            });
+        }
+        c
+    }
+
     /// The vertices, `x1` first.
     pub fn iter(&self) -> impl Iterator<Item = &ChainVertex> {
         self.vertices[..self.len].iter().flatten()
