@@ -31,7 +31,7 @@
 //!
 //! | constant            | value | meaning                                                    |
 //! |---------------------|-------|------------------------------------------------------------|
-//! | `CAMERA_CHAIN_RATE` | 1/8   | probability that a camera sample runs the strategy         |
+//! | `CAMERA_CHAIN_RATE` | 1/256 | probability that a camera sample runs the strategy         |
 
 use super::manifold_connection::LightPoint;
 use super::specular_chain::{Endpoint, Solved, MAX_CHAIN_VERTICES};
@@ -55,8 +55,12 @@ const SCAN_LIGHT_POINTS: [(f32, f32); 5] = [
     (0.85, 0.85),
 ];
 
-/// Probability that a camera sample runs the strategy (it then counts `1/q` times).
-pub const CAMERA_CHAIN_RATE: f32 = 0.125;
+/// Probability that a camera sample runs the strategy (it then counts `1/q` times). One run
+/// costs about 100k instructions (three Newton solves on the caustic scene), 13× a whole
+/// BDPT sample there; at 1/256 a 160×120 image still gets 75 runs per sample per pixel, and
+/// each run splats once into each lamp image (a few pixels), so they converge long before
+/// the rest of the image (measured: docs/performance.md, "The lamp seen in the ball").
+pub const CAMERA_CHAIN_RATE: f32 = 1.0 / 256.0;
 
 /// One splat of the strategy.
 #[derive(Clone, Copy, Debug)]

@@ -182,6 +182,27 @@ impl SpecularShapes {
         }
     }
 
+    /// Calls `f` with the reflection seeds alone from `x0` to `y` (one vertex each: the
+    /// bisector point of every round shape, the mirror image through every quad): the cheap
+    /// part of [`for_each_seed`](Self::for_each_seed), for connections run at every sample.
+    pub fn for_each_reflection_seed(&self, x0: Vec3A, y: Vec3A, mut f: impl FnMut(&Chain)) {
+        for s in &self.shapes {
+            let p = match s.shape {
+                SeedShape::Round { center, radius } => bisector_point(center, radius, x0, y),
+                SeedShape::Plane { point, normal } => {
+                    let (hx, hy) = ((x0 - point).dot(normal), (y - point).dot(normal));
+                    (hx * hy > 0.0).then(|| {
+                        let image = y - normal * (2.0 * hy);
+                        x0 + (image - x0) * (hx / (hx + hy))
+                    })
+                }
+            };
+            if let Some(p) = p {
+                f(&Chain::template(p, &[(s.object, Lobe::Reflect)]));
+            }
+        }
+    }
+
     /// The impact parameters at which the scan from `x0` finds sign changes towards any of
     /// `ys` (e.g. a few points of each light), per round transmitting shape and lobe sequence,
     /// merged where closer than 0.02: a per-render seed table for a fixed `x0` (the pinhole).
@@ -391,15 +412,25 @@ impl SolutionSet {
         max_len: usize,
         table: Option<&ScanTable>,
     ) {
-        self.solved.clear();
-        self.tolerance = 1e-3 * (y.p - x0.p).length();
+        self.begin(x0.p, y.p);
         shapes.for_each_seed(scene, x0, y.p, lambda, max_len, table, |seed| {
             if let Some(s) = solve(scene, x0, y, seed, lambda) {
-                if !self.contains(&s.chain) {
-                    self.solved.push(s);
-                }
+                self.add(s);
             }
         });
+    }
+
+    /// Empties the set for the solutions from `x0` to `y`.
+    pub fn begin(&mut self, x0: Vec3A, y: Vec3A) {
+        self.solved.clear();
+        self.tolerance = 1e-3 * (y - x0).length();
+    }
+
+    /// Keeps `s` unless the set has it already.
+    pub fn add(&mut self, s: Solved) {
+        if !self.contains(&s.chain) {
+            self.solved.push(s);
+        }
     }
 
     /// The solution that is `chain`, if the set has it.
