@@ -549,8 +549,9 @@ impl RenderPlan {
                     "every path's colour is estimated from its wavelengths"
                 }
                 (Switch::Manifold, true) => {
-                    "bdpt: paths camera → specular → diffuse → refractions → area light also \
-                     by solving the refraction chain to a sampled light point (MIS with s = 0)"
+                    "bdpt: paths camera → specular → diffuse → refractions (or one reflection) \
+                     → area light also by solving the chain to a sampled light point (MIS with \
+                     s = 0)"
                 }
                 (Switch::Manifold, false) => "those paths come from s = 0 alone",
                 (Switch::CameraChain, true) => {

@@ -56,10 +56,10 @@ const SCAN_LIGHT_POINTS: [(f32, f32); 5] = [
 ];
 
 /// Probability that a camera sample runs the strategy (it then counts `1/q` times). One run
-/// costs about 100k instructions (three Newton solves on the caustic scene), 13× a whole
-/// BDPT sample there; at 1/256 a 160×120 image still gets 75 runs per sample per pixel, and
-/// each run splats once into each lamp image (a few pixels), so they converge long before
-/// the rest of the image (measured: docs/performance.md, "The lamp seen in the ball").
+/// costs about 100k instructions (three Newton solves on the caustic scene), 6× a whole BDPT
+/// sample there; at 1/256 a 160×120 image still gets 75 runs per pass of one sample per
+/// pixel, and each run splats once into each lamp image (a few pixels), so they converge long
+/// before the rest of the image (measured: docs/performance.md, "The lamp seen in the ball").
 pub const CAMERA_CHAIN_RATE: f32 = 1.0 / 256.0;
 
 /// One splat of the strategy.
