@@ -149,10 +149,19 @@ fn event_bits(f: MaterialFlags) -> Flags {
     Flags(u32::from(EVENT_TABLE[(f.0 & 0xff) as usize]))
 }
 
-/// The interface's vector from a host vector, `w` cleared.
+/// The interface's vector from a host vector, `w` cleared (a lane select against zero, one AND
+/// on SSE, as the host does it).
 #[inline]
 pub(crate) fn v4f(v: Vec3A) -> Vec4f {
-    let [x, y, z, w] = v.extend(0.0).to_array();
+    #[cfg(target_arch = "x86_64")]
+    let v = glam::Vec4::select(
+        glam::BVec4A::new(true, true, true, false),
+        glam::Vec4::from(std::arch::x86_64::__m128::from(v)),
+        glam::Vec4::ZERO,
+    );
+    #[cfg(not(target_arch = "x86_64"))]
+    let v = v.extend(0.0);
+    let [x, y, z, w] = v.to_array();
     Vec4f { x, y, z, w }
 }
 
