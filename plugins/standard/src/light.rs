@@ -15,7 +15,7 @@
 //! bounds and asks this one for radiance, incident-direction sampling and power.
 
 use crate::material::{host_lambdas, v3, va, values};
-use crate::material::{host_v, lambdas_v4, v4f};
+use crate::material::{host_v, v4f, wavelengths};
 use crate::wrap::{context, params_doc, plugin_error, HostParams, HostSpd};
 use glam::{Vec2, Vec3A};
 use spectrace::builtin::light::{directional, environment, point, spot};
@@ -24,7 +24,7 @@ use spectrace::light::{
     ConstantEnvironment, EnvironmentLight, EnvironmentRadiance, Light as HostLight, LightFlags,
     LightSampleContext,
 };
-use spectrace::plugin::layout::{as_light_context, as_light_sample_mut, as_wavelengths};
+use spectrace::plugin::layout::{as_light_context, as_light_sample_mut};
 use spectrace_plugin_api::{
     light_flags, Beam, EmissionF32, EmissionPdf, EmissionSample, Flags, Host, IncidentF32,
     IncidentSample, LanesF32, LightSource, ParamDoc, PluginError, PluginResult, PluginType,
@@ -95,14 +95,8 @@ fn sample_toward_v6<L: HostLight + ?Sized>(
     out: &mut IncidentF32,
 ) -> bool {
     let ctx = as_light_context(receiver);
-    let copy;
-    let lambda = match as_wavelengths(lambda) {
-        Some(l) => l,
-        None => {
-            copy = lambdas_v4(lambda);
-            &copy
-        }
-    };
+    let mut slot = None;
+    let lambda = wavelengths(lambda, &mut slot);
     match light.sample_li(ctx, Vec2::new(u[0], u[1]), lambda) {
         Some(s) => {
             *as_light_sample_mut(out) = s;
@@ -122,14 +116,8 @@ fn sample_emission_v6<L: HostLight + ?Sized>(
 ) -> bool {
     let u1 = Vec2::new(u[0], u[1]);
     let u2 = Vec2::new(u[2], u[3]);
-    let copy;
-    let lambda = match as_wavelengths(lambda) {
-        Some(l) => l,
-        None => {
-            copy = lambdas_v4(lambda);
-            &copy
-        }
-    };
+    let mut slot = None;
+    let lambda = wavelengths(lambda, &mut slot);
     match light.sample_le(u1, u2, lambda) {
         Some(s) => {
             *out = EmissionF32 {

@@ -11,6 +11,13 @@
 //! with the very numbers of the built-in. What the interface does not carry: the
 //! wavelengths' sampling densities (every lane is passed as live, density 1/nm; only thin films
 //! read them, to skip terminated lanes).
+//!
+//! Held as the host's concrete types where the host's constructor gives one (`build_concrete`:
+//! all but `emissive` and `fluorescent`), so that the interface's call reaches the host's code
+//! with a direct call, and the host's wavelengths and surface are read in place
+//! (`spectrace::plugin::layout`): the library adds to a call what the interface needs and no
+//! second dynamic call of its own (docs/performance.md, "The standard library calling the
+//! host's types directly").
 
 use crate::wrap::{context, params_doc, plugin_error, HostParams, HostSpd};
 use glam::{Vec2, Vec3A};
@@ -190,6 +197,19 @@ fn sample_v4<M: HostMaterial + ?Sized>(m: &M, q: &MaterialQuery) -> Option<Scatt
     Some(scatter(s))
 }
 
+/// The host's wavelengths of `l`: read in place (`spectrace::plugin::layout::as_wavelengths`),
+/// or copied into `slot` where they cannot be.
+#[inline]
+pub(crate) fn wavelengths<'a>(
+    l: &'a LanesF32,
+    slot: &'a mut Option<SampledWavelengths>,
+) -> &'a SampledWavelengths {
+    match as_wavelengths(l) {
+        Some(w) => w,
+        None => slot.insert(lambdas_v4(l)),
+    }
+}
+
 /// What every call with the surface by reference (extensions v5 and v6) reads from its query:
 /// the directions, the host's own surface record and wavelengths in place
 /// (`spectrace::plugin::layout`; the wavelengths copied into `slot` only where they cannot be
@@ -208,10 +228,7 @@ fn read<'a>(q: &'a QueryV5<'a>, slot: &'a mut Option<SampledWavelengths>) -> Rea
         wo: host_v(q.wo),
         wi: host_v(q.wi),
         ctx: as_shading_context(q.ctx),
-        lambda: match as_wavelengths(&q.lambda) {
-            Some(l) => l,
-            None => slot.insert(lambdas_v4(&q.lambda)),
-        },
+        lambda: wavelengths(&q.lambda, slot),
         mode: host_mode(q.mode),
     }
 }
@@ -232,6 +249,7 @@ fn sample_v5<M: HostMaterial + ?Sized>(m: &M, q: &QueryV5<'_>) -> Option<Scatter
 trait Held: Send + Sync + 'static {
     /// The host material called.
     type M: HostMaterial + ?Sized;
+    /// The host material (the value itself, or what the `Arc` points to).
     fn get(&self) -> &Self::M;
     /// The re-radiation face of a fluorescent one.
     fn reradiation_face(&self) -> PluginResult<Option<HostReradiation>>;
