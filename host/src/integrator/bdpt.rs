@@ -13,7 +13,8 @@
 //! for them), delta BSDFs (no connection through them; their zero densities cancel), directional
 //! lights (positional density on a disk, see [`Vertex::pdf_light`]), finite apertures (the lens
 //! density is the camera's own), shading normals (adjoint correction on light subpaths).
-//! Wavelengths: one set per pair from [`WavelengthMixture`]. Fluorescence: both subpaths shift
+//! Wavelengths: one set per pair ([`PairWavelengths`]: observer × √emission, or the plan's
+//! [`WavelengthMixture`] in fluorescent and narrowband scenes). Fluorescence: both subpaths shift
 //! each lane's wavelength on its own at fluorescent surfaces; with probability α the light
 //! subpath starts at the pair's wavelengths (its connections join the lanes that never shift),
 //! otherwise at its own draw from its light's spectrum, and then a connection evaluates the
@@ -34,6 +35,7 @@ use super::fluorescent_join::{connect_own, t1_wavelengths, LightMode, SHARED_MOD
 use super::fluorescent_mis::mis_weight_lanes;
 use super::light_subpath::{generate_light_subpath_own, generate_light_subpath_with, LightStart};
 use super::manifold_connection::{anchor, connect_manifold, s0_weight};
+use super::pair_wavelengths::PairWavelengths;
 use super::pixel_max::PixelMaxY;
 use super::random_walk::{generate_camera_subpath, WalkShift};
 use super::render::ProgressFn;
@@ -674,10 +676,11 @@ fn render_bdpt(
     let (width, height) = camera.resolution();
     let sensor = Sensor::new(scene.observer.clone());
     let mixture = plan.mixture();
+    let pair = PairWavelengths::new(plan, scene, settings.tracer.wavelengths);
     // Not in a fluorescent scene: its per-lane MIS weights vary with the wavelength (the end
     // densities of the two modes differ), which the flat path's exact colour cannot carry.
     let flat = plan
-        .flat_colour(scene, sensor.observer().as_ref())
+        .flat_colour(scene, sensor.observer().as_ref(), &|l| pair.pdf(l))
         .filter(|_| !scene.objects.fluorescence());
     // Not with fluorescence: the strategy does not follow wavelength shifts.
     let manifold = plan.manifold() && !scene.objects.fluorescence();
@@ -712,7 +715,7 @@ fn render_bdpt(
                             scene,
                             cam,
                             &sensor,
-                            mixture,
+                            (mixture, &pair),
                             (x, y),
                             &mut ld,
                             &mut rng,
@@ -799,7 +802,7 @@ impl Bdpt {
         scene: &Scene,
         cam: &crate::camera::manager::NamedCamera,
         sensor: &Sensor,
-        mixture: &WavelengthMixture,
+        (mixture, pair): (&WavelengthMixture, &PairWavelengths<'_>),
         (x, y): (u32, u32),
         ld: &mut PixelSampler,
         rng: &mut SampleRng,
@@ -814,7 +817,7 @@ impl Bdpt {
         // The first dimensions (wavelengths, film position, lens, light-subpath start) come from
         // the pixel's stratified sampler: at equal spp the mean CIEDE2000 error of the caustic
         // scene drops by ~25% (colour noise from the wavelengths), for ~5% more time per sample.
-        let lambda = mixture.sample_with(ld.next_1d(), ld.next_1d() as f64, ld.next_1d() as f64);
+        let lambda = pair.sample(ld);
         let weights = XyzWeights::new(sensor, &lambda);
         let offset = cam.filter.sample(ld.next_2d());
         let cs = CameraSample {
