@@ -1125,6 +1125,7 @@ impl Bdpt {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::integrator::test_support::for_each_camera_subpath;
     use crate::integrator::vertex::VertexKind;
     use crate::scene::{build_scene, parse_scene_str, BuiltinFactory};
     use std::path::Path;
@@ -1144,35 +1145,11 @@ mod tests {
         // The scene file as shipped (source: scenes/caustic.ron).
         let desc = parse_scene_str(include_str!("../../../scenes/caustic.ron"), file).unwrap();
         let scene = build_scene(&desc, Path::new("."), file, &[&BuiltinFactory]).unwrap();
-        let cam = scene.cameras.get(None).unwrap();
-        let camera = cam.camera.as_ref();
-        let mixture = WavelengthMixture::new(&scene);
         let glass = 2u32; // object index of "glass_ball" in the scene file
-        let mut path = Vec::new();
-        let mut stats = PathStats::default();
         let (mut outside, mut through_glass, mut worst) = (0u64, 0u64, 0.0f32);
         // The sphere covers roughly pixels x 55..105, y 20..80 of the 160×120 image.
-        for k in 0..40_000u64 {
-            let mut rng = SampleRng::for_sample(7, k, 0);
-            let lambda = mixture.sample(&mut rng);
-            let u = rng.next_2d();
-            let cs = CameraSample {
-                p_film: Vec2::new(50.0 + 60.0 * u.x, 15.0 + 70.0 * u.y),
-                p_lens: rng.next_2d(),
-            };
-            let cray = camera.generate_ray(&cs).unwrap();
-            generate_camera_subpath(
-                &scene,
-                camera,
-                cray.ray,
-                cray.weight,
-                &lambda,
-                &mut rng,
-                18,
-                1,
-                &mut path,
-                &mut stats,
-            );
+        let window = (Vec2::new(50.0, 15.0), Vec2::new(60.0, 70.0));
+        for_each_camera_subpath(&scene, 7, 40_000, window, (18, 1), |path, _| {
             let mut seen_glass = false;
             for v in &path[1..] {
                 if v.kind == (VertexKind::Surface { object: glass }) {
@@ -1183,7 +1160,7 @@ mod tests {
                 through_glass += seen_glass as u64;
                 worst = worst.max(v.beta.max_value());
             }
-        }
+        });
         assert!(through_glass > 1000, "too few paths through the glass");
         assert!(
             worst <= 1.0 / 0.95 + 1e-4,

@@ -25,6 +25,8 @@ pub mod render;
 pub mod sampler;
 pub mod select;
 pub mod specular_chain;
+#[cfg(test)]
+mod test_support;
 pub mod tiled;
 pub mod vertex;
 pub mod wavelength_groups;
