@@ -511,9 +511,9 @@ impl RenderPlan {
         } else if m.emission_weight() >= 1.0 {
             "wavelengths from the lights' spectra only (all emission is narrowband)"
         } else if self.emission_wavelengths() {
-            "wavelengths half from the observer, half from the lights' spectra (pt, bdpt, lt)"
+            "wavelengths half from the observer, half from the lights' spectra (pt; bdpt, lt where some light is narrowband or has lines)"
         } else if self.fluorescence() {
-            "wavelengths: pt by its wavelength sampling (visible importance with fluorescence), bdpt/lt half observer, half lights' spectra"
+            "wavelengths: pt by its wavelength sampling (visible importance with fluorescence), bdpt/lt half observer, half lights' spectra where objects fluoresce"
         } else {
             "wavelengths by the wavelength sampling (default observer × √emission; pt, bdpt, lt)"
         };

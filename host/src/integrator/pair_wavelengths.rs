@@ -11,8 +11,11 @@
 //!   `¾·V·√p_emit/∫V·√p_emit + ¼·V/∫V`). It applies without
 //!   fluorescence (a fluorescent scene's light subpaths may start at their own light's
 //!   wavelengths, and its per-lane MIS weights read the mixture's lane densities: see
-//!   `integrator/fluorescent_join.rs`), where the render plan does not draw from the lights'
-//!   spectra itself (narrowband or line emission) and where some light has an evaluable spectrum.
+//!   `integrator/fluorescent_join.rs`), where no light is narrowband or has lines (the scene
+//!   analysis; there the plan's mixture draws from the lights' spectra) and where some light
+//!   has an evaluable spectrum. These are the scene's properties, not the render plan's
+//!   switches: under `--effects all` bdpt and lt render a scene without those effects as under
+//!   `auto`.
 //! - [`PairWavelengths::Uniform`] (`--wavelength-sampling uniform`, where the product would
 //!   apply): uniform on 360–830 nm; the plain baseline the agreement
 //!   tests compare against.
@@ -27,7 +30,7 @@
 
 use super::wavelength_mixture::WavelengthMixture;
 use super::{PixelSampler, WavelengthSampling};
-use crate::effects::RenderPlan;
+use crate::effects::{Effect, RenderPlan};
 use crate::scene::Scene;
 use crate::spectrum::wavelength_sampling::VISIBLE_RANGE;
 use crate::spectrum::wavelength_table::WavelengthTable;
@@ -50,9 +53,15 @@ impl<'a> PairWavelengths<'a> {
     /// docs), else the plan's [`Mixture`](Self::Mixture) (`Visible` and `LightSpd` mean the
     /// mixture).
     pub fn new(plan: &'a RenderPlan, scene: &Scene, sampling: WavelengthSampling) -> Self {
-        let applies = !plan.fluorescence()
-            && !scene.objects.fluorescence()
-            && !plan.emission_wavelengths()
+        // The scene's own properties, not the plan's switches: `--effects all` switches
+        // fluorescence and narrowband emission on in scenes without them, and bdpt and lt
+        // then render as under `auto` (the planned scene's objects say whether anything
+        // shifts wavelengths; the analysis whether some light is narrowband or has lines).
+        let effects = plan.effects();
+        let applies = !scene.objects.fluorescence()
+            && !effects.contains(Effect::NarrowbandEmission)
+            && !effects.contains(Effect::LineEmission)
+            && plan.mixture().emission_weight() < 1.0
             && plan.mixture().has_emission();
         let table = || applies.then(|| plan.product_table()).flatten();
         match sampling {
