@@ -17,6 +17,7 @@ pub mod fluorescent_mis;
 pub mod light_subpath;
 pub mod light_tracer;
 pub mod manifold_connection;
+pub mod pair_wavelengths;
 pub mod path;
 pub mod pixel_max;
 pub mod random_walk;
@@ -24,6 +25,8 @@ pub mod render;
 pub mod sampler;
 pub mod select;
 pub mod specular_chain;
+#[cfg(test)]
+mod test_support;
 pub mod tiled;
 pub mod vertex;
 pub mod wavelength_groups;
