@@ -118,7 +118,7 @@ impl LeafTriangles {
 
     /// The vertices of member `j` of the leaf `first..first + n`.
     #[inline(always)]
-    fn vertices(&self, first: usize, n: usize, j: usize) -> [Vec3A; 3] {
+    pub(super) fn vertices(&self, first: usize, n: usize, j: usize) -> [Vec3A; 3] {
         let at = |c: usize| self.data[first * COORDS + c * n + j];
         [
             Vec3A::new(at(0), at(1), at(2)),

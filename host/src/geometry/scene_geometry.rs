@@ -126,6 +126,9 @@ enum Candidate {
     /// A mesh triangle found through its leaf record: leaf slot and barycentrics.
     Slot {
         slot: u32,
+        /// The leaf holding it, `first..first + n`, where its vertices are read again.
+        first: u32,
+        n: u32,
         b: [f32; 3],
     },
     Triangle {
@@ -393,6 +396,8 @@ impl Geometry {
             h.hit.t,
             Candidate::Slot {
                 slot: h.slot,
+                first,
+                n: count,
                 b: [h.hit.b0, h.hit.b1, h.hit.b2],
             },
         ))
@@ -474,45 +479,21 @@ impl Geometry {
 
     fn make_hit(&self, ray: &Ray, t: f32, cand: Candidate) -> Hit {
         match cand {
-            Candidate::Slot { slot, b } => {
+            Candidate::Slot { slot, first, n, b } => {
+                // The vertices from the leaf just tested (in cache; the mesh's index triple
+                // and positions are three more scattered reads in large scenes), the same
+                // floats as the mesh's.
                 let prim = self.prims[slot as usize];
-                self.make_hit(ray, t, Candidate::Triangle { prim, b })
+                let p = self
+                    .tris
+                    .vertices(first as usize, n as usize, (slot - first) as usize);
+                self.mesh_hit(t, prim, p, b)
             }
             Candidate::Triangle { prim, b } => {
                 let WorldShape::Mesh(m) = &self.objects[prim.object as usize].shape else {
                     unreachable!("triangle candidate always comes from a mesh")
                 };
-                let ti = prim.index as usize;
-                let [p0, p1, p2] = m.triangle(ti);
-                let (point, point_error) = barycentric_point(b[0], b[1], b[2], p0, p1, p2);
-                let ng = geometric_normal(p0, p1, p2);
-                let idx = m.indices[ti];
-                let ns = m.normals.as_ref().map_or(ng, |ns| {
-                    let n = ns[idx[0] as usize] * b[0]
-                        + ns[idx[1] as usize] * b[1]
-                        + ns[idx[2] as usize] * b[2];
-                    let n = n.normalize_or_zero();
-                    if n == Vec3A::ZERO {
-                        ng
-                    } else {
-                        n
-                    }
-                });
-                let uv = m.uvs.as_ref().map_or(Vec2::new(b[1], b[2]), |uv| {
-                    uv[idx[0] as usize] * b[0]
-                        + uv[idx[1] as usize] * b[1]
-                        + uv[idx[2] as usize] * b[2]
-                });
-                Hit {
-                    t,
-                    point,
-                    point_error,
-                    geometric_normal: ng,
-                    shading_normal: ns,
-                    uv,
-                    object: prim.object,
-                    primitive: prim.index,
-                }
+                self.mesh_hit(t, prim, m.triangle(prim.index as usize), b)
             }
             Candidate::Quad { prim, half, b } => {
                 let WorldShape::Quad(q) = &self.objects[prim.object as usize].shape else {
@@ -547,6 +528,43 @@ impl Geometry {
                     primitive: 0,
                 }
             }
+        }
+    }
+
+    /// The hit on mesh triangle `prim` (vertices `p0, p1, p2`) with barycentrics `b`; the
+    /// mesh's index triple is read only for its vertex normals or uvs.
+    fn mesh_hit(&self, t: f32, prim: Primitive, [p0, p1, p2]: [Vec3A; 3], b: [f32; 3]) -> Hit {
+        let WorldShape::Mesh(m) = &self.objects[prim.object as usize].shape else {
+            unreachable!("triangle candidate always comes from a mesh")
+        };
+        let ti = prim.index as usize;
+        let (point, point_error) = barycentric_point(b[0], b[1], b[2], p0, p1, p2);
+        let ng = geometric_normal(p0, p1, p2);
+        let ns = m.normals.as_ref().map_or(ng, |ns| {
+            let idx = m.indices[ti];
+            let n = ns[idx[0] as usize] * b[0]
+                + ns[idx[1] as usize] * b[1]
+                + ns[idx[2] as usize] * b[2];
+            let n = n.normalize_or_zero();
+            if n == Vec3A::ZERO {
+                ng
+            } else {
+                n
+            }
+        });
+        let uv = m.uvs.as_ref().map_or(Vec2::new(b[1], b[2]), |uv| {
+            let idx = m.indices[ti];
+            uv[idx[0] as usize] * b[0] + uv[idx[1] as usize] * b[1] + uv[idx[2] as usize] * b[2]
+        });
+        Hit {
+            t,
+            point,
+            point_error,
+            geometric_normal: ng,
+            shading_normal: ns,
+            uv,
+            object: prim.object,
+            primitive: prim.index,
         }
     }
 
