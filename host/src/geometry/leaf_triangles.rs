@@ -116,10 +116,24 @@ impl LeafTriangles {
             .is_none_or(|v| v.is_nan())
     }
 
-    /// The vertices of member `j` of the leaf `first..first + n`.
+    /// The vertices of member `j` of the leaf `first..first + n` (a one-triangle leaf's by
+    /// [`LeafTriangles::record`]'s three loads).
     #[inline(always)]
     pub(super) fn vertices(&self, first: usize, n: usize, j: usize) -> [Vec3A; 3] {
-        let at = |c: usize| self.data[first * COORDS + c * n + j];
+        if n == 1 {
+            return self.record(first);
+        }
+        self.gather(first, n, j)
+    }
+
+    /// [`LeafTriangles::vertices`] float by float.
+    #[inline(always)]
+    fn gather(&self, first: usize, n: usize, j: usize) -> [Vec3A; 3] {
+        // One bounds check for the leaf's block instead of one per float.
+        let block = &self.data[first * COORDS..(first + n) * COORDS];
+        assert!(j < n);
+        // SAFETY: `c · n + j < 9n = block.len()` for `c ≤ 8` and `j < n`.
+        let at = |c: usize| unsafe { *block.get_unchecked(c * n + j) };
         [
             Vec3A::new(at(0), at(1), at(2)),
             Vec3A::new(at(3), at(4), at(5)),
@@ -234,7 +248,7 @@ impl LeafTriangles {
         }
         #[cfg(not(target_arch = "x86_64"))]
         {
-            self.vertices(first, 1, 0)
+            self.gather(first, 1, 0)
         }
     }
 }

@@ -430,8 +430,9 @@ impl Geometry {
     }
 
     /// One primitive tested through its object: a sphere, a quad or a mesh triangle (of a
-    /// leaf that also holds spheres or quads).
-    #[inline(never)]
+    /// leaf that also holds spheres or quads). Inlined into [`Geometry::test_objects`], the
+    /// one call per such leaf.
+    #[inline(always)]
     fn test_object<const KZ: usize>(
         &self,
         ray: &Ray,
@@ -533,6 +534,7 @@ impl Geometry {
 
     /// The hit on mesh triangle `prim` (vertices `p0, p1, p2`) with barycentrics `b`; the
     /// mesh's index triple is read only for its vertex normals or uvs.
+    #[inline]
     fn mesh_hit(&self, t: f32, prim: Primitive, [p0, p1, p2]: [Vec3A; 3], b: [f32; 3]) -> Hit {
         let WorldShape::Mesh(m) = &self.objects[prim.object as usize].shape else {
             unreachable!("triangle candidate always comes from a mesh")
