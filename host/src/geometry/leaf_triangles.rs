@@ -166,7 +166,7 @@ impl LeafTriangles {
         }
         if n > LANES {
             // Leaves hold at most four primitives (`MAX_LEAF_SIZE`, `MERGE_LEAF_PRIMITIVES`).
-            return self.test_scalar_from::<KZ>(ray, wr, first, n, 0, t_max, any_hit, None);
+            return self.scalar::<KZ>(ray, wr, first, n, t_max, any_hit);
         }
         // One bounds check for the whole leaf; the lane loads below stay inside `block`.
         let block = &self.data[first * COORDS..first * COORDS + n * COORDS + PADDING - 1];
@@ -175,7 +175,7 @@ impl LeafTriangles {
                 slot: (first + lane) as u32,
                 hit,
             }),
-            Pass::Scalar => self.test_scalar_from::<KZ>(ray, wr, first, n, 0, t_max, any_hit, None),
+            Pass::Scalar => self.scalar::<KZ>(ray, wr, first, n, t_max, any_hit),
         }
     }
 
@@ -191,25 +191,23 @@ impl LeafTriangles {
         t_max: f32,
         any_hit: bool,
     ) -> Option<LeafHit> {
-        self.test_scalar_from::<KZ>(ray, wr, first as usize, n as usize, 0, t_max, any_hit, None)
+        self.scalar::<KZ>(ray, wr, first as usize, n as usize, t_max, any_hit)
     }
 
-    /// [`LeafTriangles::test_scalar`] from member `from` on, with the search at `t_max` and
-    /// `best` found before it.
-    #[allow(clippy::too_many_arguments)]
+    /// [`LeafTriangles::test_scalar`] (out of line: it runs for leaves with an exact-zero
+    /// edge function only).
     #[inline(never)]
-    fn test_scalar_from<const KZ: usize>(
+    fn scalar<const KZ: usize>(
         &self,
         ray: &Ray,
         wr: &WatertightRay,
         first: usize,
         n: usize,
-        from: usize,
         mut t_max: f32,
         any_hit: bool,
-        mut best: Option<LeafHit>,
     ) -> Option<LeafHit> {
-        for j in from..n {
+        let mut best = None;
+        for j in 0..n {
             let [a, b, c] = self.vertices(first, n, j);
             if let Some(hit) = intersect_triangle_axis::<KZ>(ray, wr, t_max, a, b, c) {
                 t_max = hit.t;
