@@ -149,7 +149,10 @@ impl Drop for Depth {
 
 /// Run `f`, returning its result or the caught panic as an error naming `what` was being done.
 /// A panic's message reads `"{what} panicked at {file}:{line}: {message}"`, so the text before
-/// the first `": "` names the call site (the host counts by it).
+/// the first `": "` names the call site (the host counts by it). Inlined into each entry point:
+/// in library mode (a host that fetched an extension module) the call costs a flag test and
+/// `catch_unwind`, nothing else; the depth-counting path is out of line.
+#[inline]
 pub fn guarded<T>(
     what: &str,
     f: impl FnOnce() -> Result<T, PluginError>,
@@ -157,6 +160,16 @@ pub fn guarded<T>(
     if LIBRARY_MODE.load(Ordering::Relaxed) {
         return guarded_call_v5(what, f).into();
     }
+    guarded_counting(what, f)
+}
+
+/// [`guarded`] outside library mode: the hook installed and the thread-local depth counted, so
+/// that the hook knows the panic is caught.
+#[inline(never)]
+fn guarded_counting<T>(
+    what: &str,
+    f: impl FnOnce() -> Result<T, PluginError>,
+) -> RResult<T, PluginError> {
     install_quiet_hook();
     let depth = Depth::enter();
     let r = catch_unwind(AssertUnwindSafe(f));

@@ -854,6 +854,90 @@ impl PluginMaterial {
     }
 }
 
+/// The calls of libraries older than extension v5, out of line: the v5 path above stays a
+/// small function (its frame and saved registers are what that path needs, not these).
+impl PluginMaterial {
+    #[inline(never)]
+    fn sample_before_v5(
+        &self,
+        wo: Vec3A,
+        ctx: &ShadingContext,
+        lambda: &SampledWavelengths,
+        u_lobe: f32,
+        u: Vec2,
+        m: HostMode,
+    ) -> Option<BsdfSample> {
+        if let Some(v4) = &self.v4 {
+            let q = query(wo, Vec3A::ZERO, ctx, lambda, [u_lobe, u.x, u.y], m);
+            return match v4.sample(&q) {
+                RResult::ROk(ROption::RSome(s)) => match checked::scatter_f32(&s) {
+                    Ok(()) => Some(Self::bsdf_sample(&s)),
+                    Err(reason) => {
+                        self.origin.dropped(reason);
+                        None
+                    }
+                },
+                RResult::ROk(ROption::RNone) => None,
+                RResult::RErr(e) => self.origin.fail(e, None),
+            };
+        }
+        let (wo, lambda, u) = (v3(wo), lambdas(lambda), sample_from(&[u_lobe, u.x, u.y]));
+        let r = match &self.v2 {
+            Some(v2) => v2.sample(&Self::surface(ctx), wo, &lambda, &u, mode(m)),
+            None => (self.material).sample(&Self::ctx(ctx), wo, &lambda, &u, mode(m)),
+        };
+        let r = self.origin.checked(r, |s| match s {
+            ROption::RSome(s) => checked::scatter(s),
+            ROption::RNone => Ok(()),
+        });
+        match r {
+            Some(s) => s.into_option().map(|s| BsdfSample {
+                wi: va(s.wi),
+                f: spectrum(s.value),
+                pdf: s.pdf as f32,
+                flags: material_bits(
+                    s.flags,
+                    Some(s.flags.contains(material_flags::TRANSMISSION)),
+                ),
+                eta: s.eta as f32,
+            }),
+            None => None,
+        }
+    }
+
+    #[inline(never)]
+    fn eval_before_v5(
+        &self,
+        wo: Vec3A,
+        wi: Vec3A,
+        ctx: &ShadingContext,
+        lambda: &SampledWavelengths,
+        m: HostMode,
+    ) -> SampledSpectrum {
+        if let Some(v4) = &self.v4 {
+            let q = query(wo, wi, ctx, lambda, [0.0; 3], m);
+            return match v4.eval(&q) {
+                RResult::ROk(v) => match checked::values_f32(&v) {
+                    Ok(()) => SampledSpectrum(v),
+                    Err(reason) => {
+                        self.origin.dropped(reason);
+                        SampledSpectrum::zero()
+                    }
+                },
+                RResult::RErr(e) => self.origin.fail(e, SampledSpectrum::zero()),
+            };
+        }
+        let (wo, wi, lambda) = (v3(wo), v3(wi), lambdas(lambda));
+        let r = match &self.v2 {
+            Some(v2) => v2.eval(&Self::surface(ctx), wo, wi, &lambda, mode(m)),
+            None => (self.material).eval(&Self::ctx(ctx), wo, wi, &lambda, mode(m)),
+        };
+        (self.origin)
+            .checked(r, checked::values)
+            .map_or(SampledSpectrum::zero(), spectrum)
+    }
+}
+
 impl fmt::Debug for PluginMaterial {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "PluginMaterial({})", self.origin.label)
@@ -901,42 +985,7 @@ impl Material for PluginMaterial {
                 RResult::RErr(e) => self.origin.fail(e, None),
             };
         }
-        if let Some(v4) = &self.v4 {
-            let q = query(wo, Vec3A::ZERO, ctx, lambda, [u_lobe, u.x, u.y], m);
-            return match v4.sample(&q) {
-                RResult::ROk(ROption::RSome(s)) => match checked::scatter_f32(&s) {
-                    Ok(()) => Some(Self::bsdf_sample(&s)),
-                    Err(reason) => {
-                        self.origin.dropped(reason);
-                        None
-                    }
-                },
-                RResult::ROk(ROption::RNone) => None,
-                RResult::RErr(e) => self.origin.fail(e, None),
-            };
-        }
-        let (wo, lambda, u) = (v3(wo), lambdas(lambda), sample_from(&[u_lobe, u.x, u.y]));
-        let r = match &self.v2 {
-            Some(v2) => v2.sample(&Self::surface(ctx), wo, &lambda, &u, mode(m)),
-            None => (self.material).sample(&Self::ctx(ctx), wo, &lambda, &u, mode(m)),
-        };
-        let r = self.origin.checked(r, |s| match s {
-            ROption::RSome(s) => checked::scatter(s),
-            ROption::RNone => Ok(()),
-        });
-        match r {
-            Some(s) => s.into_option().map(|s| BsdfSample {
-                wi: va(s.wi),
-                f: spectrum(s.value),
-                pdf: s.pdf as f32,
-                flags: material_bits(
-                    s.flags,
-                    Some(s.flags.contains(material_flags::TRANSMISSION)),
-                ),
-                eta: s.eta as f32,
-            }),
-            None => None,
-        }
+        self.sample_before_v5(wo, ctx, lambda, u_lobe, u, m)
     }
 
     fn eval(
@@ -961,29 +1010,8 @@ impl Material for PluginMaterial {
                 RResult::RErr(e) => self.origin.fail(e, SampledSpectrum::zero()),
             };
         }
-        if let Some(v4) = &self.v4 {
-            let q = query(wo, wi, ctx, lambda, [0.0; 3], m);
-            return match v4.eval(&q) {
-                RResult::ROk(v) => match checked::values_f32(&v) {
-                    Ok(()) => SampledSpectrum(v),
-                    Err(reason) => {
-                        self.origin.dropped(reason);
-                        SampledSpectrum::zero()
-                    }
-                },
-                RResult::RErr(e) => self.origin.fail(e, SampledSpectrum::zero()),
-            };
-        }
-        let (wo, wi, lambda) = (v3(wo), v3(wi), lambdas(lambda));
-        let r = match &self.v2 {
-            Some(v2) => v2.eval(&Self::surface(ctx), wo, wi, &lambda, mode(m)),
-            None => (self.material).eval(&Self::ctx(ctx), wo, wi, &lambda, mode(m)),
-        };
-        (self.origin)
-            .checked(r, checked::values)
-            .map_or(SampledSpectrum::zero(), spectrum)
+        self.eval_before_v5(wo, wi, ctx, lambda, m)
     }
-
     fn pdf(
         &self,
         wo: Vec3A,

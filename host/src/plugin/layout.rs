@@ -12,9 +12,11 @@
 
 use crate::light::{LightLiSample, LightSampleContext};
 use crate::material::{BsdfSample, MaterialFlags, ShadingContext};
-use crate::spectrum::SampledSpectrum;
+use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths};
 use glam::{Vec2, Vec3A};
-use spectrace_plugin_api::fast::{IncidentF32, ReceiverF32, ScatterF32, SurfaceF32, Vec4f};
+use spectrace_plugin_api::fast::{
+    IncidentF32, LanesF32, ReceiverF32, ScatterF32, SurfaceF32, Vec4f,
+};
 use spectrace_plugin_api::Flags;
 use std::mem::{align_of, offset_of, size_of};
 
@@ -56,6 +58,33 @@ const _: () = {
     assert!(offset_of!(BsdfSample, flags) == offset_of!(ScatterF32, flags));
     assert!(offset_of!(BsdfSample, eta) == offset_of!(ScatterF32, eta));
 };
+
+// The wavelengths: `LanesF32`'s `live` is a `u32` whose low byte is the host's `LaneMask` (one
+// byte, `#[repr(transparent)]`) on a little-endian machine; the three bytes after it are
+// padding in `SampledWavelengths`.
+const _: () = {
+    assert!(size_of::<SampledWavelengths>() == size_of::<LanesF32>());
+    assert!(align_of::<SampledWavelengths>() == align_of::<LanesF32>());
+    assert!(offset_of!(SampledWavelengths, lambda) == offset_of!(LanesF32, nm));
+    assert!(offset_of!(SampledWavelengths, pdf) == offset_of!(LanesF32, pdf));
+    assert!(offset_of!(SampledWavelengths, lanes) == offset_of!(LanesF32, live));
+    assert!(size_of::<LaneMask>() == 1);
+};
+
+/// The interface's wavelengths as the host's (the same memory), when `live` holds only lane
+/// bits (as every host's does; `None` otherwise, and on a big-endian machine, where the caller
+/// copies them instead): what the standard library hands its materials and lights.
+#[inline]
+pub fn as_wavelengths(l: &LanesF32) -> Option<&SampledWavelengths> {
+    if cfg!(target_endian = "little") && l.live <= u32::from(LaneMask::ALL.bits()) {
+        // SAFETY: same size, alignment and field offsets (asserted above); `lambda` and `pdf`
+        // are `f32`s on both sides, and `lanes` is the low byte of `live`, a valid `LaneMask`
+        // (only lane bits, checked just now); the bytes after it are padding on the host's side.
+        Some(unsafe { &*(l as *const LanesF32).cast::<SampledWavelengths>() })
+    } else {
+        None
+    }
+}
 
 /// `ctx` as the interface's surface record (the same memory).
 #[inline]
@@ -121,6 +150,27 @@ pub fn as_light_sample_mut(s: &mut IncidentF32) -> &mut LightLiSample {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    // The host's wavelengths read in place are the ones a copy gives (lanes, densities, mask);
+    // a `live` with bits beyond the lanes is not read in place.
+    #[test]
+    fn wavelengths_read_in_place() {
+        let l = LanesF32 {
+            nm: [400.0, 500.0, 600.0, 700.0],
+            pdf: [0.01, 0.02, 0.0, 0.04],
+            live: 0b1011,
+        };
+        let w = as_wavelengths(&l).expect("lane bits only");
+        assert_eq!(w.lambda, l.nm);
+        assert_eq!(w.pdf, l.pdf);
+        assert_eq!(w.lanes, LaneMask::from_bits(0b1011));
+        assert!(as_wavelengths(&LanesF32 { live: 0x100, ..l }).is_none());
+        assert!(as_wavelengths(&LanesF32 {
+            live: 0b1_0000,
+            ..l
+        })
+        .is_none());
+    }
 
     // The cast sees the same numbers in the same fields, both ways.
     #[test]

@@ -11,6 +11,8 @@
 use super::LANES;
 
 /// A set of live lanes, one bit per lane (bit `i` = lane `i`; lane 0 is the hero).
+/// `#[repr(transparent)]`: one byte, the plugin interface's live-lane bits (`plugin::layout`).
+#[repr(transparent)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct LaneMask(u8);
 

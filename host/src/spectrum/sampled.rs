@@ -122,6 +122,9 @@ impl MulAssign<f32> for SampledSpectrum {
 }
 
 /// The wavelengths (nm) one path carries and the density (1/nm) each was drawn with.
+/// `#[repr(C)]`: the plugin interface's `LanesF32` has the same fields in the same places
+/// (`plugin::layout`), so a plugin built from the host's code reads it in place.
+#[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SampledWavelengths {
     /// Wavelengths in nm; lane 0 is the hero.

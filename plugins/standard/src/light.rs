@@ -15,7 +15,7 @@
 //! bounds and asks this one for radiance, incident-direction sampling and power.
 
 use crate::material::{host_lambdas, v3, va, values};
-use crate::material::{host_v, lambdas_v4, v4f};
+use crate::material::{host_v, v4f, wavelengths};
 use crate::wrap::{context, params_doc, plugin_error, HostParams, HostSpd};
 use glam::{Vec2, Vec3A};
 use spectrace::builtin::light::{directional, environment, point, spot};
@@ -87,15 +87,17 @@ fn emission_pdf(light: &dyn HostLight, origin: Vec3, direction: Vec3) -> Emissio
 /// `sample_toward` in the host's layout (extension v6): the host's receiver read in place and
 /// the host light's sample written in place (`spectrace::plugin::layout`), nothing converted.
 #[inline]
-fn sample_toward_v6(
-    light: &dyn HostLight,
+fn sample_toward_v6<L: HostLight + ?Sized>(
+    light: &L,
     receiver: &ReceiverF32,
     u: [f32; 2],
     lambda: &LanesF32,
     out: &mut IncidentF32,
 ) -> bool {
     let ctx = as_light_context(receiver);
-    match light.sample_li(ctx, Vec2::new(u[0], u[1]), &lambdas_v4(lambda)) {
+    let mut slot = None;
+    let lambda = wavelengths(lambda, &mut slot);
+    match light.sample_li(ctx, Vec2::new(u[0], u[1]), lambda) {
         Some(s) => {
             *as_light_sample_mut(out) = s;
             true
@@ -106,15 +108,17 @@ fn sample_toward_v6(
 
 /// `sample_emission` in the host's layout (extension v6).
 #[inline]
-fn sample_emission_v6(
-    light: &dyn HostLight,
+fn sample_emission_v6<L: HostLight + ?Sized>(
+    light: &L,
     u: [f32; 4],
     lambda: &LanesF32,
     out: &mut EmissionF32,
 ) -> bool {
     let u1 = Vec2::new(u[0], u[1]);
     let u2 = Vec2::new(u[2], u[3]);
-    match light.sample_le(u1, u2, &lambdas_v4(lambda)) {
+    let mut slot = None;
+    let lambda = wavelengths(lambda, &mut slot);
+    match light.sample_le(u1, u2, lambda) {
         Some(s) => {
             *out = EmissionF32 {
                 origin: v4f(s.ray.origin),
@@ -132,7 +136,11 @@ fn sample_emission_v6(
 
 /// `emission_pdf` in the host's layout (extension v6).
 #[inline]
-fn emission_pdf_v6(light: &dyn HostLight, origin: &Vec4f, direction: &Vec4f) -> [f32; 2] {
+fn emission_pdf_v6<L: HostLight + ?Sized>(
+    light: &L,
+    origin: &Vec4f,
+    direction: &Vec4f,
+) -> [f32; 2] {
     let ray = Ray::new(host_v(*origin), host_v(*direction));
     let (position, direction) = light.pdf_le(&ray, Vec3A::ZERO);
     [position, direction]
@@ -146,11 +154,12 @@ const NO_DIRECTION: Vec3 = Vec3 {
 };
 
 macro_rules! light_type {
-    ($ty:ident, $module:ident, $params:ty) => {
-        /// The host's light of the same name.
+    ($ty:ident, $module:ident, $params:ty, $host:ty) => {
+        /// The host's light of the same name, held as its concrete type (its calls reach the
+        /// host's code directly, not through a second dynamic call).
         pub struct $ty {
             params: HostParams<$params>,
-            light: Arc<dyn HostLight>,
+            light: $host,
         }
 
         impl PluginType for $ty {
@@ -164,8 +173,8 @@ macro_rules! light_type {
             }
 
             fn new(params: Self::Params, _host: &Host<'_, '_>) -> PluginResult<Self> {
-                let light =
-                    $module::build(&params.0, &context(Self::TYPE_NAME)).map_err(plugin_error)?;
+                let light = $module::build_concrete(&params.0, &context(Self::TYPE_NAME))
+                    .map_err(plugin_error)?;
                 Ok(Self { params, light })
             }
 
@@ -209,10 +218,10 @@ macro_rules! light_type {
                 sample: &RandomSample,
                 lambda: &Wavelengths,
             ) -> PluginResult<EmissionSample> {
-                Ok(sample_emission(&*self.light, sample, lambda))
+                Ok(sample_emission(&self.light, sample, lambda))
             }
             fn emission_pdf(&self, origin: Vec3, direction: Vec3) -> PluginResult<EmissionPdf> {
-                Ok(emission_pdf(&*self.light, origin, direction))
+                Ok(emission_pdf(&self.light, origin, direction))
             }
             fn scene_bounds(&self, bounds: &SceneBounds) -> PluginResult<()> {
                 let (scene, view) = boxes(bounds);
@@ -235,7 +244,7 @@ macro_rules! light_type {
                 lambda: &LanesF32,
                 out: &mut IncidentF32,
             ) -> PluginResult<bool> {
-                Ok(sample_toward_v6(&*self.light, receiver, u, lambda, out))
+                Ok(sample_toward_v6(&self.light, receiver, u, lambda, out))
             }
             #[inline]
             fn sample_emission_v6(
@@ -244,11 +253,11 @@ macro_rules! light_type {
                 lambda: &LanesF32,
                 out: &mut EmissionF32,
             ) -> PluginResult<bool> {
-                Ok(sample_emission_v6(&*self.light, u, lambda, out))
+                Ok(sample_emission_v6(&self.light, u, lambda, out))
             }
             #[inline]
             fn emission_pdf_v6(&self, origin: &Vec4f, direction: &Vec4f) -> PluginResult<[f32; 2]> {
-                Ok(emission_pdf_v6(&*self.light, origin, direction))
+                Ok(emission_pdf_v6(&self.light, origin, direction))
             }
             fn sample_toward(
                 &self,
@@ -282,9 +291,19 @@ macro_rules! light_type {
     };
 }
 
-light_type!(Point, point, point::PointParams);
-light_type!(Spot, spot, spot::SpotParams);
-light_type!(Directional, directional, directional::DirectionalParams);
+light_type!(
+    Point,
+    point,
+    point::PointParams,
+    spectrace::light::PointLight
+);
+light_type!(Spot, spot, spot::SpotParams, spectrace::light::SpotLight);
+light_type!(
+    Directional,
+    directional,
+    directional::DirectionalParams,
+    spectrace::light::DirectionalLight
+);
 
 /// The host's `environment`: its radiance source and the light around it, which sizes itself
 /// from the bounds the host hands over (`scene_bounds`).

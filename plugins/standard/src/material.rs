@@ -11,6 +11,13 @@
 //! with the very numbers of the built-in. What the interface does not carry: the
 //! wavelengths' sampling densities (every lane is passed as live, density 1/nm; only thin films
 //! read them, to skip terminated lanes).
+//!
+//! Held as the host's concrete types where the host's constructor gives one (`build_concrete`:
+//! all but `emissive` and `fluorescent`), so that the interface's call reaches the host's code
+//! with a direct call, and the host's wavelengths and surface are read in place
+//! (`spectrace::plugin::layout`): the library adds to a call what the interface needs and no
+//! second dynamic call of its own (docs/performance.md, "The standard library calling the
+//! host's types directly").
 
 use crate::wrap::{context, params_doc, plugin_error, HostParams, HostSpd};
 use glam::{Vec2, Vec3A};
@@ -21,7 +28,8 @@ use spectrace::material::{
     BsdfSample, Material as HostMaterial, MaterialFlags, ShadingContext as HostContext,
     TransportMode as HostMode,
 };
-use spectrace::plugin::layout::as_shading_context;
+use spectrace::plugin::layout::{as_shading_context, as_wavelengths};
+use spectrace::scene::FactoryError;
 use spectrace::spectrum::{SampledSpectrum, SampledWavelengths, LANES};
 use spectrace_plugin_api::{
     material_flags, Emission, Flags, Host, LanesF32, Material, MaterialQuery, ParamDoc,
@@ -148,10 +156,19 @@ fn event_bits(f: MaterialFlags) -> Flags {
     Flags(u32::from(EVENT_TABLE[(f.0 & 0xff) as usize]))
 }
 
-/// The interface's vector from a host vector, `w` cleared.
+/// The interface's vector from a host vector, `w` cleared (a lane select against zero, one AND
+/// on SSE, as the host does it).
 #[inline]
 pub(crate) fn v4f(v: Vec3A) -> Vec4f {
-    let [x, y, z, w] = v.extend(0.0).to_array();
+    #[cfg(target_arch = "x86_64")]
+    let v = glam::Vec4::select(
+        glam::BVec4A::new(true, true, true, false),
+        glam::Vec4::from(std::arch::x86_64::__m128::from(v)),
+        glam::Vec4::ZERO,
+    );
+    #[cfg(not(target_arch = "x86_64"))]
+    let v = v.extend(0.0);
+    let [x, y, z, w] = v.to_array();
     Vec4f { x, y, z, w }
 }
 
@@ -168,7 +185,7 @@ fn scatter(s: BsdfSample) -> ScatterF32 {
 }
 
 #[inline]
-fn sample_v4(m: &dyn HostMaterial, q: &MaterialQuery) -> Option<ScatterF32> {
+fn sample_v4<M: HostMaterial + ?Sized>(m: &M, q: &MaterialQuery) -> Option<ScatterF32> {
     let s = m.sample(
         host_v(q.wo),
         &ctx_v4(&q.ctx),
@@ -180,40 +197,113 @@ fn sample_v4(m: &dyn HostMaterial, q: &MaterialQuery) -> Option<ScatterF32> {
     Some(scatter(s))
 }
 
+/// The host's wavelengths of `l`: read in place (`spectrace::plugin::layout::as_wavelengths`),
+/// or copied into `slot` where they cannot be.
+#[inline]
+pub(crate) fn wavelengths<'a>(
+    l: &'a LanesF32,
+    slot: &'a mut Option<SampledWavelengths>,
+) -> &'a SampledWavelengths {
+    match as_wavelengths(l) {
+        Some(w) => w,
+        None => slot.insert(lambdas_v4(l)),
+    }
+}
+
 /// What every call with the surface by reference (extensions v5 and v6) reads from its query:
-/// the directions, the host's own surface record in place (`spectrace::plugin::layout`), the
-/// wavelengths and the transport mode.
+/// the directions, the host's own surface record and wavelengths in place
+/// (`spectrace::plugin::layout`; the wavelengths copied into `slot` only where they cannot be
+/// read in place) and the transport mode.
 struct Read<'a> {
     wo: Vec3A,
     wi: Vec3A,
     ctx: &'a HostContext,
-    lambda: SampledWavelengths,
+    lambda: &'a SampledWavelengths,
     mode: HostMode,
 }
 
 #[inline]
-fn read<'a>(q: &QueryV5<'a>) -> Read<'a> {
+fn read<'a>(q: &'a QueryV5<'a>, slot: &'a mut Option<SampledWavelengths>) -> Read<'a> {
     Read {
         wo: host_v(q.wo),
         wi: host_v(q.wi),
         ctx: as_shading_context(q.ctx),
-        lambda: lambdas_v4(&q.lambda),
+        lambda: wavelengths(&q.lambda, slot),
         mode: host_mode(q.mode),
     }
 }
 
 /// [`sample_v4`] with the surface by reference (extension v5).
 #[inline]
-fn sample_v5(m: &dyn HostMaterial, q: &QueryV5<'_>) -> Option<ScatterF32> {
-    let r = read(q);
+fn sample_v5<M: HostMaterial + ?Sized>(m: &M, q: &QueryV5<'_>) -> Option<ScatterF32> {
+    let mut slot = None;
+    let r = read(q, &mut slot);
     let u = Vec2::new(q.u[1], q.u[2]);
-    let s = m.sample(r.wo, r.ctx, &r.lambda, q.u[0], u, r.mode)?;
+    let s = m.sample(r.wo, r.ctx, r.lambda, q.u[0], u, r.mode)?;
     Some(scatter(s))
 }
 
+/// How the library holds a host material: as its concrete type where the host's constructor
+/// gives one (its calls then reach the host's code directly, not through a second dynamic call
+/// behind the interface's), otherwise behind `Arc<dyn Material>`.
+trait Held: Send + Sync + 'static {
+    /// The host material called.
+    type M: HostMaterial + ?Sized;
+    /// The host material (the value itself, or what the `Arc` points to).
+    fn get(&self) -> &Self::M;
+    /// The re-radiation face of a fluorescent one.
+    fn reradiation_face(&self) -> PluginResult<Option<HostReradiation>>;
+}
+
+impl Held for Arc<dyn HostMaterial> {
+    type M = dyn HostMaterial;
+    #[inline]
+    fn get(&self) -> &Self::M {
+        &**self
+    }
+    fn reradiation_face(&self) -> PluginResult<Option<HostReradiation>> {
+        Ok(HostReradiation::of(self))
+    }
+}
+
+macro_rules! held_concrete {
+    ($($t:ty),*) => {$(
+        impl Held for $t {
+            type M = $t;
+            #[inline]
+            fn get(&self) -> &Self::M {
+                self
+            }
+            // These types never fluoresce; should one start to, it is refused here rather than
+            // rendered without its re-radiation (it then belongs behind `Arc`).
+            fn reradiation_face(&self) -> PluginResult<Option<HostReradiation>> {
+                match HostMaterial::reradiation(self) {
+                    None => Ok(None),
+                    Some(_) => Err(PluginError::unsupported(concat!(
+                        stringify!($t),
+                        " fluoresces but is held as its concrete type"
+                    ))),
+                }
+            }
+        }
+    )*};
+}
+
+held_concrete!(
+    spectrace::material::Lambertian,
+    spectrace::material::Mirror,
+    spectrace::material::SmoothDielectric,
+    spectrace::material::RoughDielectric,
+    spectrace::material::RoughConductor
+);
+
+/// The host's constructor of a material held behind `Arc<dyn Material>`.
+type BuildDyn<P> =
+    fn(&P, &spectrace::scene::FactoryContext) -> Result<Arc<dyn HostMaterial>, FactoryError>;
+
 /// Sample through the host material `m`.
-fn sample(
-    m: &dyn HostMaterial,
+fn sample<M: HostMaterial + ?Sized>(
+    m: &M,
     ctx: &SurfaceContext,
     wo: Vec3,
     lambda: &Wavelengths,
@@ -292,11 +382,11 @@ impl Reradiation for HostReradiation {
 }
 
 macro_rules! material_type {
-    ($ty:ident, $module:ident, $params:ty) => {
+    ($ty:ident, $module:ident, $params:ty, $held:ty, $build:expr) => {
         /// The host's material of the same name.
         pub struct $ty {
             params: HostParams<$params>,
-            material: Arc<dyn HostMaterial>,
+            material: $held,
             reradiation: Option<HostReradiation>,
         }
 
@@ -311,9 +401,12 @@ macro_rules! material_type {
             }
 
             fn new(params: Self::Params, _host: &Host<'_, '_>) -> PluginResult<Self> {
-                let material =
-                    $module::build(&params.0, &context(Self::TYPE_NAME)).map_err(plugin_error)?;
-                let reradiation = HostReradiation::of(&material);
+                let build: fn(
+                    &$params,
+                    &spectrace::scene::FactoryContext,
+                ) -> Result<$held, FactoryError> = $build;
+                let material = build(&params.0, &context(Self::TYPE_NAME)).map_err(plugin_error)?;
+                let reradiation = Held::reradiation_face(&material)?;
                 Ok(Self {
                     params,
                     material,
@@ -328,7 +421,7 @@ macro_rules! material_type {
 
         impl Material for $ty {
             fn capabilities(&self) -> Flags {
-                bits(self.material.flags())
+                bits(self.material.get().flags())
             }
             // A host older than extension v2 gives no normals: the built-ins then see zero
             // normals, as they did before v2.
@@ -378,7 +471,7 @@ macro_rules! material_type {
                 u: &RandomSample,
                 mode: TransportMode,
             ) -> PluginResult<Option<ScatterSample>> {
-                Ok(sample(&*self.material, ctx, wo, lambda, u, mode))
+                Ok(sample(self.material.get(), ctx, wo, lambda, u, mode))
             }
             fn eval_at(
                 &self,
@@ -388,7 +481,7 @@ macro_rules! material_type {
                 lambda: &Wavelengths,
                 mode: TransportMode,
             ) -> PluginResult<SpectralValues> {
-                let f = self.material.eval(
+                let f = self.material.get().eval(
                     va(wo),
                     va(wi),
                     &host_ctx(ctx),
@@ -405,7 +498,7 @@ macro_rules! material_type {
                 lambda: &Wavelengths,
                 mode: TransportMode,
             ) -> PluginResult<f64> {
-                let p = self.material.pdf(
+                let p = self.material.get().pdf(
                     va(wo),
                     va(wi),
                     &host_ctx(ctx),
@@ -426,7 +519,7 @@ macro_rules! material_type {
                 Ok(values(e))
             }
             fn emission(&self) -> PluginResult<Option<Emission>> {
-                Ok(self.material.emission().map(|e| Emission {
+                Ok(self.material.get().emission().map(|e| Emission {
                     spectrum: Box::new(HostSpd(e.spd)),
                     scale_w_m2_sr: e.scale as f64,
                     two_sided: e.two_sided,
@@ -436,41 +529,48 @@ macro_rules! material_type {
                 self.reradiation.as_ref().map(|r| r as &dyn Reradiation)
             }
             fn spectrally_flat(&self) -> bool {
-                self.material.spectrally_flat()
+                self.material.get().spectrally_flat()
             }
             fn f_same_for_all_directions(&self) -> bool {
-                self.material.f_same_for_all_directions()
+                self.material.get().f_same_for_all_directions()
             }
             #[inline]
             fn sample_v5(&self, q: &QueryV5<'_>) -> PluginResult<Option<ScatterF32>> {
-                Ok(sample_v5(&*self.material, q))
+                Ok(sample_v5(self.material.get(), q))
             }
             #[inline]
             fn eval_v5(&self, q: &QueryV5<'_>) -> PluginResult<[f32; LANES]> {
-                let r = read(q);
-                Ok(self.material.eval(r.wo, r.wi, r.ctx, &r.lambda, r.mode).0)
+                let mut slot = None;
+                let r = read(q, &mut slot);
+                Ok(self
+                    .material
+                    .get()
+                    .eval(r.wo, r.wi, r.ctx, r.lambda, r.mode)
+                    .0)
             }
             #[inline]
             fn pdf_v5(&self, q: &QueryV5<'_>) -> PluginResult<f32> {
-                let r = read(q);
-                Ok(self.material.pdf(r.wo, r.wi, r.ctx, &r.lambda, r.mode))
+                let mut slot = None;
+                let r = read(q, &mut slot);
+                Ok(self.material.get().pdf(r.wo, r.wi, r.ctx, r.lambda, r.mode))
             }
             // Extension v6: declared exactly where the built-in declares it.
             fn cosine_weighted_pdf(&self) -> bool {
-                self.material.cosine_weighted_pdf()
+                self.material.get().cosine_weighted_pdf()
             }
             #[inline]
             fn emitted_v6(&self, q: &QueryV5<'_>) -> PluginResult<[f32; LANES]> {
-                let r = read(q);
-                Ok(self.material.emitted(r.wo, r.ctx, &r.lambda).0)
+                let mut slot = None;
+                let r = read(q, &mut slot);
+                Ok(self.material.get().emitted(r.wo, r.ctx, r.lambda).0)
             }
             #[inline]
             fn sample_v4(&self, q: &MaterialQuery) -> PluginResult<Option<ScatterF32>> {
-                Ok(sample_v4(&*self.material, q))
+                Ok(sample_v4(self.material.get(), q))
             }
             #[inline]
             fn eval_v4(&self, q: &MaterialQuery) -> PluginResult<[f32; LANES]> {
-                let f = self.material.eval(
+                let f = self.material.get().eval(
                     host_v(q.wo),
                     host_v(q.wi),
                     &ctx_v4(&q.ctx),
@@ -481,7 +581,7 @@ macro_rules! material_type {
             }
             #[inline]
             fn pdf_v4(&self, q: &MaterialQuery) -> PluginResult<f32> {
-                Ok(self.material.pdf(
+                Ok(self.material.get().pdf(
                     host_v(q.wo),
                     host_v(q.wi),
                     &ctx_v4(&q.ctx),
@@ -493,17 +593,55 @@ macro_rules! material_type {
     };
 }
 
-material_type!(Lambertian, lambertian, lambertian::LambertianParams);
-material_type!(Mirror, mirror, mirror::MirrorParams);
-material_type!(Dielectric, dielectric, dielectric::DielectricParams);
+material_type!(
+    Lambertian,
+    lambertian,
+    lambertian::LambertianParams,
+    spectrace::material::Lambertian,
+    lambertian::build_concrete
+);
+material_type!(
+    Mirror,
+    mirror,
+    mirror::MirrorParams,
+    spectrace::material::Mirror,
+    mirror::build_concrete
+);
+material_type!(
+    Dielectric,
+    dielectric,
+    dielectric::DielectricParams,
+    spectrace::material::SmoothDielectric,
+    dielectric::build_concrete
+);
 material_type!(
     RoughDielectric,
     rough_dielectric,
-    rough_dielectric::RoughDielectricParams
+    rough_dielectric::RoughDielectricParams,
+    spectrace::material::RoughDielectric,
+    rough_dielectric::build_concrete
 );
-material_type!(Conductor, conductor, conductor::ConductorParams);
-material_type!(Emissive, emissive, emissive::EmissiveParams);
-material_type!(Fluorescent, fluorescent, fluorescent::FluorescentParams);
+material_type!(
+    Conductor,
+    conductor,
+    conductor::ConductorParams,
+    spectrace::material::RoughConductor,
+    conductor::build_concrete
+);
+material_type!(
+    Emissive,
+    emissive,
+    emissive::EmissiveParams,
+    Arc<dyn HostMaterial>,
+    emissive::build as BuildDyn<_>
+);
+material_type!(
+    Fluorescent,
+    fluorescent,
+    fluorescent::FluorescentParams,
+    Arc<dyn HostMaterial>,
+    fluorescent::build as BuildDyn<_>
+);
 
 #[cfg(test)]
 mod tests {

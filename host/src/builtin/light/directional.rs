@@ -78,6 +78,15 @@ impl Embed for DirectionalParams {
 
 /// Build the light.
 pub fn build(p: &DirectionalParams, ctx: &FactoryContext) -> Result<Arc<dyn Light>, FactoryError> {
+    Ok(Arc::new(build_concrete(p, ctx)?))
+}
+
+/// [`build`] as the concrete type (the standard plugin library holds it so, to call it without
+/// a second dynamic call).
+pub fn build_concrete(
+    p: &DirectionalParams,
+    ctx: &FactoryContext,
+) -> Result<DirectionalLight, FactoryError> {
     let spd = light_spd(&p.spd, ctx)?;
     let irradiance = match exactly_one(&[
         ("irradiance", p.irradiance),
@@ -86,11 +95,10 @@ pub fn build(p: &DirectionalParams, ctx: &FactoryContext) -> Result<Arc<dyn Ligh
         (0, e) => e,
         (_, lx) => from_photometric("illuminance_lx", lx, spd.as_ref())?,
     };
-    let d = DirectionalLight::new(
+    DirectionalLight::new(
         crate::builtin::check::direction("direction", p.direction)?,
         spd,
         non_negative("irradiance", irradiance, "W/m²")?,
     )
-    .map_err(|e| param_err("direction", e))?;
-    Ok(Arc::new(d))
+    .map_err(|e| param_err("direction", e))
 }

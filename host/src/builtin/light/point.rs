@@ -87,6 +87,12 @@ impl Embed for PointParams {
 
 /// Build the light.
 pub fn build(p: &PointParams, ctx: &FactoryContext) -> Result<Arc<dyn Light>, FactoryError> {
+    Ok(Arc::new(build_concrete(p, ctx)?))
+}
+
+/// [`build`] as the concrete type (the standard plugin library holds it so, to call it without
+/// a second dynamic call).
+pub fn build_concrete(p: &PointParams, ctx: &FactoryContext) -> Result<PointLight, FactoryError> {
     let spd = light_spd(&p.spd, ctx)?;
     let power_w = match exactly_one(&[
         ("power", p.power),
@@ -97,9 +103,9 @@ pub fn build(p: &PointParams, ctx: &FactoryContext) -> Result<Arc<dyn Light>, Fa
         (1, lm) => from_photometric("flux_lm", lm, spd.as_ref())?,
         (_, cd) => 4.0 * std::f64::consts::PI * from_photometric("intensity_cd", cd, spd.as_ref())?,
     };
-    Ok(Arc::new(PointLight::new(
+    Ok(PointLight::new(
         finite3("position", p.position)?,
         spd,
         non_negative("power", power_w, "W")?,
-    )))
+    ))
 }

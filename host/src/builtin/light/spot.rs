@@ -113,6 +113,12 @@ impl Embed for SpotParams {
 
 /// Build the light.
 pub fn build(p: &SpotParams, ctx: &FactoryContext) -> Result<Arc<dyn Light>, FactoryError> {
+    Ok(Arc::new(build_concrete(p, ctx)?))
+}
+
+/// [`build`] as the concrete type (the standard plugin library holds it so, to call it without
+/// a second dynamic call).
+pub fn build_concrete(p: &SpotParams, ctx: &FactoryContext) -> Result<SpotLight, FactoryError> {
     let position = finite3("position", p.position)?;
     let target = finite3("target", p.target)?;
     if !((target - position).length() > 0.0) {
@@ -148,7 +154,7 @@ pub fn build(p: &SpotParams, ctx: &FactoryContext) -> Result<Arc<dyn Light>, Fac
                 * crate::light::spot::falloff_solid_angle_sr(inner, outer)
         }
     };
-    let s = SpotLight::new(
+    SpotLight::new(
         position,
         target,
         inner as f32,
@@ -156,6 +162,5 @@ pub fn build(p: &SpotParams, ctx: &FactoryContext) -> Result<Arc<dyn Light>, Fac
         spd,
         non_negative("power", power_w, "W")?,
     )
-    .map_err(FactoryError::Param)?;
-    Ok(Arc::new(s))
+    .map_err(FactoryError::Param)
 }

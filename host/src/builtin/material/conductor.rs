@@ -63,10 +63,16 @@ pub struct ConductorParams {
 impl Embed for ConductorParams {}
 
 /// Build the material.
-pub fn build(
+pub fn build(p: &ConductorParams, ctx: &FactoryContext) -> Result<Arc<dyn Material>, FactoryError> {
+    Ok(Arc::new(build_concrete(p, ctx)?))
+}
+
+/// [`build`] as the concrete type (the standard plugin library holds it so, to call it without
+/// a second dynamic call).
+pub fn build_concrete(
     p: &ConductorParams,
     _ctx: &FactoryContext,
-) -> Result<Arc<dyn Material>, FactoryError> {
+) -> Result<RoughConductor, FactoryError> {
     let table = match (&p.n, &p.k) {
         (Some(n), Some(k)) => {
             let ln: Vec<f64> = n.iter().map(|x| x.0).collect();
@@ -101,8 +107,5 @@ pub fn build(
         _ => ComplexIorTable::builtin(p.metal.as_deref().unwrap_or("aluminium"))
             .map_err(|e| param_err("metal", e))?,
     };
-    Ok(Arc::new(RoughConductor::new(
-        table,
-        alpha(p.alpha, p.roughness)?,
-    )))
+    Ok(RoughConductor::new(table, alpha(p.alpha, p.roughness)?))
 }

@@ -42,8 +42,17 @@ impl Embed for DielectricParams {}
 /// Build the material.
 pub fn build(
     p: &DielectricParams,
-    _ctx: &FactoryContext,
+    ctx: &FactoryContext,
 ) -> Result<Arc<dyn Material>, FactoryError> {
+    Ok(Arc::new(build_concrete(p, ctx)?))
+}
+
+/// [`build`] as the concrete type (the standard plugin library holds it so, to call it without
+/// a second dynamic call).
+pub fn build_concrete(
+    p: &DielectricParams,
+    _ctx: &FactoryContext,
+) -> Result<SmoothDielectric, FactoryError> {
     let ior = p.ior.clone().unwrap_or(Ior::Number(1.5)).build()?;
-    Ok(Arc::new(SmoothDielectric::new(ior)))
+    Ok(SmoothDielectric::new(ior))
 }

@@ -50,9 +50,18 @@ pub fn build(
     p: &LambertianParams,
     ctx: &FactoryContext,
 ) -> Result<Arc<dyn Material>, FactoryError> {
+    Ok(Arc::new(build_concrete(p, ctx)?))
+}
+
+/// [`build`] as the concrete type (the standard plugin library holds it so, to call it without
+/// a second dynamic call).
+pub fn build_concrete(
+    p: &LambertianParams,
+    ctx: &FactoryContext,
+) -> Result<Lambertian, FactoryError> {
     let r = match &p.reflectance {
         Some(v) => texture(v, "reflectance", ctx)?,
         None => Arc::new(ConstantTexture(0.5)),
     };
-    Ok(Arc::new(Lambertian::new(r)))
+    Ok(Lambertian::new(r))
 }

@@ -45,9 +45,15 @@ impl Embed for MirrorParams {
 
 /// Build the material.
 pub fn build(p: &MirrorParams, ctx: &FactoryContext) -> Result<Arc<dyn Material>, FactoryError> {
+    Ok(Arc::new(build_concrete(p, ctx)?))
+}
+
+/// [`build`] as the concrete type (the standard plugin library holds it so, to call it without
+/// a second dynamic call).
+pub fn build_concrete(p: &MirrorParams, ctx: &FactoryContext) -> Result<Mirror, FactoryError> {
     let r = match &p.reflectance {
         Some(v) => texture(v, "reflectance", ctx)?,
         None => Arc::new(ConstantTexture(1.0)),
     };
-    Ok(Arc::new(Mirror::new(r)))
+    Ok(Mirror::new(r))
 }

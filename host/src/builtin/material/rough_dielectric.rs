@@ -54,10 +54,19 @@ impl Embed for RoughDielectricParams {}
 /// Build the material.
 pub fn build(
     p: &RoughDielectricParams,
-    _ctx: &FactoryContext,
+    ctx: &FactoryContext,
 ) -> Result<Arc<dyn Material>, FactoryError> {
-    Ok(Arc::new(RoughDielectric::new(
+    Ok(Arc::new(build_concrete(p, ctx)?))
+}
+
+/// [`build`] as the concrete type (the standard plugin library holds it so, to call it without
+/// a second dynamic call).
+pub fn build_concrete(
+    p: &RoughDielectricParams,
+    _ctx: &FactoryContext,
+) -> Result<RoughDielectric, FactoryError> {
+    Ok(RoughDielectric::new(
         p.ior.clone().unwrap_or(Ior::Number(1.5)).build()?,
         alpha(p.alpha, p.roughness)?,
-    )))
+    ))
 }
