@@ -122,9 +122,9 @@ fn dispersion_off_is_the_constant_ior_render() {
 
 /// Quantities: with a diffuse ball and a D65 lamp (no dispersion, fluorescence, thin film or
 /// narrowband light), `--effects all` against `auto`. bdpt and lt: every pixel bit for bit
-/// (their wavelength mixture is the same; the other switches find nothing to act on). pt: all
-/// draws wavelengths half from the lamp's spectrum instead of from the observer alone, so the
-/// images differ sample by sample but must have the same expectation: the image-mean Y over 8
+/// (they draw from the same wavelength density, chosen from the scene's properties; the other
+/// switches find nothing to act on). pt: all draws wavelengths half from the lamp's spectrum
+/// instead of from the observer alone, so the images differ sample by sample but must have the same expectation: the image-mean Y over 8
 /// seeds at 64 spp each must agree within 3 standard errors of the difference (from the seed
 /// spread), and that standard error must be below 0.5% (so the check can see a 1.5% bias).
 #[test]

@@ -68,9 +68,10 @@ pub struct RenderArgs {
     /// 16 (default 4).
     #[arg(long = "wavelengths-per-path")]
     pub wavelengths_per_path: Option<u32>,
-    /// Path tracing only: how camera paths draw wavelengths: product (observer importance times
-    /// the square root of the lights' emission, plus ¼ observer importance; the default), visible
-    /// (observer importance), uniform, or light (the scene's emission SPDs).
+    /// How camera paths draw wavelengths: product (observer importance times the square root
+    /// of the lights' emission, plus ¼ observer importance; the default), visible (observer
+    /// importance), uniform, or light (the scene's emission SPDs). bdpt and lt take product,
+    /// uniform or visible (for them: half observer importance, half the lights' spectra).
     #[arg(long = "wavelength-sampling")]
     pub wavelength_sampling: Option<crate::integrator::WavelengthSampling>,
     /// Numbers of camera samples and light paths: sobol (shuffled, Owen-scrambled Sobol'
@@ -440,11 +441,25 @@ pub fn run_with_factories(
         (None, None) => SampleBudget::Spp(scene.options.spp),
     };
     if args.integrator != crate::integrator::IntegratorKind::Pt
-        && (args.wavelengths_per_path.is_some() || args.wavelength_sampling.is_some())
+        && args.wavelengths_per_path.is_some()
     {
         return Err(format!(
-            "--wavelengths-per-path and --wavelength-sampling apply to --integrator pt only \
-             (got --integrator {})",
+            "--wavelengths-per-path applies to --integrator pt only (got --integrator {})",
+            args.integrator
+        ));
+    }
+    if let Some(w) = args.wavelength_sampling.filter(|w| {
+        args.integrator != crate::integrator::IntegratorKind::Pt
+            && !matches!(
+                w,
+                crate::integrator::WavelengthSampling::Product
+                    | crate::integrator::WavelengthSampling::Visible
+                    | crate::integrator::WavelengthSampling::Uniform
+            )
+    }) {
+        return Err(format!(
+            "--wavelength-sampling {w} applies to --integrator pt only; --integrator {} takes \
+             product, uniform or visible (the observer-plus-emission mixture)",
             args.integrator
         ));
     }
@@ -786,6 +801,15 @@ pub fn run_with_factories(
                 .to_string()
             }
         );
+    } else {
+        // bdpt and lt: the density the render drew its pairs from (the plan's cached table).
+        let planned = plan.scene(&scene);
+        let pair = crate::integrator::pair_wavelengths::PairWavelengths::new(
+            &plan,
+            &planned,
+            settings.tracer.wavelengths,
+        );
+        println!("  wavelengths: one set per path pair, {}", pair.describe());
     }
     if let Some(dir) = &args.strategy_images {
         for w in crate::integrator::select::write_strategy_images(dir, &output, &scene)? {

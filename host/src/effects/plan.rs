@@ -17,9 +17,11 @@
 //! | `manifold` (alias `mnee`)              | bdpt adds the specular-chain connection (`integrator::manifold_connection`) for paths that only `s = 0` can make otherwise (found with specular chains) | those paths come from `s = 0` alone |
 //! | `camera-chain`                         | bdpt adds the camera-side specular-chain connection (`integrator::camera_chain`): the lamp seen reflected in or refracted through smooth specular objects from a pinhole (found with specular chains; thin-lens cameras: not run) | those paths come from `s = 0` alone |
 //!
-//! bdpt and lt always draw the pair's wavelengths from the observer-plus-emission mixture
-//! ([`WavelengthMixture`]) unless `narrowband-emission` is forced off; the plan builds that
-//! mixture once ([`RenderPlan::mixture`]). When every light is narrowband (delta lines, or an
+//! bdpt and lt draw the pair's wavelengths from the observer-plus-emission mixture
+//! ([`WavelengthMixture`]) unless `narrowband-emission` is forced off, except where the
+//! observer × √emission table applies (no fluorescence, no narrowband emission; see
+//! `integrator::pair_wavelengths`); the plan builds the mixture once ([`RenderPlan::mixture`])
+//! and that table on first use ([`RenderPlan::product_table`]). When every light is narrowband (delta lines, or an
 //! equivalent width under 10 nm) and fluorescence is off, a wavelength off the lights' spectra
 //! carries (almost) no light, so the mixture draws from the lights' spectra alone (all three
 //! integrators; unbiased without fluorescence): this removes the half of the draws that were
@@ -37,7 +39,8 @@ use crate::integrator::wavelength_mixture::WavelengthMixture;
 use crate::light::LightFlags;
 use crate::material::{EffectsOff, Material};
 use crate::scene::Scene;
-use std::sync::Arc;
+use crate::spectrum::wavelength_table::WavelengthTable;
+use std::sync::{Arc, OnceLock};
 
 /// Reference wavelength (nm) at which a dispersive material's IOR is taken when dispersion is
 /// off: near the peak of the photopic response, so the average colour position changes least.
@@ -241,6 +244,9 @@ pub struct RenderPlan {
     decisions: [Decision; 7],
     light_paths: Vec<String>,
     mixture: Arc<WavelengthMixture>,
+    /// The observer × √emission table of `mixture`'s emission, built on first use and then
+    /// shared by everything that reads this plan (the render and its summary line).
+    product: Arc<OnceLock<Option<WavelengthTable>>>,
     notes: Vec<String>,
     replacements: Vec<(usize, Arc<dyn Material>)>,
 }
@@ -283,6 +289,7 @@ impl RenderPlan {
             decisions,
             light_paths: Vec::new(),
             mixture: Arc::new(WavelengthMixture::visible_only()),
+            product: Arc::new(OnceLock::new()),
             notes: Vec::new(),
             replacements: Vec::new(),
         };
@@ -430,18 +437,34 @@ impl RenderPlan {
         self.decision(Switch::CameraChain).on
     }
 
-    /// The flat-path colour tables for `scene` under `observer` when the switch is on and
-    /// some light qualifies (see [`FlatColour::new`]).
+    /// The flat-path colour tables for `scene` under `observer`, for lanes drawn with the
+    /// wavelength density `density` (1/nm), when the switch is on and some light qualifies (see
+    /// [`FlatColour::new`]).
     pub fn flat_colour(
         &self,
         scene: &Scene,
         observer: &dyn crate::color::observer::Observer,
+        density: &dyn Fn(f64) -> f64,
     ) -> Option<FlatColour> {
         if self.flat_path_colour() {
-            FlatColour::new(scene, observer, self.mixture())
+            FlatColour::new(scene, observer, density)
         } else {
             None
         }
+    }
+
+    /// The observer × √emission wavelength table of the [`mixture`](Self::mixture)'s emission
+    /// ([`product_table`](crate::integrator::wavelength_groups::product_table)); `None` without
+    /// evaluable lights or when they emit nothing in the visible range. Built once per plan, on
+    /// first use (about 7 M instructions), so the render and its summary share it.
+    pub fn product_table(&self) -> Option<&WavelengthTable> {
+        self.product
+            .get_or_init(|| {
+                Some(self.mixture.as_ref())
+                    .filter(|m| m.has_emission())
+                    .and_then(|m| crate::integrator::wavelength_groups::product_table(m).ok())
+            })
+            .as_ref()
     }
 
     /// The wavelength mixture of camera/light path pairs (bdpt, lt; pt when
@@ -500,9 +523,11 @@ impl RenderPlan {
         } else if m.emission_weight() >= 1.0 {
             "wavelengths from the lights' spectra only (all emission is narrowband)"
         } else if self.emission_wavelengths() {
-            "wavelengths half from the observer, half from the lights' spectra (pt, bdpt, lt)"
+            "wavelengths half from the observer, half from the lights' spectra (pt; bdpt, lt where some light is narrowband or has lines)"
+        } else if self.fluorescence() {
+            "wavelengths: pt by its wavelength sampling (visible importance with fluorescence), bdpt/lt half observer, half lights' spectra where objects fluoresce"
         } else {
-            "wavelengths: pt by its wavelength sampling (default observer × emission), bdpt/lt half observer, half lights' spectra"
+            "wavelengths by the wavelength sampling (default observer × √emission; pt, bdpt, lt)"
         };
         format!(
             "plan (--effects {}): {}; {wl}; {lp}",

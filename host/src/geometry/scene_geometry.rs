@@ -11,6 +11,7 @@ use glam::{Vec2, Vec3A};
 use rayon::prelude::*;
 
 use super::bvh::{Bvh, NodeLayout, TraversalKernel};
+use super::leaf_triangles::LeafTriangles;
 use super::quad::Quad;
 use super::sphere::Sphere;
 use super::triangle::{
@@ -119,59 +120,15 @@ struct Primitive {
     index: u32,
 }
 
-/// The triangle the traversal tests at one leaf slot: its three world-space vertices (x, y, z
-/// of p0, p1, p2), stored in leaf order, so the innermost loop reads one contiguous 36-byte
-/// record instead of following object → mesh → index triple → three positions. Which object
-/// and primitive a slot is lives apart (`Geometry::prims`) and is read only for the hit kept
-/// (the records were 48 bytes with it: −25% leaf memory; `docs/performance.md`, "Larger
-/// leaves from the collapse, 36-byte leaf records, …"). A slot holding a sphere or a quad,
-/// rare in large scenes, has NaN coordinates (mesh positions are finite, checked when a mesh
-/// is made) and is tested through its object.
-#[derive(Clone, Copy, Debug)]
-#[repr(transparent)]
-struct LeafTriangle([f32; 9]);
-
-impl LeafTriangle {
-    /// The marker of a slot that is not a mesh triangle.
-    const OTHER: LeafTriangle = LeafTriangle([f32::NAN; 9]);
-
-    /// The vertices of `pair[0]`. On x86-64 each is one unaligned 16-byte load whose fourth
-    /// lane (the next coordinate, of `pair[1]` for p2) the triangle test never reads: three
-    /// loads instead of three gathers of three floats each (−9 instructions per triangle).
-    #[inline(always)]
-    fn vertices(pair: &[LeafTriangle; 2]) -> [Vec3A; 3] {
-        #[cfg(target_arch = "x86_64")]
-        {
-            use std::arch::x86_64::_mm_loadu_ps;
-            let p = pair.as_ptr().cast::<f32>();
-            // SAFETY: `pair` is 18 contiguous f32 (`repr(transparent)` over `[f32; 9]`); the
-            // loads read floats 0..4, 3..7 and 6..10 of them. SSE2 is part of x86-64.
-            unsafe {
-                [
-                    Vec3A::from(_mm_loadu_ps(p)),
-                    Vec3A::from(_mm_loadu_ps(p.add(3))),
-                    Vec3A::from(_mm_loadu_ps(p.add(6))),
-                ]
-            }
-        }
-        #[cfg(not(target_arch = "x86_64"))]
-        {
-            let v = &pair[0].0;
-            [
-                Vec3A::new(v[0], v[1], v[2]),
-                Vec3A::new(v[3], v[4], v[5]),
-                Vec3A::new(v[6], v[7], v[8]),
-            ]
-        }
-    }
-}
-
 /// The closest candidate found during traversal; surface data is computed only for the winner.
 #[derive(Clone, Copy)]
 enum Candidate {
     /// A mesh triangle found through its leaf record: leaf slot and barycentrics.
     Slot {
         slot: u32,
+        /// The leaf holding it, `first..first + n`, where its vertices are read again.
+        first: u32,
+        n: u32,
         b: [f32; 3],
     },
     Triangle {
@@ -193,9 +150,10 @@ enum Candidate {
 #[derive(Clone, Debug)]
 pub struct Geometry {
     objects: Vec<Object>,
-    /// Triangle records in BVH leaf order, and one [`LeafTriangle::OTHER`] after the last so
-    /// that every record has a successor for [`LeafTriangle::vertices`]' last load.
-    tris: Vec<LeafTriangle>,
+    /// The leaves' triangles, transposed leaf by leaf for the four-lane test (36 bytes per
+    /// triangle; `docs/performance.md`, "Transposed leaves"). Which object and primitive a
+    /// slot is lives apart (`prims`), read only for the hit kept.
+    tris: LeafTriangles,
     /// Object and primitive of every leaf slot, in BVH leaf order.
     prims: Vec<Primitive>,
     bvh: Bvh,
@@ -288,17 +246,14 @@ impl Geometry {
                     .par_iter()
                     .map(|&i| prims[i as usize])
                     .collect();
-                let mut tris: Vec<LeafTriangle> = prims
-                    .par_iter()
-                    .map(|prim| match &built[prim.object as usize].shape {
+                let tris = LeafTriangles::build(prims.len(), &bvh.leaves(), |slot| {
+                    match &built[prims[slot as usize].object as usize].shape {
                         WorldShape::Mesh(m) => {
-                            let [a, b, c] = m.triangle(prim.index as usize);
-                            LeafTriangle([a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z])
+                            Some(m.triangle(prims[slot as usize].index as usize))
                         }
-                        _ => LeafTriangle::OTHER,
-                    })
-                    .collect();
-                tris.push(LeafTriangle::OTHER);
+                        _ => None,
+                    }
+                });
                 (prims, tris)
             },
         );
@@ -339,7 +294,7 @@ impl Geometry {
     /// vertices, and every slot's object and primitive), not the meshes.
     pub fn bvh_memory_bytes(&self) -> usize {
         self.bvh.memory_bytes()
-            + self.tris.len() * std::mem::size_of::<LeafTriangle>()
+            + self.tris.memory_bytes()
             + self.prims.len() * std::mem::size_of::<Primitive>()
     }
 
@@ -387,13 +342,13 @@ impl Geometry {
         t_max: f32,
     ) -> Option<Hit> {
         let mut best: Option<Candidate> = None;
-        let t = self.bvh.traverse(
+        let t = self.bvh.traverse_leaves(
             ray,
             t_max,
             false,
             #[inline(always)]
-            |i, t_max| {
-                let (t, cand) = self.test_primitive::<KZ>(ray, wr, i, t_max)?;
+            |first, count, t_max| {
+                let (t, cand) = self.test_leaf::<KZ>(ray, wr, first, count, t_max, false)?;
                 best = Some(cand);
                 Some(t)
             },
@@ -404,47 +359,80 @@ impl Geometry {
     #[inline]
     fn occluded_axis<const KZ: usize>(&self, ray: &Ray, wr: &WatertightRay, t_max: f32) -> bool {
         self.bvh
-            .traverse(
+            .traverse_leaves(
                 ray,
                 t_max,
                 true,
                 #[inline(always)]
-                |i, t_max| self.test_primitive::<KZ>(ray, wr, i, t_max).map(|(t, _)| t),
+                |first, count, t_max| {
+                    self.test_leaf::<KZ>(ray, wr, first, count, t_max, true)
+                        .map(|(t, _)| t)
+                },
             )
             .is_some()
     }
 
-    /// Tests leaf slot `i`; `KZ` is the ray's dominant axis (see [`intersect_triangle_axis`]).
-    /// The triangle test is inlined into the traversal loop (a call per primitive was ~10% of
-    /// its instructions); other shapes take a call.
+    /// Tests the leaf `first..first + count` (leaf order): its triangles in four-lane passes
+    /// ([`LeafTriangles::test`], inlined into the traversal loop), a leaf with spheres or
+    /// quads primitive by primitive through a call. `KZ` is the ray's dominant axis (see
+    /// [`intersect_triangle_axis`]). The closest hit below `t_max` (with `any_hit`, the first).
     #[inline(always)]
-    fn test_primitive<const KZ: usize>(
+    fn test_leaf<const KZ: usize>(
         &self,
         ray: &Ray,
         wr: &WatertightRay,
-        i: u32,
+        first: u32,
+        count: u32,
         t_max: f32,
+        any_hit: bool,
     ) -> Option<(f32, Candidate)> {
-        let slot = i as usize;
-        // The record and its successor (the padding record after the last).
-        let pair: &[LeafTriangle; 2] = self.tris[slot..slot + 2].try_into().ok()?;
-        if pair[0].0[0].is_nan() {
-            return self.test_object::<KZ>(ray, wr, self.prims[slot], t_max);
+        if self.tris.is_other(first) {
+            return self.test_objects::<KZ>(ray, wr, first, count, t_max, any_hit);
         }
-        let [a, b, c] = LeafTriangle::vertices(pair);
-        let h = intersect_triangle_axis::<KZ>(ray, wr, t_max, a, b, c)?;
+        let h = self
+            .tris
+            .test::<KZ>(ray, wr, first, count, t_max, any_hit)?;
         Some((
-            h.t,
+            h.hit.t,
             Candidate::Slot {
-                slot: i,
-                b: [h.b0, h.b1, h.b2],
+                slot: h.slot,
+                first,
+                n: count,
+                b: [h.hit.b0, h.hit.b1, h.hit.b2],
             },
         ))
     }
 
-    /// [`Geometry::test_primitive`] for a primitive tested through its object: spheres, quads
-    /// (and a mesh triangle, which the build always gives a record instead).
+    /// A leaf holding spheres or quads: each primitive through its object, in slot order,
+    /// the search shrinking to each hit.
     #[inline(never)]
+    fn test_objects<const KZ: usize>(
+        &self,
+        ray: &Ray,
+        wr: &WatertightRay,
+        first: u32,
+        count: u32,
+        mut t_max: f32,
+        any_hit: bool,
+    ) -> Option<(f32, Candidate)> {
+        let mut best = None;
+        for slot in first..first + count {
+            let prim = *self.prims.get(slot as usize)?;
+            if let Some((t, cand)) = self.test_object::<KZ>(ray, wr, prim, t_max) {
+                t_max = t;
+                best = Some((t, cand));
+                if any_hit {
+                    break;
+                }
+            }
+        }
+        best
+    }
+
+    /// One primitive tested through its object: a sphere, a quad or a mesh triangle (of a
+    /// leaf that also holds spheres or quads). Inlined into [`Geometry::test_objects`], the
+    /// one call per such leaf.
+    #[inline(always)]
     fn test_object<const KZ: usize>(
         &self,
         ray: &Ray,
@@ -492,45 +480,21 @@ impl Geometry {
 
     fn make_hit(&self, ray: &Ray, t: f32, cand: Candidate) -> Hit {
         match cand {
-            Candidate::Slot { slot, b } => {
+            Candidate::Slot { slot, first, n, b } => {
+                // The vertices from the leaf just tested (in cache; the mesh's index triple
+                // and positions are three more scattered reads in large scenes), the same
+                // floats as the mesh's.
                 let prim = self.prims[slot as usize];
-                self.make_hit(ray, t, Candidate::Triangle { prim, b })
+                let p = self
+                    .tris
+                    .vertices(first as usize, n as usize, (slot - first) as usize);
+                self.mesh_hit(t, prim, p, b)
             }
             Candidate::Triangle { prim, b } => {
                 let WorldShape::Mesh(m) = &self.objects[prim.object as usize].shape else {
                     unreachable!("triangle candidate always comes from a mesh")
                 };
-                let ti = prim.index as usize;
-                let [p0, p1, p2] = m.triangle(ti);
-                let (point, point_error) = barycentric_point(b[0], b[1], b[2], p0, p1, p2);
-                let ng = geometric_normal(p0, p1, p2);
-                let idx = m.indices[ti];
-                let ns = m.normals.as_ref().map_or(ng, |ns| {
-                    let n = ns[idx[0] as usize] * b[0]
-                        + ns[idx[1] as usize] * b[1]
-                        + ns[idx[2] as usize] * b[2];
-                    let n = n.normalize_or_zero();
-                    if n == Vec3A::ZERO {
-                        ng
-                    } else {
-                        n
-                    }
-                });
-                let uv = m.uvs.as_ref().map_or(Vec2::new(b[1], b[2]), |uv| {
-                    uv[idx[0] as usize] * b[0]
-                        + uv[idx[1] as usize] * b[1]
-                        + uv[idx[2] as usize] * b[2]
-                });
-                Hit {
-                    t,
-                    point,
-                    point_error,
-                    geometric_normal: ng,
-                    shading_normal: ns,
-                    uv,
-                    object: prim.object,
-                    primitive: prim.index,
-                }
+                self.mesh_hit(t, prim, m.triangle(prim.index as usize), b)
             }
             Candidate::Quad { prim, half, b } => {
                 let WorldShape::Quad(q) = &self.objects[prim.object as usize].shape else {
@@ -565,6 +529,44 @@ impl Geometry {
                     primitive: 0,
                 }
             }
+        }
+    }
+
+    /// The hit on mesh triangle `prim` (vertices `p0, p1, p2`) with barycentrics `b`; the
+    /// mesh's index triple is read only for its vertex normals or uvs.
+    #[inline]
+    fn mesh_hit(&self, t: f32, prim: Primitive, [p0, p1, p2]: [Vec3A; 3], b: [f32; 3]) -> Hit {
+        let WorldShape::Mesh(m) = &self.objects[prim.object as usize].shape else {
+            unreachable!("triangle candidate always comes from a mesh")
+        };
+        let ti = prim.index as usize;
+        let (point, point_error) = barycentric_point(b[0], b[1], b[2], p0, p1, p2);
+        let ng = geometric_normal(p0, p1, p2);
+        let ns = m.normals.as_ref().map_or(ng, |ns| {
+            let idx = m.indices[ti];
+            let n = ns[idx[0] as usize] * b[0]
+                + ns[idx[1] as usize] * b[1]
+                + ns[idx[2] as usize] * b[2];
+            let n = n.normalize_or_zero();
+            if n == Vec3A::ZERO {
+                ng
+            } else {
+                n
+            }
+        });
+        let uv = m.uvs.as_ref().map_or(Vec2::new(b[1], b[2]), |uv| {
+            let idx = m.indices[ti];
+            uv[idx[0] as usize] * b[0] + uv[idx[1] as usize] * b[1] + uv[idx[2] as usize] * b[2]
+        });
+        Hit {
+            t,
+            point,
+            point_error,
+            geometric_normal: ng,
+            shading_normal: ns,
+            uv,
+            object: prim.object,
+            primitive: prim.index,
         }
     }
 

@@ -51,6 +51,13 @@ impl WatertightRay {
         }
     }
 
+    /// The shear `(s_x, s_y, s_z)`: `-d_x/d_z`, `-d_y/d_z`, `1/d_z` in permuted axes (for
+    /// tests of several triangles at once that repeat [`intersect_triangle_axis`]' operations).
+    #[inline]
+    pub fn shear(&self) -> [f32; 3] {
+        [self.sx, self.sy, self.sz]
+    }
+
     /// The dominant axis of the ray direction (0, 1, 2 for x, y, z): the `KZ` to pass to
     /// [`intersect_triangle_axis`].
     #[inline]

@@ -13,7 +13,8 @@
 //! for them), delta BSDFs (no connection through them; their zero densities cancel), directional
 //! lights (positional density on a disk, see [`Vertex::pdf_light`]), finite apertures (the lens
 //! density is the camera's own), shading normals (adjoint correction on light subpaths).
-//! Wavelengths: one set per pair from [`WavelengthMixture`]. Fluorescence: both subpaths shift
+//! Wavelengths: one set per pair ([`PairWavelengths`]: observer × √emission, or the plan's
+//! [`WavelengthMixture`] in fluorescent and narrowband scenes). Fluorescence: both subpaths shift
 //! each lane's wavelength on its own at fluorescent surfaces; with probability α the light
 //! subpath starts at the pair's wavelengths (its connections join the lanes that never shift),
 //! otherwise at its own draw from its light's spectrum, and then a connection evaluates the
@@ -35,6 +36,7 @@ use super::fluorescent_join::{connect_own, t1_wavelengths, LightMode, SHARED_MOD
 use super::fluorescent_mis::mis_weight_lanes;
 use super::light_subpath::{generate_light_subpath_own, generate_light_subpath_with, LightStart};
 use super::manifold_connection::{anchor, connect_manifold, s0_weight, Seeds};
+use super::pair_wavelengths::PairWavelengths;
 use super::pixel_max::PixelMaxY;
 use super::random_walk::{generate_camera_subpath, WalkShift};
 use super::render::ProgressFn;
@@ -680,10 +682,11 @@ fn render_bdpt(
     let (width, height) = camera.resolution();
     let sensor = Sensor::new(scene.observer.clone());
     let mixture = plan.mixture();
+    let pair = PairWavelengths::new(plan, scene, settings.tracer.wavelengths);
     // Not in a fluorescent scene: its per-lane MIS weights vary with the wavelength (the end
     // densities of the two modes differ), which the flat path's exact colour cannot carry.
     let flat = plan
-        .flat_colour(scene, sensor.observer().as_ref())
+        .flat_colour(scene, sensor.observer().as_ref(), &|l| pair.pdf(l))
         .filter(|_| !scene.objects.fluorescence());
     // Not with fluorescence: the strategy does not follow wavelength shifts.
     let manifold = plan.manifold() && !scene.objects.fluorescence();
@@ -727,7 +730,7 @@ fn render_bdpt(
                             scene,
                             cam,
                             &sensor,
-                            mixture,
+                            (mixture, &pair),
                             (x, y),
                             &mut ld,
                             &mut rng,
@@ -814,7 +817,7 @@ impl Bdpt {
         scene: &Scene,
         cam: &crate::camera::manager::NamedCamera,
         sensor: &Sensor,
-        mixture: &WavelengthMixture,
+        (mixture, pair): (&WavelengthMixture, &PairWavelengths<'_>),
         (x, y): (u32, u32),
         ld: &mut PixelSampler,
         rng: &mut SampleRng,
@@ -833,7 +836,7 @@ impl Bdpt {
         // The first dimensions (wavelengths, film position, lens, light-subpath start) come from
         // the pixel's stratified sampler: at equal spp the mean CIEDE2000 error of the caustic
         // scene drops by ~25% (colour noise from the wavelengths), for ~5% more time per sample.
-        let lambda = mixture.sample_with(ld.next_1d(), ld.next_1d() as f64, ld.next_1d() as f64);
+        let lambda = pair.sample(ld);
         let weights = XyzWeights::new(sensor, &lambda);
         let offset = cam.filter.sample(ld.next_2d());
         let cs = CameraSample {
@@ -1232,6 +1235,7 @@ impl Bdpt {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::integrator::test_support::for_each_camera_subpath;
     use crate::integrator::vertex::VertexKind;
     use crate::scene::{build_scene, parse_scene_str, BuiltinFactory};
     use std::path::Path;
@@ -1251,35 +1255,11 @@ mod tests {
         // The scene file as shipped (source: scenes/caustic.ron).
         let desc = parse_scene_str(include_str!("../../../scenes/caustic.ron"), file).unwrap();
         let scene = build_scene(&desc, Path::new("."), file, &[&BuiltinFactory]).unwrap();
-        let cam = scene.cameras.get(None).unwrap();
-        let camera = cam.camera.as_ref();
-        let mixture = WavelengthMixture::new(&scene);
         let glass = 2u32; // object index of "glass_ball" in the scene file
-        let mut path = Vec::new();
-        let mut stats = PathStats::default();
         let (mut outside, mut through_glass, mut worst) = (0u64, 0u64, 0.0f32);
         // The sphere covers roughly pixels x 55..105, y 20..80 of the 160×120 image.
-        for k in 0..40_000u64 {
-            let mut rng = SampleRng::for_sample(7, k, 0);
-            let lambda = mixture.sample(&mut rng);
-            let u = rng.next_2d();
-            let cs = CameraSample {
-                p_film: Vec2::new(50.0 + 60.0 * u.x, 15.0 + 70.0 * u.y),
-                p_lens: rng.next_2d(),
-            };
-            let cray = camera.generate_ray(&cs).unwrap();
-            generate_camera_subpath(
-                &scene,
-                camera,
-                cray.ray,
-                cray.weight,
-                &lambda,
-                &mut rng,
-                18,
-                1,
-                &mut path,
-                &mut stats,
-            );
+        let window = (Vec2::new(50.0, 15.0), Vec2::new(60.0, 70.0));
+        for_each_camera_subpath(&scene, 7, 40_000, window, (18, 1), |path, _| {
             let mut seen_glass = false;
             for v in &path[1..] {
                 if v.kind == (VertexKind::Surface { object: glass }) {
@@ -1290,7 +1270,7 @@ mod tests {
                 through_glass += seen_glass as u64;
                 worst = worst.max(v.beta.max_value());
             }
-        }
+        });
         assert!(through_glass > 1000, "too few paths through the glass");
         assert!(
             worst <= 1.0 / 0.95 + 1e-4,

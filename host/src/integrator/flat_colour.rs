@@ -37,7 +37,6 @@
 //! | `P` | probability | `∫_{S>0} p(λ) dλ` over 300–1100 nm, midpoint rule at 0.1 nm (lines excluded: lanes on them have pdf 0) |
 
 use super::vertex::{Vertex, VertexKind};
-use super::wavelength_mixture::WavelengthMixture;
 use crate::color::observer::Observer;
 use crate::material::dense::DenseSpectrum;
 use crate::scene::Scene;
@@ -67,12 +66,13 @@ pub struct FlatColour {
 }
 
 impl FlatColour {
-    /// The flat objects and emitters of `scene` under `observer`, for wavelengths drawn from
-    /// `mixture`; `None` when no light qualifies (nothing to gain).
+    /// The flat objects and emitters of `scene` under `observer`, for lanes drawn with the
+    /// wavelength density `density` (1/nm; e.g. [`WavelengthMixture::pdf`](super::wavelength_mixture::WavelengthMixture::pdf)); `None` when no
+    /// light qualifies (nothing to gain).
     pub fn new(
         scene: &Scene,
         observer: &dyn Observer,
-        mixture: &WavelengthMixture,
+        density: &dyn Fn(f64) -> f64,
     ) -> Option<Self> {
         let objects = scene
             .objects
@@ -94,7 +94,7 @@ impl FlatColour {
                     return None;
                 }
                 let shape = DenseSpectrum::from_spd(spd, 1.0);
-                let p = usable_probability(&shape, mixture);
+                let p = usable_probability(&shape, density);
                 if !(p > 0.0) {
                     return None;
                 }
@@ -175,8 +175,9 @@ impl FlatColour {
     }
 }
 
-/// `P = ∫_{S>0} p(λ) dλ`: the chance that a lane drawn from `mixture` sees `shape` non-zero.
-fn usable_probability(shape: &DenseSpectrum, mixture: &WavelengthMixture) -> f64 {
+/// `P = ∫_{S>0} p(λ) dλ`: the chance that a lane drawn with density `density` sees `shape`
+/// non-zero.
+fn usable_probability(shape: &DenseSpectrum, density: &dyn Fn(f64) -> f64) -> f64 {
     let (lo, hi) = P_RANGE_NM;
     let n = ((hi - lo) * STEPS_PER_NM as f64) as usize;
     let h = (hi - lo) / n as f64;
@@ -184,7 +185,7 @@ fn usable_probability(shape: &DenseSpectrum, mixture: &WavelengthMixture) -> f64
     for k in 0..n {
         let nm = lo + (k as f64 + 0.5) * h;
         if shape.value(nm as f32) > 0.0 {
-            p += mixture.pdf(nm) * h;
+            p += density(nm) * h;
         }
     }
     p.min(1.0)
@@ -211,6 +212,7 @@ fn integrate(shape: &DenseSpectrum, observer: &dyn Observer) -> [f64; 3] {
 mod tests {
     use super::*;
     use crate::film::Sensor;
+    use crate::integrator::wavelength_mixture::WavelengthMixture;
     use crate::integrator::xyz_weights::XyzWeights;
     use crate::integrator::SampleRng;
     use crate::scene::{build_scene, parse_scene_str, BuiltinFactory};
@@ -232,7 +234,8 @@ mod tests {
     fn exact_colour_is_the_mean_of_the_lane_estimate() {
         let s = scene(include_str!("../../../scenes/caustic.ron"));
         let mixture = WavelengthMixture::new(&s);
-        let fc = FlatColour::new(&s, s.observer.as_ref(), &mixture).expect("D65 lamp qualifies");
+        let fc = FlatColour::new(&s, s.observer.as_ref(), &|l| mixture.pdf(l))
+            .expect("D65 lamp qualifies");
         let light = 0u32;
         let k = fc.emitter_xyz(light).unwrap();
         let e = fc.emitters[0].as_ref().unwrap();
@@ -277,10 +280,12 @@ mod tests {
     fn flat_surfaces() {
         let text = include_str!("../../../scenes/caustic.ron");
         let s = scene(text);
-        let fc = FlatColour::new(&s, s.observer.as_ref(), &WavelengthMixture::new(&s)).unwrap();
+        let m = WavelengthMixture::new(&s);
+        let fc = FlatColour::new(&s, s.observer.as_ref(), &|l| m.pdf(l)).unwrap();
         assert_eq!(fc.objects, vec![true, false, true, true]);
         let s = scene(&text.replace("(ior: 1.5)", "(ior: \"N-BK7\")"));
-        let fc = FlatColour::new(&s, s.observer.as_ref(), &WavelengthMixture::new(&s)).unwrap();
+        let m = WavelengthMixture::new(&s);
+        let fc = FlatColour::new(&s, s.observer.as_ref(), &|l| m.pdf(l)).unwrap();
         assert_eq!(fc.objects, vec![true, false, false, true]);
     }
 }

@@ -5,7 +5,8 @@
 //!
 //! Lights flagged `BEAMS_ONLY` (only the seed's `next_beam`) are rendered here too, by
 //! [`trace_beam_with`](super::beam::trace_beam_with), with the beam's uniforms from the light
-//! path's sequence.
+//! path's sequence. Wavelengths: one set per light path, drawn as bdpt draws a pair's
+//! ([`PairWavelengths`]).
 //!
 //! Determinism: light path `k` draws its random numbers from `(seed, k)` only, and the splat
 //! film's sums are exact, so the image is identical for any thread count. Sample index `s`
@@ -23,11 +24,11 @@ use super::camera_connection::{connect_to_camera, SplatFn};
 use super::driver::{Integrator, IntegratorInfo, IntegratorOutput, Registration};
 use super::flat_colour::FlatColour;
 use super::light_subpath::{generate_light_subpath_with, LightStart};
+use super::pair_wavelengths::PairWavelengths;
 use super::pixel_max::PixelMaxY;
 use super::random_walk::WalkShift;
 use super::render::ProgressFn;
 use super::vertex::Vertex;
-use super::wavelength_mixture::WavelengthMixture;
 use super::xyz_weights::XyzWeights;
 use super::{PathStats, PixelSampler, RenderError, RenderResult, RenderSettings, SampleRng};
 use crate::camera::Camera;
@@ -128,7 +129,7 @@ fn trace_light_path(
     scene: &Scene,
     camera: &dyn Camera,
     sensor: &Sensor,
-    mixture: &WavelengthMixture,
+    pair: &PairWavelengths<'_>,
     lt: &LightTracer,
     ld: &mut PixelSampler,
     rng: &mut SampleRng,
@@ -139,7 +140,7 @@ fn trace_light_path(
 ) {
     // The first dimensions (wavelengths, light choice, emission point and direction) come from
     // the light path's stratified sequence, the rest of the walk from `rng`.
-    let lambda = mixture.sample_with(ld.next_1d(), ld.next_1d() as f64, ld.next_1d() as f64);
+    let lambda = pair.sample(ld);
     let max_depth = lt.max_depth;
     let rr = lt.rr_depth;
     let u_start = (ld.next_1d(), ld.next_2d(), ld.next_2d());
@@ -226,8 +227,8 @@ fn render_light_tracing(
     let pixels = width as u64 * height as u64;
     let pool = super::tiled::thread_pool(settings.threads)?;
     let sensor = Sensor::new(scene.observer.clone());
-    let mixture = plan.mixture();
-    let flat = plan.flat_colour(scene, sensor.observer().as_ref());
+    let pair = PairWavelengths::new(plan, scene, settings.tracer.wavelengths);
+    let flat = plan.flat_colour(scene, sensor.observer().as_ref(), &|l| pair.pdf(l));
     let mut film = FilmState::new(width, height, true);
     film.spectral = lt.spectral.map(|b| SpectralSums::new(b, width, height));
     let pass_spectral = lt.spectral.map(|b| SpectralFilm::new(b, width, height));
@@ -276,7 +277,7 @@ fn render_light_tracing(
                             scene,
                             camera,
                             &sensor,
-                            mixture,
+                            &pair,
                             lt,
                             &mut ld,
                             &mut rng,

@@ -350,10 +350,7 @@ pub fn s0_weight(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::camera::CameraSample;
-    use crate::integrator::random_walk::generate_camera_subpath;
-    use crate::integrator::wavelength_mixture::WavelengthMixture;
-    use crate::integrator::SampleRng;
+    use crate::integrator::test_support::for_each_camera_subpath;
     use crate::scene::{build_scene, parse_scene_str, BuiltinFactory};
     use std::path::Path;
 
@@ -387,40 +384,18 @@ mod tests {
         let scene = big_lamp_caustic();
         let cam = scene.cameras.get(None).unwrap();
         let camera = cam.camera.as_ref();
-        let mixture = WavelengthMixture::new(&scene);
-        let mut path = Vec::new();
         let mut stats = PathStats::default();
         let shapes = SpecularShapes::new(&scene);
         let mut set = SolutionSet::default();
         let (mut class, mut reproduced, mut reflected) = (0usize, 0usize, 0usize);
-        for k in 0..40_000u64 {
-            let mut rng = SampleRng::for_sample(11, k, 0);
-            let lambda = mixture.sample(&mut rng);
-            let u = rng.next_2d();
-            let cs = CameraSample {
-                p_film: Vec2::new(65.0 + 30.0 * u.x, 55.0 + 15.0 * u.y),
-                p_lens: rng.next_2d(),
-            };
-            let cray = camera.generate_ray(&cs).unwrap();
-            generate_camera_subpath(
-                &scene,
-                camera,
-                cray.ray,
-                cray.weight,
-                &lambda,
-                &mut rng,
-                12,
-                100,
-                &mut path,
-                &mut stats,
-            );
+        let window = (Vec2::new(65.0, 55.0), Vec2::new(30.0, 15.0));
+        for_each_camera_subpath(&scene, 11, 40_000, window, (12, 100), |path, lambda| {
             for t in 2..=path.len() {
                 let mut seeds = Seeds {
                     shapes: Some(&shapes),
                     set: &mut set,
                 };
-                let Some(w_s0) = s0_weight(&scene, camera, &path, t, &lambda, 64, &mut seeds)
-                else {
+                let Some(w_s0) = s0_weight(&scene, camera, path, t, lambda, 64, &mut seeds) else {
                     continue;
                 };
                 class += 1;
@@ -443,9 +418,9 @@ mod tests {
                 connect_to_point(
                     &scene,
                     camera,
-                    &path,
+                    path,
                     j,
-                    &lambda,
+                    lambda,
                     &y,
                     64,
                     &mut seeds,
@@ -465,7 +440,7 @@ mod tests {
                 // f(x) both ways: s = 0's estimate is f/p_s0, the strategy's f/p(y); the
                 // weights are p²/(p_s0² + p(y)²), so f = estimate · p follows from the ratio.
                 // Compared in the lane the path carries most (a coloured wall may zero some).
-                let le = lv.le(&scene, &path[t - 2], &lambda);
+                let le = lv.le(&scene, &path[t - 2], lambda);
                 let lane = (0..4).max_by(|&a, &b| m.l[a].total_cmp(&m.l[b])).unwrap();
                 let l_s0 = (lv.beta * le)[lane];
                 let ratio = (w_s0 / m.weight).sqrt(); // p_s0 / p(y)
@@ -480,7 +455,7 @@ mod tests {
                     reflected += 1;
                 }
             }
-        }
+        });
         assert!(reproduced >= 20, "{reproduced} of {class} paths reproduced");
         assert!(
             reflected >= 2,

@@ -18,6 +18,7 @@ pub mod fluorescent_mis;
 pub mod light_subpath;
 pub mod light_tracer;
 pub mod manifold_connection;
+pub mod pair_wavelengths;
 pub mod path;
 pub mod pixel_max;
 pub mod random_walk;
@@ -26,6 +27,8 @@ pub mod sampler;
 pub mod select;
 pub mod specular_chain;
 pub mod specular_seeds;
+#[cfg(test)]
+mod test_support;
 pub mod tiled;
 pub mod vertex;
 pub mod wavelength_groups;

@@ -711,13 +711,15 @@ pub fn render_film_spectral(
         spectral,
         |buf, samples, _, spectral| {
             let mut stats = PathStats::default();
+            // One wavelength buffer per tile, overwritten by every sample's draw.
+            let mut lambdas = PathWavelengths::default();
             for y in buf.y0..buf.y0 + buf.h {
                 for x in buf.x0..buf.x0 + buf.w {
                     let pixel = y as u64 * width as u64 + x as u64;
                     for s in samples.clone() {
                         let mut rng =
                             PixelSampler::with_kind(settings.sampler, settings.seed, pixel, s);
-                        let mut lambdas = wavelength_sampler.sample(&mut rng);
+                        wavelength_sampler.sample_into(&mut rng, &mut lambdas);
                         let offset = cam.filter.sample(rng.next_2d());
                         let sample = CameraSample {
                             p_film: Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset,

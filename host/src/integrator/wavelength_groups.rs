@@ -104,6 +104,21 @@ pub struct PathWavelengths {
     count: usize,
 }
 
+impl Default for PathWavelengths {
+    /// One group without live lanes (a buffer for [`PathWavelengthSampler::sample_into`]).
+    fn default() -> Self {
+        let empty = SampledWavelengths {
+            lambda: [0.0; LANES],
+            pdf: [0.0; LANES],
+            lanes: LaneMask::NONE,
+        };
+        Self {
+            groups: [empty; MAX_GROUPS],
+            count: 1,
+        }
+    }
+}
+
 impl PathWavelengths {
     /// A path carrying `groups` (1 to [`MAX_GROUPS`] of them; extra ones are ignored). A single
     /// group whose lane mask holds only the hero counts as hero-only, as
@@ -234,7 +249,7 @@ impl PathWavelengthSampler {
         let fluoresces = plan.fluorescence() && scene_fluoresces;
         let product = match sampling {
             WavelengthSampling::Product if !fluoresces && !plan.emission_wavelengths() => {
-                mixture().and_then(|m| product_table(&m).ok())
+                plan.product_table().cloned()
             }
             _ => None,
         };
@@ -281,6 +296,16 @@ impl PathWavelengthSampler {
     /// the light SPD for [`WavelengthSampling::LightSpd`] (Product, Visible and Uniform draw
     /// exactly one, so Visible and Uniform with N = 4 reproduce earlier images bit for bit).
     pub fn sample(&self, rng: &mut PixelSampler) -> PathWavelengths {
+        let mut w = PathWavelengths::default();
+        self.sample_into(rng, &mut w);
+        w
+    }
+
+    /// [`sample`](Self::sample) into `w` (whatever it held): the render loop keeps one
+    /// `PathWavelengths` per tile instead of building and moving a 152-byte value per sample
+    /// (two `memcpy` calls, about 60 instructions).
+    #[inline]
+    pub fn sample_into(&self, rng: &mut PixelSampler, w: &mut PathWavelengths) {
         let u = rng.next_1d();
         let u_spd = match &self.emission {
             Some(_) => rng.next_1d(),
@@ -291,12 +316,8 @@ impl PathWavelengthSampler {
             _ => 0.0,
         };
         let n = LANES * self.groups;
-        let mut groups = [SampledWavelengths {
-            lambda: [0.0; LANES],
-            pdf: [0.0; LANES],
-            lanes: LaneMask::NONE,
-        }; MAX_GROUPS];
-        for (g, group) in groups.iter_mut().enumerate().take(self.groups) {
+        w.count = self.groups;
+        for (g, group) in w.groups.iter_mut().enumerate().take(self.groups) {
             let ug = rotated(u as f64, g, n) as f32;
             if let Some(t) = &self.product {
                 *group = t.sample_lanes(ug as f64);
@@ -315,14 +336,9 @@ impl PathWavelengthSampler {
                 _ => SampledWavelengths::sample_visible(ug),
             };
         }
-        let mut w = PathWavelengths {
-            groups,
-            count: self.groups,
-        };
         if self.single_lane {
             w.terminate_secondary();
         }
-        w
     }
 }
 

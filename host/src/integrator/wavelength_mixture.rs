@@ -1,5 +1,8 @@
-//! The wavelengths of a camera/light path pair (BDPT and light tracing), drawn from
-//! [`WavelengthMixture`].
+//! The wavelengths of a camera/light path pair (BDPT and light tracing) in fluorescent and
+//! narrowband scenes and under `--wavelength-sampling visible`, drawn from
+//! [`WavelengthMixture`] (elsewhere the pair draws from the observer × √emission table, see
+//! [`super::pair_wavelengths`]); the path tracer's light-SPD sampling and the render plan's
+//! narrowband mixture use it too.
 //!
 //!
 //! A connection joins a camera subpath and a light subpath, so both must carry the same

@@ -205,6 +205,25 @@ impl Bvh {
         &self.order
     }
 
+    /// Every leaf as `(first, count)`: primitives `first..first + count` in leaf order, sorted
+    /// by `first`. The leaves partition the leaf order, so a caller can store each leaf's
+    /// primitives together (e.g. transposed, for [`Bvh::traverse_leaves`]).
+    pub fn leaves(&self) -> Vec<(u32, u32)> {
+        let mut leaves: Vec<(u32, u32)> = if self.qnodes.is_empty() {
+            self.nodes
+                .par_iter()
+                .flat_map_iter(|n| leaf_slots(&n.child, &n.count, n.slots))
+                .collect()
+        } else {
+            self.qnodes
+                .par_iter()
+                .flat_map_iter(|n| leaf_slots(&n.child, &n.count, n.slots))
+                .collect()
+        };
+        leaves.par_sort_unstable();
+        leaves
+    }
+
     /// Number of nodes (for statistics and memory estimates).
     pub fn node_count(&self) -> usize {
         self.nodes.len() + self.qnodes.len()
@@ -238,4 +257,15 @@ impl Bvh {
             k => k,
         };
     }
+}
+
+/// The leaf slots of one wide node as `(first, count)`.
+fn leaf_slots<'a>(
+    child: &'a [u32; wide_node::WIDTH],
+    count: &'a [u16; wide_node::WIDTH],
+    slots: u32,
+) -> impl Iterator<Item = (u32, u32)> + 'a {
+    (0..(slots as usize).min(wide_node::WIDTH))
+        .filter(move |&k| count[k] > 0)
+        .map(move |k| (child[k], u32::from(count[k])))
 }

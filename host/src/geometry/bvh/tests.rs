@@ -288,6 +288,48 @@ fn wide_traversal_matches_brute_force() {
     assert!(hits > 200 && hits < 1800, "{hits} of 2000 rays hit");
 }
 
+// `Bvh::leaves` must partition the leaf order into the leaves the traversal hands over: sorted,
+// contiguous, covering every slot once, at most `MAX_LEAF_SIZE` primitives each (so four
+// triangle lanes hold a leaf), for float, quantised and unmerged trees; and every
+// `(first, count)` that `traverse_leaves` gives for 300 random rays is one of them. Exact.
+#[test]
+fn leaves_partition_the_leaf_order() {
+    let mut next = uniform_stream(5);
+    let boxes: Vec<Aabb> = (0..3000)
+        .map(|_| {
+            let p = Vec3A::new(next(), next(), next()) * 20.0 - 10.0;
+            let e = Vec3A::new(next(), next(), next()) * 0.3 + 0.01;
+            Aabb {
+                min: p - e,
+                max: p + e,
+            }
+        })
+        .collect();
+    for bvh in [
+        Bvh::build_with_layout(&boxes, NodeLayout::Float),
+        Bvh::build_with_layout(&boxes, NodeLayout::Quantised),
+        Bvh::build_with_options(&boxes, NodeLayout::Float, false),
+    ] {
+        let leaves = bvh.leaves();
+        let mut at = 0;
+        for &(first, count) in &leaves {
+            assert_eq!(first, at, "{:?} nodes", bvh.layout());
+            assert!((1..=MAX_LEAF_SIZE as u32).contains(&count));
+            at += count;
+        }
+        assert_eq!(at as usize, bvh.order.len());
+        let set: std::collections::HashSet<(u32, u32)> = leaves.iter().copied().collect();
+        for _ in 0..300 {
+            let o = Vec3A::new(next(), next(), next()) * 30.0 - 15.0;
+            let ray = Ray::new(o, Vec3A::new(next(), next(), next()) * 2.0 - 1.0);
+            bvh.traverse_leaves(&ray, f32::INFINITY, false, |first, count, _| {
+                assert!(set.contains(&(first, count)), "leaf {first}+{count}");
+                None
+            });
+        }
+    }
+}
+
 // With a two-entry fixed stack nearly every ray spills into the `Vec`; the search must stay
 // exact: the closest hit equals brute force exactly (same boxes and rays as above, and the
 // any-hit query agrees on whether something is hit), and the primitive tests (slot and
@@ -325,9 +367,11 @@ fn spilled_stack_stays_exact() {
             .filter_map(|b| entry(b, f32::INFINITY))
             .fold(None, |m: Option<f32>, t| Some(m.map_or(t, |m| m.min(t))));
         let mut spilled_log = Vec::new();
-        let found = bvh.traverse_with_stack::<2, _>(&ray, f32::INFINITY, false, |slot, t| {
-            spilled_log.push((slot, t.to_bits()));
-            entry(&boxes[bvh.order[slot as usize] as usize], t)
+        let found = bvh.traverse_with_stack::<2, _>(&ray, f32::INFINITY, false, |first, n, t| {
+            for_each_slot(first, n, t, false, &mut |slot, t| {
+                spilled_log.push((slot, t.to_bits()));
+                entry(&boxes[bvh.order[slot as usize] as usize], t)
+            })
         });
         assert_eq!(found, brute);
         // And in the same order as with the full-size stack (spilling keeps LIFO order).
@@ -337,8 +381,10 @@ fn spilled_stack_stays_exact() {
             entry(&boxes[bvh.order[slot as usize] as usize], t)
         });
         assert_eq!(spilled_log, log);
-        let any = bvh.traverse_with_stack::<2, _>(&ray, f32::INFINITY, true, |slot, t| {
-            entry(&boxes[bvh.order[slot as usize] as usize], t)
+        let any = bvh.traverse_with_stack::<2, _>(&ray, f32::INFINITY, true, |first, n, t| {
+            for_each_slot(first, n, t, true, &mut |slot, t| {
+                entry(&boxes[bvh.order[slot as usize] as usize], t)
+            })
         });
         assert_eq!(any.is_some(), brute.is_some());
     }

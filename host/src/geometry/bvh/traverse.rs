@@ -67,14 +67,37 @@ impl Bvh {
         ray: &Ray,
         t_max: f32,
         any_hit: bool,
+        mut test: F,
+    ) -> Option<f32> {
+        self.traverse_leaves(
+            ray,
+            t_max,
+            any_hit,
+            #[inline(always)]
+            |first, count, t_max| for_each_slot(first, count, t_max, any_hit, &mut test),
+        )
+    }
+
+    /// [`Bvh::traverse`] handing over whole leaves: `test(first, count, t_max)` gets the
+    /// leaf's primitives `first..first + count` in leaf order (at most [`super::MAX_LEAF_SIZE`] and
+    /// [`super::MERGE_LEAF_PRIMITIVES`]) and returns the closest hit distance below `t_max`
+    /// among them (with `any_hit`, any one), as [`Bvh::traverse`]'s per-slot loop would: a
+    /// scene that stores a leaf's triangles together can test them in one SIMD pass.
+    #[inline]
+    pub fn traverse_leaves<F: FnMut(u32, u32, f32) -> Option<f32>>(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        any_hit: bool,
         test: F,
     ) -> Option<f32> {
         self.traverse_with_stack::<STACK_SIZE, F>(ray, t_max, any_hit, test)
     }
 
-    /// [`Bvh::traverse`] with `N` fixed stack entries before spilling (tests use a tiny `N`).
+    /// [`Bvh::traverse_leaves`] with `N` fixed stack entries before spilling (tests use a tiny
+    /// `N`).
     #[inline]
-    pub(super) fn traverse_with_stack<const N: usize, F: FnMut(u32, f32) -> Option<f32>>(
+    pub(super) fn traverse_with_stack<const N: usize, F: FnMut(u32, u32, f32) -> Option<f32>>(
         &self,
         ray: &Ray,
         t_max: f32,
@@ -114,7 +137,7 @@ impl Bvh {
     unsafe fn traverse_avx2<
         const N: usize,
         const QUANTISED: bool,
-        F: FnMut(u32, f32) -> Option<f32>,
+        F: FnMut(u32, u32, f32) -> Option<f32>,
     >(
         &self,
         ray: &Ray,
@@ -132,7 +155,7 @@ impl Bvh {
         const N: usize,
         const AVX2: bool,
         const QUANTISED: bool,
-        F: FnMut(u32, f32) -> Option<f32>,
+        F: FnMut(u32, u32, f32) -> Option<f32>,
     >(
         &self,
         ray: &Ray,
@@ -162,13 +185,11 @@ impl Bvh {
             // Entries pushed before the search shrank may now lie beyond it.
             if entry.near <= t_max {
                 if entry.count > 0 {
-                    for slot in entry.child..entry.child + entry.count {
-                        if let Some(t) = test(slot, t_max) {
-                            t_max = t;
-                            found = Some(t);
-                            if any_hit {
-                                return found;
-                            }
+                    if let Some(t) = test(entry.child, entry.count, t_max) {
+                        t_max = t;
+                        found = Some(t);
+                        if any_hit {
+                            return found;
                         }
                     }
                 } else {
@@ -274,6 +295,29 @@ impl Bvh {
             }
         }
     }
+}
+
+/// [`Bvh::traverse`]'s leaf test: `test(slot, t_max)` for the leaf's slots in order, the
+/// search shrinking to each hit; the closest hit (with `any_hit`, the first).
+#[inline(always)]
+pub(super) fn for_each_slot<F: FnMut(u32, f32) -> Option<f32>>(
+    first: u32,
+    count: u32,
+    mut t_max: f32,
+    any_hit: bool,
+    test: &mut F,
+) -> Option<f32> {
+    let mut found = None;
+    for slot in first..first + count {
+        if let Some(t) = test(slot, t_max) {
+            t_max = t;
+            found = Some(t);
+            if any_hit {
+                break;
+            }
+        }
+    }
+    found
 }
 
 /// Pushes `e` on the traversal stack. When the `N` fixed entries are used they move, in order,
