@@ -32,14 +32,23 @@ fn scene() -> Scene {
 }
 
 fn render(scene: &Scene, manifold: bool, spp: u32, seed: u64) -> XyzImage {
+    render_forced(scene, (Switch::Manifold, manifold), spp, seed)
+}
+
+fn render_forced(scene: &Scene, (switch, on): (Switch, bool), spp: u32, seed: u64) -> XyzImage {
     let plan = RenderPlan::new(
         scene,
         &EffectsRequest {
             mode: EffectsMode::Auto,
-            forced: vec![(Switch::Manifold, manifold)],
+            forced: vec![(switch, on)],
         },
     );
-    assert_eq!(plan.manifold(), manifold);
+    let decided = match switch {
+        Switch::Manifold => plan.manifold(),
+        Switch::CameraChain => plan.camera_chain(),
+        _ => unreachable!("only the two connections are switched here"),
+    };
+    assert_eq!(decided, on);
     let settings = RenderSettings {
         budget: SampleBudget::Spp(spp),
         seed,
@@ -97,11 +106,26 @@ fn region_y(img: &XyzImage, (x0, x1, y0, y1): (usize, usize, usize, usize)) -> f
 /// large lamp `s = 0` is no rare event (the shipped 5 cm lamp is, see docs/performance.md).
 #[test]
 fn with_and_without_the_connection_agree() {
+    agree((Switch::Manifold, (16, 24, 14, 18)));
+}
+
+/// The same for the camera-side connection (`integrator::camera_chain`, switch
+/// `camera-chain`: the lamp seen reflected in and refracted through the ball from the
+/// pinhole), quantities (1) and (2) as above and (3) over the ball's upper half, where the
+/// lamp's images lie (pixels x 16..24, y 4..10 at 40×30), same 4-SE tolerance and why.
+#[test]
+fn with_and_without_the_camera_connection_agree() {
+    agree((Switch::CameraChain, (16, 24, 4, 10)));
+}
+
+fn agree((switch, r): (Switch, (usize, usize, usize, usize))) {
     let s = scene();
     let k = 8u64;
-    let on: Vec<XyzImage> = (1..=k).map(|seed| render(&s, true, 64, seed)).collect();
+    let on: Vec<XyzImage> = (1..=k)
+        .map(|seed| render_forced(&s, (switch, true), 64, seed))
+        .collect();
     let off: Vec<XyzImage> = (101..=100 + k)
-        .map(|seed| render(&s, false, 64, seed))
+        .map(|seed| render_forced(&s, (switch, false), 64, seed))
         .collect();
     let z = |a: &[f64], b: &[f64]| {
         let ((ma, va), (mb, vb)) = (mean_var(a), mean_var(b));
@@ -128,13 +152,11 @@ fn with_and_without_the_connection_agree() {
         }
     }
     assert!(bad.len() <= 1, "tiles beyond 4 SE: {bad:?}");
-    // The floor under the ball seen through its lower half: pixels x 16..24, y 14..18.
-    let r = (16, 24, 14, 18);
     let a: Vec<f64> = on.iter().map(|i| region_y(i, r)).collect();
     let b: Vec<f64> = off.iter().map(|i| region_y(i, r)).collect();
-    assert!(z(&a, &b).abs() < 4.0, "through the ball: z = {}", z(&a, &b));
+    assert!(z(&a, &b).abs() < 4.0, "region {r:?}: z = {}", z(&a, &b));
     // And the switch is not a no-op: the same seed renders differently with it.
-    assert!(render(&s, true, 4, 1) != render(&s, false, 4, 1));
+    assert!(render_forced(&s, (switch, true), 4, 1) != render_forced(&s, (switch, false), 4, 1));
 }
 
 /// Quantity: every pixel's XYZ, bit for bit, with the switch on and off, on the Cornell box
@@ -147,5 +169,8 @@ fn scenes_without_specular_chains_are_unchanged() {
     let desc = parse_scene_str(text, file).unwrap();
     let s = build_scene(&desc, Path::new("."), file, &[&BuiltinFactory]).unwrap();
     assert!(!RenderPlan::auto(&s).manifold());
+    assert!(!RenderPlan::auto(&s).camera_chain());
     assert!(render(&s, true, 2, 3) == render(&s, false, 2, 3));
+    let chain = |on| render_forced(&s, (Switch::CameraChain, on), 2, 3);
+    assert!(chain(true) == chain(false));
 }

@@ -71,4 +71,10 @@ pub trait Camera: Send + Sync + Debug {
 
     /// Viewing direction (world, unit).
     fn forward(&self) -> Vec3A;
+
+    /// True for a pinhole (every ray leaves [`position`](Self::position)): strategies that
+    /// solve a path from the lens point itself need it.
+    fn pinhole(&self) -> bool {
+        false
+    }
 }

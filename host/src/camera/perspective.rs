@@ -230,6 +230,10 @@ impl Camera for PerspectiveCamera {
     fn forward(&self) -> Vec3A {
         -self.back
     }
+
+    fn pinhole(&self) -> bool {
+        self.lens_radius == 0.0
+    }
 }
 
 #[cfg(test)]

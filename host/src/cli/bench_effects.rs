@@ -137,6 +137,7 @@ pub fn run_bench(args: &EffectsBenchArgs) -> Result<(), String> {
                 Switch::NarrowbandEmission => auto_plan.emission_wavelengths(),
                 Switch::FlatPathColour => auto_plan.flat_path_colour(),
                 Switch::Manifold => auto_plan.manifold(),
+                Switch::CameraChain => auto_plan.camera_chain(),
             })
             .collect();
         for &kind in &args.integrators {

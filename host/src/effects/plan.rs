@@ -15,6 +15,7 @@
 //! | `narrowband-emission` (alias `line-emission`) | pt draws wavelengths half from the observer, half from the lights' spectra (lines with their discrete probability) | every integrator draws wavelengths from the observer alone: lines and narrow bands render black (warned) |
 //! | `flat-path-colour`                     | bdpt and lt give a path whose every vertex is spectrally flat the exact colour of its emitter's spectrum ([`FlatColour`]; found when some light has one spectral shape everywhere) | every path's colour is estimated from its four wavelengths |
 //! | `manifold` (alias `mnee`)              | bdpt adds the specular-chain connection (`integrator::manifold_connection`) for paths that only `s = 0` can make otherwise (found with specular chains) | those paths come from `s = 0` alone |
+//! | `camera-chain`                         | bdpt adds the camera-side specular-chain connection (`integrator::camera_chain`): the lamp seen reflected in or refracted through smooth specular objects from a pinhole (found with specular chains; thin-lens cameras: not run) | those paths come from `s = 0` alone |
 //!
 //! bdpt and lt draw the pair's wavelengths from the observer-plus-emission mixture
 //! ([`WavelengthMixture`]) unless `narrowband-emission` is forced off, except where the
@@ -72,17 +73,20 @@ pub enum Switch {
     /// bdpt's specular-chain (manifold) connection (a strategy, not an optical effect: the
     /// image's expectation is the same either way).
     Manifold,
+    /// bdpt's camera-side specular-chain connection (a strategy, not an optical effect).
+    CameraChain,
 }
 
 impl Switch {
     /// Every switch, in the order summaries print them.
-    pub const ALL: [Self; 6] = [
+    pub const ALL: [Self; 7] = [
         Self::Dispersion,
         Self::Fluorescence,
         Self::ThinFilm,
         Self::NarrowbandEmission,
         Self::FlatPathColour,
         Self::Manifold,
+        Self::CameraChain,
     ];
 
     /// Name on the command line and in summaries.
@@ -94,6 +98,7 @@ impl Switch {
             Self::NarrowbandEmission => "narrowband-emission",
             Self::FlatPathColour => "flat-path-colour",
             Self::Manifold => "manifold",
+            Self::CameraChain => "camera-chain",
         }
     }
 
@@ -106,7 +111,7 @@ impl Switch {
             Self::NarrowbandEmission => &[Effect::NarrowbandEmission, Effect::LineEmission],
             // Decided from the lights themselves (see `RenderPlan::new`).
             Self::FlatPathColour => &[],
-            Self::Manifold => &[Effect::SpecularChains],
+            Self::Manifold | Self::CameraChain => &[Effect::SpecularChains],
         }
     }
 
@@ -119,6 +124,7 @@ impl Switch {
             "narrowband-emission" | "line-emission" | "narrowband" => Ok(Self::NarrowbandEmission),
             "flat-path-colour" | "flat-path-color" => Ok(Self::FlatPathColour),
             "manifold" | "mnee" | "manifold-next-event" => Ok(Self::Manifold),
+            "camera-chain" => Ok(Self::CameraChain),
             _ => {
                 let fixed = Effect::ALL.iter().find(|e| e.name() == n);
                 let names: Vec<&str> = Self::ALL.iter().map(|s| s.name()).collect();
@@ -235,7 +241,7 @@ impl Decision {
 pub struct RenderPlan {
     effects: EffectSet,
     request: EffectsRequest,
-    decisions: [Decision; 6],
+    decisions: [Decision; 7],
     light_paths: Vec<String>,
     mixture: Arc<WavelengthMixture>,
     /// The observer × √emission table of `mixture`'s emission, built on first use and then
@@ -425,6 +431,12 @@ impl RenderPlan {
         self.decision(Switch::Manifold).on
     }
 
+    /// bdpt adds the camera-side specular-chain connection (`integrator::camera_chain`;
+    /// pinhole cameras only).
+    pub fn camera_chain(&self) -> bool {
+        self.decision(Switch::CameraChain).on
+    }
+
     /// The flat-path colour tables for `scene` under `observer`, for lanes drawn with the
     /// wavelength density `density` (1/nm), when the switch is on and some light qualifies (see
     /// [`FlatColour::new`]).
@@ -562,10 +574,17 @@ impl RenderPlan {
                     "every path's colour is estimated from its wavelengths"
                 }
                 (Switch::Manifold, true) => {
-                    "bdpt: paths camera → specular → diffuse → refractions → area light also \
-                     by solving the refraction chain to a sampled light point (MIS with s = 0)"
+                    "bdpt: paths camera → specular → diffuse → refractions (or one reflection) \
+                     → area light also by solving the chain to a sampled light point (MIS with \
+                     s = 0)"
                 }
                 (Switch::Manifold, false) => "those paths come from s = 0 alone",
+                (Switch::CameraChain, true) => {
+                    "bdpt, pinhole cameras only: paths camera → specular → area light (the lamp \
+                     seen in or through glass) also by solving seeded chains from the pinhole \
+                     to a sampled light point (MIS with s = 0); thin-lens cameras: s = 0 alone"
+                }
+                (Switch::CameraChain, false) => "those paths come from s = 0 alone",
             };
             out.push_str(&format!("  {}: {} — {what}\n", s.name(), d.text()));
         }

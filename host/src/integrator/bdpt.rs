@@ -28,17 +28,19 @@
 //! | `rr_depth`  | vertices | 3       | subpath length from which Russian roulette may stop  |
 
 use super::beam::trace_beam;
+use super::camera_chain::{CameraChain, ChainScratch};
 use super::camera_connection::connect_to_camera;
 use super::driver::{Integrator, IntegratorInfo, IntegratorOutput, Registration};
 use super::flat_colour::FlatColour;
 use super::fluorescent_join::{connect_own, t1_wavelengths, LightMode, SHARED_MODE_PROBABILITY};
 use super::fluorescent_mis::mis_weight_lanes;
 use super::light_subpath::{generate_light_subpath_own, generate_light_subpath_with, LightStart};
-use super::manifold_connection::{anchor, connect_manifold, s0_weight};
+use super::manifold_connection::{anchor, connect_manifold, s0_weight, Seeds};
 use super::pair_wavelengths::PairWavelengths;
 use super::pixel_max::PixelMaxY;
 use super::random_walk::{generate_camera_subpath, WalkShift};
 use super::render::ProgressFn;
+use super::specular_seeds::{SolutionSet, SpecularShapes};
 use super::tiled::render_tiles;
 use super::vertex::{geometry_term, remap0, unoccluded, Vertex};
 use super::wavelength_mixture::WavelengthMixture;
@@ -591,6 +593,10 @@ struct Worker {
     /// Flatness of each subpath prefix (see [`FlatColour::prefix`]).
     camera_flat: Vec<bool>,
     light_flat: Vec<bool>,
+    /// Solutions of the camera-side chain connection.
+    chain_scratch: ChainScratch,
+    /// Solutions of the specular-chain connection.
+    manifold_set: SolutionSet,
 }
 
 /// Film XYZ of connection `c` of strategy (s, t): the exact colour of its emitter when the
@@ -684,6 +690,13 @@ fn render_bdpt(
         .filter(|_| !scene.objects.fluorescence());
     // Not with fluorescence: the strategy does not follow wavelength shifts.
     let manifold = plan.manifold() && !scene.objects.fluorescence();
+    // The camera-side chains: pinhole cameras only (`CameraChain::new`), no fluorescence.
+    let camera_chain = (plan.camera_chain() && !scene.objects.fluorescence())
+        .then(|| CameraChain::new(scene, camera))
+        .flatten();
+    // The specular objects whose reflections seed the specular-chain connection too.
+    let shapes = SpecularShapes::new(scene);
+    let reflection_shapes = (manifold && !shapes.is_empty()).then_some(&shapes);
     let strategies = bdpt
         .strategy_images
         .then(|| StrategyFilms::new(width, height));
@@ -703,6 +716,8 @@ fn render_bdpt(
                 stats: PathStats::default(),
                 camera_flat: Vec::with_capacity(16),
                 light_flat: Vec::with_capacity(16),
+                chain_scratch: ChainScratch::default(),
+                manifold_set: SolutionSet::default(),
             };
             for y in buf.y0..buf.y0 + buf.h {
                 for x in buf.x0..buf.x0 + buf.w {
@@ -723,7 +738,7 @@ fn render_bdpt(
                             &pixel_max,
                             strategies.as_ref(),
                             flat.as_ref(),
-                            manifold,
+                            (manifold, camera_chain.as_ref(), reflection_shapes),
                             &mut worker,
                         );
                         buf.add(x, y, xyz, "bdpt camera film (t ≥ 2)");
@@ -810,7 +825,11 @@ impl Bdpt {
         pixel_max: &PixelMaxY,
         strategies: Option<&StrategyFilms>,
         flat: Option<&FlatColour>,
-        manifold: bool,
+        (manifold, camera_chain, reflection_shapes): (
+            bool,
+            Option<&CameraChain>,
+            Option<&SpecularShapes>,
+        ),
         worker: &mut Worker,
     ) -> [f64; 3] {
         let camera = cam.camera.as_ref();
@@ -910,8 +929,33 @@ impl Bdpt {
                 };
                 if manifold && s == 0 {
                     // A path the specular-chain connection can make too: its share.
-                    if let Some(w) = s0_weight(scene, camera, &camera_path, t, &lambda) {
+                    let mut seeds = Seeds {
+                        shapes: reflection_shapes,
+                        set: &mut worker.manifold_set,
+                    };
+                    if let Some(w) = s0_weight(
+                        scene,
+                        camera,
+                        &camera_path,
+                        t,
+                        &lambda,
+                        max_depth,
+                        &mut seeds,
+                    ) {
                         c.weight *= w;
+                    }
+                    if let Some(cc) = camera_chain {
+                        if let Some(w) = cc.s0_weight(
+                            scene,
+                            camera,
+                            &camera_path,
+                            t,
+                            &lambda,
+                            max_depth,
+                            &mut worker.chain_scratch,
+                        ) {
+                            c.weight *= w;
+                        }
                     }
                 }
                 // A t = 1 splat in a fluorescent scene: the observer weighs the wavelengths
@@ -973,7 +1017,11 @@ impl Bdpt {
         if let Some(j) = manifold.then(|| anchor(scene, &camera_path)).flatten() {
             // The specular-chain connection from the first non-specular camera vertex.
             let u = (rng.next_1d(), rng.next_2d());
-            let m = connect_manifold(
+            let mut seeds = Seeds {
+                shapes: reflection_shapes,
+                set: &mut worker.manifold_set,
+            };
+            connect_manifold(
                 scene,
                 camera,
                 &camera_path,
@@ -981,46 +1029,108 @@ impl Bdpt {
                 &lambda,
                 u,
                 max_depth,
+                &mut seeds,
                 &mut worker.stats,
+                &mut |m| {
+                    let c = Connection {
+                        l: m.l,
+                        weight: SampledSpectrum::splat(m.weight),
+                        raster: None,
+                        lanes: m.lanes,
+                        emitter: Some(m.emitter),
+                    };
+                    // Flat-path colour as for s = 1 at the same vertex, if the chain is flat too.
+                    let xyz = connection_xyz(
+                        flat.filter(|_| m.flat_chain),
+                        (&worker.camera_flat, &worker.light_flat),
+                        1,
+                        j + 1,
+                        &c,
+                        &weights,
+                        &lambda,
+                    );
+                    if let Some(kind) = check_sample(&xyz) {
+                        splats.reject(Rejection {
+                            x,
+                            y,
+                            strategy: "bdpt specular chain".into(),
+                            kind,
+                        });
+                    } else {
+                        for k in 0..3 {
+                            total[k] += xyz[k];
+                        }
+                        if spectral.is_some() {
+                            total_lanes.accumulate(&weights.energies(&(c.l * c.weight), c.lanes));
+                        }
+                        if strategies.is_some() {
+                            // Filed with s = 0 of the same path: the two share its class.
+                            per_strategy.push((0, m.t_equivalent, xyz));
+                        }
+                    }
+                },
             );
-            if let Some(m) = m {
-                let c = Connection {
-                    l: m.l,
-                    weight: SampledSpectrum::splat(m.weight),
-                    raster: None,
-                    lanes: m.lanes,
-                    emitter: Some(m.emitter),
-                };
-                // Flat-path colour as for s = 1 at the same vertex, if the chain is flat too.
-                let xyz = connection_xyz(
-                    flat.filter(|_| m.flat_chain),
-                    (&worker.camera_flat, &worker.light_flat),
-                    1,
-                    j + 1,
-                    &c,
-                    &weights,
-                    &lambda,
-                );
-                if let Some(kind) = check_sample(&xyz) {
-                    splats.reject(Rejection {
-                        x,
-                        y,
-                        strategy: "bdpt specular chain".into(),
-                        kind,
-                    });
-                } else {
-                    for k in 0..3 {
-                        total[k] += xyz[k];
+        }
+        if let Some(cc) = camera_chain {
+            // The camera-side chain connection, splatted like t = 1.
+            let u_run = rng.next_1d();
+            let u = if u_run < super::camera_chain::CAMERA_CHAIN_RATE {
+                (u_run, rng.next_1d(), rng.next_2d())
+            } else {
+                (u_run, 0.0, Vec2::ZERO)
+            };
+            cc.connect(
+                scene,
+                camera,
+                &lambda,
+                u,
+                max_depth,
+                &mut worker.chain_scratch,
+                &mut worker.stats,
+                |m| {
+                    let c = Connection {
+                        l: m.l,
+                        weight: SampledSpectrum::splat(m.weight),
+                        raster: Some(m.raster),
+                        lanes: m.lanes,
+                        emitter: Some(m.emitter),
+                    };
+                    let xyz = connection_xyz(
+                        flat.filter(|_| m.flat_chain),
+                        (&worker.camera_flat, &worker.light_flat),
+                        0,
+                        1,
+                        &c,
+                        &weights,
+                        &lambda,
+                    );
+                    if let Some(kind) = check_sample(&xyz) {
+                        splats.reject(Rejection {
+                            x,
+                            y,
+                            strategy: "bdpt camera chain".into(),
+                            kind,
+                        });
+                        return;
                     }
-                    if spectral.is_some() {
-                        total_lanes.accumulate(&weights.energies(&(c.l * c.weight), c.lanes));
+                    Self::record_splat(
+                        splats,
+                        strategies,
+                        pixel_max,
+                        m.raster,
+                        xyz,
+                        Some((0, m.t_equivalent)),
+                    );
+                    if let Some(sf) = spectral {
+                        sf.splat(
+                            m.raster.x,
+                            m.raster.y,
+                            &xyz,
+                            &weights.energies(&(c.l * c.weight), c.lanes),
+                        );
                     }
-                    if strategies.is_some() {
-                        // Filed with s = 0 of the same path: the two share its class.
-                        per_strategy.push((0, m.t_equivalent, xyz));
-                    }
-                }
-            }
+                },
+            );
         }
         worker.camera_path = camera_path;
         worker.light_path = light_path;

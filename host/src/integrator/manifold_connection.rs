@@ -21,15 +21,23 @@
 //! as in the rest of BDPT's weights: the weights still sum to one, so the estimate stays
 //! unbiased.
 //!
-//! Covered: chains of 1 to [`MAX_CHAIN_VERTICES`] smooth refractions (dielectrics) between a
-//! non-specular `D` reached from the camera through specular vertices only, and an area light
-//! whose surface is a scene object, within `max_depth`. Not covered (left to `s = 0` and the
-//! other strategies): chains with a reflection (not seeded, see `specular_chain`), rough
+//! Seeds: the refractions the straight segment `D → y` crosses, and one reflection per smooth
+//! specular object (`integrator::specular_seeds`: the bisector point of a round shape, the
+//! mirror image through a quad; the lamp reflected by a glass ball onto `D`). Every distinct
+//! solution of the seed set is one sample, each counted once; the indicator above asks the
+//! same seed set.
+//!
+//! Covered: chains of 1 to [`MAX_CHAIN_VERTICES`] smooth refractions (dielectrics), or one
+//! reflection, between a non-specular `D` reached from the camera through specular vertices
+//! only, and an area light whose surface is a scene object, within `max_depth`. Not covered
+//! (left to `s = 0` and the other strategies): other chains with reflections, other solutions
+//! of a refraction chain than the one Newton's method finds from the straight segment, rough
 //! glass, longer chains, paths the solve does not converge for, `D` seen directly (light
-//! tracing makes those well), the camera itself as `D` (the lamp seen through the glass from
-//! a pinhole), and scenes that render fluorescence.
+//! tracing makes those well), the camera itself as `D` (`integrator::camera_chain`), and
+//! scenes that render fluorescence.
 
 use super::specular_chain::{seed_chain, solve, Endpoint, Solved, MAX_CHAIN_VERTICES};
+use super::specular_seeds::{SolutionSet, SpecularShapes};
 use super::vertex::{Vertex, VertexKind};
 use super::PathStats;
 use crate::camera::Camera;
@@ -123,8 +131,10 @@ pub fn connect_manifold(
     lambda: &SampledWavelengths,
     (u_light, u_point): (f32, Vec2),
     max_depth: usize,
+    seeds: &mut Seeds<'_>,
     stats: &mut PathStats,
-) -> Option<ManifoldSample> {
+    out: &mut impl FnMut(ManifoldSample),
+) -> Option<()> {
     let (li, pmf) = scene.lights.sample(u_light)?;
     let object = scene.lights.lights()[li].object()?;
     let smp = scene.geometry.sample_area(object, u_point)?;
@@ -138,7 +148,61 @@ pub fn connect_manifold(
         uv: smp.uv,
         pdf: pmf * smp.pdf,
     };
-    connect_to_point(scene, camera, camera_path, j, lambda, &y, max_depth, stats)
+    connect_to_point(
+        scene,
+        camera,
+        camera_path,
+        j,
+        lambda,
+        &y,
+        max_depth,
+        seeds,
+        stats,
+        out,
+    );
+    Some(())
+}
+
+/// The seeds of the connection: the straight segment's refractions, and with `shapes` the
+/// reflection seeds of every smooth specular object (`integrator::specular_seeds`); `set`
+/// holds the distinct solutions of one `(D, y)`.
+pub struct Seeds<'a> {
+    /// The scene's specular shapes, for the reflection seeds (`None`: straight segment only).
+    pub shapes: Option<&'a SpecularShapes>,
+    /// Scratch: the solutions of the current `(D, y)`.
+    pub set: &'a mut SolutionSet,
+}
+
+/// Solves every seed from `x0` to `y` (chains of at most `max_k` vertices) into `seeds.set`,
+/// each solution once.
+fn solve_seeds(
+    scene: &Scene,
+    x0: &Endpoint,
+    y: &Endpoint,
+    lambda: &SampledWavelengths,
+    max_k: usize,
+    seeds: &mut Seeds<'_>,
+    stats: &mut PathStats,
+) {
+    let set = &mut *seeds.set;
+    set.begin(x0.p, y.p);
+    if let Some(seed) = seed_chain(scene, x0, y) {
+        stats.shadow_rays += seed.len() as u64 + 1;
+        if seed.len() <= max_k {
+            if let Some(s) = solve(scene, x0, y, &seed, lambda) {
+                set.add(s);
+            }
+        }
+    }
+    if let Some(shapes) = seeds.shapes {
+        shapes.for_each_reflection_seed(x0.p, y.p, |seed| {
+            if seed.len() <= max_k {
+                if let Some(s) = solve(scene, x0, y, seed, lambda) {
+                    set.add(s);
+                }
+            }
+        });
+    }
 }
 
 /// A point on an area light and its density.
@@ -154,7 +218,8 @@ pub struct LightPoint {
     pub pdf: f32,
 }
 
-/// [`connect_manifold`] to a given light point `y`.
+/// [`connect_manifold`] to a given light point `y`: `out` gets one sample per distinct
+/// visible solution.
 #[allow(clippy::too_many_arguments)]
 pub fn connect_to_point(
     scene: &Scene,
@@ -164,56 +229,59 @@ pub fn connect_to_point(
     lambda: &SampledWavelengths,
     y: &LightPoint,
     max_depth: usize,
+    seeds: &mut Seeds<'_>,
     stats: &mut PathStats,
-) -> Option<ManifoldSample> {
+    out: &mut impl FnMut(ManifoldSample),
+) {
     let d = &camera_path[j];
     let light = &scene.lights.lights()[y.light];
     let x0 = endpoint(d);
     let lambda = &d.wavelengths(lambda);
-    let seed = seed_chain(scene, &x0, &y.p)?;
-    stats.shadow_rays += seed.len() as u64 + 1;
-    let k = seed.len();
-    if j + k > max_depth || k > MAX_CHAIN_VERTICES {
-        return None;
+    if j >= max_depth || !(y.pdf > 0.0) {
+        return;
     }
-    let solved = solve(scene, &x0, &y.p, &seed, lambda)?;
-    let last = solved.chain.get(k - 1);
-    stats.shadow_rays += 1;
-    let yp = &y.p;
-    let (ray, t_max) = spawn_ray_to(last.p, last.p_error, last.ng, yp.p, yp.p_error, yp.n);
-    if scene.geometry.occluded(&ray, t_max) {
-        return None;
+    let max_k = (max_depth - j).min(MAX_CHAIN_VERTICES);
+    solve_seeds(scene, &x0, &y.p, lambda, max_k, seeds, stats);
+    for solved in &seeds.set.solved {
+        let k = solved.chain.len();
+        let last = solved.chain.get(k - 1);
+        stats.shadow_rays += 1;
+        let yp = &y.p;
+        let (ray, t_max) = spawn_ray_to(last.p, last.p_error, last.ng, yp.p, yp.p_error, yp.n);
+        if scene.geometry.occluded(&ray, t_max) {
+            continue;
+        }
+        let mut le = light.radiance(yp.p, yp.n, y.uv, (last.p - yp.p).normalize(), lambda);
+        scene.lights.keep_line_power_only(y.light, lambda, &mut le);
+        if le.is_black() {
+            continue;
+        }
+        let probe = Vertex::camera(solved.chain.get(0).p, Vec3A::Z, SampledSpectrum::splat(1.0));
+        let f = d.f(scene, &probe, lambda, TransportMode::Radiance);
+        let cos = solved.w0.dot(d.ns).abs();
+        let l = d.beta * f * solved.weight * le * (cos * solved.dir_per_area / y.pdf);
+        if l.is_black() {
+            continue;
+        }
+        let p_s0 = s0_density(scene, camera, camera_path, j, solved, lambda);
+        let lanes = if solved.dispersive {
+            d.lanes.terminate_secondary()
+        } else {
+            d.lanes
+        };
+        let flat_chain = solved
+            .chain
+            .iter()
+            .all(|v| scene.objects.material(v.object).spectrally_flat());
+        out(ManifoldSample {
+            l,
+            weight: power(y.pdf, p_s0),
+            lanes,
+            emitter: y.light as u32,
+            flat_chain,
+            t_equivalent: j + k + 2,
+        });
     }
-    let mut le = light.radiance(yp.p, yp.n, y.uv, (last.p - yp.p).normalize(), lambda);
-    scene.lights.keep_line_power_only(y.light, lambda, &mut le);
-    if le.is_black() || !(y.pdf > 0.0) {
-        return None;
-    }
-    let probe = Vertex::camera(solved.chain.get(0).p, Vec3A::Z, SampledSpectrum::splat(1.0));
-    let f = d.f(scene, &probe, lambda, TransportMode::Radiance);
-    let cos = solved.w0.dot(d.ns).abs();
-    let l = d.beta * f * solved.weight * le * (cos * solved.dir_per_area / y.pdf);
-    if l.is_black() {
-        return None;
-    }
-    let p_s0 = s0_density(scene, camera, camera_path, j, &solved, lambda);
-    let lanes = if solved.dispersive {
-        d.lanes.terminate_secondary()
-    } else {
-        d.lanes
-    };
-    let flat_chain = solved
-        .chain
-        .iter()
-        .all(|v| scene.objects.material(v.object).spectrally_flat());
-    Some(ManifoldSample {
-        l,
-        weight: power(y.pdf, p_s0),
-        lanes,
-        emitter: y.light as u32,
-        flat_chain,
-        t_equivalent: j + k + 2,
-    })
 }
 
 /// The MIS weight of `s = 0` for the path `camera_path[..t]` when it is one this strategy can
@@ -226,6 +294,8 @@ pub fn s0_weight(
     camera_path: &[Vertex],
     t: usize,
     lambda: &SampledWavelengths,
+    max_depth: usize,
+    seeds: &mut Seeds<'_>,
 ) -> Option<f32> {
     let path = &camera_path[..t];
     let j = anchor(scene, path)?;
@@ -244,27 +314,36 @@ pub fn s0_weight(
     let x0 = endpoint(&path[j]);
     let y = endpoint(lv);
     let lambda = &path[j].wavelengths(lambda);
-    let Some(seed) = seed_chain(scene, &x0, &y) else {
+    if j >= max_depth {
         return Some(1.0);
-    };
-    let Some(solved) = solve(scene, &x0, &y, &seed, lambda) else {
-        return Some(1.0);
-    };
+    }
+    let max_k = (max_depth - j).min(MAX_CHAIN_VERTICES);
+    solve_seeds(
+        scene,
+        &x0,
+        &y,
+        lambda,
+        max_k,
+        seeds,
+        &mut PathStats::default(),
+    );
     // The same chain: the same surfaces, each vertex within 1e-3 of the segment's length
     // (distinct solutions lie centimetres apart; the solve's tolerance moves a vertex by far
     // less).
     let tolerance = 1e-3 * (y.p - x0.p).length();
     let chain = &path[j + 1..t - 1];
-    let same = chain.len() == solved.chain.len()
-        && chain.iter().zip(solved.chain.iter()).all(|(v, c)| {
-            v.kind == (VertexKind::Surface { object: c.object })
-                && (v.p - c.p).length() <= tolerance
-        });
-    if !same {
+    let found = seeds.set.solved.iter().find(|solved| {
+        chain.len() == solved.chain.len()
+            && chain.iter().zip(solved.chain.iter()).all(|(v, c)| {
+                v.kind == (VertexKind::Surface { object: c.object })
+                    && (v.p - c.p).length() <= tolerance
+            })
+    });
+    let Some(solved) = found else {
         return Some(1.0);
-    }
+    };
     let p_y = scene.lights.pmf(li) * scene.geometry.pdf_area(object);
-    let p_s0 = s0_density(scene, camera, path, j, &solved, lambda);
+    let p_s0 = s0_density(scene, camera, path, j, solved, lambda);
     Some(power(p_s0, p_y))
 }
 
@@ -296,20 +375,27 @@ mod tests {
     //     β·Le times p_s0 against the strategy's unweighted value times p(y), to 1e-3 relative
     //     (the solve's tolerance of 2e-5 rad moves the chain by far less; f32 products).
     // Quantity checked on every such path among 40 000 camera rays through the ball's lower
-    // half; at least 20 must be found where the solve reproduces the path (26 of 77 class
+    // half; at least 20 must be found where the solve reproduces the path (28 of 77 class
     // paths here; the others are where Newton's method stalls from the straight-line seed:
-    // those keep w_s0 = 1, which (1) does not test).
+    // those keep w_s0 = 1, which (1) does not test), 2 of them with the lamp reflected by the
+    // ball (D → R → lamp, found from the reflection seed; both must be).
     #[test]
     fn weights_sum_to_one_and_contributions_agree() {
         let scene = big_lamp_caustic();
         let cam = scene.cameras.get(None).unwrap();
         let camera = cam.camera.as_ref();
         let mut stats = PathStats::default();
-        let (mut class, mut reproduced) = (0usize, 0usize);
+        let shapes = SpecularShapes::new(&scene);
+        let mut set = SolutionSet::default();
+        let (mut class, mut reproduced, mut reflected) = (0usize, 0usize, 0usize);
         let window = (Vec2::new(65.0, 55.0), Vec2::new(30.0, 15.0));
         for_each_camera_subpath(&scene, 11, 40_000, window, (12, 100), |path, lambda| {
             for t in 2..=path.len() {
-                let Some(w_s0) = s0_weight(&scene, camera, path, t, lambda) else {
+                let mut seeds = Seeds {
+                    shapes: Some(&shapes),
+                    set: &mut set,
+                };
+                let Some(w_s0) = s0_weight(&scene, camera, path, t, lambda, 64, &mut seeds) else {
                     continue;
                 };
                 class += 1;
@@ -328,8 +414,24 @@ mod tests {
                     uv: lv.uv,
                     pdf: scene.lights.pmf(li) * scene.geometry.pdf_area(object),
                 };
-                let m = connect_to_point(&scene, camera, path, j, lambda, &y, 64, &mut stats)
-                    .expect("the solve that gave w_s0 < 1 must give a contribution");
+                let mut found = None;
+                connect_to_point(
+                    &scene,
+                    camera,
+                    path,
+                    j,
+                    lambda,
+                    &y,
+                    64,
+                    &mut seeds,
+                    &mut stats,
+                    &mut |m| {
+                        if m.t_equivalent == t {
+                            found = Some(m);
+                        }
+                    },
+                );
+                let m = found.expect("the solve that gave w_s0 < 1 must give a contribution");
                 assert!(
                     (w_s0 + m.weight - 1.0).abs() < 1e-5,
                     "{w_s0} + {}",
@@ -337,18 +439,27 @@ mod tests {
                 );
                 // f(x) both ways: s = 0's estimate is f/p_s0, the strategy's f/p(y); the
                 // weights are p²/(p_s0² + p(y)²), so f = estimate · p follows from the ratio.
+                // Compared in the lane the path carries most (a coloured wall may zero some).
                 let le = lv.le(&scene, &path[t - 2], lambda);
-                let l_s0 = (lv.beta * le)[0];
+                let lane = (0..4).max_by(|&a, &b| m.l[a].total_cmp(&m.l[b])).unwrap();
+                let l_s0 = (lv.beta * le)[lane];
                 let ratio = (w_s0 / m.weight).sqrt(); // p_s0 / p(y)
                 let f_s0 = l_s0 * ratio;
-                let f_m = m.l[0];
+                let f_m = m.l[lane];
                 assert!(
                     (f_s0 / f_m - 1.0).abs() < 1e-3,
                     "s = 0 gives f/p(y) = {f_s0}, the strategy {f_m} (t = {t}, j = {j})"
                 );
                 reproduced += 1;
+                if m.t_equivalent == j + 3 {
+                    reflected += 1;
+                }
             }
         });
         assert!(reproduced >= 20, "{reproduced} of {class} paths reproduced");
+        assert!(
+            reflected >= 2,
+            "{reflected} reflected-lamp paths reproduced"
+        );
     }
 }

@@ -3,11 +3,12 @@
 //! bidirectional path tracing ([`bdpt`]) and light tracing ([`light_tracer`]). The path-building
 //! blocks they share live in files of their own ([`random_walk`], [`light_subpath`],
 //! [`camera_connection`], [`beam`], [`flat_colour`], [`wavelength_mixture`], [`xyz_weights`], [`pixel_max`],
-//! [`vertex`], [`wavelength_groups`], [`specular_chain`], [`manifold_connection`]), as do the render settings ([`render`]) and the tiled,
+//! [`vertex`], [`wavelength_groups`], [`specular_chain`], [`specular_seeds`], [`manifold_connection`], [`camera_chain`]), as do the render settings ([`render`]) and the tiled,
 //! parallel, deterministic pass loop ([`tiled`]). No integrator imports another.
 
 pub mod bdpt;
 pub mod beam;
+pub mod camera_chain;
 pub mod camera_connection;
 pub mod driver;
 pub mod flat_colour;
@@ -25,6 +26,7 @@ pub mod render;
 pub mod sampler;
 pub mod select;
 pub mod specular_chain;
+pub mod specular_seeds;
 #[cfg(test)]
 mod test_support;
 pub mod tiled;

@@ -15,9 +15,9 @@
 //!   crosses, in order, each crossed by refraction. Their number and order fix the chain. A
 //!   chain with a reflection (the lamp seen *reflected* on a glass ball, any mirror) is never
 //!   seeded: the straight segment to a reflected image does not meet the reflector, and a
-//!   mirror it does cross has the two ends on its two sides. Such paths keep their other
-//!   strategies (for a pinhole camera that is only `s = 0`). The solve itself handles
-//!   reflections (tested below with a hand-made seed).
+//!   mirror it does cross has the two ends on its two sides. Seeds for those come from the
+//!   shapes themselves (`integrator::specular_seeds`, [`Chain::template`]). The solve itself
+//!   handles reflections (tested below with a hand-made seed).
 //! - Solve ([`solve`]): each step solves the block-tridiagonal linear system of the
 //!   constraints' derivatives for the vertex offsets (2k unknowns, dense elimination), moves
 //!   `x1` by the step, and re-traces the chain from `x0` through the new `x1`, refracting or
@@ -145,6 +145,30 @@ impl Chain {
         self.vertices[self.len] = Some(v);
         self.len += 1;
         true
+    }
+
+    /// A seed for [`solve`]: the surfaces and lobes `(object, lobe)` in order, the first
+    /// direction aimed from `x0` at `first` (only that direction and the surfaces matter: the
+    /// solve re-traces the chain from `x0`). At most [`MAX_CHAIN_VERTICES`] are kept.
+    pub fn template(first: Vec3A, surfaces: &[(u32, Lobe)]) -> Self {
+        let mut c = Self::new();
+        for &(object, lobe) in surfaces {
+            c.push(ChainVertex {
+                object,
+                primitive: 0,
+                lobe,
+                p: first,
+                p_error: Vec3A::ZERO,
+                ng: Vec3A::Z,
+                ns: Vec3A::Z,
+                uv: Vec2::ZERO,
+                eta: 1.0,
+                weight: SampledSpectrum::splat(1.0),
+                lobe_pdf: 1.0,
+                dispersive: false,
+            });
+        }
+        c
     }
 
     /// The vertices, `x1` first.
