@@ -1089,14 +1089,14 @@ impl Bdpt {
                 &mut worker.stats,
                 |m| {
                     let c = Connection {
-                        l: m.l,
-                        weight: SampledSpectrum::splat(m.weight),
+                        l: m.sample.l,
+                        weight: SampledSpectrum::splat(m.sample.weight),
                         raster: Some(m.raster),
-                        lanes: m.lanes,
-                        emitter: Some(m.emitter),
+                        lanes: m.sample.lanes,
+                        emitter: Some(m.sample.emitter),
                     };
                     let xyz = connection_xyz(
-                        flat.filter(|_| m.flat_chain),
+                        flat.filter(|_| m.sample.flat_chain),
                         (&worker.camera_flat, &worker.light_flat),
                         0,
                         1,
@@ -1119,7 +1119,7 @@ impl Bdpt {
                         pixel_max,
                         m.raster,
                         xyz,
-                        Some((0, m.t_equivalent)),
+                        Some((0, m.sample.t_equivalent)),
                     );
                     if let Some(sf) = spectral {
                         sf.splat(

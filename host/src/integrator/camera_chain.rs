@@ -33,7 +33,7 @@
 //! |---------------------|-------|------------------------------------------------------------|
 //! | `CAMERA_CHAIN_RATE` | 1/256 | probability that a camera sample runs the strategy         |
 
-use super::manifold_connection::LightPoint;
+use super::manifold_connection::{LightPoint, ManifoldSample};
 use super::specular_chain::{Endpoint, Solved, MAX_CHAIN_VERTICES};
 use super::specular_seeds::{ScanTable, SolutionSet, SpecularShapes};
 use super::vertex::{Vertex, VertexKind};
@@ -41,7 +41,7 @@ use super::PathStats;
 use crate::camera::Camera;
 use crate::geometry::{spawn_ray_to, Ray};
 use crate::scene::Scene;
-use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths};
+use crate::spectrum::{LaneMask, SampledWavelengths};
 use glam::{Vec2, Vec3A};
 
 /// Lights (in scene order) whose points the per-render scan aims at.
@@ -62,25 +62,16 @@ const SCAN_LIGHT_POINTS: [(f32, f32); 5] = [
 /// before the rest of the image (measured: docs/performance.md, "The lamp seen in the ball").
 pub const CAMERA_CHAIN_RATE: f32 = 1.0 / 256.0;
 
-/// One splat of the strategy.
+/// One splat of the strategy: where it lands and what it carries (the same record as the
+/// diffuse-vertex connection's, so bdpt treats both alike).
 #[derive(Clone, Copy, Debug)]
 pub struct ChainSplat {
     /// Raster position (pixels).
     pub raster: Vec2,
     /// The chain's first vertex (world).
     pub first: Vec3A,
-    /// Unweighted contribution (radiance units per lane, before the wavelength pdfs).
-    pub l: SampledSpectrum,
-    /// Power-heuristic weight against `s = 0`.
-    pub weight: f32,
-    /// Lanes valid (the hero only after a dispersive vertex).
-    pub lanes: LaneMask,
-    /// The light sampled.
-    pub emitter: u32,
-    /// Every chain vertex's material is spectrally flat.
-    pub flat_chain: bool,
-    /// Camera-subpath vertex count of the same path made by `s = 0`.
-    pub t_equivalent: usize,
+    /// Contribution, weight, lanes, light and path length.
+    pub sample: ManifoldSample,
 }
 
 /// The strategy for one render: the pinhole and the scene's specular shapes.
@@ -266,12 +257,14 @@ impl CameraChain {
             splat(&ChainSplat {
                 raster: cs.p_raster,
                 first: s.chain.get(0).p,
-                l,
-                weight: power(p_chain, p_s0),
-                lanes,
-                emitter: li as u32,
-                flat_chain,
-                t_equivalent: k + 2,
+                sample: ManifoldSample {
+                    l,
+                    weight: power(p_chain, p_s0),
+                    lanes,
+                    emitter: li as u32,
+                    flat_chain,
+                    t_equivalent: k + 2,
+                },
             });
         }
     }
@@ -497,8 +490,8 @@ mod tests {
                     &mut scratch,
                     &mut stats,
                     &mut |m| {
-                        if m.t_equivalent == t && (m.first - path[1].p).length() < 1e-3 {
-                            found = Some(*m);
+                        if m.sample.t_equivalent == t && (m.first - path[1].p).length() < 1e-3 {
+                            found = Some(m.sample);
                         }
                     },
                 );
