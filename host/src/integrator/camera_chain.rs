@@ -162,24 +162,8 @@ impl CameraChain {
         if u_run >= CAMERA_CHAIN_RATE {
             return;
         }
-        let Some((li, pmf)) = scene.lights.sample(u_light) else {
+        let Some(y) = LightPoint::sample(scene, u_light, u_point) else {
             return;
-        };
-        let Some(object) = scene.lights.lights()[li].object() else {
-            return;
-        };
-        let Some(smp) = scene.geometry.sample_area(object, u_point) else {
-            return;
-        };
-        let y = LightPoint {
-            light: li,
-            p: Endpoint {
-                p: smp.point,
-                p_error: smp.point_error,
-                n: smp.normal,
-            },
-            uv: smp.uv,
-            pdf: pmf * smp.pdf,
         };
         self.connect_at(
             scene, camera, lambda, &y, max_depth, scratch, stats, &mut splat,
@@ -350,19 +334,7 @@ mod tests {
     }
 
     fn lamp_point(scene: &Scene, u: Vec2) -> LightPoint {
-        let li = 0;
-        let object = scene.lights.lights()[li].object().unwrap();
-        let smp = scene.geometry.sample_area(object, u).unwrap();
-        LightPoint {
-            light: li,
-            p: Endpoint {
-                p: smp.point,
-                p_error: smp.point_error,
-                n: smp.normal,
-            },
-            uv: smp.uv,
-            pdf: scene.lights.pmf(li) * smp.pdf,
-        }
+        LightPoint::sample_on(scene, 0, scene.lights.pmf(0), u).unwrap()
     }
 
     // The seed set from the pinhole to a lamp point finds the lamp's three images in the ball

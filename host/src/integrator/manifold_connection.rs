@@ -135,19 +135,7 @@ pub fn connect_manifold(
     stats: &mut PathStats,
     out: &mut impl FnMut(ManifoldSample),
 ) -> Option<()> {
-    let (li, pmf) = scene.lights.sample(u_light)?;
-    let object = scene.lights.lights()[li].object()?;
-    let smp = scene.geometry.sample_area(object, u_point)?;
-    let y = LightPoint {
-        light: li,
-        p: Endpoint {
-            p: smp.point,
-            p_error: smp.point_error,
-            n: smp.normal,
-        },
-        uv: smp.uv,
-        pdf: pmf * smp.pdf,
-    };
+    let y = LightPoint::sample(scene, u_light, u_point)?;
     connect_to_point(
         scene,
         camera,
@@ -216,6 +204,31 @@ pub struct LightPoint {
     pub uv: Vec2,
     /// Density of choosing it (light pmf × 1/area, 1/m²).
     pub pdf: f32,
+}
+
+impl LightPoint {
+    /// A light chosen by the scene's light distribution (`u_light`), a point on it by area
+    /// (`u_point`); `None` for lights without a surface or of zero area.
+    pub fn sample(scene: &Scene, u_light: f32, u_point: Vec2) -> Option<Self> {
+        let (li, pmf) = scene.lights.sample(u_light)?;
+        Self::sample_on(scene, li, pmf, u_point)
+    }
+
+    /// A point by area on light `li`, chosen with probability `pmf`.
+    pub fn sample_on(scene: &Scene, li: usize, pmf: f32, u_point: Vec2) -> Option<Self> {
+        let object = scene.lights.lights()[li].object()?;
+        let smp = scene.geometry.sample_area(object, u_point)?;
+        Some(Self {
+            light: li,
+            p: Endpoint {
+                p: smp.point,
+                p_error: smp.point_error,
+                n: smp.normal,
+            },
+            uv: smp.uv,
+            pdf: pmf * smp.pdf,
+        })
+    }
 }
 
 /// [`connect_manifold`] to a given light point `y`: `out` gets one sample per distinct
