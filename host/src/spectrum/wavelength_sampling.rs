@@ -135,19 +135,27 @@ impl SampledWavelengths {
     /// Wavelengths importance-sampled for a human observer (see [`visible_pdf`]); lane `i` has
     /// wavelength `visible_sample(frac(u + i/LANES))` and pdf `visible_pdf` of it.
     pub fn sample_visible(u: f32) -> Self {
-        let mut lambda = [0.0f32; LANES];
-        let mut pdf = [0.0f32; LANES];
         let table = visible_table();
-        for i in 0..LANES {
+        Self::from_lanes(|i| {
             let x = rotated(u as f64, i, LANES).clamp(0.0, 1.0) * VISIBLE_TABLE_SEGMENTS as f64;
             // x ∈ [0, segments]: `as i32` floors it like `as usize` with one conversion.
             let k = (x as i32 as usize).min(VISIBLE_TABLE_SEGMENTS - 1);
             let (a, b) = (table.knots[k], table.knots[k + 1]);
             let l = (a + (x - k as f64) * (b - a)) as f32;
-            lambda[i] = l;
             // The pdf belongs to the stored (f32) wavelength, so the pair is consistent even when
             // rounding moves λ across a knot.
-            pdf[i] = visible_pdf_near(table, l as f64, k) as f32;
+            (l, visible_pdf_near(table, l as f64, k) as f32)
+        })
+    }
+
+    /// All lanes live, lane `i` holding the wavelength (nm) and density (1/nm) `draw(i)` gives:
+    /// the one loop of the per-lane samplers (visible, an SPD's, a tabulated density).
+    #[inline(always)]
+    pub fn from_lanes(mut draw: impl FnMut(usize) -> (f32, f32)) -> Self {
+        let mut lambda = [0.0f32; LANES];
+        let mut pdf = [0.0f32; LANES];
+        for i in 0..LANES {
+            (lambda[i], pdf[i]) = draw(i);
         }
         Self {
             lambda,
@@ -161,22 +169,14 @@ impl SampledWavelengths {
     /// the line's discrete probability instead, and the light's emission at that lane must be
     /// the line's power fraction (see [`Spd::delta_lines`]) rather than a density.
     pub fn sample_spd(spd: &dyn Spd, u: f32) -> Self {
-        let mut lambda = [0.0f32; LANES];
-        let mut pdf = [0.0f32; LANES];
-        for i in 0..LANES {
+        Self::from_lanes(|i| {
             let s = spd.sample(rotated(u as f64, i, LANES));
             let l = s.lambda as f32;
-            lambda[i] = l;
             // As for visible sampling, the pdf belongs to the stored (f32) wavelength; should
             // rounding move λ onto a zero of the SPD, keep the draw's own (positive) pdf.
             let p = if s.is_delta { 0.0 } else { spd.pdf(l as f64) };
-            pdf[i] = if p > 0.0 { p as f32 } else { s.pdf as f32 };
-        }
-        Self {
-            lambda,
-            pdf,
-            lanes: LaneMask::ALL,
-        }
+            (l, if p > 0.0 { p as f32 } else { s.pdf as f32 })
+        })
     }
 }
 

@@ -16,7 +16,7 @@
 //! | [`INTEGRATION_STEP_NM`] | nm | cell width of the midpoint rule that finds the knots |
 
 use super::wavelength_sampling::rotated;
-use super::{LaneMask, SampledWavelengths, LANES};
+use super::{SampledWavelengths, LANES};
 
 /// Segments of a [`WavelengthTable`] (equal probability each).
 pub const WAVELENGTH_TABLE_SEGMENTS: usize = 1024;
@@ -171,19 +171,11 @@ impl WavelengthTable {
     /// Four lanes from one uniform: lane `i` is the inverse CDF at `frac(u + i/LANES)` and
     /// stores the density of its (f32) wavelength, its marginal density.
     pub fn sample_lanes(&self, u: f64) -> SampledWavelengths {
-        let mut lambda = [0.0f32; LANES];
-        let mut pdf = [0.0f32; LANES];
-        for i in 0..LANES {
+        SampledWavelengths::from_lanes(|i| {
             let (l, k) = self.invert(rotated(u, i, LANES));
             let l = l as f32;
-            lambda[i] = l;
-            pdf[i] = self.pdf_near(l as f64, k) as f32;
-        }
-        SampledWavelengths {
-            lambda,
-            pdf,
-            lanes: LaneMask::ALL,
-        }
+            (l, self.pdf_near(l as f64, k) as f32)
+        })
     }
 }
 
