@@ -3,7 +3,7 @@
 //! built from it.
 
 use super::fluorescence::{self, Direction, UNIT_LOBE};
-use super::vertex::{Vertex, VertexKind};
+use super::vertex::{SampledF, Vertex, VertexKind};
 use super::{PathStats, SampleRng};
 use crate::camera::Camera;
 use crate::geometry::{spawn_ray, Ray};
@@ -118,6 +118,7 @@ pub fn random_walk(
             choice: [1.0; LANES],
             choice_rev: [1.0; LANES],
             moved,
+            sampled_f: None,
         };
         v.pdf_fwd = prev.convert_density(pdf_fwd, &v);
         // A fluorescent surface: the wavelength choice is made on arrival, so connections
@@ -172,10 +173,17 @@ pub fn random_walk(
         if !(bs.pdf > 0.0) || bs.f.is_black() {
             break;
         }
+        let n = path.len();
+        if material.f_same_for_all_directions() {
+            path[n - 1].sampled_f = Some(SampledF {
+                f: bs.f,
+                lambda: cur,
+                mode,
+            });
+        }
         let wi_world = frame.to_world(bs.wi);
         let mut pdf_rev = material.pdf(bs.wi, wo, &ctx, &cur, flip(mode));
         pdf_fwd = bs.pdf;
-        let n = path.len();
         if bs.flags.is_specular() {
             path[n - 1].delta = true;
             pdf_fwd = 0.0;
