@@ -84,24 +84,52 @@ pub struct Vertex {
     pub moved: LaneMask,
     /// The BSDF value `sample` returned here when the material says
     /// `f_same_for_all_directions` (one value for every `wi` on `wo`'s side, 0 on the other),
-    /// with the wavelengths and transport mode it was drawn for: a connection through this
-    /// vertex with the same wavelengths and mode takes it instead of evaluating the material
-    /// again, as the path tracer's next-event estimation does (the same value, so the same
-    /// image). BDPT evaluates both ends of every connection: on the Cornell box this was
-    /// about a million `eval` calls per sample per pixel.
-    pub sampled_f: Option<SampledF>,
+    /// valid when [`sampled_for`](Self::sampled_for) is not [`SampledFor::NONE`]: a connection
+    /// through this vertex with the same wavelengths and transport mode takes it instead of
+    /// evaluating the material again, as the path tracer's next-event estimation does (the
+    /// same value, so the same image). BDPT evaluates both ends of every connection: on the
+    /// Cornell box this was about a million `eval` calls per sample per pixel.
+    pub sampled_f: SampledSpectrum,
+    /// The wavelengths (nm) `sampled_f` was drawn for.
+    pub sampled_lambda: [f32; LANES],
+    /// The transport mode and live lanes `sampled_f` was drawn for, or none.
+    pub sampled_for: SampledFor,
 }
 
-/// What [`Vertex::sampled_f`] keeps: `f` as drawn at the vertex for `lambda` in `mode`.
-#[derive(Clone, Copy, Debug)]
-pub struct SampledF {
-    /// The sampled BSDF value (1/sr) on `wo`'s side.
-    pub f: SampledSpectrum,
-    /// The wavelengths it was drawn for.
-    pub lambda: SampledWavelengths,
-    /// The transport mode it was drawn in.
-    pub mode: TransportMode,
+/// For which transport mode and live lanes [`Vertex::sampled_f`] holds (those, with the
+/// wavelengths, are all of the wavelength record a material that can say
+/// `f_same_for_all_directions` reads: plugins see the wavelengths and live lanes only).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SampledFor {
+    /// 0: nothing held; 1: radiance; 2: importance.
+    mode: u8,
+    /// The live lanes' bits.
+    lanes: LaneMask,
 }
+
+impl SampledFor {
+    /// Nothing held.
+    pub const NONE: Self = Self {
+        mode: 0,
+        lanes: LaneMask::NONE,
+    };
+
+    /// Held for `mode` and `lambda`'s live lanes.
+    #[inline]
+    pub fn new(mode: TransportMode, lambda: &SampledWavelengths) -> Self {
+        Self {
+            mode: if mode == TransportMode::Radiance {
+                1
+            } else {
+                2
+            },
+            lanes: lambda.lanes,
+        }
+    }
+}
+
+/// Four zero lanes (what an empty `sampled_f` and `sampled_lambda` hold).
+pub const ZERO_LANES: [f32; LANES] = [0.0; LANES];
 
 /// `x` if non-zero, else 1: a zero density marks an unsampleable (delta) step, which cancels in
 /// the MIS ratio instead of producing 0/0.
@@ -159,7 +187,9 @@ impl Vertex {
             choice: [1.0; LANES],
             choice_rev: [1.0; LANES],
             moved: LaneMask::NONE,
-            sampled_f: None,
+            sampled_f: SampledSpectrum(ZERO_LANES),
+            sampled_lambda: ZERO_LANES,
+            sampled_for: SampledFor::NONE,
         }
     }
 
@@ -184,7 +214,9 @@ impl Vertex {
             choice: [1.0; LANES],
             choice_rev: [1.0; LANES],
             moved: LaneMask::NONE,
-            sampled_f: None,
+            sampled_f: SampledSpectrum(ZERO_LANES),
+            sampled_lambda: ZERO_LANES,
+            sampled_for: SampledFor::NONE,
         }
     }
 
@@ -270,15 +302,16 @@ impl Vertex {
         let wi = wi / len;
         let frame = &self.frame;
         let (wo_local, wi_local) = (frame.to_local(self.wo), frame.to_local(wi));
-        let f = match &self.sampled_f {
-            Some(s) if s.mode == mode && s.lambda == *lambda => {
-                if crate::material::same_hemisphere(wo_local, wi_local) {
-                    s.f
-                } else {
-                    SampledSpectrum::zero()
-                }
+        let f = if self.sampled_for == SampledFor::new(mode, lambda)
+            && self.sampled_lambda == lambda.lambda
+        {
+            if crate::material::same_hemisphere(wo_local, wi_local) {
+                self.sampled_f
+            } else {
+                SampledSpectrum::zero()
             }
-            _ => m.eval(wo_local, wi_local, &self.shading_context(), lambda, mode),
+        } else {
+            m.eval(wo_local, wi_local, &self.shading_context(), lambda, mode)
         };
         f * shading_normal_correction(self.ng, self.ns, self.wo, wi, mode)
     }
