@@ -491,3 +491,52 @@ pub fn light_of<'a>(scene: &'a Scene, v: &Vertex) -> Option<&'a dyn Light> {
     v.light_index(scene)
         .map(|i| scene.lights.lights()[i as usize].as_ref())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::test_support::for_each_camera_subpath;
+    use super::*;
+    use glam::Vec2;
+
+    // A connection through a vertex that holds its sampled value (`sampled_f`) gets what the
+    // material's own `eval` gives, to the bit, on `wo`'s side and (0) on the other: that is
+    // what keeps BDPT's and LT's images unchanged. Quantity: `Vertex::f` towards points on
+    // both sides of every Lambertian vertex of 64 Cornell camera subpaths, against the same
+    // vertex with the value dropped (so `eval` runs); tolerance none (equal bits). Also: the
+    // value is held at all, and not for other wavelengths or the other transport mode.
+    #[test]
+    fn the_sampled_value_at_a_vertex_is_what_eval_gives() {
+        let scene = crate::scene::default_scene().unwrap();
+        let mut held = 0;
+        for_each_camera_subpath(
+            &scene,
+            7,
+            64,
+            (Vec2::new(64.0, 64.0), Vec2::new(64.0, 64.0)),
+            (6, 8),
+            |path, lambda| {
+                for v in path.iter().filter(|v| v.sampled_for != SampledFor::NONE) {
+                    held += 1;
+                    let mut dropped = *v;
+                    dropped.sampled_for = SampledFor::NONE;
+                    for side in [1.0f32, -1.0] {
+                        let mut next = *v;
+                        next.p = v.p + side * 0.3 * v.ns + 0.2 * v.frame.to_world(Vec3A::X);
+                        let mode = TransportMode::Radiance;
+                        let reused = v.f(&scene, &next, lambda, mode);
+                        let evaluated = dropped.f(&scene, &next, lambda, mode);
+                        assert_eq!(reused.0.map(f32::to_bits), evaluated.0.map(f32::to_bits));
+                    }
+                    // Another mode or other wavelengths: not what was held.
+                    let other = SampledWavelengths {
+                        lambda: lambda.lambda.map(|l| l + 1.0),
+                        ..*lambda
+                    };
+                    assert!(v.sampled_for != SampledFor::new(TransportMode::Importance, lambda));
+                    assert!(v.sampled_lambda != other.lambda);
+                }
+            },
+        );
+        assert!(held > 32, "only {held} vertices held a sampled value");
+    }
+}
