@@ -400,3 +400,63 @@ fn cli_slices_and_merge() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A state written when bdpt drew its wavelengths from another density (before the settings
+/// fingerprint recorded `wavelength_density`, which a default may change) is refused on
+/// resume, naming the setting, instead of being continued from another density into an image
+/// no uninterrupted render makes. The old state is simulated by taking the entry out of a
+/// fresh state's settings and fingerprint (the fingerprint as the renderer computes it: the
+/// scene file's bytes, then the settings).
+#[test]
+fn a_state_from_another_wavelength_density_is_refused() {
+    use std::process::Command;
+    let exe = env!("CARGO_BIN_EXE_spectrace");
+    let dir = temp_dir("density-key");
+    let scene_file = dir.join("scene.ron");
+    std::fs::write(&scene_file, SCENE).unwrap();
+    let ckpt = dir.join("part.state");
+    let o = Command::new(exe)
+        .arg("render")
+        .arg(&scene_file)
+        .args([
+            "--integrator",
+            "bdpt",
+            "--spp",
+            "4",
+            "--slice",
+            "1/2",
+            "--quiet",
+        ])
+        .arg("--state")
+        .arg(&ckpt)
+        .arg("-o")
+        .arg(dir.join("out.exr"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let mut st = RenderState::load(&ckpt).unwrap();
+    assert!(
+        st.settings.contains(" wavelength_density=product "),
+        "{}",
+        st.settings
+    );
+    st.settings = st.settings.replace(" wavelength_density=product", "");
+    st.fingerprint =
+        spectrace::film::state_file::fnv1a64(&[SCENE.as_bytes(), st.settings.as_bytes()]);
+    st.save(&ckpt).unwrap();
+    let o = Command::new(exe)
+        .arg("render")
+        .arg("--resume")
+        .arg(&ckpt)
+        .arg("--quiet")
+        .output()
+        .unwrap();
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success()
+            && e.contains("settings changed")
+            && e.contains("now `wavelength_density=product`"),
+        "{e}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -240,11 +240,17 @@ impl RenderArgs {
 
     /// Everything but the seed and the sample count that changes the image, as `name=value`
     /// pairs: what the parts of one render must share.
-    fn settings_key(&self, scene: &Scene, max_depth: u32) -> String {
+    ///
+    /// `density` is the wavelength density the render draws from (what `--wavelength-sampling`
+    /// resolves to for this scene): recorded because a default may change between versions
+    /// (bdpt and lt once drew from the observer-plus-emission mixture), and a part drawn from
+    /// another density would not make the uninterrupted render.
+    fn settings_key(&self, scene: &Scene, max_depth: u32, density: &str) -> String {
         let r = &self.representation;
         format!(
             "integrator={} max_depth={max_depth} wavelengths_per_path={:?} \
-             wavelength_sampling={:?} camera={:?} spd_interpolation={:?} reflectance={:?} \
+             wavelength_sampling={:?} wavelength_density={density} camera={:?} \
+             spd_interpolation={:?} reflectance={:?} \
              observer_step={:?} plugins={:?} plugin_dirs={:?} observer={} rgb_space={}{}{}",
             self.integrator,
             self.wavelengths_per_path,
@@ -406,6 +412,57 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     Ok(())
 }
 
+/// The name of the wavelength density a render of `scene` under `plan` draws from (the
+/// settings fingerprint's `wavelength_density`): the path tracer's lanes as
+/// [`PathWavelengthSampler`](crate::integrator::wavelength_groups::PathWavelengthSampler)
+/// resolves them, bdpt's and lt's pairs as
+/// [`PairWavelengths`](crate::integrator::pair_wavelengths::PairWavelengths) does.
+fn wavelength_density(
+    args: &RenderArgs,
+    plan: &crate::effects::RenderPlan,
+    scene: &Scene,
+) -> Result<String, String> {
+    let sampling = args.wavelength_sampling.unwrap_or_default();
+    Ok(
+        if args.integrator == crate::integrator::IntegratorKind::Pt {
+            crate::integrator::wavelength_groups::PathWavelengthSampler::new(
+                plan,
+                sampling,
+                args.wavelengths_per_path.unwrap_or(4),
+                scene.objects.fluorescence(),
+            )?
+            .sampling()
+            .to_string()
+        } else {
+            let planned = plan.scene(scene);
+            crate::integrator::pair_wavelengths::PairWavelengths::new(plan, &planned, sampling)
+                .key()
+                .to_string()
+        },
+    )
+}
+
+/// The `name=value` settings that differ between a state's key and this render's, for the
+/// refusal message (empty when only the scene file changed).
+fn settings_difference(was: &str, now: &str) -> String {
+    let (was_set, now_set): (Vec<&str>, Vec<&str>) =
+        (was.split(' ').collect(), now.split(' ').collect());
+    let only = |a: &[&str], b: &[&str]| {
+        a.iter()
+            .filter(|t| !b.contains(t))
+            .copied()
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    let (gone, new) = (only(&was_set, &now_set), only(&now_set, &was_set));
+    match (gone.is_empty(), new.is_empty()) {
+        (true, true) => String::new(),
+        (false, true) => format!("; the state also has `{gone}`"),
+        (true, false) => format!("; now `{new}`, which the state does not record"),
+        (false, false) => format!("; the state has `{gone}`, now `{new}`"),
+    }
+}
+
 /// Run `spectrace render`, building scene items with `factories` (the registry's factory, or
 /// [`crate::scene::BuiltinFactory`] alone).
 pub fn run_with_factories(
@@ -507,7 +564,7 @@ pub fn run_with_factories(
         }
     }
     let max_depth = args.max_depth.unwrap_or(scene.options.max_depth);
-    let key = args.settings_key(&scene, max_depth);
+    let key = args.settings_key(&scene, max_depth, &wavelength_density(args, &plan, &scene)?);
     let scene_bytes = match &args.scene {
         Some(p) => std::fs::read(p).map_err(|e| format!("cannot read {}: {e}", p.display()))?,
         None => Vec::new(),
@@ -519,9 +576,10 @@ pub fn run_with_factories(
         if st.fingerprint != fingerprint || st.settings != key {
             return Err(format!(
                 "{}: the scene file or settings changed since this state was written \
-                 (fingerprint {:016x}, now {fingerprint:016x}); render again instead",
+                 (fingerprint {:016x}, now {fingerprint:016x}{}); render again instead",
                 path.display(),
-                st.fingerprint
+                st.fingerprint,
+                settings_difference(&st.settings, &key)
             ));
         }
         first_sample = st.done_until;

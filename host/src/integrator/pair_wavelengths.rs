@@ -112,6 +112,17 @@ impl<'a> PairWavelengths<'a> {
         }
     }
 
+    /// A short name of the density, for the settings fingerprint of state files: a render
+    /// resumed or merged from parts drawn from another density would not be the
+    /// uninterrupted render.
+    pub fn key(&self) -> &'static str {
+        match self {
+            Self::Product(_) => "product",
+            Self::Uniform => "uniform",
+            Self::Mixture(_) => "mixture",
+        }
+    }
+
     /// One phrase for the render summary.
     pub fn describe(&self) -> &'static str {
         match self {
