@@ -21,17 +21,19 @@
 //! as in the rest of BDPT's weights: the weights still sum to one, so the estimate stays
 //! unbiased.
 //!
-//! Seeds: the refractions the straight segment `D → y` crosses, and one reflection per smooth
+//! Seeds: the refractions the straight segment `D → y` crosses, one reflection per smooth
 //! specular object (`integrator::specular_seeds`: the bisector point of a round shape, the
-//! mirror image through a quad; the lamp reflected by a glass ball onto `D`). Every distinct
-//! solution of the seed set is one sample, each counted once; the indicator above asks the
-//! same seed set.
+//! mirror image through a quad; the lamp reflected by a glass ball onto `D`), and the `T T`
+//! chains through every transmitting round shape found in closed form in the plane of `D`,
+//! its centre and `y` (a ball lens joins a point near its focus to a light by up to three
+//! such chains, of which the straight segment seeds one). Every distinct solution of the
+//! seed set is one sample, each counted once; the indicator above asks the same seed set.
 //!
 //! Covered: chains of 1 to [`MAX_CHAIN_VERTICES`] smooth refractions (dielectrics), or one
 //! reflection, between a non-specular `D` reached from the camera through specular vertices
 //! only, and an area light whose surface is a scene object, within `max_depth`. Not covered
-//! (left to `s = 0` and the other strategies): other chains with reflections, other solutions
-//! of a refraction chain than the one Newton's method finds from the straight segment, rough
+//! (left to `s = 0` and the other strategies): other chains with reflections (`T R T`, `T R R T`
+//! from `D`), other solutions of refraction chains through more than one object, rough
 //! glass, longer chains, paths the solve does not converge for, `D` seen directly (light
 //! tracing makes those well), the camera itself as `D` (`integrator::camera_chain`), and
 //! scenes that render fluorescence.

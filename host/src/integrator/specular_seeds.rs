@@ -14,6 +14,12 @@
 //!   and the direction to `y` changes sign (measured on the caustic scene's ball: the lamp's
 //!   images are the reflection and `T R R T`, both at b ≈ 0.75; `T T` cannot turn a ray from
 //!   the camera up to the lamp, its deviation stays under 97°).
+//! - **Closed-form `T T` seeds** ([`SpecularShapes::for_each_through_seed`], for the
+//!   connection from a diffuse vertex, run at every sample): the same in-plane idea without
+//!   tracing rays: the two refractions of a circle are followed in closed form at
+//!   [`THROUGH_POINTS`] impact parameters, each sign change narrowed by bisection, and a fold
+//!   of the map (two solutions within one step, where the caustic is brightest) found by a
+//!   golden-section search for the smallest angle between two neighbours of one sign.
 //! - **Quads** (mirrors and glass panes): the reflection seed aimed at `y` mirrored in the
 //!   quad's plane (exact for a flat mirror).
 //!
@@ -28,6 +34,9 @@
 //! | `SCAN_POINTS`           | 32                        | scan rays per lobe sequence and shape    |
 //! | `MAX_SHAPES`            | 8                         | smooth specular objects seeded at most   |
 //! | `BISECTOR_STEPS`        | 12                        | fixed-point steps of the reflection seed |
+//! | `THROUGH_POINTS`        | 32                        | closed-form `T T` impact parameters      |
+//! | `THROUGH_BISECTIONS`    | 10                        | bisection steps per sign change          |
+//! | `FOLD_STEPS`            | 12                        | golden-section steps at a fold           |
 
 use super::specular_chain::{
     same_chain, solve, trace_chain, Chain, Endpoint, Lobe, Solved, MAX_CHAIN_VERTICES,
@@ -220,13 +229,14 @@ impl SpecularShapes {
 
     /// Calls `f` with the seeds of the chains *in, out* (`T T`) through every transmitting
     /// round shape from `x0` to `y`, found in the plane of `x0`, the centre and `y` without
-    /// tracing a ray: [`through_plane`] follows the two refractions of a circle in closed form
+    /// tracing a ray: [`ThroughPlane::angle`] follows the two refractions of a circle in closed form
     /// at [`THROUGH_POINTS`] impact parameters, and every sign change of the signed angle
     /// between the leaving direction and the direction to `y` is narrowed by
-    /// [`THROUGH_BISECTIONS`] bisection steps to a seed aimed at its entry point. This finds
-    /// the several solutions a ball lens has between a point near its focus and a light (the
-    /// floor caustic seen through the ball), for about 5 k instructions per `(x0, y)`. A
-    /// deterministic function of `(x0, y)` and the hero wavelength's index of refraction.
+    /// [`THROUGH_BISECTIONS`] bisection steps to a seed aimed at its entry point (folds: see
+    /// [`ThroughPlane::roots`]). This finds the several solutions a ball lens has between a
+    /// point near its focus and a light (the floor caustic seen in the ball), for about 7 k
+    /// instructions per `(x0, y)`. A deterministic function of `(x0, y)` and the hero
+    /// wavelength's index of refraction.
     pub fn for_each_through_seed(
         &self,
         scene: &Scene,
