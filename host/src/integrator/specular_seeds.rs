@@ -508,7 +508,9 @@ impl ThroughPlane {
     /// and, where the angle changes sign there, gives the two roots on either side.
     fn roots(&self, f: &mut dyn FnMut([f32; 2])) {
         let r = self.radius;
-        let (mut prev2, mut prev): (Option<(f32, f32)>, Option<(f32, f32)>) = (None, None);
+        // (impact parameter, angle) of the last two points; `None` where the ray missed.
+        let mut prev2: Option<(f32, f32)> = None;
+        let mut prev: Option<(f32, f32)> = None;
         for i in 0..THROUGH_POINTS {
             // Sine-spaced towards the rim, where the leaving direction turns fastest.
             let phi = -1.0 + (i as f32 + 0.5) * 2.0 / THROUGH_POINTS as f32;
