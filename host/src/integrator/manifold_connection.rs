@@ -543,7 +543,7 @@ mod tests {
              {straight_only} found by the straight segment alone"
         );
         assert!(
-            pairs == 216 && dense_total >= 300,
+            pairs == 432 && dense_total >= 500,
             "{pairs} pairs, {dense_total}"
         );
         assert!(multi > 0 && straight_only < dense_total);
