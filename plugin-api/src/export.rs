@@ -657,6 +657,49 @@ macro_rules! export_plugin {
             extensions_v6()
         }
 
+        /// This plugin's extension module, version 7 (see `spectrace_plugin_api::extension`).
+        pub fn extensions_v7() -> $crate::extension::ExtensionsV7Export {
+            use $crate::__private::PrefixTypeTrait as _;
+            use $crate::__private::{RResult, RStr};
+            use $crate::error::PluginError;
+            use $crate::export::{construct, save, unknown_type, PluginType};
+            use $crate::extension::{
+                ExtensionsV7, ExtensionsV7Export, ExtensionsV7Ref, ObserverWithTable,
+            };
+            use $crate::guard::guarded;
+            use $crate::host::HostRef;
+            use $crate::module::{ObjectKind, ObjectSource};
+
+            extern "C" fn create_observer(
+                type_name: RStr<'_>,
+                source: ObjectSource<'_>,
+                host: HostRef<'_>,
+            ) -> RResult<ObserverWithTable, PluginError> {
+                guarded("create_observer (v7)", || {
+                    let name = type_name.as_str();
+                    $(if name == <$observer as PluginType>::TYPE_NAME {
+                        let obj = construct::<$observer>(source, &host)?;
+                        return $crate::observer::GuardedObserver::boxed_v7(obj, save::<$observer>)
+                            .into_result();
+                    })*
+                    Err(unknown_type(
+                        ObjectKind::Observer, name, &[$(<$observer as PluginType>::TYPE_NAME),*]
+                    ))
+                })
+            }
+            ExtensionsV7Export {
+                layout: <ExtensionsV7Ref as $crate::__private::StableAbi>::LAYOUT,
+                module: ExtensionsV7 { create_observer }.leak_into_prefix(),
+            }
+        }
+
+        /// The exported extension module, version 7 (looked up by name by the host).
+        #[no_mangle]
+        pub extern "C" fn spectrace_plugin_extensions_v7() -> $crate::extension::ExtensionsV7Export {
+            $crate::guard::set_library_mode();
+            extensions_v7()
+        }
+
         /// The exported root module (what the host finds in the library).
         #[$crate::__private::export_root_module]
         pub fn spectrace_plugin_root_module() -> $crate::module::PluginModuleRef {

@@ -77,6 +77,14 @@
 //! [`MaterialWithV6`]. A library older than v6 is served through v5 (its density asked for, its
 //! lights through the `f64` calls: always safe).
 //!
+//! Version 7 (`spectrace_plugin_extensions_v7`): an observer says that its colour-matching
+//! functions are a table on a 1 nm grid, interpolated linearly
+//! ([`ColorObserver::declared_table`](crate::ColorObserver::declared_table)), and hands the
+//! table over once when it is built ([`ObserverWithTable`]); the host checks the claim then
+//! and evaluates its own copy (bidirectional and light tracing weigh every path's wavelengths
+//! with the observer: four calls per sample). A library older than v7 is served through the
+//! root module (`xyz_bar` called per wavelength: always safe).
+//!
 //! [`export_plugin!`](crate::export_plugin) exports every version for every plugin.
 //!
 //! [`LightSource::scene_bounds`]: crate::LightSource::scene_bounds
@@ -91,6 +99,7 @@ use crate::host::HostRef;
 use crate::light::LightBox;
 use crate::material::{MaterialBox, ScatterSample, SurfaceContext};
 use crate::module::ObjectSource;
+use crate::observer::{ObserverBox, ObserverTable};
 use crate::representation::{BeamRepresentation, RepresentedBeam, TypeRepresentation};
 use crate::reradiation::ReradiationBox;
 use crate::spd::{GuardedSpd, Spd, SpdBox, SpectralLine};
@@ -661,4 +670,50 @@ pub struct ExtensionsV6Export {
     pub layout: &'static TypeLayout,
     /// The module.
     pub module: ExtensionsV6Ref,
+}
+
+// ----------------------------------------------------------------------------------------------
+// Version 7
+
+/// The symbol (NUL-terminated) of extension version 7: an `extern "C" fn() ->`
+/// [`ExtensionsV7Export`].
+pub const EXTENSIONS_V7_SYMBOL: &[u8] = b"spectrace_plugin_extensions_v7\0";
+
+/// An observer built through version 7: the root module's object and, when the observer
+/// declares one, its table ([`ColorObserver::declared_table`](crate::ColorObserver::declared_table)),
+/// read once when it was built.
+#[repr(C)]
+#[derive(StableAbi)]
+pub struct ObserverWithTable {
+    /// What the root module's `create_observer` returns.
+    pub observer: ObserverBox,
+    /// The declared 1 nm table; none when the observer declares none.
+    pub table: ROption<ObserverTable>,
+}
+
+/// Extension version 7: an observer constructor returning its declared table. Parameters and
+/// saved state as for the root module's.
+#[repr(C)]
+#[derive(StableAbi)]
+#[sabi(kind(Prefix(prefix_ref = ExtensionsV7Ref)))]
+#[sabi(missing_field(panic))]
+pub struct ExtensionsV7 {
+    /// Build an observer with its declared table.
+    #[sabi(last_prefix_field)]
+    pub create_observer: extern "C" fn(
+        type_name: RStr<'_>,
+        source: ObjectSource<'_>,
+        host: HostRef<'_>,
+    ) -> RResult<ObserverWithTable, PluginError>,
+}
+
+/// What the version-7 symbol returns: the module's layout (checked by the host against its own
+/// before the module is touched) and the module.
+#[repr(C)]
+#[derive(StableAbi, Clone, Copy)]
+pub struct ExtensionsV7Export {
+    /// `<ExtensionsV7Ref as StableAbi>::LAYOUT` as the plugin was compiled.
+    pub layout: &'static TypeLayout,
+    /// The module.
+    pub module: ExtensionsV7Ref,
 }

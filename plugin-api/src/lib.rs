@@ -58,7 +58,7 @@ pub use material::{
     material_flags, Emission, Material, MaterialBox, ScatterSample, ShadingContext, SurfaceContext,
 };
 pub use module::{ObjectKind, PluginInfo, PluginModuleRef, TypeInfo, API_VERSION};
-pub use observer::{ColorObserver, ObserverBox};
+pub use observer::{ColorObserver, ObserverBox, ObserverTable};
 pub use representation::{
     BeamRepresentation, ColourEncoding, DirectionEncoding, Handedness, RepresentedBeam,
     TypeRepresentation,

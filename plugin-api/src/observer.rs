@@ -7,6 +7,7 @@ use crate::types::{WavelengthRange, Xyz};
 use abi_stable::{
     sabi_trait,
     std_types::{RBox, RResult, RString, RVec},
+    StableAbi,
 };
 
 /// What a plugin author implements for an observer.
@@ -17,6 +18,28 @@ pub trait ColorObserver: Send + Sync + 'static {
     fn name(&self) -> String;
     /// Wavelength range in nm where the functions are defined.
     fn range_nm(&self) -> WavelengthRange;
+    /// The functions as a table on a 1 nm grid when [`xyz_bar`](Self::xyz_bar) IS that table,
+    /// interpolated linearly between the nodes and 0 outside them (as the CIE tables are):
+    /// the host then evaluates its own copy instead of calling `xyz_bar` per wavelength.
+    /// Read once, when the observer is built, through extension v7 ([`crate::extension`]);
+    /// the host checks the claim then (at every node and half-way between nodes, to the bit)
+    /// and refuses an observer whose table disagrees with its `xyz_bar`. `None` (the default)
+    /// is always safe.
+    fn declared_table(&self) -> Option<ObserverTable> {
+        None
+    }
+}
+
+/// An observer's colour-matching functions on a 1 nm grid (extension v7): `xyz[i]` is x̄, ȳ,
+/// z̄ at `start_nm + i` nm; between nodes the functions are the straight line between them,
+/// outside `[start_nm, start_nm + xyz.len() − 1]` they are 0.
+#[repr(C)]
+#[derive(StableAbi, Clone, Debug, Default, PartialEq)]
+pub struct ObserverTable {
+    /// Wavelength of the first node, nm.
+    pub start_nm: f64,
+    /// x̄, ȳ, z̄ at each node (unitless), 1 nm apart.
+    pub xyz: RVec<Xyz>,
 }
 
 /// The stable-ABI face of an observer.
@@ -46,6 +69,21 @@ impl<T: ColorObserver> GuardedObserver<T> {
     /// Box `inner` behind the ABI.
     pub fn boxed(inner: T, state: fn(&T) -> PluginResult<Vec<u8>>) -> ObserverBox {
         AbiColorObserver_TO::from_value(Self { inner, state }, abi_stable::sabi_trait::TD_Opaque)
+    }
+
+    /// Box `inner` behind the ABI with its declared table (extension v7), read once here.
+    pub fn boxed_v7(
+        inner: T,
+        state: fn(&T) -> PluginResult<Vec<u8>>,
+    ) -> RResult<crate::extension::ObserverWithTable, PluginError> {
+        let table = match guarded("declared_table", || Ok(inner.declared_table())) {
+            RResult::ROk(t) => t,
+            RResult::RErr(e) => return RResult::RErr(e),
+        };
+        RResult::ROk(crate::extension::ObserverWithTable {
+            observer: Self::boxed(inner, state),
+            table: table.into(),
+        })
     }
 }
 

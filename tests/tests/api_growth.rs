@@ -573,3 +573,30 @@ fn a_plugin_built_against_extension_v5_loads_and_renders() {
     assert!(native.cosine_weighted_pdf());
     assert_renders_like_the_builtin(&registry, plugin_scene, native_scene, "v5");
 }
+
+/// A plugin built against the API of extension v6, before v7 (`plugins/fixtures/api-ext-v6/`, a
+/// frozen copy of the API source at that point, and `plugins/fixtures/api-ext-v6-plugin/` built
+/// on it) keeps loading: it exports extensions v1–v6 but not v7, so the host reads v7 as absent
+/// (its observers would be called per wavelength; it has none) and builds its material through
+/// v6 (and its observer `v6_eye` is not built through v7). Its grey material declares itself flat, lends its sampled value and samples with the
+/// cosine-weighted density (each checked by the host when built), as the built-in grey
+/// `lambertian` does. Quantity: the image mean Y of a floor of that material (ρ = 0.5) under the
+/// built-in point light against the built-in material's, as for the earlier versions
+/// (`assert_renders_like_the_builtin`).
+#[test]
+fn a_plugin_built_against_extension_v6_loads_and_renders() {
+    use spectrace::plugin::{extension_v6::extensions_v6, extension_v7::extensions_v7};
+    let registry = load_frozen_fixture(
+        "api-ext-v6-plugin",
+        "v6",
+        |p| extensions_v6(p).unwrap().is_some(),
+        |p| extensions_v7(p).unwrap().is_some(),
+        |r, s| !matches!(r.create_plugin_observer_v7("v6_eye", s), Ok(None)),
+    );
+    let (plugin_scene, native_scene) = grey_floor_scenes("v6");
+    let [plugin, native] = floors(&registry, [&plugin_scene, &native_scene]);
+    assert!(plugin.spectrally_flat() && native.spectrally_flat());
+    assert!(plugin.f_same_for_all_directions() && native.f_same_for_all_directions());
+    assert!(plugin.cosine_weighted_pdf() && native.cosine_weighted_pdf());
+    assert_renders_like_the_builtin(&registry, plugin_scene, native_scene, "v6");
+}

@@ -277,3 +277,77 @@ fn builtin_light_and_material_take_a_plugin_spd() {
     }
     assert_eq!(faults.count(), 0, "{:?}", faults.first());
 }
+
+/// Extension v7: an observer that declares its colour-matching functions to be a 1 nm table
+/// (`plugins/fixtures/lying-fluorescent`, `table_observer.rs`) is evaluated from the host's own
+/// copy once the claim is checked, and one whose table disagrees with its own `xyz_bar` or
+/// `range_nm` is refused with the plugin, the type and what is off named. Quantities: the
+/// honest observer's x̄, ȳ, z̄ at nine wavelengths against the linear functions its table
+/// samples (x̄ = (λ − 400)/300, ȳ = 1 − |λ − 550|/150, z̄ = (700 − λ)/300), to 1e-12: the
+/// table's straight lines reproduce them up to a few roundings of numbers below 1; the first
+/// wavelength each lie is caught at (the checks go node by node, then half-way between).
+#[test]
+fn a_declared_observer_table_is_checked_then_used() {
+    let mut r = spectrace::plugin::builtin_registry();
+    r.load_plugin(&plugin_library("spectrace-fixture-lying-fluorescent"))
+        .unwrap_or_else(|e| panic!("{}", e.verbose()));
+    let faults = PluginFaults::new();
+    let plugins = PluginFactory::new(Arc::new(r), faults.clone());
+    let factories: [&dyn ObjectFactory; 2] = [&BuiltinFactory, &plugins];
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/materials.ron");
+    let text = std::fs::read_to_string(&scene).unwrap();
+    let load = |observer: &str| {
+        let path =
+            std::env::temp_dir().join(format!("spectrace-{observer}-{}.ron", std::process::id()));
+        let t = text.replace(
+            "observer: \"cie1931-2\"",
+            &format!("observer: \"{observer}\""),
+        );
+        std::fs::write(&path, t).unwrap();
+        let s = load_scene_file(&path, &factories).map_err(|e| e.to_string());
+        let _ = std::fs::remove_file(&path);
+        s
+    };
+
+    let s = load("table_observer").unwrap_or_else(|e| panic!("{e}"));
+    assert!(
+        format!("{:?}", s.observer).contains("GridObserver"),
+        "the host's copy is used: {:?}",
+        s.observer
+    );
+    assert_eq!(s.observer.range(), (400.0, 700.0));
+    for nm in [
+        400.0, 433.25, 500.5, 549.9, 550.0, 551.75, 612.125, 699.5, 700.0,
+    ] {
+        let want = [
+            (nm - 400.0) / 300.0,
+            1.0 - (nm - 550.0f64).abs() / 150.0,
+            (700.0 - nm) / 300.0,
+        ];
+        let got = s.observer.xyz_bar(nm);
+        for c in 0..3 {
+            assert!(
+                (got[c] - want[c]).abs() < 1e-12,
+                "{nm} nm: {got:?} vs {want:?}"
+            );
+        }
+    }
+    assert_eq!(s.observer.xyz_bar(399.5), [0.0; 3]);
+    assert_eq!(faults.count(), 0);
+
+    for (ty, what) in [
+        ("table_liar_value", "at 601 nm its xyz_bar gives"),
+        ("table_liar_between", "at 400.5 nm its xyz_bar gives"),
+        (
+            "table_liar_range",
+            "its range_nm is 380..700 nm where its table covers 400..700 nm",
+        ),
+    ] {
+        let Err(e) = load(ty) else {
+            panic!("{ty}: a wrong table is refused");
+        };
+        for want in ["lying-fluorescent", ty, "declared_table", what] {
+            assert!(e.contains(want), "{ty}: missing {want:?} in: {e}");
+        }
+    }
+}

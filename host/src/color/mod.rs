@@ -6,6 +6,7 @@ pub mod cct;
 pub mod cri;
 pub mod daylight;
 pub mod fluorescent_xyz;
+pub mod grid_observer;
 pub mod matrix3;
 pub mod observer;
 pub mod resampled_observer;
@@ -15,6 +16,7 @@ pub mod tm30;
 pub mod uplift;
 pub mod xyz;
 
+pub use grid_observer::GridObserver;
 pub use observer::{CieObserver, CieObserverKind, Observer};
 pub use resampled_observer::ResampledObserver;
 pub use rgb_space::{RgbColorSpace, ACES2065_1, DISPLAY_P3, REC2020, SRGB};

@@ -142,6 +142,28 @@ impl CieObserver {
     pub fn kind(&self) -> CieObserverKind {
         self.kind
     }
+
+    /// The table: the first node's wavelength (nm) and `[x̄, ȳ, z̄]` at every 1 nm from it.
+    pub fn grid(&self) -> (f64, &[[f64; 3]]) {
+        (self.start, &self.table)
+    }
+}
+
+/// `[x̄, ȳ, z̄]` at `lambda_nm` of a table with nodes every 1 nm from `start` nm (at least two),
+/// interpolated linearly, 0 outside: how [`CieObserver`] and
+/// [`GridObserver`](super::GridObserver) evaluate, one code for both so that equal tables give
+/// equal bits.
+#[inline]
+pub fn lerp_1nm(start: f64, table: &[[f64; 3]], lambda_nm: f64) -> [f64; 3] {
+    let x = lambda_nm - start;
+    let last = (table.len() - 1) as f64;
+    if !(x >= 0.0 && x <= last) {
+        return [0.0; 3];
+    }
+    let i = (x as usize).min(table.len() - 2);
+    let s = x - i as f64;
+    let (a, b) = (table[i], table[i + 1]);
+    std::array::from_fn(|c| a[c] + s * (b[c] - a[c]))
 }
 
 impl Observer for CieObserver {
@@ -154,15 +176,7 @@ impl Observer for CieObserver {
     }
 
     fn xyz_bar(&self, lambda_nm: f64) -> [f64; 3] {
-        let x = lambda_nm - self.start;
-        let last = (self.table.len() - 1) as f64;
-        if !(x >= 0.0 && x <= last) {
-            return [0.0; 3];
-        }
-        let i = (x as usize).min(self.table.len() - 2);
-        let s = x - i as f64;
-        let (a, b) = (self.table[i], self.table[i + 1]);
-        std::array::from_fn(|c| a[c] + s * (b[c] - a[c]))
+        lerp_1nm(self.start, &self.table, lambda_nm)
     }
 
     fn integral_y(&self) -> f64 {

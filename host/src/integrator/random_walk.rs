@@ -3,7 +3,7 @@
 //! built from it.
 
 use super::fluorescence::{self, Direction, UNIT_LOBE};
-use super::vertex::{Vertex, VertexKind};
+use super::vertex::{SampledFor, Vertex, VertexKind, ZERO_LANES};
 use super::{PathStats, SampleRng};
 use crate::camera::Camera;
 use crate::geometry::{spawn_ray, Ray};
@@ -83,13 +83,12 @@ pub fn random_walk(
                 if let Some(ei) = scene.lights.environment() {
                     let light = &scene.lights.lights()[ei as usize];
                     if let Some((p, n)) = light.escape_point(&ray) {
-                        let prev = path[path.len() - 1];
                         let mut v = Vertex::light(ei, p, glam::Vec3A::ZERO, n, beta);
                         v.wo = -ray.dir.normalize();
                         v.lanes = lanes;
                         v.shifted = shifted.then_some(cur.lambda);
                         v.moved = moved;
-                        v.pdf_fwd = prev.convert_density(pdf_fwd, &v);
+                        v.pdf_fwd = path[path.len() - 1].convert_density(pdf_fwd, &v);
                         path.push(v);
                     }
                 }
@@ -97,7 +96,6 @@ pub fn random_walk(
             break;
         };
         let wo_world = -ray.dir.normalize();
-        let prev = path[path.len() - 1];
         let frame = Frame::from_normal(hit.shading_normal);
         let mut v = Vertex {
             kind: VertexKind::Surface { object: hit.object },
@@ -118,8 +116,12 @@ pub fn random_walk(
             choice: [1.0; LANES],
             choice_rev: [1.0; LANES],
             moved,
+            sampled_f: SampledSpectrum(ZERO_LANES),
+            sampled_lambda: ZERO_LANES,
+            sampled_for: SampledFor::NONE,
         };
-        v.pdf_fwd = prev.convert_density(pdf_fwd, &v);
+        // The previous vertex read in place (a copy of the whole vertex cost a `memcpy`).
+        v.pdf_fwd = path[path.len() - 1].convert_density(pdf_fwd, &v);
         // A fluorescent surface: the wavelength choice is made on arrival, so connections
         // from this vertex and the continuation see the new wavelengths.
         let rerad = match shift {
@@ -172,10 +174,16 @@ pub fn random_walk(
         if !(bs.pdf > 0.0) || bs.f.is_black() {
             break;
         }
+        let n = path.len();
+        if material.f_same_for_all_directions() {
+            let v = &mut path[n - 1];
+            v.sampled_f = bs.f;
+            v.sampled_lambda = cur.lambda;
+            v.sampled_for = SampledFor::new(mode, &cur);
+        }
         let wi_world = frame.to_world(bs.wi);
         let mut pdf_rev = material.pdf(bs.wi, wo, &ctx, &cur, flip(mode));
         pdf_fwd = bs.pdf;
-        let n = path.len();
         if bs.flags.is_specular() {
             path[n - 1].delta = true;
             pdf_fwd = 0.0;

@@ -82,7 +82,54 @@ pub struct Vertex {
     /// subpath) has changed: they can be joined only by strategies that sample every shift on
     /// one subpath (s = 0, s = 1 for camera subpaths, t = 1 for light subpaths).
     pub moved: LaneMask,
+    /// The BSDF value `sample` returned here when the material says
+    /// `f_same_for_all_directions` (one value for every `wi` on `wo`'s side, 0 on the other),
+    /// valid when [`sampled_for`](Self::sampled_for) is not [`SampledFor::NONE`]: a connection
+    /// through this vertex with the same wavelengths and transport mode takes it instead of
+    /// evaluating the material again, as the path tracer's next-event estimation does (the
+    /// same value, so the same image). BDPT evaluates both ends of every connection: on the
+    /// Cornell box this was about a million `eval` calls per sample per pixel.
+    pub sampled_f: SampledSpectrum,
+    /// The wavelengths (nm) `sampled_f` was drawn for.
+    pub sampled_lambda: [f32; LANES],
+    /// The transport mode and live lanes `sampled_f` was drawn for, or none.
+    pub sampled_for: SampledFor,
 }
+
+/// For which transport mode and live lanes [`Vertex::sampled_f`] holds (those, with the
+/// wavelengths, are all of the wavelength record a material that can say
+/// `f_same_for_all_directions` reads: plugins see the wavelengths and live lanes only).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SampledFor {
+    /// 0: nothing held; 1: radiance; 2: importance.
+    mode: u8,
+    /// The live lanes' bits.
+    lanes: LaneMask,
+}
+
+impl SampledFor {
+    /// Nothing held.
+    pub const NONE: Self = Self {
+        mode: 0,
+        lanes: LaneMask::NONE,
+    };
+
+    /// Held for `mode` and `lambda`'s live lanes.
+    #[inline]
+    pub fn new(mode: TransportMode, lambda: &SampledWavelengths) -> Self {
+        Self {
+            mode: if mode == TransportMode::Radiance {
+                1
+            } else {
+                2
+            },
+            lanes: lambda.lanes,
+        }
+    }
+}
+
+/// Four zero lanes (what an empty `sampled_f` and `sampled_lambda` hold).
+pub const ZERO_LANES: [f32; LANES] = [0.0; LANES];
 
 /// `x` if non-zero, else 1: a zero density marks an unsampleable (delta) step, which cancels in
 /// the MIS ratio instead of producing 0/0.
@@ -140,6 +187,9 @@ impl Vertex {
             choice: [1.0; LANES],
             choice_rev: [1.0; LANES],
             moved: LaneMask::NONE,
+            sampled_f: SampledSpectrum(ZERO_LANES),
+            sampled_lambda: ZERO_LANES,
+            sampled_for: SampledFor::NONE,
         }
     }
 
@@ -164,6 +214,9 @@ impl Vertex {
             choice: [1.0; LANES],
             choice_rev: [1.0; LANES],
             moved: LaneMask::NONE,
+            sampled_f: SampledSpectrum(ZERO_LANES),
+            sampled_lambda: ZERO_LANES,
+            sampled_for: SampledFor::NONE,
         }
     }
 
@@ -248,14 +301,18 @@ impl Vertex {
         }
         let wi = wi / len;
         let frame = &self.frame;
-        let ctx = self.shading_context();
-        let f = m.eval(
-            frame.to_local(self.wo),
-            frame.to_local(wi),
-            &ctx,
-            lambda,
-            mode,
-        );
+        let (wo_local, wi_local) = (frame.to_local(self.wo), frame.to_local(wi));
+        let f = if self.sampled_for == SampledFor::new(mode, lambda)
+            && self.sampled_lambda == lambda.lambda
+        {
+            if crate::material::same_hemisphere(wo_local, wi_local) {
+                self.sampled_f
+            } else {
+                SampledSpectrum::zero()
+            }
+        } else {
+            m.eval(wo_local, wi_local, &self.shading_context(), lambda, mode)
+        };
         f * shading_normal_correction(self.ng, self.ns, self.wo, wi, mode)
     }
 
@@ -433,4 +490,53 @@ pub fn geometry_term(a: &Vertex, b: &Vertex) -> f32 {
 pub fn light_of<'a>(scene: &'a Scene, v: &Vertex) -> Option<&'a dyn Light> {
     v.light_index(scene)
         .map(|i| scene.lights.lights()[i as usize].as_ref())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::test_support::for_each_camera_subpath;
+    use super::*;
+    use glam::Vec2;
+
+    // A connection through a vertex that holds its sampled value (`sampled_f`) gets what the
+    // material's own `eval` gives, to the bit, on `wo`'s side and (0) on the other: that is
+    // what keeps BDPT's and LT's images unchanged. Quantity: `Vertex::f` towards points on
+    // both sides of every Lambertian vertex of 64 Cornell camera subpaths, against the same
+    // vertex with the value dropped (so `eval` runs); tolerance none (equal bits). Also: the
+    // value is held at all, and not for other wavelengths or the other transport mode.
+    #[test]
+    fn the_sampled_value_at_a_vertex_is_what_eval_gives() {
+        let scene = crate::scene::default_scene().unwrap();
+        let mut held = 0;
+        for_each_camera_subpath(
+            &scene,
+            7,
+            64,
+            (Vec2::new(64.0, 64.0), Vec2::new(64.0, 64.0)),
+            (6, 8),
+            |path, lambda| {
+                for v in path.iter().filter(|v| v.sampled_for != SampledFor::NONE) {
+                    held += 1;
+                    let mut dropped = *v;
+                    dropped.sampled_for = SampledFor::NONE;
+                    for side in [1.0f32, -1.0] {
+                        let mut next = *v;
+                        next.p = v.p + side * 0.3 * v.ns + 0.2 * v.frame.to_world(Vec3A::X);
+                        let mode = TransportMode::Radiance;
+                        let reused = v.f(&scene, &next, lambda, mode);
+                        let evaluated = dropped.f(&scene, &next, lambda, mode);
+                        assert_eq!(reused.0.map(f32::to_bits), evaluated.0.map(f32::to_bits));
+                    }
+                    // Another mode or other wavelengths: not what was held.
+                    let other = SampledWavelengths {
+                        lambda: lambda.lambda.map(|l| l + 1.0),
+                        ..*lambda
+                    };
+                    assert!(v.sampled_for != SampledFor::new(TransportMode::Importance, lambda));
+                    assert!(v.sampled_lambda != other.lambda);
+                }
+            },
+        );
+        assert!(held > 32, "only {held} vertices held a sampled value");
+    }
 }

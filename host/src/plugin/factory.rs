@@ -288,11 +288,31 @@ impl PluginFactory {
                 };
                 Built::Spd(Arc::new(s))
             }
-            Kind::Observer => Built::Observer(Arc::new(PluginObserver::new(
-                r.create_plugin_observer(type_name, object_source)
-                    .map_err(construct_error)?,
-                origin,
-            ))),
+            // v7: an observer that declares its functions a 1 nm table is evaluated from the
+            // host's own copy, once the claim is checked (`observer_table`); a wrong claim
+            // refuses the observer.
+            Kind::Observer => match r
+                .create_plugin_observer_v7(type_name, object_source)
+                .map_err(construct_error)?
+            {
+                Some(o) => match o.table.into_option() {
+                    Some(table) => Built::Observer(Arc::new(
+                        super::observer_table::host_copy(&o.observer, &table).map_err(|e| {
+                            FactoryError::Param(format!(
+                                "{} declares its colour-matching functions as a 1 nm table \
+                                 (declared_table, extension v7), but {e}",
+                                origin.label
+                            ))
+                        })?,
+                    )),
+                    None => Built::Observer(Arc::new(PluginObserver::new(o.observer, origin))),
+                },
+                None => Built::Observer(Arc::new(PluginObserver::new(
+                    r.create_plugin_observer(type_name, object_source)
+                        .map_err(construct_error)?,
+                    origin,
+                ))),
+            },
             _ => return Err(unknown()),
         })
     }

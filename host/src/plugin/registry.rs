@@ -629,6 +629,38 @@ impl Registry {
         .map(Some)
     }
 
+    fn extensions_v7(
+        &self,
+        kind: ObjectKind,
+        name: &str,
+    ) -> Result<Option<spectrace_plugin_api::extension::ExtensionsV7Ref>, RegistryError> {
+        let (plugin, provider) = self.plugin_entry(kind, name)?;
+        super::extension_v7::extensions_v7(&plugin.path).map_err(|e| {
+            construct_error(
+                kind.into(),
+                name,
+                provider,
+                PluginError::new(ErrorKind::Other, e),
+            )
+        })
+    }
+
+    /// Build a plugin observer with its declared table (extension v7); `None` when its library
+    /// predates v7.
+    pub fn create_plugin_observer_v7(
+        &self,
+        name: &str,
+        source: ObjectSource<'_>,
+    ) -> Result<Option<spectrace_plugin_api::extension::ObserverWithTable>, RegistryError> {
+        let Some(ext) = self.extensions_v7(ObjectKind::Observer, name)? else {
+            return Ok(None);
+        };
+        self.call_plugin(ObjectKind::Observer, name, |_, host| {
+            (ext.create_observer())(RStr::from_str(name), source, host)
+        })
+        .map(Some)
+    }
+
     /// Build a plugin SPD with its spectral lines; `None` when its library predates v2.
     pub fn create_plugin_spd_v2(
         &self,

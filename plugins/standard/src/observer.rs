@@ -1,15 +1,16 @@
-//! The CIE observers (`host/src/builtin/observer/cie.rs`), no parameters.
+//! The CIE observers (`host/src/builtin/observer/cie.rs`), no parameters; each declares the
+//! host's 1 nm table it evaluates (extension v7), so the host evaluates its own copy.
 
 use crate::wrap::{plugin_error, HostParams};
 use spectrace::builtin::observer::cie::{self, CieParams};
 use spectrace::color::Observer as HostObserver;
 use spectrace_plugin_api::{
-    ColorObserver, Host, ParamDoc, PluginResult, PluginType, WavelengthRange, Xyz,
+    ColorObserver, Host, ObserverTable, ParamDoc, PluginResult, PluginType, WavelengthRange, Xyz,
 };
 use std::sync::Arc;
 
 macro_rules! cie_type {
-    ($ty:ident, $konst:ident) => {
+    ($ty:ident, $konst:ident, $kind:ident) => {
         /// The host's CIE observer of the same name.
         pub struct $ty {
             params: HostParams<CieParams>,
@@ -52,11 +53,19 @@ macro_rules! cie_type {
                 let (min_nm, max_nm) = self.observer.range();
                 WavelengthRange { min_nm, max_nm }
             }
+            /// The host's 1 nm table, which `xyz_bar` interpolates (extension v7).
+            fn declared_table(&self) -> Option<ObserverTable> {
+                let (start_nm, table) = spectrace::color::CieObserverKind::$kind.get().grid();
+                Some(ObserverTable {
+                    start_nm,
+                    xyz: table.iter().map(|&[x, y, z]| Xyz { x, y, z }).collect(),
+                })
+            }
         }
     };
 }
 
-cie_type!(Cie1931_2, CIE1931_2);
-cie_type!(Cie1964_10, CIE1964_10);
-cie_type!(Cie2015_2, CIE2015_2);
-cie_type!(Cie2015_10, CIE2015_10);
+cie_type!(Cie1931_2, CIE1931_2, Cie1931_2);
+cie_type!(Cie1964_10, CIE1964_10, Cie1964_10);
+cie_type!(Cie2015_2, CIE2015_2, Cie2015_2);
+cie_type!(Cie2015_10, CIE2015_10, Cie2015_10);
