@@ -21,8 +21,9 @@ pub enum TraversalKernel {
     /// Two four-wide halves per node (`glam::Vec4`); runs everywhere.
     #[default]
     Portable,
-    /// One 256-bit AVX operation per node; only where the CPU has AVX2 (and `popcnt`, which
-    /// every AVX2 CPU has, for ordering the hit children).
+    /// One 256-bit AVX operation per node; only where the CPU has AVX2 (and `popcnt` and FMA,
+    /// which every AVX2 CPU has: `popcnt` orders the hit children, FMA decodes quantised
+    /// planes in one exact step).
     Avx2,
 }
 
@@ -32,6 +33,7 @@ impl TraversalKernel {
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2")
             && std::arch::is_x86_feature_detected!("popcnt")
+            && std::arch::is_x86_feature_detected!("fma")
         {
             return TraversalKernel::Avx2;
         }
@@ -113,7 +115,7 @@ impl Bvh {
         }
         #[cfg(target_arch = "x86_64")]
         if self.kernel == TraversalKernel::Avx2 {
-            // SAFETY: `kernel` is `Avx2` only when the CPU reports AVX2 and `popcnt`
+            // SAFETY: `kernel` is `Avx2` only when the CPU reports AVX2, `popcnt` and FMA
             // (`best_available`, `set_kernel`).
             return unsafe {
                 if quantised {
@@ -134,9 +136,9 @@ impl Bvh {
     /// operation and the loop around it (and the inlined primitive test) is compiled for it.
     ///
     /// # Safety
-    /// The CPU must support AVX2 and `popcnt`.
+    /// The CPU must support AVX2, `popcnt` and FMA.
     #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,popcnt")]
+    #[target_feature(enable = "avx2,popcnt,fma")]
     unsafe fn traverse_avx2<
         const N: usize,
         const QUANTISED: bool,
@@ -584,12 +586,15 @@ pub(super) unsafe fn node_hits_avx2(
 }
 
 /// [`quant_hits_portable`] with AVX2: the eight steps of a plane widened to 32-bit integers,
-/// converted (exactly) and decoded as `origin + q · scale`, then [`slab_avx2`].
+/// converted (exactly) and decoded as `origin + q · scale` in one fused multiply-add, then
+/// [`slab_avx2`]. The fused result equals the portable kernel's multiply-then-add bit for bit:
+/// `q · scale` (an integer below 256 times a power of two, both normal) is exact, so the only
+/// rounding either way is that of the sum.
 ///
 /// # Safety
-/// The CPU must support AVX2.
+/// The CPU must support AVX2 and FMA.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
+#[target_feature(enable = "avx2,fma")]
 #[inline]
 pub(super) unsafe fn quant_hits_avx2(
     n: &QuantNode,
@@ -602,9 +607,10 @@ pub(super) unsafe fn quant_hits_avx2(
         // SAFETY: `q` holds eight bytes, exactly what `_mm_loadl_epi64` reads.
         let bytes = unsafe { _mm_loadl_epi64(q.as_ptr().cast::<__m128i>()) };
         let steps = _mm256_cvtepi32_ps(_mm256_cvtepu8_epi32(bytes));
-        _mm256_add_ps(
+        _mm256_fmadd_ps(
+            steps,
+            _mm256_set1_ps(n.scale[axis]),
             _mm256_set1_ps(n.origin[axis]),
-            _mm256_mul_ps(steps, _mm256_set1_ps(n.scale[axis])),
         )
     };
     let planes = [
