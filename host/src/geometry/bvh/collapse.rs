@@ -223,7 +223,7 @@ pub(super) fn expand_children(binary: &[Node], mut c: Children, merge: usize) ->
 /// counts; interior children's references are set by the caller.
 fn wide_node(binary: &[Node], children: &Children, merge: usize) -> WideNode {
     let mut w = WideNode::EMPTY;
-    w.slots = children.len as u32;
+    w.set_slots(children.len);
     for (slot, &c) in children.nodes().iter().enumerate() {
         w.set_box(slot, &binary[c]);
         if let Some((first, count)) = as_leaf(binary, c, merge) {

@@ -21,7 +21,8 @@ pub enum TraversalKernel {
     /// Two four-wide halves per node (`glam::Vec4`); runs everywhere.
     #[default]
     Portable,
-    /// One 256-bit AVX operation per node; only where the CPU has AVX2.
+    /// One 256-bit AVX operation per node; only where the CPU has AVX2 (and `popcnt`, which
+    /// every AVX2 CPU has, for ordering the hit children).
     Avx2,
 }
 
@@ -29,7 +30,9 @@ impl TraversalKernel {
     /// The fastest kernel this CPU runs.
     pub fn best_available() -> TraversalKernel {
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
+        if std::arch::is_x86_feature_detected!("avx2")
+            && std::arch::is_x86_feature_detected!("popcnt")
+        {
             return TraversalKernel::Avx2;
         }
         TraversalKernel::Portable
@@ -110,8 +113,8 @@ impl Bvh {
         }
         #[cfg(target_arch = "x86_64")]
         if self.kernel == TraversalKernel::Avx2 {
-            // SAFETY: `kernel` is `Avx2` only when the CPU reports AVX2 (`best_available`,
-            // `set_kernel`).
+            // SAFETY: `kernel` is `Avx2` only when the CPU reports AVX2 and `popcnt`
+            // (`best_available`, `set_kernel`).
             return unsafe {
                 if quantised {
                     self.traverse_avx2::<N, true, F>(ray, t_max, any_hit, test)
@@ -131,9 +134,9 @@ impl Bvh {
     /// operation and the loop around it (and the inlined primitive test) is compiled for it.
     ///
     /// # Safety
-    /// The CPU must support AVX2.
+    /// The CPU must support AVX2 and `popcnt`.
     #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
+    #[target_feature(enable = "avx2,popcnt")]
     unsafe fn traverse_avx2<
         const N: usize,
         const QUANTISED: bool,
@@ -181,6 +184,14 @@ impl Bvh {
             near: 0.0,
         };
         let mut found = None;
+        let later = |e: Entry| {
+            if QUANTISED {
+                prefetch(&self.qnodes, &e);
+            } else {
+                prefetch(&self.nodes, &e);
+            }
+            e
+        };
         loop {
             // Entries pushed before the search shrank may now lie beyond it.
             if entry.near <= t_max {
@@ -195,7 +206,13 @@ impl Bvh {
                 } else {
                     let mut near = [0.0f32; WIDTH];
                     let (mask, child, count) = if QUANTISED {
-                        let n = &self.qnodes[entry.child as usize];
+                        debug_assert!((entry.child as usize) < self.qnodes.len());
+                        // SAFETY: an interior entry comes from the root (index 0 of a
+                        // non-empty array) or a node's interior child reference, which the
+                        // collapse sets to an index of the same array (test
+                        // `interior_references_index_the_nodes`); `Bvh`'s fields are private
+                        // and only the build writes them.
+                        let n = unsafe { self.qnodes.get_unchecked(entry.child as usize) };
                         #[cfg(target_arch = "x86_64")]
                         let mask = if AVX2 {
                             // SAFETY: `AVX2` is true only inside `traverse_avx2`.
@@ -207,7 +224,9 @@ impl Bvh {
                         let mask = quant_hits_portable(n, &rb, t_max, &mut near);
                         (mask, &n.child, &n.count)
                     } else {
-                        let n = &self.nodes[entry.child as usize];
+                        debug_assert!((entry.child as usize) < self.nodes.len());
+                        // SAFETY: as for `qnodes` above.
+                        let n = unsafe { self.nodes.get_unchecked(entry.child as usize) };
                         #[cfg(target_arch = "x86_64")]
                         let mask = if AVX2 {
                             // SAFETY: `AVX2` is true only inside `traverse_avx2`.
@@ -238,11 +257,23 @@ impl Bvh {
                             continue;
                         }
                         if any_hit {
-                            // Any hit ends the search, so order does not matter: no sort.
+                            // Any hit ends the search, so order does not matter: no sort;
+                            // the others go on the stack in slot order.
+                            let k = rest.count_ones() as usize;
                             let mut m = rest;
-                            while m != 0 {
-                                push(&mut stack, &mut sp, &mut spill, at(m.trailing_zeros()));
-                                m &= m - 1;
+                            if sp + k <= N {
+                                while m != 0 {
+                                    // SAFETY: `sp < sp + k <= N` while `m` has bits left.
+                                    unsafe { stack.get_unchecked_mut(sp) }
+                                        .write(later(at(m.trailing_zeros())));
+                                    sp += 1;
+                                    m &= m - 1;
+                                }
+                            } else {
+                                while m != 0 {
+                                    push(&mut stack, &mut sp, &mut spill, at(m.trailing_zeros()));
+                                    m &= m - 1;
+                                }
                             }
                             entry = at(first);
                             continue;
@@ -251,30 +282,58 @@ impl Bvh {
                         if rest & (rest - 1) == 0 {
                             // Two boxes: visit the nearer (the first slot on a tie).
                             let (a, b) = (at(first), at(second));
-                            let (now, later) = if b.near < a.near { (b, a) } else { (a, b) };
-                            push(&mut stack, &mut sp, &mut spill, later);
+                            let (now, after) = if b.near < a.near { (b, a) } else { (a, b) };
+                            push(&mut stack, &mut sp, &mut spill, later(after));
                             entry = now;
                             continue;
                         }
-                        // Three or more: insertion sort by entry distance (stable, so ties
-                        // keep slot order), visit the nearest, push the others farthest first.
+                        // Three or more: each hit's place in the order by entry distance, ties
+                        // in slot order (what a stable sort gives), is its rank: the number of
+                        // hits nearer than it or as near in an earlier slot, counted with two
+                        // SIMD comparisons and no data-dependent branch. The nearest is
+                        // visited, the others pushed farthest first. Hit lanes have no NaN
+                        // distance (the box test's `<=` is false on NaN), so the ranks are
+                        // `0..k` once each.
+                        let k = mask.count_ones() as usize;
+                        let rank = |i: u32| (nearer::<AVX2>(&near, i) & mask).count_ones() as usize;
+                        if sp + k <= N {
+                            // Rank `r` goes to `top - r`: the farthest at `sp`, rank 1 the new
+                            // top of the stack, rank 0 just above it, read back as the entry.
+                            let top = sp + k - 1;
+                            #[cfg(debug_assertions)]
+                            let mut seen = 0u32;
+                            let mut m = mask;
+                            while m != 0 {
+                                let i = m.trailing_zeros();
+                                m &= m - 1;
+                                let r = rank(i);
+                                #[cfg(debug_assertions)]
+                                {
+                                    seen |= 1 << r;
+                                }
+                                // SAFETY: `r < k` (the hits other than `i` are counted), so
+                                // `sp <= top - r <= top < N`.
+                                unsafe { stack.get_unchecked_mut(top - r) }.write(later(at(i)));
+                            }
+                            #[cfg(debug_assertions)]
+                            debug_assert_eq!(seen, (1 << k) - 1, "ranks are not a permutation");
+                            sp = top;
+                            // SAFETY: slot `top` was written above (rank 0; the ranks are a
+                            // permutation of `0..k`).
+                            entry = unsafe { stack.get_unchecked(top).assume_init() };
+                            continue;
+                        }
+                        // Too few fixed entries left: the same order through `push`.
                         let mut hits = [Entry {
                             child: 0,
                             count: 0,
                             near: 0.0,
                         }; WIDTH];
-                        let mut k = 0;
                         let mut m = mask;
                         while m != 0 {
-                            let e = at(m.trailing_zeros());
+                            let i = m.trailing_zeros();
                             m &= m - 1;
-                            let mut j = k;
-                            while j > 0 && hits[j - 1].near > e.near {
-                                hits[j] = hits[j - 1];
-                                j -= 1;
-                            }
-                            hits[j] = e;
-                            k += 1;
+                            hits[rank(i) & (WIDTH - 1)] = at(i);
                         }
                         for h in hits[1..k].iter().rev() {
                             push(&mut stack, &mut sp, &mut spill, *h);
@@ -286,8 +345,9 @@ impl Bvh {
             }
             if sp > 0 {
                 sp -= 1;
-                // SAFETY: entries below the old `sp` were written by `push`.
-                entry = unsafe { stack[sp].assume_init() };
+                // SAFETY: `sp` never exceeds `N`, and entries below the old `sp` were written
+                // by `push` or the ordering above.
+                entry = unsafe { stack.get_unchecked(sp).assume_init() };
             } else if let Some(e) = spill.pop() {
                 entry = e;
             } else {
@@ -295,6 +355,25 @@ impl Bvh {
             }
         }
     }
+}
+
+/// Starts loading the node of an interior entry pushed for later, so that its cache misses
+/// overlap the search of the nearer boxes (large scenes, whose nodes are not in the caches).
+/// A hint only: it changes no result.
+#[inline(always)]
+fn prefetch<T>(nodes: &[T], e: &Entry) {
+    #[cfg(target_arch = "x86_64")]
+    if e.count == 0 {
+        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        let p = nodes.as_ptr().wrapping_add(e.child as usize).cast::<i8>();
+        for line in 0..std::mem::size_of::<T>() / 64 {
+            // SAFETY: a prefetch reads nothing and never faults, whatever the address
+            // (`wrapping_add` makes no claim about it either); SSE is part of x86-64.
+            unsafe { _mm_prefetch::<_MM_HINT_T0>(p.wrapping_add(64 * line)) };
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = (nodes, e);
 }
 
 /// [`Bvh::traverse`]'s leaf test: `test(slot, t_max)` for the leaf's slots in order, the
@@ -347,6 +426,41 @@ pub(super) fn spill_stack<const N: usize>(stack: &[MaybeUninit<Entry>; N], spill
     spill.extend(stack.iter().map(|e| unsafe { e.assume_init() }));
 }
 
+/// The hit-ordering comparison of slot `i` (< 8) against all eight: bit `j` set where
+/// `near[j] < near[i]`, or `near[j] == near[i]` and `j < i` (ties in slot order). The AVX2
+/// and portable versions make the same IEEE comparisons, so they give the same bits.
+#[inline(always)]
+fn nearer<const AVX2: bool>(near: &[f32; WIDTH], i: u32) -> u32 {
+    #[cfg(target_arch = "x86_64")]
+    if AVX2 {
+        // SAFETY: `AVX2` is true only inside `traverse_avx2`.
+        return unsafe { nearer_avx2(near, i) };
+    }
+    let x = Vec4::splat(near[i as usize & (WIDTH - 1)]);
+    let (lo, hi) = (Vec4::from_slice(&near[..4]), Vec4::from_slice(&near[4..]));
+    let lt = lo.cmplt(x).bitmask() | hi.cmplt(x).bitmask() << 4;
+    let eq = lo.cmpeq(x).bitmask() | hi.cmpeq(x).bitmask() << 4;
+    lt | (eq & ((1 << i) - 1))
+}
+
+/// [`nearer`] with one 256-bit comparison each.
+///
+/// # Safety
+/// The CPU must support AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn nearer_avx2(near: &[f32; WIDTH], i: u32) -> u32 {
+    use std::arch::x86_64::*;
+    // SAFETY: `near` holds eight f32.
+    let v = unsafe { _mm256_loadu_ps(near.as_ptr()) };
+    let x = _mm256_set1_ps(near[i as usize & (WIDTH - 1)]);
+    // Ordered comparisons, as `Vec4::cmplt` / `cmpeq` (`cmpltps`, `cmpeqps`).
+    let lt = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LT_OQ>(v, x)) as u32;
+    let eq = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_EQ_OQ>(v, x)) as u32;
+    lt | (eq & ((1 << i) - 1))
+}
+
 /// Slab test of a node's eight boxes with two four-wide halves: the bit mask of the used slots
 /// the ray meets before `t_max`, and each box's entry distance in `near`. Operand order matters
 /// for NaN (a ray parallel to a slab and starting on its plane): SSE `min`/`max` return their
@@ -367,8 +481,8 @@ pub(super) fn node_hits_portable(
         near,
     );
     // Unused slots sit at the end; their empty boxes can pass the slab test (±∞ − ±∞
-    // orders), so they are masked out by the slot count.
-    mask & ((1u32 << n.slots) - 1)
+    // orders), so they are masked out.
+    mask & n.slot_mask
 }
 
 /// [`node_hits_portable`] for a quantised node: each plane decoded as `origin + q · scale`
@@ -397,7 +511,7 @@ pub(super) fn quant_hits_portable(
         t_max,
         near,
     );
-    mask & ((1u32 << n.slots) - 1)
+    mask & n.slot_mask
 }
 
 /// The slab test of eight boxes as two four-wide halves; `lane(plane, half)` gives plane
@@ -466,7 +580,7 @@ pub(super) unsafe fn node_hits_avx2(
         lane(&n.max_y),
         lane(&n.max_z),
     ];
-    slab_avx2(planes, r, t_max, near) & ((1u32 << n.slots) - 1)
+    slab_avx2(planes, r, t_max, near) & n.slot_mask
 }
 
 /// [`quant_hits_portable`] with AVX2: the eight steps of a plane widened to 32-bit integers,
@@ -501,7 +615,7 @@ pub(super) unsafe fn quant_hits_avx2(
         plane(&n.hi[1], 1),
         plane(&n.hi[2], 2),
     ];
-    slab_avx2(planes, r, t_max, near) & ((1u32 << n.slots) - 1)
+    slab_avx2(planes, r, t_max, near) & n.slot_mask
 }
 
 /// The slab test of eight boxes given as planes `min_x, min_y, min_z, max_x, max_y, max_z`.

@@ -25,7 +25,10 @@ pub(super) struct WideNode {
     pub(super) count: [u16; WIDTH],
     /// Number of used slots (the first ones).
     pub(super) slots: u32,
-    pub(super) _pad: [u32; 3],
+    /// `(1 << slots) - 1`: the used slots as a bit mask, so the box test masks out the
+    /// unused ones with one `and` (set with `slots` by [`WideNode::set_slots`]).
+    pub(super) slot_mask: u32,
+    pub(super) _pad: [u32; 2],
 }
 
 // Four cache lines, as the layout comment says.
@@ -42,8 +45,15 @@ impl WideNode {
         child: [u32::MAX; WIDTH],
         count: [0; WIDTH],
         slots: 0,
-        _pad: [0; 3],
+        slot_mask: 0,
+        _pad: [0; 2],
     };
+
+    /// Sets the number of used slots (the first `slots`, at most [`WIDTH`]) and their mask.
+    pub(super) fn set_slots(&mut self, slots: usize) {
+        self.slots = slots as u32;
+        self.slot_mask = slot_mask(slots);
+    }
 
     pub(super) fn set_box(&mut self, slot: usize, n: &Node) {
         self.min_x[slot] = n.min[0];
@@ -81,9 +91,16 @@ pub(super) struct QuantNode {
     pub(super) count: [u16; WIDTH],
     /// Number of used slots (the first ones).
     pub(super) slots: u32,
+    /// As [`WideNode::slot_mask`] (in the four bytes the alignment leaves free).
+    pub(super) slot_mask: u32,
 }
 
 const _: () = assert!(std::mem::size_of::<QuantNode>() == 128);
+
+/// The bit mask of the first `slots` slots (`slots` ≤ 8, so the shift cannot overflow).
+fn slot_mask(slots: usize) -> u32 {
+    (1u32 << slots.min(WIDTH)) - 1
+}
 
 /// The decoded coordinate `origin + q · scale` (f32, in this order), as the traversal computes
 /// it.
@@ -110,6 +127,7 @@ impl QuantNode {
             child: n.child,
             count: n.count,
             slots: n.slots,
+            slot_mask: slot_mask(slots),
         };
         let mins = [&n.min_x, &n.min_y, &n.min_z];
         let maxs = [&n.max_x, &n.max_y, &n.max_z];
@@ -174,7 +192,7 @@ impl QuantNode {
             w.child[s] = self.child[s];
             w.count[s] = self.count[s];
         }
-        w.slots = self.slots;
+        w.set_slots(self.slots as usize);
         w
     }
 }
