@@ -102,11 +102,14 @@ fn region_y(img: &XyzImage, (x0, x1, y0, y1): (usize, usize, usize, usize)) -> f
 /// P(|t| > 4) ≈ 0.5% for a correct estimator, a bias of a few SE fails):
 /// (1) per channel, the image mean; (2) per 8×8 tile, the sum of Y: at most 1 of the 20 tiles
 /// beyond 4 SE; (3) the sum of Y over the floor seen through the lower half of the ball (the
-/// pixels where the connection contributes). Its variance is not compared here: with this
-/// large lamp `s = 0` is no rare event (the shipped 5 cm lamp is, see docs/performance.md).
+/// pixels where the connection contributes), and over the floor caustic seen reflected in the
+/// ball's lower rim (row 67, columns 78–81 of the 160×120 image: camera → reflection → floor →
+/// glass → glass → lamp, the chain with several solutions that the closed-form seeds find).
+/// Their variance is not compared here: with this large lamp `s = 0` is no rare event (the
+/// shipped 5 cm lamp is, see docs/performance.md).
 #[test]
 fn with_and_without_the_connection_agree() {
-    agree((Switch::Manifold, (16, 24, 14, 18)));
+    agree(Switch::Manifold, &[(16, 24, 14, 18), (19, 21, 16, 17)]);
 }
 
 /// The same for the camera-side connection (`integrator::camera_chain`, switch
@@ -115,10 +118,10 @@ fn with_and_without_the_connection_agree() {
 /// lamp's images lie (pixels x 16..24, y 4..10 at 40×30), same 4-SE tolerance and why.
 #[test]
 fn with_and_without_the_camera_connection_agree() {
-    agree((Switch::CameraChain, (16, 24, 4, 10)));
+    agree(Switch::CameraChain, &[(16, 24, 4, 10)]);
 }
 
-fn agree((switch, r): (Switch, (usize, usize, usize, usize))) {
+fn agree(switch: Switch, regions: &[(usize, usize, usize, usize)]) {
     let s = scene();
     let k = 8u64;
     let on: Vec<XyzImage> = (1..=k)
@@ -152,9 +155,11 @@ fn agree((switch, r): (Switch, (usize, usize, usize, usize))) {
         }
     }
     assert!(bad.len() <= 1, "tiles beyond 4 SE: {bad:?}");
-    let a: Vec<f64> = on.iter().map(|i| region_y(i, r)).collect();
-    let b: Vec<f64> = off.iter().map(|i| region_y(i, r)).collect();
-    assert!(z(&a, &b).abs() < 4.0, "region {r:?}: z = {}", z(&a, &b));
+    for &r in regions {
+        let a: Vec<f64> = on.iter().map(|i| region_y(i, r)).collect();
+        let b: Vec<f64> = off.iter().map(|i| region_y(i, r)).collect();
+        assert!(z(&a, &b).abs() < 4.0, "region {r:?}: z = {}", z(&a, &b));
+    }
     // And the switch is not a no-op: the same seed renders differently with it.
     assert!(render_forced(&s, (switch, true), 4, 1) != render_forced(&s, (switch, false), 4, 1));
 }

@@ -248,6 +248,7 @@ impl CameraChain {
                     emitter: li as u32,
                     flat_chain,
                     t_equivalent: k + 2,
+                    first: s.chain.get(0).p,
                 },
             });
         }

@@ -14,6 +14,12 @@
 //!   and the direction to `y` changes sign (measured on the caustic scene's ball: the lamp's
 //!   images are the reflection and `T R R T`, both at b ≈ 0.75; `T T` cannot turn a ray from
 //!   the camera up to the lamp, its deviation stays under 97°).
+//! - **Closed-form `T T` seeds** ([`SpecularShapes::for_each_through_seed`], for the
+//!   connection from a diffuse vertex, run at every sample): the same in-plane idea without
+//!   tracing rays: the two refractions of a circle are followed in closed form at
+//!   [`THROUGH_POINTS`] impact parameters, each sign change narrowed by bisection, and a fold
+//!   of the map (two solutions within one step, where the caustic is brightest) found by a
+//!   golden-section search for the smallest angle between two neighbours of one sign.
 //! - **Quads** (mirrors and glass panes): the reflection seed aimed at `y` mirrored in the
 //!   quad's plane (exact for a flat mirror).
 //!
@@ -28,20 +34,29 @@
 //! | `SCAN_POINTS`           | 32                        | scan rays per lobe sequence and shape    |
 //! | `MAX_SHAPES`            | 8                         | smooth specular objects seeded at most   |
 //! | `BISECTOR_STEPS`        | 12                        | fixed-point steps of the reflection seed |
+//! | `THROUGH_POINTS`        | 32                        | closed-form `T T` impact parameters      |
+//! | `THROUGH_BISECTIONS`    | 10                        | bisection steps per sign change          |
+//! | `FOLD_STEPS`            | 12                        | golden-section steps at a fold           |
 
 use super::specular_chain::{
     same_chain, solve, trace_chain, Chain, Endpoint, Lobe, Solved, MAX_CHAIN_VERTICES,
 };
 use crate::geometry::WorldShape;
-use crate::material::MaterialFlags;
+use crate::material::{MaterialFlags, ShadingContext, TransportMode};
 use crate::scene::Scene;
 use crate::spectrum::SampledWavelengths;
-use glam::Vec3A;
+use glam::{Vec2, Vec3A};
 
 /// Smooth specular objects seeded at most (a scene with more seeds only the first ones).
 pub const MAX_SHAPES: usize = 8;
 /// Rays per lobe sequence of the scan across a transmitting round shape.
 pub const SCAN_POINTS: usize = 32;
+/// Impact parameters of the closed-form `T T` scan through a round shape (no rays traced).
+pub const THROUGH_POINTS: usize = 32;
+/// Bisection steps narrowing each sign change of that scan before the solve.
+pub const THROUGH_BISECTIONS: usize = 10;
+/// Golden-section steps searching a fold of that scan (two roots within one step).
+pub const FOLD_STEPS: usize = 12;
 /// Fixed-point steps of the reflection seed on a round shape.
 pub const BISECTOR_STEPS: usize = 12;
 
@@ -114,6 +129,15 @@ impl SpecularShapes {
             });
         }
         Self { shapes }
+    }
+
+    /// The first transmitting round shape: object, centre, radius (for tests).
+    #[cfg(test)]
+    pub fn first_round(&self) -> Option<(u32, Vec3A, f32)> {
+        self.shapes.iter().find_map(|s| match s.shape {
+            SeedShape::Round { center, radius } if s.transmits => Some((s.object, center, radius)),
+            _ => None,
+        })
     }
 
     /// True when the scene has no smooth specular object.
@@ -200,6 +224,52 @@ impl SpecularShapes {
             if let Some(p) = p {
                 f(&Chain::template(p, &[(s.object, Lobe::Reflect)]));
             }
+        }
+    }
+
+    /// Calls `f` with the seeds of the chains *in, out* (`T T`) through every transmitting
+    /// round shape from `x0` to `y`, found in the plane of `x0`, the centre and `y` without
+    /// tracing a ray: [`ThroughPlane::angle`] follows the two refractions of a circle in closed form
+    /// at [`THROUGH_POINTS`] impact parameters, and every sign change of the signed angle
+    /// between the leaving direction and the direction to `y` is narrowed by
+    /// [`THROUGH_BISECTIONS`] bisection steps to a seed aimed at its entry point (folds: see
+    /// [`ThroughPlane::roots`]). This finds the several solutions a ball lens has between a
+    /// point near its focus and a light (the floor caustic seen in the ball), for about 7 k
+    /// instructions per `(x0, y)`. A deterministic function of `(x0, y)` and the hero
+    /// wavelength's index of refraction.
+    pub fn for_each_through_seed(
+        &self,
+        scene: &Scene,
+        x0: Vec3A,
+        y: Vec3A,
+        lambda: &SampledWavelengths,
+        mut f: impl FnMut(&Chain),
+    ) {
+        for s in &self.shapes {
+            let SeedShape::Round { center, radius } = s.shape else {
+                continue;
+            };
+            if !s.transmits || (x0 - center).length() <= radius || (y - center).length() <= radius {
+                continue;
+            }
+            let Some(eta) = entering_eta(scene, s.object, lambda) else {
+                continue;
+            };
+            let (u, _) = scan_axes(center, x0, y);
+            let axis = (center - x0).normalize();
+            let plane = ThroughPlane {
+                d: (center - x0).length(),
+                radius,
+                eta,
+                y: [(y - center).dot(axis), (y - center).dot(u)],
+            };
+            plane.roots(&mut |entry| {
+                let p = center + axis * entry[0] + u * entry[1];
+                f(&Chain::template(
+                    p,
+                    &[(s.object, Lobe::Transmit), (s.object, Lobe::Transmit)],
+                ));
+            });
         }
     }
 
@@ -363,6 +433,156 @@ fn scan_round(
             }
             prev = angle.map(|a| (b, a));
         }
+    }
+}
+
+/// The relative index of refraction (inside over outside) of `object`'s material entering at
+/// normal incidence for the hero wavelength of `lambda`; `None` without a refraction there.
+fn entering_eta(scene: &Scene, object: u32, lambda: &SampledWavelengths) -> Option<f32> {
+    let ctx = ShadingContext::at(Vec3A::ZERO, Vec3A::Z, Vec3A::Z, Vec2::ZERO);
+    let bs = scene.objects.material(object).sample(
+        Vec3A::Z,
+        &ctx,
+        lambda,
+        1.0 - f32::EPSILON / 2.0,
+        Vec2::splat(0.5),
+        TransportMode::Radiance,
+    )?;
+    (bs.flags.contains(MaterialFlags::TRANSMISSION) && bs.eta > 0.0).then_some(bs.eta)
+}
+
+/// One `T T` problem through a circle in its plane: the centre at the origin, `x0` at
+/// `(−d, 0)`, `y` at `y` (second coordinate ≥ 0), relative index `eta` inside.
+struct ThroughPlane {
+    d: f32,
+    radius: f32,
+    eta: f32,
+    y: [f32; 2],
+}
+
+impl ThroughPlane {
+    /// The ray from `x0` passing the centre at signed distance `p` (|p| < radius), refracted
+    /// in and out of the circle: the sine of the signed angle from its leaving direction to
+    /// the direction to `y`, and its entry point; `None` when it leaves away from `y`.
+    fn angle(&self, p: f32) -> Option<(f32, [f32; 2])> {
+        let (d, r) = (self.d, self.radius);
+        let sin_a = p / d;
+        let cos_a = (1.0 - sin_a * sin_a).max(0.0).sqrt();
+        let v = [cos_a, sin_a];
+        let t1 = d * cos_a - (r * r - p * p).max(0.0).sqrt();
+        let p1 = [-d + t1 * v[0], t1 * v[1]];
+        let n1 = [p1[0] / r, p1[1] / r];
+        // In: relative index 1/eta, the normal facing the incoming ray.
+        let e = 1.0 / self.eta;
+        let cos_i = -(n1[0] * v[0] + n1[1] * v[1]);
+        let k = 1.0 - e * e * (1.0 - cos_i * cos_i);
+        if k < 0.0 {
+            return None;
+        }
+        let c = e * cos_i - k.sqrt();
+        let w = [e * v[0] + c * n1[0], e * v[1] + c * n1[1]];
+        // The chord to the exit point.
+        let t2 = -2.0 * (p1[0] * w[0] + p1[1] * w[1]);
+        let p2 = [p1[0] + t2 * w[0], p1[1] + t2 * w[1]];
+        let n2 = [p2[0] / r, p2[1] / r];
+        // Out: relative index eta, the inward normal facing the ray inside.
+        let cos_o = n2[0] * w[0] + n2[1] * w[1];
+        let k = 1.0 - self.eta * self.eta * (1.0 - cos_o * cos_o);
+        if k < 0.0 {
+            return None;
+        }
+        let c = self.eta * cos_o - k.sqrt();
+        let out = [self.eta * w[0] - c * n2[0], self.eta * w[1] - c * n2[1]];
+        let to_y = [self.y[0] - p2[0], self.y[1] - p2[1]];
+        let len = (to_y[0] * to_y[0] + to_y[1] * to_y[1]).sqrt();
+        if !(out[0] * to_y[0] + out[1] * to_y[1] > 0.0) || !(len > 0.0) {
+            return None;
+        }
+        Some(((out[0] * to_y[1] - out[1] * to_y[0]) / len, p1))
+    }
+
+    /// Calls `f` with the entry point of every root found by the scan (see
+    /// [`SpecularShapes::for_each_through_seed`]): a sign change between neighbours is one
+    /// root; a local minimum of `|angle|` between two neighbours of the same sign (a fold of
+    /// the map, where two roots may lie within one step) is searched by golden-section steps
+    /// and, where the angle changes sign there, gives the two roots on either side.
+    fn roots(&self, f: &mut dyn FnMut([f32; 2])) {
+        let r = self.radius;
+        // (impact parameter, angle) of the last two points; `None` where the ray missed.
+        let mut prev2: Option<(f32, f32)> = None;
+        let mut prev: Option<(f32, f32)> = None;
+        for i in 0..THROUGH_POINTS {
+            // Sine-spaced towards the rim, where the leaving direction turns fastest.
+            let phi = -1.0 + (i as f32 + 0.5) * 2.0 / THROUGH_POINTS as f32;
+            let p = r * (std::f32::consts::FRAC_PI_2 * phi).sin();
+            let cur = self.angle(p).map(|(a, _)| (p, a));
+            match (prev2, prev, cur) {
+                (_, Some(a), Some(b)) if (a.1 <= 0.0) != (b.1 <= 0.0) => self.narrow(a, b.0, f),
+                (Some(a), Some(m), Some(b))
+                    if (a.1 <= 0.0) == (m.1 <= 0.0)
+                        && (m.1 <= 0.0) == (b.1 <= 0.0)
+                        && m.1.abs() < a.1.abs()
+                        && m.1.abs() <= b.1.abs() =>
+                {
+                    if let Some(low) = self.fold_minimum(a, b) {
+                        if (low.1 <= 0.0) != (m.1 <= 0.0) {
+                            self.narrow(a, low.0, f);
+                            self.narrow(low, b.0, f);
+                        }
+                    }
+                }
+                _ => {}
+            }
+            (prev2, prev) = (prev, cur);
+        }
+    }
+
+    /// The root between `lo = (p, angle)` and `hi` (the angle changes sign between them),
+    /// narrowed by [`THROUGH_BISECTIONS`] bisection steps: its entry point to `f`.
+    fn narrow(&self, lo: (f32, f32), hi: f32, f: &mut dyn FnMut([f32; 2])) {
+        let ((mut lo, mut a_lo), mut hi) = (lo, hi);
+        for _ in 0..THROUGH_BISECTIONS {
+            let mid = 0.5 * (lo + hi);
+            match self.angle(mid) {
+                Some((am, _)) if (am <= 0.0) == (a_lo <= 0.0) => (lo, a_lo) = (mid, am),
+                Some(_) => hi = mid,
+                None => return,
+            }
+        }
+        if let Some((_, entry)) = self.angle(0.5 * (lo + hi)) {
+            f(entry);
+        }
+    }
+
+    /// The point `(p, angle)` between `a` and `b` where the angle comes closest to the other
+    /// sign ([`FOLD_STEPS`] golden-section steps on `angle · sign`); `None` if a ray misses.
+    fn fold_minimum(&self, a: (f32, f32), b: (f32, f32)) -> Option<(f32, f32)> {
+        let sign = if a.1 <= 0.0 { -1.0 } else { 1.0 };
+        let g = 0.5 * (5.0f32.sqrt() - 1.0);
+        let (mut lo, mut hi) = (a.0, b.0);
+        let mut c = hi - g * (hi - lo);
+        let mut d = lo + g * (hi - lo);
+        let mut fc = self.angle(c)?.0;
+        let mut fd = self.angle(d)?.0;
+        for _ in 0..FOLD_STEPS {
+            if (fc * sign <= 0.0) || (fd * sign <= 0.0) {
+                break;
+            }
+            if fc * sign < fd * sign {
+                (hi, d, fd) = (d, c, fc);
+                c = hi - g * (hi - lo);
+                fc = self.angle(c)?.0;
+            } else {
+                (lo, c, fc) = (c, d, fd);
+                d = lo + g * (hi - lo);
+                fd = self.angle(d)?.0;
+            }
+        }
+        Some(if fc * sign < fd * sign {
+            (c, fc)
+        } else {
+            (d, fd)
+        })
     }
 }
 
