@@ -664,7 +664,8 @@ macro_rules! export_plugin {
             use $crate::error::PluginError;
             use $crate::export::{construct, save, unknown_type, PluginType};
             use $crate::extension::{
-                ExtensionsV7, ExtensionsV7Export, ExtensionsV7Ref, ObserverWithTable,
+                ExtensionsV7, ExtensionsV7Export, ExtensionsV7Ref, MaterialWithV7,
+                ObserverWithTable,
             };
             use $crate::guard::guarded;
             use $crate::host::HostRef;
@@ -687,9 +688,30 @@ macro_rules! export_plugin {
                     ))
                 })
             }
+            extern "C" fn create_material(
+                type_name: RStr<'_>,
+                source: ObjectSource<'_>,
+                host: HostRef<'_>,
+            ) -> RResult<MaterialWithV7, PluginError> {
+                guarded("create_material (v7)", || {
+                    let name = type_name.as_str();
+                    $(if name == <$material as PluginType>::TYPE_NAME {
+                        let obj = construct::<$material>(source, &host)?;
+                        return $crate::material::GuardedMaterial::boxed_v7(obj, save::<$material>)
+                            .into_result();
+                    })*
+                    Err(unknown_type(
+                        ObjectKind::Material, name, &[$(<$material as PluginType>::TYPE_NAME),*]
+                    ))
+                })
+            }
             ExtensionsV7Export {
                 layout: <ExtensionsV7Ref as $crate::__private::StableAbi>::LAYOUT,
-                module: ExtensionsV7 { create_observer }.leak_into_prefix(),
+                module: ExtensionsV7 {
+                    create_observer,
+                    create_material,
+                }
+                .leak_into_prefix(),
             }
         }
 

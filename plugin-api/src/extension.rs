@@ -83,7 +83,12 @@
 //! table over once when it is built ([`ObserverWithTable`]); the host checks the claim then
 //! and evaluates its own copy (bidirectional and light tracing weigh every path's wavelengths
 //! with the observer: four calls per sample). A library older than v7 is served through the
-//! root module (`xyz_bar` called per wavelength: always safe).
+//! root module (`xyz_bar` called per wavelength: always safe). Its material face
+//! ([`AbiMaterialV7`], carried in [`MaterialWithV7`] beside everything of v6) takes the
+//! wavelengths by reference too ([`QueryV7`]: the host's own record) and answers with a status
+//! word ([`status`](crate::fast::status)), the error written through a reference only when
+//! there is one, instead of an `RResult` moved back on every call. A library older than v7 is
+//! served through v6.
 //!
 //! [`export_plugin!`](crate::export_plugin) exports every version for every plugin.
 //!
@@ -92,7 +97,8 @@
 
 use crate::error::PluginError;
 use crate::fast::{
-    EmissionF32, IncidentF32, LanesF32, MaterialQuery, QueryV5, ReceiverF32, ScatterF32, Vec4f,
+    EmissionF32, IncidentF32, LanesF32, MaterialQuery, QueryV5, QueryV7, ReceiverF32, ScatterF32,
+    Vec4f,
 };
 use crate::guard::guarded;
 use crate::host::HostRef;
@@ -691,20 +697,57 @@ pub struct ObserverWithTable {
     pub table: ROption<ObserverTable>,
 }
 
-/// Extension version 7: an observer constructor returning its declared table. Parameters and
-/// saved state as for the root module's.
+/// The material calls of version 7: those of [`AbiMaterialV5`] with the wavelengths by
+/// reference ([`QueryV7`]) and a status word for an answer
+/// ([`status`](crate::fast::status)): `NONE` (`sample` only: absorbed, `out` untouched),
+/// `WRITTEN` (the result is in `out`) or `ERROR` (an error, or a panic caught on the plugin's
+/// side, written through `err`; `out` is not to be read). `eval` writes the BSDF value per lane
+/// (1/sr), `pdf` the density (1/sr).
+#[sabi_trait]
+pub trait AbiMaterialV7: Send + Sync {
+    /// See [`crate::Material::sample_v7`].
+    fn sample(&self, q: &QueryV7<'_>, out: &mut ScatterF32, err: &mut ROption<PluginError>) -> u32;
+    /// See [`crate::Material::eval_v7`].
+    fn eval(&self, q: &QueryV7<'_>, out: &mut [f32; LANES], err: &mut ROption<PluginError>) -> u32;
+    /// See [`crate::Material::pdf_v7`].
+    #[sabi(last_prefix_field)]
+    fn pdf(&self, q: &QueryV7<'_>, out: &mut f32, err: &mut ROption<PluginError>) -> u32;
+}
+
+/// The version-7 face of a material, owned.
+pub type MaterialV7Box = AbiMaterialV7_TO<'static, RBox<()>>;
+
+/// A material built through version 7: everything of version 6 and the v7 calls, on the same
+/// object.
+#[repr(C)]
+#[derive(StableAbi)]
+pub struct MaterialWithV7 {
+    /// The faces and declarations of version 6.
+    pub with_v6: MaterialWithV6,
+    /// The calls of version 7 (sample, eval, pdf), on the same object.
+    pub v7: MaterialV7Box,
+}
+
+/// Extension version 7: an observer constructor returning its declared table, and a material
+/// constructor returning the v7 face. Parameters and saved state as for the root module's.
 #[repr(C)]
 #[derive(StableAbi)]
 #[sabi(kind(Prefix(prefix_ref = ExtensionsV7Ref)))]
 #[sabi(missing_field(panic))]
 pub struct ExtensionsV7 {
     /// Build an observer with its declared table.
-    #[sabi(last_prefix_field)]
     pub create_observer: extern "C" fn(
         type_name: RStr<'_>,
         source: ObjectSource<'_>,
         host: HostRef<'_>,
     ) -> RResult<ObserverWithTable, PluginError>,
+    /// Build a material with its faces and declarations.
+    #[sabi(last_prefix_field)]
+    pub create_material: extern "C" fn(
+        type_name: RStr<'_>,
+        source: ObjectSource<'_>,
+        host: HostRef<'_>,
+    ) -> RResult<MaterialWithV7, PluginError>,
 }
 
 /// What the version-7 symbol returns: the module's layout (checked by the host against its own

@@ -22,6 +22,8 @@
 //! | [`ReceiverF32`] | the point a light is sampled from: position, its error bound, geometric normal (extension v6) | scene units |
 //! | [`IncidentF32`] | radiance per lane, unit direction to the light, density, point on the light, its error bound, light normal (extension v6) | W/(m²·sr·nm), 1/sr, scene units |
 //! | [`EmissionF32`] | origin, unit direction, emitted value per lane, densities of origin and direction, normal (extension v6) | scene units, W/(sr·nm) or W/(m²·sr·nm), 1/m², 1/sr |
+//! | [`WavelengthsF32`] | wavelengths, densities, live-lane bits in one byte: the host's own record (extension v7) | nm, 1/nm |
+//! | [`QueryV7`] | as [`QueryV5`], the wavelengths by reference too (extension v7) | |
 
 use crate::material::{ScatterSample, SurfaceContext};
 use crate::types::{Flags, RandomSample, SpectralValues, TransportMode, Vec3, Wavelengths, LANES};
@@ -302,4 +304,78 @@ impl EmissionF32 {
             normal: Vec4f::from_f64(s.normal),
         }
     }
+}
+
+/// The wavelengths of one path as extension v7 passes them: by reference, in the host's own
+/// record (no copy). As [`LanesF32`] with the live-lane bits in one byte (bit i = lane i; the
+/// three bytes after it are padding, not to be read).
+#[repr(C)]
+#[derive(StableAbi, Clone, Copy, Debug, Default, PartialEq)]
+pub struct WavelengthsF32 {
+    /// Wavelengths, nm.
+    pub nm: [f32; LANES],
+    /// Sampling densities, 1/nm.
+    pub pdf: [f32; LANES],
+    /// Live lanes, one bit per lane.
+    pub live: u8,
+}
+
+impl WavelengthsF32 {
+    /// As v4's and v5's [`LanesF32`] (a copy).
+    #[inline]
+    pub fn to_lanes(&self) -> LanesF32 {
+        LanesF32 {
+            nm: self.nm,
+            pdf: self.pdf,
+            live: u32::from(self.live),
+        }
+    }
+}
+
+/// Everything one material call of extension v7 takes: [`QueryV5`] with the wavelengths by
+/// reference too (the host's own record, [`WavelengthsF32`]). The surface's vectors' `w` lanes
+/// are unspecified: read `x, y, z` only. [`Self::to_v5`] gives the v5 query.
+#[repr(C)]
+#[derive(StableAbi, Clone, Copy, Debug, PartialEq)]
+pub struct QueryV7<'a> {
+    /// The surface point (its vectors' `w` unspecified).
+    pub ctx: &'a SurfaceF32,
+    /// The path's wavelengths.
+    pub lambda: &'a WavelengthsF32,
+    /// Outgoing direction, local frame, away from the surface (`w` = 0).
+    pub wo: Vec4f,
+    /// Incident direction, local frame (eval and pdf; unused by sample; `w` = 0).
+    pub wi: Vec4f,
+    /// Uniforms in [0, 1) for sample, as [`MaterialQuery::u`].
+    pub u: [f32; 3],
+    /// Radiance (camera paths) or importance (light paths).
+    pub mode: TransportMode,
+}
+
+impl<'a> QueryV7<'a> {
+    /// The same query in v5's form (the wavelengths copied).
+    #[inline]
+    pub fn to_v5(&self) -> QueryV5<'a> {
+        QueryV5 {
+            ctx: self.ctx,
+            wo: self.wo,
+            wi: self.wi,
+            lambda: self.lambda.to_lanes(),
+            u: self.u,
+            mode: self.mode,
+        }
+    }
+}
+
+/// What a material call of extension v7 answers, as one word: [`status::NONE`],
+/// [`status::WRITTEN`] or [`status::ERROR`]. A plain `u32` rather than an enum so that any value
+/// a plugin returns is a valid one; the host treats every other value as an error of the plugin.
+pub mod status {
+    /// `sample`: absorbed, nothing written.
+    pub const NONE: u32 = 0;
+    /// The result was written through `out`.
+    pub const WRITTEN: u32 = 1;
+    /// The call failed (an error, or a panic caught on the plugin's side): the error was written
+    /// through `err`; `out` is not to be read.
+    pub const ERROR: u32 = 2;
 }

@@ -46,8 +46,8 @@ pub mod types;
 pub use error::{ErrorKind, PluginError, PluginResult};
 pub use export::{ParamDoc, PluginType};
 pub use fast::{
-    EmissionF32, IncidentF32, LanesF32, MaterialQuery, QueryV5, ReceiverF32, ScatterF32,
-    SurfaceF32, Vec4f,
+    EmissionF32, IncidentF32, LanesF32, MaterialQuery, QueryV5, QueryV7, ReceiverF32, ScatterF32,
+    SurfaceF32, Vec4f, WavelengthsF32,
 };
 pub use host::{Host, HostRef};
 pub use light::{

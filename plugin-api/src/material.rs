@@ -3,10 +3,11 @@
 
 use crate::error::{PluginError, PluginResult};
 use crate::extension::{
-    AbiMaterialEmittedV6, AbiMaterialV2, AbiMaterialV4, AbiMaterialV5, MaterialEmission,
-    MaterialWithV2, MaterialWithV3, MaterialWithV4, MaterialWithV5, MaterialWithV6, SpdWithLines,
+    AbiMaterialEmittedV6, AbiMaterialV2, AbiMaterialV4, AbiMaterialV5, AbiMaterialV7,
+    MaterialEmission, MaterialWithV2, MaterialWithV3, MaterialWithV4, MaterialWithV5,
+    MaterialWithV6, MaterialWithV7, SpdWithLines,
 };
-use crate::fast::{values_f32, MaterialQuery, QueryV5, ScatterF32};
+use crate::fast::{status, values_f32, MaterialQuery, QueryV5, QueryV7, ScatterF32};
 use crate::guard::{guarded, guarded_call, guarded_call_v5};
 use crate::reradiation::{GuardedReradiation, Reradiation};
 use crate::spd::Spd;
@@ -318,6 +319,30 @@ pub trait Material: Send + Sync + 'static {
     fn pdf_v5(&self, q: &QueryV5<'_>) -> PluginResult<f32> {
         self.pdf_v4(&q.to_v4())
     }
+    /// [`sample_v5`](Self::sample_v5) with the wavelengths by reference (extension v7; see
+    /// [`QueryV7`]), the sample written into `out` (`Ok(false)`: absorbed, `out` untouched). The
+    /// default copies the query into v5's form and calls `sample_v5`; a material that reads the
+    /// wavelengths in place may override it.
+    fn sample_v7(&self, q: &QueryV7<'_>, out: &mut ScatterF32) -> PluginResult<bool> {
+        Ok(match self.sample_v5(&q.to_v5())? {
+            Some(s) => {
+                *out = s;
+                true
+            }
+            None => false,
+        })
+    }
+    /// [`eval_v5`](Self::eval_v5) with the wavelengths by reference (extension v7), as
+    /// [`sample_v7`](Self::sample_v7): the BSDF value per lane (1/sr) written into `out`.
+    fn eval_v7(&self, q: &QueryV7<'_>, out: &mut [f32; LANES]) -> PluginResult<()> {
+        *out = self.eval_v5(&q.to_v5())?;
+        Ok(())
+    }
+    /// [`pdf_v5`](Self::pdf_v5) with the wavelengths by reference (extension v7), as
+    /// [`sample_v7`](Self::sample_v7).
+    fn pdf_v7(&self, q: &QueryV7<'_>) -> PluginResult<f32> {
+        self.pdf_v5(&q.to_v5())
+    }
 }
 
 /// The stable-ABI face of a material.
@@ -511,6 +536,14 @@ impl<T: Material> GuardedMaterial<T> {
         inner: T,
         state: fn(&T) -> PluginResult<Vec<u8>>,
     ) -> RResult<MaterialWithV6, PluginError> {
+        Self::faces_v6(Arc::new(inner), state)
+    }
+
+    /// The faces and declarations of [`Self::boxed_v6`] on a shared object.
+    fn faces_v6(
+        inner: Arc<T>,
+        state: fn(&T) -> PluginResult<Vec<u8>>,
+    ) -> RResult<MaterialWithV6, PluginError> {
         crate::guard::install();
         let declared = guarded("spectrally_flat", || {
             Ok((
@@ -523,7 +556,6 @@ impl<T: Material> GuardedMaterial<T> {
             RResult::ROk(d) => d,
             RResult::RErr(e) => return RResult::RErr(e),
         };
-        let inner = Arc::new(inner);
         let v3 = match Self::faces_v3(inner.clone(), state) {
             RResult::ROk(m) => m,
             RResult::RErr(e) => return RResult::RErr(e),
@@ -547,6 +579,68 @@ impl<T: Material> GuardedMaterial<T> {
             f_same_for_all_directions,
             cosine_weighted_pdf,
         })
+    }
+
+    /// Box `inner` behind the ABI with every face (versions 2, 3, 5, 6 and 7) and its
+    /// declarations (extensions v4 to v6); one object behind all of them.
+    pub fn boxed_v7(
+        inner: T,
+        state: fn(&T) -> PluginResult<Vec<u8>>,
+    ) -> RResult<MaterialWithV7, PluginError> {
+        let inner = Arc::new(inner);
+        let with_v6 = match Self::faces_v6(inner.clone(), state) {
+            RResult::ROk(m) => m,
+            RResult::RErr(e) => return RResult::RErr(e),
+        };
+        RResult::ROk(MaterialWithV7 {
+            with_v6,
+            v7: crate::extension::AbiMaterialV7_TO::from_value(
+                Self { inner, state },
+                abi_stable::sabi_trait::TD_Opaque,
+            ),
+        })
+    }
+}
+
+/// A v7 call's answer as its status word, the error written through `err`.
+#[inline]
+fn status_of(r: Result<u32, PluginError>, err: &mut ROption<PluginError>) -> u32 {
+    match r {
+        Ok(s) => s,
+        Err(e) => {
+            *err = ROption::RSome(e);
+            status::ERROR
+        }
+    }
+}
+
+impl<T: Material> AbiMaterialV7 for GuardedMaterial<T> {
+    #[inline]
+    fn sample(&self, q: &QueryV7<'_>, out: &mut ScatterF32, err: &mut ROption<PluginError>) -> u32 {
+        let r = guarded_call_v5("sample (v7)", || {
+            Ok(if self.inner.sample_v7(q, out)? {
+                status::WRITTEN
+            } else {
+                status::NONE
+            })
+        });
+        status_of(r, err)
+    }
+    #[inline]
+    fn eval(&self, q: &QueryV7<'_>, out: &mut [f32; LANES], err: &mut ROption<PluginError>) -> u32 {
+        let r = guarded_call_v5("eval (v7)", || {
+            self.inner.eval_v7(q, out)?;
+            Ok(status::WRITTEN)
+        });
+        status_of(r, err)
+    }
+    #[inline]
+    fn pdf(&self, q: &QueryV7<'_>, out: &mut f32, err: &mut ROption<PluginError>) -> u32 {
+        let r = guarded_call_v5("pdf (v7)", || {
+            *out = self.inner.pdf_v7(q)?;
+            Ok(status::WRITTEN)
+        });
+        status_of(r, err)
     }
 }
 

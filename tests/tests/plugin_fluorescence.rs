@@ -218,15 +218,16 @@ fn lies_while_rendering_are_dropped_and_reported_never_a_crash() {
     }
 }
 
-/// The material calls of extension v5 (`sample`, `eval`, `pdf` in the host's layout, results
-/// through a reference, the plugin's guard without a thread-local) keep the boundary's
+/// The material calls of extensions v5 and v7 (`sample`, `eval`, `pdf` in the host's layout,
+/// results through a reference, the plugin's guard without a thread-local; v7: the wavelengths by
+/// reference and a status word, the face a current library is called through) keep the boundary's
 /// guarantees: a BSDF sample with a NaN value is dropped and counted per plugin object and
 /// reason ("value NaN, infinite or negative"), and a panic while sampling is caught on the
-/// plugin's side and reported with its call (`sample (v5)`), the panic's location (taken from
+/// plugin's side and reported with its call (`sample (v7)`), the panic's location (taken from
 /// the report the library's hook deferred) and its message; the render finishes either way (PT,
 /// 16 spp).
 #[test]
-fn lies_in_the_v5_material_calls_are_dropped_or_reported() {
+fn lies_in_the_fast_material_calls_are_dropped_or_reported() {
     let f = factory();
     let scene = build(&f, &scene_text("liar", "(lie: \"nan_sample\")", 400)).unwrap();
     render_y(&scene, IntegratorKind::Pt);
@@ -249,7 +250,7 @@ fn lies_in_the_v5_material_calls_are_dropped_or_reported() {
     let e = f.faults().outcome().unwrap_err();
     for want in [
         "lying-fluorescent",
-        "sample (v5) panicked at plugins/fixtures/lying-fluorescent/src/lib.rs:",
+        "sample (v7) panicked at plugins/fixtures/lying-fluorescent/src/lib.rs:",
         "the liar panics while sampling",
     ] {
         assert!(e.contains(want), "missing {want:?} in: {e}");

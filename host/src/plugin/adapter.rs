@@ -25,11 +25,12 @@ use glam::{Vec2, Vec3A};
 use spectrace_plugin_api::abi::std_types::{ROption, RResult};
 use spectrace_plugin_api::extension::{
     LightV2Box, LightV6Box, LightWithV2, LightWithV4, LightWithV6, MaterialEmittedV6Box,
-    MaterialV2Box, MaterialV4Box, MaterialV5Box, MaterialWithV2, MaterialWithV3, MaterialWithV4,
-    MaterialWithV5, MaterialWithV6, RepresentedLightBox, SpdWithLines,
+    MaterialV2Box, MaterialV4Box, MaterialV5Box, MaterialV7Box, MaterialWithV2, MaterialWithV3,
+    MaterialWithV4, MaterialWithV5, MaterialWithV6, MaterialWithV7, RepresentedLightBox,
+    SpdWithLines,
 };
 use spectrace_plugin_api::fast::{
-    EmissionF32, LanesF32, MaterialQuery, QueryV5, ScatterF32, SurfaceF32, Vec4f,
+    status, EmissionF32, LanesF32, MaterialQuery, QueryV5, QueryV7, ScatterF32, SurfaceF32, Vec4f,
 };
 use spectrace_plugin_api::{
     light_flags, material_flags, spd_flags, Beam, Flags, LightBox, MaterialBox, ObserverBox,
@@ -216,6 +217,39 @@ impl Origin {
     fn fail<T>(&self, e: PluginError, fallback: T) -> T {
         self.faults.record(&self.label, &e);
         fallback
+    }
+
+    /// Record a v7 call that answered `status` other than its result (extension v7): the error
+    /// it wrote, or, for a status that does not say so, an error naming it (a plugin that
+    /// answers `ERROR` without an error, or a status word the interface does not have).
+    #[cold]
+    #[inline(never)]
+    fn status_fault<T>(
+        &self,
+        call: &str,
+        status: u32,
+        err: ROption<PluginError>,
+        fallback: T,
+    ) -> T {
+        let e = match (status, err.into_option()) {
+            (status::ERROR, Some(e)) => e,
+            (status::NONE, _) => PluginError::new(
+                spectrace_plugin_api::ErrorKind::Other,
+                format!("{call} answered NONE (status 0), which only `sample` may answer"),
+            ),
+            (status::ERROR, None) => PluginError::new(
+                spectrace_plugin_api::ErrorKind::Other,
+                format!("{call} answered ERROR (status 2) without writing an error"),
+            ),
+            (other, _) => PluginError::new(
+                spectrace_plugin_api::ErrorKind::Other,
+                format!(
+                    "{call} answered status {other}, which is none of NONE (0, sample only), \
+                     WRITTEN (1) and ERROR (2)"
+                ),
+            ),
+        };
+        self.fail(e, fallback)
     }
 
     /// Record a result dropped for `reason` (kept out of the callers' hot code).
@@ -550,6 +584,27 @@ fn query_v5<'a>(
     }
 }
 
+/// One extension-v7 material query: the host's surface and wavelengths by reference (the same
+/// memory, `super::layout`), the directions and uniforms copied.
+#[inline]
+fn query_v7<'a>(
+    wo: Vec3A,
+    wi: Vec3A,
+    ctx: &'a ShadingContext,
+    lambda: &'a SampledWavelengths,
+    u: [f32; 3],
+    m: HostMode,
+) -> QueryV7<'a> {
+    QueryV7 {
+        ctx: super::layout::as_surface(ctx),
+        lambda: super::layout::as_wavelengths_f32(lambda),
+        wo: v4f(wo),
+        wi: v4f(wi),
+        u,
+        mode: mode(m),
+    }
+}
+
 /// A plugin material as a host [`Material`]. An EMISSIVE one also describes its emission
 /// ([`Material::emission`]), so the scene builds an area light on every object that uses it,
 /// sampled and MIS-weighted like the built-in `emissive`. A FLUORESCENT one built through
@@ -570,6 +625,9 @@ pub struct PluginMaterial {
     /// The same material's version-5 face (extension v5): when present, `sample`, `eval` and
     /// `pdf` go through it (results written through a reference, no thread-local guard).
     v5: Option<MaterialV5Box>,
+    /// The same material's version-7 face (extension v7): when present, `sample`, `eval` and
+    /// `pdf` go through it (the wavelengths by reference, a status word for an answer).
+    v7: Option<MaterialV7Box>,
     /// Declared spectrally flat (extension v4) and found so when built ([`Self::new_v4`]).
     flat: bool,
     /// Declared to have one BSDF value for every direction (extension v5) and found so when
@@ -658,6 +716,17 @@ impl PluginMaterial {
     /// claim the material's own answers contradict is refused, naming the plugin object and
     /// `item`.
     pub fn new_v5(material: MaterialWithV5, origin: Origin, item: &str) -> Result<Self, String> {
+        Self::with_v5(material, None, origin, item)
+    }
+
+    /// [`Self::new_v5`] with the v7 face, when there is one, set before the declarations are
+    /// checked: the checks ask the face that renders.
+    fn with_v5(
+        material: MaterialWithV5,
+        v7: Option<MaterialV7Box>,
+        origin: Origin,
+        item: &str,
+    ) -> Result<Self, String> {
         let MaterialWithV5 {
             material,
             v2,
@@ -676,6 +745,7 @@ impl PluginMaterial {
             item,
         )?;
         m.v5 = Some(v5);
+        m.v7 = v7;
         if spectrally_flat {
             super::flatness::check(&m, m.flags, m.reradiation.is_some()).map_err(|e| {
                 format!(
@@ -703,6 +773,22 @@ impl PluginMaterial {
     /// cosine-weighted density, checked (see [`super::cosine_pdf`]): a claim the material's own
     /// answers contradict is refused, naming the plugin object and `item`.
     pub fn new_v6(material: MaterialWithV6, origin: Origin, item: &str) -> Result<Self, String> {
+        Self::with_v6(material, None, origin, item)
+    }
+
+    /// Wrap a material built through extension v7: as [`Self::new_v6`] (every declaration
+    /// checked, through the v7 face), with `sample`, `eval` and `pdf` through the v7 face.
+    pub fn new_v7(material: MaterialWithV7, origin: Origin, item: &str) -> Result<Self, String> {
+        Self::with_v6(material.with_v6, Some(material.v7), origin, item)
+    }
+
+    /// [`Self::new_v6`] with the v7 face, as [`Self::with_v5`].
+    fn with_v6(
+        material: MaterialWithV6,
+        v7: Option<MaterialV7Box>,
+        origin: Origin,
+        item: &str,
+    ) -> Result<Self, String> {
         let MaterialWithV6 {
             material,
             v2,
@@ -713,7 +799,7 @@ impl PluginMaterial {
             f_same_for_all_directions,
             cosine_weighted_pdf,
         } = material;
-        let mut m = Self::new_v5(
+        let mut m = Self::with_v5(
             MaterialWithV5 {
                 material,
                 v2,
@@ -722,6 +808,7 @@ impl PluginMaterial {
                 spectrally_flat,
                 f_same_for_all_directions,
             },
+            v7,
             origin,
             item,
         )?;
@@ -766,6 +853,7 @@ impl PluginMaterial {
             reradiation: None,
             v4: None,
             v5: None,
+            v7: None,
             flat: false,
             same_f: false,
             emitted_v6: None,
@@ -857,6 +945,70 @@ impl PluginMaterial {
 /// The calls of libraries older than extension v5, out of line: the v5 path above stays a
 /// small function (its frame and saved registers are what that path needs, not these).
 impl PluginMaterial {
+    /// The density asked of the plugin, out of line: a material that declares the
+    /// cosine-weighted density (extension v6) gets its `pdf` in a few instructions, as the
+    /// built-in does, without this path's frame.
+    #[inline(never)]
+    fn pdf_call(
+        &self,
+        wo: Vec3A,
+        wi: Vec3A,
+        ctx: &ShadingContext,
+        lambda: &SampledWavelengths,
+        m: HostMode,
+    ) -> f32 {
+        if let Some(v7) = &self.v7 {
+            let q = query_v7(wo, wi, ctx, lambda, [0.0; 3], m);
+            let mut p = 0.0;
+            let mut err = ROption::RNone;
+            return match v7.pdf(&q, &mut p, &mut err) {
+                status::WRITTEN => match checked::density_f32(p) {
+                    Ok(()) => p,
+                    Err(reason) => {
+                        self.origin.dropped(reason);
+                        0.0
+                    }
+                },
+                other => self.origin.status_fault("pdf (v7)", other, err, 0.0),
+            };
+        }
+        if let Some(v5) = &self.v5 {
+            let q = query_v5(wo, wi, ctx, lambda, [0.0; 3], m);
+            let mut p = 0.0;
+            return match v5.pdf(&q, &mut p) {
+                RResult::ROk(()) => match checked::density_f32(p) {
+                    Ok(()) => p,
+                    Err(reason) => {
+                        self.origin.dropped(reason);
+                        0.0
+                    }
+                },
+                RResult::RErr(e) => self.origin.fail(e, 0.0),
+            };
+        }
+        if let Some(v4) = &self.v4 {
+            let q = query(wo, wi, ctx, lambda, [0.0; 3], m);
+            return match v4.pdf(&q) {
+                RResult::ROk(p) => match checked::density_f32(p) {
+                    Ok(()) => p,
+                    Err(reason) => {
+                        self.origin.dropped(reason);
+                        0.0
+                    }
+                },
+                RResult::RErr(e) => self.origin.fail(e, 0.0),
+            };
+        }
+        let (wo, wi, lambda) = (v3(wo), v3(wi), lambdas(lambda));
+        let r = match &self.v2 {
+            Some(v2) => v2.pdf(&Self::surface(ctx), wo, wi, &lambda, mode(m)),
+            None => (self.material).pdf(&Self::ctx(ctx), wo, wi, &lambda, mode(m)),
+        };
+        (self.origin)
+            .checked(r, |p| checked::density(*p))
+            .map_or(0.0, |v| v as f32)
+    }
+
     #[inline(never)]
     fn sample_before_v5(
         &self,
@@ -958,6 +1110,34 @@ impl Material for PluginMaterial {
         u: Vec2,
         m: HostMode,
     ) -> Option<BsdfSample> {
+        if let Some(v7) = &self.v7 {
+            let q = query_v7(wo, Vec3A::ZERO, ctx, lambda, [u_lobe, u.x, u.y], m);
+            // Written by the plugin in place (see `super::layout`), checked, and its event bits
+            // translated to the host's.
+            let mut s = BsdfSample {
+                wi: Vec3A::ZERO,
+                f: SampledSpectrum::zero(),
+                pdf: 0.0,
+                flags: MaterialFlags::NONE,
+                eta: 0.0,
+            };
+            let out = super::layout::as_scatter_mut(&mut s);
+            let mut err = ROption::RNone;
+            return match v7.sample(&q, out, &mut err) {
+                status::WRITTEN => match checked::scatter_f32(out) {
+                    Ok(()) => {
+                        s.flags = event_bits(Flags(s.flags.0));
+                        Some(s)
+                    }
+                    Err(reason) => {
+                        self.origin.dropped(reason);
+                        None
+                    }
+                },
+                status::NONE => None,
+                other => self.origin.status_fault("sample (v7)", other, err, None),
+            };
+        }
         if let Some(v5) = &self.v5 {
             let q = query_v5(wo, Vec3A::ZERO, ctx, lambda, [u_lobe, u.x, u.y], m);
             // Written by the plugin in place (see `super::layout`), checked, and its event bits
@@ -996,6 +1176,23 @@ impl Material for PluginMaterial {
         lambda: &SampledWavelengths,
         m: HostMode,
     ) -> SampledSpectrum {
+        if let Some(v7) = &self.v7 {
+            let q = query_v7(wo, wi, ctx, lambda, [0.0; 3], m);
+            let mut v = [0.0; LANES];
+            let mut err = ROption::RNone;
+            return match v7.eval(&q, &mut v, &mut err) {
+                status::WRITTEN => match checked::values_f32(&v) {
+                    Ok(()) => SampledSpectrum(v),
+                    Err(reason) => {
+                        self.origin.dropped(reason);
+                        SampledSpectrum::zero()
+                    }
+                },
+                other => {
+                    (self.origin).status_fault("eval (v7)", other, err, SampledSpectrum::zero())
+                }
+            };
+        }
         if let Some(v5) = &self.v5 {
             let q = query_v5(wo, wi, ctx, lambda, [0.0; 3], m);
             let mut v = [0.0; LANES];
@@ -1023,41 +1220,7 @@ impl Material for PluginMaterial {
         if self.cosine {
             return super::cosine_pdf::cosine_pdf(wo, wi);
         }
-        if let Some(v5) = &self.v5 {
-            let q = query_v5(wo, wi, ctx, lambda, [0.0; 3], m);
-            let mut p = 0.0;
-            return match v5.pdf(&q, &mut p) {
-                RResult::ROk(()) => match checked::density_f32(p) {
-                    Ok(()) => p,
-                    Err(reason) => {
-                        self.origin.dropped(reason);
-                        0.0
-                    }
-                },
-                RResult::RErr(e) => self.origin.fail(e, 0.0),
-            };
-        }
-        if let Some(v4) = &self.v4 {
-            let q = query(wo, wi, ctx, lambda, [0.0; 3], m);
-            return match v4.pdf(&q) {
-                RResult::ROk(p) => match checked::density_f32(p) {
-                    Ok(()) => p,
-                    Err(reason) => {
-                        self.origin.dropped(reason);
-                        0.0
-                    }
-                },
-                RResult::RErr(e) => self.origin.fail(e, 0.0),
-            };
-        }
-        let (wo, wi, lambda) = (v3(wo), v3(wi), lambdas(lambda));
-        let r = match &self.v2 {
-            Some(v2) => v2.pdf(&Self::surface(ctx), wo, wi, &lambda, mode(m)),
-            None => (self.material).pdf(&Self::ctx(ctx), wo, wi, &lambda, mode(m)),
-        };
-        (self.origin)
-            .checked(r, |p| checked::density(*p))
-            .map_or(0.0, |v| v as f32)
+        self.pdf_call(wo, wi, ctx, lambda, m)
     }
 
     fn emission(&self) -> Option<EmissionProfile> {
@@ -1717,6 +1880,176 @@ const _: () = assert!(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use spectrace_plugin_api::abi::sabi_trait::TD_Opaque;
+    use spectrace_plugin_api::extension::{AbiMaterialV7, AbiMaterialV7_TO};
+    use spectrace_plugin_api::material::GuardedMaterial;
+    use spectrace_plugin_api::{PluginResult, ScatterSample, ShadingContext as ApiContext};
+
+    /// A plugin Lambertian in `f64` (the v6 faces the checks of the declarations use).
+    struct Grey;
+
+    impl spectrace_plugin_api::Material for Grey {
+        fn capabilities(&self) -> Flags {
+            material_flags::DIFFUSE
+        }
+        fn sample(
+            &self,
+            _ctx: &ApiContext,
+            _wo: Vec3,
+            _lambda: &Wavelengths,
+            _u: &RandomSample,
+            _mode: TransportMode,
+        ) -> PluginResult<Option<ScatterSample>> {
+            Ok(None)
+        }
+        fn eval(
+            &self,
+            _ctx: &ApiContext,
+            _wo: Vec3,
+            _wi: Vec3,
+            _lambda: &Wavelengths,
+            _mode: TransportMode,
+        ) -> PluginResult<SpectralValues> {
+            Ok(SpectralValues { v: [0.5; LANES] })
+        }
+        fn pdf(
+            &self,
+            _ctx: &ApiContext,
+            _wo: Vec3,
+            _wi: Vec3,
+            _lambda: &Wavelengths,
+            _mode: TransportMode,
+        ) -> PluginResult<f64> {
+            Ok(0.25)
+        }
+    }
+
+    /// A v7 face that answers a fixed status word, writing `wi` as given when it says WRITTEN
+    /// and no error when it says ERROR: what a lying or broken plugin can do.
+    struct Answers {
+        status: u32,
+        wi: Vec4f,
+    }
+
+    impl AbiMaterialV7 for Answers {
+        fn sample(
+            &self,
+            _q: &QueryV7<'_>,
+            out: &mut ScatterF32,
+            _e: &mut ROption<PluginError>,
+        ) -> u32 {
+            *out = ScatterF32 {
+                wi: self.wi,
+                value: [0.5; LANES],
+                pdf: 0.3,
+                flags: material_flags::DIFFUSE,
+                eta: 1.0,
+            };
+            self.status
+        }
+        fn eval(
+            &self,
+            _q: &QueryV7<'_>,
+            out: &mut [f32; LANES],
+            _e: &mut ROption<PluginError>,
+        ) -> u32 {
+            *out = [0.5; LANES];
+            self.status
+        }
+        fn pdf(&self, _q: &QueryV7<'_>, out: &mut f32, _e: &mut ROption<PluginError>) -> u32 {
+            *out = 0.25;
+            self.status
+        }
+    }
+
+    fn with_face(face: Answers) -> (PluginMaterial, Arc<PluginFaults>) {
+        let faults = PluginFaults::new();
+        let origin = Origin {
+            label: "material `grey` (plugin test 0.1.0)".to_string(),
+            faults: faults.clone(),
+        };
+        let with_v6 = GuardedMaterial::boxed_v6(Grey, |_| Ok(Vec::new())).unwrap();
+        let v7 = AbiMaterialV7_TO::from_value(face, TD_Opaque);
+        let m = PluginMaterial::new_v7(MaterialWithV7 { with_v6, v7 }, origin, "floor").unwrap();
+        (m, faults)
+    }
+
+    fn ask(m: &PluginMaterial) -> (Option<BsdfSample>, SampledSpectrum, f32) {
+        let ctx = ShadingContext::default();
+        let lambda = SampledWavelengths::sample_uniform(0.3, 380.0, 780.0);
+        let (wo, wi) = (Vec3A::Z, Vec3A::new(0.6, 0.0, 0.8));
+        let mode = HostMode::Radiance;
+        (
+            m.sample(wo, &ctx, &lambda, 0.5, Vec2::splat(0.5), mode),
+            m.eval(wo, wi, &ctx, &lambda, mode),
+            m.pdf(wo, wi, &ctx, &lambda, mode),
+        )
+    }
+
+    // Extension v7's status word: WRITTEN hands over what the face wrote (the sample's event
+    // bits translated); a status the interface does not have, ERROR without an error, and NONE
+    // from eval or pdf are each refused (0 / no sample) and reported naming the plugin object,
+    // the call and the status; a sample whose direction is not unit is dropped as for every face.
+    #[test]
+    fn the_v7_status_word_is_checked() {
+        let (m, faults) = with_face(Answers {
+            status: status::WRITTEN,
+            wi: Vec4f::new(0.0, 0.6, 0.8),
+        });
+        let (s, f, p) = ask(&m);
+        let s = s.expect("a sample");
+        assert_eq!(
+            (s.wi, s.f.0, s.pdf),
+            (Vec3A::new(0.0, 0.6, 0.8), [0.5; 4], 0.3)
+        );
+        assert_eq!(s.flags, MaterialFlags::DIFFUSE | MaterialFlags::REFLECTION);
+        assert_eq!((f.0, p), ([0.5; 4], 0.25));
+        assert_eq!(faults.count() + faults.invalid_count(), 0);
+
+        for (status, says) in [
+            (7, "answered status 7, which is none of"),
+            (
+                status::ERROR,
+                "answered ERROR (status 2) without writing an error",
+            ),
+        ] {
+            let (m, faults) = with_face(Answers {
+                status,
+                wi: Vec4f::new(0.0, 0.6, 0.8),
+            });
+            let (s, f, p) = ask(&m);
+            assert!(s.is_none());
+            assert_eq!((f.0, p), ([0.0; 4], 0.0));
+            assert_eq!(faults.count(), 3);
+            let first = faults.first().unwrap();
+            assert!(
+                first.starts_with("material `grey` (plugin test 0.1.0): "),
+                "{first}"
+            );
+            assert!(first.contains(&format!("sample (v7) {says}")), "{first}");
+        }
+
+        let (m, faults) = with_face(Answers {
+            status: status::NONE,
+            wi: Vec4f::new(0.0, 0.6, 0.8),
+        });
+        let (s, f, p) = ask(&m);
+        assert!(s.is_none());
+        assert_eq!((f.0, p), ([0.0; 4], 0.0));
+        assert_eq!(faults.count(), 2, "eval and pdf may not answer NONE");
+        let sites = faults.sites();
+        assert!(sites.iter().any(|s| s
+            .3
+            .contains("eval (v7) answered NONE (status 0), which only `sample` may answer")));
+
+        let (m, faults) = with_face(Answers {
+            status: status::WRITTEN,
+            wi: Vec4f::new(0.0, 1.2, 0.8),
+        });
+        assert!(ask(&m).0.is_none());
+        assert_eq!(faults.invalid_count(), 1);
+        assert_eq!(faults.invalid()[0].0, "material `grey` (plugin test 0.1.0)");
+    }
 
     // The bit-operation form of an event's flags agrees with the table form for every
     // combination of the interface's seven bits.

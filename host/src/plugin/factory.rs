@@ -208,10 +208,16 @@ impl PluginFactory {
         // materials' re-radiation; v4: spectral flatness and uniform emission shapes, and the
         // material calls in the host's layout; v5: one BSDF value for every direction, results
         // through a reference; v6: the cosine-weighted density, emission and the lights' calls
-        // in the host's layout), else the root module.
+        // in the host's layout; v7: the material calls with the wavelengths by reference and a
+        // status word), else the root module.
         Ok(match kind {
             Kind::Material => {
                 let m = if let Some(m) = r
+                    .create_plugin_material_v7(type_name, object_source)
+                    .map_err(construct_error)?
+                {
+                    PluginMaterial::new_v7(m, origin, &ctx.item).map_err(FactoryError::Param)?
+                } else if let Some(m) = r
                     .create_plugin_material_v6(type_name, object_source)
                     .map_err(construct_error)?
                 {

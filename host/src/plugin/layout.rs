@@ -15,7 +15,7 @@ use crate::material::{BsdfSample, MaterialFlags, ShadingContext};
 use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths};
 use glam::{Vec2, Vec3A};
 use spectrace_plugin_api::fast::{
-    IncidentF32, LanesF32, ReceiverF32, ScatterF32, SurfaceF32, Vec4f,
+    IncidentF32, LanesF32, ReceiverF32, ScatterF32, SurfaceF32, Vec4f, WavelengthsF32,
 };
 use spectrace_plugin_api::Flags;
 use std::mem::{align_of, offset_of, size_of};
@@ -70,6 +70,40 @@ const _: () = {
     assert!(offset_of!(SampledWavelengths, lanes) == offset_of!(LanesF32, live));
     assert!(size_of::<LaneMask>() == 1);
 };
+
+// Extension v7's wavelengths: the host's record itself, the live bits one byte on both sides
+// (padding after it on both).
+const _: () = {
+    assert!(size_of::<SampledWavelengths>() == size_of::<WavelengthsF32>());
+    assert!(align_of::<SampledWavelengths>() == align_of::<WavelengthsF32>());
+    assert!(offset_of!(SampledWavelengths, lambda) == offset_of!(WavelengthsF32, nm));
+    assert!(offset_of!(SampledWavelengths, pdf) == offset_of!(WavelengthsF32, pdf));
+    assert!(offset_of!(SampledWavelengths, lanes) == offset_of!(WavelengthsF32, live));
+};
+
+/// The host's wavelengths as extension v7's record (the same memory): what the host hands a v7
+/// plugin material.
+#[inline]
+pub fn as_wavelengths_f32(l: &SampledWavelengths) -> &WavelengthsF32 {
+    // SAFETY: same size, alignment and field offsets (asserted above); `lambda`/`nm` and `pdf`
+    // are `f32`s on both sides, `lanes` (a one-byte `LaneMask`) is `live` (a `u8`), and the
+    // padding after it is padding on both sides; the lifetime is carried over.
+    unsafe { &*(l as *const SampledWavelengths).cast::<WavelengthsF32>() }
+}
+
+/// Extension v7's wavelengths as the host's (the same memory) when `live` holds only lane bits
+/// (as every host's does; `None` otherwise, where the caller copies them instead): what the
+/// standard library hands its materials.
+#[inline]
+pub fn as_wavelengths_v7(l: &WavelengthsF32) -> Option<&SampledWavelengths> {
+    if l.live <= LaneMask::ALL.bits() {
+        // SAFETY: as for `as_wavelengths_f32`, the other way round; `live` holds only lane
+        // bits (checked just now), a valid `LaneMask`.
+        Some(unsafe { &*(l as *const WavelengthsF32).cast::<SampledWavelengths>() })
+    } else {
+        None
+    }
+}
 
 /// The interface's wavelengths as the host's (the same memory), when `live` holds only lane
 /// bits (as every host's does; `None` otherwise, and on a big-endian machine, where the caller
@@ -170,6 +204,27 @@ mod tests {
             ..l
         })
         .is_none());
+    }
+
+    // Extension v7's wavelengths are the host's record, both ways; a `live` with bits beyond
+    // the lanes is not read as the host's.
+    #[test]
+    fn v7_wavelengths_are_the_same_memory() {
+        let w = SampledWavelengths {
+            lambda: [400.0, 500.0, 600.0, 700.0],
+            pdf: [0.01, 0.02, 0.0, 0.04],
+            lanes: LaneMask::from_bits(0b1011),
+        };
+        let l = as_wavelengths_f32(&w);
+        assert_eq!(l.nm, w.lambda);
+        assert_eq!(l.pdf, w.pdf);
+        assert_eq!(l.live, 0b1011);
+        assert_eq!(as_wavelengths_v7(l), Some(&w));
+        let bad = WavelengthsF32 {
+            live: 0b1_0000,
+            ..*l
+        };
+        assert!(as_wavelengths_v7(&bad).is_none());
     }
 
     // The cast sees the same numbers in the same fields, both ways.

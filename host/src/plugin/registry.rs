@@ -645,6 +645,22 @@ impl Registry {
         })
     }
 
+    /// Build a plugin material with its faces (v2, v3, v5, v6, v7) and declarations (extension
+    /// v7); `None` when its library predates v7.
+    pub fn create_plugin_material_v7(
+        &self,
+        name: &str,
+        source: ObjectSource<'_>,
+    ) -> Result<Option<spectrace_plugin_api::extension::MaterialWithV7>, RegistryError> {
+        let Some(ext) = self.extensions_v7(ObjectKind::Material, name)? else {
+            return Ok(None);
+        };
+        self.call_plugin(ObjectKind::Material, name, |_, host| {
+            (ext.create_material())(RStr::from_str(name), source, host)
+        })
+        .map(Some)
+    }
+
     /// Build a plugin observer with its declared table (extension v7); `None` when its library
     /// predates v7.
     pub fn create_plugin_observer_v7(

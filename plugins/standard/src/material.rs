@@ -28,12 +28,12 @@ use spectrace::material::{
     BsdfSample, Material as HostMaterial, MaterialFlags, ShadingContext as HostContext,
     TransportMode as HostMode,
 };
-use spectrace::plugin::layout::{as_shading_context, as_wavelengths};
+use spectrace::plugin::layout::{as_shading_context, as_wavelengths, as_wavelengths_v7};
 use spectrace::scene::FactoryError;
 use spectrace::spectrum::{SampledSpectrum, SampledWavelengths, LANES};
 use spectrace_plugin_api::{
     material_flags, Emission, Flags, Host, LanesF32, Material, MaterialQuery, ParamDoc,
-    PluginError, PluginResult, PluginType, QueryV5, RandomSample, Reradiation, ScatterF32,
+    PluginError, PluginResult, PluginType, QueryV5, QueryV7, RandomSample, Reradiation, ScatterF32,
     ScatterSample, ShadingContext, SpectralValues, SurfaceContext, SurfaceF32, TransportMode, Vec3,
     Vec4f, WavelengthDraw, Wavelengths,
 };
@@ -230,6 +230,38 @@ fn read<'a>(q: &'a QueryV5<'a>, slot: &'a mut Option<SampledWavelengths>) -> Rea
         ctx: as_shading_context(q.ctx),
         lambda: wavelengths(&q.lambda, slot),
         mode: host_mode(q.mode),
+    }
+}
+
+/// What every call of extension v7 reads from its query: as [`read`], the wavelengths in place
+/// too (copied into `slot` only where they cannot be read in place).
+#[inline]
+fn read_v7<'a>(q: &'a QueryV7<'a>, slot: &'a mut Option<SampledWavelengths>) -> Read<'a> {
+    Read {
+        wo: host_v(q.wo),
+        wi: host_v(q.wi),
+        ctx: as_shading_context(q.ctx),
+        lambda: match as_wavelengths_v7(q.lambda) {
+            Some(w) => w,
+            None => slot.insert(lambdas_v4(&q.lambda.to_lanes())),
+        },
+        mode: host_mode(q.mode),
+    }
+}
+
+/// [`sample_v5`] with the wavelengths by reference and the sample written into `out`
+/// (extension v7).
+#[inline]
+fn sample_v7<M: HostMaterial + ?Sized>(m: &M, q: &QueryV7<'_>, out: &mut ScatterF32) -> bool {
+    let mut slot = None;
+    let r = read_v7(q, &mut slot);
+    let u = Vec2::new(q.u[1], q.u[2]);
+    match m.sample(r.wo, r.ctx, r.lambda, q.u[0], u, r.mode) {
+        Some(s) => {
+            *out = scatter(s);
+            true
+        }
+        None => false,
     }
 }
 
@@ -552,6 +584,27 @@ macro_rules! material_type {
             fn pdf_v5(&self, q: &QueryV5<'_>) -> PluginResult<f32> {
                 let mut slot = None;
                 let r = read(q, &mut slot);
+                Ok(self.material.get().pdf(r.wo, r.wi, r.ctx, r.lambda, r.mode))
+            }
+            #[inline]
+            fn sample_v7(&self, q: &QueryV7<'_>, out: &mut ScatterF32) -> PluginResult<bool> {
+                Ok(sample_v7(self.material.get(), q, out))
+            }
+            #[inline]
+            fn eval_v7(&self, q: &QueryV7<'_>, out: &mut [f32; LANES]) -> PluginResult<()> {
+                let mut slot = None;
+                let r = read_v7(q, &mut slot);
+                *out = self
+                    .material
+                    .get()
+                    .eval(r.wo, r.wi, r.ctx, r.lambda, r.mode)
+                    .0;
+                Ok(())
+            }
+            #[inline]
+            fn pdf_v7(&self, q: &QueryV7<'_>) -> PluginResult<f32> {
+                let mut slot = None;
+                let r = read_v7(q, &mut slot);
                 Ok(self.material.get().pdf(r.wo, r.wi, r.ctx, r.lambda, r.mode))
             }
             // Extension v6: declared exactly where the built-in declares it.
