@@ -259,6 +259,18 @@ impl Origin {
         self.faults.record_invalid(&self.label, reason);
     }
 
+    /// `value` when its `check` passed; otherwise `fallback`, the dropped result counted.
+    #[inline]
+    fn kept<T>(&self, check: Result<(), checked::Reason>, value: T, fallback: T) -> T {
+        match check {
+            Ok(()) => value,
+            Err(reason) => {
+                self.dropped(reason);
+                fallback
+            }
+        }
+    }
+
     /// The call's value if it passes `check`; otherwise `None`, with the error or the
     /// dropped result recorded.
     pub(crate) fn checked<T>(
@@ -962,13 +974,7 @@ impl PluginMaterial {
             let mut p = 0.0;
             let mut err = ROption::RNone;
             return match v7.pdf(&q, &mut p, &mut err) {
-                status::WRITTEN => match checked::density_f32(p) {
-                    Ok(()) => p,
-                    Err(reason) => {
-                        self.origin.dropped(reason);
-                        0.0
-                    }
-                },
+                status::WRITTEN => self.origin.kept(checked::density_f32(p), p, 0.0),
                 other => self.origin.status_fault("pdf (v7)", other, err, 0.0),
             };
         }
@@ -976,26 +982,14 @@ impl PluginMaterial {
             let q = query_v5(wo, wi, ctx, lambda, [0.0; 3], m);
             let mut p = 0.0;
             return match v5.pdf(&q, &mut p) {
-                RResult::ROk(()) => match checked::density_f32(p) {
-                    Ok(()) => p,
-                    Err(reason) => {
-                        self.origin.dropped(reason);
-                        0.0
-                    }
-                },
+                RResult::ROk(()) => self.origin.kept(checked::density_f32(p), p, 0.0),
                 RResult::RErr(e) => self.origin.fail(e, 0.0),
             };
         }
         if let Some(v4) = &self.v4 {
             let q = query(wo, wi, ctx, lambda, [0.0; 3], m);
             return match v4.pdf(&q) {
-                RResult::ROk(p) => match checked::density_f32(p) {
-                    Ok(()) => p,
-                    Err(reason) => {
-                        self.origin.dropped(reason);
-                        0.0
-                    }
-                },
+                RResult::ROk(p) => self.origin.kept(checked::density_f32(p), p, 0.0),
                 RResult::RErr(e) => self.origin.fail(e, 0.0),
             };
         }
@@ -1069,13 +1063,11 @@ impl PluginMaterial {
         if let Some(v4) = &self.v4 {
             let q = query(wo, wi, ctx, lambda, [0.0; 3], m);
             return match v4.eval(&q) {
-                RResult::ROk(v) => match checked::values_f32(&v) {
-                    Ok(()) => SampledSpectrum(v),
-                    Err(reason) => {
-                        self.origin.dropped(reason);
-                        SampledSpectrum::zero()
-                    }
-                },
+                RResult::ROk(v) => (self.origin).kept(
+                    checked::values_f32(&v),
+                    SampledSpectrum(v),
+                    SampledSpectrum::zero(),
+                ),
                 RResult::RErr(e) => self.origin.fail(e, SampledSpectrum::zero()),
             };
         }
@@ -1181,13 +1173,11 @@ impl Material for PluginMaterial {
             let mut v = [0.0; LANES];
             let mut err = ROption::RNone;
             return match v7.eval(&q, &mut v, &mut err) {
-                status::WRITTEN => match checked::values_f32(&v) {
-                    Ok(()) => SampledSpectrum(v),
-                    Err(reason) => {
-                        self.origin.dropped(reason);
-                        SampledSpectrum::zero()
-                    }
-                },
+                status::WRITTEN => (self.origin).kept(
+                    checked::values_f32(&v),
+                    SampledSpectrum(v),
+                    SampledSpectrum::zero(),
+                ),
                 other => {
                     (self.origin).status_fault("eval (v7)", other, err, SampledSpectrum::zero())
                 }
@@ -1197,13 +1187,11 @@ impl Material for PluginMaterial {
             let q = query_v5(wo, wi, ctx, lambda, [0.0; 3], m);
             let mut v = [0.0; LANES];
             return match v5.eval(&q, &mut v) {
-                RResult::ROk(()) => match checked::values_f32(&v) {
-                    Ok(()) => SampledSpectrum(v),
-                    Err(reason) => {
-                        self.origin.dropped(reason);
-                        SampledSpectrum::zero()
-                    }
-                },
+                RResult::ROk(()) => (self.origin).kept(
+                    checked::values_f32(&v),
+                    SampledSpectrum(v),
+                    SampledSpectrum::zero(),
+                ),
                 RResult::RErr(e) => self.origin.fail(e, SampledSpectrum::zero()),
             };
         }
@@ -1258,13 +1246,11 @@ impl Material for PluginMaterial {
             let q = query_v5(wo, Vec3A::ZERO, ctx, lambda, [0.0; 3], HostMode::Radiance);
             let mut v = [0.0; LANES];
             return match e.emitted(&q, &mut v) {
-                RResult::ROk(()) => match checked::values_f32(&v) {
-                    Ok(()) => SampledSpectrum(v),
-                    Err(reason) => {
-                        self.origin.dropped(reason);
-                        SampledSpectrum::zero()
-                    }
-                },
+                RResult::ROk(()) => (self.origin).kept(
+                    checked::values_f32(&v),
+                    SampledSpectrum(v),
+                    SampledSpectrum::zero(),
+                ),
                 RResult::RErr(e) => self.origin.fail(e, SampledSpectrum::zero()),
             };
         }
