@@ -415,8 +415,7 @@ fn scan_round(
         let template = round_seed((object, center, radius), x0.p, y, pi, 0.0);
         let mut prev: Option<(f32, f32)> = None;
         for i in 0..SCAN_POINTS {
-            let phi = -1.0 + (i as f32 + 0.5) * 2.0 / SCAN_POINTS as f32;
-            let b = b_max * (std::f32::consts::FRAC_PI_2 * phi).sin();
+            let b = rim_spaced(i, SCAN_POINTS, b_max);
             let target = center + u * (b * radius);
             let dir = (target - x0.p).normalize();
             let angle = trace_chain(scene, x0, dir, &template, lambda).and_then(|(c, out)| {
@@ -434,6 +433,25 @@ fn scan_round(
             prev = angle.map(|a| (b, a));
         }
     }
+}
+
+/// Impact parameter `i` of `n` across `[-extent, extent]`, sine-spaced so the points crowd
+/// towards the rim, where a chain's leaving direction turns fastest.
+fn rim_spaced(i: usize, n: usize, extent: f32) -> f32 {
+    let phi = -1.0 + (i as f32 + 0.5) * 2.0 / n as f32;
+    extent * (std::f32::consts::FRAC_PI_2 * phi).sin()
+}
+
+/// The in-plane direction `v` (unit) refracted at a surface with unit normal `m` facing it
+/// (`m · v < 0`), `e` = incident over transmitted index; `None` at total internal reflection.
+fn refract_2d(v: [f32; 2], m: [f32; 2], e: f32) -> Option<[f32; 2]> {
+    let cos_i = -(m[0] * v[0] + m[1] * v[1]);
+    let k = 1.0 - e * e * (1.0 - cos_i * cos_i);
+    if k < 0.0 {
+        return None;
+    }
+    let c = e * cos_i - k.sqrt();
+    Some([e * v[0] + c * m[0], e * v[1] + c * m[1]])
 }
 
 /// The relative index of refraction (inside over outside) of `object`'s material entering at
@@ -473,26 +491,13 @@ impl ThroughPlane {
         let p1 = [-d + t1 * v[0], t1 * v[1]];
         let n1 = [p1[0] / r, p1[1] / r];
         // In: relative index 1/eta, the normal facing the incoming ray.
-        let e = 1.0 / self.eta;
-        let cos_i = -(n1[0] * v[0] + n1[1] * v[1]);
-        let k = 1.0 - e * e * (1.0 - cos_i * cos_i);
-        if k < 0.0 {
-            return None;
-        }
-        let c = e * cos_i - k.sqrt();
-        let w = [e * v[0] + c * n1[0], e * v[1] + c * n1[1]];
+        let w = refract_2d(v, n1, 1.0 / self.eta)?;
         // The chord to the exit point.
         let t2 = -2.0 * (p1[0] * w[0] + p1[1] * w[1]);
         let p2 = [p1[0] + t2 * w[0], p1[1] + t2 * w[1]];
         let n2 = [p2[0] / r, p2[1] / r];
         // Out: relative index eta, the inward normal facing the ray inside.
-        let cos_o = n2[0] * w[0] + n2[1] * w[1];
-        let k = 1.0 - self.eta * self.eta * (1.0 - cos_o * cos_o);
-        if k < 0.0 {
-            return None;
-        }
-        let c = self.eta * cos_o - k.sqrt();
-        let out = [self.eta * w[0] - c * n2[0], self.eta * w[1] - c * n2[1]];
+        let out = refract_2d(w, [-n2[0], -n2[1]], self.eta)?;
         let to_y = [self.y[0] - p2[0], self.y[1] - p2[1]];
         let len = (to_y[0] * to_y[0] + to_y[1] * to_y[1]).sqrt();
         if !(out[0] * to_y[0] + out[1] * to_y[1] > 0.0) || !(len > 0.0) {
@@ -512,9 +517,7 @@ impl ThroughPlane {
         let mut prev2: Option<(f32, f32)> = None;
         let mut prev: Option<(f32, f32)> = None;
         for i in 0..THROUGH_POINTS {
-            // Sine-spaced towards the rim, where the leaving direction turns fastest.
-            let phi = -1.0 + (i as f32 + 0.5) * 2.0 / THROUGH_POINTS as f32;
-            let p = r * (std::f32::consts::FRAC_PI_2 * phi).sin();
+            let p = rim_spaced(i, THROUGH_POINTS, r);
             let cur = self.angle(p).map(|(a, _)| (p, a));
             match (prev2, prev, cur) {
                 (_, Some(a), Some(b)) if (a.1 <= 0.0) != (b.1 <= 0.0) => self.narrow(a, b.0, f),
