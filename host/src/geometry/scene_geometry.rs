@@ -120,6 +120,19 @@ struct Primitive {
     index: u32,
 }
 
+impl Primitive {
+    /// The primitive at `input` in the BVH's input, where `starts` holds each object's first
+    /// input index (objects in order, their primitives one after another; an object without
+    /// primitives starts where the next one does).
+    fn of(starts: &[u32], input: u32) -> Primitive {
+        let object = starts.partition_point(|&s| s <= input) - 1;
+        Primitive {
+            object: object as u32,
+            index: input - starts[object],
+        }
+    }
+}
+
 /// The closest candidate found during traversal; surface data is computed only for the winner.
 #[derive(Clone, Copy)]
 enum Candidate {
@@ -186,25 +199,21 @@ impl Geometry {
                 message: "more than 2³² objects".into(),
             });
         }
-        let mut prims = Vec::new();
+        // Each object's first index in the BVH's input: a slot's object and primitive follow
+        // from its input index (`Primitive::of`), so no per-primitive list is made.
+        let mut starts = Vec::with_capacity(built.len());
         let mut bounds = Vec::new();
-        for (oi, obj) in built.iter().enumerate() {
-            let object = oi as u32;
+        for obj in &built {
+            starts.push(bounds.len() as u32);
             match &obj.shape {
                 WorldShape::Mesh(m) => {
                     // In parallel, in order (the build is the same for any thread count).
-                    prims.par_extend(
-                        (0..m.indices.len() as u32)
-                            .into_par_iter()
-                            .map(|t| Primitive { object, index: t }),
-                    );
                     bounds.par_extend((0..m.indices.len()).into_par_iter().map(|t| {
                         let [a, b, c] = m.triangle(t);
                         Aabb::from_point(a).grow(b).grow(c)
                     }));
                 }
                 WorldShape::Sphere(s) => {
-                    prims.push(Primitive { object, index: 0 });
                     let r = Vec3A::splat(s.radius);
                     // Widen by a relative ULP so the f32 box surely holds the f64 sphere.
                     let slack = (s.center.abs() + r) * super::float_error::gamma(2);
@@ -214,7 +223,6 @@ impl Geometry {
                     });
                 }
                 WorldShape::Quad(q) => {
-                    prims.push(Primitive { object, index: 0 });
                     let v = q.vertices;
                     bounds.push(Aabb::from_point(v[0]).grow(v[1]).grow(v[2]).grow(v[3]));
                 }
@@ -225,9 +233,10 @@ impl Geometry {
         // BDPT 7.6% more instructions.
         let triangles_only = built.iter().all(|o| matches!(o.shape, WorldShape::Mesh(_)));
         // The meshes' area CDFs end in a running sum in order (serial): computed beside the
-        // BVH build, which keeps the other thread busy meanwhile.
+        // BVH build, which keeps the other thread busy meanwhile. The build takes the boxes:
+        // its primitive references are written over them (no new buffer to fault in).
         let (bvh, ()) = rayon::join(
-            || Bvh::build_with_options(&bounds, layout, triangles_only),
+            move || Bvh::build_owned(bounds, layout, triangles_only),
             || {
                 built.par_iter_mut().for_each(|obj| {
                     if let WorldShape::Mesh(m) = &obj.shape {
@@ -236,27 +245,17 @@ impl Geometry {
                 });
             },
         );
-        // The per-primitive boxes are freed beside the leaf records' passes (giving back a
-        // large buffer's pages is serial work in the kernel).
-        let ((), (prims, tris)) = rayon::join(
-            move || drop(bounds),
-            || {
-                let prims: Vec<Primitive> = bvh
-                    .order_ref()
-                    .par_iter()
-                    .map(|&i| prims[i as usize])
-                    .collect();
-                let tris = LeafTriangles::build(prims.len(), &bvh.leaves(), |slot| {
-                    match &built[prims[slot as usize].object as usize].shape {
-                        WorldShape::Mesh(m) => {
-                            Some(m.triangle(prims[slot as usize].index as usize))
-                        }
-                        _ => None,
-                    }
-                });
-                (prims, tris)
-            },
-        );
+        let prims: Vec<Primitive> = bvh
+            .order_ref()
+            .par_iter()
+            .map(|&i| Primitive::of(&starts, i))
+            .collect();
+        let tris = LeafTriangles::build(prims.len(), &bvh.leaves(), |slot| {
+            match &built[prims[slot as usize].object as usize].shape {
+                WorldShape::Mesh(m) => Some(m.triangle(prims[slot as usize].index as usize)),
+                _ => None,
+            }
+        });
         Ok(Geometry {
             objects: built,
             tris,
@@ -831,6 +830,29 @@ fn build_object(desc: ShapeDesc) -> Result<Object, String> {
                 shape: WorldShape::Quad(quad),
                 cdf: Vec::new(),
             })
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Primitive;
+
+    // A slot's object and primitive from its input index and the objects' starts are what
+    // the per-primitive list (objects in order, each primitive's index within its object)
+    // held, objects without primitives included.
+    #[test]
+    fn primitive_of_input_index_matches_the_list() {
+        let counts = [0u32, 3, 1, 0, 0, 5, 1, 0, 2];
+        let mut starts = Vec::new();
+        let mut list = Vec::new();
+        for (object, &n) in counts.iter().enumerate() {
+            starts.push(list.len() as u32);
+            list.extend((0..n).map(|index| (object as u32, index)));
+        }
+        for (i, &want) in list.iter().enumerate() {
+            let p = Primitive::of(&starts, i as u32);
+            assert_eq!((p.object, p.index), want, "input {i}");
         }
     }
 }

@@ -141,11 +141,16 @@ impl NodeBounds {
     }
 }
 
+/// Whether a primitive with these bounds goes into the tree (non-empty, finite); the others
+/// can never be hit.
+fn usable(b: &Aabb) -> bool {
+    !b.is_empty() && b.min.is_finite() && b.max.is_finite()
+}
+
 /// The primitives with non-empty, finite bounds, in input order, and their [`NodeBounds`]
 /// (the root's), in one parallel pass: each chunk counts its usable boxes, prefix sums place
 /// every chunk's output, and the chunks write their primitives and fold their bounds at once.
 pub(super) fn build_prims(bounds: &[Aabb]) -> (Vec<BuildPrim>, NodeBounds) {
-    let usable = |b: &Aabb| !b.is_empty() && b.min.is_finite() && b.max.is_finite();
     let counts: Vec<usize> = bounds
         .par_chunks(CHUNK)
         .map(|c| c.iter().filter(|b| usable(b)).count())
@@ -177,6 +182,82 @@ pub(super) fn build_prims(bounds: &[Aabb]) -> (Vec<BuildPrim>, NodeBounds) {
     // SAFETY: the chunks' targets tile the first `total` slots, and chunk k's target has
     // exactly as many slots as chunk k has usable boxes, each of which wrote one.
     unsafe { prims.set_len(total) };
+    (prims, root)
+}
+
+// A box and a primitive reference have one size and one alignment, so the references can be
+// written over the boxes' own storage ([`build_prims_owned`]).
+const _: () = assert!(
+    std::mem::size_of::<Aabb>() == std::mem::size_of::<BuildPrim>()
+        && std::mem::align_of::<Aabb>() == std::mem::align_of::<BuildPrim>()
+);
+
+/// [`build_prims`] over boxes given by value: every reference is written over its own box
+/// (both 32 bytes, 16-aligned), in parallel chunks, so the list needs no new buffer (at a
+/// million primitives a new one was 42 MB whose pages the kernel first had to fault in and
+/// zero, the least parallel pass of the build). Where some boxes are unusable the references
+/// are then moved down over them in order (one serial pass; a scene's triangles, spheres and
+/// quads always have usable boxes). The same references in the same order, and the same
+/// root bounds, as [`build_prims`].
+pub(super) fn build_prims_owned(bounds: Vec<Aabb>) -> (Vec<BuildPrim>, NodeBounds) {
+    let mut bounds = std::mem::ManuallyDrop::new(bounds);
+    let (len, cap, ptr) = (bounds.len(), bounds.capacity(), bounds.as_mut_ptr());
+    // SAFETY: `ptr` holds `len` initialised boxes, and the `ManuallyDrop` vector is never
+    // used again, so this slice is the only access to them.
+    let slots = unsafe { std::slice::from_raw_parts_mut(ptr, len) };
+    let (root, unusable) = slots
+        .par_chunks_mut(CHUNK)
+        .enumerate()
+        .map(|(k, chunk)| {
+            let mut nb = NodeBounds::EMPTY;
+            let mut unusable = 0usize;
+            for (i, slot) in chunk.iter_mut().enumerate() {
+                let b = *slot;
+                if usable(&b) {
+                    let p = BuildPrim::new(&b, (k * CHUNK + i) as u32);
+                    nb = nb.add(&p);
+                    // SAFETY: a `BuildPrim` fits the slot exactly (size and alignment are
+                    // asserted equal above), and `b` was read out of it first.
+                    unsafe { (slot as *mut Aabb).cast::<BuildPrim>().write(p) };
+                } else {
+                    unusable += 1;
+                }
+            }
+            (nb, unusable)
+        })
+        .reduce(
+            || (NodeBounds::EMPTY, 0),
+            |a, b| (a.0.union(b.0), a.1 + b.1),
+        );
+    let mut total = len;
+    if unusable > 0 {
+        // Move the references down over the unusable boxes, keeping their order. A slot is
+        // told apart by its box's coordinates, which the reference written over it kept.
+        total = 0;
+        for r in 0..len {
+            // SAFETY: `r < len`; every slot holds a box or a reference written over one, and
+            // reading either as a box gives its coordinates (any bits are a valid `f32`, and
+            // what `Vec3A` does not use is never looked at).
+            let b = unsafe { ptr.add(r).read() };
+            if usable(&b) {
+                // SAFETY: `total ≤ r < len`, both slots inside the buffer; the slot at `r`
+                // holds a reference (it is usable), copied whole.
+                unsafe {
+                    std::ptr::copy(
+                        ptr.add(r).cast::<BuildPrim>(),
+                        ptr.add(total).cast::<BuildPrim>(),
+                        1,
+                    )
+                };
+                total += 1;
+            }
+        }
+        debug_assert_eq!(total, len - unusable);
+    }
+    // SAFETY: the allocation came from a `Vec<Aabb>` of capacity `cap`, and `BuildPrim` has
+    // `Aabb`'s size and alignment (asserted above), so it is the same layout; the first
+    // `total` slots now hold references (the usable ones, moved down in order).
+    let prims = unsafe { Vec::from_raw_parts(ptr.cast::<BuildPrim>(), total, cap) };
     (prims, root)
 }
 
@@ -215,14 +296,22 @@ pub(super) fn build_tree(
         nb: root,
     };
     let total = build_parts(prims, spare, true, node, &mut parts);
-    // Freed before the parts are copied, so that it never coexists with both copies of the
-    // nodes (the build's peak memory).
-    drop(scratch);
-    place_parts(parts, total, |n, start, i| {
-        if n.count == 0 {
-            n.offset += (start + i) as u32;
-        }
-    })
+    // Freed beside the copying of the parts: giving back its pages is serial work in the
+    // kernel (about 3 ms at a million primitives), which used to wait for the copy. It
+    // coexists with both copies of the nodes there, but the boxes the references were written
+    // over (`build_prims_owned`) no longer do, so the peak is lower than when it was freed
+    // first.
+    let ((), nodes) = rayon::join(
+        move || drop(scratch),
+        move || {
+            place_parts(parts, total, |n, start, i| {
+                if n.count == 0 {
+                    n.offset += (start + i) as u32;
+                }
+            })
+        },
+    );
+    nodes
 }
 
 /// A subtree to build: its first primitive's place in the final order, its depth and its
@@ -723,4 +812,111 @@ pub(super) fn build_into(
     build_into(left, first, depth + 1, split.left, out);
     out[me].offset = (out.len() - me) as u32;
     build_into(right, first + split.mid, depth + 1, split.right, out);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every bit of a reference list and of its root bounds, for exact comparison.
+    fn bits(prims: &[BuildPrim], root: &NodeBounds) -> (Vec<[u32; 8]>, [u32; 12]) {
+        let v3 = |v: Vec3A| v.to_array().map(f32::to_bits);
+        let list = prims
+            .iter()
+            .map(|p| {
+                let [a, b, c] = p.min.map(f32::to_bits);
+                let [d, e, f] = p.max.map(f32::to_bits);
+                [a, b, c, p.index, d, e, f, p._pad]
+            })
+            .collect();
+        let r = [
+            root.bounds.min,
+            root.bounds.max,
+            root.centroids.min,
+            root.centroids.max,
+        ]
+        .map(v3);
+        (list, r.concat().try_into().unwrap())
+    }
+
+    fn on_threads<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(f)
+    }
+
+    // The references written over the boxes' own storage are exactly those of the copying
+    // pass (boxes, indices, order, root bounds), on 1 and 2 threads: with every box usable
+    // (no serial pass) and with unusable boxes (empty, NaN, infinite) at the first and last
+    // place, at chunk boundaries and in runs, which the serial pass moves the rest over.
+    #[test]
+    fn references_over_the_boxes_match_the_copy() {
+        let mut s = 99u64;
+        let mut next = move || {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (s >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let n = 3 * CHUNK + 1237;
+        let all_usable: Vec<Aabb> = (0..n)
+            .map(|_| {
+                let p = Vec3A::new(next(), next(), next()) * 50.0 - 25.0;
+                Aabb {
+                    min: p,
+                    max: p + Vec3A::new(next(), next(), next()),
+                }
+            })
+            .collect();
+        let mut some_unusable = all_usable.clone();
+        let bad = [
+            Aabb::EMPTY,
+            Aabb {
+                min: Vec3A::new(f32::NAN, 0.0, 0.0),
+                max: Vec3A::ONE,
+            },
+            Aabb {
+                min: Vec3A::ZERO,
+                max: Vec3A::new(1.0, f32::INFINITY, 1.0),
+            },
+        ];
+        let places = [
+            0,
+            1,
+            2,
+            CHUNK - 1,
+            CHUNK,
+            2 * CHUNK + 5,
+            2 * CHUNK + 6,
+            n - 1,
+        ];
+        for (k, &i) in places.iter().enumerate() {
+            some_unusable[i] = bad[k % bad.len()];
+        }
+        for i in (CHUNK + 100..CHUNK + 400).step_by(3) {
+            some_unusable[i] = bad[i % bad.len()];
+        }
+        for boxes in [&all_usable, &some_unusable] {
+            let (copied, root) = build_prims(boxes);
+            let want = bits(&copied, &root);
+            for threads in [1, 2] {
+                let (owned, root) = on_threads(threads, || build_prims_owned(boxes.clone()));
+                assert_eq!(bits(&owned, &root), want, "{threads} thread(s)");
+            }
+        }
+        assert_eq!(build_prims(&some_unusable).0.len(), n - places.len() - 100);
+        // And so the same tree, both layouts' node arrays and the leaf order.
+        for threads in [1, 2] {
+            let (a, b) = on_threads(threads, || {
+                (
+                    super::super::Bvh::build_with_layout(&some_unusable, Default::default()),
+                    super::super::Bvh::build_owned(some_unusable.clone(), Default::default(), true),
+                )
+            });
+            assert_eq!(a.fingerprint(), b.fingerprint());
+            assert_eq!(a.order_ref(), b.order_ref());
+        }
+    }
 }

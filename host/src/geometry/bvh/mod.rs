@@ -48,7 +48,7 @@ use glam::Vec3A;
 use rayon::prelude::*;
 
 use super::Aabb;
-use build::{build_prims, build_tree};
+use build::{build_prims, build_prims_owned, build_tree};
 use collapse::{collapse, collapse_float};
 use wide_node::{QuantNode, WideNode};
 
@@ -110,7 +110,24 @@ impl Bvh {
     /// pass `false`. The closest hits are the same either way.
     pub fn build_with_options(bounds: &[Aabb], layout: NodeLayout, merge_leaves: bool) -> Bvh {
         // In parallel and in order, with the root's bounds in the same pass.
-        let (mut prims, root) = build_prims(bounds);
+        let (prims, root) = build_prims(bounds);
+        Self::build_from_prims(prims, root, layout, merge_leaves)
+    }
+
+    /// [`Bvh::build_with_options`] over boxes the caller no longer needs: the build's
+    /// primitive references are written over the boxes' own storage instead of a new buffer
+    /// (the same tree, with one large allocation and its page faults less).
+    pub fn build_owned(bounds: Vec<Aabb>, layout: NodeLayout, merge_leaves: bool) -> Bvh {
+        let (prims, root) = build_prims_owned(bounds);
+        Self::build_from_prims(prims, root, layout, merge_leaves)
+    }
+
+    fn build_from_prims(
+        mut prims: Vec<build::BuildPrim>,
+        root: build::NodeBounds,
+        layout: NodeLayout,
+        merge_leaves: bool,
+    ) -> Bvh {
         if prims.is_empty() {
             return Bvh::default();
         }
