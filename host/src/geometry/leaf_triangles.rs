@@ -31,6 +31,7 @@ use glam::{Vec3A, Vec4};
 use rayon::prelude::*;
 
 use super::float_error::gamma;
+use super::huge_pages::HugePageBuf;
 use super::triangle::{intersect_triangle_axis, TriangleHit, WatertightRay};
 use super::Ray;
 
@@ -59,7 +60,7 @@ enum Pass {
 /// The mesh triangles of every BVH leaf, transposed per leaf (see the module documentation).
 #[derive(Clone, Debug, Default)]
 pub(super) struct LeafTriangles {
-    data: Vec<f32>,
+    data: HugePageBuf<f32>,
 }
 
 impl LeafTriangles {
@@ -71,7 +72,9 @@ impl LeafTriangles {
         leaves: &[(u32, u32)],
         vertices: impl Fn(u32) -> Option<[Vec3A; 3]> + Sync,
     ) -> LeafTriangles {
-        let mut data = vec![f32::NAN; slots * COORDS + PADDING];
+        // On huge pages when large (the traversal's reads spread over all of it), filled in
+        // parallel.
+        let mut data = HugePageBuf::from_fn_par(slots * COORDS + PADDING, |_| f32::NAN);
         // Cut the buffer into the leaves' blocks (serial, one split per leaf), then fill them
         // in parallel.
         let mut blocks = Vec::with_capacity(leaves.len());

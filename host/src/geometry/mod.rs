@@ -26,6 +26,7 @@ pub mod derivatives;
 pub mod error;
 pub mod float_error;
 pub mod generate;
+mod huge_pages;
 mod leaf_triangles;
 pub mod mesh;
 pub mod obj;

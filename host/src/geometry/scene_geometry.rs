@@ -11,6 +11,7 @@ use glam::{Vec2, Vec3A};
 use rayon::prelude::*;
 
 use super::bvh::{Bvh, NodeLayout, TraversalKernel};
+use super::huge_pages::HugePageBuf;
 use super::leaf_triangles::LeafTriangles;
 use super::quad::Quad;
 use super::sphere::Sphere;
@@ -154,8 +155,8 @@ pub struct Geometry {
     /// triangle; `docs/performance.md`, "Transposed leaves"). Which object and primitive a
     /// slot is lives apart (`prims`), read only for the hit kept.
     tris: LeafTriangles,
-    /// Object and primitive of every leaf slot, in BVH leaf order.
-    prims: Vec<Primitive>,
+    /// Object and primitive of every leaf slot, in BVH leaf order (read once per hit).
+    prims: HugePageBuf<Primitive>,
     bvh: Bvh,
 }
 
@@ -241,11 +242,8 @@ impl Geometry {
         let ((), (prims, tris)) = rayon::join(
             move || drop(bounds),
             || {
-                let prims: Vec<Primitive> = bvh
-                    .order_ref()
-                    .par_iter()
-                    .map(|&i| prims[i as usize])
-                    .collect();
+                let order = bvh.order_ref();
+                let prims = HugePageBuf::from_fn_par(order.len(), |s| prims[order[s] as usize]);
                 let tris = LeafTriangles::build(prims.len(), &bvh.leaves(), |slot| {
                     match &built[prims[slot as usize].object as usize].shape {
                         WorldShape::Mesh(m) => {

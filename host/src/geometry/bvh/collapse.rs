@@ -11,8 +11,9 @@ use glam::Vec3A;
 use rayon::prelude::*;
 
 use super::build::Node;
-use super::parts::place_parts;
+use super::parts::place_parts_huge;
 use super::wide_node::{QuantNode, WideNode, WIDTH};
+use crate::geometry::huge_pages::HugePageBuf;
 use crate::geometry::Aabb;
 
 /// A wide node layout the collapse writes.
@@ -71,7 +72,10 @@ impl WideOut for QuantNode {
 /// Consumes the binary tree: its pages are given back (serial work in the kernel, a few
 /// milliseconds at a million primitives) while the parts are placed. Gives it back where `T`
 /// cannot hold a node (see [`WideOut::from_float`]).
-pub(super) fn collapse<T: WideOut>(binary: Vec<Node>, merge: usize) -> Result<Vec<T>, Vec<Node>> {
+pub(super) fn collapse<T: WideOut>(
+    binary: Vec<Node>,
+    merge: usize,
+) -> Result<HugePageBuf<T>, Vec<Node>> {
     let root = if binary[0].count > 0 {
         Children::one(0, 0.0)
     } else {
@@ -83,13 +87,13 @@ pub(super) fn collapse<T: WideOut>(binary: Vec<Node>, merge: usize) -> Result<Ve
     };
     let ((), nodes) = rayon::join(
         move || drop(binary),
-        move || place_parts(parts, total, |w: &mut T, start, _| w.rebase(start as u32)),
+        move || place_parts_huge(parts, total, |w: &mut T, start, _| w.rebase(start as u32)),
     );
     Ok(nodes)
 }
 
 /// [`collapse`] into float nodes, which hold every node.
-pub(super) fn collapse_float(binary: Vec<Node>, merge: usize) -> Vec<WideNode> {
+pub(super) fn collapse_float(binary: Vec<Node>, merge: usize) -> HugePageBuf<WideNode> {
     collapse(binary, merge).unwrap_or_default()
 }
 

@@ -47,6 +47,7 @@ mod wide_node;
 use glam::Vec3A;
 use rayon::prelude::*;
 
+use super::huge_pages::HugePageBuf;
 use super::Aabb;
 use build::{build_prims, build_tree};
 use collapse::{collapse, collapse_float};
@@ -78,9 +79,9 @@ pub enum NodeLayout {
 #[derive(Clone, Debug, Default)]
 pub struct Bvh {
     /// Float nodes; empty when the tree is quantised.
-    nodes: Vec<WideNode>,
+    nodes: HugePageBuf<WideNode>,
     /// Quantised nodes (the same tree, boxes rounded outward); empty when it is float.
-    qnodes: Vec<QuantNode>,
+    qnodes: HugePageBuf<QuantNode>,
     /// Primitive indices (into the list given to [`Bvh::build`]) in leaf order.
     order: Vec<u32>,
     /// Bounds of everything in the tree.
@@ -144,8 +145,8 @@ impl Bvh {
                     Err(binary)
                 };
                 match quantised {
-                    Ok(q) => (Vec::new(), q),
-                    Err(binary) => (collapse_float(binary, merge), Vec::new()),
+                    Ok(q) => (HugePageBuf::default(), q),
+                    Err(binary) => (collapse_float(binary, merge), HugePageBuf::default()),
                 }
             },
         );

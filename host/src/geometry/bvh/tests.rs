@@ -86,16 +86,18 @@ fn parallel_collapse_and_partition_match_sequential() {
     assert_eq!(
         collapse::<WideNode>(binary.clone(), MERGE_LEAF_PRIMITIVES)
             .ok()
-            .as_ref(),
-        Some(&sequential)
+            .as_deref(),
+        Some(&sequential[..])
     );
     // The quantised collapse makes each node from its float form on the spot: the same as
     // quantising the sequential float nodes one by one.
     let quantised: Option<Vec<QuantNode>> = sequential.iter().map(QuantNode::from_wide).collect();
     assert!(quantised.is_some());
     assert_eq!(
-        collapse::<QuantNode>(binary, MERGE_LEAF_PRIMITIVES).ok(),
-        quantised
+        collapse::<QuantNode>(binary, MERGE_LEAF_PRIMITIVES)
+            .ok()
+            .as_deref(),
+        quantised.as_deref()
     );
 }
 
