@@ -41,7 +41,9 @@ pub mod transform;
 pub mod triangle;
 
 pub use aabb::Aabb;
-pub use bvh::{Bvh, NodeLayout, TraversalKernel, QUANTISE_MIN_PRIMITIVES};
+pub use bvh::{
+    Bvh, BvhStatistics, NodeLayout, TraversalKernel, VisitCounts, QUANTISE_MIN_PRIMITIVES,
+};
 pub use derivatives::SurfaceDerivatives;
 pub use error::GeometryError;
 pub use mesh::TriangleMesh;

@@ -10,7 +10,7 @@
 use glam::{Vec2, Vec3A};
 use rayon::prelude::*;
 
-use super::bvh::{Bvh, NodeLayout, TraversalKernel};
+use super::bvh::{Bvh, BvhStatistics, NodeLayout, TraversalKernel, VisitCounts};
 use super::huge_pages::HugePageBuf;
 use super::leaf_triangles::LeafTriangles;
 use super::quad::Quad;
@@ -309,6 +309,28 @@ impl Geometry {
     /// Chooses the BVH's box-test kernel (for benchmarks comparing them; hits are identical).
     pub fn set_traversal_kernel(&mut self, kernel: TraversalKernel) {
         self.bvh.set_kernel(kernel);
+    }
+
+    /// The BVH's node and leaf counts and surface-area costs (for comparisons with Embree's
+    /// build report).
+    pub fn bvh_statistics(&self) -> BvhStatistics {
+        self.bvh.statistics()
+    }
+
+    /// What a closest-hit [`Geometry::intersect`] (or with `any_hit` an
+    /// [`Geometry::occluded`]) query of this ray visits: wide nodes, leaves and primitives
+    /// (a plain re-run of the traversal with counters; statistics only).
+    pub fn count_visits(&self, ray: &Ray, t_max: f32, any_hit: bool) -> VisitCounts {
+        let wr = WatertightRay::new(ray);
+        self.bvh
+            .count_visits(ray, t_max, any_hit, |first, count, t_max| {
+                match wr.dominant_axis() {
+                    0 => self.test_leaf::<0>(ray, &wr, first, count, t_max, any_hit),
+                    1 => self.test_leaf::<1>(ray, &wr, first, count, t_max, any_hit),
+                    _ => self.test_leaf::<2>(ray, &wr, first, count, t_max, any_hit),
+                }
+                .map(|(t, _)| t)
+            })
     }
 
     /// Closest hit with `0 < t < t_max`, or `None`.

@@ -39,6 +39,7 @@
 mod build;
 mod collapse;
 mod parts;
+mod stats;
 #[cfg(test)]
 mod tests;
 mod traverse;
@@ -55,6 +56,7 @@ use wide_node::{QuantNode, WideNode};
 
 pub use build::{BIN_COUNT, MAX_LEAF_SIZE};
 pub use collapse::MERGE_LEAF_PRIMITIVES;
+pub use stats::{BvhStatistics, VisitCounts};
 pub use traverse::TraversalKernel;
 
 /// Trees over at least this many primitives get quantised nodes ([`NodeLayout::Auto`]): below,

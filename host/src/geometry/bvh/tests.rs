@@ -705,3 +705,61 @@ fn hit_children_visit_in_stable_distance_order() {
     }
     assert!(ties > 1000, "only {ties} equal entry distances");
 }
+
+// `count_visits` (statistics) must count what the traversal does: for 1,500 random rays
+// through random boxes, closest-hit and any-hit, float and quantised nodes, its leaves and
+// primitives equal the leaf calls of `traverse_leaves` with the same primitive test, and the
+// statistics' counts add up (every slot a leaf or an interior node but the root). Exact.
+#[test]
+fn visit_counts_match_the_traversal() {
+    let mut next = uniform_stream(41);
+    let boxes: Vec<Aabb> = (0..2500)
+        .map(|_| {
+            let p = Vec3A::new(next(), next(), next()) * 20.0 - 10.0;
+            let e = Vec3A::new(next(), next(), next()) * 0.6 + 0.01;
+            Aabb {
+                min: p - e,
+                max: p + e,
+            }
+        })
+        .collect();
+    for layout in [NodeLayout::Float, NodeLayout::Quantised] {
+        let bvh = Bvh::build_with_layout(&boxes, layout);
+        let s = bvh.statistics();
+        assert_eq!(s.primitives, boxes.len(), "{layout:?}");
+        assert_eq!(s.children, s.leaves + s.nodes - 1, "{layout:?}");
+        assert_eq!(s.node_slots.iter().sum::<usize>(), s.nodes, "{layout:?}");
+        assert!(s.node_sah >= 1.0 && s.leaf_sah > 0.0, "{layout:?}");
+        // Leaf hit: its first primitive's box entered before `t_max`.
+        let test = |ray: &Ray, first: u32, t_max: f32| -> Option<f32> {
+            let b = &boxes[bvh.order[first as usize] as usize];
+            let inv = Vec3A::ONE / ray.dir;
+            let t = ((b.min - ray.origin) * inv)
+                .min((b.max - ray.origin) * inv)
+                .max_element()
+                .max(1e-6);
+            (b.hit(ray.origin, inv, t_max) && t < t_max).then_some(t)
+        };
+        let mut leaves = 0;
+        for _ in 0..1500 {
+            let o = Vec3A::new(next(), next(), next()) * 30.0 - 15.0;
+            let d = Vec3A::new(next(), next(), next()) * 2.0 - 1.0;
+            let ray = Ray::new(o, d);
+            for any_hit in [false, true] {
+                let (mut n, mut prims) = (0u64, 0u64);
+                bvh.traverse_leaves(&ray, f32::INFINITY, any_hit, |first, count, t_max| {
+                    n += 1;
+                    prims += u64::from(count);
+                    test(&ray, first, t_max)
+                });
+                let c = bvh.count_visits(&ray, f32::INFINITY, any_hit, |first, _, t_max| {
+                    test(&ray, first, t_max)
+                });
+                assert_eq!((c.leaves, c.primitives), (n, prims), "{layout:?} {any_hit}");
+                assert!(c.nodes >= 1);
+                leaves += n;
+            }
+        }
+        assert!(leaves > 1000, "only {leaves} leaf visits ({layout:?})");
+    }
+}
