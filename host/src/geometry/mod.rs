@@ -43,6 +43,7 @@ pub mod triangle;
 pub use aabb::Aabb;
 pub use bvh::{
     Bvh, BvhStatistics, NodeLayout, TraversalKernel, VisitCounts, QUANTISE_MIN_PRIMITIVES,
+    WIDE_MERGE_MIN_PRIMITIVES,
 };
 pub use derivatives::SurfaceDerivatives;
 pub use error::GeometryError;

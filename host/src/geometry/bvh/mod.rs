@@ -55,7 +55,7 @@ use collapse::{collapse, collapse_float};
 use wide_node::{QuantNode, WideNode};
 
 pub use build::{BIN_COUNT, MAX_LEAF_SIZE};
-pub use collapse::MERGE_LEAF_PRIMITIVES;
+pub use collapse::{MERGE_LEAF_PRIMITIVES, WIDE_MERGE_MIN_PRIMITIVES};
 pub use stats::{BvhStatistics, VisitCounts};
 pub use traverse::TraversalKernel;
 
@@ -107,8 +107,8 @@ impl Bvh {
     }
 
     /// [`Bvh::build_with_layout`], saying whether the collapse may merge small subtrees into
-    /// one leaf (up to [`MERGE_LEAF_PRIMITIVES`] primitives, where the surface area heuristic
-    /// accepts it). Its cost model counts every primitive test the same, so callers whose
+    /// one leaf (up to [`MERGE_LEAF_PRIMITIVES`] primitives in trees over at least
+    /// [`WIDE_MERGE_MIN_PRIMITIVES`], four below, where the surface area heuristic accepts it). Its cost model counts every primitive test the same, so callers whose
     /// primitives are not all triangles (analytic spheres, quads: several triangle tests each)
     /// pass `false`. The closest hits are the same either way.
     pub fn build_with_options(bounds: &[Aabb], layout: NodeLayout, merge_leaves: bool) -> Bvh {
@@ -125,7 +125,7 @@ impl Bvh {
             max: Vec3A::from(root.max),
         });
         let merge = if merge_leaves {
-            MERGE_LEAF_PRIMITIVES
+            collapse::merge_limit(order.len())
         } else {
             0
         };

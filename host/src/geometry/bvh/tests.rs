@@ -207,6 +207,24 @@ fn collapse_merges_by_surface_area() {
     slots.sort_unstable();
     assert_eq!(slots, vec![(0, 4), (4, 1), (5, 1), (6, 1), (7, 1)]);
     assert_eq!(wide.len(), 1);
+    // Past four primitives merges are priced by four-triangle passes: eight unit boxes in one
+    // place become one leaf of eight (two passes against eight separate leaves of one); eight
+    // tiny boxes, two at each corner of the square, stay apart as the corners' pairs (one leaf
+    // of eight would cost two passes per ray reaching the square, the pairs next to nothing).
+    let mut boxes = vec![unit; 8];
+    for (x, y) in [(200.0, 0.0), (300.0, 0.0), (200.0, 100.0), (300.0, 100.0)] {
+        boxes.extend([tiny(x, y); 2]);
+    }
+    let mut binary = Vec::new();
+    tree(&boxes, 0, &mut binary);
+    let wide = collapse_float(binary, MERGE_LEAF_PRIMITIVES);
+    let root = &wide[0];
+    let mut slots: Vec<(u32, u16)> = (0..root.slots as usize)
+        .map(|s| (root.child[s], root.count[s]))
+        .collect();
+    slots.sort_unstable();
+    assert_eq!(slots, vec![(0, 8), (8, 2), (10, 2), (12, 2), (14, 2)]);
+    assert_eq!(wide.len(), 1);
 }
 
 // The wide traversal must find exactly the closest hit a brute-force loop finds, with float
@@ -291,8 +309,9 @@ fn wide_traversal_matches_brute_force() {
 }
 
 // `Bvh::leaves` must partition the leaf order into the leaves the traversal hands over: sorted,
-// contiguous, covering every slot once, at most `MAX_LEAF_SIZE` primitives each (so four
-// triangle lanes hold a leaf), for float, quantised and unmerged trees; and every
+// contiguous, covering every slot once, at most `MERGE_LEAF_PRIMITIVES` primitives each (two
+// passes of four triangle lanes; `MAX_LEAF_SIZE` without merging), for float, quantised and
+// unmerged trees; and every
 // `(first, count)` that `traverse_leaves` gives for 300 random rays is one of them. Exact.
 #[test]
 fn leaves_partition_the_leaf_order() {
@@ -307,16 +326,25 @@ fn leaves_partition_the_leaf_order() {
             }
         })
         .collect();
-    for bvh in [
-        Bvh::build_with_layout(&boxes, NodeLayout::Float),
-        Bvh::build_with_layout(&boxes, NodeLayout::Quantised),
-        Bvh::build_with_options(&boxes, NodeLayout::Float, false),
+    for (bvh, largest) in [
+        (
+            Bvh::build_with_layout(&boxes, NodeLayout::Float),
+            MERGE_LEAF_PRIMITIVES,
+        ),
+        (
+            Bvh::build_with_layout(&boxes, NodeLayout::Quantised),
+            MERGE_LEAF_PRIMITIVES,
+        ),
+        (
+            Bvh::build_with_options(&boxes, NodeLayout::Float, false),
+            MAX_LEAF_SIZE,
+        ),
     ] {
         let leaves = bvh.leaves();
         let mut at = 0;
         for &(first, count) in &leaves {
             assert_eq!(first, at, "{:?} nodes", bvh.layout());
-            assert!((1..=MAX_LEAF_SIZE as u32).contains(&count));
+            assert!((1..=largest as u32).contains(&count));
             at += count;
         }
         assert_eq!(at as usize, bvh.order.len());
