@@ -360,7 +360,10 @@ fn run_harness(exe: &std::path::Path, input: &std::path::Path) -> Result<String,
 /// `valgrind --tool=callgrind` (a shared machine's wall times vary too much for small A/B
 /// differences). Prints the hit count and the seconds of the closest-hit and the any-hit pass
 /// (for interleaved wall-clock A/B runs). `SPECTRACE_SCALING_KERNEL=portable` traces with the
-/// portable (SSE) box test instead of AVX2. `SPECTRACE_SCALING_INPUT=<file>` only writes the
+/// portable (SSE) box test instead of AVX2. `SPECTRACE_SCALING_STATS=1` first prints the tree's statistics
+/// in the terms of Embree's `verbose=2` build report (`EMBREE_RAYS_CONFIG=threads=2,verbose=2`
+/// for the harness) and the nodes, leaves and triangles a random ray visits on average.
+/// `SPECTRACE_SCALING_INPUT=<file>` only writes the
 /// Embree/obvhs harnesses' input (same triangles and random rays) there, to count their
 /// instructions the same way.
 fn profile_run(size: Size) {
@@ -389,6 +392,9 @@ fn profile_run(size: Size) {
         return;
     }
     let rays = random_rays();
+    if std::env::var_os("SPECTRACE_SCALING_STATS").is_some() {
+        print_tree_statistics(&g, &rays);
+    }
     let start = Instant::now();
     let hits = rays
         .iter()
@@ -399,13 +405,50 @@ fn profile_run(size: Size) {
     let occluded = rays.iter().filter(|r| g.occluded(r, f32::INFINITY)).count();
     let any_s = start.elapsed().as_secs_f64();
     println!(
-        "{hits} hits, {occluded} occluded of {} rays in {closest_s:.3} / {any_s:.3} s \
+        "{hits} hits, {occluded} occluded of {} rays in {closest_s:.4} / {any_s:.4} s \
          ({:?} kernel, {:?} nodes, {:.1} BVH bytes/triangle)",
         rays.len(),
         g.traversal_kernel(),
         g.node_layout(),
         g.bvh_memory_bytes() as f64 / g.primitive_count() as f64
     );
+}
+
+/// The tree's node and leaf statistics and its surface-area costs (as Embree reports them:
+/// expected node tests and four-triangle leaf passes of a ray through the root's box), then the
+/// visits per random ray of a closest-hit and an any-hit query.
+fn print_tree_statistics(g: &Geometry, rays: &[Ray]) {
+    let s = g.bvh_statistics();
+    println!(
+        "tree: {} wide nodes ({:.1}% of slots used), {} leaves of {} primitives \
+         ({:.2} per leaf; sizes 1..8: {:?}), SAH nodes {:.3} + leaves {:.3} = {:.3}; \
+         nodes of 1..8 slots: {:?}, {} with leaf children only",
+        s.nodes,
+        100.0 * s.children as f64 / (8 * s.nodes.max(1)) as f64,
+        s.leaves,
+        s.primitives,
+        s.primitives as f64 / s.leaves.max(1) as f64,
+        s.leaf_sizes,
+        s.node_sah,
+        s.leaf_sah,
+        s.node_sah + s.leaf_sah,
+        s.node_slots,
+        s.twig_nodes
+    );
+    for any_hit in [false, true] {
+        let mut c = spectrace::geometry::VisitCounts::default();
+        for r in rays {
+            c += g.count_visits(r, f32::INFINITY, any_hit);
+        }
+        let n = rays.len() as f64;
+        println!(
+            "{} per ray: {:.3} wide nodes, {:.3} leaves, {:.3} primitives",
+            if any_hit { "any hit" } else { "closest hit" },
+            c.nodes as f64 / n,
+            c.leaves as f64 / n,
+            c.primitives as f64 / n
+        );
+    }
 }
 
 fn main() {

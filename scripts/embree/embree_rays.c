@@ -6,6 +6,10 @@
  * rtcIntersect1 (single rays, closest hit, t in [0, ∞)) on one thread and on two threads, best of
  * three runs each. Prints one line: "build_s <s> hits <n> mrays_1 <M/s> mrays_2 <M/s>".
  *
+ * EMBREE_RAYS_CONFIG=<string> replaces the device configuration "threads=2", e.g.
+ * "threads=2,verbose=2" (Embree then reports the ISA it selected, its builder and the BVH's
+ * statistics on stdout before the harness's line) or "threads=2,isa=avx2" (to compare ISAs).
+ *
  * Build: cc -O2 embree_rays.c -lembree3 -lpthread -o embree_rays   (Debian: libembree-dev)
  */
 #include <embree3/rtcore.h>
@@ -100,7 +104,8 @@ int main(int argc, char **argv) {
     read_exact(f, rays, (size_t)nrays * 24);
     fclose(f);
 
-    RTCDevice device = rtcNewDevice("threads=2");
+    const char *config = getenv("EMBREE_RAYS_CONFIG");
+    RTCDevice device = rtcNewDevice(config ? config : "threads=2");
     double t0 = now();
     scene = rtcNewScene(device);
     RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);

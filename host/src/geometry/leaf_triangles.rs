@@ -7,7 +7,10 @@
 //! p2) of member `j` sits at `9·first + c·n + j`. One unaligned 16-byte load at
 //! `9·first + c·n` so gives coordinate `c` of the leaf's (up to) four triangles as four lanes;
 //! lanes beyond `n` read the next coordinates and are masked out. A leaf of one triangle is its
-//! plain record (x, y, z of p0, p1, p2). Four floats of padding at the end keep every load
+//! plain record (x, y, z of p0, p1, p2). A leaf of five to eight triangles (the collapse merges
+//! up to [`super::bvh::MERGE_LEAF_PRIMITIVES`]) is stored as consecutive blocks of four and the
+//! rest, each laid out as a leaf of its own, and tested block by block in slot order with the
+//! search distance carried from one block to the next. Four floats of padding at the end keep every load
 //! inside the buffer. A leaf holding a sphere or a quad (scenes with them keep unmerged
 //! leaves, which can mix kinds) is all NaN (mesh positions are finite, checked when a mesh is
 //! made) and is tested primitive by primitive through its objects.
@@ -31,6 +34,7 @@ use glam::{Vec3A, Vec4};
 use rayon::prelude::*;
 
 use super::float_error::gamma;
+use super::huge_pages::HugePageBuf;
 use super::triangle::{intersect_triangle_axis, TriangleHit, WatertightRay};
 use super::Ray;
 
@@ -59,7 +63,7 @@ enum Pass {
 /// The mesh triangles of every BVH leaf, transposed per leaf (see the module documentation).
 #[derive(Clone, Debug, Default)]
 pub(super) struct LeafTriangles {
-    data: Vec<f32>,
+    data: HugePageBuf<f32>,
 }
 
 impl LeafTriangles {
@@ -71,7 +75,9 @@ impl LeafTriangles {
         leaves: &[(u32, u32)],
         vertices: impl Fn(u32) -> Option<[Vec3A; 3]> + Sync,
     ) -> LeafTriangles {
-        let mut data = vec![f32::NAN; slots * COORDS + PADDING];
+        // On huge pages when large (the traversal's reads spread over all of it), filled in
+        // parallel.
+        let mut data = HugePageBuf::from_fn_par(slots * COORDS + PADDING, |_| f32::NAN);
         // Cut the buffer into the leaves' blocks (serial, one split per leaf), then fill them
         // in parallel.
         let mut blocks = Vec::with_capacity(leaves.len());
@@ -91,10 +97,14 @@ impl LeafTriangles {
             let tris: Option<Vec<[Vec3A; 3]>> = (first..first + n as u32).map(&vertices).collect();
             // A leaf with another kind of primitive stays NaN.
             let Some(tris) = tris else { return };
-            for (j, t) in tris.iter().enumerate() {
-                for (v, p) in t.iter().enumerate() {
-                    for axis in 0..3 {
-                        block[(3 * v + axis) * n + j] = p[axis];
+            // Blocks of four (the last one the rest), each transposed on its own.
+            for (tris, block) in tris.chunks(LANES).zip(block.chunks_mut(LANES * COORDS)) {
+                let m = tris.len();
+                for (j, t) in tris.iter().enumerate() {
+                    for (v, p) in t.iter().enumerate() {
+                        for axis in 0..3 {
+                            block[(3 * v + axis) * m + j] = p[axis];
+                        }
                     }
                 }
             }
@@ -120,6 +130,13 @@ impl LeafTriangles {
     /// [`LeafTriangles::record`]'s three loads).
     #[inline(always)]
     pub(super) fn vertices(&self, first: usize, n: usize, j: usize) -> [Vec3A; 3] {
+        // The block of four holding member `j` (the leaf itself when it has at most four).
+        let (first, n, j) = if n > LANES {
+            let k = j & !(LANES - 1);
+            (first + k, (n - k).min(LANES), j - k)
+        } else {
+            (first, n, j)
+        };
         if n == 1 {
             return self.record(first);
         }
@@ -154,7 +171,40 @@ impl LeafTriangles {
         t_max: f32,
         any_hit: bool,
     ) -> Option<LeafHit> {
+        // Blocks of four in slot order (one for a leaf of at most four), the search shrinking
+        // to each hit: what the scalar test does slot by slot. One loop, so that the block test
+        // is inlined once.
         let (first, n) = (first as usize, n as usize);
+        let (end, mut at, mut t_max, mut best) = (first + n, first, t_max, None);
+        loop {
+            let m = (end - at).min(LANES);
+            if let Some(h) = self.test_block::<KZ>(ray, wr, at, m, t_max, any_hit) {
+                t_max = h.hit.t;
+                best = Some(h);
+                if any_hit {
+                    break;
+                }
+            }
+            at += m;
+            if at >= end {
+                break;
+            }
+        }
+        best
+    }
+
+    /// [`LeafTriangles::test`] of one block of at most four triangles, laid out as a leaf of
+    /// its own (the whole leaf when it has at most four).
+    #[inline(always)]
+    fn test_block<const KZ: usize>(
+        &self,
+        ray: &Ray,
+        wr: &WatertightRay,
+        first: usize,
+        n: usize,
+        t_max: f32,
+        any_hit: bool,
+    ) -> Option<LeafHit> {
         if n == 1 {
             // The plain record: the scalar test is as short as one lane pass.
             let [a, b, c] = self.record(first);
@@ -163,10 +213,6 @@ impl LeafTriangles {
                 slot: first as u32,
                 hit,
             });
-        }
-        if n > LANES {
-            // Leaves hold at most four primitives (`MAX_LEAF_SIZE`, `MERGE_LEAF_PRIMITIVES`).
-            return self.scalar::<KZ>(ray, wr, first, n, t_max, any_hit);
         }
         // One bounds check for the whole leaf; the lane loads below stay inside `block`.
         let block = &self.data[first * COORDS..first * COORDS + n * COORDS + PADDING - 1];
@@ -418,7 +464,7 @@ mod tests {
 
     // The four-lane pass must give exactly the scalar test's result run slot by slot (same
     // slot, same t and barycentrics bit for bit, hit or not; closest hit and any hit) on
-    // leaves of 1 to 4 triangles: a fan of triangles sharing edges and one vertex on an
+    // leaves of 1 to 4 triangles and on merged leaves of 5 to 8 (two blocks): a fan of triangles sharing edges and one vertex on an
     // integer grid, hit through that vertex, through edge midpoints and through grid points
     // (exact-zero edge functions, the scalar test's f64 path) by axis-parallel and oblique
     // rays; duplicated and stacked triangles (equal and nearly equal distances, where the
@@ -447,14 +493,23 @@ mod tests {
             [v(0.0, 0.0, -1.0), v(2.0, 0.0, 1.0), v(0.0, 2.0, 0.5)],
             [v(2.0, 0.0, 1.0), v(2.0, 2.0, -0.5), v(0.0, 2.0, 0.5)],
         ];
+        let cat = |a: &[[Vec3A; 3]], b: &[[Vec3A; 3]]| [a, b].concat();
         let mut leaf_tris: Vec<Vec<[Vec3A; 3]>> = vec![
             fan.to_vec(),
             fan[..3].to_vec(),
             fan[..2].to_vec(),
             fan[1..2].to_vec(),
             vec![fan[2], fan[2]],
-            stacked,
+            stacked.clone(),
             tilted.to_vec(),
+            // Two blocks: the second one of one triangle (its plain record), of two, three
+            // and four; a hit in the first block and one in the second at equal or nearly
+            // equal distances.
+            cat(&fan, &fan[2..3]),
+            cat(&stacked, &tilted),
+            cat(&tilted, &[fan[1], fan[2], fan[3], fan[0]]),
+            cat(&fan[1..], &stacked[1..]),
+            cat(&stacked, &fan),
         ];
         // The same leaves far from the origin (larger rounding, the error bound at work).
         let far: Vec<Vec<[Vec3A; 3]>> = leaf_tris
@@ -544,7 +599,8 @@ mod tests {
     }
 
     // The layout: member j's coordinate c of the leaf at `first` of n sits at
-    // 9·first + c·n + j, a one-triangle leaf is its plain record, and a leaf with another
+    // 9·first + c·n + j, a one-triangle leaf is its plain record, a leaf of more than four is
+    // its blocks of four and the rest, each laid out so, and a leaf with another
     // kind of primitive is all NaN (exact comparisons of the stored floats).
     #[test]
     fn leaves_are_stored_transposed() {
@@ -555,22 +611,23 @@ mod tests {
                 Vec3A::new(k + 0.6, k + 0.7, k + 0.8),
             ]
         };
-        let leaves = [(0, 1), (1, 3), (4, 2)];
-        let tris = LeafTriangles::build(6, &leaves, |s| (s != 5).then(|| tri(s as f32)));
-        assert_eq!(tris.data.len(), 6 * COORDS + PADDING);
-        for &(first, n) in &leaves[..2] {
-            for j in 0..n as usize {
-                let t = tri((first as usize + j) as f32);
+        // A leaf of six is a block of four and a block of two.
+        let leaves = [(0, 1), (1, 3), (4, 2), (6, 6)];
+        let tris = LeafTriangles::build(12, &leaves, |s| (s != 5).then(|| tri(s as f32)));
+        assert_eq!(tris.data.len(), 12 * COORDS + PADDING);
+        for (first, n) in [(0, 1), (1, 3), (6, 4), (10, 2)] {
+            for j in 0..n {
+                let t = tri((first + j) as f32);
                 for c in 0..COORDS {
                     let want = t[c / 3][c % 3];
-                    assert_eq!(
-                        tris.data[first as usize * COORDS + c * n as usize + j],
-                        want
-                    );
+                    assert_eq!(tris.data[first * COORDS + c * n + j], want);
                 }
             }
         }
-        assert!(!tris.is_other(0) && !tris.is_other(1));
+        for j in 0..6 {
+            assert_eq!(tris.vertices(6, 6, j), tri((6 + j) as f32), "member {j}");
+        }
+        assert!(!tris.is_other(0) && !tris.is_other(1) && !tris.is_other(6));
         assert!(tris.is_other(4));
         assert!(tris.data[4 * COORDS..6 * COORDS].iter().all(|v| v.is_nan()));
     }

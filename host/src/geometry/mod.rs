@@ -26,6 +26,7 @@ pub mod derivatives;
 pub mod error;
 pub mod float_error;
 pub mod generate;
+mod huge_pages;
 mod leaf_triangles;
 pub mod mesh;
 pub mod obj;
@@ -40,7 +41,10 @@ pub mod transform;
 pub mod triangle;
 
 pub use aabb::Aabb;
-pub use bvh::{Bvh, NodeLayout, TraversalKernel, QUANTISE_MIN_PRIMITIVES};
+pub use bvh::{
+    Bvh, BvhStatistics, NodeLayout, TraversalKernel, VisitCounts, QUANTISE_MIN_PRIMITIVES,
+    WIDE_MERGE_MIN_PRIMITIVES,
+};
 pub use derivatives::SurfaceDerivatives;
 pub use error::GeometryError;
 pub use mesh::TriangleMesh;

@@ -10,7 +10,8 @@
 use glam::{Vec2, Vec3A};
 use rayon::prelude::*;
 
-use super::bvh::{Bvh, NodeLayout, TraversalKernel};
+use super::bvh::{Bvh, BvhStatistics, NodeLayout, TraversalKernel, VisitCounts};
+use super::huge_pages::HugePageBuf;
 use super::leaf_triangles::LeafTriangles;
 use super::quad::Quad;
 use super::sphere::Sphere;
@@ -167,8 +168,8 @@ pub struct Geometry {
     /// triangle; `docs/performance.md`, "Transposed leaves"). Which object and primitive a
     /// slot is lives apart (`prims`), read only for the hit kept.
     tris: LeafTriangles,
-    /// Object and primitive of every leaf slot, in BVH leaf order.
-    prims: Vec<Primitive>,
+    /// Object and primitive of every leaf slot, in BVH leaf order (read once per hit).
+    prims: HugePageBuf<Primitive>,
     bvh: Bvh,
 }
 
@@ -245,11 +246,8 @@ impl Geometry {
                 });
             },
         );
-        let prims: Vec<Primitive> = bvh
-            .order_ref()
-            .par_iter()
-            .map(|&i| Primitive::of(&starts, i))
-            .collect();
+        let order = bvh.order_ref();
+        let prims = HugePageBuf::from_fn_par(order.len(), |s| Primitive::of(&starts, order[s]));
         let tris = LeafTriangles::build(prims.len(), &bvh.leaves(), |slot| {
             match &built[prims[slot as usize].object as usize].shape {
                 WorldShape::Mesh(m) => Some(m.triangle(prims[slot as usize].index as usize)),
@@ -310,6 +308,28 @@ impl Geometry {
     /// Chooses the BVH's box-test kernel (for benchmarks comparing them; hits are identical).
     pub fn set_traversal_kernel(&mut self, kernel: TraversalKernel) {
         self.bvh.set_kernel(kernel);
+    }
+
+    /// The BVH's node and leaf counts and surface-area costs (for comparisons with Embree's
+    /// build report).
+    pub fn bvh_statistics(&self) -> BvhStatistics {
+        self.bvh.statistics()
+    }
+
+    /// What a closest-hit [`Geometry::intersect`] (or with `any_hit` an
+    /// [`Geometry::occluded`]) query of this ray visits: wide nodes, leaves and primitives
+    /// (a plain re-run of the traversal with counters; statistics only).
+    pub fn count_visits(&self, ray: &Ray, t_max: f32, any_hit: bool) -> VisitCounts {
+        let wr = WatertightRay::new(ray);
+        self.bvh
+            .count_visits(ray, t_max, any_hit, |first, count, t_max| {
+                match wr.dominant_axis() {
+                    0 => self.test_leaf::<0>(ray, &wr, first, count, t_max, any_hit),
+                    1 => self.test_leaf::<1>(ray, &wr, first, count, t_max, any_hit),
+                    _ => self.test_leaf::<2>(ray, &wr, first, count, t_max, any_hit),
+                }
+                .map(|(t, _)| t)
+            })
     }
 
     /// Closest hit with `0 < t < t_max`, or `None`.

@@ -11,8 +11,9 @@ use glam::Vec3A;
 use rayon::prelude::*;
 
 use super::build::Node;
-use super::parts::place_parts;
+use super::parts::place_parts_huge;
 use super::wide_node::{QuantNode, WideNode, WIDTH};
+use crate::geometry::huge_pages::HugePageBuf;
 use crate::geometry::Aabb;
 
 /// A wide node layout the collapse writes.
@@ -71,7 +72,10 @@ impl WideOut for QuantNode {
 /// Consumes the binary tree: its pages are given back (serial work in the kernel, a few
 /// milliseconds at a million primitives) while the parts are placed. Gives it back where `T`
 /// cannot hold a node (see [`WideOut::from_float`]).
-pub(super) fn collapse<T: WideOut>(binary: Vec<Node>, merge: usize) -> Result<Vec<T>, Vec<Node>> {
+pub(super) fn collapse<T: WideOut>(
+    binary: Vec<Node>,
+    merge: usize,
+) -> Result<HugePageBuf<T>, Vec<Node>> {
     let root = if binary[0].count > 0 {
         Children::one(0, 0.0)
     } else {
@@ -83,13 +87,13 @@ pub(super) fn collapse<T: WideOut>(binary: Vec<Node>, merge: usize) -> Result<Ve
     };
     let ((), nodes) = rayon::join(
         move || drop(binary),
-        move || place_parts(parts, total, |w: &mut T, start, _| w.rebase(start as u32)),
+        move || place_parts_huge(parts, total, |w: &mut T, start, _| w.rebase(start as u32)),
     );
     Ok(nodes)
 }
 
 /// [`collapse`] into float nodes, which hold every node.
-pub(super) fn collapse_float(binary: Vec<Node>, merge: usize) -> Vec<WideNode> {
+pub(super) fn collapse_float(binary: Vec<Node>, merge: usize) -> HugePageBuf<WideNode> {
     collapse(binary, merge).unwrap_or_default()
 }
 
@@ -99,7 +103,34 @@ pub(super) fn collapse_float(binary: Vec<Node>, merge: usize) -> Vec<WideNode> {
 /// four cache lines, so merging cuts node memory and node visits where the merged leaf costs
 /// few extra primitive tests ([`MERGE_EXTRA_TESTS`]; `docs/performance.md`, "Larger leaves from
 /// the collapse").
-pub const MERGE_LEAF_PRIMITIVES: usize = 4;
+pub const MERGE_LEAF_PRIMITIVES: usize = 8;
+
+/// Trees over fewer primitives merge only up to [`PASS_PRIMITIVES`] ([`merge_limit`]): their
+/// nodes stay in the caches, so a node test saved is worth less than the second pass of a
+/// larger leaf (1,280 triangles: +10% instructions per closest-hit ray with leaves of up to
+/// eight, no faster by the clock), while from about 20k triangles on the saved node loads are
+/// worth more (`docs/performance.md`, "Leaves of up to eight triangles in large trees").
+pub const WIDE_MERGE_MIN_PRIMITIVES: usize = 16_384;
+
+/// Leaves up to this size are tested in one four-lane pass (`leaf_triangles.rs`); larger merged
+/// leaves take one pass per four.
+const PASS_PRIMITIVES: usize = 4;
+
+/// How many more four-triangle passes per visit of a merged leaf's box a merge of more than
+/// [`PASS_PRIMITIVES`] may cost, against its separate binary leaves weighted by area: about the
+/// wide node test it saves where the separate leaves would need a node of their own (Embree's
+/// builder prices a node and a block of four alike). Below 0.75 almost nothing merges on the
+/// scaling bench's spheres.
+pub(super) const MERGE_EXTRA_PASSES: f32 = 1.0;
+
+/// The largest merged leaf [`collapse`] may make for a tree over `primitives` primitives.
+pub(super) fn merge_limit(primitives: usize) -> usize {
+    if primitives >= WIDE_MERGE_MIN_PRIMITIVES {
+        MERGE_LEAF_PRIMITIVES
+    } else {
+        PASS_PRIMITIVES
+    }
+}
 
 /// How many more primitive tests per visit of a merged leaf's box the merge may cost, against
 /// its separate binary leaves weighted by area (the surface area heuristic's hit
@@ -118,25 +149,33 @@ pub(super) fn as_leaf(binary: &[Node], i: usize, merge: usize) -> Option<(u32, u
     if n.count > 0 {
         return Some((n.offset, n.count));
     }
-    let (first, count, tests) = small_subtree(binary, i, merge)?;
+    let (first, count, tests, passes) = small_subtree(binary, i, merge)?;
     let area = node_area(n);
-    // Expected triangle tests per visit of this box: all `count` as one leaf, against the
-    // area-weighted tests of its separate leaves plus the allowance.
-    (count as f32 * area <= tests + MERGE_EXTRA_TESTS * area).then_some((first, count))
+    if count as usize <= PASS_PRIMITIVES {
+        // Expected triangle tests per visit of this box: all `count` as one leaf, against the
+        // area-weighted tests of its separate leaves plus the allowance.
+        return (count as f32 * area <= tests + MERGE_EXTRA_TESTS * area).then_some((first, count));
+    }
+    // Larger: expected four-triangle passes, likewise.
+    let merged = (count as usize).div_ceil(PASS_PRIMITIVES) as f32;
+    (merged * area <= passes + MERGE_EXTRA_PASSES * area).then_some((first, count))
 }
 
-/// `(first primitive, count, Σ count · area over its binary leaves)` of the subtree under
-/// binary node `i` if it holds at most `limit` primitives.
-fn small_subtree(binary: &[Node], i: usize, limit: usize) -> Option<(u32, u16, f32)> {
+/// `(first primitive, count, Σ count · area, Σ passes · area)` over the binary leaves of the
+/// subtree under binary node `i` if it holds at most `limit` primitives (passes: ⌈count / 4⌉).
+fn small_subtree(binary: &[Node], i: usize, limit: usize) -> Option<(u32, u16, f32, f32)> {
     let n = &binary[i];
     if n.count > 0 {
-        return (n.count as usize <= limit)
-            .then(|| (n.offset, n.count, n.count as f32 * node_area(n)));
+        return (n.count as usize <= limit).then(|| {
+            let a = node_area(n);
+            let passes = (n.count as usize).div_ceil(PASS_PRIMITIVES) as f32;
+            (n.offset, n.count, n.count as f32 * a, passes * a)
+        });
     }
     // Each child holds at least one primitive.
-    let (first, l, tl) = small_subtree(binary, i + 1, limit.checked_sub(1)?)?;
-    let (_, r, tr) = small_subtree(binary, n.offset as usize, limit - l as usize)?;
-    Some((first, l + r, tl + tr))
+    let (first, l, tl, pl) = small_subtree(binary, i + 1, limit.checked_sub(1)?)?;
+    let (_, r, tr, pr) = small_subtree(binary, n.offset as usize, limit - l as usize)?;
+    Some((first, l + r, tl + tr, pl + pr))
 }
 
 pub(super) fn binary_children(binary: &[Node], i: usize) -> [usize; 2] {

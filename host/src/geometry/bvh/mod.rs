@@ -39,6 +39,7 @@
 mod build;
 mod collapse;
 mod parts;
+mod stats;
 #[cfg(test)]
 mod tests;
 mod traverse;
@@ -47,13 +48,15 @@ mod wide_node;
 use glam::Vec3A;
 use rayon::prelude::*;
 
+use super::huge_pages::HugePageBuf;
 use super::Aabb;
 use build::{build_prims, build_prims_owned, build_tree};
 use collapse::{collapse, collapse_float};
 use wide_node::{QuantNode, WideNode};
 
 pub use build::{BIN_COUNT, MAX_LEAF_SIZE};
-pub use collapse::MERGE_LEAF_PRIMITIVES;
+pub use collapse::{MERGE_LEAF_PRIMITIVES, WIDE_MERGE_MIN_PRIMITIVES};
+pub use stats::{BvhStatistics, VisitCounts};
 pub use traverse::TraversalKernel;
 
 /// Trees over at least this many primitives get quantised nodes ([`NodeLayout::Auto`]): below,
@@ -78,9 +81,9 @@ pub enum NodeLayout {
 #[derive(Clone, Debug, Default)]
 pub struct Bvh {
     /// Float nodes; empty when the tree is quantised.
-    nodes: Vec<WideNode>,
+    nodes: HugePageBuf<WideNode>,
     /// Quantised nodes (the same tree, boxes rounded outward); empty when it is float.
-    qnodes: Vec<QuantNode>,
+    qnodes: HugePageBuf<QuantNode>,
     /// Primitive indices (into the list given to [`Bvh::build`]) in leaf order.
     order: Vec<u32>,
     /// Bounds of everything in the tree.
@@ -104,8 +107,8 @@ impl Bvh {
     }
 
     /// [`Bvh::build_with_layout`], saying whether the collapse may merge small subtrees into
-    /// one leaf (up to [`MERGE_LEAF_PRIMITIVES`] primitives, where the surface area heuristic
-    /// accepts it). Its cost model counts every primitive test the same, so callers whose
+    /// one leaf (up to [`MERGE_LEAF_PRIMITIVES`] primitives in trees over at least
+    /// [`WIDE_MERGE_MIN_PRIMITIVES`], four below, where the surface area heuristic accepts it). Its cost model counts every primitive test the same, so callers whose
     /// primitives are not all triangles (analytic spheres, quads: several triangle tests each)
     /// pass `false`. The closest hits are the same either way.
     pub fn build_with_options(bounds: &[Aabb], layout: NodeLayout, merge_leaves: bool) -> Bvh {
@@ -139,7 +142,7 @@ impl Bvh {
             max: Vec3A::from(root.max),
         });
         let merge = if merge_leaves {
-            MERGE_LEAF_PRIMITIVES
+            collapse::merge_limit(order.len())
         } else {
             0
         };
@@ -161,8 +164,8 @@ impl Bvh {
                     Err(binary)
                 };
                 match quantised {
-                    Ok(q) => (Vec::new(), q),
-                    Err(binary) => (collapse_float(binary, merge), Vec::new()),
+                    Ok(q) => (HugePageBuf::default(), q),
+                    Err(binary) => (collapse_float(binary, merge), HugePageBuf::default()),
                 }
             },
         );

@@ -86,16 +86,18 @@ fn parallel_collapse_and_partition_match_sequential() {
     assert_eq!(
         collapse::<WideNode>(binary.clone(), MERGE_LEAF_PRIMITIVES)
             .ok()
-            .as_ref(),
-        Some(&sequential)
+            .as_deref(),
+        Some(&sequential[..])
     );
     // The quantised collapse makes each node from its float form on the spot: the same as
     // quantising the sequential float nodes one by one.
     let quantised: Option<Vec<QuantNode>> = sequential.iter().map(QuantNode::from_wide).collect();
     assert!(quantised.is_some());
     assert_eq!(
-        collapse::<QuantNode>(binary, MERGE_LEAF_PRIMITIVES).ok(),
-        quantised
+        collapse::<QuantNode>(binary, MERGE_LEAF_PRIMITIVES)
+            .ok()
+            .as_deref(),
+        quantised.as_deref()
     );
 }
 
@@ -205,6 +207,24 @@ fn collapse_merges_by_surface_area() {
     slots.sort_unstable();
     assert_eq!(slots, vec![(0, 4), (4, 1), (5, 1), (6, 1), (7, 1)]);
     assert_eq!(wide.len(), 1);
+    // Past four primitives merges are priced by four-triangle passes: eight unit boxes in one
+    // place become one leaf of eight (two passes against eight separate leaves of one); eight
+    // tiny boxes, two at each corner of the square, stay apart as the corners' pairs (one leaf
+    // of eight would cost two passes per ray reaching the square, the pairs next to nothing).
+    let mut boxes = vec![unit; 8];
+    for (x, y) in [(200.0, 0.0), (300.0, 0.0), (200.0, 100.0), (300.0, 100.0)] {
+        boxes.extend([tiny(x, y); 2]);
+    }
+    let mut binary = Vec::new();
+    tree(&boxes, 0, &mut binary);
+    let wide = collapse_float(binary, MERGE_LEAF_PRIMITIVES);
+    let root = &wide[0];
+    let mut slots: Vec<(u32, u16)> = (0..root.slots as usize)
+        .map(|s| (root.child[s], root.count[s]))
+        .collect();
+    slots.sort_unstable();
+    assert_eq!(slots, vec![(0, 8), (8, 2), (10, 2), (12, 2), (14, 2)]);
+    assert_eq!(wide.len(), 1);
 }
 
 // The wide traversal must find exactly the closest hit a brute-force loop finds, with float
@@ -289,8 +309,9 @@ fn wide_traversal_matches_brute_force() {
 }
 
 // `Bvh::leaves` must partition the leaf order into the leaves the traversal hands over: sorted,
-// contiguous, covering every slot once, at most `MAX_LEAF_SIZE` primitives each (so four
-// triangle lanes hold a leaf), for float, quantised and unmerged trees; and every
+// contiguous, covering every slot once, at most `MERGE_LEAF_PRIMITIVES` primitives each (two
+// passes of four triangle lanes; `MAX_LEAF_SIZE` without merging), for float, quantised and
+// unmerged trees; and every
 // `(first, count)` that `traverse_leaves` gives for 300 random rays is one of them. Exact.
 #[test]
 fn leaves_partition_the_leaf_order() {
@@ -305,16 +326,25 @@ fn leaves_partition_the_leaf_order() {
             }
         })
         .collect();
-    for bvh in [
-        Bvh::build_with_layout(&boxes, NodeLayout::Float),
-        Bvh::build_with_layout(&boxes, NodeLayout::Quantised),
-        Bvh::build_with_options(&boxes, NodeLayout::Float, false),
+    for (bvh, largest) in [
+        (
+            Bvh::build_with_layout(&boxes, NodeLayout::Float),
+            MERGE_LEAF_PRIMITIVES,
+        ),
+        (
+            Bvh::build_with_layout(&boxes, NodeLayout::Quantised),
+            MERGE_LEAF_PRIMITIVES,
+        ),
+        (
+            Bvh::build_with_options(&boxes, NodeLayout::Float, false),
+            MAX_LEAF_SIZE,
+        ),
     ] {
         let leaves = bvh.leaves();
         let mut at = 0;
         for &(first, count) in &leaves {
             assert_eq!(first, at, "{:?} nodes", bvh.layout());
-            assert!((1..=MAX_LEAF_SIZE as u32).contains(&count));
+            assert!((1..=largest as u32).contains(&count));
             at += count;
         }
         assert_eq!(at as usize, bvh.order.len());
@@ -702,4 +732,62 @@ fn hit_children_visit_in_stable_distance_order() {
         }
     }
     assert!(ties > 1000, "only {ties} equal entry distances");
+}
+
+// `count_visits` (statistics) must count what the traversal does: for 1,500 random rays
+// through random boxes, closest-hit and any-hit, float and quantised nodes, its leaves and
+// primitives equal the leaf calls of `traverse_leaves` with the same primitive test, and the
+// statistics' counts add up (every slot a leaf or an interior node but the root). Exact.
+#[test]
+fn visit_counts_match_the_traversal() {
+    let mut next = uniform_stream(41);
+    let boxes: Vec<Aabb> = (0..2500)
+        .map(|_| {
+            let p = Vec3A::new(next(), next(), next()) * 20.0 - 10.0;
+            let e = Vec3A::new(next(), next(), next()) * 0.6 + 0.01;
+            Aabb {
+                min: p - e,
+                max: p + e,
+            }
+        })
+        .collect();
+    for layout in [NodeLayout::Float, NodeLayout::Quantised] {
+        let bvh = Bvh::build_with_layout(&boxes, layout);
+        let s = bvh.statistics();
+        assert_eq!(s.primitives, boxes.len(), "{layout:?}");
+        assert_eq!(s.children, s.leaves + s.nodes - 1, "{layout:?}");
+        assert_eq!(s.node_slots.iter().sum::<usize>(), s.nodes, "{layout:?}");
+        assert!(s.node_sah >= 1.0 && s.leaf_sah > 0.0, "{layout:?}");
+        // Leaf hit: its first primitive's box entered before `t_max`.
+        let test = |ray: &Ray, first: u32, t_max: f32| -> Option<f32> {
+            let b = &boxes[bvh.order[first as usize] as usize];
+            let inv = Vec3A::ONE / ray.dir;
+            let t = ((b.min - ray.origin) * inv)
+                .min((b.max - ray.origin) * inv)
+                .max_element()
+                .max(1e-6);
+            (b.hit(ray.origin, inv, t_max) && t < t_max).then_some(t)
+        };
+        let mut leaves = 0;
+        for _ in 0..1500 {
+            let o = Vec3A::new(next(), next(), next()) * 30.0 - 15.0;
+            let d = Vec3A::new(next(), next(), next()) * 2.0 - 1.0;
+            let ray = Ray::new(o, d);
+            for any_hit in [false, true] {
+                let (mut n, mut prims) = (0u64, 0u64);
+                bvh.traverse_leaves(&ray, f32::INFINITY, any_hit, |first, count, t_max| {
+                    n += 1;
+                    prims += u64::from(count);
+                    test(&ray, first, t_max)
+                });
+                let c = bvh.count_visits(&ray, f32::INFINITY, any_hit, |first, _, t_max| {
+                    test(&ray, first, t_max)
+                });
+                assert_eq!((c.leaves, c.primitives), (n, prims), "{layout:?} {any_hit}");
+                assert!(c.nodes >= 1);
+                leaves += n;
+            }
+        }
+        assert!(leaves > 1000, "only {leaves} leaf visits ({layout:?})");
+    }
 }

@@ -84,8 +84,8 @@ impl Bvh {
     }
 
     /// [`Bvh::traverse`] handing over whole leaves: `test(first, count, t_max)` gets the
-    /// leaf's primitives `first..first + count` in leaf order (at most [`super::MAX_LEAF_SIZE`] and
-    /// [`super::MERGE_LEAF_PRIMITIVES`]) and returns the closest hit distance below `t_max`
+    /// leaf's primitives `first..first + count` in leaf order (at most the larger of
+    /// [`super::MAX_LEAF_SIZE`] and [`super::MERGE_LEAF_PRIMITIVES`]) and returns the closest hit distance below `t_max`
     /// among them (with `any_hit`, any one), as [`Bvh::traverse`]'s per-slot loop would: a
     /// scene that stores a leaf's triangles together can test them in one SIMD pass.
     #[inline]

@@ -176,7 +176,6 @@ impl QuantNode {
     }
 
     /// The decoded (conservative) float boxes, as the traversal sees them.
-    #[cfg(test)]
     pub(super) fn decoded(&self) -> WideNode {
         let mut w = WideNode::EMPTY;
         for s in 0..self.slots as usize {
