@@ -954,7 +954,7 @@ impl PluginMaterial {
     }
 }
 
-/// The calls of libraries older than extension v5, out of line: the v5 path above stays a
+/// The calls of libraries older than extension v7, out of line: the v7 path of each call stays a
 /// small function (its frame and saved registers are what that path needs, not these).
 impl PluginMaterial {
     /// The density asked of the plugin, out of line: a material that declares the
@@ -1001,6 +1001,42 @@ impl PluginMaterial {
         (self.origin)
             .checked(r, |p| checked::density(*p))
             .map_or(0.0, |v| v as f32)
+    }
+
+    /// `sample` of a v5 or v6 library (the sample written in place, as for v7) and of older ones
+    /// (returned by value, copied into `out`).
+    #[inline(never)]
+    #[allow(clippy::too_many_arguments)]
+    fn sample_before_v7<'a>(
+        &self,
+        wo: Vec3A,
+        ctx: &ShadingContext,
+        lambda: &SampledWavelengths,
+        u_lobe: f32,
+        u: Vec2,
+        m: HostMode,
+        out: &'a mut BsdfSample,
+    ) -> Option<&'a BsdfSample> {
+        let Some(v5) = &self.v5 else {
+            return (self.sample_before_v5(wo, ctx, lambda, u_lobe, u, m)).map(|s| out.write(s));
+        };
+        let q = query_v5(wo, Vec3A::ZERO, ctx, lambda, [u_lobe, u.x, u.y], m);
+        // Written by the plugin in place, as for v7.
+        let rec = super::layout::as_scatter_mut(out);
+        match v5.sample(&q, rec) {
+            RResult::ROk(true) => match checked::scatter_f32(rec) {
+                Ok(()) => {
+                    out.flags = event_bits(Flags(out.flags.0));
+                    Some(out)
+                }
+                Err(reason) => {
+                    self.origin.dropped(reason);
+                    None
+                }
+            },
+            RResult::ROk(false) => None,
+            RResult::RErr(e) => self.origin.fail(e, None),
+        }
     }
 
     #[inline(never)]
@@ -1093,7 +1129,7 @@ impl Material for PluginMaterial {
         self.flags
     }
 
-    fn sample(
+    fn sample_into<'a>(
         &self,
         wo: Vec3A,
         ctx: &ShadingContext,
@@ -1101,63 +1137,32 @@ impl Material for PluginMaterial {
         u_lobe: f32,
         u: Vec2,
         m: HostMode,
-    ) -> Option<BsdfSample> {
-        if let Some(v7) = &self.v7 {
-            let q = query_v7(wo, Vec3A::ZERO, ctx, lambda, [u_lobe, u.x, u.y], m);
-            // Written by the plugin in place (see `super::layout`), checked, and its event bits
-            // translated to the host's.
-            let mut s = BsdfSample {
-                wi: Vec3A::ZERO,
-                f: SampledSpectrum::zero(),
-                pdf: 0.0,
-                flags: MaterialFlags::NONE,
-                eta: 0.0,
-            };
-            let out = super::layout::as_scatter_mut(&mut s);
-            let mut err = ROption::RNone;
-            return match v7.sample(&q, out, &mut err) {
-                status::WRITTEN => match checked::scatter_f32(out) {
-                    Ok(()) => {
-                        s.flags = event_bits(Flags(s.flags.0));
-                        Some(s)
-                    }
-                    Err(reason) => {
-                        self.origin.dropped(reason);
-                        None
-                    }
-                },
-                status::NONE => None,
-                other => self.origin.status_fault("sample (v7)", other, err, None),
-            };
+        out: &'a mut BsdfSample,
+    ) -> Option<&'a BsdfSample> {
+        let Some(v7) = &self.v7 else {
+            return self.sample_before_v7(wo, ctx, lambda, u_lobe, u, m, out);
+        };
+        let q = query_v7(wo, Vec3A::ZERO, ctx, lambda, [u_lobe, u.x, u.y], m);
+        // Written by the plugin straight into the caller's record (see `super::layout`), checked
+        // there, and its event bits translated to the host's. The record holds a valid sample
+        // or zeros when the plugin gets it (the caller's), so whatever the plugin leaves in it
+        // is checked like what it writes.
+        let rec = super::layout::as_scatter_mut(out);
+        let mut err = ROption::RNone;
+        match v7.sample(&q, rec, &mut err) {
+            status::WRITTEN => match checked::scatter_f32(rec) {
+                Ok(()) => {
+                    out.flags = event_bits(Flags(out.flags.0));
+                    Some(out)
+                }
+                Err(reason) => {
+                    self.origin.dropped(reason);
+                    None
+                }
+            },
+            status::NONE => None,
+            other => self.origin.status_fault("sample (v7)", other, err, None),
         }
-        if let Some(v5) = &self.v5 {
-            let q = query_v5(wo, Vec3A::ZERO, ctx, lambda, [u_lobe, u.x, u.y], m);
-            // Written by the plugin in place (see `super::layout`), checked, and its event bits
-            // translated to the host's.
-            let mut s = BsdfSample {
-                wi: Vec3A::ZERO,
-                f: SampledSpectrum::zero(),
-                pdf: 0.0,
-                flags: MaterialFlags::NONE,
-                eta: 0.0,
-            };
-            let out = super::layout::as_scatter_mut(&mut s);
-            return match v5.sample(&q, out) {
-                RResult::ROk(true) => match checked::scatter_f32(out) {
-                    Ok(()) => {
-                        s.flags = event_bits(Flags(s.flags.0));
-                        Some(s)
-                    }
-                    Err(reason) => {
-                        self.origin.dropped(reason);
-                        None
-                    }
-                },
-                RResult::ROk(false) => None,
-                RResult::RErr(e) => self.origin.fail(e, None),
-            };
-        }
-        self.sample_before_v5(wo, ctx, lambda, u_lobe, u, m)
     }
 
     fn eval(

@@ -173,6 +173,15 @@ pub fn as_scatter_mut(s: &mut BsdfSample) -> &mut ScatterF32 {
     unsafe { &mut *(s as *mut BsdfSample).cast::<ScatterF32>() }
 }
 
+/// The interface's sample record as the host's BSDF sample (the same memory): where the
+/// standard library's materials write their samples. What they write in `flags` are the host's
+/// bits: the library translates them before it answers.
+#[inline]
+pub fn as_bsdf_sample_mut(s: &mut ScatterF32) -> &mut BsdfSample {
+    // SAFETY: as for `as_scatter_mut`, the other way round.
+    unsafe { &mut *(s as *mut ScatterF32).cast::<BsdfSample>() }
+}
+
 /// The interface's incident record as the host's light sample (the same memory): where the
 /// standard library writes its lights' samples.
 #[inline]

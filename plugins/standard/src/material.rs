@@ -28,7 +28,9 @@ use spectrace::material::{
     BsdfSample, Material as HostMaterial, MaterialFlags, ShadingContext as HostContext,
     TransportMode as HostMode,
 };
-use spectrace::plugin::layout::{as_shading_context, as_wavelengths, as_wavelengths_v7};
+use spectrace::plugin::layout::{
+    as_bsdf_sample_mut, as_shading_context, as_wavelengths, as_wavelengths_v7,
+};
 use spectrace::scene::FactoryError;
 use spectrace::spectrum::{SampledSpectrum, SampledWavelengths, LANES};
 use spectrace_plugin_api::{
@@ -256,13 +258,21 @@ fn sample_v7<M: HostMaterial + ?Sized>(m: &M, q: &QueryV7<'_>, out: &mut Scatter
     let mut slot = None;
     let r = read_v7(q, &mut slot);
     let u = Vec2::new(q.u[1], q.u[2]);
-    match m.sample(r.wo, r.ctx, r.lambda, q.u[0], u, r.mode) {
-        Some(s) => {
-            *out = scatter(s);
-            true
-        }
-        None => false,
+    // The host's material writes its sample straight into `out` (the same layout), which the
+    // host's own `out` is: no copy on either side.
+    let rec = as_bsdf_sample_mut(out);
+    let at: *const BsdfSample = rec;
+    let Some(s) = m.sample_into(r.wo, r.ctx, r.lambda, q.u[0], u, r.mode, rec) else {
+        return false;
+    };
+    if !std::ptr::eq(s, at) {
+        // A material that answered with another record than the one it was given.
+        let s = *s;
+        *as_bsdf_sample_mut(out) = s;
     }
+    out.flags = event_bits(MaterialFlags(out.flags.0));
+    out.wi.w = 0.0;
+    true
 }
 
 /// [`sample_v4`] with the surface by reference (extension v5).
