@@ -969,15 +969,28 @@ impl PluginMaterial {
         lambda: &SampledWavelengths,
         m: HostMode,
     ) -> f32 {
-        if let Some(v7) = &self.v7 {
-            let q = query_v7(wo, wi, ctx, lambda, [0.0; 3], m);
-            let mut p = 0.0;
-            let mut err = ROption::RNone;
-            return match v7.pdf(&q, &mut p, &mut err) {
-                status::WRITTEN => self.origin.kept(checked::density_f32(p), p, 0.0),
-                other => self.origin.status_fault("pdf (v7)", other, err, 0.0),
-            };
+        let Some(v7) = &self.v7 else {
+            return self.pdf_before_v7(wo, wi, ctx, lambda, m);
+        };
+        let q = query_v7(wo, wi, ctx, lambda, [0.0; 3], m);
+        let mut p = 0.0;
+        let mut err = ROption::RNone;
+        match v7.pdf(&q, &mut p, &mut err) {
+            status::WRITTEN => self.origin.kept(checked::density_f32(p), p, 0.0),
+            other => self.origin.status_fault("pdf (v7)", other, err, 0.0),
         }
+    }
+
+    /// `pdf` of a v5 or v6 library and of older ones.
+    #[inline(never)]
+    fn pdf_before_v7(
+        &self,
+        wo: Vec3A,
+        wi: Vec3A,
+        ctx: &ShadingContext,
+        lambda: &SampledWavelengths,
+        m: HostMode,
+    ) -> f32 {
         if let Some(v5) = &self.v5 {
             let q = query_v5(wo, wi, ctx, lambda, [0.0; 3], m);
             let mut p = 0.0;
@@ -1087,6 +1100,31 @@ impl PluginMaterial {
         }
     }
 
+    /// `eval` of a v5 or v6 library and of older ones.
+    #[inline(never)]
+    fn eval_before_v7(
+        &self,
+        wo: Vec3A,
+        wi: Vec3A,
+        ctx: &ShadingContext,
+        lambda: &SampledWavelengths,
+        m: HostMode,
+    ) -> SampledSpectrum {
+        if let Some(v5) = &self.v5 {
+            let q = query_v5(wo, wi, ctx, lambda, [0.0; 3], m);
+            let mut v = [0.0; LANES];
+            return match v5.eval(&q, &mut v) {
+                RResult::ROk(()) => (self.origin).kept(
+                    checked::values_f32(&v),
+                    SampledSpectrum(v),
+                    SampledSpectrum::zero(),
+                ),
+                RResult::RErr(e) => self.origin.fail(e, SampledSpectrum::zero()),
+            };
+        }
+        self.eval_before_v5(wo, wi, ctx, lambda, m)
+    }
+
     #[inline(never)]
     fn eval_before_v5(
         &self,
@@ -1173,34 +1211,24 @@ impl Material for PluginMaterial {
         lambda: &SampledWavelengths,
         m: HostMode,
     ) -> SampledSpectrum {
-        if let Some(v7) = &self.v7 {
-            let q = query_v7(wo, wi, ctx, lambda, [0.0; 3], m);
-            let mut v = [0.0; LANES];
-            let mut err = ROption::RNone;
-            return match v7.eval(&q, &mut v, &mut err) {
-                status::WRITTEN => (self.origin).kept(
-                    checked::values_f32(&v),
-                    SampledSpectrum(v),
-                    SampledSpectrum::zero(),
-                ),
-                other => {
-                    (self.origin).status_fault("eval (v7)", other, err, SampledSpectrum::zero())
+        let Some(v7) = &self.v7 else {
+            return self.eval_before_v7(wo, wi, ctx, lambda, m);
+        };
+        let q = query_v7(wo, wi, ctx, lambda, [0.0; 3], m);
+        let mut v = [0.0; LANES];
+        let mut err = ROption::RNone;
+        match v7.eval(&q, &mut v, &mut err) {
+            status::WRITTEN => match checked::values_f32(&v) {
+                Ok(()) => SampledSpectrum(v),
+                Err(reason) => {
+                    self.origin.dropped(reason);
+                    SampledSpectrum::zero()
                 }
-            };
+            },
+            other => self
+                .origin
+                .status_fault("eval (v7)", other, err, SampledSpectrum::zero()),
         }
-        if let Some(v5) = &self.v5 {
-            let q = query_v5(wo, wi, ctx, lambda, [0.0; 3], m);
-            let mut v = [0.0; LANES];
-            return match v5.eval(&q, &mut v) {
-                RResult::ROk(()) => (self.origin).kept(
-                    checked::values_f32(&v),
-                    SampledSpectrum(v),
-                    SampledSpectrum::zero(),
-                ),
-                RResult::RErr(e) => self.origin.fail(e, SampledSpectrum::zero()),
-            };
-        }
-        self.eval_before_v5(wo, wi, ctx, lambda, m)
     }
     fn pdf(
         &self,
