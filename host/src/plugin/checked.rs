@@ -21,7 +21,7 @@ fn unit(v: Vec3) -> Result<(), Reason> {
     if v.is_finite() && (v.length() - 1.0).abs() <= UNIT_TOLERANCE {
         Ok(())
     } else {
-        Err("direction not a finite unit vector")
+        Err(BAD_DIRECTION)
     }
 }
 
@@ -43,14 +43,20 @@ pub fn density(p: f64) -> Result<(), Reason> {
 }
 
 /// The reason [`density`] gives.
-const BAD_DENSITY: Reason = "pdf NaN, infinite or negative";
+pub const BAD_DENSITY: Reason = "pdf NaN, infinite or negative";
+
+/// The reason [`values`] gives.
+pub const BAD_VALUE: Reason = "value NaN, infinite or negative";
+
+/// The reason a direction that is not a finite unit vector is refused for.
+pub const BAD_DIRECTION: Reason = "direction not a finite unit vector";
 
 /// A plain value (an SPD's value, a power in W): finite and ≥ 0.
 pub fn scalar(v: f64) -> Result<(), Reason> {
     if v.is_finite() && v >= 0.0 {
         Ok(())
     } else {
-        Err("value NaN, infinite or negative")
+        Err(BAD_VALUE)
     }
 }
 
@@ -68,7 +74,7 @@ pub fn values(v: &SpectralValues) -> Result<(), Reason> {
     if v.v.iter().all(|x| x.is_finite() && *x >= 0.0) {
         Ok(())
     } else {
-        Err("value NaN, infinite or negative")
+        Err(BAD_VALUE)
     }
 }
 
@@ -200,7 +206,7 @@ pub fn values_f32(v: &[f32; 4]) -> Result<(), Reason> {
     if all_non_negative_finite(glam::Vec4::from_array(*v)) {
         Ok(())
     } else {
-        Err("value NaN, infinite or negative")
+        Err(BAD_VALUE)
     }
 }
 
@@ -221,7 +227,7 @@ pub fn scatter_f32(s: &ScatterF32) -> Result<(), Reason> {
 #[cold]
 fn scatter_f32_reason(s: &ScatterF32) -> Result<(), Reason> {
     if !unit_f32(s.wi) {
-        return Err("direction not a finite unit vector");
+        return Err(BAD_DIRECTION);
     }
     density_f32(s.pdf)?;
     values_f32(&s.value)
@@ -256,7 +262,7 @@ pub fn incident_f32(s: &IncidentF32) -> Result<(), Reason> {
 fn incident_f32_reason(s: &IncidentF32) -> Result<(), Reason> {
     finite_point(s.point.to_f64())?;
     if !unit_f32(s.direction) {
-        return Err("direction not a finite unit vector");
+        return Err(BAD_DIRECTION);
     }
     density_f32(s.pdf)?;
     values_f32(&s.value)?;
@@ -287,7 +293,7 @@ pub fn emission_f32(s: &EmissionF32) -> Result<(), Reason> {
 fn emission_f32_reason(s: &EmissionF32) -> Result<(), Reason> {
     finite_point(s.origin.to_f64())?;
     if !unit_f32(s.direction) {
-        return Err("direction not a finite unit vector");
+        return Err(BAD_DIRECTION);
     }
     density_f32(s.pdf_position)?;
     density_f32(s.pdf_direction)?;
