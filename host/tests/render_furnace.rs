@@ -28,7 +28,7 @@ impl Material for GlowingWall {
     fn flags(&self) -> MaterialFlags {
         self.diffuse.flags() | MaterialFlags::EMISSIVE
     }
-    fn sample(
+    fn sample_into<'a>(
         &self,
         wo: Vec3A,
         ctx: &ShadingContext,
@@ -36,8 +36,9 @@ impl Material for GlowingWall {
         ul: f32,
         u: Vec2,
         m: TransportMode,
-    ) -> Option<BsdfSample> {
-        self.diffuse.sample(wo, ctx, l, ul, u, m)
+        out: &'a mut BsdfSample,
+    ) -> Option<&'a BsdfSample> {
+        self.diffuse.sample_into(wo, ctx, l, ul, u, m, out)
     }
     fn eval(
         &self,

@@ -722,6 +722,56 @@ macro_rules! export_plugin {
             extensions_v7()
         }
 
+        /// This plugin's extension module, version 8 (see `spectrace_plugin_api::extension`).
+        pub fn extensions_v8() -> $crate::extension::ExtensionsV8Export {
+            use $crate::__private::PrefixTypeTrait as _;
+            use $crate::__private::{ROption, RResult, RStr};
+            use $crate::error::PluginError;
+            use $crate::export::{construct, save, unknown_type, PluginType};
+            use $crate::extension::{
+                ExtensionsV8, ExtensionsV8Export, ExtensionsV8Ref, MaterialWithV8,
+            };
+            use $crate::guard::guarded;
+            use $crate::host::HostRef;
+            use $crate::module::{ObjectKind, ObjectSource};
+
+            extern "C" fn create_material(
+                type_name: RStr<'_>,
+                source: ObjectSource<'_>,
+                host: HostRef<'_>,
+            ) -> RResult<MaterialWithV8, PluginError> {
+                guarded("create_material (v8)", || {
+                    let name = type_name.as_str();
+                    $(if name == <$material as PluginType>::TYPE_NAME {
+                        let obj = construct::<$material>(source, &host)?;
+                        return $crate::material::GuardedMaterial::boxed_v8(obj, save::<$material>)
+                            .into_result();
+                    })*
+                    Err(unknown_type(
+                        ObjectKind::Material, name, &[$(<$material as PluginType>::TYPE_NAME),*]
+                    ))
+                })
+            }
+            extern "C" fn take_error() -> ROption<PluginError> {
+                $crate::guard::take_kept_error().into()
+            }
+            ExtensionsV8Export {
+                layout: <ExtensionsV8Ref as $crate::__private::StableAbi>::LAYOUT,
+                module: ExtensionsV8 {
+                    create_material,
+                    take_error,
+                }
+                .leak_into_prefix(),
+            }
+        }
+
+        /// The exported extension module, version 8 (looked up by name by the host).
+        #[no_mangle]
+        pub extern "C" fn spectrace_plugin_extensions_v8() -> $crate::extension::ExtensionsV8Export {
+            $crate::guard::set_library_mode();
+            extensions_v8()
+        }
+
         /// The exported root module (what the host finds in the library).
         #[$crate::__private::export_root_module]
         pub fn spectrace_plugin_root_module() -> $crate::module::PluginModuleRef {

@@ -90,15 +90,27 @@
 //! there is one, instead of an `RResult` moved back on every call. A library older than v7 is
 //! served through v6.
 //!
+//! Version 8 (`spectrace_plugin_extensions_v8`): a material face whose calls take their
+//! arguments as the host's own calls do ([`AbiMaterialV8`]: the directions and the surface and
+//! wavelength records by reference, the uniforms and transport mode by value, in registers),
+//! with no error slot: a failed call answers `ERROR` (`sample`) or NaN (`eval`, `pdf`) and keeps
+//! its error on its thread until the host takes it ([`ExtensionsV8::take_error`]), so the calls
+//! that succeed carry nothing for it. Carried in [`MaterialWithV8`] beside everything of v7. A
+//! library older than v8 is served through v7.
+//!
 //! [`export_plugin!`](crate::export_plugin) exports every version for every plugin.
 //!
 //! [`LightSource::scene_bounds`]: crate::LightSource::scene_bounds
 //! [`LightSource::emission_spectrum`]: crate::LightSource::emission_spectrum
 
+// `#[sabi_trait]` generates a vtable function per method taking the object too, outside the
+// method's own `#[allow]`: extension v8's `sample` passes its eight arguments in registers.
+#![allow(clippy::too_many_arguments)]
+
 use crate::error::PluginError;
 use crate::fast::{
     EmissionF32, IncidentF32, LanesF32, MaterialQuery, QueryV5, QueryV7, ReceiverF32, ScatterF32,
-    Vec4f,
+    SurfaceF32, ValuesF32, Vec4f, WavelengthsF32,
 };
 use crate::guard::guarded;
 use crate::host::HostRef;
@@ -759,4 +771,104 @@ pub struct ExtensionsV7Export {
     pub layout: &'static TypeLayout,
     /// The module.
     pub module: ExtensionsV7Ref,
+}
+
+// ----------------------------------------------------------------------------------------------
+// Version 8
+
+/// The symbol (NUL-terminated) of extension version 8: an `extern "C" fn() ->`
+/// [`ExtensionsV8Export`].
+pub const EXTENSIONS_V8_SYMBOL: &[u8] = b"spectrace_plugin_extensions_v8\0";
+
+/// The material calls of version 8: those of [`AbiMaterialV7`] with their arguments as the
+/// host's own material calls take them, so that neither side builds or reads a query record:
+/// `wo` and `wi` (local frame) and the surface and wavelength records by reference, each the
+/// host's own memory (the vectors' `w` lanes unspecified: read `x, y, z` only), the uniforms
+/// and the transport mode by value. No error slot: a call that fails (an error, or a panic
+/// caught on the plugin's side) keeps its error on the calling thread and says so in its
+/// answer, and the host then takes the error with [`ExtensionsV8::take_error`] on the same
+/// thread.
+///
+/// `sample` answers a status word ([`status`](crate::fast::status)): `NONE` (absorbed, `out`
+/// untouched), `WRITTEN` (the sample is in `out`) or `ERROR` (`out` is not to be read). `eval`
+/// answers the BSDF value per lane (1/sr) and `pdf` the density (1/sr) by value: NaN (in every
+/// lane) when the call failed, which the host refuses as a value unless it finds the error.
+#[sabi_trait]
+pub trait AbiMaterialV8: Send + Sync {
+    /// See [`crate::Material::sample_v8`].
+    #[allow(clippy::too_many_arguments)]
+    fn sample(
+        &self,
+        wo: &Vec4f,
+        ctx: &SurfaceF32,
+        lambda: &WavelengthsF32,
+        u_lobe: f32,
+        u1: f32,
+        u2: f32,
+        mode: TransportMode,
+        out: &mut ScatterF32,
+    ) -> u32;
+    /// See [`crate::Material::eval_v8`].
+    fn eval(
+        &self,
+        wo: &Vec4f,
+        wi: &Vec4f,
+        ctx: &SurfaceF32,
+        lambda: &WavelengthsF32,
+        mode: TransportMode,
+    ) -> ValuesF32;
+    /// See [`crate::Material::pdf_v8`].
+    #[sabi(last_prefix_field)]
+    fn pdf(
+        &self,
+        wo: &Vec4f,
+        wi: &Vec4f,
+        ctx: &SurfaceF32,
+        lambda: &WavelengthsF32,
+        mode: TransportMode,
+    ) -> f32;
+}
+
+/// The version-8 face of a material, owned.
+pub type MaterialV8Box = AbiMaterialV8_TO<'static, RBox<()>>;
+
+/// A material built through version 8: everything of version 7 and the v8 calls, on the same
+/// object.
+#[repr(C)]
+#[derive(StableAbi)]
+pub struct MaterialWithV8 {
+    /// The faces and declarations of version 7.
+    pub with_v7: MaterialWithV7,
+    /// The calls of version 8 (sample, eval, pdf), on the same object.
+    pub v8: MaterialV8Box,
+}
+
+/// Extension version 8: a material constructor returning the v8 face, and where the errors of
+/// that face's failed calls are taken. Parameters and saved state as for the root module's.
+#[repr(C)]
+#[derive(StableAbi)]
+#[sabi(kind(Prefix(prefix_ref = ExtensionsV8Ref)))]
+#[sabi(missing_field(panic))]
+pub struct ExtensionsV8 {
+    /// Build a material with its faces and declarations.
+    pub create_material: extern "C" fn(
+        type_name: RStr<'_>,
+        source: ObjectSource<'_>,
+        host: HostRef<'_>,
+    ) -> RResult<MaterialWithV8, PluginError>,
+    /// The error of the last v8 call on the calling thread that failed, taken (none when it
+    /// was taken already, or no call failed).
+    #[sabi(last_prefix_field)]
+    pub take_error: extern "C" fn() -> ROption<PluginError>,
+}
+
+/// What the version-8 symbol returns: the module's layout (checked by the host against its own
+/// before the module is touched) and the module.
+#[repr(C)]
+#[derive(StableAbi, Clone, Copy)]
+pub struct ExtensionsV8Export {
+    /// `<ExtensionsV8Ref as StableAbi>::LAYOUT` as the plugin was compiled.
+    pub layout: &'static TypeLayout,
+    /// The module.
+    pub module: ExtensionsV8Ref,
 }

@@ -24,6 +24,7 @@
 //! | [`EmissionF32`] | origin, unit direction, emitted value per lane, densities of origin and direction, normal (extension v6) | scene units, W/(sr·nm) or W/(m²·sr·nm), 1/m², 1/sr |
 //! | [`WavelengthsF32`] | wavelengths, densities, live-lane bits in one byte: the host's own record (extension v7) | nm, 1/nm |
 //! | [`QueryV7`] | as [`QueryV5`], the wavelengths by reference too (extension v7) | |
+//! | [`ValuesF32`] | a value per lane, returned by value (extension v8's `eval`) | 1/sr |
 
 use crate::material::{ScatterSample, SurfaceContext};
 use crate::types::{Flags, RandomSample, SpectralValues, TransportMode, Vec3, Wavelengths, LANES};
@@ -378,4 +379,21 @@ pub mod status {
     /// The call failed (an error, or a panic caught on the plugin's side): the error was written
     /// through `err`; `out` is not to be read.
     pub const ERROR: u32 = 2;
+}
+
+/// A value per lane, returned by value (extension v8's `eval`: in two SIMD registers on x86-64,
+/// no memory in between). All lanes NaN: the call failed, its error kept for the module's
+/// `take_error` ([`AbiMaterialV8`](crate::extension::AbiMaterialV8)).
+#[repr(C)]
+#[derive(StableAbi, Clone, Copy, Debug, Default, PartialEq)]
+pub struct ValuesF32 {
+    /// The value of each lane.
+    pub v: [f32; LANES],
+}
+
+impl ValuesF32 {
+    /// What a failed call answers: NaN in every lane.
+    pub const FAILED: Self = Self {
+        v: [f32::NAN; LANES],
+    };
 }

@@ -41,6 +41,25 @@ thread_local! {
     /// A panic deferred in library mode that no guard has taken yet: printed when the thread
     /// panics again or ends (see the module docs).
     static UNCLAIMED: Unclaimed = const { Unclaimed(RefCell::new(None)) };
+    /// The error of the last extension-v8 call on this thread that failed, until the host takes
+    /// it ([`keep_error`], [`take_kept_error`]): touched only when a call fails.
+    static KEPT: RefCell<Option<PluginError>> = const { RefCell::new(None) };
+}
+
+/// Keep `e`, the error of a failed extension-v8 call, for the host to take on this thread
+/// ([`take_kept_error`]); replaces one never taken. Out of line: the calls that succeed carry
+/// nothing for it.
+#[cold]
+#[inline(never)]
+pub fn keep_error(e: PluginError) {
+    // A thread being torn down cannot keep it; the host then reports the call's answer alone.
+    let _ = KEPT.try_with(|k| *k.borrow_mut() = Some(e));
+}
+
+/// The error [`keep_error`] kept on this thread, taken (what extension v8's `take_error`
+/// answers).
+pub fn take_kept_error() -> Option<PluginError> {
+    KEPT.try_with(|k| k.borrow_mut().take()).ok().flatten()
 }
 
 static HOOK: Once = Once::new();
@@ -280,6 +299,19 @@ mod tests {
             e.message.contains("guard.rs:") && e.message.ends_with("fast 1"),
             "{e}"
         );
+    }
+
+    // Extension v8's error slot: a kept error is taken once, on its own thread only; a second
+    // one kept before the take replaces the first.
+    #[test]
+    fn a_kept_error_is_taken_once_on_its_thread() {
+        assert!(take_kept_error().is_none());
+        keep_error(PluginError::new(ErrorKind::Other, "first"));
+        keep_error(PluginError::new(ErrorKind::Other, "second"));
+        let other = std::thread::spawn(take_kept_error).join().unwrap();
+        assert!(other.is_none(), "another thread's");
+        assert_eq!(take_kept_error().unwrap().message.as_str(), "second");
+        assert!(take_kept_error().is_none());
     }
 
     // Library mode, in one test because it is process-wide (no other test of this crate panics

@@ -84,6 +84,6 @@ pub use abi_stable::library;
 pub mod __private {
     pub use abi_stable::export_root_module;
     pub use abi_stable::prefix_type::PrefixTypeTrait;
-    pub use abi_stable::std_types::{RResult, RSlice, RStr, RString, RVec};
+    pub use abi_stable::std_types::{ROption, RResult, RSlice, RStr, RString, RVec};
     pub use abi_stable::StableAbi;
 }

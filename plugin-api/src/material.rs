@@ -4,11 +4,14 @@
 use crate::error::{PluginError, PluginResult};
 use crate::extension::{
     AbiMaterialEmittedV6, AbiMaterialV2, AbiMaterialV4, AbiMaterialV5, AbiMaterialV7,
-    MaterialEmission, MaterialWithV2, MaterialWithV3, MaterialWithV4, MaterialWithV5,
-    MaterialWithV6, MaterialWithV7, SpdWithLines,
+    AbiMaterialV8, MaterialEmission, MaterialWithV2, MaterialWithV3, MaterialWithV4,
+    MaterialWithV5, MaterialWithV6, MaterialWithV7, MaterialWithV8, SpdWithLines,
 };
-use crate::fast::{status, values_f32, MaterialQuery, QueryV5, QueryV7, ScatterF32};
-use crate::guard::{guarded, guarded_call, guarded_call_v5};
+use crate::fast::{
+    status, values_f32, MaterialQuery, QueryV5, QueryV7, ScatterF32, SurfaceF32, ValuesF32, Vec4f,
+    WavelengthsF32,
+};
+use crate::guard::{guarded, guarded_call, guarded_call_v5, keep_error};
 use crate::reradiation::{GuardedReradiation, Reradiation};
 use crate::spd::Spd;
 use crate::types::{Flags, RandomSample, SpectralValues, TransportMode, Vec3, Wavelengths, LANES};
@@ -343,6 +346,76 @@ pub trait Material: Send + Sync + 'static {
     fn pdf_v7(&self, q: &QueryV7<'_>) -> PluginResult<f32> {
         self.pdf_v5(&q.to_v5())
     }
+    /// [`sample_v7`](Self::sample_v7) with its arguments as extension v8 passes them (see
+    /// [`AbiMaterialV8`]): `wo` and the records by reference (the vectors' `w` lanes
+    /// unspecified), the uniforms and mode by value. The default builds v7's query (with `w`
+    /// cleared) and calls `sample_v7`; a material that reads the arguments as they come may
+    /// override it.
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    fn sample_v8(
+        &self,
+        wo: &Vec4f,
+        ctx: &SurfaceF32,
+        lambda: &WavelengthsF32,
+        u: [f32; 3],
+        mode: TransportMode,
+        out: &mut ScatterF32,
+    ) -> PluginResult<bool> {
+        let q = QueryV7 {
+            ctx,
+            lambda,
+            wo: Vec4f::new(wo.x, wo.y, wo.z),
+            wi: Vec4f::default(),
+            u,
+            mode,
+        };
+        self.sample_v7(&q, out)
+    }
+    /// [`eval_v7`](Self::eval_v7) with its arguments as extension v8 passes them, as
+    /// [`sample_v8`](Self::sample_v8): the BSDF value per lane (1/sr).
+    #[inline]
+    fn eval_v8(
+        &self,
+        wo: &Vec4f,
+        wi: &Vec4f,
+        ctx: &SurfaceF32,
+        lambda: &WavelengthsF32,
+        mode: TransportMode,
+    ) -> PluginResult<[f32; LANES]> {
+        let q = QueryV7 {
+            ctx,
+            lambda,
+            wo: Vec4f::new(wo.x, wo.y, wo.z),
+            wi: Vec4f::new(wi.x, wi.y, wi.z),
+            u: [0.0; 3],
+            mode,
+        };
+        let mut v = [0.0; LANES];
+        self.eval_v7(&q, &mut v)?;
+        Ok(v)
+    }
+    /// [`pdf_v7`](Self::pdf_v7) with its arguments as extension v8 passes them, as
+    /// [`sample_v8`](Self::sample_v8).
+    #[inline]
+    fn pdf_v8(
+        &self,
+        wo: &Vec4f,
+        wi: &Vec4f,
+        ctx: &SurfaceF32,
+        lambda: &WavelengthsF32,
+        mode: TransportMode,
+    ) -> PluginResult<f32> {
+        let q = QueryV7 {
+            ctx,
+            lambda,
+            wo: Vec4f::new(wo.x, wo.y, wo.z),
+            wi: Vec4f::new(wi.x, wi.y, wi.z),
+            u: [0.0; 3],
+            mode,
+        };
+        self.pdf_v7(&q)
+    }
 }
 
 /// The stable-ABI face of a material.
@@ -599,6 +672,103 @@ impl<T: Material> GuardedMaterial<T> {
                 abi_stable::sabi_trait::TD_Opaque,
             ),
         })
+    }
+}
+
+impl<T: Material> GuardedMaterial<T> {
+    /// Box `inner` behind the ABI with every face (versions 2, 3, 5, 6, 7 and 8) and its
+    /// declarations (extensions v4 to v6); one object behind all of them.
+    pub fn boxed_v8(
+        inner: T,
+        state: fn(&T) -> PluginResult<Vec<u8>>,
+    ) -> RResult<MaterialWithV8, PluginError> {
+        let inner = Arc::new(inner);
+        let with_v6 = match Self::faces_v6(inner.clone(), state) {
+            RResult::ROk(m) => m,
+            RResult::RErr(e) => return RResult::RErr(e),
+        };
+        RResult::ROk(MaterialWithV8 {
+            with_v7: MaterialWithV7 {
+                with_v6,
+                v7: crate::extension::AbiMaterialV7_TO::from_value(
+                    Self {
+                        inner: inner.clone(),
+                        state,
+                    },
+                    abi_stable::sabi_trait::TD_Opaque,
+                ),
+            },
+            v8: crate::extension::AbiMaterialV8_TO::from_value(
+                Self { inner, state },
+                abi_stable::sabi_trait::TD_Opaque,
+            ),
+        })
+    }
+}
+
+/// A v8 call's answer: its value, or `failed` with the error kept for the host
+/// ([`keep_error`]).
+#[inline]
+fn kept_or<T>(r: Result<T, PluginError>, failed: T) -> T {
+    match r {
+        Ok(v) => v,
+        Err(e) => {
+            keep_error(e);
+            failed
+        }
+    }
+}
+
+impl<T: Material> AbiMaterialV8 for GuardedMaterial<T> {
+    #[inline]
+    fn sample(
+        &self,
+        wo: &Vec4f,
+        ctx: &SurfaceF32,
+        lambda: &WavelengthsF32,
+        u_lobe: f32,
+        u1: f32,
+        u2: f32,
+        mode: TransportMode,
+        out: &mut ScatterF32,
+    ) -> u32 {
+        let r = guarded_call_v5("sample (v8)", || {
+            let written = (self.inner).sample_v8(wo, ctx, lambda, [u_lobe, u1, u2], mode, out)?;
+            Ok(if written {
+                status::WRITTEN
+            } else {
+                status::NONE
+            })
+        });
+        kept_or(r, status::ERROR)
+    }
+    #[inline]
+    fn eval(
+        &self,
+        wo: &Vec4f,
+        wi: &Vec4f,
+        ctx: &SurfaceF32,
+        lambda: &WavelengthsF32,
+        mode: TransportMode,
+    ) -> ValuesF32 {
+        let r = guarded_call_v5("eval (v8)", || {
+            Ok(ValuesF32 {
+                v: self.inner.eval_v8(wo, wi, ctx, lambda, mode)?,
+            })
+        });
+        kept_or(r, ValuesF32::FAILED)
+    }
+    #[inline]
+    fn pdf(
+        &self,
+        wo: &Vec4f,
+        wi: &Vec4f,
+        ctx: &SurfaceF32,
+        lambda: &WavelengthsF32,
+        mode: TransportMode,
+    ) -> f32 {
+        let r = guarded_call_v5("pdf (v8)", || self.inner.pdf_v8(wo, wi, ctx, lambda, mode));
+        kept_or(r, f32::NAN)
     }
 }
 

@@ -9,8 +9,8 @@
 //! (an SPD lent by the host) must work, and its light must render like the built-in point light
 //! of the same emission.
 //!
-//! `plugins/fixtures/api-ext-v1/` to `api-ext-v5/` freeze the API after extensions v1 to v5;
-//! the plugins built on them (`api-ext-v1-plugin` to `api-ext-v5-plugin`) must load and render
+//! `plugins/fixtures/api-ext-v1/` to `api-ext-v7/` freeze the API after extensions v1 to v7;
+//! the plugins built on them (`api-ext-v1-plugin` to `api-ext-v7-plugin`) must load and render
 //! the same way, each seeing the later extensions as absent.
 //!
 //! This test is what showed that growing the root module or a trait vtable after its
@@ -599,4 +599,43 @@ fn a_plugin_built_against_extension_v6_loads_and_renders() {
     assert!(plugin.f_same_for_all_directions() && native.f_same_for_all_directions());
     assert!(plugin.cosine_weighted_pdf() && native.cosine_weighted_pdf());
     assert_renders_like_the_builtin(&registry, plugin_scene, native_scene, "v6");
+}
+
+/// A plugin built against the API of extension v7, before v8 (`plugins/fixtures/api-ext-v7/`, a
+/// frozen copy of the API source at that point, and `plugins/fixtures/api-ext-v7-plugin/` built
+/// on it) keeps loading: it exports extensions v1–v7 but not v8, so the host reads v8 as absent
+/// and builds its material through v7 (its calls through v7's face: the wavelengths by
+/// reference, a status word, the error through a slot). Its grey material declares itself flat,
+/// lends its sampled value and samples with the cosine-weighted density (each checked by the
+/// host through the v7 face when built), as the built-in grey `lambertian` does. Quantity: the
+/// image mean Y of a floor of that material (ρ = 0.5) under the built-in point light against the
+/// built-in material's, as for the earlier versions (`assert_renders_like_the_builtin`).
+#[test]
+fn a_plugin_built_against_extension_v7_loads_and_renders() {
+    use spectrace::plugin::{extension_v7::extensions_v7, extension_v8::extensions_v8};
+    let registry = load_frozen_fixture(
+        "api-ext-v7-plugin",
+        "v7",
+        |p| extensions_v7(p).unwrap().is_some(),
+        |p| extensions_v8(p).unwrap().is_some(),
+        |r, s| r.create_plugin_material_v8("v7_grey", s).unwrap().is_some(),
+    );
+    assert!(
+        registry
+            .create_plugin_material_v7(
+                "v7_grey",
+                spectrace_plugin_api::module::ObjectSource::Params(
+                    spectrace_plugin_api::abi::std_types::RStr::from_str("(reflectance: 0.5)"),
+                ),
+            )
+            .unwrap()
+            .is_some(),
+        "v7_grey is built through v7"
+    );
+    let (plugin_scene, native_scene) = grey_floor_scenes("v7");
+    let [plugin, native] = floors(&registry, [&plugin_scene, &native_scene]);
+    assert!(plugin.spectrally_flat() && native.spectrally_flat());
+    assert!(plugin.f_same_for_all_directions() && native.f_same_for_all_directions());
+    assert!(plugin.cosine_weighted_pdf() && native.cosine_weighted_pdf());
+    assert_renders_like_the_builtin(&registry, plugin_scene, native_scene, "v7");
 }

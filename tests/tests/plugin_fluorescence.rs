@@ -218,14 +218,14 @@ fn lies_while_rendering_are_dropped_and_reported_never_a_crash() {
     }
 }
 
-/// The material calls of extensions v5 and v7 (`sample`, `eval`, `pdf` in the host's layout,
+/// The material calls of extensions v5 to v8 (`sample`, `eval`, `pdf` in the host's layout,
 /// results through a reference, the plugin's guard without a thread-local; v7: the wavelengths by
-/// reference and a status word, the face a current library is called through) keep the boundary's
-/// guarantees: a BSDF sample with a NaN value is dropped and counted per plugin object and
-/// reason ("value NaN, infinite or negative"), and a panic while sampling is caught on the
-/// plugin's side and reported with its call (`sample (v7)`), the panic's location (taken from
-/// the report the library's hook deferred) and its message; the render finishes either way (PT,
-/// 16 spp).
+/// reference and a status word; v8, the face a current library is called through: the arguments
+/// as the host's calls take them, no error slot) keep the boundary's guarantees: a BSDF sample
+/// with a NaN value is dropped and counted per plugin object and reason ("value NaN, infinite or
+/// negative", with its call), and a panic while sampling is caught on the plugin's side and
+/// reported with its call (`sample (v8)`), the panic's location (taken from the report the
+/// library's hook deferred) and its message; the render finishes either way (PT, 16 spp).
 #[test]
 fn lies_in_the_fast_material_calls_are_dropped_or_reported() {
     let f = factory();
@@ -239,7 +239,7 @@ fn lies_in_the_fast_material_calls_are_dropped_or_reported() {
             .iter()
             .any(|(who, why, n)| who.contains("lying-fluorescent")
                 && who.contains("material `liar`")
-                && why.contains("value NaN")
+                && why.contains("sample (v8): value NaN")
                 && *n > 0),
         "{report}"
     );
@@ -250,9 +250,85 @@ fn lies_in_the_fast_material_calls_are_dropped_or_reported() {
     let e = f.faults().outcome().unwrap_err();
     for want in [
         "lying-fluorescent",
-        "sample (v7) panicked at plugins/fixtures/lying-fluorescent/src/lib.rs:",
+        "sample (v8) panicked at plugins/fixtures/lying-fluorescent/src/lib.rs:",
         "the liar panics while sampling",
     ] {
         assert!(e.contains(want), "missing {want:?} in: {e}");
+    }
+}
+
+/// Extension v8 keeps a failed call's error on the plugin's side (no error slot in the call)
+/// and the host takes it from the library only when the call answers a failure (ERROR from
+/// `sample`, NaN from `eval` or `pdf`). Through the library, with `lying_diffuse` (the liar
+/// without fluorescence, so that the integrators call its BSDF while rendering): an error
+/// returned by `sample` or `eval` and a panic in `pdf` are each reported naming the plugin, the
+/// material and the call (`sample (v8): …`, `eval (v8): …`, `pdf (v8) panicked at …`) with the
+/// plugin's own message; a NaN value from `sample` or `eval` and an infinite density from `pdf`
+/// are dropped and counted with their call. The render finishes every time (PT, BDPT and LT,
+/// 16 spp, two threads: each thread takes its own errors), and nothing else is reported.
+#[test]
+fn a_v8_plugin_s_failures_are_reported_with_plugin_object_and_call() {
+    let kinds = [IntegratorKind::Pt, IntegratorKind::Bdpt, IntegratorKind::Lt];
+    let lying = |lie: &str| scene_text("lying_diffuse", &format!("(lie: \"{lie}\")"), 400);
+    for (lie, call, message) in [
+        (
+            "error_sample",
+            "sample (v8)",
+            "error: sample (v8): the liar refuses to sample a direction",
+        ),
+        (
+            "error_eval",
+            "eval (v8)",
+            "error: eval (v8): the liar refuses to evaluate",
+        ),
+        (
+            "panic_pdf",
+            "pdf (v8) panicked at plugins/fixtures/lying-fluorescent/src/lib.rs:",
+            "the liar panics while giving a density",
+        ),
+    ] {
+        for kind in kinds {
+            let f = factory();
+            let scene = build(&f, &lying(lie)).unwrap();
+            render_y(&scene, kind);
+            let sites = f.faults().sites();
+            assert!(
+                !sites.is_empty(),
+                "{lie} {kind}: the failures were recorded"
+            );
+            for (who, site, n, first) in &sites {
+                assert_eq!(
+                    who, "material `lying_diffuse` (plugin lying-fluorescent 0.1.0)",
+                    "{lie} {kind}"
+                );
+                assert!(site.starts_with(call), "{lie} {kind}: {site}");
+                assert!(*n > 0 && first.contains(message), "{lie} {kind}: {first}");
+            }
+            assert_eq!(f.faults().invalid_count(), 0, "{:?}", f.faults().report());
+            let e = f.faults().outcome().unwrap_err();
+            assert!(e.contains(message), "{lie} {kind}: {e}");
+        }
+    }
+    for (lie, why) in [
+        ("nan_sample", "sample (v8): value NaN, infinite or negative"),
+        ("nan_eval", "eval (v8): value NaN, infinite or negative"),
+        ("infinite_pdf", "pdf (v8): pdf NaN, infinite or negative"),
+    ] {
+        for kind in kinds {
+            let f = factory();
+            let scene = build(&f, &lying(lie)).unwrap();
+            render_y(&scene, kind);
+            let report = f.faults().report().join("\n");
+            assert_eq!(f.faults().count(), 0, "{lie} {kind}: {report}");
+            let invalid = f.faults().invalid();
+            assert!(!invalid.is_empty(), "{lie} {kind}: dropped and counted");
+            for (who, reason, n) in invalid {
+                assert_eq!(
+                    who, "material `lying_diffuse` (plugin lying-fluorescent 0.1.0)",
+                    "{lie} {kind}"
+                );
+                assert!(reason == why && n > 0, "{lie} {kind}: {reason} {n}");
+            }
+        }
     }
 }

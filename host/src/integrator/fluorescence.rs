@@ -51,7 +51,7 @@ impl Material for UnitLobe {
         MaterialFlags::DIFFUSE | MaterialFlags::REFLECTION
     }
 
-    fn sample(
+    fn sample_into<'a>(
         &self,
         wo: Vec3A,
         _ctx: &ShadingContext,
@@ -59,7 +59,8 @@ impl Material for UnitLobe {
         _u_lobe: f32,
         u: Vec2,
         _mode: TransportMode,
-    ) -> Option<BsdfSample> {
+        out: &'a mut BsdfSample,
+    ) -> Option<&'a BsdfSample> {
         if wo.z == 0.0 {
             return None;
         }
@@ -71,13 +72,13 @@ impl Material for UnitLobe {
         if pdf == 0.0 {
             return None;
         }
-        Some(BsdfSample {
+        Some(out.write(BsdfSample {
             wi,
             f: SampledSpectrum::splat(FRAC_1_PI),
             pdf,
             flags: MaterialFlags::DIFFUSE | MaterialFlags::REFLECTION,
             eta: 1.0,
-        })
+        }))
     }
 
     fn eval(

@@ -17,7 +17,7 @@ use crate::film::spectral_film::LaneEnergies;
 use crate::film::{FilmState, Sensor};
 use crate::geometry::{spawn_ray, spawn_ray_to, Ray};
 use crate::light::{LightFlags, LightSampleContext};
-use crate::material::{Frame, Material, MaterialFlags, ShadingContext, TransportMode};
+use crate::material::{BsdfSample, Frame, Material, MaterialFlags, ShadingContext, TransportMode};
 use crate::scene::Scene;
 use crate::spectrum::wavelength_sampling::rotated;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, LANES};
@@ -290,6 +290,9 @@ impl PathTracer {
         let mut shifted: Option<[[f32; LANES]; MAX_GROUPS]> = None;
         // Filled only once a fluorescent event has shifted a lane (most paths never do).
         let mut cur_buf: Option<[SampledWavelengths; MAX_GROUPS]> = None;
+        // Where every bounce's BSDF samples are written (`Material::sample_into`).
+        let mut record = BsdfSample::ZERO;
+        let mut again_record = BsdfSample::ZERO;
         loop {
             let cur = current(lambdas.groups(), shifted.as_ref(), &mut cur_buf);
             stats.rays += 1;
@@ -417,9 +420,16 @@ impl PathTracer {
             // lends the hero's f to the light sample instead of evaluating it again.
             let u_lobe = rng.next_1d();
             let u_dir = rng.next_2d();
-            let sampled = material.sample(wo, &sctx, &hero, u_lobe, u_dir, TransportMode::Radiance);
+            let sampled = material.sample_into(
+                wo,
+                &sctx,
+                &hero,
+                u_lobe,
+                u_dir,
+                TransportMode::Radiance,
+                &mut record,
+            );
             let hero_f = sampled
-                .as_ref()
                 .filter(|_| material.f_same_for_all_directions())
                 .map(|bs| bs.f);
             if flags.has_non_specular() {
@@ -518,10 +528,17 @@ impl PathTracer {
                     *f_g = if bs.flags.is_specular() {
                         // A delta event cannot be evaluated: sample it again with the same
                         // numbers and this group's wavelengths.
-                        let again =
-                            material.sample(wo, &sctx, lam, u_lobe, u_dir, TransportMode::Radiance);
+                        let again = material.sample_into(
+                            wo,
+                            &sctx,
+                            lam,
+                            u_lobe,
+                            u_dir,
+                            TransportMode::Radiance,
+                            &mut again_record,
+                        );
                         match again {
-                            Some(b) if same_delta_event(&b, &bs) => b.f,
+                            Some(b) if same_delta_event(b, bs) => b.f,
                             _ => {
                                 wavelength_dependent = true;
                                 break;

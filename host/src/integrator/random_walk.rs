@@ -7,7 +7,7 @@ use super::vertex::{SampledFor, Vertex, VertexKind, ZERO_LANES};
 use super::{PathStats, SampleRng};
 use crate::camera::Camera;
 use crate::geometry::{spawn_ray, Ray};
-use crate::material::{Frame, Material, MaterialFlags, ShadingContext, TransportMode};
+use crate::material::{BsdfSample, Frame, Material, MaterialFlags, ShadingContext, TransportMode};
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, LANES};
 
@@ -73,6 +73,8 @@ pub fn random_walk(
     // 1 − 1/η² and return the survivors with η² = 2.25× the throughput (fireflies through glass).
     let mut scatter = 1.0f32;
     let mut added = 0usize;
+    // Where every bounce's BSDF sample is written (`Material::sample_into`).
+    let mut record = BsdfSample::ZERO;
     // The lights' delta lines, which camera-side excitation draws include.
     let lines = scene.lights.delta_lines();
     loop {
@@ -168,7 +170,8 @@ pub fn random_walk(
         let ctx = ShadingContext::at(hit.point, hit.geometric_normal, hit.shading_normal, hit.uv);
         let u_lobe = rng.next_1d();
         let u_dir = rng.next_2d();
-        let Some(bs) = material.sample(wo, &ctx, &cur, u_lobe, u_dir, mode) else {
+        let Some(bs) = material.sample_into(wo, &ctx, &cur, u_lobe, u_dir, mode, &mut record)
+        else {
             break;
         };
         if !(bs.pdf > 0.0) || bs.f.is_black() {

@@ -40,7 +40,7 @@
 //! | `DIRECTION_TOLERANCE`   | 2e-5   | `|ω_traced − ω_to_y|` at convergence (radians)       |
 
 use crate::geometry::{spawn_ray, spawn_ray_to, Hit};
-use crate::material::{Frame, MaterialFlags, ShadingContext, TransportMode};
+use crate::material::{BsdfSample, Frame, MaterialFlags, ShadingContext, TransportMode};
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::{DVec3, Vec2, Vec3A};
@@ -264,13 +264,15 @@ pub fn trace_chain(
             Lobe::Reflect => 0.0,
             Lobe::Transmit => 1.0 - f32::EPSILON / 2.0,
         };
-        let bs = material.sample(
+        let mut record = BsdfSample::ZERO;
+        let bs = material.sample_into(
             wo,
             &ctx,
             lambda,
             u_lobe,
             Vec2::splat(0.5),
             TransportMode::Radiance,
+            &mut record,
         )?;
         let got = if bs.flags.contains(MaterialFlags::TRANSMISSION) {
             Lobe::Transmit

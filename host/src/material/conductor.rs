@@ -46,7 +46,7 @@ impl Material for RoughConductor {
         }
     }
 
-    fn sample(
+    fn sample_into<'a>(
         &self,
         wo: Vec3A,
         _ctx: &ShadingContext,
@@ -54,19 +54,20 @@ impl Material for RoughConductor {
         _u_lobe: f32,
         u: Vec2,
         _mode: TransportMode,
-    ) -> Option<BsdfSample> {
+        out: &'a mut BsdfSample,
+    ) -> Option<&'a BsdfSample> {
         if wo.z <= 0.0 {
             return None;
         }
         if self.ggx.effectively_smooth() {
             let wi = Vec3A::new(-wo.x, -wo.y, wo.z);
-            return Some(BsdfSample {
+            return Some(out.write(BsdfSample {
                 wi,
                 f: self.fresnel(wi.z, lambda) / wi.z,
                 pdf: 1.0,
                 flags: self.flags(),
                 eta: 1.0,
-            });
+            }));
         }
         let wm = self.ggx.sample_wm(wo, u);
         let wi = reflect(wo, wm);
@@ -80,13 +81,13 @@ impl Material for RoughConductor {
         }
         let f = self.fresnel(cos_om, lambda)
             * (self.ggx.d(wm) * self.ggx.g(wo, wi) / (4.0 * wo.z * wi.z));
-        Some(BsdfSample {
+        Some(out.write(BsdfSample {
             wi,
             f,
             pdf,
             flags: self.flags(),
             eta: 1.0,
-        })
+        }))
     }
 
     fn eval(

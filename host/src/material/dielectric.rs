@@ -52,7 +52,7 @@ impl Material for SmoothDielectric {
         Some((Arc::new(Self::new(ior)), text))
     }
 
-    fn sample(
+    fn sample_into<'a>(
         &self,
         wo: Vec3A,
         _ctx: &ShadingContext,
@@ -60,7 +60,8 @@ impl Material for SmoothDielectric {
         u_lobe: f32,
         _u: Vec2,
         mode: TransportMode,
-    ) -> Option<BsdfSample> {
+        out: &'a mut BsdfSample,
+    ) -> Option<&'a BsdfSample> {
         if wo.z == 0.0 {
             return None;
         }
@@ -74,13 +75,13 @@ impl Material for SmoothDielectric {
         let t = 1.0 - r;
         if u_lobe < r || t <= 0.0 {
             let wi = Vec3A::new(-wo.x, -wo.y, wo.z);
-            return Some(BsdfSample {
+            return Some(out.write(BsdfSample {
                 wi,
                 f: SampledSpectrum::splat(r / wi.z.abs()),
                 pdf: r,
                 flags: MaterialFlags::SPECULAR | MaterialFlags::REFLECTION | dispersive,
                 eta: 1.0,
-            });
+            }));
         }
         // Refraction: the normal on wo's side and the relative IOR seen from there.
         let (n, etap) = if wo.z > 0.0 {
@@ -93,13 +94,13 @@ impl Material for SmoothDielectric {
         if mode == TransportMode::Radiance {
             ft /= etap * etap;
         }
-        Some(BsdfSample {
+        Some(out.write(BsdfSample {
             wi,
             f: SampledSpectrum::splat(ft),
             pdf: t,
             flags: MaterialFlags::SPECULAR | MaterialFlags::TRANSMISSION | dispersive,
             eta: etap,
-        })
+        }))
     }
 
     fn eval(

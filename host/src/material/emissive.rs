@@ -39,7 +39,7 @@ impl Material for Emissive {
         true
     }
 
-    fn sample(
+    fn sample_into<'a>(
         &self,
         _wo: Vec3A,
         _ctx: &ShadingContext,
@@ -47,7 +47,8 @@ impl Material for Emissive {
         _u_lobe: f32,
         _u: Vec2,
         _mode: TransportMode,
-    ) -> Option<BsdfSample> {
+        _out: &'a mut BsdfSample,
+    ) -> Option<&'a BsdfSample> {
         None
     }
 

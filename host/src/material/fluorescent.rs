@@ -161,7 +161,7 @@ impl Material for Fluorescent {
         }
     }
 
-    fn sample(
+    fn sample_into<'a>(
         &self,
         wo: Vec3A,
         _ctx: &ShadingContext,
@@ -169,7 +169,8 @@ impl Material for Fluorescent {
         _u_lobe: f32,
         u: Vec2,
         _mode: TransportMode,
-    ) -> Option<BsdfSample> {
+        out: &'a mut BsdfSample,
+    ) -> Option<&'a BsdfSample> {
         if wo.z == 0.0 {
             return None;
         }
@@ -181,13 +182,13 @@ impl Material for Fluorescent {
         if pdf == 0.0 {
             return None;
         }
-        Some(BsdfSample {
+        Some(out.write(BsdfSample {
             wi,
             f: self.reflectance(lambda) * FRAC_1_PI,
             pdf,
             flags: MaterialFlags::DIFFUSE | MaterialFlags::REFLECTION,
             eta: 1.0,
-        })
+        }))
     }
 
     fn eval(

@@ -42,7 +42,7 @@ impl Material for Lambertian {
         self.reflectance.grey().is_some()
     }
 
-    fn sample(
+    fn sample_into<'a>(
         &self,
         wo: Vec3A,
         ctx: &ShadingContext,
@@ -50,7 +50,8 @@ impl Material for Lambertian {
         _u_lobe: f32,
         u: Vec2,
         _mode: TransportMode,
-    ) -> Option<BsdfSample> {
+        out: &'a mut BsdfSample,
+    ) -> Option<&'a BsdfSample> {
         if wo.z == 0.0 {
             return None;
         }
@@ -62,13 +63,13 @@ impl Material for Lambertian {
         if pdf == 0.0 {
             return None;
         }
-        Some(BsdfSample {
+        Some(out.write(BsdfSample {
             wi,
             f: self.reflectance.eval(lambda, ctx.uv) * FRAC_1_PI,
             pdf,
             flags: self.flags(),
             eta: 1.0,
-        })
+        }))
     }
 
     fn eval(

@@ -23,7 +23,7 @@ impl Material for Mirror {
         MaterialFlags::SPECULAR | MaterialFlags::REFLECTION
     }
 
-    fn sample(
+    fn sample_into<'a>(
         &self,
         wo: Vec3A,
         ctx: &ShadingContext,
@@ -31,18 +31,19 @@ impl Material for Mirror {
         _u_lobe: f32,
         _u: Vec2,
         _mode: TransportMode,
-    ) -> Option<BsdfSample> {
+        out: &'a mut BsdfSample,
+    ) -> Option<&'a BsdfSample> {
         if wo.z == 0.0 {
             return None;
         }
         let wi = Vec3A::new(-wo.x, -wo.y, wo.z);
-        Some(BsdfSample {
+        Some(out.write(BsdfSample {
             wi,
             f: self.reflectance.eval(lambda, ctx.uv) / wi.z.abs(),
             pdf: 1.0,
             flags: self.flags(),
             eta: 1.0,
-        })
+        }))
     }
 
     fn eval(

@@ -104,6 +104,24 @@ pub struct BsdfSample {
     pub eta: f32,
 }
 
+impl BsdfSample {
+    /// Write `s` here and lend it back: how a [`Material::sample_into`] answers.
+    #[inline]
+    pub fn write(&mut self, s: Self) -> &Self {
+        *self = s;
+        self
+    }
+
+    /// All zero: a record for [`Material::sample_into`] to write.
+    pub const ZERO: Self = Self {
+        wi: Vec3A::ZERO,
+        f: SampledSpectrum::zero(),
+        pdf: 0.0,
+        flags: MaterialFlags::NONE,
+        eta: 0.0,
+    };
+}
+
 /// Effects a render switches off (see `effects::plan`); a material that has one of them
 /// offers a replacement without it through [`Material::without_effects`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -122,8 +140,29 @@ pub trait Material: Send + Sync + Debug {
     /// What lobes this material has (union over all lobes).
     fn flags(&self) -> MaterialFlags;
 
-    /// Sample `wi` given `wo`. `u_lobe` picks a lobe, `u` the direction within it. `None` when no
-    /// light is scattered (e.g. `wo` on the wrong side of a one-sided surface).
+    /// Sample `wi` given `wo`, writing the sample into `out`: `Some` of it, or `None` when no
+    /// light is scattered (e.g. `wo` on the wrong side of a one-sided surface; what `out` holds
+    /// then is not to be read). `u_lobe` picks a lobe, `u` the direction within it.
+    ///
+    /// Written in place rather than returned by value so that a plugin material can write its
+    /// sample straight into the caller's record (`plugin::layout`; the host checks it there): a
+    /// returned `Option<BsdfSample>` was one copy on each side of the plugin boundary per call
+    /// (docs/performance.md, "Plugin overhead"). The render loops keep one record per path and
+    /// pass it to every bounce; [`sample`](Self::sample) returns a copy, for everything else.
+    #[allow(clippy::too_many_arguments)] // `sample`'s six and the record
+    fn sample_into<'a>(
+        &self,
+        wo: Vec3A,
+        ctx: &ShadingContext,
+        lambda: &SampledWavelengths,
+        u_lobe: f32,
+        u: Vec2,
+        mode: TransportMode,
+        out: &'a mut BsdfSample,
+    ) -> Option<&'a BsdfSample>;
+
+    /// [`sample_into`](Self::sample_into), the sample returned by value (a copy): for callers
+    /// outside the render loops.
     fn sample(
         &self,
         wo: Vec3A,
@@ -132,7 +171,11 @@ pub trait Material: Send + Sync + Debug {
         u_lobe: f32,
         u: Vec2,
         mode: TransportMode,
-    ) -> Option<BsdfSample>;
+    ) -> Option<BsdfSample> {
+        let mut s = BsdfSample::ZERO;
+        self.sample_into(wo, ctx, lambda, u_lobe, u, mode, &mut s)
+            .copied()
+    }
 
     /// BSDF value f(wo, wi) in 1/sr; zero for delta lobes.
     fn eval(

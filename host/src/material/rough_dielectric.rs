@@ -91,7 +91,7 @@ impl Material for RoughDielectric {
             | self.dispersive()
     }
 
-    fn sample(
+    fn sample_into<'a>(
         &self,
         wo: Vec3A,
         ctx: &ShadingContext,
@@ -99,9 +99,12 @@ impl Material for RoughDielectric {
         u_lobe: f32,
         u: Vec2,
         mode: TransportMode,
-    ) -> Option<BsdfSample> {
+        out: &'a mut BsdfSample,
+    ) -> Option<&'a BsdfSample> {
         if self.ggx.effectively_smooth() {
-            return self.smooth.sample(wo, ctx, lambda, u_lobe, u, mode);
+            return self
+                .smooth
+                .sample_into(wo, ctx, lambda, u_lobe, u, mode, out);
         }
         if wo.z == 0.0 {
             return None;
@@ -122,13 +125,13 @@ impl Material for RoughDielectric {
             if !(pdf > 0.0) {
                 return None;
             }
-            return Some(BsdfSample {
+            return Some(out.write(BsdfSample {
                 wi,
                 f: SampledSpectrum::splat(f),
                 pdf,
                 flags: MaterialFlags::GLOSSY | MaterialFlags::REFLECTION | self.dispersive(),
                 eta: 1.0,
-            });
+            }));
         }
         // A microfacet facing away from wo cannot refract it.
         if cos_om * wo.z <= 0.0 {
@@ -160,13 +163,13 @@ impl Material for RoughDielectric {
         if !(pdf > 0.0) {
             return None;
         }
-        Some(BsdfSample {
+        Some(out.write(BsdfSample {
             wi,
             f: SampledSpectrum::splat(f),
             pdf,
             flags: MaterialFlags::GLOSSY | MaterialFlags::TRANSMISSION | self.dispersive(),
             eta: etap,
-        })
+        }))
     }
 
     fn eval(

@@ -266,7 +266,7 @@ impl Material for ThinFilm {
         f
     }
 
-    fn sample(
+    fn sample_into<'a>(
         &self,
         wo: Vec3A,
         _ctx: &ShadingContext,
@@ -274,7 +274,8 @@ impl Material for ThinFilm {
         u_lobe: f32,
         _u: Vec2,
         mode: TransportMode,
-    ) -> Option<BsdfSample> {
+        out: &'a mut BsdfSample,
+    ) -> Option<&'a BsdfSample> {
         if wo.z == 0.0 {
             return None;
         }
@@ -301,13 +302,13 @@ impl Material for ThinFilm {
         let p_r = r_mean / total;
         if u_lobe < p_r || t_mean <= 0.0 {
             let wi = Vec3A::new(-wo.x, -wo.y, wo.z);
-            return Some(BsdfSample {
+            return Some(out.write(BsdfSample {
                 wi,
                 f: SampledSpectrum(r) * (1.0 / wi.z.abs()),
                 pdf: p_r,
                 flags: MaterialFlags::SPECULAR | MaterialFlags::REFLECTION,
                 eta: 1.0,
-            });
+            }));
         }
         let eta = self.base_ior(lambda.lambda[0])?;
         let (nrm, etap) = if outside {
@@ -325,13 +326,13 @@ impl Material for ThinFilm {
         } else {
             MaterialFlags::NONE
         };
-        Some(BsdfSample {
+        Some(out.write(BsdfSample {
             wi,
             f: SampledSpectrum(t) * scale,
             pdf: 1.0 - p_r,
             flags: MaterialFlags::SPECULAR | MaterialFlags::TRANSMISSION | dispersive,
             eta: etap,
-        })
+        }))
     }
 
     fn eval(

@@ -25,9 +25,9 @@ use glam::{Vec2, Vec3A};
 use spectrace_plugin_api::abi::std_types::{ROption, RResult};
 use spectrace_plugin_api::extension::{
     LightV2Box, LightV6Box, LightWithV2, LightWithV4, LightWithV6, MaterialEmittedV6Box,
-    MaterialV2Box, MaterialV4Box, MaterialV5Box, MaterialV7Box, MaterialWithV2, MaterialWithV3,
-    MaterialWithV4, MaterialWithV5, MaterialWithV6, MaterialWithV7, RepresentedLightBox,
-    SpdWithLines,
+    MaterialV2Box, MaterialV4Box, MaterialV5Box, MaterialV7Box, MaterialV8Box, MaterialWithV2,
+    MaterialWithV3, MaterialWithV4, MaterialWithV5, MaterialWithV6, MaterialWithV7, MaterialWithV8,
+    RepresentedLightBox, SpdWithLines,
 };
 use spectrace_plugin_api::fast::{
     status, EmissionF32, LanesF32, MaterialQuery, QueryV5, QueryV7, ScatterF32, SurfaceF32, Vec4f,
@@ -617,6 +617,60 @@ fn query_v7<'a>(
     }
 }
 
+/// Extension v8's `take_error`: the error of the last failed v8 call on this thread.
+pub type TakeError = extern "C" fn() -> ROption<PluginError>;
+
+/// The faces of a material newer than v6 (each `None` when its library predates it).
+struct Newer {
+    v7: Option<MaterialV7Box>,
+    v8: Option<(MaterialV8Box, TakeError)>,
+}
+
+impl Newer {
+    const NONE: Self = Self { v7: None, v8: None };
+}
+
+/// A call of extension v8's material face, as its reports name it.
+#[derive(Clone, Copy, Debug)]
+enum CallV8 {
+    Sample,
+    Eval,
+    Pdf,
+}
+
+impl CallV8 {
+    fn name(self) -> &'static str {
+        match self {
+            Self::Sample => "sample (v8)",
+            Self::Eval => "eval (v8)",
+            Self::Pdf => "pdf (v8)",
+        }
+    }
+
+    /// An error of this call that says `what` it did.
+    fn error(self, what: fmt::Arguments<'_>) -> PluginError {
+        PluginError::new(
+            spectrace_plugin_api::ErrorKind::Other,
+            format!("{} {what}", self.name()),
+        )
+    }
+
+    /// `reason` (one of those [`checked`] gives for this call's results) with the call named,
+    /// as the dropped results of a v8 face are counted.
+    fn reason(self, reason: checked::Reason) -> checked::Reason {
+        match (self, reason) {
+            (Self::Sample, checked::BAD_DIRECTION) => {
+                "sample (v8): direction not a finite unit vector"
+            }
+            (Self::Sample, checked::BAD_DENSITY) => "sample (v8): pdf NaN, infinite or negative",
+            (Self::Sample, checked::BAD_VALUE) => "sample (v8): value NaN, infinite or negative",
+            (Self::Eval, checked::BAD_VALUE) => "eval (v8): value NaN, infinite or negative",
+            (Self::Pdf, checked::BAD_DENSITY) => "pdf (v8): pdf NaN, infinite or negative",
+            _ => reason,
+        }
+    }
+}
+
 /// A plugin material as a host [`Material`]. An EMISSIVE one also describes its emission
 /// ([`Material::emission`]), so the scene builds an area light on every object that uses it,
 /// sampled and MIS-weighted like the built-in `emissive`. A FLUORESCENT one built through
@@ -640,6 +694,11 @@ pub struct PluginMaterial {
     /// The same material's version-7 face (extension v7): when present, `sample`, `eval` and
     /// `pdf` go through it (the wavelengths by reference, a status word for an answer).
     v7: Option<MaterialV7Box>,
+    /// The same material's version-8 face (extension v8): when present, `sample`, `eval` and
+    /// `pdf` go through it (the arguments as the host's own calls take them, no error slot).
+    v8: Option<MaterialV8Box>,
+    /// Where the errors of the v8 face's failed calls are taken (extension v8's module).
+    take_error: Option<TakeError>,
     /// Declared spectrally flat (extension v4) and found so when built ([`Self::new_v4`]).
     flat: bool,
     /// Declared to have one BSDF value for every direction (extension v5) and found so when
@@ -728,14 +787,14 @@ impl PluginMaterial {
     /// claim the material's own answers contradict is refused, naming the plugin object and
     /// `item`.
     pub fn new_v5(material: MaterialWithV5, origin: Origin, item: &str) -> Result<Self, String> {
-        Self::with_v5(material, None, origin, item)
+        Self::with_v5(material, Newer::NONE, origin, item)
     }
 
     /// [`Self::new_v5`] with the v7 face, when there is one, set before the declarations are
     /// checked: the checks ask the face that renders.
     fn with_v5(
         material: MaterialWithV5,
-        v7: Option<MaterialV7Box>,
+        newer: Newer,
         origin: Origin,
         item: &str,
     ) -> Result<Self, String> {
@@ -757,7 +816,11 @@ impl PluginMaterial {
             item,
         )?;
         m.v5 = Some(v5);
-        m.v7 = v7;
+        m.v7 = newer.v7;
+        if let Some((v8, take_error)) = newer.v8 {
+            m.v8 = Some(v8);
+            m.take_error = Some(take_error);
+        }
         if spectrally_flat {
             super::flatness::check(&m, m.flags, m.reradiation.is_some()).map_err(|e| {
                 format!(
@@ -785,19 +848,39 @@ impl PluginMaterial {
     /// cosine-weighted density, checked (see [`super::cosine_pdf`]): a claim the material's own
     /// answers contradict is refused, naming the plugin object and `item`.
     pub fn new_v6(material: MaterialWithV6, origin: Origin, item: &str) -> Result<Self, String> {
-        Self::with_v6(material, None, origin, item)
+        Self::with_v6(material, Newer::NONE, origin, item)
     }
 
     /// Wrap a material built through extension v7: as [`Self::new_v6`] (every declaration
     /// checked, through the v7 face), with `sample`, `eval` and `pdf` through the v7 face.
     pub fn new_v7(material: MaterialWithV7, origin: Origin, item: &str) -> Result<Self, String> {
-        Self::with_v6(material.with_v6, Some(material.v7), origin, item)
+        let newer = Newer {
+            v7: Some(material.v7),
+            v8: None,
+        };
+        Self::with_v6(material.with_v6, newer, origin, item)
     }
 
-    /// [`Self::new_v6`] with the v7 face, as [`Self::with_v5`].
+    /// Wrap a material built through extension v8: as [`Self::new_v7`] (every declaration
+    /// checked, through the v8 face), with `sample`, `eval` and `pdf` through the v8 face, whose
+    /// errors are taken with `take_error` (the library's v8 module).
+    pub fn new_v8(
+        material: MaterialWithV8,
+        take_error: TakeError,
+        origin: Origin,
+        item: &str,
+    ) -> Result<Self, String> {
+        let newer = Newer {
+            v7: Some(material.with_v7.v7),
+            v8: Some((material.v8, take_error)),
+        };
+        Self::with_v6(material.with_v7.with_v6, newer, origin, item)
+    }
+
+    /// [`Self::new_v6`] with the newer faces, as [`Self::with_v5`].
     fn with_v6(
         material: MaterialWithV6,
-        v7: Option<MaterialV7Box>,
+        newer: Newer,
         origin: Origin,
         item: &str,
     ) -> Result<Self, String> {
@@ -820,7 +903,7 @@ impl PluginMaterial {
                 spectrally_flat,
                 f_same_for_all_directions,
             },
-            v7,
+            newer,
             origin,
             item,
         )?;
@@ -866,6 +949,8 @@ impl PluginMaterial {
             v4: None,
             v5: None,
             v7: None,
+            v8: None,
+            take_error: None,
             flat: false,
             same_f: false,
             emitted_v6: None,
@@ -954,7 +1039,7 @@ impl PluginMaterial {
     }
 }
 
-/// The calls of libraries older than extension v5, out of line: the v5 path above stays a
+/// The calls of libraries older than extension v7, out of line: the v7 path of each call stays a
 /// small function (its frame and saved registers are what that path needs, not these).
 impl PluginMaterial {
     /// The density asked of the plugin, out of line: a material that declares the
@@ -969,15 +1054,54 @@ impl PluginMaterial {
         lambda: &SampledWavelengths,
         m: HostMode,
     ) -> f32 {
-        if let Some(v7) = &self.v7 {
-            let q = query_v7(wo, wi, ctx, lambda, [0.0; 3], m);
-            let mut p = 0.0;
-            let mut err = ROption::RNone;
-            return match v7.pdf(&q, &mut p, &mut err) {
-                status::WRITTEN => self.origin.kept(checked::density_f32(p), p, 0.0),
-                other => self.origin.status_fault("pdf (v7)", other, err, 0.0),
-            };
+        let Some(v8) = &self.v8 else {
+            return self.pdf_before_v8(wo, wi, ctx, lambda, m);
+        };
+        let p = v8.pdf(
+            super::layout::as_vec4f(&wo),
+            super::layout::as_vec4f(&wi),
+            super::layout::as_surface(ctx),
+            super::layout::as_wavelengths_f32(lambda),
+            mode(m),
+        );
+        match checked::density_f32(p) {
+            Ok(()) => p,
+            Err(reason) => self.v8_refused(CallV8::Pdf, reason, 0.0),
         }
+    }
+
+    /// `pdf` of a v7 library and of older ones.
+    #[inline(never)]
+    fn pdf_before_v8(
+        &self,
+        wo: Vec3A,
+        wi: Vec3A,
+        ctx: &ShadingContext,
+        lambda: &SampledWavelengths,
+        m: HostMode,
+    ) -> f32 {
+        let Some(v7) = &self.v7 else {
+            return self.pdf_before_v7(wo, wi, ctx, lambda, m);
+        };
+        let q = query_v7(wo, wi, ctx, lambda, [0.0; 3], m);
+        let mut p = 0.0;
+        let mut err = ROption::RNone;
+        match v7.pdf(&q, &mut p, &mut err) {
+            status::WRITTEN => self.origin.kept(checked::density_f32(p), p, 0.0),
+            other => self.origin.status_fault("pdf (v7)", other, err, 0.0),
+        }
+    }
+
+    /// `pdf` of a v5 or v6 library and of older ones.
+    #[inline(never)]
+    fn pdf_before_v7(
+        &self,
+        wo: Vec3A,
+        wi: Vec3A,
+        ctx: &ShadingContext,
+        lambda: &SampledWavelengths,
+        m: HostMode,
+    ) -> f32 {
         if let Some(v5) = &self.v5 {
             let q = query_v5(wo, wi, ctx, lambda, [0.0; 3], m);
             let mut p = 0.0;
@@ -1001,6 +1125,137 @@ impl PluginMaterial {
         (self.origin)
             .checked(r, |p| checked::density(*p))
             .map_or(0.0, |v| v as f32)
+    }
+
+    /// `sample` of a v7 library and of older ones.
+    #[inline(never)]
+    #[allow(clippy::too_many_arguments)]
+    fn sample_before_v8<'a>(
+        &self,
+        wo: Vec3A,
+        ctx: &ShadingContext,
+        lambda: &SampledWavelengths,
+        u_lobe: f32,
+        u: Vec2,
+        m: HostMode,
+        out: &'a mut BsdfSample,
+    ) -> Option<&'a BsdfSample> {
+        let Some(v7) = &self.v7 else {
+            return self.sample_before_v7(wo, ctx, lambda, u_lobe, u, m, out);
+        };
+        let q = query_v7(wo, Vec3A::ZERO, ctx, lambda, [u_lobe, u.x, u.y], m);
+        // Written by the plugin straight into the caller's record (see `super::layout`), checked
+        // there, and its event bits translated to the host's. The record holds a valid sample
+        // or zeros when the plugin gets it (the caller's), so whatever the plugin leaves in it
+        // is checked like what it writes.
+        let rec = super::layout::as_scatter_mut(out);
+        let mut err = ROption::RNone;
+        match v7.sample(&q, rec, &mut err) {
+            status::WRITTEN => match checked::scatter_f32(rec) {
+                Ok(()) => {
+                    out.flags = event_bits(Flags(out.flags.0));
+                    Some(out)
+                }
+                Err(reason) => {
+                    self.origin.dropped(reason);
+                    None
+                }
+            },
+            status::NONE => None,
+            other => self.origin.status_fault("sample (v7)", other, err, None),
+        }
+    }
+
+    /// A v8 `sample` that answered other than `WRITTEN`: absorbed (`NONE`), failed (`ERROR`:
+    /// its kept error taken and reported with the call named), or a status the interface does
+    /// not have.
+    #[cold]
+    #[inline(never)]
+    fn sample_not_written<'a>(&self, status: u32) -> Option<&'a BsdfSample> {
+        if status == status::NONE {
+            return None;
+        }
+        let call = CallV8::Sample;
+        let e = if status == status::ERROR {
+            self.take_v8_error(call).unwrap_or_else(|| {
+                call.error(format_args!(
+                    "answered ERROR (status 2) without keeping an error"
+                ))
+            })
+        } else {
+            call.error(format_args!(
+                "answered status {status}, which is none of NONE (0), WRITTEN (1) and ERROR (2)"
+            ))
+        };
+        self.origin.fail(e, None)
+    }
+
+    /// A v8 answer refused for `reason`: the call's error when it kept one (a failed `eval` or
+    /// `pdf` answers NaN), else the value dropped; either reported with the call named.
+    #[cold]
+    #[inline(never)]
+    fn v8_refused<T>(&self, call: CallV8, reason: checked::Reason, fallback: T) -> T {
+        match self.take_v8_error(call) {
+            Some(e) => self.origin.fail(e, fallback),
+            None => {
+                self.origin.dropped(call.reason(reason));
+                fallback
+            }
+        }
+    }
+
+    /// A v8 sample refused for `reason` (it said `WRITTEN`: no error to take).
+    #[cold]
+    #[inline(never)]
+    fn v8_dropped(&self, reason: checked::Reason) {
+        self.origin.dropped(CallV8::Sample.reason(reason));
+    }
+
+    /// The error a failed v8 call kept on this thread, taken from the library, with the call
+    /// named in front of it unless it names itself (a caught panic's message starts with its
+    /// call, see the API's `guard`).
+    fn take_v8_error(&self, call: CallV8) -> Option<PluginError> {
+        let mut e = self.take_error.and_then(|take| take().into_option())?;
+        if !e.message.starts_with(call.name()) {
+            e.message = format!("{}: {}", call.name(), e.message).into();
+        }
+        Some(e)
+    }
+
+    /// `sample` of a v5 or v6 library (the sample written in place, as for v7) and of older ones
+    /// (returned by value, copied into `out`).
+    #[inline(never)]
+    #[allow(clippy::too_many_arguments)]
+    fn sample_before_v7<'a>(
+        &self,
+        wo: Vec3A,
+        ctx: &ShadingContext,
+        lambda: &SampledWavelengths,
+        u_lobe: f32,
+        u: Vec2,
+        m: HostMode,
+        out: &'a mut BsdfSample,
+    ) -> Option<&'a BsdfSample> {
+        let Some(v5) = &self.v5 else {
+            return (self.sample_before_v5(wo, ctx, lambda, u_lobe, u, m)).map(|s| out.write(s));
+        };
+        let q = query_v5(wo, Vec3A::ZERO, ctx, lambda, [u_lobe, u.x, u.y], m);
+        // Written by the plugin in place, as for v7.
+        let rec = super::layout::as_scatter_mut(out);
+        match v5.sample(&q, rec) {
+            RResult::ROk(true) => match checked::scatter_f32(rec) {
+                Ok(()) => {
+                    out.flags = event_bits(Flags(out.flags.0));
+                    Some(out)
+                }
+                Err(reason) => {
+                    self.origin.dropped(reason);
+                    None
+                }
+            },
+            RResult::ROk(false) => None,
+            RResult::RErr(e) => self.origin.fail(e, None),
+        }
     }
 
     #[inline(never)]
@@ -1051,6 +1306,61 @@ impl PluginMaterial {
         }
     }
 
+    /// `eval` of a v7 library and of older ones.
+    #[inline(never)]
+    fn eval_before_v8(
+        &self,
+        wo: Vec3A,
+        wi: Vec3A,
+        ctx: &ShadingContext,
+        lambda: &SampledWavelengths,
+        m: HostMode,
+    ) -> SampledSpectrum {
+        let Some(v7) = &self.v7 else {
+            return self.eval_before_v7(wo, wi, ctx, lambda, m);
+        };
+        let q = query_v7(wo, wi, ctx, lambda, [0.0; 3], m);
+        let mut v = [0.0; LANES];
+        let mut err = ROption::RNone;
+        match v7.eval(&q, &mut v, &mut err) {
+            status::WRITTEN => match checked::values_f32(&v) {
+                Ok(()) => SampledSpectrum(v),
+                Err(reason) => {
+                    self.origin.dropped(reason);
+                    SampledSpectrum::zero()
+                }
+            },
+            other => self
+                .origin
+                .status_fault("eval (v7)", other, err, SampledSpectrum::zero()),
+        }
+    }
+
+    /// `eval` of a v5 or v6 library and of older ones.
+    #[inline(never)]
+    fn eval_before_v7(
+        &self,
+        wo: Vec3A,
+        wi: Vec3A,
+        ctx: &ShadingContext,
+        lambda: &SampledWavelengths,
+        m: HostMode,
+    ) -> SampledSpectrum {
+        if let Some(v5) = &self.v5 {
+            let q = query_v5(wo, wi, ctx, lambda, [0.0; 3], m);
+            let mut v = [0.0; LANES];
+            return match v5.eval(&q, &mut v) {
+                RResult::ROk(()) => (self.origin).kept(
+                    checked::values_f32(&v),
+                    SampledSpectrum(v),
+                    SampledSpectrum::zero(),
+                ),
+                RResult::RErr(e) => self.origin.fail(e, SampledSpectrum::zero()),
+            };
+        }
+        self.eval_before_v5(wo, wi, ctx, lambda, m)
+    }
+
     #[inline(never)]
     fn eval_before_v5(
         &self,
@@ -1093,7 +1403,7 @@ impl Material for PluginMaterial {
         self.flags
     }
 
-    fn sample(
+    fn sample_into<'a>(
         &self,
         wo: Vec3A,
         ctx: &ShadingContext,
@@ -1101,63 +1411,39 @@ impl Material for PluginMaterial {
         u_lobe: f32,
         u: Vec2,
         m: HostMode,
-    ) -> Option<BsdfSample> {
-        if let Some(v7) = &self.v7 {
-            let q = query_v7(wo, Vec3A::ZERO, ctx, lambda, [u_lobe, u.x, u.y], m);
-            // Written by the plugin in place (see `super::layout`), checked, and its event bits
-            // translated to the host's.
-            let mut s = BsdfSample {
-                wi: Vec3A::ZERO,
-                f: SampledSpectrum::zero(),
-                pdf: 0.0,
-                flags: MaterialFlags::NONE,
-                eta: 0.0,
-            };
-            let out = super::layout::as_scatter_mut(&mut s);
-            let mut err = ROption::RNone;
-            return match v7.sample(&q, out, &mut err) {
-                status::WRITTEN => match checked::scatter_f32(out) {
-                    Ok(()) => {
-                        s.flags = event_bits(Flags(s.flags.0));
-                        Some(s)
-                    }
-                    Err(reason) => {
-                        self.origin.dropped(reason);
-                        None
-                    }
-                },
-                status::NONE => None,
-                other => self.origin.status_fault("sample (v7)", other, err, None),
-            };
+        out: &'a mut BsdfSample,
+    ) -> Option<&'a BsdfSample> {
+        let Some(v8) = &self.v8 else {
+            return self.sample_before_v8(wo, ctx, lambda, u_lobe, u, m, out);
+        };
+        // Written by the plugin straight into the caller's record (see `super::layout`), checked
+        // there, and its event bits translated to the host's. The record holds a valid sample
+        // or zeros when the plugin gets it (the caller's), so whatever the plugin leaves in it
+        // is checked like what it writes.
+        let rec = super::layout::as_scatter_mut(out);
+        let status = v8.sample(
+            super::layout::as_vec4f(&wo),
+            super::layout::as_surface(ctx),
+            super::layout::as_wavelengths_f32(lambda),
+            u_lobe,
+            u.x,
+            u.y,
+            mode(m),
+            rec,
+        );
+        if status != status::WRITTEN {
+            return self.sample_not_written(status);
         }
-        if let Some(v5) = &self.v5 {
-            let q = query_v5(wo, Vec3A::ZERO, ctx, lambda, [u_lobe, u.x, u.y], m);
-            // Written by the plugin in place (see `super::layout`), checked, and its event bits
-            // translated to the host's.
-            let mut s = BsdfSample {
-                wi: Vec3A::ZERO,
-                f: SampledSpectrum::zero(),
-                pdf: 0.0,
-                flags: MaterialFlags::NONE,
-                eta: 0.0,
-            };
-            let out = super::layout::as_scatter_mut(&mut s);
-            return match v5.sample(&q, out) {
-                RResult::ROk(true) => match checked::scatter_f32(out) {
-                    Ok(()) => {
-                        s.flags = event_bits(Flags(s.flags.0));
-                        Some(s)
-                    }
-                    Err(reason) => {
-                        self.origin.dropped(reason);
-                        None
-                    }
-                },
-                RResult::ROk(false) => None,
-                RResult::RErr(e) => self.origin.fail(e, None),
-            };
+        match checked::scatter_f32(rec) {
+            Ok(()) => {
+                out.flags = event_bits(Flags(out.flags.0));
+                Some(out)
+            }
+            Err(reason) => {
+                self.v8_dropped(reason);
+                None
+            }
         }
-        self.sample_before_v5(wo, ctx, lambda, u_lobe, u, m)
     }
 
     fn eval(
@@ -1168,34 +1454,22 @@ impl Material for PluginMaterial {
         lambda: &SampledWavelengths,
         m: HostMode,
     ) -> SampledSpectrum {
-        if let Some(v7) = &self.v7 {
-            let q = query_v7(wo, wi, ctx, lambda, [0.0; 3], m);
-            let mut v = [0.0; LANES];
-            let mut err = ROption::RNone;
-            return match v7.eval(&q, &mut v, &mut err) {
-                status::WRITTEN => (self.origin).kept(
-                    checked::values_f32(&v),
-                    SampledSpectrum(v),
-                    SampledSpectrum::zero(),
-                ),
-                other => {
-                    (self.origin).status_fault("eval (v7)", other, err, SampledSpectrum::zero())
-                }
-            };
+        let Some(v8) = &self.v8 else {
+            return self.eval_before_v8(wo, wi, ctx, lambda, m);
+        };
+        let v = v8
+            .eval(
+                super::layout::as_vec4f(&wo),
+                super::layout::as_vec4f(&wi),
+                super::layout::as_surface(ctx),
+                super::layout::as_wavelengths_f32(lambda),
+                mode(m),
+            )
+            .v;
+        match checked::values_f32(&v) {
+            Ok(()) => SampledSpectrum(v),
+            Err(reason) => self.v8_refused(CallV8::Eval, reason, SampledSpectrum::zero()),
         }
-        if let Some(v5) = &self.v5 {
-            let q = query_v5(wo, wi, ctx, lambda, [0.0; 3], m);
-            let mut v = [0.0; LANES];
-            return match v5.eval(&q, &mut v) {
-                RResult::ROk(()) => (self.origin).kept(
-                    checked::values_f32(&v),
-                    SampledSpectrum(v),
-                    SampledSpectrum::zero(),
-                ),
-                RResult::RErr(e) => self.origin.fail(e, SampledSpectrum::zero()),
-            };
-        }
-        self.eval_before_v5(wo, wi, ctx, lambda, m)
     }
     fn pdf(
         &self,
@@ -1867,8 +2141,13 @@ const _: () = assert!(
 mod tests {
     use super::*;
     use spectrace_plugin_api::abi::sabi_trait::TD_Opaque;
-    use spectrace_plugin_api::extension::{AbiMaterialV7, AbiMaterialV7_TO};
+    use spectrace_plugin_api::extension::{
+        AbiMaterialV7, AbiMaterialV7_TO, AbiMaterialV8, AbiMaterialV8_TO,
+    };
+    use spectrace_plugin_api::fast::{SurfaceF32, ValuesF32, WavelengthsF32};
+    use spectrace_plugin_api::guard::{keep_error, take_kept_error};
     use spectrace_plugin_api::material::GuardedMaterial;
+    use spectrace_plugin_api::ErrorKind;
     use spectrace_plugin_api::{PluginResult, ScatterSample, ShadingContext as ApiContext};
 
     /// A plugin Lambertian in `f64` (the v6 faces the checks of the declarations use).
@@ -2035,6 +2314,341 @@ mod tests {
         assert!(ask(&m).0.is_none());
         assert_eq!(faults.invalid_count(), 1);
         assert_eq!(faults.invalid()[0].0, "material `grey` (plugin test 0.1.0)");
+    }
+
+    /// A v8 face that answers as told: `sample` the status (writing a sample with direction
+    /// `wi`), `eval` the values, `pdf` the density; with `keep`, each call that answers a
+    /// failure (ERROR, NaN) first keeps that error on the thread, as the export macro's guard
+    /// does.
+    struct AnswersV8 {
+        status: u32,
+        wi: Vec4f,
+        values: [f32; LANES],
+        pdf: f32,
+        keep: Option<&'static str>,
+    }
+
+    impl AnswersV8 {
+        fn honest() -> Self {
+            Self {
+                status: status::WRITTEN,
+                wi: Vec4f::new(0.0, 0.6, 0.8),
+                values: [0.5; LANES],
+                pdf: 0.25,
+                keep: None,
+            }
+        }
+        fn keep(&self, failed: bool) {
+            if let (Some(m), true) = (self.keep, failed) {
+                keep_error(PluginError::new(ErrorKind::Other, m));
+            }
+        }
+    }
+
+    impl AbiMaterialV8 for AnswersV8 {
+        fn sample(
+            &self,
+            _wo: &Vec4f,
+            _ctx: &SurfaceF32,
+            _lambda: &WavelengthsF32,
+            _u_lobe: f32,
+            _u1: f32,
+            _u2: f32,
+            _mode: TransportMode,
+            out: &mut ScatterF32,
+        ) -> u32 {
+            self.keep(self.status == status::ERROR);
+            *out = ScatterF32 {
+                wi: self.wi,
+                value: self.values,
+                pdf: self.pdf,
+                flags: material_flags::DIFFUSE,
+                eta: 1.0,
+            };
+            self.status
+        }
+        fn eval(
+            &self,
+            _wo: &Vec4f,
+            _wi: &Vec4f,
+            _ctx: &SurfaceF32,
+            _lambda: &WavelengthsF32,
+            _mode: TransportMode,
+        ) -> ValuesF32 {
+            self.keep(self.values[0].is_nan());
+            ValuesF32 { v: self.values }
+        }
+        fn pdf(
+            &self,
+            _wo: &Vec4f,
+            _wi: &Vec4f,
+            _ctx: &SurfaceF32,
+            _lambda: &WavelengthsF32,
+            _mode: TransportMode,
+        ) -> f32 {
+            self.keep(self.pdf.is_nan());
+            self.pdf
+        }
+    }
+
+    /// Extension v8's `take_error` as the export macro writes it (this thread's kept error).
+    extern "C" fn take_kept() -> ROption<PluginError> {
+        take_kept_error().into()
+    }
+
+    fn origin() -> (Origin, Arc<PluginFaults>) {
+        let faults = PluginFaults::new();
+        let origin = Origin {
+            label: "material `grey` (plugin test 0.1.0)".to_string(),
+            faults: faults.clone(),
+        };
+        (origin, faults)
+    }
+
+    fn with_face_v8(face: AnswersV8) -> (PluginMaterial, Arc<PluginFaults>) {
+        let (origin, faults) = origin();
+        let with_v6 = GuardedMaterial::boxed_v6(Grey, |_| Ok(Vec::new())).unwrap();
+        let v7 = AbiMaterialV7_TO::from_value(
+            Answers {
+                status: status::WRITTEN,
+                wi: Vec4f::new(0.0, 0.6, 0.8),
+            },
+            TD_Opaque,
+        );
+        let v8 = AbiMaterialV8_TO::from_value(face, TD_Opaque);
+        let with_v7 = MaterialWithV7 { with_v6, v7 };
+        let m = PluginMaterial::new_v8(MaterialWithV8 { with_v7, v8 }, take_kept, origin, "floor")
+            .unwrap();
+        (m, faults)
+    }
+
+    /// The failed calls' messages by call site.
+    fn failed_sites(faults: &PluginFaults) -> Vec<(String, String)> {
+        faults
+            .sites()
+            .into_iter()
+            .map(|(who, site, n, first)| {
+                assert_eq!(who, "material `grey` (plugin test 0.1.0)");
+                assert_eq!(n, 1, "{site}: {first}");
+                (site, first)
+            })
+            .collect()
+    }
+
+    // Extension v8's face: the host's calls go through it (its answers handed over, the
+    // sample's event bits translated). A call that failed (ERROR from `sample`, NaN from `eval`
+    // and `pdf`) has its kept error taken from the library and reported with the plugin
+    // object and the call named; ERROR without a kept error and a status the interface does not
+    // have are reported the same way; values that break the rules without an error (NaN,
+    // infinite, negative, a direction that is not unit) are dropped and counted per object and
+    // call. Nothing is fatal: the host gets no sample, zero, zero.
+    #[test]
+    fn the_v8_answers_are_checked_and_their_errors_taken() {
+        let (m, faults) = with_face_v8(AnswersV8::honest());
+        let (s, f, p) = ask(&m);
+        let s = s.expect("a sample");
+        assert_eq!(
+            (s.wi, s.f.0, s.pdf),
+            (Vec3A::new(0.0, 0.6, 0.8), [0.5; 4], 0.25)
+        );
+        assert_eq!(s.flags, MaterialFlags::DIFFUSE | MaterialFlags::REFLECTION);
+        assert_eq!((f.0, p), ([0.5; 4], 0.25));
+        assert_eq!(faults.count() + faults.invalid_count(), 0);
+
+        // Failed calls: their errors, each named with its call.
+        let (m, faults) = with_face_v8(AnswersV8 {
+            status: status::ERROR,
+            values: ValuesF32::FAILED.v,
+            pdf: f32::NAN,
+            keep: Some("the material broke"),
+            ..AnswersV8::honest()
+        });
+        let (s, f, p) = ask(&m);
+        assert!(s.is_none());
+        assert_eq!((f.0, p), ([0.0; 4], 0.0));
+        assert_eq!((faults.count(), faults.invalid_count()), (3, 0));
+        let sites = failed_sites(&faults);
+        for call in ["eval (v8)", "pdf (v8)", "sample (v8)"] {
+            let want = format!("error: {call}: the material broke");
+            assert!(
+                sites
+                    .iter()
+                    .any(|(site, first)| site == call && *first == want),
+                "{call}: {sites:?}"
+            );
+        }
+        assert!(take_kept_error().is_none(), "every kept error was taken");
+
+        // An error the message of which names its call already (a caught panic) is not named
+        // twice.
+        let (m, faults) = with_face_v8(AnswersV8 {
+            values: ValuesF32::FAILED.v,
+            keep: Some("eval (v8) panicked at lib.rs:7: boom"),
+            ..AnswersV8::honest()
+        });
+        assert_eq!(ask(&m).1 .0, [0.0; 4]);
+        assert_eq!(
+            failed_sites(&faults),
+            [(
+                "eval (v8) panicked at lib.rs:7".to_string(),
+                "error: eval (v8) panicked at lib.rs:7: boom".to_string()
+            )]
+        );
+
+        // Status words that are not the interface's, or ERROR with nothing kept.
+        for (status, says) in [
+            (7, "sample (v8) answered status 7, which is none of"),
+            (
+                status::ERROR,
+                "sample (v8) answered ERROR (status 2) without keeping an error",
+            ),
+        ] {
+            let (m, faults) = with_face_v8(AnswersV8 {
+                status,
+                ..AnswersV8::honest()
+            });
+            assert!(ask(&m).0.is_none());
+            assert_eq!(faults.count(), 1);
+            let first = faults.first().unwrap();
+            assert!(
+                first.starts_with(&format!(
+                    "material `grey` (plugin test 0.1.0): error: {says}"
+                )),
+                "{first}"
+            );
+        }
+
+        // Lying values without an error: dropped and counted, the call named.
+        for (wi, values, pdf) in [
+            (Vec4f::new(0.0, 1.2, 0.8), [0.5, f32::NAN, 0.5, 0.5], -1.0),
+            (
+                Vec4f::new(f32::NAN, 0.6, 0.8),
+                [0.5, 0.5, f32::INFINITY, 0.5],
+                f32::NAN,
+            ),
+        ] {
+            let (m, faults) = with_face_v8(AnswersV8 {
+                wi,
+                values,
+                pdf,
+                ..AnswersV8::honest()
+            });
+            let (s, f, p) = ask(&m);
+            assert!(s.is_none());
+            assert_eq!((f.0, p), ([0.0; 4], 0.0));
+            assert_eq!(faults.count(), 0, "{:?}", faults.report());
+            let mut invalid = faults.invalid();
+            invalid.sort();
+            assert_eq!(
+                invalid
+                    .iter()
+                    .map(|(who, why, n)| (who.as_str(), *why, *n))
+                    .collect::<Vec<_>>(),
+                [
+                    (
+                        "material `grey` (plugin test 0.1.0)",
+                        "eval (v8): value NaN, infinite or negative",
+                        1
+                    ),
+                    (
+                        "material `grey` (plugin test 0.1.0)",
+                        "pdf (v8): pdf NaN, infinite or negative",
+                        1
+                    ),
+                    (
+                        "material `grey` (plugin test 0.1.0)",
+                        "sample (v8): direction not a finite unit vector",
+                        1
+                    ),
+                ]
+            );
+        }
+    }
+
+    /// A plugin material through the API's own v8 guard (what `export_plugin!` builds): its
+    /// `sample` panics, its `eval` fails with an error, its `pdf` answers NaN.
+    struct Broken;
+
+    impl spectrace_plugin_api::Material for Broken {
+        fn capabilities(&self) -> Flags {
+            material_flags::DIFFUSE
+        }
+        fn sample(
+            &self,
+            _ctx: &ApiContext,
+            _wo: Vec3,
+            _lambda: &Wavelengths,
+            _u: &RandomSample,
+            _mode: TransportMode,
+        ) -> PluginResult<Option<ScatterSample>> {
+            panic!("broken while sampling")
+        }
+        fn eval(
+            &self,
+            _ctx: &ApiContext,
+            _wo: Vec3,
+            _wi: Vec3,
+            _lambda: &Wavelengths,
+            _mode: TransportMode,
+        ) -> PluginResult<SpectralValues> {
+            Err(PluginError::new(ErrorKind::Other, "no value here"))
+        }
+        fn pdf(
+            &self,
+            _ctx: &ApiContext,
+            _wo: Vec3,
+            _wi: Vec3,
+            _lambda: &Wavelengths,
+            _mode: TransportMode,
+        ) -> PluginResult<f64> {
+            Ok(f64::NAN)
+        }
+    }
+
+    // Through the API's v8 guard: the panic is caught on the plugin's side and kept, the error
+    // kept, and both taken and reported naming object and call; the NaN density (no error) is
+    // dropped and counted with its call. Each call is asked twice: nothing is left kept
+    // between them.
+    #[test]
+    fn a_v8_plugin_that_panics_or_fails_is_reported_not_fatal() {
+        let (origin, faults) = origin();
+        let m = GuardedMaterial::boxed_v8(Broken, |_| Ok(Vec::new())).unwrap();
+        let m = PluginMaterial::new_v8(m, take_kept, origin, "floor").unwrap();
+        for _ in 0..2 {
+            let (s, f, p) = ask(&m);
+            assert!(s.is_none());
+            assert_eq!((f.0, p), ([0.0; 4], 0.0));
+        }
+        assert!(take_kept_error().is_none());
+        let sites = faults.sites();
+        assert_eq!(sites.len(), 2, "{sites:?}");
+        let sample = sites
+            .iter()
+            .find(|s| s.1.starts_with("sample (v8) panicked at "));
+        let sample = sample.unwrap_or_else(|| panic!("{sites:?}"));
+        assert_eq!(sample.2, 2);
+        assert!(
+            sample.3.ends_with(": broken while sampling"),
+            "{}",
+            sample.3
+        );
+        let eval = sites.iter().find(|s| s.1 == "eval (v8)");
+        let eval = eval.unwrap_or_else(|| panic!("{sites:?}"));
+        assert_eq!(eval.2, 2);
+        assert_eq!(eval.3, "error: eval (v8): no value here");
+        let first = faults.first().unwrap();
+        assert!(
+            first.starts_with("material `grey` (plugin test 0.1.0): "),
+            "{first}"
+        );
+        assert_eq!(
+            faults.invalid(),
+            [(
+                "material `grey` (plugin test 0.1.0)".to_string(),
+                "pdf (v8): pdf NaN, infinite or negative",
+                2
+            )]
+        );
     }
 
     // The bit-operation form of an event's flags agrees with the table form for every

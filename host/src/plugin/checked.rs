@@ -21,7 +21,7 @@ fn unit(v: Vec3) -> Result<(), Reason> {
     if v.is_finite() && (v.length() - 1.0).abs() <= UNIT_TOLERANCE {
         Ok(())
     } else {
-        Err("direction not a finite unit vector")
+        Err(BAD_DIRECTION)
     }
 }
 
@@ -38,16 +38,25 @@ pub fn density(p: f64) -> Result<(), Reason> {
     if p.is_finite() && p >= 0.0 {
         Ok(())
     } else {
-        Err("pdf NaN, infinite or negative")
+        Err(BAD_DENSITY)
     }
 }
+
+/// The reason [`density`] gives.
+pub const BAD_DENSITY: Reason = "pdf NaN, infinite or negative";
+
+/// The reason [`values`] gives.
+pub const BAD_VALUE: Reason = "value NaN, infinite or negative";
+
+/// The reason a direction that is not a finite unit vector is refused for.
+pub const BAD_DIRECTION: Reason = "direction not a finite unit vector";
 
 /// A plain value (an SPD's value, a power in W): finite and ≥ 0.
 pub fn scalar(v: f64) -> Result<(), Reason> {
     if v.is_finite() && v >= 0.0 {
         Ok(())
     } else {
-        Err("value NaN, infinite or negative")
+        Err(BAD_VALUE)
     }
 }
 
@@ -65,7 +74,7 @@ pub fn values(v: &SpectralValues) -> Result<(), Reason> {
     if v.v.iter().all(|x| x.is_finite() && *x >= 0.0) {
         Ok(())
     } else {
-        Err("value NaN, infinite or negative")
+        Err(BAD_VALUE)
     }
 }
 
@@ -130,8 +139,9 @@ pub fn scatter(s: &ScatterSample) -> Result<(), Reason> {
 
 // The same rules for the single-precision results of extension v4's material calls, written
 // to cost a few instructions: four lanes compared at once (SIMD, glam's `Vec4`), a NaN failing
-// every comparison, and the unit test on the squared length (no square root). Only a refused
-// result takes the slower path that names the rule.
+// every comparison, single values and squared lengths compared as bit patterns (see
+// `non_negative_finite`, `unit_squared`), and every rule of a result combined before one
+// branch. Only a refused result takes the slower path that names the rule.
 
 /// `[(1 − UNIT_TOLERANCE)², (1 + UNIT_TOLERANCE)²]`: the squared lengths of an accepted unit
 /// vector (the same set as `|length − 1| ≤ UNIT_TOLERANCE`).
@@ -146,24 +156,47 @@ fn all_non_negative_finite(v: glam::Vec4) -> bool {
     (v.cmpge(glam::Vec4::ZERO) & v.cmplt(glam::Vec4::INFINITY)).all()
 }
 
+/// True when `x` is finite and ≥ 0, in one comparison of bits: `x + 0` turns −0 into +0 and
+/// leaves everything else as it is (NaN stays NaN), and the bit patterns below infinity's, as
+/// an unsigned number, are exactly +0 and the positive finite numbers (a sign bit or a NaN's
+/// exponent lies above). The same set as `x >= 0 && x < ∞`, which the compiler turns into a
+/// dozen integer instructions.
+#[inline]
+fn non_negative_finite(x: f32) -> bool {
+    (x + 0.0).to_bits() < f32::INFINITY.to_bits()
+}
+
+/// True when the squared length `l2` lies in [`UNIT_SQUARED`], in one comparison of bits: a
+/// sum of squares is +0, positive or NaN, and for those the bit patterns are ordered as the
+/// values are (a NaN's above infinity's, or with its sign bit set, above every number's), so
+/// `lo ≤ l2 ≤ hi` is `bits(l2) − bits(lo) ≤ bits(hi) − bits(lo)` in unsigned arithmetic. The
+/// same set as `l2 − lo ≥ 0 && hi − l2 ≥ 0`.
+#[inline]
+fn unit_squared(l2: f32) -> bool {
+    let lo = UNIT_SQUARED.0.to_bits();
+    l2.to_bits().wrapping_sub(lo) <= UNIT_SQUARED.1.to_bits() - lo
+}
+
+/// The squared length of `v`'s `x, y, z` (its `w` is not looked at).
+#[inline]
+fn length_squared(v: Vec4f) -> f32 {
+    v.x * v.x + v.y * v.y + v.z * v.z
+}
+
 #[inline]
 fn unit_f32(v: Vec4f) -> bool {
-    let l2 = v.x * v.x + v.y * v.y + v.z * v.z;
-    all_non_negative_finite(glam::Vec4::new(
-        l2 - UNIT_SQUARED.0,
-        UNIT_SQUARED.1 - l2,
-        0.0,
-        0.0,
-    ))
+    unit_squared(length_squared(v))
 }
 
 /// [`density`] in `f32`.
 #[inline]
 pub fn density_f32(p: f32) -> Result<(), Reason> {
-    if all_non_negative_finite(glam::Vec4::splat(p)) {
+    // The reason as a constant: with `density(p as f64)` here the compiler merged both tests
+    // into the dozen instructions `non_negative_finite` avoids.
+    if non_negative_finite(p) {
         Ok(())
     } else {
-        density(p as f64)
+        Err(BAD_DENSITY)
     }
 }
 
@@ -173,22 +206,16 @@ pub fn values_f32(v: &[f32; 4]) -> Result<(), Reason> {
     if all_non_negative_finite(glam::Vec4::from_array(*v)) {
         Ok(())
     } else {
-        Err("value NaN, infinite or negative")
+        Err(BAD_VALUE)
     }
 }
 
 /// [`scatter`] in `f32`: the same rules and reasons.
 #[inline]
 pub fn scatter_f32(s: &ScatterF32) -> Result<(), Reason> {
-    let w = s.wi;
-    let l2 = w.x * w.x + w.y * w.y + w.z * w.z;
     let ok = all_non_negative_finite(glam::Vec4::from_array(s.value))
-        & all_non_negative_finite(glam::Vec4::new(
-            s.pdf,
-            l2 - UNIT_SQUARED.0,
-            UNIT_SQUARED.1 - l2,
-            0.0,
-        ));
+        & non_negative_finite(s.pdf)
+        & unit_f32(s.wi);
     if ok {
         Ok(())
     } else {
@@ -200,32 +227,27 @@ pub fn scatter_f32(s: &ScatterF32) -> Result<(), Reason> {
 #[cold]
 fn scatter_f32_reason(s: &ScatterF32) -> Result<(), Reason> {
     if !unit_f32(s.wi) {
-        return Err("direction not a finite unit vector");
+        return Err(BAD_DIRECTION);
     }
     density_f32(s.pdf)?;
     values_f32(&s.value)
 }
 
-/// True when `x, y, z` of `v` are finite (its `w` is not looked at).
+/// True when `x, y, z` of `v` are finite (its `w` is not looked at): their magnitudes, three
+/// lanes at once.
 #[inline]
 fn finite_f32(v: Vec4f) -> bool {
-    v.x.is_finite() & v.y.is_finite() & v.z.is_finite()
+    all_non_negative_finite(glam::Vec4::new(v.x, v.y, v.z, 0.0).abs())
 }
 
 /// [`incident`] in `f32` (extension v6): the same rules and reasons, without the distance,
 /// which the host measures itself, and with the point's error bound finite and ≥ 0.
 #[inline]
 pub fn incident_f32(s: &IncidentF32) -> Result<(), Reason> {
-    let d = s.direction;
-    let l2 = d.x * d.x + d.y * d.y + d.z * d.z;
     let e = s.point_error;
     let ok = all_non_negative_finite(glam::Vec4::from_array(s.value))
-        & all_non_negative_finite(glam::Vec4::new(
-            s.pdf,
-            l2 - UNIT_SQUARED.0,
-            UNIT_SQUARED.1 - l2,
-            0.0,
-        ))
+        & non_negative_finite(s.pdf)
+        & unit_f32(s.direction)
         & all_non_negative_finite(glam::Vec4::new(e.x, e.y, e.z, 0.0))
         & finite_f32(s.point);
     if ok {
@@ -240,7 +262,7 @@ pub fn incident_f32(s: &IncidentF32) -> Result<(), Reason> {
 fn incident_f32_reason(s: &IncidentF32) -> Result<(), Reason> {
     finite_point(s.point.to_f64())?;
     if !unit_f32(s.direction) {
-        return Err("direction not a finite unit vector");
+        return Err(BAD_DIRECTION);
     }
     density_f32(s.pdf)?;
     values_f32(&s.value)?;
@@ -254,9 +276,24 @@ fn incident_f32_reason(s: &IncidentF32) -> Result<(), Reason> {
 /// [`emission`] in `f32` (extension v6): the same rules and reasons.
 #[inline]
 pub fn emission_f32(s: &EmissionF32) -> Result<(), Reason> {
+    let ok = finite_f32(s.origin)
+        & unit_f32(s.direction)
+        & non_negative_finite(s.pdf_position)
+        & non_negative_finite(s.pdf_direction)
+        & all_non_negative_finite(glam::Vec4::from_array(s.value));
+    if ok {
+        Ok(())
+    } else {
+        emission_f32_reason(s)
+    }
+}
+
+/// Which rule a refused v6 emission sample broke, in the order [`emission`] checks them.
+#[cold]
+fn emission_f32_reason(s: &EmissionF32) -> Result<(), Reason> {
     finite_point(s.origin.to_f64())?;
     if !unit_f32(s.direction) {
-        return Err("direction not a finite unit vector");
+        return Err(BAD_DIRECTION);
     }
     density_f32(s.pdf_position)?;
     density_f32(s.pdf_direction)?;
@@ -358,6 +395,41 @@ mod tests {
             v: [1.0, -0.5, 0.0, 0.0]
         })
         .is_err());
+    }
+
+    // The comparisons of bits accept exactly what the comparisons of values they replace accept:
+    // every sign, exponent and the ends of every mantissa, and a sweep through all bit patterns.
+    #[test]
+    fn the_bit_comparisons_are_the_value_comparisons() {
+        let mut bits: Vec<u32> = (0..=0xffff_ffffu32).step_by(0x3fd).collect();
+        for sign in [0, 0x8000_0000u32] {
+            for exp in 0..=0xffu32 {
+                for mantissa in [0, 1, 2, 0x40_0000, 0x7f_fffe, 0x7f_ffff] {
+                    bits.push(sign | exp << 23 | mantissa);
+                }
+            }
+        }
+        let (lo, hi) = UNIT_SQUARED;
+        bits.extend([lo, hi].iter().flat_map(|b| {
+            let b = b.to_bits();
+            [b - 1, b, b + 1]
+        }));
+        for b in bits {
+            let x = f32::from_bits(b);
+            assert_eq!(
+                non_negative_finite(x),
+                (0.0..f32::INFINITY).contains(&x),
+                "{x:e} ({b:#x})"
+            );
+            // Squared lengths are +0, positive or NaN (of either sign).
+            if x >= 0.0 || x.is_nan() {
+                assert_eq!(
+                    unit_squared(x),
+                    x - lo >= 0.0 && hi - x >= 0.0,
+                    "{x:e} ({b:#x})"
+                );
+            }
+        }
     }
 
     // The f32 rules of extension v4 refuse what the f64 rules refuse, with the same reasons.

@@ -94,7 +94,7 @@ mod tests {
         fn flags(&self) -> MaterialFlags {
             self.0.flags()
         }
-        fn sample(
+        fn sample_into<'a>(
             &self,
             wo: Vec3A,
             ctx: &ShadingContext,
@@ -102,7 +102,8 @@ mod tests {
             u_lobe: f32,
             u: Vec2,
             mode: TransportMode,
-        ) -> Option<BsdfSample> {
+            out: &'a mut BsdfSample,
+        ) -> Option<&'a BsdfSample> {
             let z = u.x;
             let r = (1.0 - z * z).max(0.0).sqrt();
             let phi = 2.0 * std::f32::consts::PI * u.y;
@@ -110,7 +111,7 @@ mod tests {
             let mut s = self.0.sample(wo, ctx, lambda, u_lobe, u, mode)?;
             s.wi = wi;
             s.pdf = 0.5 * FRAC_1_PI;
-            Some(s)
+            Some(out.write(s))
         }
         fn eval(
             &self,

@@ -212,7 +212,13 @@ impl PluginFactory {
         // status word), else the root module.
         Ok(match kind {
             Kind::Material => {
-                let m = if let Some(m) = r
+                let m = if let Some((m, ext)) = r
+                    .create_plugin_material_v8(type_name, object_source)
+                    .map_err(construct_error)?
+                {
+                    PluginMaterial::new_v8(m, ext.take_error(), origin, &ctx.item)
+                        .map_err(FactoryError::Param)?
+                } else if let Some(m) = r
                     .create_plugin_material_v7(type_name, object_source)
                     .map_err(construct_error)?
                 {

@@ -120,6 +120,24 @@ pub fn as_wavelengths(l: &LanesF32) -> Option<&SampledWavelengths> {
     }
 }
 
+/// The host's vector as the interface's (the same memory; its `w` lane whatever the host's is):
+/// how extension v8 passes directions.
+#[inline]
+pub fn as_vec4f(v: &Vec3A) -> &Vec4f {
+    // SAFETY: same size and alignment (asserted above); a Vec3A is four initialised `f32`s in
+    // one 16-byte register, a Vec4f four `f32`s, so every bit pattern of one is a valid value of
+    // the other, and the lifetime is carried over.
+    unsafe { &*(v as *const Vec3A).cast::<Vec4f>() }
+}
+
+/// The interface's vector as the host's (the same memory): what the standard library hands its
+/// materials.
+#[inline]
+pub fn as_vec3a(v: &Vec4f) -> &Vec3A {
+    // SAFETY: as for `as_vec4f`, the other way round.
+    unsafe { &*(v as *const Vec4f).cast::<Vec3A>() }
+}
+
 /// `ctx` as the interface's surface record (the same memory).
 #[inline]
 pub fn as_surface(ctx: &ShadingContext) -> &SurfaceF32 {
@@ -171,6 +189,15 @@ pub fn as_scatter_mut(s: &mut BsdfSample) -> &mut ScatterF32 {
     // sides is plain `f32`s or one `u32` (Vec3A, SampledSpectrum, f32, MaterialFlags/Flags), so
     // whatever the plugin writes is a valid value of the host's record.
     unsafe { &mut *(s as *mut BsdfSample).cast::<ScatterF32>() }
+}
+
+/// The interface's sample record as the host's BSDF sample (the same memory): where the
+/// standard library's materials write their samples. What they write in `flags` are the host's
+/// bits: the library translates them before it answers.
+#[inline]
+pub fn as_bsdf_sample_mut(s: &mut ScatterF32) -> &mut BsdfSample {
+    // SAFETY: as for `as_scatter_mut`, the other way round.
+    unsafe { &mut *(s as *mut ScatterF32).cast::<BsdfSample>() }
 }
 
 /// The interface's incident record as the host's light sample (the same memory): where the

@@ -13,6 +13,7 @@ pub mod extension_v4;
 pub mod extension_v5;
 pub mod extension_v6;
 pub mod extension_v7;
+pub mod extension_v8;
 pub mod factory;
 pub mod flatness;
 pub mod layout;

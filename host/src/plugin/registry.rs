@@ -661,6 +661,45 @@ impl Registry {
         .map(Some)
     }
 
+    fn extensions_v8(
+        &self,
+        kind: ObjectKind,
+        name: &str,
+    ) -> Result<Option<spectrace_plugin_api::extension::ExtensionsV8Ref>, RegistryError> {
+        let (plugin, provider) = self.plugin_entry(kind, name)?;
+        super::extension_v8::extensions_v8(&plugin.path).map_err(|e| {
+            construct_error(
+                kind.into(),
+                name,
+                provider,
+                PluginError::new(ErrorKind::Other, e),
+            )
+        })
+    }
+
+    /// Build a plugin material with its faces (v2, v3, v5 to v8) and declarations (extension
+    /// v8), with where the errors of its v8 calls are taken; `None` when its library predates
+    /// v8.
+    pub fn create_plugin_material_v8(
+        &self,
+        name: &str,
+        source: ObjectSource<'_>,
+    ) -> Result<
+        Option<(
+            spectrace_plugin_api::extension::MaterialWithV8,
+            spectrace_plugin_api::extension::ExtensionsV8Ref,
+        )>,
+        RegistryError,
+    > {
+        let Some(ext) = self.extensions_v8(ObjectKind::Material, name)? else {
+            return Ok(None);
+        };
+        self.call_plugin(ObjectKind::Material, name, |_, host| {
+            (ext.create_material())(RStr::from_str(name), source, host)
+        })
+        .map(|m| Some((m, ext)))
+    }
+
     /// Build a plugin observer with its declared table (extension v7); `None` when its library
     /// predates v7.
     pub fn create_plugin_observer_v7(

@@ -148,7 +148,7 @@ mod tests {
         fn flags(&self) -> MaterialFlags {
             self.0.flags()
         }
-        fn sample(
+        fn sample_into<'a>(
             &self,
             wo: Vec3A,
             ctx: &ShadingContext,
@@ -156,10 +156,11 @@ mod tests {
             u_lobe: f32,
             u: Vec2,
             mode: TransportMode,
-        ) -> Option<BsdfSample> {
+            out: &'a mut BsdfSample,
+        ) -> Option<&'a BsdfSample> {
             let mut s = self.0.sample(wo, ctx, lambda, u_lobe, u, mode)?;
             s.f *= s.wi.z.abs();
-            Some(s)
+            Some(out.write(s))
         }
         fn eval(
             &self,

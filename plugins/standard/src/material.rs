@@ -28,14 +28,16 @@ use spectrace::material::{
     BsdfSample, Material as HostMaterial, MaterialFlags, ShadingContext as HostContext,
     TransportMode as HostMode,
 };
-use spectrace::plugin::layout::{as_shading_context, as_wavelengths, as_wavelengths_v7};
+use spectrace::plugin::layout::{
+    as_bsdf_sample_mut, as_shading_context, as_vec3a, as_wavelengths, as_wavelengths_v7,
+};
 use spectrace::scene::FactoryError;
 use spectrace::spectrum::{SampledSpectrum, SampledWavelengths, LANES};
 use spectrace_plugin_api::{
     material_flags, Emission, Flags, Host, LanesF32, Material, MaterialQuery, ParamDoc,
     PluginError, PluginResult, PluginType, QueryV5, QueryV7, RandomSample, Reradiation, ScatterF32,
     ScatterSample, ShadingContext, SpectralValues, SurfaceContext, SurfaceF32, TransportMode, Vec3,
-    Vec4f, WavelengthDraw, Wavelengths,
+    Vec4f, WavelengthDraw, Wavelengths, WavelengthsF32,
 };
 use std::sync::Arc;
 
@@ -256,13 +258,65 @@ fn sample_v7<M: HostMaterial + ?Sized>(m: &M, q: &QueryV7<'_>, out: &mut Scatter
     let mut slot = None;
     let r = read_v7(q, &mut slot);
     let u = Vec2::new(q.u[1], q.u[2]);
-    match m.sample(r.wo, r.ctx, r.lambda, q.u[0], u, r.mode) {
-        Some(s) => {
-            *out = scatter(s);
-            true
-        }
-        None => false,
+    // The host's material writes its sample straight into `out` (the same layout), which the
+    // host's own `out` is: no copy on either side.
+    let rec = as_bsdf_sample_mut(out);
+    let at: *const BsdfSample = rec;
+    let Some(s) = m.sample_into(r.wo, r.ctx, r.lambda, q.u[0], u, r.mode, rec) else {
+        return false;
+    };
+    if !std::ptr::eq(s, at) {
+        // A material that answered with another record than the one it was given.
+        let s = *s;
+        *as_bsdf_sample_mut(out) = s;
     }
+    out.flags = event_bits(MaterialFlags(out.flags.0));
+    out.wi.w = 0.0;
+    true
+}
+
+/// The host's wavelengths of `l`, read in place, or copied into `slot` where they cannot be.
+#[inline]
+fn wavelengths_v7<'a>(
+    l: &'a WavelengthsF32,
+    slot: &'a mut Option<SampledWavelengths>,
+) -> &'a SampledWavelengths {
+    match as_wavelengths_v7(l) {
+        Some(w) => w,
+        None => slot.insert(lambdas_v4(&l.to_lanes())),
+    }
+}
+
+/// The host material's sample written into `out` (extension v8): its arguments as they come
+/// (the host's own vectors and records, read in place), the host's sample written straight into
+/// `out` (the same layout), its event bits then translated.
+#[inline]
+fn sample_v8<M: HostMaterial + ?Sized>(
+    m: &M,
+    wo: &Vec4f,
+    ctx: &SurfaceF32,
+    lambda: &WavelengthsF32,
+    u: [f32; 3],
+    mode: TransportMode,
+    out: &mut ScatterF32,
+) -> bool {
+    let mut slot = None;
+    let lambda = wavelengths_v7(lambda, &mut slot);
+    let rec = as_bsdf_sample_mut(out);
+    let at: *const BsdfSample = rec;
+    let (wo, ctx, mode) = (*as_vec3a(wo), as_shading_context(ctx), host_mode(mode));
+    let u_dir = Vec2::new(u[1], u[2]);
+    let Some(s) = m.sample_into(wo, ctx, lambda, u[0], u_dir, mode, rec) else {
+        return false;
+    };
+    if !std::ptr::eq(s, at) {
+        // A material that answered with another record than the one it was given.
+        let s = *s;
+        *as_bsdf_sample_mut(out) = s;
+    }
+    out.flags = event_bits(MaterialFlags(out.flags.0));
+    out.wi.w = 0.0;
+    true
 }
 
 /// [`sample_v4`] with the surface by reference (extension v5).
@@ -606,6 +660,63 @@ macro_rules! material_type {
                 let mut slot = None;
                 let r = read_v7(q, &mut slot);
                 Ok(self.material.get().pdf(r.wo, r.wi, r.ctx, r.lambda, r.mode))
+            }
+            #[inline]
+            fn sample_v8(
+                &self,
+                wo: &Vec4f,
+                ctx: &SurfaceF32,
+                lambda: &WavelengthsF32,
+                u: [f32; 3],
+                mode: TransportMode,
+                out: &mut ScatterF32,
+            ) -> PluginResult<bool> {
+                Ok(sample_v8(
+                    self.material.get(),
+                    wo,
+                    ctx,
+                    lambda,
+                    u,
+                    mode,
+                    out,
+                ))
+            }
+            #[inline]
+            fn eval_v8(
+                &self,
+                wo: &Vec4f,
+                wi: &Vec4f,
+                ctx: &SurfaceF32,
+                lambda: &WavelengthsF32,
+                mode: TransportMode,
+            ) -> PluginResult<[f32; LANES]> {
+                let mut slot = None;
+                let lambda = wavelengths_v7(lambda, &mut slot);
+                let ctx = as_shading_context(ctx);
+                let (wo, wi) = (*as_vec3a(wo), *as_vec3a(wi));
+                Ok(self
+                    .material
+                    .get()
+                    .eval(wo, wi, ctx, lambda, host_mode(mode))
+                    .0)
+            }
+            #[inline]
+            fn pdf_v8(
+                &self,
+                wo: &Vec4f,
+                wi: &Vec4f,
+                ctx: &SurfaceF32,
+                lambda: &WavelengthsF32,
+                mode: TransportMode,
+            ) -> PluginResult<f32> {
+                let mut slot = None;
+                let lambda = wavelengths_v7(lambda, &mut slot);
+                let ctx = as_shading_context(ctx);
+                let (wo, wi) = (*as_vec3a(wo), *as_vec3a(wi));
+                Ok(self
+                    .material
+                    .get()
+                    .pdf(wo, wi, ctx, lambda, host_mode(mode)))
             }
             // Extension v6: declared exactly where the built-in declares it.
             fn cosine_weighted_pdf(&self) -> bool {
