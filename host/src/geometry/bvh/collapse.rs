@@ -108,8 +108,9 @@ pub const MERGE_LEAF_PRIMITIVES: usize = 8;
 /// Trees over fewer primitives merge only up to [`PASS_PRIMITIVES`] ([`merge_limit`]): their
 /// nodes stay in the caches, so a node test saved is worth less than the second pass of a
 /// larger leaf (1,280 triangles: +10% instructions per closest-hit ray with leaves of up to
-/// eight, no faster by the clock), while from about 20k triangles on the saved node loads are
-/// worth more (`docs/performance.md`, "Leaves of up to eight triangles in large trees").
+/// eight, no faster by the clock); at 82k triangles the larger leaves are as fast, at 1.3 M the
+/// saved node loads are worth more (closest hit −11%; `docs/performance.md`, "Huge pages, tree
+/// statistics and leaves of up to eight in large trees").
 pub const WIDE_MERGE_MIN_PRIMITIVES: usize = 16_384;
 
 /// Leaves up to this size are tested in one four-lane pass (`leaf_triangles.rs`); larger merged
