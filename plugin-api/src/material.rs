@@ -751,12 +751,20 @@ impl<T: Material> AbiMaterialV8 for GuardedMaterial<T> {
         lambda: &WavelengthsF32,
         mode: TransportMode,
     ) -> ValuesF32 {
+        // The values written into the answer from inside the guard, which then returns only
+        // the error: a `Result<[f32; 4], PluginError>` was assembled byte by byte.
+        let mut v = ValuesF32::FAILED;
         let r = guarded_call_v5("eval (v8)", || {
-            Ok(ValuesF32 {
-                v: self.inner.eval_v8(wo, wi, ctx, lambda, mode)?,
-            })
+            v.v = self.inner.eval_v8(wo, wi, ctx, lambda, mode)?;
+            Ok(())
         });
-        kept_or(r, ValuesF32::FAILED)
+        match r {
+            Ok(()) => v,
+            Err(e) => {
+                keep_error(e);
+                ValuesF32::FAILED
+            }
+        }
     }
     #[inline]
     fn pdf(
@@ -767,8 +775,19 @@ impl<T: Material> AbiMaterialV8 for GuardedMaterial<T> {
         lambda: &WavelengthsF32,
         mode: TransportMode,
     ) -> f32 {
-        let r = guarded_call_v5("pdf (v8)", || self.inner.pdf_v8(wo, wi, ctx, lambda, mode));
-        kept_or(r, f32::NAN)
+        // As `eval`: the density written from inside the guard, only the error returned.
+        let mut p = f32::NAN;
+        let r = guarded_call_v5("pdf (v8)", || {
+            p = self.inner.pdf_v8(wo, wi, ctx, lambda, mode)?;
+            Ok(())
+        });
+        match r {
+            Ok(()) => p,
+            Err(e) => {
+                keep_error(e);
+                f32::NAN
+            }
+        }
     }
 }
 

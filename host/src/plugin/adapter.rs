@@ -1466,8 +1466,11 @@ impl Material for PluginMaterial {
                 mode(m),
             )
             .v;
-        match checked::values_f32(&v) {
-            Ok(()) => SampledSpectrum(v),
+        // Checked and stored as one vector (from the [f32; 4] the compiler went through
+        // general registers, lane by lane).
+        let v = glam::Vec4::from_array(v);
+        match checked::vector_f32(v) {
+            Ok(()) => SampledSpectrum(v.to_array()),
             Err(reason) => self.v8_refused(CallV8::Eval, reason, SampledSpectrum::zero()),
         }
     }

@@ -210,6 +210,16 @@ pub fn values_f32(v: &[f32; 4]) -> Result<(), Reason> {
     }
 }
 
+/// [`values_f32`] of the values as one vector.
+#[inline]
+pub fn vector_f32(v: glam::Vec4) -> Result<(), Reason> {
+    if all_non_negative_finite(v) {
+        Ok(())
+    } else {
+        Err(BAD_VALUE)
+    }
+}
+
 /// [`scatter`] in `f32`: the same rules and reasons.
 #[inline]
 pub fn scatter_f32(s: &ScatterF32) -> Result<(), Reason> {
