@@ -442,6 +442,34 @@ mod tests {
         }
     }
 
+    // `vector_f32` (eval's four values as one vector) accepts and refuses exactly what
+    // `values_f32` does, with the same reason: each special value (±0, the smallest subnormal,
+    // the largest finite, ±∞, NaN, a negative) in each lane among ordinary values.
+    #[test]
+    fn the_vector_check_is_the_values_check() {
+        let special = [
+            0.0,
+            -0.0,
+            f32::from_bits(1),
+            f32::MAX,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+            -1e-30,
+        ];
+        for &x in &special {
+            for lane in 0..4 {
+                let mut v = [0.25, 1.0, 3.5, 0.0];
+                v[lane] = x;
+                assert_eq!(
+                    vector_f32(glam::Vec4::from_array(v)).err(),
+                    values_f32(&v).err(),
+                    "{v:?}"
+                );
+            }
+        }
+    }
+
     // The f32 rules of extension v4 refuse what the f64 rules refuse, with the same reasons.
     #[test]
     fn the_f32_rules_agree_with_the_f64_rules() {
