@@ -126,11 +126,7 @@ impl Bvh {
         if self.nodes.is_empty() && self.qnodes.is_empty() {
             return c;
         }
-        let inv_dir = Vec3A::ONE / ray.dir;
-        let rb = RayBoxes {
-            origin: ray.origin.to_array(),
-            inv_dir: inv_dir.to_array(),
-        };
+        let rb = RayBoxes::new(ray);
         let mut stack = vec![(0u32, 0u32, 0.0f32)];
         while let Some((child, count, near)) = stack.pop() {
             if near > t_max {

@@ -53,10 +53,55 @@ pub(super) struct Entry {
     pub(super) near: f32,
 }
 
-/// What the box-test kernels need of a ray, computed once per ray.
+/// What the box-test kernels need of a ray, computed once per ray: its origin, the
+/// reciprocal of its direction, and for each axis which of a box's two planes the ray meets
+/// first (its octant), so a node test reads the entry and exit planes directly instead of
+/// ordering both with a `min` and a `max` per axis.
 pub(super) struct RayBoxes {
     pub(super) origin: [f32; 3],
     pub(super) inv_dir: [f32; 3],
+    /// Per axis, the plane the ray enters through, as an index into a node's planes
+    /// `min_x, min_y, min_z, max_x, max_y, max_z`: `axis` where the reciprocal's sign bit is
+    /// clear, `axis + 3` where it is set (so `-0.0` counts as negative, as its reciprocal
+    /// `-∞` is).
+    pub(super) near: [usize; 3],
+    /// Per axis, the plane the ray leaves through (the other one).
+    pub(super) far: [usize; 3],
+}
+
+impl RayBoxes {
+    /// The ray's box-test constants.
+    ///
+    /// Why the entry plane can be chosen by sign alone: for a used slot (`min <= max`) and a
+    /// finite non-zero reciprocal, `(min - o) · inv` and `(max - o) · inv` are ordered as the
+    /// sign of `inv` says (subtraction and multiplication round monotonically), so the chosen
+    /// plane's distance is exactly what `min`/`max` of the two would give, bit for bit (ties
+    /// included: equal distances are equal floats, and the zero's sign cannot reach the
+    /// stored entry distance, which is last compared with `max(…, +0)`). Only where a
+    /// component of the direction is zero (an infinite reciprocal) and the origin lies on a
+    /// plane of that axis, `0 · ∞` makes that axis's distance NaN; SSE's `max`/`min` return
+    /// their second operand on NaN, so the slab test passes over that axis (in its balanced
+    /// pairs, perhaps over its partner too) and judges the box by the others. Passing over a
+    /// bound only widens the interval, so the box is met wherever the ordered test met it,
+    /// and sometimes where it missed it (a ray grazing a face): as conservative or more, the
+    /// same closest hits (test `octant_planes_match_the_ordered_slab_test`).
+    #[inline(always)]
+    pub(super) fn new(ray: &Ray) -> RayBoxes {
+        let inv_dir = (Vec3A::ONE / ray.dir).to_array();
+        let near = [0, 1, 2].map(|a| {
+            if inv_dir[a].is_sign_negative() {
+                a + 3
+            } else {
+                a
+            }
+        });
+        RayBoxes {
+            origin: ray.origin.to_array(),
+            inv_dir,
+            near,
+            far: near.map(|p| if p < 3 { p + 3 } else { p - 3 }),
+        }
+    }
 }
 
 impl Bvh {
@@ -168,11 +213,7 @@ impl Bvh {
         any_hit: bool,
         mut test: F,
     ) -> Option<f32> {
-        let inv_dir = Vec3A::ONE / ray.dir;
-        let rb = RayBoxes {
-            origin: ray.origin.to_array(),
-            inv_dir: inv_dir.to_array(),
-        };
+        let rb = RayBoxes::new(ray);
         // Uninitialised: only entries below `sp` are ever read.
         let mut stack = [const { MaybeUninit::<Entry>::uninit() }; N];
         let mut sp = 0usize;
@@ -466,8 +507,8 @@ unsafe fn nearer_avx2(near: &[f32; WIDTH], i: u32) -> u32 {
 /// Slab test of a node's eight boxes with two four-wide halves: the bit mask of the used slots
 /// the ray meets before `t_max`, and each box's entry distance in `near`. Operand order matters
 /// for NaN (a ray parallel to a slab and starting on its plane): SSE `min`/`max` return their
-/// second operand when either is NaN, as `Aabb::hit` relies on too; [`node_hits_avx2`] does
-/// exactly the same operations.
+/// second operand when either is NaN (see [`RayBoxes::new`]); [`node_hits_avx2`] does exactly
+/// the same operations.
 #[inline(always)]
 pub(super) fn node_hits_portable(
     n: &WideNode,
@@ -517,7 +558,8 @@ pub(super) fn quant_hits_portable(
 }
 
 /// The slab test of eight boxes as two four-wide halves; `lane(plane, half)` gives plane
-/// `min_x, min_y, min_z, max_x, max_y, max_z` (0..6) of slots `4·half..4·half + 4`.
+/// `min_x, min_y, min_z, max_x, max_y, max_z` (0..6) of slots `4·half..4·half + 4`. Each axis
+/// reads only the ray's entry and exit planes ([`RayBoxes::near`], [`RayBoxes::far`]).
 #[inline(always)]
 fn slab_halves(
     lane: impl Fn(usize, usize) -> Vec4,
@@ -540,16 +582,15 @@ fn slab_halves(
     let t_max = Vec4::splat(t_max);
     let mut mask = 0;
     for half in 0..2 {
-        let tx0 = (lane(0, half) - ox) * ix;
-        let tx1 = (lane(3, half) - ox) * ix;
-        let ty0 = (lane(1, half) - oy) * iy;
-        let ty1 = (lane(4, half) - oy) * iy;
-        let tz0 = (lane(2, half) - oz) * iz;
-        let tz1 = (lane(5, half) - oz) * iz;
-        let t_near = tx0
-            .min(tx1)
-            .max(ty0.min(ty1).max(tz0.min(tz1).max(Vec4::ZERO)));
-        let t_far = tx0.max(tx1).min(ty0.max(ty1).min(tz0.max(tz1).min(t_max))) * far_scale;
+        let tx_near = (lane(r.near[0], half) - ox) * ix;
+        let tx_far = (lane(r.far[0], half) - ox) * ix;
+        let ty_near = (lane(r.near[1], half) - oy) * iy;
+        let ty_far = (lane(r.far[1], half) - oy) * iy;
+        let tz_near = (lane(r.near[2], half) - oz) * iz;
+        let tz_far = (lane(r.far[2], half) - oz) * iz;
+        // The three axes as balanced pairs: two dependent steps instead of three.
+        let t_near = tx_near.max(ty_near).max(tz_near.max(Vec4::ZERO));
+        let t_far = tx_far.min(ty_far).min(tz_far.min(t_max)) * far_scale;
         mask |= t_near.cmple(t_far).bitmask() << (4 * half);
         t_near.write_to_slice(&mut near[4 * half..4 * half + 4]);
     }
@@ -572,18 +613,28 @@ pub(super) unsafe fn node_hits_avx2(
     near: &mut [f32; WIDTH],
 ) -> u32 {
     use std::arch::x86_64::*;
-    // SAFETY: the arrays are 32 bytes each at 32-byte offsets of a 64-byte-aligned node.
-    let lane = |a: &[f32; WIDTH]| unsafe { _mm256_load_ps(a.as_ptr()) };
-    let planes = [
-        lane(&n.min_x),
-        lane(&n.min_y),
-        lane(&n.min_z),
-        lane(&n.max_x),
-        lane(&n.max_y),
-        lane(&n.max_z),
-    ];
-    slab_avx2(planes, r, t_max, near) & n.slot_mask
+    // The six plane arrays are the node's first six fields (`repr(C)`, 32 bytes each), so
+    // plane `i` starts at byte 32·i of the 64-byte-aligned node.
+    let planes = std::ptr::from_ref(n).cast::<[f32; WIDTH]>();
+    // SAFETY: `i < 6` (`RayBoxes` holds plane indices 0..6), so the 32 bytes read lie inside
+    // the node and are 32-byte aligned.
+    let lane = |i: usize| unsafe { _mm256_load_ps(planes.add(i).cast::<f32>()) };
+    let near_planes = [lane(r.near[0]), lane(r.near[1]), lane(r.near[2])];
+    let far_planes = [lane(r.far[0]), lane(r.far[1]), lane(r.far[2])];
+    slab_avx2(near_planes, far_planes, r, t_max, near) & n.slot_mask
 }
+
+// The plane layout `node_hits_avx2` and `quant_hits_avx2` read by index.
+const _: () = {
+    use std::mem::offset_of;
+    assert!(offset_of!(WideNode, min_x) == 0);
+    assert!(offset_of!(WideNode, min_y) == 32);
+    assert!(offset_of!(WideNode, min_z) == 64);
+    assert!(offset_of!(WideNode, max_x) == 96);
+    assert!(offset_of!(WideNode, max_y) == 128);
+    assert!(offset_of!(WideNode, max_z) == 160);
+    assert!(offset_of!(QuantNode, hi) == offset_of!(QuantNode, lo) + 3 * WIDTH);
+};
 
 /// [`quant_hits_portable`] with AVX2: the eight steps of a plane widened to 32-bit integers,
 /// converted (exactly) and decoded as `origin + q · scale` in one fused multiply-add, then
@@ -603,9 +654,13 @@ pub(super) unsafe fn quant_hits_avx2(
     near: &mut [f32; WIDTH],
 ) -> u32 {
     use std::arch::x86_64::*;
-    let plane = |q: &[u8; WIDTH], axis: usize| {
-        // SAFETY: `q` holds eight bytes, exactly what `_mm_loadl_epi64` reads.
-        let bytes = unsafe { _mm_loadl_epi64(q.as_ptr().cast::<__m128i>()) };
+    // `lo` and `hi` are adjacent, so plane `i` (0..6: `lo[0..3]`, then `hi[0..3]`) is the
+    // `i`-th eight-byte array from `lo`.
+    let steps = std::ptr::from_ref(&n.lo).cast::<[u8; WIDTH]>();
+    let plane = |i: usize, axis: usize| {
+        // SAFETY: `i < 6`, so the eight bytes read (what `_mm_loadl_epi64` reads) lie inside
+        // `lo` and `hi`.
+        let bytes = unsafe { _mm_loadl_epi64(steps.add(i).cast::<__m128i>()) };
         let steps = _mm256_cvtepi32_ps(_mm256_cvtepu8_epi32(bytes));
         _mm256_fmadd_ps(
             steps,
@@ -613,18 +668,18 @@ pub(super) unsafe fn quant_hits_avx2(
             _mm256_set1_ps(n.origin[axis]),
         )
     };
-    let planes = [
-        plane(&n.lo[0], 0),
-        plane(&n.lo[1], 1),
-        plane(&n.lo[2], 2),
-        plane(&n.hi[0], 0),
-        plane(&n.hi[1], 1),
-        plane(&n.hi[2], 2),
+    let near_planes = [
+        plane(r.near[0], 0),
+        plane(r.near[1], 1),
+        plane(r.near[2], 2),
     ];
-    slab_avx2(planes, r, t_max, near) & n.slot_mask
+    let far_planes = [plane(r.far[0], 0), plane(r.far[1], 1), plane(r.far[2], 2)];
+    slab_avx2(near_planes, far_planes, r, t_max, near) & n.slot_mask
 }
 
-/// The slab test of eight boxes given as planes `min_x, min_y, min_z, max_x, max_y, max_z`.
+/// The slab test of eight boxes given as each axis's entry planes (x, y, z) and exit planes
+/// ([`RayBoxes::near`], [`RayBoxes::far`]): the same operations in the same order as
+/// [`slab_halves`].
 ///
 /// # Safety
 /// The CPU must support AVX2.
@@ -632,7 +687,8 @@ pub(super) unsafe fn quant_hits_avx2(
 #[target_feature(enable = "avx2")]
 #[inline]
 unsafe fn slab_avx2(
-    planes: [std::arch::x86_64::__m256; 6],
+    near_planes: [std::arch::x86_64::__m256; 3],
+    far_planes: [std::arch::x86_64::__m256; 3],
     r: &RayBoxes,
     t_max: f32,
     near: &mut [f32; WIDTH],
@@ -650,27 +706,18 @@ unsafe fn slab_avx2(
     );
     let far_scale = _mm256_set1_ps(1.0 + 2.0 * gamma(3));
     let t_max = _mm256_set1_ps(t_max);
-    let tx0 = _mm256_mul_ps(_mm256_sub_ps(planes[0], ox), ix);
-    let tx1 = _mm256_mul_ps(_mm256_sub_ps(planes[3], ox), ix);
-    let ty0 = _mm256_mul_ps(_mm256_sub_ps(planes[1], oy), iy);
-    let ty1 = _mm256_mul_ps(_mm256_sub_ps(planes[4], oy), iy);
-    let tz0 = _mm256_mul_ps(_mm256_sub_ps(planes[2], oz), iz);
-    let tz1 = _mm256_mul_ps(_mm256_sub_ps(planes[5], oz), iz);
+    let tx_near = _mm256_mul_ps(_mm256_sub_ps(near_planes[0], ox), ix);
+    let tx_far = _mm256_mul_ps(_mm256_sub_ps(far_planes[0], ox), ix);
+    let ty_near = _mm256_mul_ps(_mm256_sub_ps(near_planes[1], oy), iy);
+    let ty_far = _mm256_mul_ps(_mm256_sub_ps(far_planes[1], oy), iy);
+    let tz_near = _mm256_mul_ps(_mm256_sub_ps(near_planes[2], oz), iz);
+    let tz_far = _mm256_mul_ps(_mm256_sub_ps(far_planes[2], oz), iz);
     let t_near = _mm256_max_ps(
-        _mm256_min_ps(tx0, tx1),
-        _mm256_max_ps(
-            _mm256_min_ps(ty0, ty1),
-            _mm256_max_ps(_mm256_min_ps(tz0, tz1), _mm256_setzero_ps()),
-        ),
+        _mm256_max_ps(tx_near, ty_near),
+        _mm256_max_ps(tz_near, _mm256_setzero_ps()),
     );
     let t_far = _mm256_mul_ps(
-        _mm256_min_ps(
-            _mm256_max_ps(tx0, tx1),
-            _mm256_min_ps(
-                _mm256_max_ps(ty0, ty1),
-                _mm256_min_ps(_mm256_max_ps(tz0, tz1), t_max),
-            ),
-        ),
+        _mm256_min_ps(_mm256_min_ps(tx_far, ty_far), _mm256_min_ps(tz_far, t_max)),
         far_scale,
     );
     // `_CMP_LE_OQ` is false on NaN, like SSE's `cmpleps`.
