@@ -133,50 +133,57 @@ pub(super) fn merge_limit(primitives: usize) -> usize {
     }
 }
 
-/// How many more primitive tests per visit of a merged leaf's box the merge may cost, against
-/// its separate binary leaves weighted by area (the surface area heuristic's hit
-/// probabilities). Small triangles of a smooth surface merge; large ones far apart within
-/// their box (the Cornell box's walls) stay apart. Measured (`docs/performance.md`, "Larger
-/// leaves from the collapse"): 2 already costs the Cornell box 9.5% more instructions in
-/// closest-hit queries, 1.5 none, 1 merges almost nothing on the spheres of the scaling bench.
-pub(super) const MERGE_EXTRA_TESTS: f32 = 1.5;
+/// How many more four-triangle passes per visit of a merged leaf's box a merge of at most
+/// [`PASS_PRIMITIVES`] may cost, against its separate binary leaves weighted by area. Such a
+/// leaf is one pass, as each of its parts is, so the merge pays where the merged box is not
+/// much likelier to be reached than the parts together: small triangles of a smooth surface
+/// merge, large ones far apart within their box (the Cornell box's walls) stay apart. A
+/// saved node test is about a quarter of a pass (45 against some 195 instructions at 1,280
+/// triangles), but per-triangle work after the pass (the lanes that pass the edge tests) grows
+/// with the merged box, so the allowance is smaller (`docs/performance.md`, "Small leaves
+/// merged by passes"): 0.1 makes the 1,280-triangle sphere's tree 140 → 79 wide nodes
+/// (Embree's has 75) for +1% closest-hit instructions on the Cornell box; 0.2 costs the
+/// Cornell box 3%, 0.5 23%. (Priced by primitive tests, as before the leaves were tested in
+/// passes, almost nothing merged below 16,384 primitives.)
+pub(super) const MERGE_SMALL_EXTRA_PASSES: f32 = 0.1;
 
 /// The leaf slot binary node `i` becomes, `(first primitive, count)`: a binary leaf, or an
 /// interior node whose subtree holds at most `merge` primitives and whose merged leaf the
-/// surface area heuristic accepts (see [`MERGE_EXTRA_TESTS`]); `None` otherwise. Visits at
-/// most about twice `merge` nodes.
+/// surface area heuristic accepts, counted in four-triangle passes (see
+/// [`MERGE_SMALL_EXTRA_PASSES`] and [`MERGE_EXTRA_PASSES`]); `None` otherwise. Visits at most
+/// about twice `merge` nodes.
 pub(super) fn as_leaf(binary: &[Node], i: usize, merge: usize) -> Option<(u32, u16)> {
     let n = &binary[i];
     if n.count > 0 {
         return Some((n.offset, n.count));
     }
-    let (first, count, tests, passes) = small_subtree(binary, i, merge)?;
+    let (first, count, passes) = small_subtree(binary, i, merge)?;
     let area = node_area(n);
-    if count as usize <= PASS_PRIMITIVES {
-        // Expected triangle tests per visit of this box: all `count` as one leaf, against the
-        // area-weighted tests of its separate leaves plus the allowance.
-        return (count as f32 * area <= tests + MERGE_EXTRA_TESTS * area).then_some((first, count));
-    }
-    // Larger: expected four-triangle passes, likewise.
+    // Expected four-triangle passes per visit of this box: the merged leaf's, against the
+    // area-weighted passes of its separate leaves plus the allowance.
     let merged = (count as usize).div_ceil(PASS_PRIMITIVES) as f32;
-    (merged * area <= passes + MERGE_EXTRA_PASSES * area).then_some((first, count))
+    let allowance = if count as usize <= PASS_PRIMITIVES {
+        MERGE_SMALL_EXTRA_PASSES
+    } else {
+        MERGE_EXTRA_PASSES
+    };
+    (merged * area <= passes + allowance * area).then_some((first, count))
 }
 
-/// `(first primitive, count, Σ count · area, Σ passes · area)` over the binary leaves of the
-/// subtree under binary node `i` if it holds at most `limit` primitives (passes: ⌈count / 4⌉).
-fn small_subtree(binary: &[Node], i: usize, limit: usize) -> Option<(u32, u16, f32, f32)> {
+/// `(first primitive, count, Σ passes · area)` over the binary leaves of the subtree under
+/// binary node `i` if it holds at most `limit` primitives (passes: ⌈count / 4⌉).
+fn small_subtree(binary: &[Node], i: usize, limit: usize) -> Option<(u32, u16, f32)> {
     let n = &binary[i];
     if n.count > 0 {
         return (n.count as usize <= limit).then(|| {
-            let a = node_area(n);
             let passes = (n.count as usize).div_ceil(PASS_PRIMITIVES) as f32;
-            (n.offset, n.count, n.count as f32 * a, passes * a)
+            (n.offset, n.count, passes * node_area(n))
         });
     }
     // Each child holds at least one primitive.
-    let (first, l, tl, pl) = small_subtree(binary, i + 1, limit.checked_sub(1)?)?;
-    let (_, r, tr, pr) = small_subtree(binary, n.offset as usize, limit - l as usize)?;
-    Some((first, l + r, tl + tr, pl + pr))
+    let (first, l, pl) = small_subtree(binary, i + 1, limit.checked_sub(1)?)?;
+    let (_, r, pr) = small_subtree(binary, n.offset as usize, limit - l as usize)?;
+    Some((first, l + r, pl + pr))
 }
 
 pub(super) fn binary_children(binary: &[Node], i: usize) -> [usize; 2] {

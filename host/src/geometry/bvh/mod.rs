@@ -108,9 +108,11 @@ impl Bvh {
 
     /// [`Bvh::build_with_layout`], saying whether the collapse may merge small subtrees into
     /// one leaf (up to [`MERGE_LEAF_PRIMITIVES`] primitives in trees over at least
-    /// [`WIDE_MERGE_MIN_PRIMITIVES`], four below, where the surface area heuristic accepts it). Its cost model counts every primitive test the same, so callers whose
-    /// primitives are not all triangles (analytic spheres, quads: several triangle tests each)
-    /// pass `false`. The closest hits are the same either way.
+    /// [`WIDE_MERGE_MIN_PRIMITIVES`], four below, where the surface area heuristic accepts it).
+    /// Its cost model counts four-triangle passes (a leaf of triangles is tested four at a
+    /// time), so callers whose primitives are not all triangles (analytic spheres, quads: tested
+    /// one by one, several triangle tests each) pass `false`. The closest hits are the same
+    /// either way.
     pub fn build_with_options(bounds: &[Aabb], layout: NodeLayout, merge_leaves: bool) -> Bvh {
         // In parallel and in order, with the root's bounds in the same pass.
         let (prims, root) = build_prims(bounds);

@@ -225,6 +225,26 @@ fn collapse_merges_by_surface_area() {
     slots.sort_unstable();
     assert_eq!(slots, vec![(0, 8), (8, 2), (10, 2), (12, 2), (14, 2)]);
     assert_eq!(wide.len(), 1);
+    // Up to four primitives a merged leaf is one pass, as each of its parts is: four unit
+    // boxes in a row become one leaf (its box, area 18, against the parts' 4 × 6 = 24; priced
+    // by primitive tests, 4 × 18 > 24 + 1.5 × 18, they stayed apart), and two such rows far
+    // apart stay two leaves (the pair's box is 100 times longer than either row).
+    let row = |x: f32| -> Vec<([f32; 3], [f32; 3])> {
+        (0..4)
+            .map(|i| ([x + i as f32, 0.0, 0.0], [x + i as f32 + 1.0, 1.0, 1.0]))
+            .collect()
+    };
+    let mut boxes = row(0.0);
+    boxes.extend(row(400.0));
+    let mut binary = Vec::new();
+    tree(&boxes, 0, &mut binary);
+    let wide = collapse_float(binary, 4);
+    let root = &wide[0];
+    let mut slots: Vec<(u32, u16)> = (0..root.slots as usize)
+        .map(|s| (root.child[s], root.count[s]))
+        .collect();
+    slots.sort_unstable();
+    assert_eq!(slots, vec![(0, 4), (4, 4)]);
 }
 
 // The wide traversal must find exactly the closest hit a brute-force loop finds, with float
