@@ -1045,21 +1045,23 @@ impl PluginMaterial {
     /// The density asked of the plugin, out of line: a material that declares the
     /// cosine-weighted density (extension v6) gets its `pdf` in a few instructions, as the
     /// built-in does, without this path's frame.
+    /// The directions come by reference, as `pdf` got them: passed on as they are, with no
+    /// copy of either on this frame.
     #[inline(never)]
     fn pdf_call(
         &self,
-        wo: Vec3A,
-        wi: Vec3A,
+        wo: &Vec3A,
+        wi: &Vec3A,
         ctx: &ShadingContext,
         lambda: &SampledWavelengths,
         m: HostMode,
     ) -> f32 {
         let Some(v8) = &self.v8 else {
-            return self.pdf_before_v8(wo, wi, ctx, lambda, m);
+            return self.pdf_before_v8(*wo, *wi, ctx, lambda, m);
         };
         let p = v8.pdf(
-            super::layout::as_vec4f(&wo),
-            super::layout::as_vec4f(&wi),
+            super::layout::as_vec4f(wo),
+            super::layout::as_vec4f(wi),
             super::layout::as_surface(ctx),
             super::layout::as_wavelengths_f32(lambda),
             mode(m),
@@ -1127,16 +1129,19 @@ impl PluginMaterial {
             .map_or(0.0, |v| v as f32)
     }
 
-    /// `sample` of a v7 library and of older ones.
+    /// `sample` of a v7 library and of older ones. The uniforms come first, `wo` after them:
+    /// they then sit in the vector registers where `sample_into` got them and the v8 call wants
+    /// them (with `wo` first, passed in the first vector register, the hot function moved the
+    /// three uniforms up one register and back on every call).
     #[inline(never)]
     #[allow(clippy::too_many_arguments)]
     fn sample_before_v8<'a>(
         &self,
+        u_lobe: f32,
+        u: Vec2,
         wo: Vec3A,
         ctx: &ShadingContext,
         lambda: &SampledWavelengths,
-        u_lobe: f32,
-        u: Vec2,
         m: HostMode,
         out: &'a mut BsdfSample,
     ) -> Option<&'a BsdfSample> {
@@ -1414,7 +1419,7 @@ impl Material for PluginMaterial {
         out: &'a mut BsdfSample,
     ) -> Option<&'a BsdfSample> {
         let Some(v8) = &self.v8 else {
-            return self.sample_before_v8(wo, ctx, lambda, u_lobe, u, m, out);
+            return self.sample_before_v8(u_lobe, u, wo, ctx, lambda, m, out);
         };
         // Written by the plugin straight into the caller's record (see `super::layout`), checked
         // there, and its event bits translated to the host's. The record holds a valid sample
@@ -1485,7 +1490,7 @@ impl Material for PluginMaterial {
         if self.cosine {
             return super::cosine_pdf::cosine_pdf(wo, wi);
         }
-        self.pdf_call(wo, wi, ctx, lambda, m)
+        self.pdf_call(&wo, &wi, ctx, lambda, m)
     }
 
     fn emission(&self) -> Option<EmissionProfile> {
