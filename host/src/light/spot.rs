@@ -2,7 +2,8 @@
 //! the inner and outer cone angles.
 
 use super::{
-    incident_from_point, Light, LightFlags, LightLeSample, LightLiSample, LightSampleContext,
+    incident_from_point, incident_from_point_into, Light, LightFlags, LightLeSample, LightLiSample,
+    LightSampleContext,
 };
 use crate::geometry::Ray;
 use crate::material::Frame;
@@ -105,6 +106,16 @@ impl Light for SpotLight {
         lambda: &SampledWavelengths,
     ) -> Option<LightLiSample> {
         incident_from_point(self.position, ctx, |w| self.intensity(w, lambda))
+    }
+
+    fn sample_li_into(
+        &self,
+        ctx: &LightSampleContext,
+        _u: Vec2,
+        lambda: &SampledWavelengths,
+        out: &mut LightLiSample,
+    ) -> bool {
+        incident_from_point_into(self.position, ctx, |w| self.intensity(w, lambda), out)
     }
 
     fn pdf_li(&self, _ctx: &LightSampleContext, _p: Vec3A, _n: Vec3A) -> f32 {
