@@ -1462,18 +1462,16 @@ impl Material for PluginMaterial {
         let Some(v8) = &self.v8 else {
             return self.eval_before_v8(wo, wi, ctx, lambda, m);
         };
-        let v = v8
-            .eval(
-                super::layout::as_vec4f(&wo),
-                super::layout::as_vec4f(&wi),
-                super::layout::as_surface(ctx),
-                super::layout::as_wavelengths_f32(lambda),
-                mode(m),
-            )
-            .v;
+        let r = v8.eval(
+            super::layout::as_vec4f(&wo),
+            super::layout::as_vec4f(&wi),
+            super::layout::as_surface(ctx),
+            super::layout::as_wavelengths_f32(lambda),
+            mode(m),
+        );
         // Checked and stored as one vector (from the [f32; 4] the compiler went through
         // general registers, lane by lane).
-        let v = glam::Vec4::from_array(v);
+        let v = super::layout::values_as_vec4(r);
         match checked::vector_f32(v) {
             Ok(()) => SampledSpectrum(v.to_array()),
             Err(reason) => self.v8_refused(CallV8::Eval, reason, SampledSpectrum::zero()),
