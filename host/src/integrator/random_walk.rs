@@ -185,12 +185,15 @@ pub fn random_walk(
             v.sampled_for = SampledFor::new(mode, &cur);
         }
         let wi_world = frame.to_world(bs.wi);
-        let mut pdf_rev = material.pdf(bs.wi, wo, &ctx, &cur, flip(mode));
         pdf_fwd = bs.pdf;
+        // A specular sample makes a delta vertex, whose densities MIS never reads: its reverse
+        // density is not asked for (a plugin's material would cross the boundary for it).
+        let mut pdf_rev = 0.0;
         if bs.flags.is_specular() {
             path[n - 1].delta = true;
             pdf_fwd = 0.0;
-            pdf_rev = 0.0;
+        } else {
+            pdf_rev = material.pdf(bs.wi, wo, &ctx, &cur, flip(mode));
         }
         if bs.flags.contains(MaterialFlags::DISPERSIVE) {
             lanes = lanes.terminate_secondary();

@@ -403,12 +403,13 @@ impl Vertex {
         if !(w.length_squared() > 0.0) {
             return 0.0;
         }
+        // A light at one point has positional density 1: its `pdf_le` is not asked (its answer
+        // was thrown away; a plugin's light crossed the boundary for it).
         let ray = Ray::new(self.p, w.normalize());
-        let (pdf_pos, _) = light.pdf_le(&ray, self.ng);
         let pdf_pos = if light.flags().contains(LightFlags::DELTA_POSITION) {
             1.0
         } else {
-            pdf_pos
+            light.pdf_le(&ray, self.ng).0
         };
         scene.lights.pmf(li as usize) * pdf_pos
     }

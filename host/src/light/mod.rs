@@ -100,6 +100,27 @@ pub trait Light: Send + Sync + Debug {
         lambda: &SampledWavelengths,
     ) -> Option<LightLiSample>;
 
+    /// [`sample_li`](Self::sample_li) written into `out` (`true`) instead of returned; `out` is
+    /// left as it was when there is no sample (`false`). For a caller that hands over a record
+    /// of its own: the standard plugin library writes the host's sample straight into the
+    /// record the host lent it, with no returned `Option` copied on the way. The default
+    /// copies `sample_li`'s answer; point-like lights write in place.
+    fn sample_li_into(
+        &self,
+        ctx: &LightSampleContext,
+        u: Vec2,
+        lambda: &SampledWavelengths,
+        out: &mut LightLiSample,
+    ) -> bool {
+        match self.sample_li(ctx, u, lambda) {
+            Some(s) => {
+                *out = s;
+                true
+            }
+            None => false,
+        }
+    }
+
     /// Solid-angle density (1/sr) with which `sample_li` from `ctx` would produce the light point
     /// `p_light` with normal `n_light`. Zero for delta lights.
     fn pdf_li(&self, ctx: &LightSampleContext, p_light: Vec3A, n_light: Vec3A) -> f32;
@@ -183,6 +204,35 @@ pub(crate) fn incident_from_point(
     ctx: &LightSampleContext,
     intensity: impl FnOnce(Vec3A) -> SampledSpectrum,
 ) -> Option<LightLiSample> {
+    let (radiance, wi) = point_incidence(position, ctx, intensity)?;
+    Some(point_sample(position, radiance, wi))
+}
+
+/// [`incident_from_point`] written into `out` (`true`), `out` untouched without a sample
+/// (`false`): what point-like lights' [`Light::sample_li_into`] answers.
+pub(crate) fn incident_from_point_into(
+    position: Vec3A,
+    ctx: &LightSampleContext,
+    intensity: impl FnOnce(Vec3A) -> SampledSpectrum,
+    out: &mut LightLiSample,
+) -> bool {
+    match point_incidence(position, ctx, intensity) {
+        Some((radiance, wi)) => {
+            *out = point_sample(position, radiance, wi);
+            true
+        }
+        None => false,
+    }
+}
+
+/// The radiance arriving at `ctx` from the point emitter and the unit direction towards it
+/// (see [`incident_from_point`]).
+#[inline]
+fn point_incidence(
+    position: Vec3A,
+    ctx: &LightSampleContext,
+    intensity: impl FnOnce(Vec3A) -> SampledSpectrum,
+) -> Option<(SampledSpectrum, Vec3A)> {
     let d = position - ctx.p;
     let dist2 = d.length_squared();
     if !(dist2 > 0.0) {
@@ -193,12 +243,18 @@ pub(crate) fn incident_from_point(
     if radiance.is_black() {
         return None;
     }
-    Some(LightLiSample {
+    Some((radiance, wi))
+}
+
+/// The delta sample of a point emitter at `position` (pdf 1, no surface).
+#[inline]
+fn point_sample(position: Vec3A, radiance: SampledSpectrum, wi: Vec3A) -> LightLiSample {
+    LightLiSample {
         radiance,
         wi,
         pdf: 1.0,
         p_light: position,
         p_light_error: Vec3A::ZERO,
         n_light: Vec3A::ZERO,
-    })
+    }
 }

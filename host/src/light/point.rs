@@ -1,8 +1,8 @@
 //! An isotropic point light of given power.
 
 use super::{
-    incident_from_point, sample_uniform_sphere, Light, LightFlags, LightLeSample, LightLiSample,
-    LightSampleContext,
+    incident_from_point, incident_from_point_into, sample_uniform_sphere, Light, LightFlags,
+    LightLeSample, LightLiSample, LightSampleContext,
 };
 use crate::geometry::Ray;
 use crate::spectrum::spd::spd_at;
@@ -54,6 +54,16 @@ impl Light for PointLight {
         lambda: &SampledWavelengths,
     ) -> Option<LightLiSample> {
         incident_from_point(self.position, ctx, |_| self.intensity(lambda))
+    }
+
+    fn sample_li_into(
+        &self,
+        ctx: &LightSampleContext,
+        _u: Vec2,
+        lambda: &SampledWavelengths,
+        out: &mut LightLiSample,
+    ) -> bool {
+        incident_from_point_into(self.position, ctx, |_| self.intensity(lambda), out)
     }
 
     fn pdf_li(&self, _ctx: &LightSampleContext, _p: Vec3A, _n: Vec3A) -> f32 {

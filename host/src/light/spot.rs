@@ -2,7 +2,8 @@
 //! the inner and outer cone angles.
 
 use super::{
-    incident_from_point, Light, LightFlags, LightLeSample, LightLiSample, LightSampleContext,
+    incident_from_point, incident_from_point_into, Light, LightFlags, LightLeSample, LightLiSample,
+    LightSampleContext,
 };
 use crate::geometry::Ray;
 use crate::material::Frame;
@@ -107,6 +108,16 @@ impl Light for SpotLight {
         incident_from_point(self.position, ctx, |w| self.intensity(w, lambda))
     }
 
+    fn sample_li_into(
+        &self,
+        ctx: &LightSampleContext,
+        _u: Vec2,
+        lambda: &SampledWavelengths,
+        out: &mut LightLiSample,
+    ) -> bool {
+        incident_from_point_into(self.position, ctx, |w| self.intensity(w, lambda), out)
+    }
+
     fn pdf_li(&self, _ctx: &LightSampleContext, _p: Vec3A, _n: Vec3A) -> f32 {
         0.0
     }
@@ -154,6 +165,57 @@ impl Light for SpotLight {
 mod tests {
     use super::*;
     use crate::spectrum::BuiltinSpd;
+
+    /// `sample_li_into` of the point-like lights (which write in place instead of copying the
+    /// default's `Option`) writes exactly what `sample_li` returns, and leaves the record as it
+    /// was where there is no sample: receivers inside the cone, outside it (nothing emitted),
+    /// behind the spot and on the emitter itself, for a spot and a point light.
+    #[test]
+    fn point_like_lights_write_in_place_what_they_return() {
+        let spd: Arc<dyn Spd> = Arc::new(BuiltinSpd::blackbody(3000.0).unwrap());
+        let spot = SpotLight::new(Vec3A::ZERO, Vec3A::Z, 20.0, 35.0, spd.clone(), 50.0).unwrap();
+        let point = crate::light::PointLight::new(Vec3A::new(0.0, 1.0, 0.0), spd, 20.0);
+        let lambda = SampledWavelengths::sample_visible(0.3);
+        let stale = LightLiSample {
+            radiance: SampledSpectrum::splat(7.0),
+            wi: Vec3A::X,
+            pdf: 3.0,
+            p_light: Vec3A::ONE,
+            p_light_error: Vec3A::ONE,
+            n_light: Vec3A::Y,
+        };
+        let mut found = [0, 0];
+        for p in [
+            Vec3A::new(0.1, 0.0, 2.0),
+            Vec3A::new(2.0, 0.0, 0.5),
+            Vec3A::new(0.0, 0.0, -1.0),
+            Vec3A::ZERO,
+            Vec3A::new(0.0, 1.0, 0.0),
+        ] {
+            let ctx = LightSampleContext {
+                p,
+                p_error: Vec3A::ZERO,
+                n: Vec3A::Z,
+            };
+            for light in [&spot as &dyn Light, &point] {
+                let mut out = stale;
+                let written = light.sample_li_into(&ctx, Vec2::new(0.3, 0.6), &lambda, &mut out);
+                match light.sample_li(&ctx, Vec2::new(0.3, 0.6), &lambda) {
+                    Some(s) => {
+                        assert!(written, "{p}");
+                        assert_eq!(out, s, "{p}");
+                        found[0] += 1;
+                    }
+                    None => {
+                        assert!(!written, "{p}");
+                        assert_eq!(out, stale, "{p}");
+                        found[1] += 1;
+                    }
+                }
+            }
+        }
+        assert!(found[0] > 0 && found[1] > 0, "both cases seen: {found:?}");
+    }
 
     /// The emitted flux equals the requested power: ∫ I₀·falloff dω integrated by a midpoint rule
     /// in cos θ (10⁵ cells; the smoothstep is C¹ so the error is ~1e-9) must be P within 1e-4.

@@ -1045,21 +1045,23 @@ impl PluginMaterial {
     /// The density asked of the plugin, out of line: a material that declares the
     /// cosine-weighted density (extension v6) gets its `pdf` in a few instructions, as the
     /// built-in does, without this path's frame.
+    /// The directions come by reference, as `pdf` got them: passed on as they are, with no
+    /// copy of either on this frame.
     #[inline(never)]
     fn pdf_call(
         &self,
-        wo: Vec3A,
-        wi: Vec3A,
+        wo: &Vec3A,
+        wi: &Vec3A,
         ctx: &ShadingContext,
         lambda: &SampledWavelengths,
         m: HostMode,
     ) -> f32 {
         let Some(v8) = &self.v8 else {
-            return self.pdf_before_v8(wo, wi, ctx, lambda, m);
+            return self.pdf_before_v8(*wo, *wi, ctx, lambda, m);
         };
         let p = v8.pdf(
-            super::layout::as_vec4f(&wo),
-            super::layout::as_vec4f(&wi),
+            super::layout::as_vec4f(wo),
+            super::layout::as_vec4f(wi),
             super::layout::as_surface(ctx),
             super::layout::as_wavelengths_f32(lambda),
             mode(m),
@@ -1127,16 +1129,19 @@ impl PluginMaterial {
             .map_or(0.0, |v| v as f32)
     }
 
-    /// `sample` of a v7 library and of older ones.
+    /// `sample` of a v7 library and of older ones. The uniforms come first, `wo` after them:
+    /// they then sit in the vector registers where `sample_into` got them and the v8 call wants
+    /// them (with `wo` first, passed in the first vector register, the hot function moved the
+    /// three uniforms up one register and back on every call).
     #[inline(never)]
     #[allow(clippy::too_many_arguments)]
     fn sample_before_v8<'a>(
         &self,
+        u_lobe: f32,
+        u: Vec2,
         wo: Vec3A,
         ctx: &ShadingContext,
         lambda: &SampledWavelengths,
-        u_lobe: f32,
-        u: Vec2,
         m: HostMode,
         out: &'a mut BsdfSample,
     ) -> Option<&'a BsdfSample> {
@@ -1414,7 +1419,7 @@ impl Material for PluginMaterial {
         out: &'a mut BsdfSample,
     ) -> Option<&'a BsdfSample> {
         let Some(v8) = &self.v8 else {
-            return self.sample_before_v8(wo, ctx, lambda, u_lobe, u, m, out);
+            return self.sample_before_v8(u_lobe, u, wo, ctx, lambda, m, out);
         };
         // Written by the plugin straight into the caller's record (see `super::layout`), checked
         // there, and its event bits translated to the host's. The record holds a valid sample
@@ -1457,18 +1462,16 @@ impl Material for PluginMaterial {
         let Some(v8) = &self.v8 else {
             return self.eval_before_v8(wo, wi, ctx, lambda, m);
         };
-        let v = v8
-            .eval(
-                super::layout::as_vec4f(&wo),
-                super::layout::as_vec4f(&wi),
-                super::layout::as_surface(ctx),
-                super::layout::as_wavelengths_f32(lambda),
-                mode(m),
-            )
-            .v;
+        let r = v8.eval(
+            super::layout::as_vec4f(&wo),
+            super::layout::as_vec4f(&wi),
+            super::layout::as_surface(ctx),
+            super::layout::as_wavelengths_f32(lambda),
+            mode(m),
+        );
         // Checked and stored as one vector (from the [f32; 4] the compiler went through
         // general registers, lane by lane).
-        let v = glam::Vec4::from_array(v);
+        let v = super::layout::values_as_vec4(r);
         match checked::vector_f32(v) {
             Ok(()) => SampledSpectrum(v.to_array()),
             Err(reason) => self.v8_refused(CallV8::Eval, reason, SampledSpectrum::zero()),
@@ -1485,7 +1488,7 @@ impl Material for PluginMaterial {
         if self.cosine {
             return super::cosine_pdf::cosine_pdf(wo, wi);
         }
-        self.pdf_call(wo, wi, ctx, lambda, m)
+        self.pdf_call(&wo, &wi, ctx, lambda, m)
     }
 
     fn emission(&self) -> Option<EmissionProfile> {
@@ -1732,7 +1735,9 @@ pub struct PluginLight {
     /// Declared through extension v4: the emission has one spectral shape everywhere.
     uniform: bool,
     /// The same light's calls in the host's layout (extension v6); not for environments,
-    /// which the host samples itself.
+    /// which the host samples itself, nor for lights that only hand out beams (neither is
+    /// sampled or asked for a density through them), so that its presence alone selects the
+    /// calls' short path.
     v6: Option<LightV6Box>,
 }
 
@@ -1787,7 +1792,7 @@ impl PluginLight {
             origin,
             item,
         )?;
-        if l.environment.is_none() {
+        if l.environment.is_none() && !l.flags.contains(LightFlags::BEAMS_ONLY) {
             l.v6 = Some(v6);
         }
         Ok(l)
@@ -1895,6 +1900,89 @@ impl PluginLight {
     }
 }
 
+/// The light calls of environments, of lights that only hand out beams and of libraries older
+/// than extension v6, out of line: the v6 path of each call stays a small function (its frame
+/// and saved registers are what that path needs, not these), chosen by the presence of the v6
+/// face alone (the `v6` field).
+impl PluginLight {
+    /// `sample_li` without the v6 face.
+    #[inline(never)]
+    fn sample_li_other(
+        &self,
+        ctx: &LightSampleContext,
+        u: Vec2,
+        lambda: &SampledWavelengths,
+    ) -> Option<LightLiSample> {
+        if let Some(e) = &self.environment {
+            return e.sample_li(ctx, u, lambda);
+        }
+        if self.flags.contains(LightFlags::BEAMS_ONLY) {
+            return None;
+        }
+        let r = self
+            .light
+            .sample_toward(v3(ctx.p), &sample_from(&[u.x, u.y]), &lambdas(lambda));
+        match self.origin.checked(r, checked::incident) {
+            Some(s) if s.pdf > 0.0 => Some(LightLiSample {
+                radiance: spectrum(s.value),
+                wi: va(s.direction),
+                pdf: s.pdf as f32,
+                p_light: va(s.point),
+                p_light_error: Vec3A::ZERO,
+                n_light: va(s.normal),
+            }),
+            _ => None,
+        }
+    }
+
+    /// `sample_le` without the v6 face.
+    #[inline(never)]
+    fn sample_le_other(
+        &self,
+        u1: Vec2,
+        u2: Vec2,
+        lambda: &SampledWavelengths,
+    ) -> Option<LightLeSample> {
+        if let Some(e) = &self.environment {
+            return e.sample_le(u1, u2, lambda);
+        }
+        if self.flags.contains(LightFlags::BEAMS_ONLY) {
+            return None;
+        }
+        let r = self
+            .light
+            .sample_emission(&sample_from(&[u1.x, u1.y, u2.x, u2.y]), &lambdas(lambda));
+        match self.origin.checked(r, checked::emission) {
+            Some(s) if s.pdf_position > 0.0 && s.pdf_direction > 0.0 => Some(LightLeSample {
+                ray: Ray::new(va(s.origin), va(s.direction)),
+                radiance: spectrum(s.value),
+                pdf_pos: s.pdf_position as f32,
+                pdf_dir: s.pdf_direction as f32,
+                normal: va(s.normal),
+            }),
+            _ => None,
+        }
+    }
+
+    /// `pdf_le` without the v6 face.
+    #[inline(never)]
+    fn pdf_le_other(&self, ray: &Ray, n: Vec3A) -> (f32, f32) {
+        if let Some(e) = &self.environment {
+            return e.pdf_le(ray, n);
+        }
+        if self.flags.contains(LightFlags::BEAMS_ONLY) {
+            return (0.0, 0.0);
+        }
+        let r = self.light.emission_pdf(v3(ray.origin), v3(ray.dir));
+        match self.origin.checked(r, |p| {
+            checked::density(p.position).and(checked::density(p.direction))
+        }) {
+            Some(p) => (p.position as f32, p.direction as f32),
+            None => (0.0, 0.0),
+        }
+    }
+}
+
 impl fmt::Debug for PluginLight {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "PluginLight({})", self.origin.label)
@@ -1926,50 +2014,33 @@ impl Light for PluginLight {
         u: Vec2,
         lambda: &SampledWavelengths,
     ) -> Option<LightLiSample> {
-        if let Some(e) = &self.environment {
-            return e.sample_li(ctx, u, lambda);
-        }
-        if self.flags.contains(LightFlags::BEAMS_ONLY) {
-            return None;
-        }
-        if let Some(v6) = &self.v6 {
-            // Written by the plugin in place (see `super::layout`), then checked.
-            let mut s = LightLiSample {
-                radiance: SampledSpectrum::zero(),
-                wi: Vec3A::ZERO,
-                pdf: 0.0,
-                p_light: Vec3A::ZERO,
-                p_light_error: Vec3A::ZERO,
-                n_light: Vec3A::ZERO,
-            };
-            let receiver = super::layout::as_receiver(ctx);
-            let out = super::layout::as_incident_mut(&mut s);
-            return match v6.sample_toward(receiver, &[u.x, u.y], &lanes_f32(lambda), out) {
-                RResult::ROk(true) => match checked::incident_f32(out) {
-                    Ok(()) if s.pdf > 0.0 => Some(s),
-                    Ok(()) => None,
-                    Err(reason) => {
-                        self.origin.dropped(reason);
-                        None
-                    }
-                },
-                RResult::ROk(false) => None,
-                RResult::RErr(e) => self.origin.fail(e, None),
-            };
-        }
-        let r = self
-            .light
-            .sample_toward(v3(ctx.p), &sample_from(&[u.x, u.y]), &lambdas(lambda));
-        match self.origin.checked(r, checked::incident) {
-            Some(s) if s.pdf > 0.0 => Some(LightLiSample {
-                radiance: spectrum(s.value),
-                wi: va(s.direction),
-                pdf: s.pdf as f32,
-                p_light: va(s.point),
-                p_light_error: Vec3A::ZERO,
-                n_light: va(s.normal),
-            }),
-            _ => None,
+        match &self.v6 {
+            Some(v6) => {
+                // Written by the plugin in place (see `super::layout`), then checked.
+                let mut s = LightLiSample {
+                    radiance: SampledSpectrum::zero(),
+                    wi: Vec3A::ZERO,
+                    pdf: 0.0,
+                    p_light: Vec3A::ZERO,
+                    p_light_error: Vec3A::ZERO,
+                    n_light: Vec3A::ZERO,
+                };
+                let receiver = super::layout::as_receiver(ctx);
+                let out = super::layout::as_incident_mut(&mut s);
+                match v6.sample_toward(receiver, &[u.x, u.y], &lanes_f32(lambda), out) {
+                    RResult::ROk(true) => match checked::incident_f32(out) {
+                        Ok(()) if s.pdf > 0.0 => Some(s),
+                        Ok(()) => None,
+                        Err(reason) => {
+                            self.origin.dropped(reason);
+                            None
+                        }
+                    },
+                    RResult::ROk(false) => None,
+                    RResult::RErr(e) => self.origin.fail(e, None),
+                }
+            }
+            None => self.sample_li_other(ctx, u, lambda),
         }
     }
 
@@ -2003,12 +2074,6 @@ impl Light for PluginLight {
     }
 
     fn sample_le(&self, u1: Vec2, u2: Vec2, lambda: &SampledWavelengths) -> Option<LightLeSample> {
-        if let Some(e) = &self.environment {
-            return e.sample_le(u1, u2, lambda);
-        }
-        if self.flags.contains(LightFlags::BEAMS_ONLY) {
-            return None;
-        }
         if let Some(v6) = &self.v6 {
             let mut s = EmissionF32::default();
             let u = [u1.x, u1.y, u2.x, u2.y];
@@ -2033,19 +2098,7 @@ impl Light for PluginLight {
                 RResult::RErr(e) => self.origin.fail(e, None),
             };
         }
-        let r = self
-            .light
-            .sample_emission(&sample_from(&[u1.x, u1.y, u2.x, u2.y]), &lambdas(lambda));
-        match self.origin.checked(r, checked::emission) {
-            Some(s) if s.pdf_position > 0.0 && s.pdf_direction > 0.0 => Some(LightLeSample {
-                ray: Ray::new(va(s.origin), va(s.direction)),
-                radiance: spectrum(s.value),
-                pdf_pos: s.pdf_position as f32,
-                pdf_dir: s.pdf_direction as f32,
-                normal: va(s.normal),
-            }),
-            _ => None,
-        }
+        self.sample_le_other(u1, u2, lambda)
     }
 
     fn next_beam(&self, u: &RandomSample) -> Option<Beam> {
@@ -2081,12 +2134,6 @@ impl Light for PluginLight {
     }
 
     fn pdf_le(&self, ray: &Ray, n: Vec3A) -> (f32, f32) {
-        if let Some(e) = &self.environment {
-            return e.pdf_le(ray, n);
-        }
-        if self.flags.contains(LightFlags::BEAMS_ONLY) {
-            return (0.0, 0.0);
-        }
         if let Some(v6) = &self.v6 {
             let mut p = [0.0; 2];
             return match v6.emission_pdf(&v4f(ray.origin), &v4f(ray.dir), &mut p) {
@@ -2102,13 +2149,7 @@ impl Light for PluginLight {
                 RResult::RErr(e) => self.origin.fail(e, (0.0, 0.0)),
             };
         }
-        let r = self.light.emission_pdf(v3(ray.origin), v3(ray.dir));
-        match self.origin.checked(r, |p| {
-            checked::density(p.position).and(checked::density(p.direction))
-        }) {
-            Some(p) => (p.position as f32, p.direction as f32),
-            None => (0.0, 0.0),
-        }
+        self.pdf_le_other(ray, n)
     }
 
     fn escape_point(&self, ray: &Ray) -> Option<(Vec3A, Vec3A)> {

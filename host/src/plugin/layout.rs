@@ -15,7 +15,7 @@ use crate::material::{BsdfSample, MaterialFlags, ShadingContext};
 use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths};
 use glam::{Vec2, Vec3A};
 use spectrace_plugin_api::fast::{
-    IncidentF32, LanesF32, ReceiverF32, ScatterF32, SurfaceF32, Vec4f, WavelengthsF32,
+    IncidentF32, LanesF32, ReceiverF32, ScatterF32, SurfaceF32, ValuesF32, Vec4f, WavelengthsF32,
 };
 use spectrace_plugin_api::Flags;
 use std::mem::{align_of, offset_of, size_of};
@@ -49,6 +49,7 @@ const _: () = {
     assert!(offset_of!(LightLiSample, p_light_error) == offset_of!(IncidentF32, point_error));
     assert!(offset_of!(LightLiSample, n_light) == offset_of!(IncidentF32, normal));
 
+    assert!(size_of::<ValuesF32>() == size_of::<glam::Vec4>());
     assert!(size_of::<MaterialFlags>() == size_of::<Flags>());
     assert!(size_of::<BsdfSample>() == size_of::<ScatterF32>());
     assert!(align_of::<BsdfSample>() == align_of::<ScatterF32>());
@@ -208,9 +209,38 @@ pub fn as_light_sample_mut(s: &mut IncidentF32) -> &mut LightLiSample {
     unsafe { &mut *(s as *mut IncidentF32).cast::<LightLiSample>() }
 }
 
+/// Extension v8's `eval` answer as one SIMD vector: the four lanes as they come back in two
+/// registers, joined by one move (through `[f32; 4]`, lane by lane, it took five).
+#[inline]
+pub fn values_as_vec4(v: ValuesF32) -> glam::Vec4 {
+    // SAFETY: four `f32`s on both sides (`ValuesF32` is `#[repr(C)]`, the same size, asserted
+    // above), in lane order; every bit pattern is a valid `f32`. By value: alignment is moot.
+    unsafe { std::mem::transmute::<ValuesF32, glam::Vec4>(v) }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    // An `eval` answer joined into one vector keeps each lane in its place, bit for bit (a NaN's
+    // payload, −0, a subnormal, the largest finite).
+    #[test]
+    fn values_join_into_a_vector_lane_by_lane() {
+        let v = [
+            f32::from_bits(0x7fc0_1234),
+            -0.0,
+            f32::from_bits(1),
+            f32::MAX,
+        ];
+        for k in 0..4 {
+            let mut w = [0.5, 1.5, 2.5, 3.5];
+            w[k] = v[k];
+            let joined = values_as_vec4(ValuesF32 { v: w }).to_array();
+            assert_eq!(joined.map(f32::to_bits), w.map(f32::to_bits), "lane {k}");
+        }
+        let joined = values_as_vec4(ValuesF32 { v }).to_array();
+        assert_eq!(joined.map(f32::to_bits), v.map(f32::to_bits));
+    }
 
     // The host's wavelengths read in place are the ones a copy gives (lanes, densities, mask);
     // a `live` with bits beyond the lanes is not read in place.

@@ -97,13 +97,9 @@ fn sample_toward_v6<L: HostLight + ?Sized>(
     let ctx = as_light_context(receiver);
     let mut slot = None;
     let lambda = wavelengths(lambda, &mut slot);
-    match light.sample_li(ctx, Vec2::new(u[0], u[1]), lambda) {
-        Some(s) => {
-            *as_light_sample_mut(out) = s;
-            true
-        }
-        None => false,
-    }
+    // Written straight into the host's record (the same layout): point-like lights write it
+    // in place, with no returned `Option<LightLiSample>` copied into it.
+    light.sample_li_into(ctx, Vec2::new(u[0], u[1]), lambda, as_light_sample_mut(out))
 }
 
 /// `sample_emission` in the host's layout (extension v6).
