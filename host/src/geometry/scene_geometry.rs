@@ -368,6 +368,12 @@ impl Geometry {
             #[inline(always)]
             |first, count, t_max| {
                 let (t, cand) = self.test_leaf::<KZ>(ray, wr, first, count, t_max, false)?;
+                if let Candidate::Slot { slot, .. } = cand {
+                    // `make_hit` reads the slot's primitive once the search ends; in large
+                    // scenes that entry is a cache miss, which now overlaps the rest of the
+                    // search.
+                    prefetch(self.prims.as_ptr().wrapping_add(slot as usize));
+                }
                 best = Some(cand);
                 Some(t)
             },
@@ -852,6 +858,20 @@ fn build_object(desc: ShapeDesc) -> Result<Object, String> {
             })
         }
     }
+}
+
+/// Starts loading the cache line at `p` (a hint: it changes no result and never faults).
+#[inline(always)]
+fn prefetch<T>(p: *const T) {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: a prefetch reads nothing and never faults, whatever the address; SSE is part of
+    // x86-64.
+    unsafe {
+        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        _mm_prefetch::<_MM_HINT_T0>(p.cast::<i8>());
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = p;
 }
 
 #[cfg(test)]
