@@ -451,22 +451,25 @@ mod tests {
         }
     }
 
+    /// Values at the edges of what the checks accept: ±0, the smallest subnormal, the largest
+    /// finite, ±∞, NaN and a negative.
+    const SPECIAL: [f32; 8] = [
+        0.0,
+        -0.0,
+        f32::from_bits(1),
+        f32::MAX,
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+        f32::NAN,
+        -1e-30,
+    ];
+
     // `vector_f32` (eval's four values as one vector) accepts and refuses exactly what
     // `values_f32` does, with the same reason: each special value (±0, the smallest subnormal,
     // the largest finite, ±∞, NaN, a negative) in each lane among ordinary values.
     #[test]
     fn the_vector_check_is_the_values_check() {
-        let special = [
-            0.0,
-            -0.0,
-            f32::from_bits(1),
-            f32::MAX,
-            f32::INFINITY,
-            f32::NEG_INFINITY,
-            f32::NAN,
-            -1e-30,
-        ];
-        for &x in &special {
+        for &x in &SPECIAL {
             for lane in 0..4 {
                 let mut v = [0.25, 1.0, 3.5, 0.0];
                 v[lane] = x;
@@ -484,17 +487,7 @@ mod tests {
     // each special value in each of `x, y, z` and in `w`.
     #[test]
     fn the_lane_mask_is_the_vector_without_w() {
-        let special = [
-            0.0,
-            -0.0,
-            f32::from_bits(1),
-            f32::MAX,
-            f32::INFINITY,
-            f32::NEG_INFINITY,
-            f32::NAN,
-            -1e-30,
-        ];
-        for &x in &special {
+        for &x in &SPECIAL {
             for lane in 0..4 {
                 let mut a = [0.25, -1.0, 3.5, 7.0];
                 a[lane] = x;
