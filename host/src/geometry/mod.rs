@@ -32,6 +32,7 @@ pub mod mesh;
 pub mod obj;
 pub mod ply;
 pub mod polygon;
+mod prefetch;
 pub mod quad;
 pub mod ray;
 pub mod scene_geometry;

@@ -13,6 +13,7 @@ use rayon::prelude::*;
 use super::bvh::{Bvh, BvhStatistics, NodeLayout, TraversalKernel, VisitCounts};
 use super::huge_pages::HugePageBuf;
 use super::leaf_triangles::LeafTriangles;
+use super::prefetch::prefetch_line;
 use super::quad::Quad;
 use super::sphere::Sphere;
 use super::triangle::{
@@ -372,7 +373,7 @@ impl Geometry {
                     // `make_hit` reads the slot's primitive once the search ends; in large
                     // scenes that entry is a cache miss, which now overlaps the rest of the
                     // search.
-                    prefetch(self.prims.as_ptr().wrapping_add(slot as usize));
+                    prefetch_line(self.prims.as_ptr().wrapping_add(slot as usize));
                 }
                 best = Some(cand);
                 Some(t)
@@ -858,20 +859,6 @@ fn build_object(desc: ShapeDesc) -> Result<Object, String> {
             })
         }
     }
-}
-
-/// Starts loading the cache line at `p` (a hint: it changes no result and never faults).
-#[inline(always)]
-fn prefetch<T>(p: *const T) {
-    #[cfg(target_arch = "x86_64")]
-    // SAFETY: a prefetch reads nothing and never faults, whatever the address; SSE is part of
-    // x86-64.
-    unsafe {
-        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
-        _mm_prefetch::<_MM_HINT_T0>(p.cast::<i8>());
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = p;
 }
 
 #[cfg(test)]

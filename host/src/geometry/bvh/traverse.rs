@@ -8,6 +8,7 @@ use glam::{Vec3A, Vec4};
 use super::wide_node::{QuantNode, WideNode, WIDTH};
 use super::Bvh;
 use crate::geometry::float_error::gamma;
+use crate::geometry::prefetch::prefetch_line;
 use crate::geometry::Ray;
 
 /// Traversal stack entries kept on the machine stack: at most seven are pushed per wide level,
@@ -405,18 +406,13 @@ impl Bvh {
 /// A hint only: it changes no result.
 #[inline(always)]
 fn prefetch<T>(nodes: &[T], e: &Entry) {
-    #[cfg(target_arch = "x86_64")]
     if e.count == 0 {
-        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
-        let p = nodes.as_ptr().wrapping_add(e.child as usize).cast::<i8>();
+        // `wrapping_add` makes no claim about the address, and a prefetch never faults.
+        let p = nodes.as_ptr().wrapping_add(e.child as usize).cast::<u8>();
         for line in 0..std::mem::size_of::<T>() / 64 {
-            // SAFETY: a prefetch reads nothing and never faults, whatever the address
-            // (`wrapping_add` makes no claim about it either); SSE is part of x86-64.
-            unsafe { _mm_prefetch::<_MM_HINT_T0>(p.wrapping_add(64 * line)) };
+            prefetch_line(p.wrapping_add(64 * line));
         }
     }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = (nodes, e);
 }
 
 /// [`Bvh::traverse`]'s leaf test: `test(slot, t_max)` for the leaf's slots in order, the
