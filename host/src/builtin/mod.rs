@@ -197,7 +197,7 @@ pub fn types() -> &'static [BuiltinType] {
     &ALL
 }
 
-static ALL: [BuiltinType; 24] = [
+static ALL: [BuiltinType; 26] = [
     material::lambertian::TYPE,
     material::mirror::TYPE,
     material::dielectric::TYPE,
@@ -211,6 +211,8 @@ static ALL: [BuiltinType; 24] = [
     light::directional::TYPE,
     light::environment::TYPE,
     light::luminaire::TYPE,
+    light::cie_sky::TYPE,
+    light::sun::TYPE,
     spd::spec::TYPE,
     spd::table::TYPE,
     observer::cie::CIE1931_2,

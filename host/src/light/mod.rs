@@ -7,6 +7,7 @@
 //! for metres).
 
 pub mod area;
+pub mod daylight;
 pub mod directional;
 pub mod environment;
 pub mod flags;
@@ -184,6 +185,12 @@ pub trait Light: Send + Sync + Debug {
     /// (`integrator::flat_colour`). The default is `false`, which is always safe.
     fn uniform_spectral_shape(&self) -> bool {
         false
+    }
+
+    /// A warning for the render summary about this light as built (e.g. a sun below the
+    /// horizon, which gives no direct light). `None` by default.
+    fn build_warning(&self) -> Option<String> {
+        None
     }
 }
 

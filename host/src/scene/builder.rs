@@ -353,6 +353,9 @@ pub fn build_scene_with(
         let power = l.power();
         super::warnings::light_power(item, power, &mut warnings)
             .map_err(|e| item_err(item.clone(), e))?;
+        if let Some(w) = l.build_warning() {
+            warnings.push(format!("{item}: {w}"));
+        }
         powers.push(power);
     }
     warnings.extend(super::units::undeclared_unit_warning(

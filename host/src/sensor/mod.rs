@@ -13,6 +13,7 @@ pub mod estimate;
 pub mod grid;
 pub mod luminance;
 pub mod output;
+pub mod statistics;
 
 pub use estimate::{measure, Estimator, MeasureSettings, SensorReading, KM_LM_PER_W};
 pub use grid::{build_sensors, IlluminanceGrid};

@@ -1,10 +1,13 @@
 //! Built-in lights (besides area lights, which are emissive objects), one per file.
 
+pub mod cie_sky;
 pub mod directional;
 pub mod environment;
 pub mod luminaire;
 pub mod point;
 pub mod spot;
+pub mod sun;
+pub mod sun_place;
 
 use crate::builtin::param_err;
 use crate::builtin::spectral::{spd, Spectrum};
