@@ -17,6 +17,7 @@ pub mod reference;
 pub mod render;
 pub mod representation_args;
 pub mod sensors;
+pub mod sensors_glare;
 pub mod speed_regions;
 
 use clap::{Parser, Subcommand};

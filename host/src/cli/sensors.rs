@@ -18,7 +18,7 @@ pub fn measure_sensors(
     spp: u32,
     out: Option<&Path>,
 ) -> Result<(), String> {
-    if scene.sensors.is_empty() {
+    if scene.sensors.is_empty() && scene.glare.is_empty() {
         if let Some(dir) = out {
             println!(
                 "  warning: --sensors-out {}: the scene has no sensors; nothing written",
@@ -29,6 +29,12 @@ pub fn measure_sensors(
     }
     let estimator = Estimator::for_integrator(integrator);
     println!("sensors ({integrator}: {}):", estimator.describe());
+    // The daylight factor's outdoor reference (or why there is none), once for all grids.
+    let df_reference = if scene.sensors.is_empty() {
+        Err(String::new())
+    } else {
+        crate::sensor::daylight_factor::reference(scene)
+    };
     for grid in &scene.sensors {
         let ms = MeasureSettings {
             estimator,
@@ -71,12 +77,20 @@ pub fn measure_sensors(
                 r.name, n.x, n.y, n.z
             );
         }
+        let rep = crate::sensor::report::report(&r, &df_reference)?;
+        for line in crate::sensor::report::summary_lines(&r, &rep) {
+            println!("{line}");
+        }
         if let Some(dir) = out {
             for w in crate::sensor::output::write_outputs(&r, dir)? {
                 println!("  wrote {}", w.display());
             }
+            for w in crate::sensor::report::write_json(&r, &rep, dir)? {
+                println!("  wrote {}", w.display());
+            }
         }
     }
+    super::sensors_glare::measure_glare_observers(scene, settings, spp, out)?;
     Ok(())
 }
 

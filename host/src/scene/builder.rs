@@ -376,6 +376,8 @@ pub fn build_scene_with(
     options.light_items = light_items;
     let sensors = crate::sensor::build_sensors(&desc.sensors, metres)
         .map_err(|(item, e)| item_err(item, e))?;
+    let glare = crate::sensor::glare::build_glare_observers(&desc.sensors, metres)
+        .map_err(|(item, e)| item_err(item, e))?;
 
     Ok(Scene {
         geometry,
@@ -386,6 +388,7 @@ pub fn build_scene_with(
         options,
         warnings,
         sensors,
+        glare,
     })
 }
 

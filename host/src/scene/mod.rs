@@ -95,6 +95,8 @@ pub struct Scene {
     pub warnings: Vec<String>,
     /// Illuminance sensors (the scene's `sensors`), measured after the image.
     pub sensors: Vec<crate::sensor::IlluminanceGrid>,
+    /// Glare observers (the scene's `glare_observer` sensors), measured after the image.
+    pub glare: Vec<crate::sensor::glare::GlareObserver>,
 }
 
 impl Scene {

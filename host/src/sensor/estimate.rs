@@ -218,13 +218,13 @@ impl SensorPoint {
 
 /// Photometric value (lx, or cd/m² for radiance) of one spectral sample: `K_m ∫ E ȳ dλ` by the
 /// film's per-lane estimator with the CIE 1931 2° observer.
-struct Photometric {
+pub(crate) struct Photometric {
     sensor: Sensor,
     scale: f64,
 }
 
 impl Photometric {
-    fn new() -> Self {
+    pub(crate) fn new() -> Self {
         let obs = Arc::new(crate::color::CieObserverKind::Cie1931_2.get().clone());
         let scale = KM_LM_PER_W * crate::color::Observer::integral_y(obs.as_ref());
         Self {
@@ -233,7 +233,7 @@ impl Photometric {
         }
     }
 
-    fn of(&self, e: &SampledSpectrum, lambda: &SampledWavelengths) -> f64 {
+    pub(crate) fn of(&self, e: &SampledSpectrum, lambda: &SampledWavelengths) -> f64 {
         if e.is_black() {
             return 0.0;
         }
@@ -319,7 +319,7 @@ pub fn measure(
 /// The generator of sample `i` at point `k`: its own scrambled sequence at index 0, so the
 /// samples of a point are independent (the standard error then holds) and the first
 /// dimensions are still well distributed.
-fn point_sampler(seed: u64, k: usize, i: u32) -> PixelSampler {
+pub(crate) fn point_sampler(seed: u64, k: usize, i: u32) -> PixelSampler {
     let stream = crate::integrator::sampler::mix64(
         (k as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ (i as u64) ^ 0x5E45_0A5E,
     );
@@ -330,7 +330,7 @@ fn point_sampler(seed: u64, k: usize, i: u32) -> PixelSampler {
 /// close to V(λ), the weight of every photometric quantity): for a flat spectrum the spectral
 /// noise of a sample is a few per cent, against about 25 % with BDPT's mixture of observer and
 /// emission densities.
-fn draw_wavelengths(u: f32) -> SampledWavelengths {
+pub(crate) fn draw_wavelengths(u: f32) -> SampledWavelengths {
     SampledWavelengths::sample_visible(u)
 }
 

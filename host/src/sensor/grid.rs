@@ -153,10 +153,17 @@ pub fn build_sensors(
     let mut out: Vec<IlluminanceGrid> = Vec::with_capacity(items.len());
     for it in items {
         let item = format!("sensor {:?}", it.name);
+        if it.type_name == super::glare::TYPE_NAME {
+            continue;
+        }
         if it.type_name != TYPE_NAME {
             return Err((
                 item,
-                format!("unknown sensor type `{}`; known: {TYPE_NAME}", it.type_name),
+                format!(
+                    "unknown sensor type `{}`; known: {TYPE_NAME}, {}",
+                    it.type_name,
+                    super::glare::TYPE_NAME
+                ),
             ));
         }
         if it.name.is_empty()

@@ -9,10 +9,13 @@
 //!
 //! See `docs/photometry.md` for the analytic cases they are checked against.
 
+pub mod daylight_factor;
 pub mod estimate;
+pub mod glare;
 pub mod grid;
 pub mod luminance;
 pub mod output;
+pub mod report;
 pub mod statistics;
 
 pub use estimate::{measure, Estimator, MeasureSettings, SensorReading, KM_LM_PER_W};
