@@ -20,66 +20,33 @@ use spectrace::light::daylight::solar_position::{sun_position, LocalTime};
 use spectrace::scene::{build_scene, parse_scene_str, BuiltinFactory, Scene};
 use spectrace::sensor::{measure, Estimator, MeasureSettings, SensorReading, KM_LM_PER_W};
 use spectrace::spectrum::{parse_spd_spec, SampledWavelengths, Spd};
-use std::f64::consts::{FRAC_PI_2, PI};
+
 use std::path::Path;
 
-/// The standard's parameters (a, b, c, d, e) of types 1–15, typed in from ISO 15469 Table 2
-/// (independently of the renderer's table).
-const TYPES: [[f64; 5]; 15] = [
-    [4.0, -0.70, 0.0, -1.0, 0.00],
-    [4.0, -0.70, 2.0, -1.5, 0.15],
-    [1.1, -0.80, 0.0, -1.0, 0.00],
-    [1.1, -0.80, 2.0, -1.5, 0.15],
-    [0.0, -1.00, 0.0, -1.0, 0.00],
-    [0.0, -1.00, 2.0, -1.5, 0.15],
-    [0.0, -1.00, 5.0, -2.5, 0.30],
-    [0.0, -1.00, 10.0, -3.0, 0.45],
-    [-1.0, -0.55, 2.0, -1.5, 0.15],
-    [-1.0, -0.55, 5.0, -2.5, 0.30],
-    [-1.0, -0.55, 10.0, -3.0, 0.45],
-    [-1.0, -0.32, 10.0, -3.0, 0.45],
-    [-1.0, -0.32, 16.0, -3.0, 0.30],
-    [-1.0, -0.15, 16.0, -3.0, 0.30],
-    [-1.0, -0.15, 24.0, -2.8, 0.15],
-];
-
-/// L/Lz by the standard's formula: element at zenith angle z, azimuth az; sun at zs, azs.
-fn standard(t: &[f64; 5], z: f64, az: f64, zs: f64, azs: f64) -> f64 {
-    let [a, b, c, d, e] = *t;
-    let phi = |z: f64| 1.0 + a * (b / z.cos()).exp();
-    let f = |chi: f64| 1.0 + c * ((d * chi).exp() - (d * FRAC_PI_2).exp()) + e * chi.cos().powi(2);
-    let chi = (zs.cos() * z.cos() + zs.sin() * z.sin() * (az - azs).cos())
-        .clamp(-1.0, 1.0)
-        .acos();
-    f(chi) * phi(z) / (f(zs) * phi(0.0))
-}
-
-/// ∫ L/Lz cos Z dω by a Gauss-free midpoint rule on 400 × 1600 cells (independent of the
-/// renderer's quadrature; converged to 1e-6).
-fn standard_horizontal(t: &[f64; 5], zs: f64) -> f64 {
-    let (n, m) = (400, 1600);
-    let mut s = 0.0;
-    for i in 0..n {
-        let z = (i as f64 + 0.5) / n as f64 * FRAC_PI_2;
-        let mut row = 0.0;
-        for j in 0..m {
-            row += standard(t, z, 2.0 * PI * (j as f64 + 0.5) / m as f64, zs, 0.0);
-        }
-        s += row * z.cos() * z.sin();
-    }
-    s * (FRAC_PI_2 / n as f64) * (2.0 * PI / m as f64)
-}
+mod common_sky;
+use common_sky::{standard, standard_horizontal, TYPES};
 
 fn scene(text: &str) -> Scene {
     let desc = parse_scene_str(text, Path::new("daylight_case.ron")).unwrap();
-    build_scene(&desc, Path::new("."), Path::new("daylight_case.ron"), &[&BuiltinFactory]).unwrap()
+    build_scene(
+        &desc,
+        Path::new("."),
+        Path::new("daylight_case.ron"),
+        &[&BuiltinFactory],
+    )
+    .unwrap()
 }
 
 fn scene_err(text: &str) -> String {
     let desc = parse_scene_str(text, Path::new("daylight_case.ron")).unwrap();
-    build_scene(&desc, Path::new("."), Path::new("daylight_case.ron"), &[&BuiltinFactory])
-        .unwrap_err()
-        .to_string()
+    build_scene(
+        &desc,
+        Path::new("."),
+        Path::new("daylight_case.ron"),
+        &[&BuiltinFactory],
+    )
+    .unwrap_err()
+    .to_string()
 }
 
 /// `K_m ∫ spd V dλ` of a spec (1 nm sum over the CIE 1931 table).
@@ -185,7 +152,10 @@ fn sky_luminance_follows_the_standard_for_every_type() {
                 }
             }
             // Below the horizon the sky is black.
-            assert_eq!(env_luminance(&s, glam::Vec3A::new(0.0, -0.5, -0.8).normalize(), k), 0.0);
+            assert_eq!(
+                env_luminance(&s, glam::Vec3A::new(0.0, -0.5, -0.8).normalize(), k),
+                0.0
+            );
         }
     }
     println!("largest relative difference over 15 types × 3 suns × 60 directions: {worst:.2e}");
@@ -217,7 +187,9 @@ fn sun_position_matches_the_published_example() {
         n: glam::Vec3A::Y,
     };
     let lambda = SampledWavelengths::sample_visible(0.5);
-    let li = light.sample_li(&ctx, glam::Vec2::new(0.5, 0.5), &lambda).unwrap();
+    let li = light
+        .sample_li(&ctx, glam::Vec2::new(0.5, 0.5), &lambda)
+        .unwrap();
     let zen = (li.wi.y as f64).acos().to_degrees();
     // Unrefracted zenith = refracted + NOAA refraction at that altitude (≈ 0.0193°); the disc
     // sample is within its 0.27° radius of the centre.
@@ -229,7 +201,10 @@ fn check_floor(s: &Scene, want: f64, what: &str) -> SensorReading {
     for (k, (&e, &se)) in r.lux.iter().zip(&r.stderr).enumerate() {
         println!("{what} point {k}: {e:.2} ± {se:.2} lx, expected {want} lx");
         assert!(se < 0.02 * want, "{what}: σ {se} too large");
-        assert!((e - want).abs() < 4.0 * se + 2e-3 * want, "{what} point {k}: {e} vs {want} lx (σ {se})");
+        assert!(
+            (e - want).abs() < 4.0 * se + 2e-3 * want,
+            "{what} point {k}: {e} vs {want} lx (σ {se})"
+        );
     }
     r
 }
@@ -256,7 +231,10 @@ fn white_floor_under_the_open_sky_reads_the_given_illuminance() {
         assert!((reference / 10_000.0 - 1.0).abs() < 5e-4, "{reference}");
         let rep = spectrace::sensor::report::report(&r, &Ok(reference)).unwrap();
         let (_, _, _, df) = rep.daylight.unwrap();
-        assert!((df.e_mean.value - 100.0).abs() < 4.0 * df.e_mean.stderr + 0.3, "{df:?}");
+        assert!(
+            (df.e_mean.value - 100.0).abs() < 4.0 * df.e_mean.stderr + 0.3,
+            "{df:?}"
+        );
     }
     let s = scene(&floor_scene(
         r#"(name: "sun", type: "sun", params: (sun_altitude: 40, sun_azimuth: 135,
@@ -279,9 +257,13 @@ fn bad_input_is_refused_or_warned() {
             0.5,
         )
     };
-    let e = scene_err(&sky("sky_type: 16, sun_altitude: 30, sun_azimuth: 0, zenith_luminance: 1000"));
+    let e = scene_err(&sky(
+        "sky_type: 16, sun_altitude: 30, sun_azimuth: 0, zenith_luminance: 1000",
+    ));
     assert!(e.contains("sky_type") && e.contains("1–15"), "{e}");
-    let e = scene_err(&sky("sky_type: 0, sun_altitude: 30, sun_azimuth: 0, zenith_luminance: 1000"));
+    let e = scene_err(&sky(
+        "sky_type: 0, sun_altitude: 30, sun_azimuth: 0, zenith_luminance: 1000",
+    ));
     assert!(e.contains("sky_type"), "{e}");
     let e = scene_err(&sky(
         r#"sky_type: 3, latitude: 95, longitude: 0, date: "2024-06-21", time: "12:00", timezone: 0, zenith_luminance: 1000"#,
@@ -297,7 +279,9 @@ fn bad_input_is_refused_or_warned() {
     assert!(e.contains("25:10"), "{e}");
     let e = scene_err(&sky("sky_type: 3, sun_altitude: 30, sun_azimuth: 0"));
     assert!(e.contains("zenith_luminance"), "{e}");
-    let e = scene_err(&sky("sky_type: 3, sun_altitude: 30, sun_azimuth: 0, zenith_luminance: 1000, cct: 2000"));
+    let e = scene_err(&sky(
+        "sky_type: 3, sun_altitude: 30, sun_azimuth: 0, zenith_luminance: 1000, cct: 2000",
+    ));
     assert!(e.contains("cct") && e.contains("4000"), "{e}");
     // Midnight in Paris in June: the sun is below the horizon.
     let s = scene(&floor_scene(

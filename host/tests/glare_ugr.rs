@@ -12,16 +12,17 @@
 //! Measured: hand 25.08 (25.08 with p per point of the luminaires instead of at their centres),
 //! rendered 24.96 ± 0.02 at 512² pixels: the pixels cut by a luminaire's edge carry a mixed
 //! luminance, which lowers Σ L²ω by about 3 % (−0.12). Tolerance 0.3 UGR + 4σ: UGR tables
-//! step by 1 to 3; a missing ¼ (−4.8), p instead of p² (+3.7 here) or ω without the fisheye's
-//! sin θ/θ (+0.5) all fall outside it.
+//! step by 1 to 3; a missing ¼ (−4.8), p instead of p² (+3.7 here) fall outside it (ω without the
+//! fisheye's sin θ/θ, +0.14 here, is caught by the pixels' solid angles adding up to 2π in
+//! `sensor::glare`'s unit test).
 
+use glam::DVec3;
 use spectrace::color::{CieObserverKind, Observer};
 use spectrace::integrator::PathTracer;
 use spectrace::scene::{build_scene, parse_scene_str, BuiltinFactory};
 use spectrace::sensor::glare::{measure_glare, write_outputs};
 use spectrace::sensor::KM_LM_PER_W;
 use spectrace::spectrum::{parse_spd_spec, Spd};
-use glam::DVec3;
 use std::f64::consts::PI;
 use std::path::Path;
 
@@ -106,7 +107,13 @@ fn ugr_of_two_luminaires_matches_the_hand_calculation() {
         l_env / efficacy_e()
     );
     let desc = parse_scene_str(&text, Path::new("ugr.ron")).unwrap();
-    let scene = build_scene(&desc, Path::new("."), Path::new("ugr.ron"), &[&BuiltinFactory]).unwrap();
+    let scene = build_scene(
+        &desc,
+        Path::new("."),
+        Path::new("ugr.ron"),
+        &[&BuiltinFactory],
+    )
+    .unwrap();
     let obs = &scene.glare[0];
     let r = measure_glare(&scene, obs, 4, 11, None, &PathTracer::default()).unwrap();
 
@@ -129,7 +136,8 @@ fn ugr_of_two_luminaires_matches_the_hand_calculation() {
                 let x = c.x - h + (i as f64 + 0.5) * 2.0 * h / n as f64;
                 let z = c.z - h + (j as f64 + 0.5) * 2.0 * h / n as f64;
                 let d = DVec3::new(x, c.y, z) - eye;
-                let dw = (2.0 * h / n as f64).powi(2) * (d.y.abs() / d.length()) / d.length_squared();
+                let dw =
+                    (2.0 * h / n as f64).powi(2) * (d.y.abs() / d.length()) / d.length_squared();
                 let (t, s) = tau_sigma(d);
                 sum_fine += l_lum * l_lum * dw / guth(t, s).powi(2);
             }
@@ -148,15 +156,25 @@ fn ugr_of_two_luminaires_matches_the_hand_calculation() {
         "rendered UGR {} vs hand {ugr}",
         r.ugr
     );
-    assert!((r.background / lb - 1.0).abs() < 0.02, "{} vs {lb}", r.background);
+    assert!(
+        (r.background / lb - 1.0).abs() < 0.02,
+        "{} vs {lb}",
+        r.background
+    );
 
     // The outputs: EXR, Radiance picture with the fisheye view, JSON.
     let dir = std::env::temp_dir().join(format!("spectrace_ugr_{}", std::process::id()));
     let files = write_outputs(&r, obs, &dir).unwrap();
     let hdr = std::fs::read(&files[1]).unwrap();
     let head = String::from_utf8_lossy(&hdr[..200.min(hdr.len())]).to_string();
-    assert!(head.starts_with("#?RADIANCE") && head.contains("-vta"), "{head}");
-    assert_eq!(hdr.len() - (head.find("+X 512\n").unwrap() + 7), 512 * 512 * 4);
+    assert!(
+        head.starts_with("#?RADIANCE") && head.contains("-vta"),
+        "{head}"
+    );
+    assert_eq!(
+        hdr.len() - (head.find("+X 512\n").unwrap() + 7),
+        512 * 512 * 4
+    );
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&files[2]).unwrap()).unwrap();
     assert!((json["ugr"].as_f64().unwrap() - r.ugr).abs() < 1e-9);

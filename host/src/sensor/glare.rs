@@ -129,12 +129,17 @@ impl GlareObserver {
         }
         if let Some(s) = p.samples {
             if s == 0 || s > super::grid::MAX_SAMPLES {
-                return Err(format!("parameter `samples` {s}: must be 1–{}", super::grid::MAX_SAMPLES));
+                return Err(format!(
+                    "parameter `samples` {s}: must be 1–{}",
+                    super::grid::MAX_SAMPLES
+                ));
             }
         }
         if let Some(t) = p.source_threshold {
             if !(t.is_finite() && t > 0.0) {
-                return Err(format!("parameter `source_threshold` {t}: must be > 0 cd/m²"));
+                return Err(format!(
+                    "parameter `source_threshold` {t}: must be > 0 cd/m²"
+                ));
             }
         }
         Ok(Self {
@@ -164,7 +169,11 @@ impl GlareObserver {
 
     /// Solid angle (sr) of the pixel centred at (x, y) of side `dx` (image-radius units).
     pub fn pixel_solid_angle(theta: f64, dx: f64) -> f64 {
-        let sinc = if theta > 1e-9 { theta.sin() / theta } else { 1.0 };
+        let sinc = if theta > 1e-9 {
+            theta.sin() / theta
+        } else {
+            1.0
+        };
         FRAC_PI_2 * FRAC_PI_2 * sinc * dx * dx
     }
 
@@ -346,7 +355,9 @@ pub fn ugr_of_image(
     // Variances of the sum and the background illuminance (pixels independent).
     let (mut var_sum, mut var_bg) = (0.0, 0.0);
     for k in 0..n * n {
-        let Some((d, theta, w)) = geo[k] else { continue };
+        let Some((d, theta, w)) = geo[k] else {
+            continue;
+        };
         let (l, se) = (luminance[k], stderr[k]);
         let c = theta.cos().max(0.0);
         e_v += l * c * w;
@@ -393,7 +404,11 @@ pub fn ugr_of_image(
 /// Write `DIR/NAME.exr` (channel `Y`: luminance in cd/m², and `Y_stderr`), `DIR/NAME.hdr` (a
 /// Radiance picture with `VIEW= -vta -vv 180 -vh 180`, pixel values L/179 so Radiance tools such
 /// as evalglare read cd/m²) and `DIR/NAME.json` (the figures). Returns the paths.
-pub fn write_outputs(r: &GlareReading, obs: &GlareObserver, dir: &Path) -> Result<Vec<PathBuf>, String> {
+pub fn write_outputs(
+    r: &GlareReading,
+    obs: &GlareObserver,
+    dir: &Path,
+) -> Result<Vec<PathBuf>, String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
     let n = r.resolution as usize;
     let exr_path = dir.join(format!("{}.exr", r.name));
@@ -421,7 +436,13 @@ pub fn write_outputs(r: &GlareReading, obs: &GlareObserver, dir: &Path) -> Resul
     let hdr_path = dir.join(format!("{}.hdr", r.name));
     write_radiance_hdr(&hdr_path, n, &r.luminance, obs)?;
     let json_path = dir.join(format!("{}.json", r.name));
-    let fin = |x: f64| if x.is_finite() { serde_json::json!(x) } else { serde_json::json!(format!("{x}")) };
+    let fin = |x: f64| {
+        if x.is_finite() {
+            serde_json::json!(x)
+        } else {
+            serde_json::json!(format!("{x}"))
+        }
+    };
     let j = serde_json::json!({
         "name": r.name,
         "quantity": "UGR (CIE 117-1995) from a 180° equidistant fisheye luminance image",
@@ -439,14 +460,22 @@ pub fn write_outputs(r: &GlareReading, obs: &GlareObserver, dir: &Path) -> Resul
         "vertical_illuminance_lx": r.e_vertical,
         "sum_L2_omega_over_p2": r.source_sum,
     });
-    std::fs::write(&json_path, serde_json::to_string_pretty(&j).unwrap_or_default() + "\n")
-        .map_err(|e| format!("cannot write {}: {e}", json_path.display()))?;
+    std::fs::write(
+        &json_path,
+        serde_json::to_string_pretty(&j).unwrap_or_default() + "\n",
+    )
+    .map_err(|e| format!("cannot write {}: {e}", json_path.display()))?;
     Ok(vec![exr_path, hdr_path, json_path])
 }
 
 /// A Radiance RGBE picture (flat, uncompressed scanlines) of grey pixels L/179 (Radiance's
 /// luminous efficacy of its white, 179 lm/W), with the angular-fisheye view in the header.
-fn write_radiance_hdr(path: &Path, n: usize, lum: &[f64], obs: &GlareObserver) -> Result<(), String> {
+fn write_radiance_hdr(
+    path: &Path,
+    n: usize,
+    lum: &[f64],
+    obs: &GlareObserver,
+) -> Result<(), String> {
     let mut out = Vec::with_capacity(n * n * 4 + 256);
     let (p, v, u) = (obs.position, obs.view, obs.up);
     let header = format!(
@@ -475,7 +504,8 @@ mod tests {
     fn obs() -> GlareObserver {
         GlareObserver::from_params(
             "g",
-            &ron::from_str("(position: (0, 1.2, 0), direction: (0, 0, -1), resolution: 64)").unwrap(),
+            &ron::from_str("(position: (0, 1.2, 0), direction: (0, 0, -1), resolution: 64)")
+                .unwrap(),
         )
         .unwrap()
     }
@@ -496,7 +526,10 @@ mod tests {
                 sum += GlareObserver::pixel_solid_angle((x * x + y * y).sqrt() * FRAC_PI_2, dx);
             }
         }
-        assert!((sum / (2.0 * std::f64::consts::PI) - 1.0).abs() < 2e-3, "{sum}");
+        assert!(
+            (sum / (2.0 * std::f64::consts::PI) - 1.0).abs() < 2e-3,
+            "{sum}"
+        );
         assert_eq!(guth_position_index(0.0, 0.0), 1.0);
         let o = obs();
         assert!((o.position_index(o.view) - 1.0).abs() < 1e-12);
@@ -511,7 +544,12 @@ mod tests {
         let e = |s: &str| GlareObserver::from_params("g", &ron::from_str(s).unwrap()).unwrap_err();
         assert!(e("(position: (0, 1, 0), direction: (0, 0, 0))").contains("direction"));
         assert!(e("(position: (0, 1, 0), direction: (0, 1, 0))").contains("up"));
-        assert!(e("(position: (0, 1, 0), direction: (0, 0, 1), resolution: 4)").contains("resolution"));
-        assert!(e("(position: (0, 1, 0), direction: (0, 0, 1), source_threshold: -1)").contains("source_threshold"));
+        assert!(
+            e("(position: (0, 1, 0), direction: (0, 0, 1), resolution: 4)").contains("resolution")
+        );
+        assert!(
+            e("(position: (0, 1, 0), direction: (0, 0, 1), source_threshold: -1)")
+                .contains("source_threshold")
+        );
     }
 }

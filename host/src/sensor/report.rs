@@ -62,7 +62,8 @@ pub fn write_json(r: &SensorReading, rep: &GridReport, dir: &Path) -> Result<Vec
             for ((p, v), e) in r.points.iter().zip(df).zip(se) {
                 text.push_str(&format!("{},{},{},{},{}\n", p.x, p.y, p.z, v, e));
             }
-            std::fs::write(&csv, text).map_err(|e| format!("cannot write {}: {e}", csv.display()))?;
+            std::fs::write(&csv, text)
+                .map_err(|e| format!("cannot write {}: {e}", csv.display()))?;
             written.push(csv);
             serde_json::json!({
                 "definition": "100 × E / E_outdoor, E_outdoor the unobstructed horizontal illuminance of the sky (+y up)",
@@ -86,8 +87,11 @@ pub fn write_json(r: &SensorReading, rep: &GridReport, dir: &Path) -> Result<Vec
         "notes": "standard errors: Ē from the points' independent errors; Emin and Emax those of the point attaining them; ratios by first-order propagation. The minimum of noisy values is biased low by about one point error.",
     });
     let path = dir.join(format!("{}.json", r.name));
-    std::fs::write(&path, serde_json::to_string_pretty(&j).unwrap_or_default() + "\n")
-        .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    std::fs::write(
+        &path,
+        serde_json::to_string_pretty(&j).unwrap_or_default() + "\n",
+    )
+    .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
     written.push(path);
     Ok(written)
 }

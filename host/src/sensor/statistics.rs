@@ -51,7 +51,11 @@ fn ratio(x: WithError, y: WithError) -> WithError {
         };
     }
     let r = x.value / y.value;
-    let rel_x = if x.value != 0.0 { x.stderr / x.value } else { 0.0 };
+    let rel_x = if x.value != 0.0 {
+        x.stderr / x.value
+    } else {
+        0.0
+    };
     let rel_y = y.stderr / y.value;
     WithError {
         value: r,
@@ -61,7 +65,11 @@ fn ratio(x: WithError, y: WithError) -> WithError {
 
 /// Statistics of `values` (one per point) with standard errors `stderr`, the mean's own
 /// standard error `mean_stderr`. An error for an empty grid.
-pub fn statistics(values: &[f64], stderr: &[f64], mean_stderr: f64) -> Result<GridStatistics, String> {
+pub fn statistics(
+    values: &[f64],
+    stderr: &[f64],
+    mean_stderr: f64,
+) -> Result<GridStatistics, String> {
     if values.is_empty() || values.len() != stderr.len() {
         return Err(format!(
             "a grid needs at least one point with a value and an error (got {} values, {} errors)",
@@ -123,6 +131,8 @@ mod tests {
         assert!((s.u0.stderr - 0.5 * (0.01f64.powi(2) + 0.006f64.powi(2)).sqrt()).abs() < 1e-12);
         assert!((s.min_over_max.value - 1.0 / 3.0).abs() < 1e-15);
         assert!((s.min_over_max.stderr - (2.0f64).sqrt() * 0.01 / 3.0).abs() < 1e-12);
-        assert!(statistics(&[], &[], 0.0).unwrap_err().contains("at least one point"));
+        assert!(statistics(&[], &[], 0.0)
+            .unwrap_err()
+            .contains("at least one point"));
     }
 }

@@ -33,20 +33,59 @@ pub const TYPE: BuiltinType = BuiltinType {
     version: 1,
     description: "CIE standard general sky (ISO 15469 / CIE S 011), types 1–15, as the environment",
     params: &[
-        Param::required("sky_type", "", "1–15 (1: CIE standard overcast, 12: CIE standard clear, 5: uniform)"),
-        Param::optional("sun_altitude", "°", "—", "sun altitude; with `sun_azimuth`, instead of place and time"),
-        Param::optional("sun_azimuth", "°", "—", "sun azimuth from north through east"),
+        Param::required(
+            "sky_type",
+            "",
+            "1–15 (1: CIE standard overcast, 12: CIE standard clear, 5: uniform)",
+        ),
+        Param::optional(
+            "sun_altitude",
+            "°",
+            "—",
+            "sun altitude; with `sun_azimuth`, instead of place and time",
+        ),
+        Param::optional(
+            "sun_azimuth",
+            "°",
+            "—",
+            "sun azimuth from north through east",
+        ),
         Param::optional("latitude", "°", "—", "or: latitude, −90…90, north positive"),
         Param::optional("longitude", "°", "—", "longitude, −180…180, east positive"),
         Param::optional("date", "", "—", "\"YYYY-MM-DD\""),
-        Param::optional("time", "", "—", "\"HH:MM[:SS]\", standard time of `timezone`"),
+        Param::optional(
+            "time",
+            "",
+            "—",
+            "\"HH:MM[:SS]\", standard time of `timezone`",
+        ),
         Param::optional("timezone", "h", "—", "hours east of UTC"),
-        Param::optional("zenith_luminance", "cd/m²", "—", "zenith luminance; exactly one of this and `horizontal_illuminance_lx`"),
-        Param::optional("horizontal_illuminance_lx", "lx", "—", "or: illuminance of the unobstructed sky on a horizontal plane"),
-        Param::optional("cct", "K", "by type", "CIE daylight CCT 4000–25000; 6500 / 8000 / 10000 K for types 1–5 / 6–10 / 11–15"),
+        Param::optional(
+            "zenith_luminance",
+            "cd/m²",
+            "—",
+            "zenith luminance; exactly one of this and `horizontal_illuminance_lx`",
+        ),
+        Param::optional(
+            "horizontal_illuminance_lx",
+            "lx",
+            "—",
+            "or: illuminance of the unobstructed sky on a horizontal plane",
+        ),
+        Param::optional(
+            "cct",
+            "K",
+            "by type",
+            "CIE daylight CCT 4000–25000; 6500 / 8000 / 10000 K for types 1–5 / 6–10 / 11–15",
+        ),
         Param::optional("spd", "", "—", "or: any spectrum instead of the D-series"),
         Param::optional("up", "", "(0, 1, 0)", "zenith direction in the scene"),
-        Param::optional("north", "", "(0, 0, -1)", "north in the scene; east = north × up"),
+        Param::optional(
+            "north",
+            "",
+            "(0, 0, -1)",
+            "north in the scene; east = north × up",
+        ),
     ],
     build: Build::Light(|v, ctx| build(&from_value(v)?, ctx)),
     state: Some(state_fns::<CieSkyParams>()),
@@ -135,31 +174,31 @@ pub fn source(p: &CieSkyParams, ctx: &FactoryContext) -> Result<CieSky, FactoryE
         ("horizontal_illuminance_lx", p.horizontal_illuminance_lx),
     ])? {
         (0, l) => SkyBrightness::ZenithLuminance(non_negative("zenith_luminance", l)?),
-        (_, e) => SkyBrightness::HorizontalIlluminance(non_negative("horizontal_illuminance_lx", e)?),
+        (_, e) => {
+            SkyBrightness::HorizontalIlluminance(non_negative("horizontal_illuminance_lx", e)?)
+        }
     };
     let k = crate::light::luminous::luminous_efficacy_lm_per_w(spd.as_ref());
     if !(k > 0.0) {
-        return Err(param_err("spd", "the spectrum has no visible part (0 lm/W)"));
+        return Err(param_err(
+            "spd",
+            "the spectrum has no visible part (0 lm/W)",
+        ));
     }
     // The standard's sky models the sun at or above the horizon; below it the formula still
     // gives a distribution, which is kept (twilight skies are not in the standard).
     let zs = (90.0 - pos.altitude_deg).to_radians();
-    CieSky::new(
-        ty,
-        zs,
-        pos.azimuth_deg.to_radians(),
-        fr,
-        brightness,
-        spd,
-        k,
-    )
-    .map_err(|e| param_err("sky_type", e))
+    CieSky::new(ty, zs, pos.azimuth_deg.to_radians(), fr, brightness, spd, k)
+        .map_err(|e| param_err("sky_type", e))
 }
 
 fn non_negative(name: &str, v: f64) -> Result<f64, FactoryError> {
     if v.is_finite() && v >= 0.0 && v < 1e12 {
         Ok(v)
     } else {
-        Err(param_err(name, format!("{v} must be finite, ≥ 0 and < 1e12")))
+        Err(param_err(
+            name,
+            format!("{v} must be finite, ≥ 0 and < 1e12"),
+        ))
     }
 }

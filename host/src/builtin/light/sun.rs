@@ -136,7 +136,10 @@ pub fn build_concrete(p: &SunParams, ctx: &FactoryContext) -> Result<SunLight, F
     let fr = frame(p.up, p.north)?;
     let diameter = p.angular_diameter.unwrap_or(SUN_DIAMETER_DEG);
     if !(diameter.is_finite() && diameter > 0.0 && diameter < 90.0) {
-        return Err(param_err("angular_diameter", format!("{diameter}° must be in (0°, 90°)")));
+        return Err(param_err(
+            "angular_diameter",
+            format!("{diameter}° must be in (0°, 90°)"),
+        ));
     }
     let spd = match (&p.spd, p.cct) {
         (Some(_), Some(_)) => return Err(param_err("cct", "give `cct` or `spd`, not both")),
@@ -162,10 +165,17 @@ pub fn build_concrete(p: &SunParams, ctx: &FactoryContext) -> Result<SunLight, F
                 super::from_photometric("horizontal_illuminance_lx", value, spd.as_ref())? / sin_alt
             }
         }
-        2 => super::from_photometric("luminance", value, spd.as_ref())? * disc_solid_angle(diameter),
+        2 => {
+            super::from_photometric("luminance", value, spd.as_ref())? * disc_solid_angle(diameter)
+        }
         _ => value,
     };
-    let name = ["normal_illuminance_lx", "horizontal_illuminance_lx", "luminance", "irradiance"][which];
+    let name = [
+        "normal_illuminance_lx",
+        "horizontal_illuminance_lx",
+        "luminance",
+        "irradiance",
+    ][which];
     let irradiance = super::non_negative(name, irradiance, "W/m²")?;
     let note = below.then(|| {
         format!(

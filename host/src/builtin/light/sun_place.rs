@@ -55,7 +55,10 @@ impl Placement<'_> {
                     .sun_azimuth
                     .ok_or_else(|| param_err("sun_azimuth", "missing (with `sun_altitude`)"))?;
                 if !(alt.is_finite() && (-90.0..=90.0).contains(&alt)) {
-                    return Err(param_err("sun_altitude", format!("{alt}° is outside −90°…90°")));
+                    return Err(param_err(
+                        "sun_altitude",
+                        format!("{alt}° is outside −90°…90°"),
+                    ));
                 }
                 if !az.is_finite() {
                     return Err(param_err("sun_azimuth", format!("{az}° is not finite")));
@@ -78,7 +81,10 @@ impl Placement<'_> {
                     return Err(param_err("latitude", format!("{lat}° is outside −90°…90°")));
                 }
                 if !(lon.is_finite() && (-180.0..=180.0).contains(&lon)) {
-                    return Err(param_err("longitude", format!("{lon}° is outside −180°…180°")));
+                    return Err(param_err(
+                        "longitude",
+                        format!("{lon}° is outside −180°…180°"),
+                    ));
                 }
                 let t = LocalTime::parse(date, time, tz).map_err(|e| param_err("date", e))?;
                 sun_position(lat, lon, &t, false).map_err(|e| param_err("date", e))
@@ -92,6 +98,9 @@ pub fn frame(
     up: Option<[f64; 3]>,
     north: Option<[f64; 3]>,
 ) -> Result<[glam::DVec3; 3], FactoryError> {
-    crate::light::daylight::sky_frame(up.unwrap_or([0.0, 1.0, 0.0]), north.unwrap_or([0.0, 0.0, -1.0]))
-        .map_err(|e| param_err("north", e))
+    crate::light::daylight::sky_frame(
+        up.unwrap_or([0.0, 1.0, 0.0]),
+        north.unwrap_or([0.0, 0.0, -1.0]),
+    )
+    .map_err(|e| param_err("north", e))
 }

@@ -40,12 +40,7 @@ pub struct SkyType {
     pub description: &'static str,
 }
 
-const fn t(
-    number: u8,
-    ab: (f64, f64),
-    cde: (f64, f64, f64),
-    description: &'static str,
-) -> SkyType {
+const fn t(number: u8, ab: (f64, f64), cde: (f64, f64, f64), description: &'static str) -> SkyType {
     SkyType {
         number,
         a: ab.0,
@@ -73,18 +68,63 @@ const I6: (f64, f64, f64) = (24.0, -2.8, 0.15);
 
 /// The 15 types (ISO 15469 / CIE S 011 Table 2: type = gradation group + indicatrix group).
 pub const SKY_TYPES: [SkyType; 15] = [
-    t(1, G1, I1, "CIE standard overcast sky, steep gradation towards zenith, azimuthal uniformity"),
-    t(2, G1, I2, "overcast, steep gradation and slight brightening towards the sun"),
-    t(3, G2, I1, "overcast, moderately graded with azimuthal uniformity"),
-    t(4, G2, I2, "overcast, moderately graded and slight brightening towards the sun"),
+    t(
+        1,
+        G1,
+        I1,
+        "CIE standard overcast sky, steep gradation towards zenith, azimuthal uniformity",
+    ),
+    t(
+        2,
+        G1,
+        I2,
+        "overcast, steep gradation and slight brightening towards the sun",
+    ),
+    t(
+        3,
+        G2,
+        I1,
+        "overcast, moderately graded with azimuthal uniformity",
+    ),
+    t(
+        4,
+        G2,
+        I2,
+        "overcast, moderately graded and slight brightening towards the sun",
+    ),
     t(5, G3, I1, "sky of uniform luminance"),
-    t(6, G3, I2, "partly cloudy sky, no gradation towards zenith, slight brightening towards the sun"),
-    t(7, G3, I3, "partly cloudy sky, no gradation towards zenith, brighter circumsolar region"),
-    t(8, G3, I4, "partly cloudy sky, no gradation towards zenith, distinct solar corona"),
+    t(
+        6,
+        G3,
+        I2,
+        "partly cloudy sky, no gradation towards zenith, slight brightening towards the sun",
+    ),
+    t(
+        7,
+        G3,
+        I3,
+        "partly cloudy sky, no gradation towards zenith, brighter circumsolar region",
+    ),
+    t(
+        8,
+        G3,
+        I4,
+        "partly cloudy sky, no gradation towards zenith, distinct solar corona",
+    ),
     t(9, G4, I2, "partly cloudy, with the obscured sun"),
-    t(10, G4, I3, "partly cloudy, with brighter circumsolar region"),
+    t(
+        10,
+        G4,
+        I3,
+        "partly cloudy, with brighter circumsolar region",
+    ),
     t(11, G4, I4, "white-blue sky with distinct solar corona"),
-    t(12, G5, I4, "CIE standard clear sky, low luminance turbidity"),
+    t(
+        12,
+        G5,
+        I4,
+        "CIE standard clear sky, low luminance turbidity",
+    ),
     t(13, G5, I5, "CIE standard clear sky, polluted atmosphere"),
     t(14, G6, I5, "cloudless turbid sky with broad solar corona"),
     t(15, G6, I6, "white-blue turbid sky with broad solar corona"),
@@ -133,7 +173,8 @@ impl SkyType {
         if z >= FRAC_PI_2 {
             return 0.0;
         }
-        let v = self.indicatrix(chi) * self.gradation(z) / (self.indicatrix(zs) * self.gradation(0.0));
+        let v =
+            self.indicatrix(chi) * self.gradation(z) / (self.indicatrix(zs) * self.gradation(0.0));
         v.max(0.0)
     }
 
@@ -186,7 +227,10 @@ mod tests {
         }
         let t1 = sky_type(1).unwrap();
         let h = t1.relative_luminance(FRAC_PI_2 - 1e-9, 0.0, 0.3, 0.0);
-        assert!((h - 1.0 / (1.0 + 4.0 * (-0.7f64).exp())).abs() < 1e-6, "{h}");
+        assert!(
+            (h - 1.0 / (1.0 + 4.0 * (-0.7f64).exp())).abs() < 1e-6,
+            "{h}"
+        );
         let t5 = sky_type(5).unwrap();
         let f = t5.horizontal_factor(0.5, 256);
         assert!((f / PI - 1.0).abs() < 1e-6, "{f}");

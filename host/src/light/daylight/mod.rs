@@ -71,8 +71,7 @@ pub fn sky_frame(up: [f64; 3], north: [f64; 3]) -> Result<[glam::DVec3; 3], Stri
     }
     let up = up.normalize();
     let n = north - up * north.dot(up);
-    if !(n.is_finite() && n.length() > 1e-6 * north.length().max(1e-300)) || north.length() == 0.0
-    {
+    if !(n.is_finite() && n.length() > 1e-6 * north.length().max(1e-300)) || north.length() == 0.0 {
         return Err("`north` must be a finite direction not parallel to `up`".into());
     }
     let n = n.normalize();

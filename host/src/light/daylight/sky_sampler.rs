@@ -71,7 +71,11 @@ impl HemisphereSampler {
             let n = cdf.len() - 1;
             let k = cdf.partition_point(|&c| c <= u).clamp(1, n) - 1;
             let width = cdf[k + 1] - cdf[k];
-            let t = if width > 0.0 { (u - cdf[k]) / width } else { 0.5 };
+            let t = if width > 0.0 {
+                (u - cdf[k]) / width
+            } else {
+                0.5
+            };
             (k, t.clamp(0.0, 1.0 - 1e-12))
         };
         let (i, ti) = pick(&self.row_cdf, u0);

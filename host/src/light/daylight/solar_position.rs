@@ -144,9 +144,9 @@ impl LocalTime {
         }
         let a = (y / 100.0).floor();
         let b = 2.0 - a + (a / 4.0).floor();
-        let jd0 = (365.25 * (y + 4716.0)).floor() + (30.6001 * (m + 1.0)).floor() + self.day as f64
-            + b
-            - 1524.5;
+        let jd0 =
+            (365.25 * (y + 4716.0)).floor() + (30.6001 * (m + 1.0)).floor() + self.day as f64 + b
+                - 1524.5;
         jd0 + (self.hours - self.timezone_h) / 24.0
     }
 }
@@ -274,15 +274,31 @@ mod tests {
         let e = LocalTime::parse("2023-02-29", "12:00", 0.0).unwrap_err();
         assert!(e.contains("28 days"), "{e}");
         assert!(LocalTime::parse("2024-02-29", "12:00", 0.0).is_ok());
-        assert!(LocalTime::parse("2024-13-01", "12:00", 0.0).unwrap_err().contains("month"));
-        assert!(LocalTime::parse("2024-04-31", "12:00", 0.0).unwrap_err().contains("30 days"));
-        assert!(LocalTime::parse("2024-04-30", "25:00", 0.0).unwrap_err().contains("impossible"));
-        assert!(LocalTime::parse("2024-04-30", "12:60", 0.0).unwrap_err().contains("minutes"));
+        assert!(LocalTime::parse("2024-13-01", "12:00", 0.0)
+            .unwrap_err()
+            .contains("month"));
+        assert!(LocalTime::parse("2024-04-31", "12:00", 0.0)
+            .unwrap_err()
+            .contains("30 days"));
+        assert!(LocalTime::parse("2024-04-30", "25:00", 0.0)
+            .unwrap_err()
+            .contains("impossible"));
+        assert!(LocalTime::parse("2024-04-30", "12:60", 0.0)
+            .unwrap_err()
+            .contains("minutes"));
         assert!(LocalTime::parse("2024-04-30", "24:01", 0.0).is_err());
-        assert!(LocalTime::parse("2024-04-30", "12:00", 15.0).unwrap_err().contains("zone"));
-        assert!(LocalTime::parse("30/04/2024", "12:00", 0.0).unwrap_err().contains("YYYY"));
+        assert!(LocalTime::parse("2024-04-30", "12:00", 15.0)
+            .unwrap_err()
+            .contains("zone"));
+        assert!(LocalTime::parse("30/04/2024", "12:00", 0.0)
+            .unwrap_err()
+            .contains("YYYY"));
         let t = LocalTime::parse("2024-04-30", "12:00", 0.0).unwrap();
-        assert!(sun_position(91.0, 0.0, &t, false).unwrap_err().contains("latitude"));
-        assert!(sun_position(45.0, 181.0, &t, false).unwrap_err().contains("longitude"));
+        assert!(sun_position(91.0, 0.0, &t, false)
+            .unwrap_err()
+            .contains("latitude"));
+        assert!(sun_position(45.0, 181.0, &t, false)
+            .unwrap_err()
+            .contains("longitude"));
     }
 }

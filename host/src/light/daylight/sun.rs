@@ -191,8 +191,14 @@ mod tests {
         let o = disc_solid_angle(SUN_DIAMETER_DEG);
         assert!((o - 6.8036e-5).abs() < 2e-8, "{o}");
         let spd: Arc<dyn Spd> = Arc::new(crate::spectrum::parse_spd_spec("e").unwrap());
-        let s = SunLight::new(Vec3A::new(0.3, 1.0, -0.2), SUN_DIAMETER_DEG, spd, 100.0, None)
-            .unwrap();
+        let s = SunLight::new(
+            Vec3A::new(0.3, 1.0, -0.2),
+            SUN_DIAMETER_DEG,
+            spd,
+            100.0,
+            None,
+        )
+        .unwrap();
         for k in 0..100 {
             let u = Vec2::new((k as f32 * 0.618).fract(), (k as f32 * 0.414).fract());
             let d = s.disc_direction(u);
