@@ -143,6 +143,7 @@ const SIZE: (u32, u32) = (900, 700);
 fn draw<DB: DrawingBackend>(
     root: DrawingArea<DB, plotters::coord::Shift>,
     r: &SensorReading,
+    (quantity, unit): (&str, &str),
 ) -> Result<(), String> {
     let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     root.fill(&WHITE).map_err(err)?;
@@ -171,7 +172,7 @@ fn draw<DB: DrawingBackend>(
     };
     let uniformity = if mean > 0.0 { lo / mean } else { 0.0 };
     let title = format!(
-        "{}: illuminance (lx), mean {}, min {}, max {}, U0 {:.2}",
+        "{}: {quantity} ({unit}), mean {}, min {}, max {}, U0 {:.2}",
         r.name,
         fmt_lux(mean),
         fmt_lux(lo),
@@ -226,7 +227,7 @@ fn draw<DB: DrawingBackend>(
         .margin_bottom(52)
         .margin_right(12)
         .y_label_area_size(70)
-        .caption("lx", ("sans-serif", 16))
+        .caption(unit, ("sans-serif", 16))
         .build_cartesian_2d(0.0..1.0, lo..top)
         .map_err(err)?;
     bar.configure_mesh()
@@ -255,12 +256,23 @@ fn draw<DB: DrawingBackend>(
 
 /// Write the false-colour PNG.
 pub fn write_png(reading: &SensorReading, path: &Path) -> Result<(), String> {
+    write_png_of(reading, path, ("illuminance", "lx"))
+}
+
+/// [`write_png`] of another quantity per point (the values in `reading.lux`), e.g. the
+/// daylight factor in %: `(quantity, unit)` label the title and the scale bar.
+pub fn write_png_of(
+    reading: &SensorReading,
+    path: &Path,
+    label: (&str, &str),
+) -> Result<(), String> {
     crate::analysis::plot::register_font();
     let werr = |m: String| format!("cannot write {}: {m}", path.display());
     let mut rgb = vec![0u8; (SIZE.0 * SIZE.1 * 3) as usize];
     draw(
         BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area(),
         reading,
+        label,
     )
     .map_err(werr)?;
     let file = std::fs::File::create(path).map_err(|e| werr(e.to_string()))?;

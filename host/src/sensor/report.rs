@@ -51,7 +51,8 @@ pub fn summary_lines(r: &SensorReading, rep: &GridReport) -> Vec<String> {
     out
 }
 
-/// Write `DIR/NAME.json` and, with a daylight factor, `DIR/NAME_df.csv` (x,y,z,df_percent,stderr).
+/// Write `DIR/NAME.json` and, with a daylight factor, `DIR/NAME_df.csv` (x,y,z,df_percent,stderr)
+/// and `DIR/NAME_df.png` (false-colour map of the daylight factor, %).
 pub fn write_json(r: &SensorReading, rep: &GridReport, dir: &Path) -> Result<Vec<PathBuf>, String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
     let mut written = Vec::new();
@@ -65,6 +66,15 @@ pub fn write_json(r: &SensorReading, rep: &GridReport, dir: &Path) -> Result<Vec
             std::fs::write(&csv, text)
                 .map_err(|e| format!("cannot write {}: {e}", csv.display()))?;
             written.push(csv);
+            let png = dir.join(format!("{}_df.png", r.name));
+            let as_df = SensorReading {
+                name: format!("{}_df", r.name),
+                lux: df.clone(),
+                stderr: se.clone(),
+                ..r.clone()
+            };
+            super::output::write_png_of(&as_df, &png, ("daylight factor", "%"))?;
+            written.push(png);
             serde_json::json!({
                 "definition": "100 × E / E_outdoor, E_outdoor the unobstructed horizontal illuminance of the sky (+y up)",
                 "outdoor_horizontal_lx": e_out,
