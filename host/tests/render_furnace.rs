@@ -120,6 +120,7 @@ fn furnace(albedo: f32, scale: f32, spd: Arc<dyn Spd>) -> Scene {
         options: SceneOptions::default(),
         warnings: Vec::new(),
         sensors: Vec::new(),
+        glare: Vec::new(),
     }
 }
 

@@ -327,23 +327,26 @@ pub fn measure_glare(
 /// The UGR of a fisheye luminance image of `obs` (row-major, top first; see the module docs).
 pub fn ugr_of_image(
     obs: &GlareObserver,
-    luminance: Vec<f64>,
-    stderr: Vec<f64>,
+    mut luminance: Vec<f64>,
+    mut stderr: Vec<f64>,
     samples: u32,
 ) -> GlareReading {
     let n = obs.resolution as usize;
+    // An image of another size is cut or padded with black to the observer's.
+    luminance.resize(n * n, 0.0);
+    stderr.resize(n * n, 0.0);
     let dx = 2.0 / n as f64;
     // Per pixel: solid angle, cos θ, direction.
     let mut geo = Vec::with_capacity(n * n);
     let (mut lsum, mut wsum) = (0.0, 0.0);
-    for k in 0..n * n {
+    for (k, l) in luminance.iter().enumerate().take(n * n) {
         let (i, j) = (k % n, k / n);
         let (cx, cy) = (-1.0 + (i as f64 + 0.5) * dx, 1.0 - (j as f64 + 0.5) * dx);
         match obs.direction(cx, cy) {
             Some((d, theta)) => {
                 let w = GlareObserver::pixel_solid_angle(theta, dx);
                 geo.push(Some((d, theta, w)));
-                lsum += luminance[k] * w;
+                lsum += l * w;
                 wsum += w;
             }
             None => geo.push(None),

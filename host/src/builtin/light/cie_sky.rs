@@ -193,7 +193,7 @@ pub fn source(p: &CieSkyParams, ctx: &FactoryContext) -> Result<CieSky, FactoryE
 }
 
 fn non_negative(name: &str, v: f64) -> Result<f64, FactoryError> {
-    if v.is_finite() && v >= 0.0 && v < 1e12 {
+    if (0.0..1e12).contains(&v) {
         Ok(v)
     } else {
         Err(param_err(
