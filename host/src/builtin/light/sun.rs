@@ -9,7 +9,7 @@
 //! | `latitude`, `longitude`, `date`, `time`, `timezone` | °, °, —, —, h | — | … or place and local standard time |
 //! | `normal_illuminance_lx`      | lx    | —            | exactly one of: illuminance on a plane facing the sun |
 //! | `horizontal_illuminance_lx`  | lx    | —            | illuminance on the horizontal (E⊥ = E_h / sin altitude)|
-//! | `luminance`                  | cd/m² | —            | the disc's luminance (E⊥ = L·Ω, Ω = 6.80e-5 sr)       |
+//! | `luminance`                  | cd/m² | —            | the disc's luminance (E⊥ = L·Ω, Ω = 6.797e-5 sr)       |
 //! | `irradiance`                 | W/m²  | —            | irradiance on a plane facing the sun                  |
 //! | `cct`                        | K     | by altitude  | D-series CCT 4000–25000; 5500 K above 30°, down to 4000 K at the horizon |
 //! | `spd`                        | —     | —            | or: any spectrum                                      |

@@ -76,7 +76,7 @@ impl HemisphereSampler {
             } else {
                 0.5
             };
-            (k, t.clamp(0.0, 1.0 - 1e-12))
+            (k, t.clamp(1e-9, 1.0 - 1e-9))
         };
         let (i, ti) = pick(&self.row_cdf, u0);
         let (j, tj) = pick(
