@@ -473,7 +473,7 @@ mod tests {
         }
     }
 
-    // The v6 light samples in `f32`: an honest sample passes; each broken field is refused
+    // The light samples in `f32`: an honest sample passes; each broken field is refused
     // with the reason of its rule (the incident sample's error bound too).
     #[test]
     fn the_v6_light_samples_are_checked_field_by_field() {

@@ -12,6 +12,7 @@ pub mod layout;
 pub mod library_check;
 pub mod loader;
 pub mod observer_table;
+pub mod pin;
 pub mod reference;
 pub mod registry;
 pub mod representation;

@@ -250,6 +250,43 @@ impl Registry {
         self.add_plugin(plugin)
     }
 
+    /// Load a library only if its file's SHA-256 is `sha256` (a mismatch is refused naming both
+    /// hashes, see [`super::pin`]), and add it.
+    pub fn load_plugin_pinned(&mut self, path: &Path, sha256: &str) -> Result<(), RegistryError> {
+        let plugin = super::loader::load_library_pinned(path, Some(sha256))
+            .map_err(RegistryError::Load)?;
+        self.add_plugin(plugin)
+    }
+
+    /// Load the libraries a scene file lists in its `plugins` field (paths relative to the
+    /// scene file; pinned ones checked), skipping a library already loaded from the same file.
+    /// A scene without the field loads nothing. Errors name the scene file.
+    pub fn load_scene_plugins(&mut self, scene: &Path) -> Result<(), String> {
+        let list = super::pin::scene_plugins(scene)?;
+        let base = scene.parent().unwrap_or(Path::new("."));
+        for item in list {
+            let path = item.resolve(base);
+            let canonical = std::fs::canonicalize(&path).ok();
+            let already = self.plugins.iter().find(|p| {
+                canonical.is_some() && std::fs::canonicalize(&p.path).ok() == canonical
+            });
+            if let Some(p) = already {
+                if let (Some(want), Some(have)) = (item.sha256(), &p.sha256) {
+                    let file = path.clone();
+                    super::pin::check(&file, want, have)
+                        .map_err(|e| format!("{}: plugins: {e}", scene.display()))?;
+                }
+                continue;
+            }
+            let r = match item.sha256() {
+                Some(sha) => self.load_plugin_pinned(&path, sha),
+                None => self.load_plugin(&path),
+            };
+            r.map_err(|e| format!("{}: plugins: {e}", scene.display()))?;
+        }
+        Ok(())
+    }
+
     /// Load a library whose types replace the built-in types of the same kind and name (with
     /// those types' aliases) instead of clashing with them: how the standard set from a library
     /// (`plugins/standard`) is used in place of the built-ins (`--replace-builtins`). Clashes

@@ -176,7 +176,7 @@ fn sample_into<M: HostMaterial + ?Sized>(
     true
 }
 
-/// [`sample_v4`] with the surface by reference (extension v5).
+/// How a type holds its host material: as the concrete type or behind an `Arc`.
 trait Held: Send + Sync + 'static {
     /// The host material called.
     type M: HostMaterial + ?Sized;

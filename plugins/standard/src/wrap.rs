@@ -63,7 +63,7 @@ pub fn plugin_error(e: impl std::fmt::Display) -> PluginError {
 
 /// A host SPD as a plugin SPD: the same value, sampling, density, range and lines, in f64
 /// unchanged, so the host rebuilds an SPD that evaluates and samples bit for bit like this one.
-/// What the library's lights and materials hand over as their emission spectrum (extension v2).
+/// What the library's lights and materials hand over as their emission spectrum.
 #[derive(Clone, Debug)]
 pub struct HostSpd(pub Arc<dyn spectrace::spectrum::Spd>);
 
