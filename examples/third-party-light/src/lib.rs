@@ -7,8 +7,7 @@
 use serde::{Deserialize, Serialize};
 use spectrace_plugin_api::{
     BeamRepresentation, ColourEncoding, DirectionEncoding, Flags, Handedness, Host, LightSource,
-    ParamDoc,
-    PluginError, PluginResult, PluginType, RandomSample, RepresentedBeam, Vec3,
+    ParamDoc, PluginError, PluginResult, PluginType, RandomSample, RepresentedBeam, Vec3,
 };
 use std::f64::consts::PI;
 

@@ -156,7 +156,10 @@ mod tests {
         assert!(check(p, &abc.to_uppercase(), &abc).is_ok());
         let other = sha256_hex(b"abd");
         let e = check(p, &other, &abc).unwrap_err().to_string();
-        assert!(e.contains(&other) && e.contains(&abc) && e.contains("mismatch"), "{e}");
+        assert!(
+            e.contains(&other) && e.contains(&abc) && e.contains("mismatch"),
+            "{e}"
+        );
         let e = check(p, "12ab", &abc).unwrap_err().to_string();
         assert!(e.contains("not a SHA-256"), "{e}");
     }

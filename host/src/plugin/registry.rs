@@ -253,8 +253,8 @@ impl Registry {
     /// Load a library only if its file's SHA-256 is `sha256` (a mismatch is refused naming both
     /// hashes, see [`super::pin`]), and add it.
     pub fn load_plugin_pinned(&mut self, path: &Path, sha256: &str) -> Result<(), RegistryError> {
-        let plugin = super::loader::load_library_pinned(path, Some(sha256))
-            .map_err(RegistryError::Load)?;
+        let plugin =
+            super::loader::load_library_pinned(path, Some(sha256)).map_err(RegistryError::Load)?;
         self.add_plugin(plugin)
     }
 
@@ -267,9 +267,10 @@ impl Registry {
         for item in list {
             let path = item.resolve(base);
             let canonical = std::fs::canonicalize(&path).ok();
-            let already = self.plugins.iter().find(|p| {
-                canonical.is_some() && std::fs::canonicalize(&p.path).ok() == canonical
-            });
+            let already = self
+                .plugins
+                .iter()
+                .find(|p| canonical.is_some() && std::fs::canonicalize(&p.path).ok() == canonical);
             if let Some(p) = already {
                 if let (Some(want), Some(have)) = (item.sha256(), &p.sha256) {
                     let file = path.clone();
