@@ -5,7 +5,7 @@
 use crate::error::{ErrorKind, PluginError, PluginResult};
 use crate::host::{Host, HostRef};
 use crate::module::{ObjectKind, ObjectSource, ParamInfo, TypeInfo};
-use crate::representation::{BeamRepresentation, TypeRepresentation};
+use crate::representation::BeamRepresentation;
 use abi_stable::std_types::{ROption, RString, RVec};
 use serde::{de::DeserializeOwned, Serialize};
 
@@ -70,7 +70,7 @@ pub trait PluginType: Sized + Send + Sync + 'static {
     const DESCRIPTION: &'static str;
     /// Lights only: the representation of the type's beams (see
     /// [`representation`](crate::representation)); other kinds ignore it. Anything but native
-    /// makes the host call `next_represented_beam` instead of `next_beam` and convert each beam.
+    /// makes the host convert each beam `next_beam` answers.
     const BEAM_REPRESENTATION: BeamRepresentation = BeamRepresentation::NATIVE;
     /// Constructor parameters, written in the scene as a RON struct; also the saved state.
     type Params: Serialize + DeserializeOwned;
@@ -102,15 +102,11 @@ pub fn type_info<T: PluginType>(kind: ObjectKind) -> TypeInfo {
                 description: p.description.into(),
             })
             .collect::<RVec<_>>(),
-    }
-}
-
-/// The beam representation of light type `T`, for extension module v1's `type_representations`.
-pub fn type_representation<T: PluginType>() -> TypeRepresentation {
-    TypeRepresentation {
-        kind: ObjectKind::Light,
-        name: T::TYPE_NAME.into(),
-        beams: T::BEAM_REPRESENTATION,
+        beams: if kind == ObjectKind::Light {
+            T::BEAM_REPRESENTATION
+        } else {
+            BeamRepresentation::NATIVE
+        },
     }
 }
 
@@ -300,14 +296,17 @@ macro_rules! export_plugin {
                     Err(unknown_type(kind, name, known))
                 })
             }
-            $crate::__plugin_create_fn!(create_light, Light, light, LightBox, GuardedLight, [$($light),*]);
-            $crate::__plugin_create_fn!(create_spd, Spd, spd, SpdBox, GuardedSpd, [$($spd),*]);
+            $crate::__plugin_create_fn!(create_light, Light, light, LightObject, GuardedLight, [$($light),*]);
+            $crate::__plugin_create_fn!(create_spd, Spd, spd, SpdObject, GuardedSpd, [$($spd),*]);
             $crate::__plugin_create_fn!(
-                create_observer, Observer, observer, ObserverBox, GuardedObserver, [$($observer),*]
+                create_observer, Observer, observer, ObserverObject, GuardedObserver, [$($observer),*]
             );
             $crate::__plugin_create_fn!(
-                create_material, Material, material, MaterialBox, GuardedMaterial, [$($material),*]
+                create_material, Material, material, MaterialObject, GuardedMaterial, [$($material),*]
             );
+            extern "C" fn take_error() -> $crate::__private::ROption<PluginError> {
+                $crate::guard::take_kept_error().into()
+            }
             PluginModule {
                 info,
                 create_light,
@@ -315,466 +314,16 @@ macro_rules! export_plugin {
                 create_observer,
                 create_material,
                 describe_state,
+                take_error,
             }
             .leak_into_prefix()
-        }
-
-        /// This plugin's extension module, version 1 (see `spectrace_plugin_api::extension`).
-        pub fn extensions_v1() -> $crate::extension::ExtensionsV1Export {
-            use $crate::__private::PrefixTypeTrait as _;
-            use $crate::__private::{RResult, RStr, RVec, StableAbi as _};
-            use $crate::error::PluginError;
-            use $crate::export::{construct, save, type_representation, unknown_type, PluginType};
-            use $crate::extension::{ExtensionsV1, ExtensionsV1Export, ExtensionsV1Ref};
-            use $crate::guard::guarded;
-            use $crate::host::HostRef;
-            use $crate::module::{ObjectKind, ObjectSource};
-            use $crate::representation::TypeRepresentation;
-
-            extern "C" fn type_representations() -> RResult<RVec<TypeRepresentation>, PluginError> {
-                guarded("type_representations", || {
-                    let all: ::std::vec::Vec<TypeRepresentation> =
-                        ::std::vec![$(type_representation::<$light>(),)*];
-                    Ok(all.into_iter().filter(|t| !t.beams.is_native()).collect())
-                })
-            }
-            extern "C" fn create_represented_light(
-                type_name: RStr<'_>,
-                source: ObjectSource<'_>,
-                host: HostRef<'_>,
-            ) -> RResult<$crate::extension::RepresentedLightBox, PluginError> {
-                guarded("create_represented_light", || {
-                    let name = type_name.as_str();
-                    $(if name == <$light as PluginType>::TYPE_NAME {
-                        let obj = construct::<$light>(source, &host)?;
-                        return Ok($crate::light::GuardedLight::boxed_represented(obj, save::<$light>));
-                    })*
-                    Err(unknown_type(ObjectKind::Light, name, &[$(<$light as PluginType>::TYPE_NAME),*]))
-                })
-            }
-            ExtensionsV1Export {
-                layout: <ExtensionsV1Ref as $crate::__private::StableAbi>::LAYOUT,
-                module: ExtensionsV1 {
-                    type_representations,
-                    create_represented_light,
-                }
-                .leak_into_prefix(),
-            }
-        }
-
-        /// The exported extension module, version 1 (looked up by name by the host).
-        #[no_mangle]
-        pub extern "C" fn spectrace_plugin_extensions_v1() -> $crate::extension::ExtensionsV1Export {
-            $crate::guard::set_library_mode();
-            extensions_v1()
-        }
-
-        /// This plugin's extension module, version 2 (see `spectrace_plugin_api::extension`).
-        pub fn extensions_v2() -> $crate::extension::ExtensionsV2Export {
-            use $crate::__private::PrefixTypeTrait as _;
-            use $crate::__private::{RResult, RStr};
-            use $crate::error::PluginError;
-            use $crate::export::{construct, save, unknown_type, PluginType};
-            use $crate::extension::{
-                ExtensionsV2, ExtensionsV2Export, ExtensionsV2Ref, LightWithV2, MaterialWithV2,
-                SpdWithLines,
-            };
-            use $crate::guard::guarded;
-            use $crate::host::HostRef;
-            use $crate::module::{ObjectKind, ObjectSource};
-
-            extern "C" fn create_light(
-                type_name: RStr<'_>,
-                source: ObjectSource<'_>,
-                host: HostRef<'_>,
-            ) -> RResult<LightWithV2, PluginError> {
-                guarded("create_light (v2)", || {
-                    let name = type_name.as_str();
-                    $(if name == <$light as PluginType>::TYPE_NAME {
-                        let obj = construct::<$light>(source, &host)?;
-                        return Ok($crate::light::GuardedLight::boxed_v2(obj, save::<$light>));
-                    })*
-                    Err(unknown_type(ObjectKind::Light, name, &[$(<$light as PluginType>::TYPE_NAME),*]))
-                })
-            }
-            extern "C" fn create_material(
-                type_name: RStr<'_>,
-                source: ObjectSource<'_>,
-                host: HostRef<'_>,
-            ) -> RResult<MaterialWithV2, PluginError> {
-                guarded("create_material (v2)", || {
-                    let name = type_name.as_str();
-                    $(if name == <$material as PluginType>::TYPE_NAME {
-                        let obj = construct::<$material>(source, &host)?;
-                        return Ok($crate::material::GuardedMaterial::boxed_v2(obj, save::<$material>));
-                    })*
-                    Err(unknown_type(
-                        ObjectKind::Material, name, &[$(<$material as PluginType>::TYPE_NAME),*]
-                    ))
-                })
-            }
-            extern "C" fn create_spd(
-                type_name: RStr<'_>,
-                source: ObjectSource<'_>,
-                host: HostRef<'_>,
-            ) -> RResult<SpdWithLines, PluginError> {
-                guarded("create_spd (v2)", || {
-                    let name = type_name.as_str();
-                    $(if name == <$spd as PluginType>::TYPE_NAME {
-                        let obj = construct::<$spd>(source, &host)?;
-                        return SpdWithLines::new(obj, save::<$spd>).into_result();
-                    })*
-                    Err(unknown_type(ObjectKind::Spd, name, &[$(<$spd as PluginType>::TYPE_NAME),*]))
-                })
-            }
-            ExtensionsV2Export {
-                layout: <ExtensionsV2Ref as $crate::__private::StableAbi>::LAYOUT,
-                module: ExtensionsV2 {
-                    create_light,
-                    create_material,
-                    create_spd,
-                }
-                .leak_into_prefix(),
-            }
-        }
-
-        /// The exported extension module, version 2 (looked up by name by the host).
-        #[no_mangle]
-        pub extern "C" fn spectrace_plugin_extensions_v2() -> $crate::extension::ExtensionsV2Export {
-            $crate::guard::set_library_mode();
-            extensions_v2()
-        }
-
-        /// This plugin's extension module, version 3 (see `spectrace_plugin_api::extension`).
-        pub fn extensions_v3() -> $crate::extension::ExtensionsV3Export {
-            use $crate::__private::PrefixTypeTrait as _;
-            use $crate::__private::{RResult, RStr};
-            use $crate::error::PluginError;
-            use $crate::export::{construct, save, unknown_type, PluginType};
-            use $crate::extension::{
-                ExtensionsV3, ExtensionsV3Export, ExtensionsV3Ref, MaterialWithV3,
-            };
-            use $crate::guard::guarded;
-            use $crate::host::HostRef;
-            use $crate::module::{ObjectKind, ObjectSource};
-
-            extern "C" fn create_material(
-                type_name: RStr<'_>,
-                source: ObjectSource<'_>,
-                host: HostRef<'_>,
-            ) -> RResult<MaterialWithV3, PluginError> {
-                guarded("create_material (v3)", || {
-                    let name = type_name.as_str();
-                    $(if name == <$material as PluginType>::TYPE_NAME {
-                        let obj = construct::<$material>(source, &host)?;
-                        return $crate::material::GuardedMaterial::boxed_v3(obj, save::<$material>)
-                            .into_result();
-                    })*
-                    Err(unknown_type(
-                        ObjectKind::Material, name, &[$(<$material as PluginType>::TYPE_NAME),*]
-                    ))
-                })
-            }
-            ExtensionsV3Export {
-                layout: <ExtensionsV3Ref as $crate::__private::StableAbi>::LAYOUT,
-                module: ExtensionsV3 { create_material }.leak_into_prefix(),
-            }
-        }
-
-        /// The exported extension module, version 3 (looked up by name by the host).
-        #[no_mangle]
-        pub extern "C" fn spectrace_plugin_extensions_v3() -> $crate::extension::ExtensionsV3Export {
-            $crate::guard::set_library_mode();
-            extensions_v3()
-        }
-
-        /// This plugin's extension module, version 4 (see `spectrace_plugin_api::extension`).
-        pub fn extensions_v4() -> $crate::extension::ExtensionsV4Export {
-            use $crate::__private::PrefixTypeTrait as _;
-            use $crate::__private::{RResult, RStr};
-            use $crate::error::PluginError;
-            use $crate::export::{construct, save, unknown_type, PluginType};
-            use $crate::extension::{
-                ExtensionsV4, ExtensionsV4Export, ExtensionsV4Ref, LightWithV4, MaterialWithV4,
-            };
-            use $crate::guard::guarded;
-            use $crate::host::HostRef;
-            use $crate::module::{ObjectKind, ObjectSource};
-
-            extern "C" fn create_light(
-                type_name: RStr<'_>,
-                source: ObjectSource<'_>,
-                host: HostRef<'_>,
-            ) -> RResult<LightWithV4, PluginError> {
-                guarded("create_light (v4)", || {
-                    let name = type_name.as_str();
-                    $(if name == <$light as PluginType>::TYPE_NAME {
-                        let obj = construct::<$light>(source, &host)?;
-                        return $crate::light::GuardedLight::boxed_v4(obj, save::<$light>)
-                            .into_result();
-                    })*
-                    Err(unknown_type(ObjectKind::Light, name, &[$(<$light as PluginType>::TYPE_NAME),*]))
-                })
-            }
-            extern "C" fn create_material(
-                type_name: RStr<'_>,
-                source: ObjectSource<'_>,
-                host: HostRef<'_>,
-            ) -> RResult<MaterialWithV4, PluginError> {
-                guarded("create_material (v4)", || {
-                    let name = type_name.as_str();
-                    $(if name == <$material as PluginType>::TYPE_NAME {
-                        let obj = construct::<$material>(source, &host)?;
-                        return $crate::material::GuardedMaterial::boxed_v4(obj, save::<$material>)
-                            .into_result();
-                    })*
-                    Err(unknown_type(
-                        ObjectKind::Material, name, &[$(<$material as PluginType>::TYPE_NAME),*]
-                    ))
-                })
-            }
-            ExtensionsV4Export {
-                layout: <ExtensionsV4Ref as $crate::__private::StableAbi>::LAYOUT,
-                module: ExtensionsV4 {
-                    create_light,
-                    create_material,
-                }
-                .leak_into_prefix(),
-            }
-        }
-
-        /// The exported extension module, version 4 (looked up by name by the host).
-        #[no_mangle]
-        pub extern "C" fn spectrace_plugin_extensions_v4() -> $crate::extension::ExtensionsV4Export {
-            $crate::guard::set_library_mode();
-            extensions_v4()
-        }
-
-        /// This plugin's extension module, version 5 (see `spectrace_plugin_api::extension`).
-        pub fn extensions_v5() -> $crate::extension::ExtensionsV5Export {
-            use $crate::__private::PrefixTypeTrait as _;
-            use $crate::__private::{RResult, RStr};
-            use $crate::error::PluginError;
-            use $crate::export::{construct, save, unknown_type, PluginType};
-            use $crate::extension::{
-                ExtensionsV5, ExtensionsV5Export, ExtensionsV5Ref, MaterialWithV5,
-            };
-            use $crate::guard::guarded;
-            use $crate::host::HostRef;
-            use $crate::module::{ObjectKind, ObjectSource};
-
-            extern "C" fn create_material(
-                type_name: RStr<'_>,
-                source: ObjectSource<'_>,
-                host: HostRef<'_>,
-            ) -> RResult<MaterialWithV5, PluginError> {
-                guarded("create_material (v5)", || {
-                    let name = type_name.as_str();
-                    $(if name == <$material as PluginType>::TYPE_NAME {
-                        let obj = construct::<$material>(source, &host)?;
-                        return $crate::material::GuardedMaterial::boxed_v5(obj, save::<$material>)
-                            .into_result();
-                    })*
-                    Err(unknown_type(
-                        ObjectKind::Material, name, &[$(<$material as PluginType>::TYPE_NAME),*]
-                    ))
-                })
-            }
-            ExtensionsV5Export {
-                layout: <ExtensionsV5Ref as $crate::__private::StableAbi>::LAYOUT,
-                module: ExtensionsV5 { create_material }.leak_into_prefix(),
-            }
-        }
-
-        /// The exported extension module, version 5 (looked up by name by the host). Every
-        /// extension symbol also puts the library's guards in library mode (only a host loading
-        /// the library reaches them; see `spectrace_plugin_api::guard`).
-        #[no_mangle]
-        pub extern "C" fn spectrace_plugin_extensions_v5() -> $crate::extension::ExtensionsV5Export {
-            $crate::guard::set_library_mode();
-            extensions_v5()
-        }
-
-        /// This plugin's extension module, version 6 (see `spectrace_plugin_api::extension`).
-        pub fn extensions_v6() -> $crate::extension::ExtensionsV6Export {
-            use $crate::__private::PrefixTypeTrait as _;
-            use $crate::__private::{RResult, RStr};
-            use $crate::error::PluginError;
-            use $crate::export::{construct, save, unknown_type, PluginType};
-            use $crate::extension::{
-                ExtensionsV6, ExtensionsV6Export, ExtensionsV6Ref, LightWithV6, MaterialWithV6,
-            };
-            use $crate::guard::guarded;
-            use $crate::host::HostRef;
-            use $crate::module::{ObjectKind, ObjectSource};
-
-            extern "C" fn create_light(
-                type_name: RStr<'_>,
-                source: ObjectSource<'_>,
-                host: HostRef<'_>,
-            ) -> RResult<LightWithV6, PluginError> {
-                guarded("create_light (v6)", || {
-                    let name = type_name.as_str();
-                    $(if name == <$light as PluginType>::TYPE_NAME {
-                        let obj = construct::<$light>(source, &host)?;
-                        return $crate::light::GuardedLight::boxed_v6(obj, save::<$light>)
-                            .into_result();
-                    })*
-                    Err(unknown_type(ObjectKind::Light, name, &[$(<$light as PluginType>::TYPE_NAME),*]))
-                })
-            }
-            extern "C" fn create_material(
-                type_name: RStr<'_>,
-                source: ObjectSource<'_>,
-                host: HostRef<'_>,
-            ) -> RResult<MaterialWithV6, PluginError> {
-                guarded("create_material (v6)", || {
-                    let name = type_name.as_str();
-                    $(if name == <$material as PluginType>::TYPE_NAME {
-                        let obj = construct::<$material>(source, &host)?;
-                        return $crate::material::GuardedMaterial::boxed_v6(obj, save::<$material>)
-                            .into_result();
-                    })*
-                    Err(unknown_type(
-                        ObjectKind::Material, name, &[$(<$material as PluginType>::TYPE_NAME),*]
-                    ))
-                })
-            }
-            ExtensionsV6Export {
-                layout: <ExtensionsV6Ref as $crate::__private::StableAbi>::LAYOUT,
-                module: ExtensionsV6 {
-                    create_light,
-                    create_material,
-                }
-                .leak_into_prefix(),
-            }
-        }
-
-        /// The exported extension module, version 6 (looked up by name by the host).
-        #[no_mangle]
-        pub extern "C" fn spectrace_plugin_extensions_v6() -> $crate::extension::ExtensionsV6Export {
-            $crate::guard::set_library_mode();
-            extensions_v6()
-        }
-
-        /// This plugin's extension module, version 7 (see `spectrace_plugin_api::extension`).
-        pub fn extensions_v7() -> $crate::extension::ExtensionsV7Export {
-            use $crate::__private::PrefixTypeTrait as _;
-            use $crate::__private::{RResult, RStr};
-            use $crate::error::PluginError;
-            use $crate::export::{construct, save, unknown_type, PluginType};
-            use $crate::extension::{
-                ExtensionsV7, ExtensionsV7Export, ExtensionsV7Ref, MaterialWithV7,
-                ObserverWithTable,
-            };
-            use $crate::guard::guarded;
-            use $crate::host::HostRef;
-            use $crate::module::{ObjectKind, ObjectSource};
-
-            extern "C" fn create_observer(
-                type_name: RStr<'_>,
-                source: ObjectSource<'_>,
-                host: HostRef<'_>,
-            ) -> RResult<ObserverWithTable, PluginError> {
-                guarded("create_observer (v7)", || {
-                    let name = type_name.as_str();
-                    $(if name == <$observer as PluginType>::TYPE_NAME {
-                        let obj = construct::<$observer>(source, &host)?;
-                        return $crate::observer::GuardedObserver::boxed_v7(obj, save::<$observer>)
-                            .into_result();
-                    })*
-                    Err(unknown_type(
-                        ObjectKind::Observer, name, &[$(<$observer as PluginType>::TYPE_NAME),*]
-                    ))
-                })
-            }
-            extern "C" fn create_material(
-                type_name: RStr<'_>,
-                source: ObjectSource<'_>,
-                host: HostRef<'_>,
-            ) -> RResult<MaterialWithV7, PluginError> {
-                guarded("create_material (v7)", || {
-                    let name = type_name.as_str();
-                    $(if name == <$material as PluginType>::TYPE_NAME {
-                        let obj = construct::<$material>(source, &host)?;
-                        return $crate::material::GuardedMaterial::boxed_v7(obj, save::<$material>)
-                            .into_result();
-                    })*
-                    Err(unknown_type(
-                        ObjectKind::Material, name, &[$(<$material as PluginType>::TYPE_NAME),*]
-                    ))
-                })
-            }
-            ExtensionsV7Export {
-                layout: <ExtensionsV7Ref as $crate::__private::StableAbi>::LAYOUT,
-                module: ExtensionsV7 {
-                    create_observer,
-                    create_material,
-                }
-                .leak_into_prefix(),
-            }
-        }
-
-        /// The exported extension module, version 7 (looked up by name by the host).
-        #[no_mangle]
-        pub extern "C" fn spectrace_plugin_extensions_v7() -> $crate::extension::ExtensionsV7Export {
-            $crate::guard::set_library_mode();
-            extensions_v7()
-        }
-
-        /// This plugin's extension module, version 8 (see `spectrace_plugin_api::extension`).
-        pub fn extensions_v8() -> $crate::extension::ExtensionsV8Export {
-            use $crate::__private::PrefixTypeTrait as _;
-            use $crate::__private::{ROption, RResult, RStr};
-            use $crate::error::PluginError;
-            use $crate::export::{construct, save, unknown_type, PluginType};
-            use $crate::extension::{
-                ExtensionsV8, ExtensionsV8Export, ExtensionsV8Ref, MaterialWithV8,
-            };
-            use $crate::guard::guarded;
-            use $crate::host::HostRef;
-            use $crate::module::{ObjectKind, ObjectSource};
-
-            extern "C" fn create_material(
-                type_name: RStr<'_>,
-                source: ObjectSource<'_>,
-                host: HostRef<'_>,
-            ) -> RResult<MaterialWithV8, PluginError> {
-                guarded("create_material (v8)", || {
-                    let name = type_name.as_str();
-                    $(if name == <$material as PluginType>::TYPE_NAME {
-                        let obj = construct::<$material>(source, &host)?;
-                        return $crate::material::GuardedMaterial::boxed_v8(obj, save::<$material>)
-                            .into_result();
-                    })*
-                    Err(unknown_type(
-                        ObjectKind::Material, name, &[$(<$material as PluginType>::TYPE_NAME),*]
-                    ))
-                })
-            }
-            extern "C" fn take_error() -> ROption<PluginError> {
-                $crate::guard::take_kept_error().into()
-            }
-            ExtensionsV8Export {
-                layout: <ExtensionsV8Ref as $crate::__private::StableAbi>::LAYOUT,
-                module: ExtensionsV8 {
-                    create_material,
-                    take_error,
-                }
-                .leak_into_prefix(),
-            }
-        }
-
-        /// The exported extension module, version 8 (looked up by name by the host).
-        #[no_mangle]
-        pub extern "C" fn spectrace_plugin_extensions_v8() -> $crate::extension::ExtensionsV8Export {
-            $crate::guard::set_library_mode();
-            extensions_v8()
         }
 
         /// The exported root module (what the host finds in the library).
         #[$crate::__private::export_root_module]
         pub fn spectrace_plugin_root_module() -> $crate::module::PluginModuleRef {
+            // Only a host loading the library reaches this symbol (see the API's `guard`).
+            $crate::guard::set_library_mode();
             root_module()
         }
     };
@@ -796,7 +345,7 @@ macro_rules! __plugin_create_fn {
                 let name = type_name.as_str();
                 $(if name == <$t as PluginType>::TYPE_NAME {
                     let obj = construct::<$t>(source, &host)?;
-                    return Ok($crate::$module::$guard::boxed(obj, save::<$t>));
+                    return $crate::$module::$guard::object(obj, save::<$t>).into_result();
                 })*
                 Err(unknown_type(ObjectKind::$kind, name, &[$(<$t as PluginType>::TYPE_NAME),*]))
             })

@@ -14,15 +14,15 @@
 //! What the hook must know is whether a guard will catch the panic. Outside library mode (below)
 //! [`guarded`] tells it through a thread-local depth counter; in a library (a `cdylib`) every
 //! access to it is a call to `__tls_get_addr`, about 50 instructions per guarded call counting
-//! both accesses. Library mode does without it: a library whose extension module the host has
-//! fetched through an exported symbol ([`set_library_mode`]; only a host loading the library
-//! reaches those) has a hook that sees only the plugin's own panics, so it can defer every
-//! panic instead of asking, and every guard ([`guarded`], [`guarded_call`],
-//! [`guarded_call_v5`]) is then `catch_unwind` alone. A deferred report is taken by the guard that catches the
+//! both accesses. Library mode does without it: a library the host has
+//! loaded through its exported root module ([`set_library_mode`]; only a host loading the
+//! library reaches that symbol) has a hook that sees only the plugin's own panics, so it can defer every
+//! panic instead of asking, and every guard ([`guarded`], [`guarded_call`]) is then
+//! `catch_unwind` alone. A deferred report is taken by the guard that catches the
 //! panic (it becomes the error's location, as before); a report no guard takes is never lost: it
 //! is printed when the same thread panics again (a panic that cannot unwind, about to abort, is
 //! such a second panic) and when the thread ends (a plugin's own thread that died of it).
-//! Outside library mode (a plugin linked into the host) [`guarded_call_v5`] panics reach the
+//! Outside library mode (a plugin linked into the host) [`guarded_call`] panics reach the
 //! previous hook like any unguarded panic: reported at once, still caught and returned as an
 //! error.
 
@@ -41,12 +41,12 @@ thread_local! {
     /// A panic deferred in library mode that no guard has taken yet: printed when the thread
     /// panics again or ends (see the module docs).
     static UNCLAIMED: Unclaimed = const { Unclaimed(RefCell::new(None)) };
-    /// The error of the last extension-v8 call on this thread that failed, until the host takes
+    /// The error of the last per-sample call on this thread that failed, until the host takes
     /// it ([`keep_error`], [`take_kept_error`]): touched only when a call fails.
     static KEPT: RefCell<Option<PluginError>> = const { RefCell::new(None) };
 }
 
-/// Keep `e`, the error of a failed extension-v8 call, for the host to take on this thread
+/// Keep `e`, the error of a failed per-sample call ([`crate::lanes::status`]), for the host to take on this thread
 /// ([`take_kept_error`]); replaces one never taken. Out of line: the calls that succeed carry
 /// nothing for it.
 #[cold]
@@ -56,7 +56,7 @@ pub fn keep_error(e: PluginError) {
     let _ = KEPT.try_with(|k| *k.borrow_mut() = Some(e));
 }
 
-/// The error [`keep_error`] kept on this thread, taken (what extension v8's `take_error`
+/// The error [`keep_error`] kept on this thread, taken (what the root module's `take_error`
 /// answers).
 pub fn take_kept_error() -> Option<PluginError> {
     KEPT.try_with(|k| k.borrow_mut().take()).ok().flatten()
@@ -64,7 +64,7 @@ pub fn take_kept_error() -> Option<PluginError> {
 
 static HOOK: Once = Once::new();
 
-/// Set once the host has fetched extension v5 through the library's exported symbol: this copy
+/// Set once the host has loaded the library through its exported root module: this copy
 /// of std (and its panic hook) then serves the plugin's code alone.
 static LIBRARY_MODE: AtomicBool = AtomicBool::new(false);
 
@@ -108,8 +108,8 @@ fn payload_text(payload: &(dyn std::any::Any + Send)) -> String {
     }
 }
 
-/// Library mode (see the module docs): called by the exported symbols of the extension modules,
-/// which only a host reaches (through the dynamic loader), never code linked into the host.
+/// Library mode (see the module docs): called by the exported root-module symbol, which only a
+/// host reaches (through the dynamic loader), never code linked into the host.
 pub fn set_library_mode() {
     install_quiet_hook();
     LIBRARY_MODE.store(true, Ordering::Relaxed);
@@ -169,7 +169,7 @@ impl Drop for Depth {
 /// Run `f`, returning its result or the caught panic as an error naming `what` was being done.
 /// A panic's message reads `"{what} panicked at {file}:{line}: {message}"`, so the text before
 /// the first `": "` names the call site (the host counts by it). Inlined into each entry point:
-/// in library mode (a host that fetched an extension module) the call costs a flag test and
+/// in library mode (a library a host loaded) the call costs a flag test and
 /// `catch_unwind`, nothing else; the depth-counting path is out of line.
 #[inline]
 pub fn guarded<T>(
@@ -177,7 +177,7 @@ pub fn guarded<T>(
     f: impl FnOnce() -> Result<T, PluginError>,
 ) -> RResult<T, PluginError> {
     if LIBRARY_MODE.load(Ordering::Relaxed) {
-        return guarded_call_v5(what, f).into();
+        return guarded_call(what, f).into();
     }
     guarded_counting(what, f)
 }
@@ -206,39 +206,12 @@ pub fn install() {
     install_quiet_hook();
 }
 
-/// [`guarded`] for the per-call entry points of extension v4 (a material's `sample`, `eval`,
-/// `pdf`): the same protection and the same message, for less. The thread-local depth is
-/// reached once instead of twice (in a `cdylib` each access is a call to `__tls_get_addr`), and
-/// the hook is not checked on every call: the object's constructor installed it ([`install`]).
-/// `catch_unwind` itself costs nothing while nothing panics.
-#[inline]
-pub fn guarded_call<T>(
-    what: &str,
-    f: impl FnOnce() -> Result<T, PluginError>,
-) -> RResult<T, PluginError> {
-    if LIBRARY_MODE.load(Ordering::Relaxed) {
-        return guarded_call_v5(what, f).into();
-    }
-    let r = DEPTH.with(|d| {
-        d.set(d.get() + 1);
-        // `f` cannot unwind past this point, so the decrement always runs.
-        let r = catch_unwind(AssertUnwindSafe(f));
-        d.set(d.get().saturating_sub(1));
-        r
-    });
-    match r {
-        Ok(Ok(v)) => RResult::ROk(v),
-        Ok(Err(e)) => RResult::RErr(e),
-        Err(payload) => RResult::RErr(panic_error(what, payload)),
-    }
-}
-
-/// [`guarded`] for the per-call entry points of extension v5 (a material's `sample`, `eval`,
-/// `pdf`): no thread-local on the way in or out, only `catch_unwind`, which costs nothing while
+/// [`guarded`] for the per-sample calls (a material's `sample`, `eval`, `pdf`, a light's
+/// `sample_toward`, …): no thread-local on the way in or out, only `catch_unwind`, which costs nothing while
 /// nothing panics. The panic hook learns nothing from it; in library mode it defers the report,
 /// which the error here takes (see the module docs). The same message as [`guarded`].
 #[inline]
-pub fn guarded_call_v5<T>(
+pub fn guarded_call<T>(
     what: &str,
     f: impl FnOnce() -> Result<T, PluginError>,
 ) -> Result<T, PluginError> {
@@ -290,18 +263,9 @@ mod tests {
     fn the_depth_unwinds_with_the_panic() {
         let _ = guarded::<()>("x", || panic!("inner"));
         assert_eq!(DEPTH.with(Cell::get), 0);
-        install();
-        let e = guarded_call::<()>("sample (v4)", || panic!("fast {}", 1)).unwrap_err();
-        assert_eq!(DEPTH.with(Cell::get), 0);
-        assert_eq!(e.kind, ErrorKind::Panic);
-        assert!(e.message.starts_with("sample (v4) panicked at "), "{e}");
-        assert!(
-            e.message.contains("guard.rs:") && e.message.ends_with("fast 1"),
-            "{e}"
-        );
     }
 
-    // Extension v8's error slot: a kept error is taken once, on its own thread only; a second
+    // The kept-error slot: a kept error is taken once, on its own thread only; a second
     // one kept before the take replaces the first.
     #[test]
     fn a_kept_error_is_taken_once_on_its_thread() {
@@ -315,21 +279,21 @@ mod tests {
     }
 
     // Library mode, in one test because it is process-wide (no other test of this crate panics
-    // outside a guard). A panic inside the v5 guard comes back as the same error with its
+    // outside a guard). A panic inside the per-sample guard comes back as the same error with its
     // location, and its deferred report is taken (nothing printed); a panic on a thread of the
     // plugin's own, outside any guard, is printed when that thread ends (counted: exactly one).
     #[test]
     fn library_mode_loses_no_report() {
         set_library_mode();
         let before = PRINTED_UNCLAIMED.load(Ordering::Relaxed);
-        let e = guarded_call_v5::<()>("pdf (v5)", || panic!("v5 {}", 2)).unwrap_err();
+        let e = guarded_call::<()>("pdf", || panic!("lanes {}", 2)).unwrap_err();
         assert_eq!(e.kind, ErrorKind::Panic);
         let site = e.message.split(": ").next().unwrap();
         assert!(
-            site.starts_with("pdf (v5) panicked at ") && site.contains("guard.rs:"),
+            site.starts_with("pdf panicked at ") && site.contains("guard.rs:"),
             "{e}"
         );
-        assert!(e.message.ends_with("v5 2"), "{e}");
+        assert!(e.message.ends_with("lanes 2"), "{e}");
         assert_eq!(PRINTED_UNCLAIMED.load(Ordering::Relaxed), before);
         let r = std::thread::spawn(|| panic!("the plugin's own thread")).join();
         assert!(r.is_err());

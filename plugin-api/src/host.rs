@@ -3,7 +3,7 @@
 //! from another plugin). This is how a light from one author uses a spectrum from another.
 
 use crate::error::{PluginError, PluginResult};
-use crate::spd::{SpdBox, SpdHandle};
+use crate::spd::{SpdHandle, SpdObject};
 use abi_stable::{
     sabi_trait,
     std_types::{RResult, RStr},
@@ -14,7 +14,7 @@ use abi_stable::{
 pub trait AbiHost {
     /// Resolve an SPD spec to an SPD object.
     #[sabi(last_prefix_field)]
-    fn spd(&self, spec: RStr<'_>) -> RResult<SpdBox, PluginError>;
+    fn spd(&self, spec: RStr<'_>) -> RResult<SpdObject, PluginError>;
 }
 
 /// Borrowed host services, as passed to constructors.
@@ -35,7 +35,7 @@ impl<'a, 'b> Host<'a, 'b> {
         self.services
             .spd(RStr::from_str(spec))
             .into_result()
-            .map(SpdHandle)
+            .map(SpdHandle::new)
     }
 }
 
@@ -43,7 +43,7 @@ impl<'a, 'b> Host<'a, 'b> {
 pub struct NoHost;
 
 impl AbiHost for NoHost {
-    fn spd(&self, spec: RStr<'_>) -> RResult<SpdBox, PluginError> {
+    fn spd(&self, spec: RStr<'_>) -> RResult<SpdObject, PluginError> {
         RResult::RErr(PluginError::invalid_parameter(format!(
             "spd `{spec}`: no host is present to resolve SPDs"
         )))

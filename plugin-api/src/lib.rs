@@ -1,27 +1,28 @@
 //! # spectrace-plugin-api
 //!
 //! The stable-ABI interface between spectrace and its plugins, and the only crate a plugin author
-//! depends on. A plugin is a `cdylib` that provides any of four kinds of object:
+//! depends on. A plugin is a `cdylib` that provides any of four kinds of object, each through ONE
+//! trait in which every call appears once:
 //!
-//! * [`LightSource`]: the seed's light, anything that hands out [`Beam`]s (`next_beam`) and says
-//!   how many it emitted (`number_of_beams`), optionally connectable for bidirectional tracing;
-//! * [`Spd`]: a spectral power distribution that evaluates and samples itself (∫ = 1);
-//! * [`ColorObserver`]: colour-matching functions x̄ȳz̄;
-//! * [`Material`]: turns an incoming direction into an outgoing one, per wavelength.
+//! | kind | trait | per-sample calls | declared once (data) |
+//! |---|---|---|---|
+//! | light | [`LightSource`] | `sample_toward`, `incident_pdf`, `sample_emission`, `emission_pdf`, `radiance`; the seed's `next_beam` | `flags` ([`light_flags`]), `emission_spectrum`; `total_power_w`, `scene_bounds` |
+//! | material | [`Material`] | `sample`, `eval`, `pdf`, `emitted` | `flags` ([`material_flags`]), `emission`, `reradiation` |
+//! | SPD | [`Spd`] | `value`, `sample`, `pdf` | `range_nm`, `lines` |
+//! | observer | [`ColorObserver`] | `xyz_bar` | `name`, `range_nm`, `table` |
 //!
-//! Authors implement those plain Rust traits plus [`PluginType`] and list their types in
-//! [`export_plugin!`]. The macro puts each object behind a guard (panics are caught on the
-//! plugin's side and come back as [`PluginError`]s) and behind an abi_stable trait object.
-//! See `module` for the compatibility rule between host and plugin versions, and `extension`
-//! for what later versions added (v2: scene bounds and emission spectra for lights, the
-//! surface's normals and exact emission for materials, spectral lines for SPDs; v3: fluorescent
-//! materials' re-radiation, see `reradiation`; v4: spectral flatness of materials and one
-//! spectral shape of lights, and the material calls in the host's own layout, see `fast`; v5:
-//! one BSDF value for every direction, the surface by reference; v6: the cosine-weighted
-//! density declared, emission and the lights' calls in the host's layout):
-//! provided methods of the same traits, so a plugin uses them by overriding them.
+//! The per-sample calls take the host's own records by reference, in the render loop's layout
+//! (four wavelength lanes of `f32`, 16-byte vectors, [`lanes`]) and write their answers into the
+//! host's records in place, so no host speed-up ever needs another form of them. Capabilities
+//! are bits declared once (`flags`), not extra methods.
 //!
-//! Units: lengths in scene units, wavelengths in nm, power in W, solid angle in sr.
+//! Authors implement the kind's trait plus [`PluginType`] (name, parameters, version) and list
+//! their types in [`export_plugin!`]. The macro puts each object behind a guard (panics are
+//! caught on the plugin's side and come back as [`PluginError`]s naming the call) and behind an
+//! abi_stable trait object. See [`module`] for how versions work and how the interface grows.
+//!
+//! Units: lengths in scene units, wavelengths in nm, power in W, solid angle in sr, radiance in
+//! W/(m²·sr·nm).
 
 // No `unsafe` of our own here; abi_stable's derives generate the unsafe glue, so it is not forbidden.
 #![warn(missing_docs)]
@@ -30,10 +31,9 @@
 
 pub mod error;
 pub mod export;
-pub mod extension;
-pub mod fast;
 pub mod guard;
 pub mod host;
+pub mod lanes;
 pub mod light;
 pub mod material;
 pub mod module;
@@ -45,29 +45,22 @@ pub mod types;
 
 pub use error::{ErrorKind, PluginError, PluginResult};
 pub use export::{ParamDoc, PluginType};
-pub use fast::{
-    EmissionF32, IncidentF32, LanesF32, MaterialQuery, QueryV5, QueryV7, ReceiverF32, ScatterF32,
-    SurfaceF32, Vec4f, WavelengthsF32,
-};
 pub use host::{Host, HostRef};
-pub use light::{
-    light_flags, EmissionPdf, EmissionSample, IncidentSample, LightBox, LightSource,
-    WavelengthSample,
+pub use lanes::{
+    status, EmissionPdf, EmittedRay, Incident, Receiver, Scatter, Surface, Values, Vec4f,
+    Wavelengths,
 };
-pub use material::{
-    material_flags, Emission, Material, MaterialBox, ScatterSample, ShadingContext, SurfaceContext,
-};
-pub use module::{ObjectKind, PluginInfo, PluginModuleRef, TypeInfo, API_VERSION};
-pub use observer::{ColorObserver, ObserverBox, ObserverTable};
+pub use light::{light_flags, LightBox, LightObject, LightSource};
+pub use material::{material_flags, Emission, Material, MaterialBox, MaterialObject};
+pub use module::{ObjectKind, PluginInfo, PluginModuleRef, TypeInfo, ABI_VERSION, API_VERSION};
+pub use observer::{ColorObserver, ObserverBox, ObserverObject, ObserverTable};
 pub use representation::{
     BeamRepresentation, ColourEncoding, DirectionEncoding, Handedness, RepresentedBeam,
-    TypeRepresentation,
 };
 pub use reradiation::{Reradiation, WavelengthDraw};
-pub use spd::{spd_flags, Spd, SpdBox, SpdHandle, SpectralLine};
+pub use spd::{Spd, SpdBox, SpdHandle, SpdObject, SpectralLine, WavelengthSample};
 pub use types::{
-    Beam, Flags, RandomSample, SceneBounds, SpectralValues, TransportMode, Vec3, WavelengthRange,
-    Wavelengths, Xyz, LANES,
+    Beam, Flags, RandomSample, SceneBounds, TransportMode, Vec3, WavelengthRange, Xyz, LANES,
 };
 
 /// Re-exported so plugins and the host use the very same abi_stable.

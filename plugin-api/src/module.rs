@@ -1,57 +1,45 @@
 //! The root module each plugin library exports, and the metadata it reports.
 //!
-//! # Compatibility rule
+//! # Versions and the growth rule
 //!
-//! Tested by the workspace test `api_growth`: a plugin built against a frozen copy of this
-//! crate's 0.1.0 source (`plugins/fixtures/api-0.1.0/`) must keep loading and rendering in the
-//! current host.
+//! The interface's ABI is versioned by [`ABI_VERSION`] (`0.2`), separately from the crate's
+//! patch number: a library built against any `spectrace-plugin-api` 0.2.z declares ABI 0.2.0 and
+//! loads in every host built against any 0.2.z'. Tested by the workspace test `api_growth`,
+//! which loads a plugin built against a frozen copy of the 0.2.0 crate
+//! (`plugins/fixtures/api-0.2.0/`).
 //!
-//! 1. **Version.** A plugin built against `spectrace-plugin-api` 0.y.z loads in a host built
-//!    against 0.y.z' when y is the same and z ≥ z' (abi_stable's rule; while the major version
-//!    is 0, y counts as the major). So an addition that old plugins survive does NOT bump z: a
-//!    host at 0.1.1 would refuse every plugin built at 0.1.0. Anything that breaks them bumps y.
-//! 2. **Layout.** When a library is loaded, abi_stable compares the whole layout of the root
-//!    module and of every type it reaches (names, packages, fields, sizes) with the host's. For
-//!    prefix types (this root module, the trait vtables) the library may have MORE fields than
-//!    the host, never fewer: abi_stable lets a newer plugin into an older host, not the reverse.
-//! 3. **Hence nothing the root module reaches ever grows within one y.** [`PluginModule`], the
-//!    `Abi*` traits and every `#[repr(C)]` type they use ([`TypeInfo`], [`PluginInfo`],
-//!    [`Beam`](crate::Beam), …) keep their 0.y.0 layout. Adding a field after a
-//!    `#[sabi(last_prefix_field)]` marker would be legal for abi_stable and still lock out every
-//!    existing plugin (the frozen-API test fails with "too many fields").
-//! 4. **Growth goes into extension modules.** Each is a separate, optional, versioned symbol
-//!    ([`crate::extension`]): a host looks it up after loading the root module, checks its
-//!    layout the same way, and treats a library without it as a plugin built before it existed
-//!    (today: every light type has native beams). A published extension version is frozen like
-//!    the root module; the next addition is a new version next to it, and plugins export all
-//!    the versions they support.
+//! 1. **Frozen layouts.** When a library is loaded, abi_stable compares the whole layout of the
+//!    root module ([`PluginModule`]) and of every type it reaches (the four object traits'
+//!    vtables, [`TypeInfo`], [`Beam`](crate::Beam), the [`crate::lanes`] records, …) with the
+//!    host's. Within 0.2 none of them changes. Each prefix type (this module, the vtables) marks
+//!    its last 0.2.0 field with `#[sabi(last_prefix_field)]`; abi_stable 0.11 accepts a library
+//!    whose prefix types have MORE fields than the host's and refuses one with fewer ("too many
+//!    fields", `abi_checking.rs`), so a field appended in 0.2.1 would let 0.2.1 plugins into a
+//!    0.2.0 host but lock every 0.2.0 plugin out of a 0.2.1 host. Hence nothing is appended.
+//! 2. **New capabilities only, in new modules.** A later 0.2.z that adds a capability (a new
+//!    kind of call, not a faster or different encoding of an existing one) exports it as a
+//!    separate, optional symbol of its own (a prefix-type module, layout-checked on its own when
+//!    the host looks it up). A library without it is a plugin built before it existed, and the
+//!    host treats it as not having the capability. Once published, such a module is frozen like
+//!    the root module.
+//! 3. **Never re-encodings.** The per-sample calls are already in the render loop's layout
+//!    (wavelength lanes, records by reference, answers written in place): a host speed-up is the
+//!    host's business and never a new interface.
+//! 4. **Breaking changes bump the minor version** (0.3): the host then refuses 0.2 libraries by
+//!    version, naming both versions and asking for a rebuild, as it refuses 0.1 libraries now.
 //!
-//! Extensions so far: `spectrace_plugin_extensions_v1` (beams in another representation, see
-//! [`representation`](crate::representation)) and `spectrace_plugin_extensions_v2` (scene
-//! bounds and emission spectra for lights, surface normals and exact emission for materials,
-//! spectral lines for SPDs; see [`extension`](crate::extension)) and
-//! `spectrace_plugin_extensions_v3` (fluorescent materials' re-radiation, see
-//! [`reradiation`](crate::reradiation)) and `spectrace_plugin_extensions_v4` (spectral flatness
-//! of materials, one spectral shape of lights, and the material calls in the host's layout, see
-//! [`fast`](crate::fast)) and `spectrace_plugin_extensions_v5` (one BSDF value for every
-//! direction, the material calls with the surface by reference and results through a
-//! reference) and `spectrace_plugin_extensions_v6` (the cosine-weighted density, emission and
-//! the lights' calls in the host's layout). The workspace test `api_growth` loads plugins built
-//! against frozen copies of the API at 0.1.0 (`plugins/fixtures/api-0.1.0/`), at extension v1
-//! (`plugins/fixtures/api-ext-v1/`), at extension v2 (`plugins/fixtures/api-ext-v2/`), at
-//! extension v3 (`plugins/fixtures/api-ext-v3/`), at extension v4 (`plugins/fixtures/api-ext-v4/`)
-//! and at extension v5 (`plugins/fixtures/api-ext-v5/`).
+//! See `plugin-api/CHANGELOG.md` for what each version changed.
 
 use crate::error::PluginError;
 use crate::host::HostRef;
-use crate::light::LightBox;
-use crate::material::MaterialBox;
-use crate::observer::ObserverBox;
-use crate::spd::SpdBox;
+use crate::light::LightObject;
+use crate::material::MaterialObject;
+use crate::observer::ObserverObject;
+use crate::representation::BeamRepresentation;
+use crate::spd::SpdObject;
 use abi_stable::{
     declare_root_module_statics,
     library::RootModule,
-    package_version_strings,
     sabi_types::VersionStrings,
     std_types::{ROption, RResult, RSlice, RStr, RString, RVec},
     StableAbi,
@@ -59,6 +47,11 @@ use abi_stable::{
 
 /// The version of this interface crate a plugin was compiled against.
 pub const API_VERSION: &str = env!("CARGO_PKG_VERSION");
+
+/// The version of the binary interface: what the root module declares to the loader. It stays
+/// `0.2.0` for every 0.2.z of the crate (see the growth rule above); a test checks that its
+/// major and minor numbers are the crate's.
+pub const ABI_VERSION: &str = "0.2.0";
 
 /// The kinds of object a plugin can provide.
 #[repr(u8)]
@@ -131,6 +124,9 @@ pub struct TypeInfo {
     pub description: RString,
     /// Constructor parameters.
     pub params: RVec<ParamInfo>,
+    /// Lights: the representation of the type's beams ([`crate::representation`]); native for
+    /// every other kind.
+    pub beams: BeamRepresentation,
 }
 
 /// What a plugin says about itself.
@@ -163,8 +159,8 @@ pub enum ObjectSource<'a> {
 }
 
 /// The root module: the one symbol a plugin library exports. Each `create_*` builds an object of
-/// its kind from a type name and either parameters or saved state; the host's services (SPD
-/// lookup) are lent for the duration of the call.
+/// its kind from a type name and either parameters or saved state, and returns it with what it
+/// declares once; the host's services (SPD lookup) are lent for the duration of the call.
 #[repr(C)]
 #[derive(StableAbi)]
 #[sabi(kind(Prefix(prefix_ref = PluginModuleRef)))]
@@ -177,40 +173,55 @@ pub struct PluginModule {
         type_name: RStr<'_>,
         source: ObjectSource<'_>,
         host: HostRef<'_>,
-    ) -> RResult<LightBox, PluginError>,
+    ) -> RResult<LightObject, PluginError>,
     /// Construct an SPD.
     pub create_spd: extern "C" fn(
         type_name: RStr<'_>,
         source: ObjectSource<'_>,
         host: HostRef<'_>,
-    ) -> RResult<SpdBox, PluginError>,
+    ) -> RResult<SpdObject, PluginError>,
     /// Construct a colour observer.
     pub create_observer: extern "C" fn(
         type_name: RStr<'_>,
         source: ObjectSource<'_>,
         host: HostRef<'_>,
-    ) -> RResult<ObserverBox, PluginError>,
+    ) -> RResult<ObserverObject, PluginError>,
     /// Construct a material.
     pub create_material: extern "C" fn(
         type_name: RStr<'_>,
         source: ObjectSource<'_>,
         host: HostRef<'_>,
-    ) -> RResult<MaterialBox, PluginError>,
+    ) -> RResult<MaterialObject, PluginError>,
     /// Decode saved state of a type into its parameters in scene (RON) syntax, without building
-    /// the object: what `spectrace blob inspect` prints. Fields added in later API versions go
-    /// after this one.
-    #[sabi(last_prefix_field)]
+    /// the object: what `spectrace blob inspect` prints.
     pub describe_state: extern "C" fn(
         kind: ObjectKind,
         type_name: RStr<'_>,
         type_version: u32,
         bytes: RSlice<'_, u8>,
     ) -> RResult<RString, PluginError>,
+    /// The error of the last per-sample call that failed on the calling thread (its answer was
+    /// [`status::ERROR`](crate::lanes::status) or NaN), taken. The last 0.2.0 field: see the
+    /// growth rule above.
+    #[sabi(last_prefix_field)]
+    pub take_error: extern "C" fn() -> ROption<PluginError>,
 }
 
 impl RootModule for PluginModuleRef {
     declare_root_module_statics! {PluginModuleRef}
     const BASE_NAME: &'static str = "spectrace_plugin";
     const NAME: &'static str = "spectrace_plugin";
-    const VERSION_STRINGS: VersionStrings = package_version_strings!();
+    const VERSION_STRINGS: VersionStrings = VersionStrings::new(ABI_VERSION);
+}
+
+#[cfg(test)]
+mod tests {
+    // The ABI version names the crate's minor line: bumping the crate to 0.3 without it (or
+    // the other way round) fails here.
+    #[test]
+    fn the_abi_version_is_the_crates_minor_line() {
+        let minor = |v: &str| v.split('.').take(2).collect::<Vec<_>>().join(".");
+        assert_eq!(minor(super::ABI_VERSION), minor(super::API_VERSION));
+        assert!(super::ABI_VERSION.ends_with(".0"));
+    }
 }

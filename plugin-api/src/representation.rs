@@ -17,15 +17,13 @@
 //!   draws the wavelength from it (normalised as an SPD) and keeps the expected flux per
 //!   wavelength: `E[power] · p(λ)` is the beam's spectral flux.
 //!
-//! Such a light sets [`PluginType::BEAM_REPRESENTATION`](crate::PluginType) and implements
-//! [`LightSource::next_represented_beam`](crate::LightSource); `next_beam` is then never
-//! called. [`export_plugin!`](crate::export_plugin) lists the declaration in the plugin's type
-//! information through extension module v1 ([`crate::extension`]), since the root module's
-//! [`TypeInfo`](crate::module::TypeInfo) is frozen.
+//! Such a light sets [`PluginType::BEAM_REPRESENTATION`](crate::PluginType); its
+//! [`LightSource::next_beam`](crate::LightSource::next_beam) answers in that representation (a
+//! native light returns a [`Beam`](crate::Beam) `.into()` a [`RepresentedBeam`]). The
+//! declaration is data in the type's [`TypeInfo`](crate::module::TypeInfo).
 
-use crate::module::ObjectKind;
 use crate::types::Vec3;
-use abi_stable::{std_types::RString, StableAbi};
+use abi_stable::StableAbi;
 
 /// Which way the plugin's z axis points (x right and y up in both).
 #[repr(u8)]
@@ -106,14 +104,14 @@ pub struct RepresentedBeam {
     pub power_w: f64,
 }
 
-/// A type's beam representation, as listed in a plugin's type information.
-#[repr(C)]
-#[derive(StableAbi, Clone, Debug, PartialEq)]
-pub struct TypeRepresentation {
-    /// Object kind (always [`ObjectKind::Light`] today).
-    pub kind: ObjectKind,
-    /// Type name, as in [`TypeInfo::name`](crate::module::TypeInfo).
-    pub name: RString,
-    /// Its beams' representation.
-    pub beams: BeamRepresentation,
+impl From<crate::types::Beam> for RepresentedBeam {
+    /// A native beam in the native representation (`source_id` is the host's to assign).
+    fn from(b: crate::types::Beam) -> Self {
+        Self {
+            origin: b.origin,
+            direction: [b.direction.x, b.direction.y, b.direction.z],
+            colour: [b.wavelength_nm, 0.0, 0.0],
+            power_w: b.power_w,
+        }
+    }
 }

@@ -1,4 +1,4 @@
-//! Fluorescence (extension v3): what a `FLUORESCENT` material does to wavelengths.
+//! Fluorescence: what a `FLUORESCENT` material does to wavelengths.
 //!
 //! Light of power 1 arriving at the excitation wavelength λᵢ leaves as
 //!
@@ -75,7 +75,7 @@ pub trait Reradiation: Send + Sync {
     fn range_nm(&self) -> PluginResult<(f64, f64)>;
 }
 
-/// The stable-ABI face of [`Reradiation`] (extension v3); see its methods for their meaning.
+/// The stable-ABI face of [`Reradiation`]; see its methods for their meaning.
 #[sabi_trait]
 pub trait AbiReradiation: Send + Sync {
     /// See [`Reradiation::reflectance`].
@@ -111,13 +111,13 @@ pub trait AbiReradiation: Send + Sync {
 pub type ReradiationBox = AbiReradiation_TO<'static, RBox<()>>;
 
 /// Serves a material's [`Material::reradiation`] behind the ABI, panics caught.
-pub(crate) struct GuardedReradiation<T> {
+pub struct GuardedReradiation<T> {
     inner: Arc<T>,
 }
 
 impl<T: Material> GuardedReradiation<T> {
     /// The re-radiation face of `inner`, or `None` when it offers none (asked once, here).
-    pub(crate) fn boxed(inner: Arc<T>) -> RResult<ROption<ReradiationBox>, PluginError> {
+    pub fn boxed(inner: Arc<T>) -> RResult<ROption<ReradiationBox>, PluginError> {
         match guarded("reradiation", || Ok(inner.reradiation().is_some())) {
             RResult::ROk(true) => RResult::ROk(ROption::RSome(AbiReradiation_TO::from_value(
                 Self { inner },

@@ -3,45 +3,25 @@
 
 use crate::error::{PluginError, PluginResult};
 use crate::guard::guarded;
-use crate::light::WavelengthSample;
-use crate::types::{Flags, WavelengthRange};
+use crate::types::WavelengthRange;
 use abi_stable::{
     sabi_trait,
     std_types::{RBox, RResult, RVec},
     StableAbi,
 };
+use std::sync::Arc;
 
-/// Capability bits of an SPD.
-pub mod spd_flags {
-    use crate::types::Flags;
-    /// Contains spectral lines (deltas in λ): `sample` may return a line with a discrete
-    /// probability in `pdf`, and `value` cannot represent it.
-    pub const HAS_LINES: Flags = Flags(1);
+/// A wavelength drawn from a spectrum.
+#[repr(C)]
+#[derive(StableAbi, Clone, Copy, Debug, Default, PartialEq)]
+pub struct WavelengthSample {
+    /// Wavelength, nm.
+    pub nm: f64,
+    /// Density, 1/nm; for a spectral line, the line's probability (its share of the total).
+    pub pdf: f64,
 }
 
-/// What a plugin author implements for an SPD.
-pub trait Spd: Send + Sync + 'static {
-    /// Normalised value at `nm`, 1/nm (∫ value dλ = 1 over the range).
-    fn value(&self, nm: f64) -> PluginResult<f64>;
-    /// Draw a wavelength with density proportional to `value` (`u` in [0,1)).
-    fn sample(&self, u: f64) -> PluginResult<WavelengthSample>;
-    /// Density of `sample` at `nm`, 1/nm.
-    fn pdf(&self, nm: f64) -> PluginResult<f64>;
-    /// Wavelength range in nm outside which the value is 0.
-    fn range_nm(&self) -> WavelengthRange;
-    /// Capability bits ([`spd_flags`]).
-    fn capabilities(&self) -> Flags {
-        Flags::NONE
-    }
-    /// The spectral lines (deltas in λ) and the share of the total each carries; empty for a
-    /// continuous SPD. Read once, when the object is built, through extension v2
-    /// ([`crate::extension`]): with it the host weighs lines exactly as its own line SPDs.
-    fn delta_lines(&self) -> Vec<SpectralLine> {
-        Vec::new()
-    }
-}
-
-/// One spectral line of an SPD (extension v2): all of `weight` at `nm`.
+/// One spectral line of an SPD: all of `weight` at `nm`.
 #[repr(C)]
 #[derive(StableAbi, Clone, Copy, Debug, Default, PartialEq)]
 pub struct SpectralLine {
@@ -49,6 +29,29 @@ pub struct SpectralLine {
     pub nm: f64,
     /// Share of the SPD's total (unitless, ≤ 1); the continuous part carries the rest.
     pub weight: f64,
+}
+
+/// What a plugin author implements for an SPD.
+///
+/// `value` and `pdf` describe the continuous part (1/nm); the lines ([`lines`](Self::lines))
+/// carry the rest of the unit total. `sample` draws from the whole: a continuous wavelength with
+/// its density, or a line's wavelength with the line's weight as `pdf`.
+pub trait Spd: Send + Sync + 'static {
+    /// Normalised value of the continuous part at `nm`, 1/nm (its integral plus the lines'
+    /// weights is 1).
+    fn value(&self, nm: f64) -> PluginResult<f64>;
+    /// Draw a wavelength (`u` in [0,1)) with density proportional to the SPD.
+    fn sample(&self, u: f64) -> PluginResult<WavelengthSample>;
+    /// Density of `sample` at `nm` (continuous part), 1/nm.
+    fn pdf(&self, nm: f64) -> PluginResult<f64>;
+    /// Wavelength range in nm outside which the SPD is 0. Read once, when the object is built.
+    fn range_nm(&self) -> WavelengthRange;
+    /// The spectral lines (deltas in λ) and the share of the total each carries; empty (the
+    /// default) for a continuous SPD. Read once, when the object is built: the host then weighs
+    /// lines exactly as its own line SPDs.
+    fn lines(&self) -> Vec<SpectralLine> {
+        Vec::new()
+    }
 }
 
 /// An SPD chosen at run time (a light's or material's emission spectrum handed to the host).
@@ -65,15 +68,13 @@ impl Spd for Box<dyn Spd> {
     fn range_nm(&self) -> WavelengthRange {
         (**self).range_nm()
     }
-    fn capabilities(&self) -> Flags {
-        (**self).capabilities()
-    }
-    fn delta_lines(&self) -> Vec<SpectralLine> {
-        (**self).delta_lines()
+    fn lines(&self) -> Vec<SpectralLine> {
+        (**self).lines()
     }
 }
 
-/// The stable-ABI face of an SPD.
+/// The stable-ABI face of an SPD: its calls. What is declared once (range, lines) travels as
+/// data in [`SpdObject`].
 #[sabi_trait]
 pub trait AbiSpd: Send + Sync {
     /// See [`Spd::value`].
@@ -82,17 +83,25 @@ pub trait AbiSpd: Send + Sync {
     fn sample(&self, u: f64) -> RResult<WavelengthSample, PluginError>;
     /// See [`Spd::pdf`].
     fn pdf(&self, nm: f64) -> RResult<f64, PluginError>;
-    /// See [`Spd::range_nm`].
-    fn range_nm(&self) -> WavelengthRange;
-    /// See [`Spd::capabilities`].
-    fn capabilities(&self) -> Flags;
-    /// The object's state as bytes, for blobs.
+    /// The object's state as bytes (bincode of its parameters), for blobs.
     #[sabi(last_prefix_field)]
     fn save_state(&self) -> RResult<RVec<u8>, PluginError>;
 }
 
 /// An SPD behind the stable ABI, owned.
 pub type SpdBox = AbiSpd_TO<'static, RBox<()>>;
+
+/// An SPD as it crosses the boundary: the object and what it declares once.
+#[repr(C)]
+#[derive(StableAbi)]
+pub struct SpdObject {
+    /// The calls.
+    pub spd: SpdBox,
+    /// See [`Spd::range_nm`].
+    pub range: WavelengthRange,
+    /// See [`Spd::lines`].
+    pub lines: RVec<SpectralLine>,
+}
 
 /// Wraps an author's SPD so panics come back as errors.
 pub struct GuardedSpd<T> {
@@ -101,9 +110,22 @@ pub struct GuardedSpd<T> {
 }
 
 impl<T: Spd> GuardedSpd<T> {
-    /// Box `inner` behind the ABI.
-    pub fn boxed(inner: T, state: fn(&T) -> PluginResult<Vec<u8>>) -> SpdBox {
-        AbiSpd_TO::from_value(Self { inner, state }, abi_stable::sabi_trait::TD_Opaque)
+    /// Box `inner` behind the ABI with its declarations (asked once, here); `state` serialises
+    /// it for blobs.
+    pub fn object(
+        inner: T,
+        state: fn(&T) -> PluginResult<Vec<u8>>,
+    ) -> RResult<SpdObject, PluginError> {
+        let declared = guarded("range_nm", || Ok((inner.range_nm(), inner.lines())));
+        let (range, lines) = match declared {
+            RResult::ROk(d) => d,
+            RResult::RErr(e) => return RResult::RErr(e),
+        };
+        RResult::ROk(SpdObject {
+            spd: AbiSpd_TO::from_value(Self { inner, state }, abi_stable::sabi_trait::TD_Opaque),
+            range,
+            lines: lines.into(),
+        })
     }
 }
 
@@ -117,40 +139,38 @@ impl<T: Spd> AbiSpd for GuardedSpd<T> {
     fn pdf(&self, nm: f64) -> RResult<f64, PluginError> {
         guarded("pdf", || self.inner.pdf(nm))
     }
-    fn range_nm(&self) -> WavelengthRange {
-        guarded("range_nm", || Ok(self.inner.range_nm())).unwrap_or_default()
-    }
-    fn capabilities(&self) -> Flags {
-        guarded("capabilities", || Ok(self.inner.capabilities())).unwrap_or(Flags::NONE)
-    }
     fn save_state(&self) -> RResult<RVec<u8>, PluginError> {
         guarded("save_state", || (self.state)(&self.inner).map(RVec::from))
     }
 }
 
-/// An SPD a plugin got from the host (possibly from another plugin), callable as ordinary Rust:
-/// what a light keeps to draw and weigh its wavelengths.
-pub struct SpdHandle(pub SpdBox);
+/// An SPD a plugin got from the host (possibly from another plugin), callable as ordinary Rust
+/// and itself an [`Spd`]: what a light keeps to draw and weigh its wavelengths, and may hand back
+/// as its emission spectrum. Clones share the object.
+#[derive(Clone)]
+pub struct SpdHandle(pub Arc<SpdObject>);
 
 impl SpdHandle {
-    /// See [`Spd::value`].
-    pub fn value(&self, nm: f64) -> PluginResult<f64> {
-        self.0.value(nm).into_result()
+    /// Wrap an SPD object.
+    pub fn new(spd: SpdObject) -> Self {
+        Self(Arc::new(spd))
     }
-    /// See [`Spd::sample`].
-    pub fn sample(&self, u: f64) -> PluginResult<WavelengthSample> {
-        self.0.sample(u).into_result()
+}
+
+impl Spd for SpdHandle {
+    fn value(&self, nm: f64) -> PluginResult<f64> {
+        self.0.spd.value(nm).into_result()
     }
-    /// See [`Spd::pdf`].
-    pub fn pdf(&self, nm: f64) -> PluginResult<f64> {
-        self.0.pdf(nm).into_result()
+    fn sample(&self, u: f64) -> PluginResult<WavelengthSample> {
+        self.0.spd.sample(u).into_result()
     }
-    /// See [`Spd::range_nm`].
-    pub fn range_nm(&self) -> WavelengthRange {
-        self.0.range_nm()
+    fn pdf(&self, nm: f64) -> PluginResult<f64> {
+        self.0.spd.pdf(nm).into_result()
     }
-    /// See [`Spd::capabilities`].
-    pub fn capabilities(&self) -> Flags {
-        self.0.capabilities()
+    fn range_nm(&self) -> WavelengthRange {
+        self.0.range
+    }
+    fn lines(&self) -> Vec<SpectralLine> {
+        self.0.lines.to_vec()
     }
 }

@@ -1,5 +1,6 @@
-//! Plain data that crosses the plugin boundary. Everything is `#[repr(C)]` and `StableAbi`, in
-//! double precision (the seed's `double`), so a beam means the same thing on both sides.
+//! Plain data of the calls made once per object or per beam: `#[repr(C)]`, `StableAbi`, in
+//! double precision (the seed's `double`), so a beam means the same thing on both sides. The
+//! render loop's per-sample data (single precision, wavelength lanes) is in [`crate::lanes`].
 
 use abi_stable::StableAbi;
 use serde::{Deserialize, Serialize};
@@ -116,31 +117,6 @@ pub struct RandomSample {
     pub u: [f64; 8],
 }
 
-/// The wavelengths one path carries (nm); lane 0 is the hero.
-#[repr(C)]
-#[derive(StableAbi, Clone, Copy, Debug, Default, PartialEq)]
-pub struct Wavelengths {
-    /// Wavelengths in nm.
-    pub nm: [f64; LANES],
-}
-
-/// One value per wavelength lane; unit depends on the call.
-#[repr(C)]
-#[derive(StableAbi, Clone, Copy, Debug, Default, PartialEq)]
-pub struct SpectralValues {
-    /// Values per lane.
-    pub v: [f64; LANES],
-}
-
-impl SpectralValues {
-    /// All lanes zero.
-    pub const ZERO: Self = Self { v: [0.0; LANES] };
-    /// Every lane equal.
-    pub const fn splat(x: f64) -> Self {
-        Self { v: [x; LANES] }
-    }
-}
-
 /// Whether a path carries radiance (from the camera) or importance (from a light). Non-symmetric
 /// scattering (refraction, shading normals) differs between the two.
 #[repr(u8)]
@@ -199,8 +175,8 @@ pub struct Xyz {
     pub z: f64,
 }
 
-/// The scene's extent, handed to a light once the scene is built (extension v2,
-/// [`LightSource::scene_bounds`](crate::LightSource::scene_bounds)): lights that cover the whole
+/// The scene's extent, handed to a light once the scene is built
+/// ([`LightSource::scene_bounds`](crate::LightSource::scene_bounds)): lights that cover the whole
 /// scene (a distant sun, a sky) size themselves from it. Boxes are axis-aligned, in scene units.
 #[repr(C)]
 #[derive(StableAbi, Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]

@@ -39,7 +39,8 @@ fn bench(c: &mut Criterion) {
             "isotropic_point",
             ObjectSource::Params(RStr::from_str(PARAMS)),
         )
-        .unwrap();
+        .unwrap()
+        .light;
 
     let mut loaded = Registry::new();
     loaded
@@ -50,7 +51,8 @@ fn bench(c: &mut Criterion) {
             "isotropic_point",
             ObjectSource::Params(RStr::from_str(PARAMS)),
         )
-        .unwrap();
+        .unwrap()
+        .light;
 
     let sample = RandomSample {
         u: [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8],

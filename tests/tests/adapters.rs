@@ -32,7 +32,17 @@ fn plugin_light(lib: &str, ty: &str, params: &str) -> (PluginLight, Arc<PluginFa
         .create_plugin_light(ty, ObjectSource::Params(RStr::from_str(params)))
         .unwrap();
     let (o, f) = origin(ty);
-    (PluginLight::new(light, o), f)
+    let plugin = r.plugins()[0].clone();
+    let beams = plugin
+        .info
+        .types
+        .iter()
+        .find(|t| t.name.as_str() == ty)
+        .map(|t| t.beams)
+        .unwrap_or_default();
+    let l = PluginLight::new(light, beams, plugin.module.take_error(), o, ty)
+        .unwrap_or_else(|e| panic!("{e}"));
+    (l, f)
 }
 
 fn receivers() -> Vec<Vec3A> {
@@ -187,7 +197,7 @@ fn a_lent_spd_reads_back_identically() {
     // Host SPD → ABI (lend_spd) → host again (PluginSpd): the double conversion is exact in f64.
     let d65: Arc<dyn Spd> = Arc::new(parse_spd_spec("d65").unwrap());
     let (o, _) = origin("d65");
-    let round = PluginSpd::new(lend_spd(d65.clone()), o);
+    let round = PluginSpd::new(lend_spd(d65.clone()).unwrap(), o);
     assert_eq!(round.range(), d65.range());
     for i in 0..1000 {
         let u = (i as f64 + 0.5) / 1000.0;

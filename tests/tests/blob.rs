@@ -58,8 +58,8 @@ fn pack_inspect_load_gives_identical_beams() {
     let restored = read.load_plugin_light(&r).unwrap();
     for s in samples() {
         assert_eq!(
-            original.next_beam(&s).unwrap(),
-            restored.next_beam(&s).unwrap()
+            original.light.next_beam(&s).unwrap(),
+            restored.light.next_beam(&s).unwrap()
         );
     }
 }

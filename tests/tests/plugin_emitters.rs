@@ -288,11 +288,14 @@ fn shading_position_reaches_plugin_materials() {
         .unwrap_or_else(|e| panic!("{e}"));
     let material = PluginMaterial::new(
         material,
+        take_error(&registry),
         Origin {
             label: "tint".into(),
             faults: PluginFaults::new(),
         },
-    );
+        "tint",
+    )
+    .unwrap();
     let lambda = SampledWavelengths::sample_visible(0.4);
     let wo = glam::Vec3A::new(0.0, 0.6, 0.8);
     for (x, r) in [(-1.0f32, 0.2f32), (1.0, 0.8)] {
@@ -350,12 +353,11 @@ fn shading_position_reaches_plugin_materials() {
     assert_eq!(faults.count(), 0, "{:?}", faults.first());
 }
 
-/// The surface's normals reach a plugin material through extension v2: `fixture_normal_tint`
-/// answers `up/π` where the normal it reads (shading or geometric) has y ≥ 0.5 and `other/π`
-/// elsewhere. Through the host adapter, with geometric normal +x and shading normal +y and the
-/// other way round, each choice of normal gives the reflectance of the normal it was given
-/// (exact up to f32 rounding, 1e-6); the same material through the root module alone (what a
-/// library older than v2 offers) sees no normal and answers `other/π`. A floor of it (normal
+/// The surface's normals reach a plugin material: `fixture_normal_tint` answers `up/π` where the
+/// normal it reads (shading or geometric) has y ≥ 0.5 and `other/π` elsewhere. Through the host
+/// adapter, with geometric normal +x and shading normal +y and the other way round, each choice
+/// of normal gives the reflectance of the normal it was given (exact up to f32 rounding, 1e-6);
+/// with no normals (zero, what the host gives where it knows none) it answers `other/π`. A floor of it (normal
 /// +y) under a uniform environment (a plane sees only sky: radiance ρ·L) then shows ρ = `up`
 /// within 2% (path tracing, standard error about 0.06%), where a lost normal would give `other`,
 /// a factor 4 less.
@@ -377,11 +379,15 @@ fn surface_normals_reach_plugin_materials() {
     ] {
         let params = format!("(up: 0.8, other: 0.2, normal: \"{which}\")");
         let source = ObjectSource::Params(RStr::from_str(&params));
-        let v2 = registry
-            .create_plugin_material_v2("fixture_normal_tint", source)
-            .unwrap_or_else(|e| panic!("{e}"))
-            .expect("the fixture library exports extension v2");
-        let material = PluginMaterial::new_v2(v2, origin());
+        let material = PluginMaterial::new(
+            registry
+                .create_plugin_material("fixture_normal_tint", source)
+                .unwrap_or_else(|e| panic!("{e}")),
+            take_error(&registry),
+            origin(),
+            "tint",
+        )
+        .unwrap();
         for (ctx, r) in [(up_ctx, 0.8f32), (side_ctx, 0.2)] {
             let f = material.eval(wo, wo, ctx, &lambda, TransportMode::Radiance);
             assert!(
@@ -389,16 +395,16 @@ fn surface_normals_reach_plugin_materials() {
                 "{which} normal: {f:?} for {ctx:?}"
             );
         }
-        let v1 = PluginMaterial::new(
-            registry
-                .create_plugin_material("fixture_normal_tint", source)
-                .unwrap_or_else(|e| panic!("{e}")),
-            origin(),
+        let no_normals = ShadingContext::at(
+            glam::Vec3A::ZERO,
+            glam::Vec3A::ZERO,
+            glam::Vec3A::ZERO,
+            glam::Vec2::ZERO,
         );
-        let f = v1.eval(wo, wo, up_ctx, &lambda, TransportMode::Radiance);
+        let f = material.eval(wo, wo, &no_normals, &lambda, TransportMode::Radiance);
         assert!(
             (f.0[0] - 0.2 / std::f32::consts::PI).abs() < 1e-6,
-            "root module only: {f:?}"
+            "no normals: {f:?}"
         );
     }
 
@@ -428,7 +434,8 @@ fn surface_normals_reach_plugin_materials() {
     assert_eq!(faults.count(), 0, "{:?}", faults.first());
 }
 
-/// A plugin light's claim to emit one spectral shape everywhere (extension v4) is checked when
+/// A plugin light's claim to emit one spectral shape everywhere (`UNIFORM_SPECTRAL_SHAPE`) is
+/// checked when
 /// the light is built. `fixture_quad_light` with `uniform: true` emits `20·S_e(λ)` at every point
 /// and passes: the scene builds and the light keeps its declaration. With `tinted_half: true` as
 /// well, half of the quad emits `20·S_e(λ)·λ/560 nm`, a different colour: the scene is refused
@@ -464,8 +471,19 @@ fn a_plugin_lights_uniform_shape_claim_is_checked() {
         e.contains("fixture_quad_light")
             && e.contains("fixture-emitters")
             && e.contains("lamp")
-            && e.contains("uniform_spectral_shape")
+            && e.contains("UNIFORM_SPECTRAL_SHAPE")
             && e.contains(" nm "),
         "{e}"
     );
+}
+
+/// The root module's `take_error` of the emitters fixture library.
+fn take_error(registry: &spectrace::plugin::Registry) -> spectrace::plugin::adapter::TakeError {
+    registry
+        .plugins()
+        .iter()
+        .find(|p| p.info.name.as_str() == "fixture-emitters")
+        .expect("loaded")
+        .module
+        .take_error()
 }

@@ -1,4 +1,4 @@
-//! Fluorescent plugin materials (extension v3 of the plugin API): an honest one re-radiates
+//! Fluorescent plugin materials (`Material::reradiation` of the plugin API): an honest one re-radiates
 //! through the host's wavelength shifting, and one that lies (energy-creating re-radiation,
 //! NaN, negative densities, anti-Stokes draws, panics) gets a clear error or a counted warning
 //! naming the plugin and the scene's material, never a crash. The fixture is
@@ -100,7 +100,7 @@ fn an_honest_fluorescent_plugin_material_reradiates() {
 /// Lies found when the material is built refuse it, with the plugin, the scene's material and
 /// the wavelength named: re-radiation three times what the material reports (ρ + ∫ r dλₒ =
 /// 1.8 at every excitation wavelength of its band, far above the 1% tolerance), a NaN
-/// reflectance, and a claim to be spectrally flat (extension v4) by a material that shifts
+/// reflectance, and a claim to be spectrally flat (`SPECTRALLY_FLAT`) by a material that shifts
 /// wavelengths.
 #[test]
 fn energy_creating_or_nan_reradiation_is_refused_when_built() {
@@ -142,7 +142,7 @@ fn energy_creating_or_nan_reradiation_is_refused_when_built() {
     }
 }
 
-/// A false claim of the cosine-weighted density (extension v6: the host would compute `pdf`
+/// A false claim of the cosine-weighted density (`COSINE_PDF`: the host would compute `pdf`
 /// itself and never see the material's own) is refused when the material is built, naming the
 /// plugin, the type, the scene's material, the declaration and the density found against the
 /// cosine's. The liar's `sample` and `pdf` say 1/(2π) = 0.159 1/sr, where the cosine density
@@ -160,7 +160,7 @@ fn a_false_cosine_density_claim_is_refused_when_built() {
         "material `liar`",
         "material \"patch\"",
         "cosine-weighted density",
-        "cosine_weighted_pdf",
+        "COSINE_PDF",
         "`sample`",
         "0.15915",
     ] {
@@ -218,13 +218,12 @@ fn lies_while_rendering_are_dropped_and_reported_never_a_crash() {
     }
 }
 
-/// The material calls of extensions v5 to v8 (`sample`, `eval`, `pdf` in the host's layout,
-/// results through a reference, the plugin's guard without a thread-local; v7: the wavelengths by
-/// reference and a status word; v8, the face a current library is called through: the arguments
-/// as the host's calls take them, no error slot) keep the boundary's guarantees: a BSDF sample
+/// The per-sample material calls (`sample`, `eval`, `pdf` in the host's layout, the host's
+/// records by reference, the plugin's guard without a thread-local, no error slot) keep the
+/// boundary's guarantees: a BSDF sample
 /// with a NaN value is dropped and counted per plugin object and reason ("value NaN, infinite or
 /// negative", with its call), and a panic while sampling is caught on the plugin's side and
-/// reported with its call (`sample (v8)`), the panic's location (taken from the report the
+/// reported with its call (`sample`), the panic's location (taken from the report the
 /// library's hook deferred) and its message; the render finishes either way (PT, 16 spp).
 #[test]
 fn lies_in_the_fast_material_calls_are_dropped_or_reported() {
@@ -239,7 +238,7 @@ fn lies_in_the_fast_material_calls_are_dropped_or_reported() {
             .iter()
             .any(|(who, why, n)| who.contains("lying-fluorescent")
                 && who.contains("material `liar`")
-                && why.contains("sample (v8): value NaN")
+                && why.contains("sample: value NaN")
                 && *n > 0),
         "{report}"
     );
@@ -250,40 +249,40 @@ fn lies_in_the_fast_material_calls_are_dropped_or_reported() {
     let e = f.faults().outcome().unwrap_err();
     for want in [
         "lying-fluorescent",
-        "sample (v8) panicked at plugins/fixtures/lying-fluorescent/src/lib.rs:",
+        "sample panicked at plugins/fixtures/lying-fluorescent/src/lib.rs:",
         "the liar panics while sampling",
     ] {
         assert!(e.contains(want), "missing {want:?} in: {e}");
     }
 }
 
-/// Extension v8 keeps a failed call's error on the plugin's side (no error slot in the call)
+/// A failed per-sample call keeps its error on the plugin's side (no error slot in the call)
 /// and the host takes it from the library only when the call answers a failure (ERROR from
 /// `sample`, NaN from `eval` or `pdf`). Through the library, with `lying_diffuse` (the liar
 /// without fluorescence, so that the integrators call its BSDF while rendering): an error
 /// returned by `sample` or `eval` and a panic in `pdf` are each reported naming the plugin, the
-/// material and the call (`sample (v8): …`, `eval (v8): …`, `pdf (v8) panicked at …`) with the
+/// material and the call (`sample: …`, `eval: …`, `pdf panicked at …`) with the
 /// plugin's own message; a NaN value from `sample` or `eval` and an infinite density from `pdf`
 /// are dropped and counted with their call. The render finishes every time (PT, BDPT and LT,
 /// 16 spp, two threads: each thread takes its own errors), and nothing else is reported.
 #[test]
-fn a_v8_plugin_s_failures_are_reported_with_plugin_object_and_call() {
+fn a_plugin_s_failures_are_reported_with_plugin_object_and_call() {
     let kinds = [IntegratorKind::Pt, IntegratorKind::Bdpt, IntegratorKind::Lt];
     let lying = |lie: &str| scene_text("lying_diffuse", &format!("(lie: \"{lie}\")"), 400);
     for (lie, call, message) in [
         (
             "error_sample",
-            "sample (v8)",
-            "error: sample (v8): the liar refuses to sample a direction",
+            "sample",
+            "error: sample: the liar refuses to sample a direction",
         ),
         (
             "error_eval",
-            "eval (v8)",
-            "error: eval (v8): the liar refuses to evaluate",
+            "eval",
+            "error: eval: the liar refuses to evaluate",
         ),
         (
             "panic_pdf",
-            "pdf (v8) panicked at plugins/fixtures/lying-fluorescent/src/lib.rs:",
+            "pdf panicked at plugins/fixtures/lying-fluorescent/src/lib.rs:",
             "the liar panics while giving a density",
         ),
     ] {
@@ -310,9 +309,9 @@ fn a_v8_plugin_s_failures_are_reported_with_plugin_object_and_call() {
         }
     }
     for (lie, why) in [
-        ("nan_sample", "sample (v8): value NaN, infinite or negative"),
-        ("nan_eval", "eval (v8): value NaN, infinite or negative"),
-        ("infinite_pdf", "pdf (v8): pdf NaN, infinite or negative"),
+        ("nan_sample", "sample: value NaN, infinite or negative"),
+        ("nan_eval", "eval: value NaN, infinite or negative"),
+        ("infinite_pdf", "pdf: pdf NaN, infinite or negative"),
     ] {
         for kind in kinds {
             let f = factory();

@@ -55,8 +55,12 @@ fn loaded_plugin_gives_the_same_beams_as_the_same_type_built_in() {
             "(position: (0, 5, 0), direction: (0, -1, 0.2), cone_angle_deg: 40, falloff_start_deg: 20, power_w: 15, spd: \"blackbody:3000\")",
         ),
     ] {
-        let a = loaded.create_plugin_light(ty, params(text)).unwrap();
-        let b = builtin.create_plugin_light(ty, params(text)).unwrap();
+        let a = loaded.create_plugin_light(ty, params(text))
+.unwrap()
+.light;
+        let b = builtin.create_plugin_light(ty, params(text))
+.unwrap()
+.light;
         let n = 2000;
         for s in samples(n) {
             let ba = a.next_beam(&s).unwrap();
@@ -64,8 +68,10 @@ fn loaded_plugin_gives_the_same_beams_as_the_same_type_built_in() {
             // Bit-identical: the same code, the same inputs, across the ABI or not.
             assert_eq!(ba, bb, "{ty}: beams differ for {s:?}");
             assert!(ba.power_w.is_finite() && ba.power_w >= 0.0);
-            assert!((ba.direction.length() - 1.0).abs() < 1e-12, "direction not unit");
-            assert!((300.0..=830.0).contains(&ba.wavelength_nm));
+            let d = ba.direction;
+            let length = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+            assert!((length - 1.0).abs() < 1e-12, "direction not unit");
+            assert!((300.0..=830.0).contains(&ba.colour[0]));
         }
         // The seed's numberOfBeams counts what next_beam handed out.
         assert_eq!(a.number_of_beams(), n as f64);
@@ -81,7 +87,8 @@ fn point_light_beams_average_to_its_flux() {
     let r = registry_with(&plugin_library("spectrace-point-light"));
     let point = r
         .create_plugin_light("isotropic_point", params(POINT_PARAMS))
-        .unwrap();
+        .unwrap()
+        .light;
     for s in samples(100) {
         assert_eq!(point.next_beam(&s).unwrap().power_w, 60.0);
     }
@@ -90,7 +97,8 @@ fn point_light_beams_average_to_its_flux() {
             "smooth_spot",
             params("(position: (0,0,0), direction: (0,0,-1), cone_angle_deg: 50, falloff_start_deg: 10, power_w: 15)"),
         )
-        .unwrap();
+.unwrap()
+.light;
     let n = 20_000;
     let mean: f64 = samples(n)
         .iter()
@@ -162,7 +170,10 @@ fn a_plugin_built_against_another_api_version_is_refused() {
         "names the file: {e}"
     );
     assert!(
-        e.contains("built against spectrace-plugin-api 0.0.1") && e.contains("too old"),
+        e.contains("built against spectrace-plugin-api 0.1.0")
+            && e.contains("this host speaks 0.2.0")
+            && e.contains("rebuild the plugin against 0.2.0")
+            && e.contains("too old"),
         "{e}"
     );
     assert!(e.lines().count() <= 2, "one or two lines: {e}");
@@ -189,6 +200,7 @@ fn duplicate_types_and_plugins_are_refused_naming_both() {
         version: 1,
         description: "built-in point".into(),
         params: Default::default(),
+        beams: Default::default(),
     })
     .unwrap();
     let e = r.load_plugin(&path).unwrap_err().to_string();
@@ -245,7 +257,10 @@ fn constructor_errors_name_the_parameter() {
 #[test]
 fn a_panicking_plugin_is_reported_and_the_host_goes_on() {
     let r = registry_with(&plugin_library("spectrace-fixture-panicking-light"));
-    let light = r.create_plugin_light("panicking", params("()")).unwrap();
+    let light = r
+        .create_plugin_light("panicking", params("()"))
+        .unwrap()
+        .light;
     let mut s = RandomSample::default();
     s.u[0] = 0.9;
     let e = light.next_beam(&s).into_result().unwrap_err();
@@ -256,7 +271,7 @@ fn a_panicking_plugin_is_reported_and_the_host_goes_on() {
     );
     // Still usable after the panic.
     s.u[0] = 0.1;
-    assert_eq!(light.next_beam(&s).unwrap().wavelength_nm, 550.0);
+    assert_eq!(light.next_beam(&s).unwrap().colour[0], 550.0);
     assert_eq!(
         light.number_of_beams(),
         1.0,

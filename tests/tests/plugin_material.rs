@@ -15,8 +15,7 @@ use spectrace::spectrum::SampledWavelengths;
 use spectrace_plugin_api::abi::std_types::RStr;
 use spectrace_plugin_api::module::ObjectSource;
 use spectrace_plugin_api::{
-    Material, RandomSample, ShadingContext as AbiShading, TransportMode as AbiMode, Vec3,
-    Wavelengths,
+    Material, Scatter, Surface, TransportMode as AbiMode, Vec3, Vec4f, Wavelengths,
 };
 use spectrace_rough_diffuse::oren_nayar::{OrenNayar, OrenNayarParams, Reflectance};
 use spectrace_tests::plugin_library;
@@ -37,10 +36,22 @@ fn registry() -> Registry {
     r
 }
 
-fn loaded(params: &str) -> spectrace_plugin_api::MaterialBox {
+fn loaded(params: &str) -> spectrace_plugin_api::MaterialObject {
     registry()
         .create_plugin_material("oren_nayar", ObjectSource::Params(RStr::from_str(params)))
         .unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The root module's `take_error` of the loaded rough-diffuse library.
+fn take_error() -> spectrace::plugin::adapter::TakeError {
+    let r = registry();
+    let p = r
+        .plugins()
+        .iter()
+        .find(|p| p.info.name.as_str() == "rough-diffuse")
+        .expect("loaded")
+        .clone();
+    p.module.take_error()
 }
 
 /// Deterministic directions spread over the upper hemisphere.
@@ -58,8 +69,8 @@ fn directions(n: usize) -> Vec<Vec3> {
 }
 
 // The library loaded through the ABI and the same crate linked in process evaluate the same
-// f64 arithmetic, so `eval` and `pdf` must agree bit for bit over 40×40 direction pairs: any
-// difference would mean the ABI reordered or converted arguments.
+// arithmetic, so `eval`, `pdf` and `sample` must agree bit for bit over 40×40 direction pairs:
+// any difference would mean the ABI reordered or converted arguments.
 #[test]
 fn loaded_library_computes_exactly_what_the_crate_computes() {
     let params = "(reflectance: [(400, 0.2), (700, 0.9)], roughness: 0.8)";
@@ -78,35 +89,48 @@ fn loaded_library_computes_exactly_what_the_crate_computes() {
         &spectrace_plugin_api::Host::new(&services),
     )
     .unwrap();
-    let ctx = AbiShading::default();
-    let lambda = Wavelengths {
-        nm: [420.0, 510.0, 600.0, 690.0],
-    };
-    let dirs = directions(40);
-    for &wo in &dirs {
-        for &wi in &dirs {
-            let a = abi.eval(&ctx, wo, wi, &lambda, AbiMode::Radiance).unwrap();
+    let abi = abi.material;
+    let ctx = Surface::default();
+    let lambda = Wavelengths::at([420.0, 510.0, 600.0, 690.0]);
+    let dirs: Vec<Vec4f> = directions(40).into_iter().map(Vec4f::from_f64).collect();
+    for wo in &dirs {
+        for wi in &dirs {
+            let a = abi.eval(wo, wi, &ctx, &lambda, AbiMode::Radiance);
             let b = native
-                .eval(&ctx, wo, wi, &lambda, AbiMode::Radiance)
+                .eval(wo, wi, &ctx, &lambda, AbiMode::Radiance)
                 .unwrap();
-            assert_eq!(a, b);
-            let pa = abi.pdf(&ctx, wo, wi, &lambda, AbiMode::Radiance).unwrap();
+            assert_eq!(a.v, b);
+            let pa = abi.pdf(wo, wi, &ctx, &lambda, AbiMode::Radiance);
             let pb = native
-                .pdf(&ctx, wo, wi, &lambda, AbiMode::Radiance)
+                .pdf(wo, wi, &ctx, &lambda, AbiMode::Radiance)
                 .unwrap();
             assert_eq!(pa, pb);
         }
     }
-    let mut u = RandomSample::default();
-    u.u[1] = 0.3;
-    u.u[2] = 0.7;
-    let sa = abi
-        .sample(&ctx, dirs[3], &lambda, &u, AbiMode::Radiance)
+    let (mut sa, mut sb) = (Scatter::default(), Scatter::default());
+    let status = abi.sample(
+        &dirs[3],
+        &ctx,
+        &lambda,
+        0.5,
+        0.3,
+        0.7,
+        AbiMode::Radiance,
+        &mut sa,
+    );
+    assert_eq!(status, spectrace_plugin_api::status::WRITTEN);
+    let written = native
+        .sample(
+            &dirs[3],
+            &ctx,
+            &lambda,
+            [0.5, 0.3, 0.7],
+            AbiMode::Radiance,
+            &mut sb,
+        )
         .unwrap();
-    let sb = native
-        .sample(&ctx, dirs[3], &lambda, &u, AbiMode::Radiance)
-        .unwrap();
-    assert_eq!(sa.into_option(), sb);
+    assert!(written);
+    assert_eq!(sa, sb);
 }
 
 // Through the host adapter (f32 host types): looking straight down, every sampled weight
@@ -119,11 +143,14 @@ fn adapter_keeps_the_sampling_weights() {
     let faults = PluginFaults::new();
     let m = PluginMaterial::new(
         loaded("(reflectance: [(555, 0.6)], roughness: 1.0)"),
+        take_error(),
         Origin {
             label: "material `oren_nayar`".into(),
             faults: faults.clone(),
         },
-    );
+        "floor",
+    )
+    .unwrap();
     assert!(m.flags().has_non_specular());
     let (a, _) = OrenNayar::coefficients(1.0);
     let expected = (std::f64::consts::PI * a * 0.6) as f32;

@@ -116,7 +116,7 @@ fn one_plugins_light_uses_another_plugins_spd() {
         .map(|u| {
             let mut s = RandomSample::default();
             s.u[4] = u;
-            light.next_beam(&s).unwrap().wavelength_nm
+            light.light.next_beam(&s).unwrap().colour[0]
         })
         .collect();
     nm.sort_by(|a, b| a.partial_cmp(b).unwrap());
@@ -346,7 +346,7 @@ fn a_declared_observer_table_is_checked_then_used() {
         let Err(e) = load(ty) else {
             panic!("{ty}: a wrong table is refused");
         };
-        for want in ["lying-fluorescent", ty, "declared_table", what] {
+        for want in ["lying-fluorescent", ty, "ColorObserver::table", what] {
             assert!(e.contains(want), "{ty}: missing {want:?} in: {e}");
         }
     }

@@ -54,13 +54,10 @@ fn the_example_laser_loads_and_emits_its_line() {
     let mut s = RandomSample::default();
     s.u[0] = 0.99;
     s.u[1] = 0.3;
-    let b = laser.next_beam(&s).unwrap();
-    assert_eq!(b.wavelength_nm, 532.0);
+    let b = laser.light.next_beam(&s).unwrap();
+    assert_eq!(b.colour[0], 532.0);
     assert_eq!(b.power_w, 0.005);
-    assert_eq!(
-        (b.direction.x, b.direction.y, b.direction.z),
-        (0.0, 0.0, -1.0)
-    );
+    assert_eq!(b.direction, [0.0, 0.0, -1.0]);
     // The start point lies in the aperture disk (radius 0.01 in the z = 0 plane around (0,1,0)).
     let off = b.origin - spectrace_plugin_api::Vec3::new(0.0, 1.0, 0.0);
     assert!(
@@ -68,5 +65,5 @@ fn the_example_laser_loads_and_emits_its_line() {
         "{off:?}"
     );
     // Beams only: it offers no connection capability, so the host must trace its beams.
-    assert_eq!(laser.capabilities().0, 0);
+    assert_eq!(laser.flags.0, 0);
 }

@@ -65,7 +65,7 @@ fn next_to_the_builtins_the_library_is_refused_naming_both() {
 /// `table` SPD types, their range and spectral lines (a mixture with a line included), and x̄ȳz̄
 /// and the integral of ȳ of the four CIE observers, at 471 wavelengths (360–830 nm), library
 /// against built-in. Tolerance: none: both run the same host code on the same f64 parameters,
-/// the plugin interface passes f64 unchanged, and lines cross through extension v2.
+/// the plugin interface passes them unchanged, and lines cross as declared data.
 #[test]
 fn library_types_sample_exactly_like_the_builtins() {
     let builtin = factory(spectrace::plugin::builtin_registry());
@@ -118,7 +118,7 @@ fn library_types_sample_exactly_like_the_builtins() {
 /// of `point`, `spot`, `directional` and `environment` after both learned the same scene bounds,
 /// at 200 pseudo-random inputs each, library against built-in. Tolerance: none (bit-identical):
 /// both run the host's own code, every f32 the host hands the library crosses as f64 and comes
-/// back as the same f32, and through extension v2 the shading context carries the normals, the
+/// back as the same f32, and the surface carries the normals, the
 /// lights get the bounds and emitters hand over their own SPD. Not carried: the wavelengths'
 /// densities (only thin films read them), so they are left at 1/nm here.
 #[test]
@@ -350,7 +350,7 @@ fn render_xyz(
         threads: Some(2),
         ..RenderSettings::default()
     };
-    // `flat-path-colour` stays as `auto` decides: through extension v4 the library's types
+    // `flat-path-colour` stays as `auto` decides: by their declared bits the library's types
     // declare spectral flatness and uniform emission shapes exactly where the built-ins do (see
     // `library_declares_flatness_where_the_builtins_do`), so both are estimated alike.
     let plan = spectrace::effects::RenderPlan::new(
@@ -441,13 +441,13 @@ fn scenes() -> Vec<(&'static str, spectrace::scene::SceneDescription)> {
 /// `scenes/fluorescence.ron` (two measured fluorescent samples and their non-fluorescent twins
 /// under a near-UV and a D65 panel; 40×24, 4 spp: the re-radiation crosses through extension
 /// v3). Effects as `--effects auto` decides, so the exact colour of spectrally flat paths is on
-/// (`flat-path-colour`; every scene has area lights): through extension v4 the library's types
+/// (`flat-path-colour`; every scene has area lights): by their declared bits the library's types
 /// declare spectral flatness where the built-ins do (test below). Tolerance: none,
 /// bit-identical (what `spectrace compare --json` reports as RMSE 0).
 ///
-/// Why this holds, and what it took: the objects are bit-identical (test above), and through
-/// extension v2 the host also sees the emitters' spectra as the built-ins do. Before v2 the host
-/// knew a plugin emitter's spectrum only through sampled values: an emissive plugin material's
+/// Why this holds, and what it took: the objects are bit-identical (test above), and the host
+/// also sees the emitters' spectra as the built-ins do (declared once). Without a declared
+/// emission the host knows a plugin emitter's spectrum only through sampled values: an emissive plugin material's
 /// area light was `emitted` tabulated at 1 nm over 360–830 nm, with the table's trapezoid
 /// integral as its scale. For D65 (defined from 300 nm) that integral leaves out the 300–360 nm
 /// part, so the area light's power, and with it the light-selection probabilities, differed
@@ -488,9 +488,9 @@ fn scenes_render_bit_for_bit_with_all_types_from_the_library() {
 /// materials of `fluorescence.ron` (flat objects: Cornell box 1 of 8, `materials.ron` 1 of 7,
 /// `sun_and_sky.ron` 0 of 3, `fluorescence.ron` 3 of 7), and the area lights (1, 1, 0, 2).
 /// Likewise whether its BSDF value is the same for every direction
-/// (`Material::f_same_for_all_directions`, extension v5, also checked by the host when built;
+/// (`SAME_VALUE_ALL_DIRECTIONS`, also checked by the host when built;
 /// the Lambertian surfaces, which every scene but `sun_and_sky.ron` has), and whether it samples
-/// with the cosine-weighted density (`Material::cosine_weighted_pdf`, extension v6, checked
+/// with the cosine-weighted density (`COSINE_PDF`, checked
 /// when built; the same Lambertian surfaces).
 #[test]
 fn library_declares_flatness_where_the_builtins_do() {
@@ -564,7 +564,7 @@ fn without_builtins_the_library_renders_the_cornell_box() {
 
 /// Quantity: every call of the host's re-radiation interface (reflectance, r(λᵢ → λₒ), the two
 /// fractions, both draws with their densities, both densities, the range) of the library's
-/// `fluorescent` (extension v3) against the built-in, for a measured matrix (IXCRLALE) and the
+/// `fluorescent` (its re-radiation handed over) against the built-in, for a measured matrix (IXCRLALE) and the
 /// parametric model, at 300 pseudo-random wavelength pairs and uniforms each over 300–800 nm;
 /// and that the non-fluorescent twin offers none. Tolerance: none (bit-identical): both run the
 /// host's own code, and every argument and result crosses the interface as f64 unchanged.

@@ -150,17 +150,14 @@ fn agreement(spp: u32) -> Vec<Region> {
 
     let mut registry = spectrace::plugin::builtin_registry();
     registry.load_plugin(&lib).unwrap_or_else(|e| panic!("{e}"));
-    // The representation is declared in the plugin's type information (extension module v1).
+    // The representation is declared in the plugin's type information.
     let plugin = registry
         .plugins()
         .iter()
         .find(|p| p.info.name.as_str() == "third-party-light")
         .expect("loaded")
         .clone();
-    let ext = spectrace::plugin::representation::extension::extensions_v1(&plugin.path)
-        .unwrap()
-        .expect("built against the current API, so it exports extension module v1");
-    let declared = (ext.type_representations())().unwrap();
+    let declared: Vec<_> = plugin.info.types.iter().collect();
     assert_eq!(declared.len(), 1);
     let d = &declared[0];
     assert_eq!((d.kind, d.name.as_str()), (ObjectKind::Light, "rgb_spot"));

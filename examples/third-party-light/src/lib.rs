@@ -6,8 +6,8 @@
 
 use serde::{Deserialize, Serialize};
 use spectrace_plugin_api::{
-    BeamRepresentation, ColourEncoding, DirectionEncoding, Handedness, Host, LightSource, ParamDoc,
-    PluginError, PluginResult, PluginType, RandomSample, RepresentedBeam, Vec3,
+    BeamRepresentation, ColourEncoding, DirectionEncoding, Flags, Handedness, Host, LightSource,
+    ParamDoc, PluginError, PluginResult, PluginType, RandomSample, RepresentedBeam, Vec3,
 };
 use std::f64::consts::PI;
 
@@ -130,15 +130,15 @@ impl PluginType for RgbSpot {
 }
 
 impl LightSource for RgbSpot {
-    fn next_beam(&self, _sample: &RandomSample) -> PluginResult<spectrace_plugin_api::Beam> {
-        Err(PluginError::unsupported(
-            "rgb_spot hands out beams in its own representation only",
-        ))
+    fn flags(&self) -> Flags {
+        // Beams only: the host traces what `next_beam` hands out.
+        Flags::NONE
     }
 
-    /// Uniform in solid angle within the cone (u[0], u[1]). The intensity is uniform too, so
-    /// every beam carries the whole flux: `power_w` is the one-sample estimate of it.
-    fn next_represented_beam(&self, sample: &RandomSample) -> PluginResult<RepresentedBeam> {
+    /// Uniform in solid angle within the cone (u[0], u[1]), in the declared representation.
+    /// The intensity is uniform too, so every beam carries the whole flux: `power_w` is the
+    /// one-sample estimate of it.
+    fn next_beam(&self, sample: &RandomSample) -> PluginResult<RepresentedBeam> {
         let cos_t = 1.0 - sample.u[0] * (1.0 - self.cos_cone);
         let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
         let phi = 2.0 * PI * sample.u[1];

@@ -38,6 +38,9 @@ pub fn run(args: &PluginsArgs, verbose: bool) -> Result<(), String> {
             p.info.api_version,
             p.path.display()
         );
+        if let Some(sha) = &p.sha256 {
+            println!("  sha256 {sha}");
+        }
         for t in p.info.types.iter() {
             println!(
                 "  {} `{}` v{}: {}",

@@ -398,7 +398,12 @@ fn png_exposure(args: &RenderArgs, scene: &Scene, image: &XyzImage) -> (f64, Opt
 
 /// Run `spectrace render` with the built-in types and the plugins named in `args`.
 pub fn run(args: &RenderArgs) -> Result<(), String> {
-    let registry = std::sync::Arc::new(args.plugins.registry(false)?);
+    let mut registry = args.plugins.registry(false)?;
+    // The libraries the scene file lists (`plugins: [...]`, pinned ones checked).
+    if let Some(scene) = &args.scene {
+        registry.load_scene_plugins(scene)?;
+    }
+    let registry = std::sync::Arc::new(registry);
     let faults = crate::plugin::adapter::PluginFaults::new();
     let plugins = crate::plugin::factory::PluginFactory::new(registry, faults.clone());
     // One way in: the registry builds every type, built-in, plugin or blob.

@@ -404,15 +404,19 @@ impl Blob {
         let payload = match kind {
             ObjectKind::Light => registry
                 .create_plugin_light(type_name, source())?
+                .light
                 .save_state(),
             ObjectKind::Material => registry
                 .create_plugin_material(type_name, source())?
+                .material
                 .save_state(),
             ObjectKind::Spd => registry
                 .create_plugin_spd(type_name, source())?
+                .spd
                 .save_state(),
             ObjectKind::Observer => registry
                 .create_plugin_observer(type_name, source())?
+                .observer
                 .save_state(),
         }
         .into_result()
@@ -461,7 +465,7 @@ impl Blob {
     pub fn load_plugin_light(
         &self,
         registry: &super::Registry,
-    ) -> Result<spectrace_plugin_api::LightBox, BlobLoadError> {
+    ) -> Result<spectrace_plugin_api::LightObject, BlobLoadError> {
         use spectrace_plugin_api::abi::std_types::RSlice;
         use spectrace_plugin_api::module::ObjectSource;
         self.check_plugin(registry)?;

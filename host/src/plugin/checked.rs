@@ -4,10 +4,7 @@
 //! counted per plugin object and reason; the render completes and its summary reports the counts
 //! (see `adapter::PluginFaults`). Each check returns the reason it failed.
 
-use spectrace_plugin_api::{
-    Beam, EmissionF32, EmissionSample, IncidentF32, IncidentSample, ScatterF32, ScatterSample,
-    SpectralValues, Vec3, Vec4f, WavelengthSample,
-};
+use spectrace_plugin_api::{Beam, EmittedRay, Incident, Scatter, Vec3, Vec4f, WavelengthSample};
 
 /// Largest accepted deviation of a "unit" direction's length from 1. Plugins compute in f64;
 /// 1e-3 leaves room for single-precision plugin arithmetic and still catches unnormalised
@@ -69,15 +66,6 @@ pub fn finite(v: [f64; 3]) -> Result<(), Reason> {
     }
 }
 
-/// Spectral values (radiance, BSDF, …): finite and ≥ 0 in every lane.
-pub fn values(v: &SpectralValues) -> Result<(), Reason> {
-    if v.v.iter().all(|x| x.is_finite() && *x >= 0.0) {
-        Ok(())
-    } else {
-        Err(BAD_VALUE)
-    }
-}
-
 /// Accepted wavelengths, nm: anything a spectrum could hold. Light outside the observers'
 /// 360–830 nm is legitimate (bundled SPDs start at 300 nm) and simply not seen; a wavelength
 /// that is zero, negative, NaN or beyond 0.1 mm is a plugin bug (a sign error, a unit mix-up).
@@ -110,34 +98,7 @@ pub fn wavelength_sample(s: &WavelengthSample) -> Result<(), Reason> {
     density(s.pdf)
 }
 
-/// An emission sample (light subpaths).
-pub fn emission(s: &EmissionSample) -> Result<(), Reason> {
-    finite_point(s.origin)?;
-    unit(s.direction)?;
-    density(s.pdf_position)?;
-    density(s.pdf_direction)?;
-    values(&s.value)
-}
-
-/// An incident sample (next-event estimation).
-pub fn incident(s: &IncidentSample) -> Result<(), Reason> {
-    finite_point(s.point)?;
-    unit(s.direction)?;
-    if !(s.distance > 0.0) {
-        return Err("distance not > 0");
-    }
-    density(s.pdf)?;
-    values(&s.value)
-}
-
-/// A BSDF sample.
-pub fn scatter(s: &ScatterSample) -> Result<(), Reason> {
-    unit(s.wi)?;
-    density(s.pdf)?;
-    values(&s.value)
-}
-
-// The same rules for the single-precision results of extension v4's material calls, written
+// The rules for the single-precision results of the per-sample calls, written
 // to cost a few instructions: four lanes compared at once (SIMD, glam's `Vec4`), a NaN failing
 // every comparison, single values and squared lengths compared as bit patterns (see
 // `non_negative_finite`, `unit_squared`), and every rule of a result combined before one
@@ -200,7 +161,7 @@ pub fn density_f32(p: f32) -> Result<(), Reason> {
     }
 }
 
-/// [`values`] in `f32`.
+/// Spectral values (radiance, BSDF, …): finite and ≥ 0 in every lane.
 #[inline]
 pub fn values_f32(v: &[f32; 4]) -> Result<(), Reason> {
     if all_non_negative_finite(glam::Vec4::from_array(*v)) {
@@ -220,9 +181,9 @@ pub fn vector_f32(v: glam::Vec4) -> Result<(), Reason> {
     }
 }
 
-/// [`scatter`] in `f32`: the same rules and reasons.
+/// A BSDF sample: unit direction, density and values finite and ≥ 0.
 #[inline]
-pub fn scatter_f32(s: &ScatterF32) -> Result<(), Reason> {
+pub fn scatter_f32(s: &Scatter) -> Result<(), Reason> {
     let ok = all_non_negative_finite(glam::Vec4::from_array(s.value))
         & non_negative_finite(s.pdf)
         & unit_f32(s.wi);
@@ -233,9 +194,9 @@ pub fn scatter_f32(s: &ScatterF32) -> Result<(), Reason> {
     }
 }
 
-/// Which rule a refused v4 sample broke, in the order [`scatter`] checks them.
+/// Which rule a refused sample broke.
 #[cold]
-fn scatter_f32_reason(s: &ScatterF32) -> Result<(), Reason> {
+fn scatter_f32_reason(s: &Scatter) -> Result<(), Reason> {
     if !unit_f32(s.wi) {
         return Err(BAD_DIRECTION);
     }
@@ -261,10 +222,10 @@ fn finite_f32(v: Vec4f) -> bool {
     all_non_negative_finite(xyz(v).abs())
 }
 
-/// [`incident`] in `f32` (extension v6): the same rules and reasons, without the distance,
-/// which the host measures itself, and with the point's error bound finite and ≥ 0.
+/// An incident sample (next-event estimation): finite point, unit direction, density and
+/// values finite and ≥ 0, the point's error bound finite and ≥ 0.
 #[inline]
-pub fn incident_f32(s: &IncidentF32) -> Result<(), Reason> {
+pub fn incident_f32(s: &Incident) -> Result<(), Reason> {
     let ok = all_non_negative_finite(glam::Vec4::from_array(s.value))
         & non_negative_finite(s.pdf)
         & unit_f32(s.direction)
@@ -277,9 +238,9 @@ pub fn incident_f32(s: &IncidentF32) -> Result<(), Reason> {
     }
 }
 
-/// Which rule a refused v6 incident sample broke, in the order [`incident`] checks them.
+/// Which rule a refused incident sample broke.
 #[cold]
-fn incident_f32_reason(s: &IncidentF32) -> Result<(), Reason> {
+fn incident_f32_reason(s: &Incident) -> Result<(), Reason> {
     finite_point(s.point.to_f64())?;
     if !unit_f32(s.direction) {
         return Err(BAD_DIRECTION);
@@ -292,9 +253,10 @@ fn incident_f32_reason(s: &IncidentF32) -> Result<(), Reason> {
     Ok(())
 }
 
-/// [`emission`] in `f32` (extension v6): the same rules and reasons.
+/// An emitted ray (light subpaths): finite origin, unit direction, densities and values finite
+/// and ≥ 0.
 #[inline]
-pub fn emission_f32(s: &EmissionF32) -> Result<(), Reason> {
+pub fn emission_f32(s: &EmittedRay) -> Result<(), Reason> {
     let ok = finite_f32(s.origin)
         & unit_f32(s.direction)
         & non_negative_finite(s.pdf_position)
@@ -307,9 +269,9 @@ pub fn emission_f32(s: &EmissionF32) -> Result<(), Reason> {
     }
 }
 
-/// Which rule a refused v6 emission sample broke, in the order [`emission`] checks them.
+/// Which rule a refused emitted ray broke.
 #[cold]
-fn emission_f32_reason(s: &EmissionF32) -> Result<(), Reason> {
+fn emission_f32_reason(s: &EmittedRay) -> Result<(), Reason> {
     finite_point(s.origin.to_f64())?;
     if !unit_f32(s.direction) {
         return Err(BAD_DIRECTION);
@@ -409,11 +371,8 @@ mod tests {
             assert!(e.contains(what), "{b:?}: {e}");
         }
         assert!(density(0.0).is_ok() && density(-1e-30).is_err() && density(f64::NAN).is_err());
-        assert!(values(&SpectralValues::splat(0.0)).is_ok());
-        assert!(values(&SpectralValues {
-            v: [1.0, -0.5, 0.0, 0.0]
-        })
-        .is_err());
+        assert!(values_f32(&[0.0; 4]).is_ok());
+        assert!(values_f32(&[1.0, -0.5, 0.0, 0.0]).is_err());
     }
 
     // The comparisons of bits accept exactly what the comparisons of values they replace accept:
@@ -514,80 +473,11 @@ mod tests {
         }
     }
 
-    // The f32 rules of extension v4 refuse what the f64 rules refuse, with the same reasons.
-    #[test]
-    fn the_f32_rules_agree_with_the_f64_rules() {
-        let good = ScatterF32 {
-            wi: Vec4f::new(0.0, 0.6, 0.8),
-            value: [0.1, 0.2, 0.0, 0.3],
-            pdf: 0.25,
-            flags: spectrace_plugin_api::Flags::NONE,
-            eta: 1.0,
-        };
-        assert!(scatter_f32(&good).is_ok());
-        let bad = [
-            (
-                ScatterF32 {
-                    wi: Vec4f::new(0.0, 0.0, 1.01),
-                    ..good
-                },
-                "direction",
-            ),
-            (
-                ScatterF32 {
-                    wi: Vec4f::new(f32::NAN, 0.0, 1.0),
-                    ..good
-                },
-                "direction",
-            ),
-            (
-                ScatterF32 {
-                    pdf: f32::NAN,
-                    ..good
-                },
-                "pdf",
-            ),
-            (ScatterF32 { pdf: -1.0, ..good }, "pdf"),
-            (
-                ScatterF32 {
-                    value: [0.1, f32::INFINITY, 0.0, 0.0],
-                    ..good
-                },
-                "value",
-            ),
-            (
-                ScatterF32 {
-                    value: [0.1, 0.0, -1e-30, 0.0],
-                    ..good
-                },
-                "value",
-            ),
-        ];
-        for (s, what) in bad {
-            let e = scatter_f32(&s).unwrap_err();
-            assert!(e.contains(what), "{s:?}: {e}");
-        }
-        // Inside and outside the unit tolerance, as the f64 rule.
-        let ok = 1.0 + 0.9 * UNIT_TOLERANCE as f32;
-        let no = 1.0 + 1.1 * UNIT_TOLERANCE as f32;
-        assert!(scatter_f32(&ScatterF32 {
-            wi: Vec4f::new(0.0, 0.0, ok),
-            ..good
-        })
-        .is_ok());
-        assert!(scatter_f32(&ScatterF32 {
-            wi: Vec4f::new(0.0, 0.0, no),
-            ..good
-        })
-        .is_err());
-        assert!(density_f32(0.0).is_ok() && density_f32(f32::INFINITY).is_err());
-    }
-
-    // The v6 light samples in `f32`: an honest sample passes; each broken field is refused
+    // The light samples in `f32`: an honest sample passes; each broken field is refused
     // with the reason of its rule (the incident sample's error bound too).
     #[test]
     fn the_v6_light_samples_are_checked_field_by_field() {
-        let good = IncidentF32 {
+        let good = Incident {
             value: [1.0, 2.0, 0.0, 3.0],
             direction: Vec4f::new(0.0, 0.6, 0.8),
             pdf: 1.0,
@@ -598,29 +488,29 @@ mod tests {
         assert_eq!(incident_f32(&good), Ok(()));
         let bad = [
             (
-                IncidentF32 {
+                Incident {
                     value: [1.0, f32::NAN, 0.0, 0.0],
                     ..good
                 },
                 "value",
             ),
-            (IncidentF32 { pdf: -1.0, ..good }, "pdf"),
+            (Incident { pdf: -1.0, ..good }, "pdf"),
             (
-                IncidentF32 {
+                Incident {
                     direction: Vec4f::new(0.0, 0.0, 2.0),
                     ..good
                 },
                 "direction",
             ),
             (
-                IncidentF32 {
+                Incident {
                     point: Vec4f::new(f32::INFINITY, 0.0, 0.0),
                     ..good
                 },
                 "position",
             ),
             (
-                IncidentF32 {
+                Incident {
                     point_error: Vec4f::new(0.0, -1.0, 0.0),
                     ..good
                 },
@@ -631,7 +521,7 @@ mod tests {
             let e = incident_f32(&s).unwrap_err();
             assert!(e.contains(what), "{s:?}: {e}");
         }
-        let good = EmissionF32 {
+        let good = EmittedRay {
             origin: Vec4f::new(1.0, 2.0, 3.0),
             direction: Vec4f::new(1.0, 0.0, 0.0),
             value: [1.0; 4],
@@ -642,28 +532,28 @@ mod tests {
         assert_eq!(emission_f32(&good), Ok(()));
         let bad = [
             (
-                EmissionF32 {
+                EmittedRay {
                     value: [-1.0; 4],
                     ..good
                 },
                 "value",
             ),
             (
-                EmissionF32 {
+                EmittedRay {
                     pdf_direction: f32::NAN,
                     ..good
                 },
                 "pdf",
             ),
             (
-                EmissionF32 {
+                EmittedRay {
                     direction: Vec4f::new(0.5, 0.0, 0.0),
                     ..good
                 },
                 "direction",
             ),
             (
-                EmissionF32 {
+                EmittedRay {
                     origin: Vec4f::new(f32::NAN, 0.0, 0.0),
                     ..good
                 },

@@ -1,5 +1,5 @@
 //! Checking a plugin material's claim that it samples with the cosine-weighted density
-//! (extension v6, `Material::cosine_weighted_pdf`), once, when it is built. The host then
+//! (the `COSINE_PDF` bit), once, when it is built. The host then
 //! computes `pdf(wo, wi)` itself as `|cos θi|/π` on `wo`'s side and 0 on the other
 //! ([`cosine_pdf`]) instead of calling the plugin; a material that claims it wrongly would get
 //! wrong MIS weights (a biased image wherever its real density differs) with no noise to show

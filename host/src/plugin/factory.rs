@@ -17,8 +17,9 @@ use crate::light::Light;
 use crate::material::Material;
 use crate::scene::{FactoryContext, FactoryError, ObjectFactory};
 use crate::spectrum::Spd;
-use spectrace_plugin_api::abi::std_types::RStr;
+use spectrace_plugin_api::abi::std_types::{ROption, RStr};
 use spectrace_plugin_api::module::ObjectSource;
+use spectrace_plugin_api::ObjectKind;
 use std::sync::Arc;
 
 /// The type name that loads a blob file, for each blob kind:
@@ -203,133 +204,60 @@ impl PluginFactory {
             faults: self.faults.clone(),
         };
         let r = &self.registry;
-        // Through the newest extension the library has (v2: the objects then also get the
-        // scene's bounds, normals, exact emission spectra and spectral lines; v3: fluorescent
-        // materials' re-radiation; v4: spectral flatness and uniform emission shapes, and the
-        // material calls in the host's layout; v5: one BSDF value for every direction, results
-        // through a reference; v6: the cosine-weighted density, emission and the lights' calls
-        // in the host's layout; v7: the material calls with the wavelengths by reference and a
-        // status word), else the root module.
+        let take_error = plugin.module.take_error();
         Ok(match kind {
             Kind::Material => {
-                let m = if let Some((m, ext)) = r
-                    .create_plugin_material_v8(type_name, object_source)
-                    .map_err(construct_error)?
-                {
-                    PluginMaterial::new_v8(m, ext.take_error(), origin, &ctx.item)
-                        .map_err(FactoryError::Param)?
-                } else if let Some(m) = r
-                    .create_plugin_material_v7(type_name, object_source)
-                    .map_err(construct_error)?
-                {
-                    PluginMaterial::new_v7(m, origin, &ctx.item).map_err(FactoryError::Param)?
-                } else if let Some(m) = r
-                    .create_plugin_material_v6(type_name, object_source)
-                    .map_err(construct_error)?
-                {
-                    PluginMaterial::new_v6(m, origin, &ctx.item).map_err(FactoryError::Param)?
-                } else if let Some(m) = r
-                    .create_plugin_material_v5(type_name, object_source)
-                    .map_err(construct_error)?
-                {
-                    PluginMaterial::new_v5(m, origin, &ctx.item).map_err(FactoryError::Param)?
-                } else if let Some(m) = r
-                    .create_plugin_material_v4(type_name, object_source)
-                    .map_err(construct_error)?
-                {
-                    PluginMaterial::new_v4(m, origin, &ctx.item).map_err(FactoryError::Param)?
-                } else if let Some(m) = r
-                    .create_plugin_material_v3(type_name, object_source)
-                    .map_err(construct_error)?
-                {
-                    PluginMaterial::new_v3(m, origin, &ctx.item).map_err(FactoryError::Param)?
-                } else if let Some(m) = r
-                    .create_plugin_material_v2(type_name, object_source)
-                    .map_err(construct_error)?
-                {
-                    PluginMaterial::new_v2(m, origin)
-                } else {
-                    PluginMaterial::new(
-                        r.create_plugin_material(type_name, object_source)
-                            .map_err(construct_error)?,
-                        origin,
-                    )
-                };
-                Built::Material(Arc::new(m))
+                let m = r
+                    .create_plugin_material(type_name, object_source)
+                    .map_err(construct_error)?;
+                Built::Material(Arc::new(
+                    PluginMaterial::new(m, take_error, origin, &ctx.item)
+                        .map_err(FactoryError::Param)?,
+                ))
             }
-            // A type whose beams are in another representation is wrapped in its adapters.
             Kind::Light => {
-                let l = if let Some(l) = r
-                    .create_plugin_light_v6(type_name, object_source)
-                    .map_err(construct_error)?
-                {
-                    PluginLight::new_v6(l, origin, &ctx.item).map_err(FactoryError::Param)?
-                } else if let Some(l) = r
-                    .create_plugin_light_v4(type_name, object_source)
-                    .map_err(construct_error)?
-                {
-                    PluginLight::new_v4(l, origin, &ctx.item).map_err(FactoryError::Param)?
-                } else if let Some(l) = r
-                    .create_plugin_light_v2(type_name, object_source)
-                    .map_err(construct_error)?
-                {
-                    PluginLight::new_v2(l, origin)
-                } else {
-                    PluginLight::new(
-                        r.create_plugin_light(type_name, object_source)
-                            .map_err(construct_error)?,
-                        origin,
-                    )
-                };
+                let l = r
+                    .create_plugin_light(type_name, object_source)
+                    .map_err(construct_error)?;
+                let representation = plugin
+                    .info
+                    .types
+                    .iter()
+                    .find(|t| t.kind == ObjectKind::Light && t.name.as_str() == type_name)
+                    .map(|t| t.beams)
+                    .unwrap_or_default();
                 Built::Light(Arc::new(
-                    super::representation::wrap_light(r, type_name, object_source, l)
+                    PluginLight::new(l, representation, take_error, origin, &ctx.item)
                         .map_err(FactoryError::Param)?,
                 ))
             }
             Kind::Spd => {
-                let s = match r
-                    .create_plugin_spd_v2(type_name, object_source)
-                    .map_err(construct_error)?
-                {
-                    Some(s) => PluginSpd::with_lines(s, origin),
-                    None => PluginSpd::new(
-                        r.create_plugin_spd(type_name, object_source)
-                            .map_err(construct_error)?,
-                        origin,
-                    ),
-                };
-                Built::Spd(Arc::new(s))
+                let s = r
+                    .create_plugin_spd(type_name, object_source)
+                    .map_err(construct_error)?;
+                Built::Spd(Arc::new(PluginSpd::new(s, origin)))
             }
-            // v7: an observer that declares its functions a 1 nm table is evaluated from the
-            // host's own copy, once the claim is checked (`observer_table`); a wrong claim
-            // refuses the observer.
-            Kind::Observer => match r
-                .create_plugin_observer_v7(type_name, object_source)
-                .map_err(construct_error)?
-            {
-                Some(o) => match o.table.into_option() {
-                    Some(table) => Built::Observer(Arc::new(
-                        super::observer_table::host_copy(&o.observer, &table).map_err(|e| {
+            Kind::Observer => {
+                let o = r
+                    .create_plugin_observer(type_name, object_source)
+                    .map_err(construct_error)?;
+                match &o.table {
+                    ROption::RSome(table) => Built::Observer(Arc::new(
+                        super::observer_table::host_copy(&o, table).map_err(|e| {
                             FactoryError::Param(format!(
                                 "{} declares its colour-matching functions as a 1 nm table \
-                                 (declared_table, extension v7), but {e}",
+                                 (ColorObserver::table), but {e}",
                                 origin.label
                             ))
                         })?,
                     )),
-                    None => Built::Observer(Arc::new(PluginObserver::new(o.observer, origin))),
-                },
-                None => Built::Observer(Arc::new(PluginObserver::new(
-                    r.create_plugin_observer(type_name, object_source)
-                        .map_err(construct_error)?,
-                    origin,
-                ))),
-            },
+                    ROption::RNone => Built::Observer(Arc::new(PluginObserver::new(o, origin))),
+                }
+            }
             _ => return Err(unknown()),
         })
     }
 
-    /// `(type: "blob", params: (file: ..))` of `kind`.
     fn blob(
         &self,
         kind: Kind,
@@ -383,10 +311,15 @@ impl ObjectFactory for PluginFactory {
     ) -> Option<Vec<super::type_doc::ParamDoc>> {
         let kind = Kind::parse(kind)?;
         // A light type with its own declared beam representation converts its own lengths.
+        let own_units = |p: &super::LoadedPlugin| {
+            p.info.types.iter().any(|t| {
+                t.kind == ObjectKind::Light && t.name.as_str() == type_name && !t.beams.is_native()
+            })
+        };
         if kind == Kind::Light
             && matches!(
-                super::representation::declared(&self.registry, type_name),
-                Ok(Some(_))
+                self.registry.plugin_for(ObjectKind::Light, type_name),
+                Ok(Some(p)) if own_units(&p)
             )
         {
             return Some(Vec::new());

@@ -1,4 +1,4 @@
-//! Checking a plugin material's claim to be spectrally flat (extension v4), once, when it is
+//! Checking a plugin material's claim to be spectrally flat (the `SPECTRALLY_FLAT` bit), once, when it is
 //! built. A flat material is rendered with the exact colour of its paths' emitters
 //! (`integrator::flat_colour`); a material that claims it wrongly would get the wrong colour
 //! with no noise to show it. The claim is cheap to test where it matters most: the material is

@@ -33,7 +33,7 @@ impl fmt::Display for LoadError {
 impl std::error::Error for LoadError {}
 
 impl LoadError {
-    fn new(path: &Path, cause: impl Into<String>, detail: impl Into<String>) -> Self {
+    pub(crate) fn new(path: &Path, cause: impl Into<String>, detail: impl Into<String>) -> Self {
         Self {
             path: path.to_path_buf(),
             cause: cause.into(),
@@ -60,6 +60,9 @@ pub struct LoadedPlugin {
     pub info: PluginInfo,
     /// Its root module.
     pub module: PluginModuleRef,
+    /// The SHA-256 of the library file (64 lower-case hex digits); `None` for a plugin linked
+    /// in-process.
+    pub sha256: Option<String>,
 }
 
 impl fmt::Debug for LoadedPlugin {
@@ -80,7 +83,12 @@ impl LoadedPlugin {
         let info = (module.info())().into_result().map_err(|e| {
             LoadError::new(&path, format!("its `info` call failed: {e}"), String::new())
         })?;
-        Ok(Self { path, info, module })
+        Ok(Self {
+            path,
+            info,
+            module,
+            sha256: None,
+        })
     }
 }
 
@@ -88,7 +96,32 @@ impl LoadedPlugin {
 /// mapped, then the abi_stable header, the interface version and the whole layout of the root
 /// module before anything in it is called.
 pub fn load_library(path: &Path) -> Result<LoadedPlugin, LoadError> {
+    load_library_pinned(path, None)
+}
+
+/// [`load_library`], refusing a file whose SHA-256 is not `sha256` (when given) with a message
+/// naming both hashes (see [`super::pin`]). The hash is taken of the file that is then opened.
+pub fn load_library_pinned(path: &Path, sha256: Option<&str>) -> Result<LoadedPlugin, LoadError> {
     let file = resolve_library_path(path)?;
+    if file.is_dir() {
+        return Err(LoadError::new(
+            path,
+            "is a directory, not a plugin library",
+            "",
+        ));
+    }
+    let actual = super::pin::sha256_file(&file)?;
+    if let Some(expected) = sha256 {
+        super::pin::check(path, expected, &actual)?;
+    }
+    let mut plugin = load_resolved(path, &file)?;
+    plugin.sha256 = Some(actual);
+    Ok(plugin)
+}
+
+/// Check and open the resolved library `file` (`path` as the user wrote it names it in errors).
+fn load_resolved(path: &Path, file: &Path) -> Result<LoadedPlugin, LoadError> {
+    let file = file.to_path_buf();
     if file.is_dir() {
         return Err(LoadError::new(
             path,

@@ -1,5 +1,5 @@
 //! Checking a plugin observer's claim that its colour-matching functions ARE a table on a 1 nm
-//! grid, interpolated linearly (extension v7, `ColorObserver::declared_table`), once, when it
+//! grid, interpolated linearly (`ColorObserver::table`), once, when it
 //! is built. The host then evaluates its own copy ([`GridObserver`], the CIE tables' code)
 //! instead of calling `xyz_bar` per wavelength: bidirectional and light tracing weigh each
 //! path's wavelengths with the observer, four calls per sample.
@@ -20,16 +20,17 @@
 //! the API's documentation says.
 
 use crate::color::{GridObserver, Observer};
-use spectrace_plugin_api::{abi::std_types::RResult, ObserverBox, ObserverTable};
+use spectrace_plugin_api::{abi::std_types::RResult, ObserverObject, ObserverTable};
 
 /// The host's copy of `table`, the table `observer` declares, after checking the claim;
 /// else what is off, as the end of a sentence.
-pub fn host_copy(observer: &ObserverBox, table: &ObserverTable) -> Result<GridObserver, String> {
+pub fn host_copy(object: &ObserverObject, table: &ObserverTable) -> Result<GridObserver, String> {
+    let observer = &object.observer;
     let values: Vec<[f64; 3]> = table.xyz.iter().map(|v| [v.x, v.y, v.z]).collect();
-    let copy = GridObserver::new(&observer.name(), table.start_nm, values)
+    let copy = GridObserver::new(&object.name, table.start_nm, values)
         .map_err(|e| format!("its table is unusable: {e}"))?;
     let (lo, hi) = copy.range();
-    let r = observer.range_nm();
+    let r = object.range;
     if r.min_nm != lo || r.max_nm != hi {
         return Err(format!(
             "its range_nm is {}..{} nm where its table covers {lo}..{hi} nm",

@@ -64,6 +64,7 @@ altogether; shapes, cameras and `blob` stay built in.
 | `lights`    | lights that are not surfaces `(name, type, params)`                              |
 | `cameras`   | `(name, type, params)`; the first is the default (`--camera NAME` picks another) |
 | `sensors`   | illuminance sensors measured by the render, `(name, type: "illuminance_grid", params)`, see below |
+| `plugins`   | plugin libraries the scene needs, loaded before it is built: `"PATH"` or `(path: "PATH", sha256: "HEX")` (relative to the scene file); a pinned library whose file has another SHA-256 is refused naming both hashes (`spectrace plugins` prints each library's). A library is trusted native code: pin only what you would run |
 
 A sensor `(name: "floor", type: "illuminance_grid", params: (corner: (x, y, z), edge0: (..),
 edge1: (..), resolution: (nx, ny)))` measures the illuminance in lux at the `nx × ny` cell

@@ -7,14 +7,10 @@ use super::services::HostServices;
 use super::type_doc::{Kind, TypeDoc};
 use crate::builtin::BuiltinType;
 use spectrace_plugin_api::abi::std_types::{RResult, RSlice, RStr};
-use spectrace_plugin_api::extension::{
-    LightWithV2, LightWithV4, LightWithV6, MaterialWithV2, MaterialWithV3, MaterialWithV4,
-    MaterialWithV5, MaterialWithV6, SpdWithLines,
-};
 use spectrace_plugin_api::module::ObjectSource;
-use spectrace_plugin_api::{ErrorKind, HostRef};
+use spectrace_plugin_api::HostRef;
 use spectrace_plugin_api::{
-    LightBox, MaterialBox, ObjectKind, ObserverBox, PluginError, SpdBox, TypeInfo,
+    LightObject, MaterialObject, ObjectKind, ObserverObject, PluginError, SpdObject, TypeInfo,
 };
 use std::collections::BTreeMap;
 use std::fmt;
@@ -254,6 +250,44 @@ impl Registry {
         self.add_plugin(plugin)
     }
 
+    /// Load a library only if its file's SHA-256 is `sha256` (a mismatch is refused naming both
+    /// hashes, see [`super::pin`]), and add it.
+    pub fn load_plugin_pinned(&mut self, path: &Path, sha256: &str) -> Result<(), RegistryError> {
+        let plugin =
+            super::loader::load_library_pinned(path, Some(sha256)).map_err(RegistryError::Load)?;
+        self.add_plugin(plugin)
+    }
+
+    /// Load the libraries a scene file lists in its `plugins` field (paths relative to the
+    /// scene file; pinned ones checked), skipping a library already loaded from the same file.
+    /// A scene without the field loads nothing. Errors name the scene file.
+    pub fn load_scene_plugins(&mut self, scene: &Path) -> Result<(), String> {
+        let list = super::pin::scene_plugins(scene)?;
+        let base = scene.parent().unwrap_or(Path::new("."));
+        for item in list {
+            let path = item.resolve(base);
+            let canonical = std::fs::canonicalize(&path).ok();
+            let already = self
+                .plugins
+                .iter()
+                .find(|p| canonical.is_some() && std::fs::canonicalize(&p.path).ok() == canonical);
+            if let Some(p) = already {
+                if let (Some(want), Some(have)) = (item.sha256(), &p.sha256) {
+                    let file = path.clone();
+                    super::pin::check(&file, want, have)
+                        .map_err(|e| format!("{}: plugins: {e}", scene.display()))?;
+                }
+                continue;
+            }
+            let r = match item.sha256() {
+                Some(sha) => self.load_plugin_pinned(&path, sha),
+                None => self.load_plugin(&path),
+            };
+            r.map_err(|e| format!("{}: plugins: {e}", scene.display()))?;
+        }
+        Ok(())
+    }
+
     /// Load a library whose types replace the built-in types of the same kind and name (with
     /// those types' aliases) instead of clashing with them: how the standard set from a library
     /// (`plugins/standard`) is used in place of the built-ins (`--replace-builtins`). Clashes
@@ -386,7 +420,7 @@ impl Registry {
         &self,
         name: &str,
         source: ObjectSource<'_>,
-    ) -> Result<LightBox, RegistryError> {
+    ) -> Result<LightObject, RegistryError> {
         self.call_plugin(ObjectKind::Light, name, |p, host| {
             (p.module.create_light())(RStr::from_str(name), source, host)
         })
@@ -397,7 +431,7 @@ impl Registry {
         &self,
         name: &str,
         source: ObjectSource<'_>,
-    ) -> Result<SpdBox, RegistryError> {
+    ) -> Result<SpdObject, RegistryError> {
         self.call_plugin(ObjectKind::Spd, name, |p, host| {
             (p.module.create_spd())(RStr::from_str(name), source, host)
         })
@@ -408,7 +442,7 @@ impl Registry {
         &self,
         name: &str,
         source: ObjectSource<'_>,
-    ) -> Result<ObserverBox, RegistryError> {
+    ) -> Result<ObserverObject, RegistryError> {
         self.call_plugin(ObjectKind::Observer, name, |p, host| {
             (p.module.create_observer())(RStr::from_str(name), source, host)
         })
@@ -419,316 +453,10 @@ impl Registry {
         &self,
         name: &str,
         source: ObjectSource<'_>,
-    ) -> Result<MaterialBox, RegistryError> {
+    ) -> Result<MaterialObject, RegistryError> {
         self.call_plugin(ObjectKind::Material, name, |p, host| {
             (p.module.create_material())(RStr::from_str(name), source, host)
         })
-    }
-
-    /// The version-2 extension module of the plugin that provides (kind, name): `None` for a
-    /// library built before it existed (or linked in-process), an error when it is unusable.
-    fn extensions_v2(
-        &self,
-        kind: ObjectKind,
-        name: &str,
-    ) -> Result<Option<spectrace_plugin_api::extension::ExtensionsV2Ref>, RegistryError> {
-        let (plugin, provider) = self.plugin_entry(kind, name)?;
-        super::extension_v2::extensions_v2(&plugin.path).map_err(|e| {
-            construct_error(
-                kind.into(),
-                name,
-                provider,
-                PluginError::new(ErrorKind::Other, e),
-            )
-        })
-    }
-
-    /// Build a plugin light with its version-2 face (extension v2); `None` when its library
-    /// predates v2 (then [`Self::create_plugin_light`] is all there is).
-    pub fn create_plugin_light_v2(
-        &self,
-        name: &str,
-        source: ObjectSource<'_>,
-    ) -> Result<Option<LightWithV2>, RegistryError> {
-        let Some(ext) = self.extensions_v2(ObjectKind::Light, name)? else {
-            return Ok(None);
-        };
-        self.call_plugin(ObjectKind::Light, name, |_, host| {
-            (ext.create_light())(RStr::from_str(name), source, host)
-        })
-        .map(Some)
-    }
-
-    /// Build a plugin material with its version-2 face; `None` when its library predates v2.
-    pub fn create_plugin_material_v2(
-        &self,
-        name: &str,
-        source: ObjectSource<'_>,
-    ) -> Result<Option<MaterialWithV2>, RegistryError> {
-        let Some(ext) = self.extensions_v2(ObjectKind::Material, name)? else {
-            return Ok(None);
-        };
-        self.call_plugin(ObjectKind::Material, name, |_, host| {
-            (ext.create_material())(RStr::from_str(name), source, host)
-        })
-        .map(Some)
-    }
-
-    /// Build a plugin material with its version-2 face and, for a fluorescent one, its
-    /// re-radiation (extension v3); `None` when its library predates v3.
-    pub fn create_plugin_material_v3(
-        &self,
-        name: &str,
-        source: ObjectSource<'_>,
-    ) -> Result<Option<MaterialWithV3>, RegistryError> {
-        let (plugin, provider) = self.plugin_entry(ObjectKind::Material, name)?;
-        let ext = super::extension_v3::extensions_v3(&plugin.path).map_err(|e| {
-            construct_error(
-                ObjectKind::Material.into(),
-                name,
-                provider,
-                PluginError::new(ErrorKind::Other, e),
-            )
-        })?;
-        let Some(ext) = ext else {
-            return Ok(None);
-        };
-        self.call_plugin(ObjectKind::Material, name, |_, host| {
-            (ext.create_material())(RStr::from_str(name), source, host)
-        })
-        .map(Some)
-    }
-
-    /// The version-4 extension module of the plugin that provides (kind, name): `None` for a
-    /// library built before it existed (or linked in-process), an error when it is unusable.
-    fn extensions_v4(
-        &self,
-        kind: ObjectKind,
-        name: &str,
-    ) -> Result<Option<spectrace_plugin_api::extension::ExtensionsV4Ref>, RegistryError> {
-        let (plugin, provider) = self.plugin_entry(kind, name)?;
-        super::extension_v4::extensions_v4(&plugin.path).map_err(|e| {
-            construct_error(
-                kind.into(),
-                name,
-                provider,
-                PluginError::new(ErrorKind::Other, e),
-            )
-        })
-    }
-
-    /// Build a plugin material with every face (v2–v4) and its spectral declaration (extension
-    /// v4); `None` when its library predates v4.
-    pub fn create_plugin_material_v4(
-        &self,
-        name: &str,
-        source: ObjectSource<'_>,
-    ) -> Result<Option<MaterialWithV4>, RegistryError> {
-        let Some(ext) = self.extensions_v4(ObjectKind::Material, name)? else {
-            return Ok(None);
-        };
-        self.call_plugin(ObjectKind::Material, name, |_, host| {
-            (ext.create_material())(RStr::from_str(name), source, host)
-        })
-        .map(Some)
-    }
-
-    fn extensions_v5(
-        &self,
-        kind: ObjectKind,
-        name: &str,
-    ) -> Result<Option<spectrace_plugin_api::extension::ExtensionsV5Ref>, RegistryError> {
-        let (plugin, provider) = self.plugin_entry(kind, name)?;
-        super::extension_v5::extensions_v5(&plugin.path).map_err(|e| {
-            construct_error(
-                kind.into(),
-                name,
-                provider,
-                PluginError::new(ErrorKind::Other, e),
-            )
-        })
-    }
-
-    /// Build a plugin material with its faces (v2, v3, v5) and declarations (extension v5);
-    /// `None` when its library predates v5.
-    pub fn create_plugin_material_v5(
-        &self,
-        name: &str,
-        source: ObjectSource<'_>,
-    ) -> Result<Option<MaterialWithV5>, RegistryError> {
-        let Some(ext) = self.extensions_v5(ObjectKind::Material, name)? else {
-            return Ok(None);
-        };
-        self.call_plugin(ObjectKind::Material, name, |_, host| {
-            (ext.create_material())(RStr::from_str(name), source, host)
-        })
-        .map(Some)
-    }
-
-    /// Build a plugin light with its version-2 face and its spectral declaration (extension
-    /// v4); `None` when its library predates v4.
-    pub fn create_plugin_light_v4(
-        &self,
-        name: &str,
-        source: ObjectSource<'_>,
-    ) -> Result<Option<LightWithV4>, RegistryError> {
-        let Some(ext) = self.extensions_v4(ObjectKind::Light, name)? else {
-            return Ok(None);
-        };
-        self.call_plugin(ObjectKind::Light, name, |_, host| {
-            (ext.create_light())(RStr::from_str(name), source, host)
-        })
-        .map(Some)
-    }
-
-    fn extensions_v6(
-        &self,
-        kind: ObjectKind,
-        name: &str,
-    ) -> Result<Option<spectrace_plugin_api::extension::ExtensionsV6Ref>, RegistryError> {
-        let (plugin, provider) = self.plugin_entry(kind, name)?;
-        super::extension_v6::extensions_v6(&plugin.path).map_err(|e| {
-            construct_error(
-                kind.into(),
-                name,
-                provider,
-                PluginError::new(ErrorKind::Other, e),
-            )
-        })
-    }
-
-    /// Build a plugin material with its faces (v2, v3, v5, v6) and declarations (extension
-    /// v6); `None` when its library predates v6.
-    pub fn create_plugin_material_v6(
-        &self,
-        name: &str,
-        source: ObjectSource<'_>,
-    ) -> Result<Option<MaterialWithV6>, RegistryError> {
-        let Some(ext) = self.extensions_v6(ObjectKind::Material, name)? else {
-            return Ok(None);
-        };
-        self.call_plugin(ObjectKind::Material, name, |_, host| {
-            (ext.create_material())(RStr::from_str(name), source, host)
-        })
-        .map(Some)
-    }
-
-    /// Build a plugin light with its faces (v2, v6) and its spectral declaration (extension
-    /// v6); `None` when its library predates v6.
-    pub fn create_plugin_light_v6(
-        &self,
-        name: &str,
-        source: ObjectSource<'_>,
-    ) -> Result<Option<LightWithV6>, RegistryError> {
-        let Some(ext) = self.extensions_v6(ObjectKind::Light, name)? else {
-            return Ok(None);
-        };
-        self.call_plugin(ObjectKind::Light, name, |_, host| {
-            (ext.create_light())(RStr::from_str(name), source, host)
-        })
-        .map(Some)
-    }
-
-    fn extensions_v7(
-        &self,
-        kind: ObjectKind,
-        name: &str,
-    ) -> Result<Option<spectrace_plugin_api::extension::ExtensionsV7Ref>, RegistryError> {
-        let (plugin, provider) = self.plugin_entry(kind, name)?;
-        super::extension_v7::extensions_v7(&plugin.path).map_err(|e| {
-            construct_error(
-                kind.into(),
-                name,
-                provider,
-                PluginError::new(ErrorKind::Other, e),
-            )
-        })
-    }
-
-    /// Build a plugin material with its faces (v2, v3, v5, v6, v7) and declarations (extension
-    /// v7); `None` when its library predates v7.
-    pub fn create_plugin_material_v7(
-        &self,
-        name: &str,
-        source: ObjectSource<'_>,
-    ) -> Result<Option<spectrace_plugin_api::extension::MaterialWithV7>, RegistryError> {
-        let Some(ext) = self.extensions_v7(ObjectKind::Material, name)? else {
-            return Ok(None);
-        };
-        self.call_plugin(ObjectKind::Material, name, |_, host| {
-            (ext.create_material())(RStr::from_str(name), source, host)
-        })
-        .map(Some)
-    }
-
-    fn extensions_v8(
-        &self,
-        kind: ObjectKind,
-        name: &str,
-    ) -> Result<Option<spectrace_plugin_api::extension::ExtensionsV8Ref>, RegistryError> {
-        let (plugin, provider) = self.plugin_entry(kind, name)?;
-        super::extension_v8::extensions_v8(&plugin.path).map_err(|e| {
-            construct_error(
-                kind.into(),
-                name,
-                provider,
-                PluginError::new(ErrorKind::Other, e),
-            )
-        })
-    }
-
-    /// Build a plugin material with its faces (v2, v3, v5 to v8) and declarations (extension
-    /// v8), with where the errors of its v8 calls are taken; `None` when its library predates
-    /// v8.
-    pub fn create_plugin_material_v8(
-        &self,
-        name: &str,
-        source: ObjectSource<'_>,
-    ) -> Result<
-        Option<(
-            spectrace_plugin_api::extension::MaterialWithV8,
-            spectrace_plugin_api::extension::ExtensionsV8Ref,
-        )>,
-        RegistryError,
-    > {
-        let Some(ext) = self.extensions_v8(ObjectKind::Material, name)? else {
-            return Ok(None);
-        };
-        self.call_plugin(ObjectKind::Material, name, |_, host| {
-            (ext.create_material())(RStr::from_str(name), source, host)
-        })
-        .map(|m| Some((m, ext)))
-    }
-
-    /// Build a plugin observer with its declared table (extension v7); `None` when its library
-    /// predates v7.
-    pub fn create_plugin_observer_v7(
-        &self,
-        name: &str,
-        source: ObjectSource<'_>,
-    ) -> Result<Option<spectrace_plugin_api::extension::ObserverWithTable>, RegistryError> {
-        let Some(ext) = self.extensions_v7(ObjectKind::Observer, name)? else {
-            return Ok(None);
-        };
-        self.call_plugin(ObjectKind::Observer, name, |_, host| {
-            (ext.create_observer())(RStr::from_str(name), source, host)
-        })
-        .map(Some)
-    }
-
-    /// Build a plugin SPD with its spectral lines; `None` when its library predates v2.
-    pub fn create_plugin_spd_v2(
-        &self,
-        name: &str,
-        source: ObjectSource<'_>,
-    ) -> Result<Option<SpdWithLines>, RegistryError> {
-        let Some(ext) = self.extensions_v2(ObjectKind::Spd, name)? else {
-            return Ok(None);
-        };
-        self.call_plugin(ObjectKind::Spd, name, |_, host| {
-            (ext.create_spd())(RStr::from_str(name), source, host)
-        })
-        .map(Some)
     }
 
     /// Decode a plugin type's saved state into RON parameters.

@@ -1,4 +1,4 @@
-//! A plugin material's re-radiation (extension v3) as the host's
+//! A plugin material's re-radiation as the host's
 //! [`Reradiation`]: what `integrator::fluorescence` shifts wavelengths with, so the integrators
 //! treat a plugin's fluorescent material exactly as the built-in `fluorescent` one.
 //!

@@ -1,5 +1,5 @@
 //! Checking a plugin material's claim that its BSDF value is the same for every direction
-//! (extension v5, `Material::f_same_for_all_directions`), once, when it is built. The path
+//! (the `SAME_VALUE_ALL_DIRECTIONS` bit), once, when it is built. The path
 //! tracer then lends a sampled direction's value to next-event estimation at the same point
 //! instead of evaluating the material again; a material that claims it wrongly would get a wrong
 //! direct light with no noise to show it. So the probe asks the material what the path tracer

@@ -12,8 +12,8 @@ use spectrace_plugin_api::host::{AbiHost, AbiHost_TO, HostRef};
 use spectrace_plugin_api::module::ObjectSource;
 use spectrace_plugin_api::spd::GuardedSpd;
 use spectrace_plugin_api::{
-    spd_flags, Flags, ObjectKind, PluginError, PluginResult, Spd, SpdBox, SpectralLine,
-    WavelengthRange, WavelengthSample,
+    ObjectKind, PluginError, PluginResult, Spd, SpdObject, SpectralLine, WavelengthRange,
+    WavelengthSample,
 };
 use std::sync::Arc;
 
@@ -34,7 +34,7 @@ impl<'r> HostServices<'r> {
     }
 
     /// Resolve a spec to an SPD behind the ABI.
-    pub fn resolve_spd(&self, spec: &str) -> Result<SpdBox, PluginError> {
+    pub fn resolve_spd(&self, spec: &str) -> Result<SpdObject, PluginError> {
         let spec = spec.trim();
         let (name, params) = crate::spectrum::spec::split_type_spec(spec);
         if let Ok(Some(_)) = self.registry.plugin_for(ObjectKind::Spd, name) {
@@ -45,12 +45,12 @@ impl<'r> HostServices<'r> {
         }
         let spd = parse_spd_spec(spec)
             .map_err(|e| PluginError::invalid_parameter(format!("spd `{spec}`: {e}")))?;
-        Ok(lend_spd(Arc::new(spd)))
+        lend_spd(Arc::new(spd))
     }
 }
 
 impl AbiHost for HostServices<'_> {
-    fn spd(&self, spec: RStr<'_>) -> RResult<SpdBox, PluginError> {
+    fn spd(&self, spec: RStr<'_>) -> RResult<SpdObject, PluginError> {
         self.resolve_spd(spec.as_str()).into()
     }
 }
@@ -78,14 +78,7 @@ impl Spd for LentSpd {
         let (min_nm, max_nm) = self.0.range();
         WavelengthRange { min_nm, max_nm }
     }
-    fn capabilities(&self) -> Flags {
-        if self.0.is_delta() {
-            spd_flags::HAS_LINES
-        } else {
-            Flags::NONE
-        }
-    }
-    fn delta_lines(&self) -> Vec<SpectralLine> {
+    fn lines(&self) -> Vec<SpectralLine> {
         self.0
             .delta_lines()
             .into_iter()
@@ -98,10 +91,11 @@ impl Spd for LentSpd {
 }
 
 /// Wrap a host SPD so it can be handed to a plugin.
-pub fn lend_spd(spd: Arc<dyn HostSpd>) -> SpdBox {
-    GuardedSpd::boxed(LentSpd(spd), |_| {
+pub fn lend_spd(spd: Arc<dyn HostSpd>) -> Result<SpdObject, PluginError> {
+    let lent = GuardedSpd::object(LentSpd(spd), |_| {
         Err(PluginError::unsupported(
             "a host SPD lent to a plugin is saved by its spec, not by state",
         ))
-    })
+    });
+    lent.into_result()
 }

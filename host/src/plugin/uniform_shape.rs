@@ -1,5 +1,5 @@
-//! Checking a plugin light's claim to emit one spectral shape everywhere (extension v4,
-//! `LightSource::uniform_spectral_shape`), once, when it is built. The host then gives a path
+//! Checking a plugin light's claim to emit one spectral shape everywhere (the
+//! `UNIFORM_SPECTRAL_SHAPE` bit), once, when it is built. The host then gives a path
 //! from the light through spectrally flat surfaces the exact colour of the light's spectrum
 //! (`integrator::flat_colour`); a light whose emission changes colour from place to place or
 //! direction to direction would get the wrong colour with no noise to show it. So the probe asks
@@ -21,12 +21,12 @@
 //! probed. What the probe cannot see stays the plugin's responsibility, as the API's
 //! documentation says.
 
-use super::checked;
 use super::flatness::{SET_A_NM, SET_B_NM};
-use crate::spectrum::Spd;
-use spectrace_plugin_api::{LightBox, RandomSample, SpectralValues, Vec3, Wavelengths, LANES};
+use crate::light::{EnvironmentRadiance, Light, LightSampleContext};
+use crate::spectrum::{LaneMask, SampledWavelengths, Spd, LANES};
+use glam::{Vec2, Vec3A};
 
-/// Relative difference allowed between lanes' quotients: the plugin computes in `f64` and may
+/// Relative difference allowed between lanes' quotients: the plugin may compute in `f64` and
 /// hand over values rounded to `f32` (1e-7 relative) and its spectrum through another path; a
 /// shape that changes colour differs by far more.
 pub const REL_TOLERANCE: f64 = 1e-4;
@@ -35,23 +35,21 @@ pub const REL_TOLERANCE: f64 = 1e-4;
 pub const SAMPLES: usize = 8;
 
 /// The `k`-th probe's uniforms: a fixed, well spread point set (Weyl sequences).
-fn uniforms(k: usize) -> RandomSample {
-    const ALPHA: [f64; 5] = [0.618_034, 0.414_214, 0.732_051, 0.236_068, 0.645_751];
-    let mut s = RandomSample::default();
-    for (u, a) in s.u.iter_mut().zip(ALPHA) {
-        *u = (0.5 + (k as f64 + 1.0) * a).fract();
-    }
-    s
+fn uniforms(k: usize) -> [f32; 4] {
+    const ALPHA: [f64; 4] = [0.618_034, 0.414_214, 0.732_051, 0.236_068];
+    ALPHA.map(|a| (0.5 + (k as f64 + 1.0) * a).fract() as f32)
 }
 
-fn lanes(nm: [f32; LANES]) -> Wavelengths {
-    Wavelengths {
-        nm: nm.map(f64::from),
+fn lanes(nm: [f32; LANES]) -> SampledWavelengths {
+    SampledWavelengths {
+        lambda: nm,
+        pdf: [1.0; LANES],
+        lanes: LaneMask::ALL,
     }
 }
 
 /// A point or direction for a message, scene units.
-fn show(v: Vec3) -> String {
+fn show(v: Vec3A) -> String {
     format!("({:.3}, {:.3}, {:.3})", v.x, v.y, v.z)
 }
 
@@ -59,49 +57,50 @@ fn show(v: Vec3) -> String {
 /// are compared together, else each on its own).
 struct Probe {
     what: String,
-    values: [SpectralValues; 2],
+    values: [[f32; LANES]; 2],
     same_point: bool,
 }
 
-/// `Ok` when the probes find `light`'s emission one shape `spd` everywhere; else what they
-/// found, as the end of a sentence (naming the wavelength where the claim fails).
-pub fn check(light: &LightBox, spd: &dyn Spd, environment: bool) -> Result<(), String> {
+/// `Ok` when the probes find the emission of `light` (or of `environment`, for an environment
+/// light) one shape `spd` everywhere; else what they found, as the end of a sentence (naming the
+/// wavelength where the claim fails).
+pub fn check(
+    light: &dyn Light,
+    environment: Option<&dyn EnvironmentRadiance>,
+    spd: &dyn Spd,
+) -> Result<(), String> {
     if !spd.delta_lines().is_empty() {
         return Ok(());
     }
     let sets = [lanes(SET_A_NM), lanes(SET_B_NM)];
     let mut probes = Vec::new();
-    if environment {
+    if let Some(env) = environment {
         let mut dirs = vec![
-            Vec3::new(1.0, 0.0, 0.0),
-            Vec3::new(-1.0, 0.0, 0.0),
-            Vec3::new(0.0, 1.0, 0.0),
-            Vec3::new(0.0, -1.0, 0.0),
-            Vec3::new(0.0, 0.0, 1.0),
-            Vec3::new(0.0, 0.0, -1.0),
+            Vec3A::X,
+            Vec3A::NEG_X,
+            Vec3A::Y,
+            Vec3A::NEG_Y,
+            Vec3A::Z,
+            Vec3A::NEG_Z,
         ];
-        let c = 1.0 / 3f64.sqrt();
+        let c = 1.0 / 3f32.sqrt();
         for k in 0..8 {
             let s = |b: usize| if k >> b & 1 == 1 { -c } else { c };
-            dirs.push(Vec3::new(s(0), s(1), s(2)));
+            dirs.push(Vec3A::new(s(0), s(1), s(2)));
         }
         for d in dirs {
-            let at = |w: &Wavelengths| light.radiance(d, w).into_result().ok();
-            if let (Some(a), Some(b)) = (at(&sets[0]), at(&sets[1])) {
-                probes.push(Probe {
-                    what: format!("its radiance from direction {}", show(d)),
-                    values: [a, b],
-                    same_point: true,
-                });
-            }
+            let at = |w: &SampledWavelengths| env.radiance(d, w).0;
+            probes.push(Probe {
+                what: format!("its radiance from direction {}", show(d)),
+                values: [at(&sets[0]), at(&sets[1])],
+                same_point: true,
+            });
         }
     } else {
         for k in 0..SAMPLES {
             let u = uniforms(k);
-            let em = |w: &Wavelengths| {
-                let r = light.sample_emission(&u, w).into_result().ok()?;
-                checked::emission(&r).ok()?;
-                (r.pdf_position > 0.0 && r.pdf_direction > 0.0).then_some(r)
+            let em = |w: &SampledWavelengths| {
+                light.sample_le(Vec2::new(u[0], u[1]), Vec2::new(u[2], u[3]), w)
             };
             let (Some(a), Some(b)) = (em(&sets[0]), em(&sets[1])) else {
                 continue;
@@ -109,35 +108,41 @@ pub fn check(light: &LightBox, spd: &dyn Spd, environment: bool) -> Result<(), S
             probes.push(Probe {
                 what: format!(
                     "its emission from {} toward {} (sample_emission)",
-                    show(a.origin),
-                    show(a.direction)
+                    show(a.ray.origin),
+                    show(a.ray.dir)
                 ),
-                values: [a.value, b.value],
-                same_point: a.origin == b.origin && a.direction == b.direction,
+                values: [a.radiance.0, b.radiance.0],
+                same_point: a.ray.origin == b.ray.origin && a.ray.dir == b.ray.dir,
             });
-            let receiver = a.origin + a.direction;
-            let to = |w: &Wavelengths| {
-                let r = light.sample_toward(receiver, &u, w).into_result().ok()?;
-                checked::incident(&r).ok()?;
-                (r.pdf > 0.0).then_some(r)
+            let ctx = LightSampleContext {
+                p: a.ray.origin + a.ray.dir,
+                p_error: Vec3A::ZERO,
+                n: Vec3A::ZERO,
             };
+            let to = |w: &SampledWavelengths| light.sample_li(&ctx, Vec2::new(u[0], u[1]), w);
             if let (Some(a), Some(b)) = (to(&sets[0]), to(&sets[1])) {
                 probes.push(Probe {
                     what: format!(
                         "the radiance arriving at {} from {} (sample_toward)",
-                        show(receiver),
-                        show(a.point)
+                        show(ctx.p),
+                        show(a.p_light)
                     ),
-                    values: [a.value, b.value],
-                    same_point: a.point == b.point,
+                    values: [a.radiance.0, b.radiance.0],
+                    same_point: a.p_light == b.p_light,
                 });
             }
         }
     }
-    let shape: [Vec<f64>; 2] = [0, 1].map(|i| sets[i].nm.iter().map(|&l| spd.value(l)).collect());
+    let shape: [Vec<f64>; 2] = [0, 1].map(|i| {
+        sets[i]
+            .lambda
+            .iter()
+            .map(|&l| spd.value(l as f64))
+            .collect()
+    });
     let lane = |p: &Probe, i: usize| -> Vec<(f64, f64, f64)> {
         (0..LANES)
-            .map(|j| (sets[i].nm[j], p.values[i].v[j], shape[i][j]))
+            .map(|j| (sets[i].lambda[j] as f64, p.values[i][j] as f64, shape[i][j]))
             .collect()
     };
     for p in &probes {

@@ -163,6 +163,7 @@ pub fn cornell_box_description() -> Result<SceneDescription, SceneError> {
         lights: Vec::new(),
         cameras: vec![camera],
         sensors: Vec::new(),
+        plugins: Vec::new(),
     })
 }
 

@@ -61,6 +61,11 @@ pub struct SceneDescription {
     /// [`crate::sensor::grid`]).
     #[serde(default)]
     pub sensors: Vec<ItemDescription>,
+    /// Plugin libraries the scene needs, loaded before it is built: `"PATH"` or
+    /// `(path: "PATH", sha256: "HEX")` (pinned; relative to the scene file; see
+    /// [`crate::plugin::pin`]).
+    #[serde(default)]
+    pub plugins: Vec<crate::plugin::pin::ScenePlugin>,
 }
 
 /// The scene's observer: a type name with default parameters, or a type with parameters.

@@ -4,7 +4,8 @@
 
 use serde::{Deserialize, Serialize};
 use spectrace_plugin_api::{
-    Beam, Host, LightSource, ParamDoc, PluginError, PluginResult, PluginType, RandomSample, Vec3,
+    Beam, Flags, Host, LightSource, ParamDoc, PluginError, PluginResult, PluginType, RandomSample,
+    RepresentedBeam, Vec3,
 };
 
 /// Parameters, written in a scene as `(origin: (0, 1, 0), direction: (0, 0, -1), ...)`.
@@ -91,7 +92,12 @@ impl PluginType for Laser {
 }
 
 impl LightSource for Laser {
-    fn next_beam(&self, sample: &RandomSample) -> PluginResult<Beam> {
+    fn flags(&self) -> Flags {
+        // Beams only: the host traces what `next_beam` hands out.
+        Flags::NONE
+    }
+
+    fn next_beam(&self, sample: &RandomSample) -> PluginResult<RepresentedBeam> {
         // Uniform over the aperture disk: r = R·sqrt(u0), φ = 2π·u1.
         let r = self.params.radius * sample.u[0].sqrt();
         let phi = std::f64::consts::TAU * sample.u[1];
@@ -101,7 +107,8 @@ impl LightSource for Laser {
             wavelength_nm: self.params.wavelength_nm,
             power_w: self.params.power_w,
             source_id: 0,
-        })
+        }
+        .into())
     }
 
     fn total_power_w(&self) -> PluginResult<f64> {

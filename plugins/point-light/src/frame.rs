@@ -1,6 +1,6 @@
 //! Small vector helpers shared by the lights.
 
-use spectrace_plugin_api::Vec3;
+use spectrace_plugin_api::{Vec3, Vec4f};
 use std::f64::consts::PI;
 
 /// Uniform direction on the unit sphere from two numbers in [0,1); density 1/(4π) sr⁻¹.
@@ -34,31 +34,48 @@ pub fn finite(name: &str, v: [f64; 3]) -> Result<Vec3, spectrace_plugin_api::Plu
     }
 }
 
-/// Light from a point source at `position` arriving at `receiver`: direction, distance, and the
-/// intensity toward the receiver (given the unit direction of travel from the source) divided by
-/// d², with pdf 1 as for every delta light.
+/// Light from a point source at `position` arriving at `receiver`, written into `out`: the
+/// direction and the intensity toward the receiver (given the unit direction of travel from the
+/// source) divided by d², with pdf 1 as for every delta light. `Ok(false)` when the receiver sits
+/// on the source.
 pub fn incident_from_point(
     position: Vec3,
-    receiver: Vec3,
-    intensity: impl FnOnce(
-        Vec3,
-    )
-        -> spectrace_plugin_api::PluginResult<spectrace_plugin_api::SpectralValues>,
-) -> spectrace_plugin_api::PluginResult<spectrace_plugin_api::IncidentSample> {
-    let to_light = position - receiver;
+    receiver: &spectrace_plugin_api::Receiver,
+    intensity: impl FnOnce(Vec3) -> spectrace_plugin_api::PluginResult<[f64; 4]>,
+    out: &mut spectrace_plugin_api::Incident,
+) -> spectrace_plugin_api::PluginResult<bool> {
+    let to_light = position - receiver.p.to_f64();
     let d2 = to_light.dot(to_light);
-    let d = d2.sqrt();
-    let direction = to_light * (1.0 / d);
-    let mut value = intensity(-direction)?;
-    for v in &mut value.v {
-        *v /= d2;
+    if !(d2 > 0.0) {
+        return Ok(false);
     }
-    Ok(spectrace_plugin_api::IncidentSample {
-        point: position,
-        normal: Vec3::default(),
-        direction,
-        distance: d,
-        value,
+    let direction = to_light * (1.0 / d2.sqrt());
+    let value = intensity(-direction)?;
+    *out = spectrace_plugin_api::Incident {
+        value: value.map(|v| (v / d2) as f32),
+        direction: Vec4f::from_f64(direction),
         pdf: 1.0,
-    })
+        point: Vec4f::from_f64(position),
+        point_error: Vec4f::default(),
+        normal: Vec4f::default(),
+    };
+    Ok(true)
+}
+
+/// The emission of a point source at `position` along `direction`, written into `out`.
+pub fn emitted_from_point(
+    position: Vec3,
+    direction: Vec3,
+    value: [f64; 4],
+    pdf_direction: f64,
+    out: &mut spectrace_plugin_api::EmittedRay,
+) {
+    *out = spectrace_plugin_api::EmittedRay {
+        origin: Vec4f::from_f64(position),
+        direction: Vec4f::from_f64(direction),
+        value: value.map(|v| v as f32),
+        pdf_position: 1.0,
+        pdf_direction: pdf_direction as f32,
+        normal: Vec4f::default(),
+    };
 }

@@ -8,12 +8,12 @@
 //!
 //! Radiant intensity I(λ) = Φ · spd(λ) / 4π  W/(sr·nm) in every direction.
 
-use crate::frame::{finite, incident_from_point, uniform_sphere};
+use crate::frame::{emitted_from_point, finite, incident_from_point, uniform_sphere};
 use serde::{Deserialize, Serialize};
 use spectrace_plugin_api::{
-    light_flags, Beam, EmissionPdf, EmissionSample, Flags, Host, IncidentSample, LightSource,
-    ParamDoc, PluginError, PluginResult, PluginType, RandomSample, SpdHandle, SpectralValues, Vec3,
-    WavelengthSample, Wavelengths,
+    light_flags, Beam, EmissionPdf, EmittedRay, Flags, Host, Incident, LightSource, ParamDoc,
+    PluginError, PluginResult, PluginType, RandomSample, Receiver, RepresentedBeam, Spd, SpdHandle,
+    Vec3, Vec4f, Wavelengths,
 };
 use std::f64::consts::PI;
 
@@ -77,17 +77,17 @@ impl PluginType for PointLight {
 }
 
 impl PointLight {
-    fn intensity(&self, lambda: &Wavelengths) -> PluginResult<SpectralValues> {
-        let mut v = SpectralValues::ZERO;
-        for (out, &nm) in v.v.iter_mut().zip(&lambda.nm) {
-            *out = self.params.power_w * self.spd.value(nm)? / (4.0 * PI);
+    fn intensity(&self, lambda: &Wavelengths) -> PluginResult<[f64; 4]> {
+        let mut v = [0.0; 4];
+        for (out, &nm) in v.iter_mut().zip(&lambda.nm) {
+            *out = self.params.power_w * self.spd.value(nm as f64)? / (4.0 * PI);
         }
         Ok(v)
     }
 }
 
 impl LightSource for PointLight {
-    fn next_beam(&self, sample: &RandomSample) -> PluginResult<Beam> {
+    fn next_beam(&self, sample: &RandomSample) -> PluginResult<RepresentedBeam> {
         let lambda = self.spd.sample(sample.u[4])?;
         Ok(Beam {
             origin: self.position,
@@ -96,53 +96,48 @@ impl LightSource for PointLight {
             // Direction and wavelength are drawn in proportion to emission: each beam carries Φ.
             power_w: self.params.power_w,
             source_id: 0,
-        })
+        }
+        .into())
     }
 
     fn total_power_w(&self) -> PluginResult<f64> {
         Ok(self.params.power_w)
     }
 
-    fn capabilities(&self) -> Flags {
+    fn flags(&self) -> Flags {
         light_flags::DELTA_POSITION | light_flags::CONNECTABLE
     }
 
-    fn sample_wavelength(&self, u: f64) -> PluginResult<WavelengthSample> {
-        self.spd.sample(u)
-    }
-
-    fn wavelength_pdf(&self, nm: f64) -> PluginResult<f64> {
-        self.spd.pdf(nm)
+    fn emission_spectrum(&self) -> PluginResult<Option<Box<dyn Spd>>> {
+        Ok(Some(Box::new(self.spd.clone())))
     }
 
     fn sample_emission(
         &self,
-        sample: &RandomSample,
+        u: [f32; 4],
         lambda: &Wavelengths,
-    ) -> PluginResult<EmissionSample> {
-        Ok(EmissionSample {
-            origin: self.position,
-            direction: uniform_sphere(sample.u[2], sample.u[3]),
-            normal: Vec3::default(),
-            value: self.intensity(lambda)?,
-            pdf_position: 1.0,
-            pdf_direction: 1.0 / (4.0 * PI),
-        })
+        out: &mut EmittedRay,
+    ) -> PluginResult<bool> {
+        let direction = uniform_sphere(u[2] as f64, u[3] as f64);
+        let value = self.intensity(lambda)?;
+        emitted_from_point(self.position, direction, value, 1.0 / (4.0 * PI), out);
+        Ok(true)
     }
 
-    fn emission_pdf(&self, _origin: Vec3, _direction: Vec3) -> PluginResult<EmissionPdf> {
+    fn emission_pdf(&self, _origin: &Vec4f, _direction: &Vec4f) -> PluginResult<EmissionPdf> {
         Ok(EmissionPdf {
             position: 1.0,
-            direction: 1.0 / (4.0 * PI),
+            direction: (1.0 / (4.0 * PI)) as f32,
         })
     }
 
     fn sample_toward(
         &self,
-        receiver: Vec3,
-        _sample: &RandomSample,
+        receiver: &Receiver,
+        _u: [f32; 2],
         lambda: &Wavelengths,
-    ) -> PluginResult<IncidentSample> {
-        incident_from_point(self.position, receiver, |_| self.intensity(lambda))
+        out: &mut Incident,
+    ) -> PluginResult<bool> {
+        incident_from_point(self.position, receiver, |_| self.intensity(lambda), out)
     }
 }

@@ -13,12 +13,12 @@
 //! cos(falloff start). The flux Φ = I₀ · 2π [(1 − cos θs) + (cos θs − cos θc)/2] fixes I₀,
 //! because smoothstep integrates to half its interval.
 
-use crate::frame::{basis, finite, incident_from_point};
+use crate::frame::{basis, emitted_from_point, finite, incident_from_point};
 use serde::{Deserialize, Serialize};
 use spectrace_plugin_api::{
-    light_flags, Beam, EmissionPdf, EmissionSample, Flags, Host, IncidentSample, LightSource,
-    ParamDoc, PluginError, PluginResult, PluginType, RandomSample, SpdHandle, SpectralValues, Vec3,
-    WavelengthSample, Wavelengths,
+    light_flags, Beam, EmissionPdf, EmittedRay, Flags, Host, Incident, LightSource, ParamDoc,
+    PluginError, PluginResult, PluginType, RandomSample, Receiver, RepresentedBeam, Spd, SpdHandle,
+    Vec3, Vec4f, Wavelengths,
 };
 use std::f64::consts::PI;
 
@@ -172,18 +172,18 @@ impl SpotLight {
         (d, cos_theta)
     }
 
-    fn intensity(&self, cos_theta: f64, lambda: &Wavelengths) -> PluginResult<SpectralValues> {
+    fn intensity(&self, cos_theta: f64, lambda: &Wavelengths) -> PluginResult<[f64; 4]> {
         let s = self.peak_intensity * self.falloff(cos_theta);
-        let mut v = SpectralValues::ZERO;
-        for (out, &nm) in v.v.iter_mut().zip(&lambda.nm) {
-            *out = s * self.spd.value(nm)?;
+        let mut v = [0.0; 4];
+        for (out, &nm) in v.iter_mut().zip(&lambda.nm) {
+            *out = s * self.spd.value(nm as f64)?;
         }
         Ok(v)
     }
 }
 
 impl LightSource for SpotLight {
-    fn next_beam(&self, sample: &RandomSample) -> PluginResult<Beam> {
+    fn next_beam(&self, sample: &RandomSample) -> PluginResult<RepresentedBeam> {
         let lambda = self.spd.sample(sample.u[4])?;
         let (direction, cos_theta) = self.sample_direction(sample.u[2], sample.u[3]);
         Ok(Beam {
@@ -193,57 +193,58 @@ impl LightSource for SpotLight {
             // I(ω)/pdf(ω), with the wavelength drawn from the SPD itself.
             power_w: self.peak_intensity * self.falloff(cos_theta) / self.direction_pdf(),
             source_id: 0,
-        })
+        }
+        .into())
     }
 
     fn total_power_w(&self) -> PluginResult<f64> {
         Ok(self.params.power_w)
     }
 
-    fn capabilities(&self) -> Flags {
+    fn flags(&self) -> Flags {
         light_flags::DELTA_POSITION | light_flags::CONNECTABLE
     }
 
-    fn sample_wavelength(&self, u: f64) -> PluginResult<WavelengthSample> {
-        self.spd.sample(u)
-    }
-
-    fn wavelength_pdf(&self, nm: f64) -> PluginResult<f64> {
-        self.spd.pdf(nm)
+    fn emission_spectrum(&self) -> PluginResult<Option<Box<dyn Spd>>> {
+        Ok(Some(Box::new(self.spd.clone())))
     }
 
     fn sample_emission(
         &self,
-        sample: &RandomSample,
+        u: [f32; 4],
         lambda: &Wavelengths,
-    ) -> PluginResult<EmissionSample> {
-        let (direction, cos_theta) = self.sample_direction(sample.u[2], sample.u[3]);
-        Ok(EmissionSample {
-            origin: self.position,
-            direction,
-            normal: Vec3::default(),
-            value: self.intensity(cos_theta, lambda)?,
-            pdf_position: 1.0,
-            pdf_direction: self.direction_pdf(),
-        })
+        out: &mut EmittedRay,
+    ) -> PluginResult<bool> {
+        let (direction, cos_theta) = self.sample_direction(u[2] as f64, u[3] as f64);
+        let value = self.intensity(cos_theta, lambda)?;
+        emitted_from_point(self.position, direction, value, self.direction_pdf(), out);
+        Ok(true)
     }
 
-    fn emission_pdf(&self, _origin: Vec3, direction: Vec3) -> PluginResult<EmissionPdf> {
-        let inside = direction.normalized().dot(self.axis) > self.cos_cone;
+    fn emission_pdf(&self, _origin: &Vec4f, direction: &Vec4f) -> PluginResult<EmissionPdf> {
+        let inside = direction.to_f64().normalized().dot(self.axis) > self.cos_cone;
         Ok(EmissionPdf {
             position: 1.0,
-            direction: if inside { self.direction_pdf() } else { 0.0 },
+            direction: if inside {
+                self.direction_pdf() as f32
+            } else {
+                0.0
+            },
         })
     }
 
     fn sample_toward(
         &self,
-        receiver: Vec3,
-        _sample: &RandomSample,
+        receiver: &Receiver,
+        _u: [f32; 2],
         lambda: &Wavelengths,
-    ) -> PluginResult<IncidentSample> {
-        incident_from_point(self.position, receiver, |w| {
-            self.intensity(w.dot(self.axis), lambda)
-        })
+        out: &mut Incident,
+    ) -> PluginResult<bool> {
+        incident_from_point(
+            self.position,
+            receiver,
+            |w| self.intensity(w.dot(self.axis), lambda),
+            out,
+        )
     }
 }

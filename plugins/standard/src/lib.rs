@@ -7,10 +7,9 @@
 //! `--replace-builtins` makes its types replace the built-ins of the same name (`--no-builtins`
 //! leaves the built-in materials, lights, SPDs and observers out altogether).
 //!
-//! What extension v2 of the plugin API adds is what makes the library render bit for bit like
-//! the built-ins: emitters hand over their own SPD objects, lights learn the scene's bounds, and
-//! materials see the surface's normals; extension v3 lets `fluorescent` hand over its
-//! re-radiation.
+//! What makes the library render bit for bit like the built-ins: emitters hand over their own
+//! SPD objects, lights learn the scene's bounds, materials see the surface's normals and compute
+//! in the host's own layout, and `fluorescent` hands over its re-radiation.
 
 pub mod light;
 pub mod material;

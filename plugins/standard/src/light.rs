@@ -1,35 +1,31 @@
 //! The built-in lights (`host/src/builtin/light/`): `point`, `spot`, `directional` and
 //! `environment`, same parameters, built by the host's own constructors and called through the
-//! plugin interface as CONNECTABLE lights (no physics here, only conversions; f32 → f64 → f32
-//! round trips are exact). Through extension v2 each hands the host its own emission SPD, and
-//! learns the scene's extent (`scene_bounds`), which it passes to the host object's
-//! `preprocess`/`preprocess_view`: a directional light's emitting disc and power, and an
+//! plugin interface as CONNECTABLE lights (no physics here). Each hands the host its own
+//! emission SPD and learns the scene's extent (`scene_bounds`), which it passes to the host
+//! object's `preprocess`/`preprocess_view`: a directional light's emitting disc and power, and an
 //! environment's sphere and power, come from it exactly as for the built-ins.
 //!
-//! Through extension v6 the three calls the renderer makes per sample (`sample_toward`,
-//! `sample_emission`, `emission_pdf`) cross in the host's own `f32` layout: the host's receiver
-//! is read in place and the host light's sample is written straight into the host's record
-//! (`spectrace::plugin::layout`), so nothing is converted.
+//! The calls the renderer makes per sample (`sample_toward`, `sample_emission`, `emission_pdf`)
+//! cross in the host's own `f32` layout: the host's receiver is read in place and the host
+//! light's sample is written straight into the host's record (`spectrace::plugin::layout`), so
+//! nothing is converted.
 //!
 //! `environment` is an ENVIRONMENT light: the host places its own sky sphere around the same
 //! bounds and asks this one for radiance, incident-direction sampling and power.
 
-use crate::material::{host_lambdas, v3, va, values};
-use crate::material::{host_v, v4f, wavelengths};
+use crate::material::{host_v, v4f, va, wavelengths};
 use crate::wrap::{context, params_doc, plugin_error, HostParams, HostSpd};
 use glam::{Vec2, Vec3A};
 use spectrace::builtin::light::{directional, environment, point, spot};
 use spectrace::geometry::{Aabb, Ray};
 use spectrace::light::{
     ConstantEnvironment, EnvironmentLight, EnvironmentRadiance, Light as HostLight, LightFlags,
-    LightSampleContext,
 };
-use spectrace::plugin::layout::{as_light_context, as_light_sample_mut};
+use spectrace::plugin::layout::{as_light_context, as_light_sample_mut, as_vec3a};
 use spectrace_plugin_api::{
-    light_flags, Beam, EmissionF32, EmissionPdf, EmissionSample, Flags, Host, IncidentF32,
-    IncidentSample, LanesF32, LightSource, ParamDoc, PluginError, PluginResult, PluginType,
-    RandomSample, ReceiverF32, SceneBounds, Spd, SpectralValues, Vec3, Vec4f, WavelengthSample,
-    Wavelengths,
+    light_flags, EmissionPdf, EmittedRay, Flags, Host, Incident, LightSource, ParamDoc,
+    PluginError, PluginResult, PluginType, RandomSample, Receiver, RepresentedBeam, SceneBounds,
+    Spd, Vec4f, Wavelengths, LANES,
 };
 use std::sync::Arc;
 
@@ -47,52 +43,15 @@ fn boxes(b: &SceneBounds) -> (Aabb, Aabb) {
     )
 }
 
-/// `sample_emission` through the host light `light`.
-fn sample_emission(
-    light: &dyn HostLight,
-    sample: &RandomSample,
-    lambda: &Wavelengths,
-) -> EmissionSample {
-    let u = sample.u.map(|x| x as f32);
-    let s = light.sample_le(
-        Vec2::new(u[0], u[1]),
-        Vec2::new(u[2], u[3]),
-        &host_lambdas(lambda),
-    );
-    match s {
-        Some(s) => EmissionSample {
-            origin: v3(s.ray.origin),
-            direction: v3(s.ray.dir),
-            normal: v3(s.normal),
-            value: values(s.radiance),
-            pdf_position: s.pdf_pos as f64,
-            pdf_direction: s.pdf_dir as f64,
-        },
-        None => EmissionSample {
-            direction: NO_DIRECTION,
-            ..EmissionSample::default()
-        },
-    }
-}
-
-/// `emission_pdf` through the host light `light`.
-fn emission_pdf(light: &dyn HostLight, origin: Vec3, direction: Vec3) -> EmissionPdf {
-    let (position, direction) = light.pdf_le(&Ray::new(va(origin), va(direction)), Vec3A::ZERO);
-    EmissionPdf {
-        position: position as f64,
-        direction: direction as f64,
-    }
-}
-
-/// `sample_toward` in the host's layout (extension v6): the host's receiver read in place and
-/// the host light's sample written in place (`spectrace::plugin::layout`), nothing converted.
+/// `sample_toward` in the host's layout: the host's receiver read in place and the host light's
+/// sample written in place (`spectrace::plugin::layout`), nothing converted.
 #[inline]
-fn sample_toward_v6<L: HostLight + ?Sized>(
+fn sample_toward<L: HostLight + ?Sized>(
     light: &L,
-    receiver: &ReceiverF32,
+    receiver: &Receiver,
     u: [f32; 2],
-    lambda: &LanesF32,
-    out: &mut IncidentF32,
+    lambda: &Wavelengths,
+    out: &mut Incident,
 ) -> bool {
     let ctx = as_light_context(receiver);
     let mut slot = None;
@@ -102,13 +61,13 @@ fn sample_toward_v6<L: HostLight + ?Sized>(
     light.sample_li_into(ctx, Vec2::new(u[0], u[1]), lambda, as_light_sample_mut(out))
 }
 
-/// `sample_emission` in the host's layout (extension v6).
+/// `sample_emission` in the host's layout.
 #[inline]
-fn sample_emission_v6<L: HostLight + ?Sized>(
+fn sample_emission<L: HostLight + ?Sized>(
     light: &L,
     u: [f32; 4],
-    lambda: &LanesF32,
-    out: &mut EmissionF32,
+    lambda: &Wavelengths,
+    out: &mut EmittedRay,
 ) -> bool {
     let u1 = Vec2::new(u[0], u[1]);
     let u2 = Vec2::new(u[2], u[3]);
@@ -116,7 +75,7 @@ fn sample_emission_v6<L: HostLight + ?Sized>(
     let lambda = wavelengths(lambda, &mut slot);
     match light.sample_le(u1, u2, lambda) {
         Some(s) => {
-            *out = EmissionF32 {
+            *out = EmittedRay {
                 origin: v4f(s.ray.origin),
                 direction: v4f(s.ray.dir),
                 value: s.radiance.0,
@@ -130,24 +89,20 @@ fn sample_emission_v6<L: HostLight + ?Sized>(
     }
 }
 
-/// `emission_pdf` in the host's layout (extension v6).
+/// `emission_pdf` in the host's layout.
 #[inline]
-fn emission_pdf_v6<L: HostLight + ?Sized>(
+fn emission_pdf<L: HostLight + ?Sized>(
     light: &L,
     origin: &Vec4f,
     direction: &Vec4f,
-) -> [f32; 2] {
+) -> EmissionPdf {
     let ray = Ray::new(host_v(*origin), host_v(*direction));
     let (position, direction) = light.pdf_le(&ray, Vec3A::ZERO);
-    [position, direction]
+    EmissionPdf {
+        position,
+        direction,
+    }
 }
-
-/// What a refused sample returns: valid fields, zero density (the host then skips it).
-const NO_DIRECTION: Vec3 = Vec3 {
-    x: 0.0,
-    y: 0.0,
-    z: 1.0,
-};
 
 macro_rules! light_type {
     ($ty:ident, $module:ident, $params:ty, $host:ty) => {
@@ -180,15 +135,7 @@ macro_rules! light_type {
         }
 
         impl LightSource for $ty {
-            fn next_beam(&self, sample: &RandomSample) -> PluginResult<Beam> {
-                self.light
-                    .next_beam(sample)
-                    .ok_or_else(|| PluginError::unsupported("next_beam"))
-            }
-            fn total_power_w(&self) -> PluginResult<f64> {
-                Ok(self.light.power())
-            }
-            fn capabilities(&self) -> Flags {
+            fn flags(&self) -> Flags {
                 let f = self.light.flags();
                 let mut out = light_flags::CONNECTABLE;
                 if f.contains(LightFlags::DELTA_POSITION) {
@@ -197,27 +144,17 @@ macro_rules! light_type {
                 if f.contains(LightFlags::DELTA_DIRECTION) {
                     out = out | light_flags::DELTA_DIRECTION;
                 }
+                // Declared exactly where the built-in declares it.
+                if self.light.uniform_spectral_shape() {
+                    out = out | light_flags::UNIFORM_SPECTRAL_SHAPE;
+                }
                 out
             }
-            fn sample_wavelength(&self, u: f64) -> PluginResult<WavelengthSample> {
-                let s = self.light.spd().sample(u);
-                Ok(WavelengthSample {
-                    nm: s.lambda,
-                    pdf: s.pdf,
-                })
+            fn emission_spectrum(&self) -> PluginResult<Option<Box<dyn Spd>>> {
+                Ok(Some(Box::new(HostSpd(self.light.spd()))))
             }
-            fn wavelength_pdf(&self, nm: f64) -> PluginResult<f64> {
-                Ok(self.light.spd().pdf(nm))
-            }
-            fn sample_emission(
-                &self,
-                sample: &RandomSample,
-                lambda: &Wavelengths,
-            ) -> PluginResult<EmissionSample> {
-                Ok(sample_emission(&self.light, sample, lambda))
-            }
-            fn emission_pdf(&self, origin: Vec3, direction: Vec3) -> PluginResult<EmissionPdf> {
-                Ok(emission_pdf(&self.light, origin, direction))
+            fn total_power_w(&self) -> PluginResult<f64> {
+                Ok(self.light.power())
             }
             fn scene_bounds(&self, bounds: &SceneBounds) -> PluginResult<()> {
                 let (scene, view) = boxes(bounds);
@@ -225,63 +162,34 @@ macro_rules! light_type {
                 self.light.preprocess_view(&view);
                 Ok(())
             }
-            fn emission_spectrum(&self) -> PluginResult<Option<Box<dyn Spd>>> {
-                Ok(Some(Box::new(HostSpd(self.light.spd()))))
-            }
-            // Extension v4: declared exactly where the built-in declares it.
-            fn uniform_spectral_shape(&self) -> bool {
-                self.light.uniform_spectral_shape()
-            }
-            #[inline]
-            fn sample_toward_v6(
-                &self,
-                receiver: &ReceiverF32,
-                u: [f32; 2],
-                lambda: &LanesF32,
-                out: &mut IncidentF32,
-            ) -> PluginResult<bool> {
-                Ok(sample_toward_v6(&self.light, receiver, u, lambda, out))
+            fn next_beam(&self, sample: &RandomSample) -> PluginResult<RepresentedBeam> {
+                self.light
+                    .next_beam(sample)
+                    .map(Into::into)
+                    .ok_or_else(|| PluginError::unsupported("next_beam"))
             }
             #[inline]
-            fn sample_emission_v6(
-                &self,
-                u: [f32; 4],
-                lambda: &LanesF32,
-                out: &mut EmissionF32,
-            ) -> PluginResult<bool> {
-                Ok(sample_emission_v6(&self.light, u, lambda, out))
-            }
-            #[inline]
-            fn emission_pdf_v6(&self, origin: &Vec4f, direction: &Vec4f) -> PluginResult<[f32; 2]> {
-                Ok(emission_pdf_v6(&self.light, origin, direction))
-            }
             fn sample_toward(
                 &self,
-                receiver: Vec3,
-                sample: &RandomSample,
+                receiver: &Receiver,
+                u: [f32; 2],
                 lambda: &Wavelengths,
-            ) -> PluginResult<IncidentSample> {
-                let ctx = LightSampleContext {
-                    p: va(receiver),
-                    p_error: Vec3A::ZERO,
-                    n: Vec3A::ZERO,
-                };
-                let u = Vec2::new(sample.u[0] as f32, sample.u[1] as f32);
-                Ok(match self.light.sample_li(&ctx, u, &host_lambdas(lambda)) {
-                    Some(s) => IncidentSample {
-                        point: v3(s.p_light),
-                        normal: v3(s.n_light),
-                        direction: v3(s.wi),
-                        distance: f64::from(s.p_light.distance(ctx.p)),
-                        value: values(s.radiance),
-                        pdf: s.pdf as f64,
-                    },
-                    None => IncidentSample {
-                        direction: NO_DIRECTION,
-                        distance: 1.0,
-                        ..IncidentSample::default()
-                    },
-                })
+                out: &mut Incident,
+            ) -> PluginResult<bool> {
+                Ok(sample_toward(&self.light, receiver, u, lambda, out))
+            }
+            #[inline]
+            fn sample_emission(
+                &self,
+                u: [f32; 4],
+                lambda: &Wavelengths,
+                out: &mut EmittedRay,
+            ) -> PluginResult<bool> {
+                Ok(sample_emission(&self.light, u, lambda, out))
+            }
+            #[inline]
+            fn emission_pdf(&self, origin: &Vec4f, direction: &Vec4f) -> PluginResult<EmissionPdf> {
+                Ok(emission_pdf(&self.light, origin, direction))
             }
         }
     };
@@ -337,71 +245,19 @@ impl PluginType for Environment {
 }
 
 impl LightSource for Environment {
-    fn next_beam(&self, _sample: &RandomSample) -> PluginResult<Beam> {
-        // As for the built-in: the host starts an environment's light paths on its own sphere.
-        Err(PluginError::unsupported("next_beam of an environment"))
+    fn flags(&self) -> Flags {
+        let mut out = light_flags::ENVIRONMENT | light_flags::CONNECTABLE;
+        // Declared exactly where the built-in declares it.
+        if self.light.uniform_spectral_shape() {
+            out = out | light_flags::UNIFORM_SPECTRAL_SHAPE;
+        }
+        out
+    }
+    fn emission_spectrum(&self) -> PluginResult<Option<Box<dyn Spd>>> {
+        Ok(Some(Box::new(HostSpd(self.source.spd()))))
     }
     fn total_power_w(&self) -> PluginResult<f64> {
         Ok(self.light.power())
-    }
-    fn capabilities(&self) -> Flags {
-        light_flags::ENVIRONMENT | light_flags::CONNECTABLE
-    }
-    fn sample_wavelength(&self, u: f64) -> PluginResult<WavelengthSample> {
-        let s = self.source.spd().sample(u);
-        Ok(WavelengthSample {
-            nm: s.lambda,
-            pdf: s.pdf,
-        })
-    }
-    fn wavelength_pdf(&self, nm: f64) -> PluginResult<f64> {
-        Ok(self.source.spd().pdf(nm))
-    }
-    fn sample_emission(
-        &self,
-        sample: &RandomSample,
-        lambda: &Wavelengths,
-    ) -> PluginResult<EmissionSample> {
-        Ok(sample_emission(&self.light, sample, lambda))
-    }
-    fn emission_pdf(&self, origin: Vec3, direction: Vec3) -> PluginResult<EmissionPdf> {
-        Ok(emission_pdf(&self.light, origin, direction))
-    }
-    fn sample_toward(
-        &self,
-        receiver: Vec3,
-        sample: &RandomSample,
-        lambda: &Wavelengths,
-    ) -> PluginResult<IncidentSample> {
-        let p = va(receiver);
-        let u = Vec2::new(sample.u[0] as f32, sample.u[1] as f32);
-        let Some((wi, pdf)) = self.source.sample_direction(p, u) else {
-            return Ok(IncidentSample {
-                direction: NO_DIRECTION,
-                distance: 1.0,
-                ..IncidentSample::default()
-            });
-        };
-        let (point, normal) = self
-            .light
-            .escape_point(&Ray::new(p, wi))
-            .unwrap_or((p + wi, Vec3A::ZERO));
-        Ok(IncidentSample {
-            point: v3(point),
-            normal: v3(normal),
-            direction: v3(wi),
-            distance: f64::from(point.distance(p)),
-            value: values(self.source.radiance(wi, &host_lambdas(lambda))),
-            pdf: pdf as f64,
-        })
-    }
-    fn radiance(&self, direction: Vec3, lambda: &Wavelengths) -> PluginResult<SpectralValues> {
-        Ok(values(
-            self.source.radiance(va(direction), &host_lambdas(lambda)),
-        ))
-    }
-    fn incident_pdf(&self, receiver: Vec3, direction: Vec3) -> PluginResult<f64> {
-        Ok(self.source.direction_pdf(va(receiver), va(direction)) as f64)
     }
     fn scene_bounds(&self, bounds: &SceneBounds) -> PluginResult<()> {
         let (scene, view) = boxes(bounds);
@@ -409,11 +265,44 @@ impl LightSource for Environment {
         self.light.preprocess_view(&view);
         Ok(())
     }
-    fn emission_spectrum(&self) -> PluginResult<Option<Box<dyn Spd>>> {
-        Ok(Some(Box::new(HostSpd(self.source.spd()))))
+    fn next_beam(&self, _sample: &RandomSample) -> PluginResult<RepresentedBeam> {
+        // As for the built-in: the host starts an environment's light paths on its own sphere.
+        Err(PluginError::unsupported("next_beam of an environment"))
     }
-    // Extension v4: declared exactly where the built-in declares it.
-    fn uniform_spectral_shape(&self) -> bool {
-        self.light.uniform_spectral_shape()
+    fn sample_toward(
+        &self,
+        receiver: &Receiver,
+        u: [f32; 2],
+        lambda: &Wavelengths,
+        out: &mut Incident,
+    ) -> PluginResult<bool> {
+        let p = as_light_context(receiver).p;
+        let Some((wi, pdf)) = self.source.sample_direction(p, Vec2::new(u[0], u[1])) else {
+            return Ok(false);
+        };
+        let (point, normal) = self
+            .light
+            .escape_point(&Ray::new(p, wi))
+            .unwrap_or((p + wi, Vec3A::ZERO));
+        let mut slot = None;
+        let lambda = wavelengths(lambda, &mut slot);
+        *out = Incident {
+            value: self.source.radiance(wi, lambda).0,
+            direction: v4f(wi),
+            pdf,
+            point: v4f(point),
+            point_error: Vec4f::default(),
+            normal: v4f(normal),
+        };
+        Ok(true)
+    }
+    fn radiance(&self, direction: &Vec4f, lambda: &Wavelengths) -> PluginResult<[f32; LANES]> {
+        let mut slot = None;
+        let lambda = wavelengths(lambda, &mut slot);
+        Ok(self.source.radiance(*as_vec3a(direction), lambda).0)
+    }
+    fn incident_pdf(&self, receiver: &Receiver, direction: &Vec4f) -> PluginResult<f32> {
+        let p = as_light_context(receiver).p;
+        Ok(self.source.direction_pdf(p, *as_vec3a(direction)))
     }
 }

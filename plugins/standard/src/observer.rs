@@ -1,5 +1,5 @@
 //! The CIE observers (`host/src/builtin/observer/cie.rs`), no parameters; each declares the
-//! host's 1 nm table it evaluates (extension v7), so the host evaluates its own copy.
+//! host's 1 nm table it evaluates, so the host evaluates its own copy.
 
 use crate::wrap::{plugin_error, HostParams};
 use spectrace::builtin::observer::cie::{self, CieParams};
@@ -53,8 +53,8 @@ macro_rules! cie_type {
                 let (min_nm, max_nm) = self.observer.range();
                 WavelengthRange { min_nm, max_nm }
             }
-            /// The host's 1 nm table, which `xyz_bar` interpolates (extension v7).
-            fn declared_table(&self) -> Option<ObserverTable> {
+            /// The host's 1 nm table, which `xyz_bar` interpolates.
+            fn table(&self) -> Option<ObserverTable> {
                 let (start_nm, table) = spectrace::color::CieObserverKind::$kind.get().grid();
                 Some(ObserverTable {
                     start_nm,

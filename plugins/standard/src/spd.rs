@@ -1,11 +1,10 @@
 //! `spec` and `table`: the host's SPD types (`host/src/builtin/spd/`), same parameters, with
-//! their spectral lines (extension v2).
+//! their spectral lines.
 
 use crate::wrap::{context, params_doc, plugin_error, HostParams, HostSpd};
 use spectrace::builtin::spd::{spec, table};
 use spectrace_plugin_api::{
-    Flags, Host, ParamDoc, PluginResult, PluginType, Spd, SpectralLine, WavelengthRange,
-    WavelengthSample,
+    Host, ParamDoc, PluginResult, PluginType, Spd, SpectralLine, WavelengthRange, WavelengthSample,
 };
 
 macro_rules! spd_type {
@@ -53,11 +52,8 @@ macro_rules! spd_type {
             fn range_nm(&self) -> WavelengthRange {
                 self.spd.range_nm()
             }
-            fn capabilities(&self) -> Flags {
-                self.spd.capabilities()
-            }
-            fn delta_lines(&self) -> Vec<SpectralLine> {
-                self.spd.delta_lines()
+            fn lines(&self) -> Vec<SpectralLine> {
+                self.spd.lines()
             }
         }
     };

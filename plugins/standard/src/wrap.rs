@@ -5,8 +5,7 @@ use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use spectrace::builtin::BuiltinType;
 use spectrace::scene::FactoryContext;
 use spectrace_plugin_api::{
-    spd_flags, Flags, ParamDoc, PluginError, PluginResult, Spd, SpectralLine, WavelengthRange,
-    WavelengthSample,
+    ParamDoc, PluginError, PluginResult, Spd, SpectralLine, WavelengthRange, WavelengthSample,
 };
 use std::sync::Arc;
 
@@ -64,7 +63,7 @@ pub fn plugin_error(e: impl std::fmt::Display) -> PluginError {
 
 /// A host SPD as a plugin SPD: the same value, sampling, density, range and lines, in f64
 /// unchanged, so the host rebuilds an SPD that evaluates and samples bit for bit like this one.
-/// What the library's lights and materials hand over as their emission spectrum (extension v2).
+/// What the library's lights and materials hand over as their emission spectrum.
 #[derive(Clone, Debug)]
 pub struct HostSpd(pub Arc<dyn spectrace::spectrum::Spd>);
 
@@ -86,14 +85,7 @@ impl Spd for HostSpd {
         let (min_nm, max_nm) = self.0.range();
         WavelengthRange { min_nm, max_nm }
     }
-    fn capabilities(&self) -> Flags {
-        if self.0.is_delta() {
-            spd_flags::HAS_LINES
-        } else {
-            Flags::NONE
-        }
-    }
-    fn delta_lines(&self) -> Vec<SpectralLine> {
+    fn lines(&self) -> Vec<SpectralLine> {
         self.0
             .delta_lines()
             .into_iter()

@@ -1,67 +1,16 @@
 //! Beam-representation adapters (the seed's design): a plugin light whose beams are written in
-//! another representation (declared by its type, see `spectrace_plugin_api::representation`)
-//! is wrapped once, and each beam is converted once, in `next_beam`, by a spatial adapter
+//! another representation (declared by its type, see `spectrace_plugin_api::representation`;
+//! native beams pass through the same converter unchanged) is wrapped once, and each beam is converted once, in `next_beam`, by a spatial adapter
 //! (units, handedness, angles → unit vector) and a colour adapter (RGB → wavelength and power,
 //! flux preserved). The integrators only ever see native beams.
 
 pub mod colour;
-pub mod extension;
 pub mod spatial;
 
-use super::adapter::PluginLight;
-use super::services::HostServices;
-use super::{LoadedPlugin, Registry};
 use colour::ColourCache;
 use spatial::SpatialAdapter;
-use spectrace_plugin_api::abi::std_types::RStr;
-use spectrace_plugin_api::module::ObjectSource;
-use spectrace_plugin_api::{Beam, ObjectKind, RandomSample};
-use spectrace_plugin_api::{BeamRepresentation, ColourEncoding, RepresentedBeam};
-use std::sync::Arc;
-
-/// The declared representation of plugin light type `type_name`, when it is not native: from
-/// the providing library's extension module (absent in libraries built before it existed).
-pub fn declared(
-    registry: &Registry,
-    type_name: &str,
-) -> Result<Option<(Arc<LoadedPlugin>, BeamRepresentation)>, String> {
-    let Ok(Some(plugin)) = registry.plugin_for(ObjectKind::Light, type_name) else {
-        return Ok(None);
-    };
-    let Some(ext) = extension::extensions_v1(&plugin.path)? else {
-        return Ok(None);
-    };
-    let list = (ext.type_representations())()
-        .into_result()
-        .map_err(|e| format!("plugin {}: type_representations: {e}", plugin.info.name))?;
-    Ok(list
-        .iter()
-        .find(|t| t.kind == ObjectKind::Light && t.name.as_str() == type_name)
-        .filter(|t| !t.beams.is_native())
-        .map(|t| (plugin.clone(), t.beams)))
-}
-
-/// Wrap `light` (built from `source`) so that its beams come from the same type built in its
-/// declared representation, when it declares one; otherwise `light` unchanged.
-pub fn wrap_light(
-    registry: &Registry,
-    type_name: &str,
-    source: ObjectSource<'_>,
-    light: PluginLight,
-) -> Result<PluginLight, String> {
-    let Some((plugin, _)) = declared(registry, type_name)? else {
-        return Ok(light);
-    };
-    let Some(ext) = extension::extensions_v1(&plugin.path)? else {
-        return Ok(light);
-    };
-    let services = HostServices::new(registry);
-    let represented =
-        (ext.create_represented_light())(RStr::from_str(type_name), source, services.as_ref())
-            .into_result()
-            .map_err(|e| format!("light `{type_name}` (plugin {}): {e}", plugin.info.name))?;
-    light.with_represented(represented)
-}
+use spectrace_plugin_api::RandomSample;
+use spectrace_plugin_api::{Beam, BeamRepresentation, ColourEncoding, RepresentedBeam};
 
 /// Which of the host's random numbers picks an RGB beam's wavelength: plugins read `u[0..5]`
 /// at most (see `LightSource::next_beam`), the rest are the host's.
