@@ -75,3 +75,6 @@ pub fn read_any(path: &Path, defines: &[(String, String)]) -> Result<SceneDescri
         })
     }
 }
+
+#[cfg(test)]
+mod tests;
