@@ -552,7 +552,7 @@ impl<'a> Converter<'a> {
                 if rgb.iter().any(|&x| x < 0.0) {
                     return Err(c.error("negative emission"));
                 }
-                spectra::grid().map(|l| (l, spectra::rgb_emission(rgb, l))).collect()
+                spectra::rgb_emission_table(rgb)
             }
             "spectrum" => match self.spectrum_pairs(c)? {
                 SpectrumValue::Uniform(v) => spectra::grid().map(|l| (l, v)).collect(),

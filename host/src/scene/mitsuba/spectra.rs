@@ -45,15 +45,25 @@ pub fn d65_unit(lambda_nm: f64) -> f64 {
     d65.value(lambda_nm) * k
 }
 
-/// Mitsuba's spectral-mode reading of an `rgb` emission, at `lambda_nm`.
+/// Mitsuba's spectral-mode reading of an `rgb` emission, as a table on [`GRID`].
+pub fn rgb_emission_table(rgb: [f64; 3]) -> Vec<(f64, f64)> {
+    let m = rgb[0].max(rgb[1]).max(rgb[2]);
+    if !(m > 0.0) {
+        return grid().map(|l| (l, 0.0)).collect();
+    }
+    let s = 2.0 * m;
+    let curve = uplift_srgb(rgb.map(|c| c.max(0.0) / s));
+    grid().map(|l| (l, s * curve.value(l) * d65_unit(l))).collect()
+}
+
+/// [`rgb_emission_table`] at one wavelength.
 pub fn rgb_emission(rgb: [f64; 3], lambda_nm: f64) -> f64 {
     let m = rgb[0].max(rgb[1]).max(rgb[2]);
     if !(m > 0.0) {
         return 0.0;
     }
     let s = 2.0 * m;
-    let curve = uplift_srgb(rgb.map(|c| c.max(0.0) / s));
-    s * curve.value(lambda_nm) * d65_unit(lambda_nm)
+    s * uplift_srgb(rgb.map(|c| c.max(0.0) / s)).value(lambda_nm) * d65_unit(lambda_nm)
 }
 
 /// Linear interpolation in sorted `(nm, value)` pairs; zero outside them.
