@@ -30,14 +30,18 @@ pub fn run(args: &ConvertArgs) -> Result<(), String> {
     let mut desc = conv.desc;
     let src_dir = args.scene.parent().unwrap_or(Path::new("."));
     let out_dir = out.parent().unwrap_or(Path::new("."));
-    let same_dir = match (std::fs::canonicalize(nonempty(src_dir)), std::fs::canonicalize(nonempty(out_dir))) {
+    let same_dir = match (
+        std::fs::canonicalize(nonempty(src_dir)),
+        std::fs::canonicalize(nonempty(out_dir)),
+    ) {
         (Ok(a), Ok(b)) => a == b,
         _ => false,
     };
     if !same_dir {
         // Files the scene names are relative to the XML's directory: made absolute so the RON
         // file finds them wherever it is written.
-        let base = std::fs::canonicalize(nonempty(src_dir)).map_err(|e| format!("{}: {e}", src_dir.display()))?;
+        let base = std::fs::canonicalize(nonempty(src_dir))
+            .map_err(|e| format!("{}: {e}", src_dir.display()))?;
         for m in &mut desc.materials {
             absolutise(&mut m.params, &base);
         }
@@ -48,7 +52,9 @@ pub fn run(args: &ConvertArgs) -> Result<(), String> {
             absolutise(&mut l.params, &base);
         }
     }
-    let pretty = ron::ser::PrettyConfig::new().depth_limit(4).indentor("    ".into());
+    let pretty = ron::ser::PrettyConfig::new()
+        .depth_limit(4)
+        .indentor("    ".into());
     let body = ron::ser::to_string_pretty(&desc, pretty).map_err(|e| e.to_string())?;
     let mut text = format!(
         "// Converted from {} by `spectrace convert`.\n",
@@ -102,7 +108,10 @@ fn absolutise(v: &mut Value, base: &Path) {
                 let mut x = x.clone();
                 let key_is = |name: &str| matches!(k, Value::String(s) if s == name);
                 match &mut x {
-                    Value::String(s) if (key_is("file") || key_is("texture")) && Path::new(s.as_str()).is_relative() => {
+                    Value::String(s)
+                        if (key_is("file") || key_is("texture"))
+                            && Path::new(s.as_str()).is_relative() =>
+                    {
                         *s = base.join(s.as_str()).to_string_lossy().into_owned();
                     }
                     other => absolutise(other, base),

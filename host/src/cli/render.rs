@@ -315,7 +315,11 @@ impl RenderArgs {
 pub fn load(args: &RenderArgs, factories: &[&dyn ObjectFactory]) -> Result<Scene, String> {
     let repr = args.representation.options()?;
     let defines = crate::scene::mitsuba::parse_defines(&args.define)?;
-    let Some((w, h)) = args.resolution.or(if defines.is_empty() { None } else { Some((0, 0)) }) else {
+    let Some((w, h)) = args.resolution.or(if defines.is_empty() {
+        None
+    } else {
+        Some((0, 0))
+    }) else {
         return match &args.scene {
             Some(p) => load_scene_file_with(p, factories, &repr),
             None => crate::scene::cornell::cornell_box_with(factories, &repr),

@@ -64,9 +64,28 @@ pub fn numbers(s: &str) -> Option<Vec<f64>> {
 // ---------------------------------------------------------------- properties of one element
 
 const PROPERTY_TAGS: &[&str] = &[
-    "float", "integer", "boolean", "string", "rgb", "spectrum", "point", "vector", "transform",
-    "texture", "ref", "bsdf", "emitter", "sensor", "film", "sampler", "rfilter", "shape",
-    "integrator", "medium", "phase", "volume",
+    "float",
+    "integer",
+    "boolean",
+    "string",
+    "rgb",
+    "spectrum",
+    "point",
+    "vector",
+    "transform",
+    "texture",
+    "ref",
+    "bsdf",
+    "emitter",
+    "sensor",
+    "film",
+    "sampler",
+    "rfilter",
+    "shape",
+    "integrator",
+    "medium",
+    "phase",
+    "volume",
 ];
 
 /// The children of one element, with a record of which were read (the rest is reported).
@@ -96,7 +115,10 @@ impl<'a> Props<'a> {
     }
 
     fn has(&self, name: &str) -> bool {
-        self.el.children.iter().any(|c| c.attr("name") == Some(name))
+        self.el
+            .children
+            .iter()
+            .any(|c| c.attr("name") == Some(name))
     }
 
     fn value_of(&self, name: &str) -> Option<(&'a Element, &'a str)> {
@@ -181,7 +203,13 @@ impl<'a> Props<'a> {
             .filter(|(i, _)| !used.contains(i))
             .map(|(_, c)| match c.attr("name") {
                 Some(n) => n.to_string(),
-                None => format!("<{}{}>", c.tag, c.attr("type").map(|t| format!(" type={t}")).unwrap_or_default()),
+                None => format!(
+                    "<{}{}>",
+                    c.tag,
+                    c.attr("type")
+                        .map(|t| format!(" type={t}"))
+                        .unwrap_or_default()
+                ),
             })
             .collect()
     }
@@ -219,7 +247,8 @@ pub fn transform_of(t: &Element) -> Result<DMat4, SceneError> {
     for op in &t.children {
         let attr3 = |default: f64| -> Result<DVec3, SceneError> {
             if let Some(v) = op.attr("value") {
-                let n = numbers(v).ok_or_else(|| op.error(format!("`{v}` is not a list of numbers")))?;
+                let n = numbers(v)
+                    .ok_or_else(|| op.error(format!("`{v}` is not a list of numbers")))?;
                 return match n.as_slice() {
                     [x] => Ok(DVec3::splat(*x)),
                     [x, y, z] => Ok(DVec3::new(*x, *y, *z)),
@@ -229,7 +258,11 @@ pub fn transform_of(t: &Element) -> Result<DMat4, SceneError> {
             let f = |k: &str| -> Result<f64, SceneError> {
                 match op.attr(k) {
                     None => Ok(default),
-                    Some(s) => s.trim().parse::<f64>().ok().filter(|x| x.is_finite())
+                    Some(s) => s
+                        .trim()
+                        .parse::<f64>()
+                        .ok()
+                        .filter(|x| x.is_finite())
                         .ok_or_else(|| op.error(format!("`{k}`: `{s}` is not a number"))),
                 }
             };
@@ -266,7 +299,8 @@ pub fn transform_of(t: &Element) -> Result<DMat4, SceneError> {
             }
             "matrix" => {
                 let v = op.attr("value").unwrap_or("");
-                let n = numbers(v).ok_or_else(|| op.error(format!("`{v}` is not a list of numbers")))?;
+                let n = numbers(v)
+                    .ok_or_else(|| op.error(format!("`{v}` is not a list of numbers")))?;
                 match n.len() {
                     16 => DMat4::from_cols_slice(&n).transpose(),
                     9 => {
@@ -284,14 +318,24 @@ pub fn transform_of(t: &Element) -> Result<DMat4, SceneError> {
             "lookat" => {
                 let origin = vec_attr("origin")?.ok_or_else(|| op.error("needs `origin`"))?;
                 let target = vec_attr("target")?.ok_or_else(|| op.error("needs `target`"))?;
-                let dir = (target - origin).try_normalize().ok_or_else(|| op.error("origin and target coincide"))?;
+                let dir = (target - origin)
+                    .try_normalize()
+                    .ok_or_else(|| op.error("origin and target coincide"))?;
                 let up = match vec_attr("up")? {
                     Some(u) => u,
                     None => dir.any_orthonormal_vector(),
                 };
-                let left = up.cross(dir).try_normalize().ok_or_else(|| op.error("`up` is parallel to the view direction"))?;
+                let left = up
+                    .cross(dir)
+                    .try_normalize()
+                    .ok_or_else(|| op.error("`up` is parallel to the view direction"))?;
                 let new_up = dir.cross(left);
-                DMat4::from_cols(left.extend(0.0), new_up.extend(0.0), dir.extend(0.0), origin.extend(1.0))
+                DMat4::from_cols(
+                    left.extend(0.0),
+                    new_up.extend(0.0),
+                    dir.extend(0.0),
+                    origin.extend(1.0),
+                )
             }
             other => return Err(op.error(format!("unknown transform operation <{other}>"))),
         };
@@ -381,7 +425,11 @@ impl<'a> Converter<'a> {
             if alt.exists() {
                 p = alt;
             } else {
-                return Err(el.error(format!("file not found: {} (nor {})", p.display(), alt.display())));
+                return Err(el.error(format!(
+                    "file not found: {} (nor {})",
+                    p.display(),
+                    alt.display()
+                )));
             }
         }
         Ok(match p.strip_prefix(&self.dir) {
@@ -393,27 +441,46 @@ impl<'a> Converter<'a> {
     // ------------------------------------------------------------ spectra
 
     /// A reflectance-like (unitless) colour parameter as a spectrace spectral value.
-    fn reflectance(&mut self, p: &Props<'a>, name: &str, default: f64, item: &str) -> Result<Value, SceneError> {
+    fn reflectance(
+        &mut self,
+        p: &Props<'a>,
+        name: &str,
+        default: f64,
+        item: &str,
+    ) -> Result<Value, SceneError> {
         let Some(c) = p.get(name) else {
             return Ok(num(default));
         };
         let c = self.resolve(c)?;
         match c.tag.as_str() {
             "float" | "integer" => {
-                let v = c.attr("value").and_then(|v| v.trim().parse::<f64>().ok()).ok_or_else(|| c.error("not a number"))?;
+                let v = c
+                    .attr("value")
+                    .and_then(|v| v.trim().parse::<f64>().ok())
+                    .ok_or_else(|| c.error("not a number"))?;
                 Ok(num(v))
             }
             "rgb" => {
-                let v = c.attr("value").and_then(numbers).ok_or_else(|| c.error("not a list of numbers"))?;
+                let v = c
+                    .attr("value")
+                    .and_then(numbers)
+                    .ok_or_else(|| c.error("not a list of numbers"))?;
                 let rgb = match v.as_slice() {
                     [g] => [*g; 3],
                     [r, g, b] => [*r, *g, *b],
                     _ => return Err(c.error("an rgb value has 1 or 3 numbers")),
                 };
                 if rgb.iter().any(|&x| !(0.0..=1.0).contains(&x)) && name != "eta" && name != "k" {
-                    self.note("rgb reflectance outside [0, 1]", "clamped to [0, 1] by the uplift (Mitsuba keeps it)", item);
+                    self.note(
+                        "rgb reflectance outside [0, 1]",
+                        "clamped to [0, 1] by the uplift (Mitsuba keeps it)",
+                        item,
+                    );
                 }
-                Ok(map(vec![("rgb", seq(rgb.iter().map(|&x| num(x)).collect()))]))
+                Ok(map(vec![(
+                    "rgb",
+                    seq(rgb.iter().map(|&x| num(x)).collect()),
+                )]))
             }
             "spectrum" => {
                 let t = self.spectrum_pairs(c)?;
@@ -431,7 +498,9 @@ impl<'a> Converter<'a> {
         let p = Props::new(c);
         match c.attr("type").unwrap_or("") {
             "bitmap" => {
-                let file = p.string("filename").ok_or_else(|| c.error("bitmap needs `filename`"))?;
+                let file = p
+                    .string("filename")
+                    .ok_or_else(|| c.error("bitmap needs `filename`"))?;
                 let file = self.file(c, file)?;
                 let raw = p.bool("raw")?.unwrap_or(false);
                 let filter = match p.string("filter_type").unwrap_or("bilinear") {
@@ -447,7 +516,11 @@ impl<'a> Converter<'a> {
                 if let Some(t) = p.get("to_uv") {
                     let m = transform_of(t)?;
                     if m.x_axis.y.abs() > 1e-12 || m.y_axis.x.abs() > 1e-12 {
-                        self.note("texture to_uv rotation", "only the scale and offset of `to_uv` are kept", item);
+                        self.note(
+                            "texture to_uv rotation",
+                            "only the scale and offset of `to_uv` are kept",
+                            item,
+                        );
                     }
                     entries.push(("uv_scale", seq(vec![num(m.x_axis.x), num(m.y_axis.y)])));
                     entries.push(("uv_offset", seq(vec![num(m.w_axis.x), num(m.w_axis.y)])));
@@ -463,11 +536,19 @@ impl<'a> Converter<'a> {
             "checkerboard" => {
                 let a = self.reflectance(&p, "color0", 0.4, item)?;
                 let _ = self.reflectance(&p, "color1", 0.2, item)?;
-                self.note("texture checkerboard", "not supported: its color0 is used as a constant", item);
+                self.note(
+                    "texture checkerboard",
+                    "not supported: its color0 is used as a constant",
+                    item,
+                );
                 Ok(a)
             }
             other => {
-                self.note(&format!("texture {other}"), "not supported: a constant 0.5 stands in", item);
+                self.note(
+                    &format!("texture {other}"),
+                    "not supported: a constant 0.5 stands in",
+                    item,
+                );
                 Ok(num(0.5))
             }
         }
@@ -476,9 +557,17 @@ impl<'a> Converter<'a> {
     fn spectrum_pairs(&mut self, c: &Element) -> Result<SpectrumValue, SceneError> {
         if let Some(f) = c.attr("filename") {
             let path = self.file(c, f)?;
-            let full = if Path::new(&path).is_absolute() { PathBuf::from(&path) } else { self.dir.join(&path) };
-            let text = crate::limits::read_text_limited(&full, crate::limits::TABLE_FILE_MAX_BYTES, "spectrum file")
-                .map_err(|e| c.error(format!("{}: {e}", full.display())))?;
+            let full = if Path::new(&path).is_absolute() {
+                PathBuf::from(&path)
+            } else {
+                self.dir.join(&path)
+            };
+            let text = crate::limits::read_text_limited(
+                &full,
+                crate::limits::TABLE_FILE_MAX_BYTES,
+                "spectrum file",
+            )
+            .map_err(|e| c.error(format!("{}: {e}", full.display())))?;
             let mut t = Vec::new();
             for (i, line) in text.lines().enumerate() {
                 let line = line.trim();
@@ -487,7 +576,13 @@ impl<'a> Converter<'a> {
                 }
                 match numbers(line).as_deref() {
                     Some([l, v]) => t.push((*l, *v)),
-                    _ => return Err(c.error(format!("{} line {}: expected `wavelength value`", full.display(), i + 1))),
+                    _ => {
+                        return Err(c.error(format!(
+                            "{} line {}: expected `wavelength value`",
+                            full.display(),
+                            i + 1
+                        )))
+                    }
                 }
             }
             return pairs_checked(c, t);
@@ -496,19 +591,35 @@ impl<'a> Converter<'a> {
             let p = Props::new(c);
             return match kind {
                 "blackbody" => {
-                    let t = p.float("temperature")?.ok_or_else(|| c.error("blackbody needs `temperature`"))?;
+                    let t = p
+                        .float("temperature")?
+                        .ok_or_else(|| c.error("blackbody needs `temperature`"))?;
                     if !(t > 0.0) {
                         return Err(c.error("temperature must be > 0 K"));
                     }
-                    Ok(SpectrumValue::Pairs(spectra::grid().map(|l| (l, spectra::planck(t, l))).collect()))
+                    Ok(SpectrumValue::Pairs(
+                        spectra::grid()
+                            .map(|l| (l, spectra::planck(t, l)))
+                            .collect(),
+                    ))
                 }
-                "d65" => Ok(SpectrumValue::Pairs(spectra::grid().map(|l| (l, spectra::d65_unit(l))).collect())),
-                other => Err(c.error(format!("spectrum type `{other}` is not supported (blackbody, d65 are)"))),
+                "d65" => Ok(SpectrumValue::Pairs(
+                    spectra::grid().map(|l| (l, spectra::d65_unit(l))).collect(),
+                )),
+                other => Err(c.error(format!(
+                    "spectrum type `{other}` is not supported (blackbody, d65 are)"
+                ))),
             };
         }
-        let v = c.attr("value").ok_or_else(|| c.error("<spectrum> needs `value` or `filename`"))?;
+        let v = c
+            .attr("value")
+            .ok_or_else(|| c.error("<spectrum> needs `value` or `filename`"))?;
         if !v.contains(':') {
-            let x = v.trim().parse::<f64>().ok().filter(|x| x.is_finite())
+            let x = v
+                .trim()
+                .parse::<f64>()
+                .ok()
+                .filter(|x| x.is_finite())
                 .ok_or_else(|| c.error(format!("`{v}` is not a number")))?;
             return Ok(SpectrumValue::Uniform(x));
         }
@@ -518,7 +629,9 @@ impl<'a> Converter<'a> {
             if part.is_empty() {
                 continue;
             }
-            let (l, x) = part.split_once(':').ok_or_else(|| c.error(format!("`{part}` is not `wavelength:value`")))?;
+            let (l, x) = part
+                .split_once(':')
+                .ok_or_else(|| c.error(format!("`{part}` is not `wavelength:value`")))?;
             let l = l.trim().parse::<f64>().ok().filter(|x| x.is_finite());
             let x = x.trim().parse::<f64>().ok().filter(|x| x.is_finite());
             match (l, x) {
@@ -530,7 +643,12 @@ impl<'a> Converter<'a> {
     }
 
     /// An emission parameter as an absolute `(nm, value)` table (see [`spectra`]).
-    fn emission(&mut self, p: &Props<'a>, name: &str, item: &str) -> Result<Vec<(f64, f64)>, SceneError> {
+    fn emission(
+        &mut self,
+        p: &Props<'a>,
+        name: &str,
+        item: &str,
+    ) -> Result<Vec<(f64, f64)>, SceneError> {
         let Some(c) = p.get(name) else {
             // Mitsuba's default emission is 1 (a D65' spectrum in the spectral variants).
             return Ok(spectra::grid().map(|l| (l, spectra::d65_unit(l))).collect());
@@ -538,12 +656,20 @@ impl<'a> Converter<'a> {
         let c = self.resolve(c)?;
         let t: Vec<(f64, f64)> = match c.tag.as_str() {
             "float" | "integer" => {
-                let v = c.attr("value").and_then(|v| v.trim().parse::<f64>().ok()).filter(|x| x.is_finite())
+                let v = c
+                    .attr("value")
+                    .and_then(|v| v.trim().parse::<f64>().ok())
+                    .filter(|x| x.is_finite())
                     .ok_or_else(|| c.error("not a number"))?;
-                spectra::grid().map(|l| (l, v * spectra::d65_unit(l))).collect()
+                spectra::grid()
+                    .map(|l| (l, v * spectra::d65_unit(l)))
+                    .collect()
             }
             "rgb" => {
-                let v = c.attr("value").and_then(numbers).ok_or_else(|| c.error("not a list of numbers"))?;
+                let v = c
+                    .attr("value")
+                    .and_then(numbers)
+                    .ok_or_else(|| c.error("not a list of numbers"))?;
                 let rgb = match v.as_slice() {
                     [g] => [*g; 3],
                     [r, g, b] => [*r, *g, *b],
@@ -556,10 +682,16 @@ impl<'a> Converter<'a> {
             }
             "spectrum" => match self.spectrum_pairs(c)? {
                 SpectrumValue::Uniform(v) => spectra::grid().map(|l| (l, v)).collect(),
-                SpectrumValue::Pairs(t) => spectra::grid().map(|l| (l, spectra::interpolate(&t, l))).collect(),
+                SpectrumValue::Pairs(t) => spectra::grid()
+                    .map(|l| (l, spectra::interpolate(&t, l)))
+                    .collect(),
             },
             "texture" => {
-                self.note("textured emission", "not supported: a uniform radiance of 1 (D65') stands in", item);
+                self.note(
+                    "textured emission",
+                    "not supported: a uniform radiance of 1 (D65') stands in",
+                    item,
+                );
                 spectra::grid().map(|l| (l, spectra::d65_unit(l))).collect()
             }
             other => return Err(c.error(format!("`{name}` cannot be a <{other}>"))),
@@ -584,7 +716,11 @@ impl<'a> Converter<'a> {
             return Ok(None);
         };
         let name = self.unique(&base);
-        self.desc.materials.push(ItemDescription { name: name.clone(), type_name, params });
+        self.desc.materials.push(ItemDescription {
+            name: name.clone(),
+            type_name,
+            params,
+        });
         self.made.insert(key, name.clone());
         Ok(Some(name))
     }
@@ -604,32 +740,53 @@ impl<'a> Converter<'a> {
     }
 
     fn ior(&mut self, p: &Props<'a>, name: &str, default: f64) -> Result<f64, SceneError> {
-        let Some(c) = p.get(name) else { return Ok(default) };
+        let Some(c) = p.get(name) else {
+            return Ok(default);
+        };
         let v = c.attr("value").unwrap_or("");
         if c.tag == "float" || c.tag == "integer" {
-            return v.trim().parse::<f64>().ok().filter(|x| x.is_finite() && *x > 0.0)
+            return v
+                .trim()
+                .parse::<f64>()
+                .ok()
+                .filter(|x| x.is_finite() && *x > 0.0)
                 .ok_or_else(|| c.error(format!("`{name}`: `{v}` is not a positive number")));
         }
-        named_ior(v).ok_or_else(|| c.error(format!(
-            "`{name}`: unknown material `{v}` (Mitsuba's names: {})",
-            IOR_TABLE.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", ")
-        )))
+        named_ior(v).ok_or_else(|| {
+            c.error(format!(
+                "`{name}`: unknown material `{v}` (Mitsuba's names: {})",
+                IOR_TABLE
+                    .iter()
+                    .map(|(n, _)| *n)
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ))
+        })
     }
 
     fn alpha(&mut self, p: &Props<'a>, kind: &str, item: &str) -> Result<f64, SceneError> {
         let dist = p.string("distribution").unwrap_or("beckmann");
         if dist != "ggx" {
-            self.note(&format!("{kind}: {dist} distribution"), "spectrace's microfacets are GGX: the same α is used with GGX", item);
+            self.note(
+                &format!("{kind}: {dist} distribution"),
+                "spectrace's microfacets are GGX: the same α is used with GGX",
+                item,
+            );
         }
         let a = p.float("alpha")?;
         let au = p.float("alpha_u")?;
         let av = p.float("alpha_v")?;
-        if p.get("sample_visible").is_some() {}
+        // Sampling visible normals is how Mitsuba samples, not what it renders.
+        let _ = p.get("sample_visible");
         Ok(match (a, au, av) {
             (Some(a), _, _) => a,
             (None, Some(u), Some(v)) => {
                 if (u - v).abs() > 1e-9 {
-                    self.note(&format!("{kind}: anisotropic roughness"), "α_u ≠ α_v: the isotropic α = √(α_u·α_v) is used", item);
+                    self.note(
+                        &format!("{kind}: anisotropic roughness"),
+                        "α_u ≠ α_v: the isotropic α = √(α_u·α_v) is used",
+                        item,
+                    );
                 }
                 (u * v).sqrt()
             }
@@ -637,7 +794,12 @@ impl<'a> Converter<'a> {
         })
     }
 
-    fn conductor_params(&mut self, p: &Props<'a>, kind: &str, item: &str) -> Result<Option<Vec<(&'static str, Value)>>, SceneError> {
+    fn conductor_params(
+        &mut self,
+        p: &Props<'a>,
+        kind: &str,
+        item: &str,
+    ) -> Result<Option<Vec<(&'static str, Value)>>, SceneError> {
         if p.has("eta") || p.has("k") {
             let eta = self.reflectance(p, "eta", 0.0, item)?;
             let k = self.reflectance(p, "k", 1.0, item)?;
@@ -651,20 +813,46 @@ impl<'a> Converter<'a> {
                     // An rgb η or k: its three values placed at the sRGB primaries' dominant
                     // wavelengths (blue 465, green 550, red 610 nm), flat beyond them.
                     Value::Map(m) => {
-                        let Some((_, Value::Seq(c))) = m.iter().find(|(k, _)| **k == text("rgb")) else { return None };
-                        let c: Vec<f64> = c.iter().filter_map(|x| if let Value::Number(n) = x { Some(n.into_f64()) } else { None }).collect();
-                        (c.len() == 3).then(|| table(&[(360.0, c[2]), (465.0, c[2]), (550.0, c[1]), (610.0, c[0]), (830.0, c[0])]))
+                        let Some((_, Value::Seq(c))) = m.iter().find(|(k, _)| **k == text("rgb"))
+                        else {
+                            return None;
+                        };
+                        let c: Vec<f64> = c
+                            .iter()
+                            .filter_map(|x| {
+                                if let Value::Number(n) = x {
+                                    Some(n.into_f64())
+                                } else {
+                                    None
+                                }
+                            })
+                            .collect();
+                        (c.len() == 3).then(|| {
+                            table(&[
+                                (360.0, c[2]),
+                                (465.0, c[2]),
+                                (550.0, c[1]),
+                                (610.0, c[0]),
+                                (830.0, c[0]),
+                            ])
+                        })
                     }
                     _ => None,
                 }
             };
-            if p.get("eta").is_some_and(|e| e.tag == "rgb") || p.get("k").is_some_and(|e| e.tag == "rgb") {
+            if p.get("eta").is_some_and(|e| e.tag == "rgb")
+                || p.get("k").is_some_and(|e| e.tag == "rgb")
+            {
                 self.note(&format!("{kind}: rgb eta/k"), "its three values are placed at 465, 550 and 610 nm and interpolated (Mitsuba uplifts them to smooth spectra)", item);
             }
             match (as_table(&eta), as_table(&k)) {
                 (Some(e), Some(k)) => return Ok(Some(vec![("n", e), ("k", k)])),
                 _ => {
-                    self.note(&format!("{kind}: rgb eta/k"), "an rgb η or k is not supported: aluminium stands in", item);
+                    self.note(
+                        &format!("{kind}: rgb eta/k"),
+                        "an rgb η or k is not supported: aluminium stands in",
+                        item,
+                    );
                     return Ok(Some(vec![("metal", text("aluminium"))]));
                 }
             }
@@ -688,7 +876,11 @@ impl<'a> Converter<'a> {
         let kind = el.attr("type").unwrap_or("");
         let p = Props::new(el);
         let nested = |this: &mut Self, p: &Props<'a>| -> Result<Option<&'a Element>, SceneError> {
-            let list = p.nested("bsdf").into_iter().chain(p.nested("ref")).collect::<Vec<_>>();
+            let list = p
+                .nested("bsdf")
+                .into_iter()
+                .chain(p.nested("ref"))
+                .collect::<Vec<_>>();
             let mut found = None;
             for (i, c) in list {
                 let r = this.resolve(c)?;
@@ -711,7 +903,11 @@ impl<'a> Converter<'a> {
                 let ext = self.ior(&p, "ext_ior", 1.000277)?;
                 for s in ["specular_reflectance", "specular_transmittance"] {
                     if p.get(s).is_some() {
-                        self.note(&format!("{kind}: {s}"), "dropped (spectrace's dielectrics follow Fresnel only)", item);
+                        self.note(
+                            &format!("{kind}: {s}"),
+                            "dropped (spectrace's dielectrics follow Fresnel only)",
+                            item,
+                        );
                     }
                 }
                 let eta = int / ext;
@@ -719,11 +915,21 @@ impl<'a> Converter<'a> {
                     "dielectric" => ("dielectric".into(), map(vec![("ior", num(eta))])),
                     "thindielectric" => {
                         self.note("thindielectric", "a free thin_film of the same index, 0.1 mm thick: its fringes are far finer than a wavelength sample, so the image equals the incoherent thin sheet's", item);
-                        ("thin_film".into(), map(vec![("thickness_nm", num(100_000.0)), ("film", num(eta)), ("base", num(1.0))]))
+                        (
+                            "thin_film".into(),
+                            map(vec![
+                                ("thickness_nm", num(100_000.0)),
+                                ("film", num(eta)),
+                                ("base", num(1.0)),
+                            ]),
+                        )
                     }
                     _ => {
                         let a = self.alpha(&p, kind, item)?;
-                        ("rough_dielectric".into(), map(vec![("ior", num(eta)), ("alpha", num(a))]))
+                        (
+                            "rough_dielectric".into(),
+                            map(vec![("ior", num(eta)), ("alpha", num(a))]),
+                        )
                     }
                 }
             }
@@ -731,10 +937,21 @@ impl<'a> Converter<'a> {
                 if p.get("specular_reflectance").is_some() {
                     self.note(&format!("{kind}: specular_reflectance"), "dropped", item);
                 }
-                let a = if kind == "roughconductor" { self.alpha(&p, kind, item)? } else { 0.0 };
+                let a = if kind == "roughconductor" {
+                    self.alpha(&p, kind, item)?
+                } else {
+                    0.0
+                };
                 match self.conductor_params(&p, kind, item)? {
                     None if a == 0.0 => ("mirror".into(), map(vec![("reflectance", num(1.0))])),
-                    None => ("conductor".into(), map(vec![("n", table(&[(360.0, 0.0), (830.0, 0.0)])), ("k", table(&[(360.0, 1.0), (830.0, 1.0)])), ("alpha", num(a))])),
+                    None => (
+                        "conductor".into(),
+                        map(vec![
+                            ("n", table(&[(360.0, 0.0), (830.0, 0.0)])),
+                            ("k", table(&[(360.0, 1.0), (830.0, 1.0)])),
+                            ("alpha", num(a)),
+                        ]),
+                    ),
                     Some(mut e) => {
                         e.push(("alpha", num(a)));
                         ("conductor".into(), map(e))
@@ -743,7 +960,14 @@ impl<'a> Converter<'a> {
             }
             "plastic" | "roughplastic" => {
                 let r = self.reflectance(&p, "diffuse_reflectance", 0.5, item)?;
-                for s in ["int_ior", "ext_ior", "specular_reflectance", "nonlinear", "alpha", "distribution"] {
+                for s in [
+                    "int_ior",
+                    "ext_ior",
+                    "specular_reflectance",
+                    "nonlinear",
+                    "alpha",
+                    "distribution",
+                ] {
                     let _ = p.get(s);
                 }
                 self.note(kind, "no plastic in spectrace: its diffuse_reflectance as a lambertian; the dielectric coating (specular highlight, ≈4–10% of the light at most angles, and the coating's darkening of the base) is dropped", item);
@@ -760,13 +984,26 @@ impl<'a> Converter<'a> {
                 ("lambertian".into(), map(vec![("reflectance", r)]))
             }
             "twosided" => {
-                let list: Vec<_> = p.nested("bsdf").into_iter().chain(p.nested("ref")).collect();
+                let list: Vec<_> = p
+                    .nested("bsdf")
+                    .into_iter()
+                    .chain(p.nested("ref"))
+                    .collect();
                 if list.len() > 1 {
-                    self.note("twosided with two different bsdfs", "the front one is used on both sides", item);
+                    self.note(
+                        "twosided with two different bsdfs",
+                        "the front one is used on both sides",
+                        item,
+                    );
                 }
-                let inner = nested(self, &p)?.ok_or_else(|| el.error("twosided needs a nested bsdf"))?;
+                let inner =
+                    nested(self, &p)?.ok_or_else(|| el.error("twosided needs a nested bsdf"))?;
                 if !matches!(inner.attr("type"), Some("diffuse")) {
-                    self.note("twosided", "spectrace's surfaces are all two-sided already: the nested bsdf is used", item);
+                    self.note(
+                        "twosided",
+                        "spectrace's surfaces are all two-sided already: the nested bsdf is used",
+                        item,
+                    );
                 }
                 self.finish(&p, "bsdf twosided", item);
                 return self.bsdf(inner, item);
@@ -789,12 +1026,17 @@ impl<'a> Converter<'a> {
                     }
                 }
                 self.note(kind, what, item);
-                let inner = nested(self, &p)?.ok_or_else(|| el.error(format!("{kind} needs a nested bsdf")))?;
+                let inner = nested(self, &p)?
+                    .ok_or_else(|| el.error(format!("{kind} needs a nested bsdf")))?;
                 self.finish(&p, &format!("bsdf {kind}"), item);
                 return self.bsdf(inner, item);
             }
             "null" => {
-                self.note("bsdf null", "an invisible surface (a medium boundary): the shape is left out", item);
+                self.note(
+                    "bsdf null",
+                    "an invisible surface (a medium boundary): the shape is left out",
+                    item,
+                );
                 return Ok(None);
             }
             other => {
@@ -803,7 +1045,11 @@ impl<'a> Converter<'a> {
                         let _ = p.get(n);
                     }
                 }
-                self.note(&format!("bsdf {other}"), "not supported: a lambertian of reflectance 0.5 stands in", item);
+                self.note(
+                    &format!("bsdf {other}"),
+                    "not supported: a lambertian of reflectance 0.5 stands in",
+                    item,
+                );
                 ("lambertian".into(), map(vec![("reflectance", num(0.5))]))
             }
         };
@@ -830,15 +1076,30 @@ impl<'a> Converter<'a> {
             return Ok(());
         }
         if kind == "instance" {
-            let group = p.nested("ref").first().map(|(i, r)| { p.mark(*i); *r })
-                .or_else(|| p.nested("shape").first().map(|(i, r)| { p.mark(*i); *r }))
+            let group = p
+                .nested("ref")
+                .first()
+                .map(|(i, r)| {
+                    p.mark(*i);
+                    *r
+                })
+                .or_else(|| {
+                    p.nested("shape").first().map(|(i, r)| {
+                        p.mark(*i);
+                        *r
+                    })
+                })
                 .ok_or_else(|| el.error("an instance needs a <ref> to a shapegroup"))?;
             let group = self.resolve(group)?;
             if group.attr("type") != Some("shapegroup") {
                 return Err(el.error("an instance refers to a shapegroup"));
             }
             self.finish(&p, "shape instance", &base);
-            self.note("shape instance", "flattened: each instance's shapes are copied with the instance's transform", &base);
+            self.note(
+                "shape instance",
+                "flattened: each instance's shapes are copied with the instance's transform",
+                &base,
+            );
             for c in group.children.iter().filter(|c| c.tag == "shape") {
                 self.shape(c, &m, &format!("{base}/"))?;
             }
@@ -848,7 +1109,9 @@ impl<'a> Converter<'a> {
         let mut mesh_flip_note = false;
         let (type_name, params) = match kind {
             "obj" | "ply" => {
-                let f = p.string("filename").ok_or_else(|| el.error(format!("{kind} needs `filename`")))?;
+                let f = p
+                    .string("filename")
+                    .ok_or_else(|| el.error(format!("{kind} needs `filename`")))?;
                 let f = self.file(el, f)?;
                 if p.bool("face_normals")?.unwrap_or(false) {
                     self.note("shape face_normals", "the file's vertex normals are used anyway (spectrace interpolates them when the file has them)", &base);
@@ -860,9 +1123,15 @@ impl<'a> Converter<'a> {
                 (kind.to_string(), map(vec![("file", text(&f))]))
             }
             "serialized" => {
-                let f = p.string("filename").ok_or_else(|| el.error("serialized needs `filename`"))?;
+                let f = p
+                    .string("filename")
+                    .ok_or_else(|| el.error("serialized needs `filename`"))?;
                 let rel = self.file(el, f)?;
-                let full = if Path::new(&rel).is_absolute() { PathBuf::from(&rel) } else { self.dir.join(&rel) };
+                let full = if Path::new(&rel).is_absolute() {
+                    PathBuf::from(&rel)
+                } else {
+                    self.dir.join(&rel)
+                };
                 let index = p.int("shape_index")?.unwrap_or(0);
                 if index < 0 {
                     return Err(el.error("shape_index < 0"));
@@ -889,8 +1158,19 @@ impl<'a> Converter<'a> {
                 ("mesh".into(), mesh_value(&mesh))
             }
             "rectangle" => {
-                let (e0, e1) = if flip { (DVec3::Y * 2.0, DVec3::X * 2.0) } else { (DVec3::X * 2.0, DVec3::Y * 2.0) };
-                ("quad".into(), map(vec![("corner", v3(DVec3::new(-1.0, -1.0, 0.0))), ("edge0", v3(e0)), ("edge1", v3(e1))]))
+                let (e0, e1) = if flip {
+                    (DVec3::Y * 2.0, DVec3::X * 2.0)
+                } else {
+                    (DVec3::X * 2.0, DVec3::Y * 2.0)
+                };
+                (
+                    "quad".into(),
+                    map(vec![
+                        ("corner", v3(DVec3::new(-1.0, -1.0, 0.0))),
+                        ("edge0", v3(e0)),
+                        ("edge1", v3(e1)),
+                    ]),
+                )
             }
             "cube" => ("mesh".into(), mesh_value(&cube_mesh(flip))),
             "sphere" => {
@@ -900,12 +1180,23 @@ impl<'a> Converter<'a> {
                     return Err(el.error("sphere radius must be > 0"));
                 }
                 if flip {
-                    self.note("shape sphere flip_normals", "dropped: spectrace's sphere normals point outwards", &base);
+                    self.note(
+                        "shape sphere flip_normals",
+                        "dropped: spectrace's sphere normals point outwards",
+                        &base,
+                    );
                 }
-                ("sphere".into(), map(vec![("center", v3(c)), ("radius", num(r))]))
+                (
+                    "sphere".into(),
+                    map(vec![("center", v3(c)), ("radius", num(r))]),
+                )
             }
             "disk" => {
-                self.note("shape disk", format!("tessellated into a {ROUND_SEGMENTS}-gon (area 2.5e-4 smaller)"), &base);
+                self.note(
+                    "shape disk",
+                    format!("tessellated into a {ROUND_SEGMENTS}-gon (area 2.5e-4 smaller)"),
+                    &base,
+                );
                 ("mesh".into(), mesh_value(&disk_mesh(flip)))
             }
             "cylinder" => {
@@ -915,7 +1206,11 @@ impl<'a> Converter<'a> {
                 if !(r > 0.0) || p0 == p1 {
                     return Err(el.error("cylinder needs radius > 0 and p0 ≠ p1"));
                 }
-                self.note("shape cylinder", format!("tessellated into {ROUND_SEGMENTS} flat sides with smooth normals"), &base);
+                self.note(
+                    "shape cylinder",
+                    format!("tessellated into {ROUND_SEGMENTS} flat sides with smooth normals"),
+                    &base,
+                );
                 ("mesh".into(), mesh_value(&cylinder_mesh(p0, p1, r, flip)))
             }
             other => {
@@ -929,7 +1224,11 @@ impl<'a> Converter<'a> {
             }
         };
         if mesh_flip_note {
-            self.note("shape flip_normals on obj/ply", "dropped: the file's winding is kept (it matters for one-sided emitters)", &base);
+            self.note(
+                "shape flip_normals on obj/ply",
+                "dropped: the file's winding is kept (it matters for one-sided emitters)",
+                &base,
+            );
         }
         // Material: an emitter wins (spectrace's emissive surfaces do not reflect).
         let mut material = None;
@@ -960,10 +1259,17 @@ impl<'a> Converter<'a> {
             self.desc.materials.push(ItemDescription {
                 name: name.clone(),
                 type_name: "emissive".into(),
-                params: map(vec![("radiance", table(&t)), ("two_sided", Value::Bool(false))]),
+                params: map(vec![
+                    ("radiance", table(&t)),
+                    ("two_sided", Value::Bool(false)),
+                ]),
             });
             if bsdf_el.is_some() {
-                self.note("bsdf of an emitting shape", "dropped: spectrace's emissive surfaces emit and do not reflect", &base);
+                self.note(
+                    "bsdf of an emitting shape",
+                    "dropped: spectrace's emissive surfaces emit and do not reflect",
+                    &base,
+                );
             }
             material = Some(name);
         } else if let Some(b) = bsdf_el {
@@ -982,19 +1288,39 @@ impl<'a> Converter<'a> {
         for tag in ["medium"] {
             for (i, _) in p.nested(tag) {
                 p.mark(i);
-                self.note("media", "participating media are not supported: dropped", &base);
+                self.note(
+                    "media",
+                    "participating media are not supported: dropped",
+                    &base,
+                );
             }
         }
         for (i, c) in el.children.iter().enumerate() {
-            if c.tag == "medium" || (c.tag == "ref" && matches!(c.attr("name"), Some("interior") | Some("exterior"))) {
+            if c.tag == "medium"
+                || (c.tag == "ref" && matches!(c.attr("name"), Some("interior") | Some("exterior")))
+            {
                 p.mark(i);
-                self.note("media", "participating media are not supported: dropped", &base);
+                self.note(
+                    "media",
+                    "participating media are not supported: dropped",
+                    &base,
+                );
             }
         }
         self.finish(&p, &format!("shape {kind}"), &base);
         let name = self.unique(&base);
-        let transform = if m == DMat4::IDENTITY { vec![] } else { vec![matrix_step(&m)] };
-        self.desc.objects.push(ObjectDescription { name, type_name, material, params, transform });
+        let transform = if m == DMat4::IDENTITY {
+            vec![]
+        } else {
+            vec![matrix_step(&m)]
+        };
+        self.desc.objects.push(ObjectDescription {
+            name,
+            type_name,
+            material,
+            params,
+            transform,
+        });
         Ok(())
     }
 
@@ -1016,28 +1342,47 @@ impl<'a> Converter<'a> {
                 };
                 let t = self.emission(&p, "intensity", &base)?;
                 let power = 4.0 * std::f64::consts::PI * spectra::integral(&t);
-                Some(("point", map(vec![("position", v3(pos)), ("power", num(power)), ("spd", table(&t))])))
+                Some((
+                    "point",
+                    map(vec![
+                        ("position", v3(pos)),
+                        ("power", num(power)),
+                        ("spd", table(&t)),
+                    ]),
+                ))
             }
             "spot" => {
                 let t = self.emission(&p, "intensity", &base)?;
                 let cutoff = p.float_or("cutoff_angle", 20.0)?;
                 let beam = p.float_or("beam_width", cutoff * 0.75)?;
                 if !(cutoff > 0.0 && cutoff <= 90.0 && beam >= 0.0 && beam <= cutoff) {
-                    return Err(el.error("spot needs 0 < cutoff_angle ≤ 90 and 0 ≤ beam_width ≤ cutoff_angle"));
+                    return Err(el.error(
+                        "spot needs 0 < cutoff_angle ≤ 90 and 0 ≤ beam_width ≤ cutoff_angle",
+                    ));
                 }
                 if p.get("texture").is_some() {
-                    self.note("spot texture", "projected textures are not supported: dropped", &base);
+                    self.note(
+                        "spot texture",
+                        "projected textures are not supported: dropped",
+                        &base,
+                    );
                 }
                 let pos = m.transform_point3(DVec3::ZERO);
                 let target = m.transform_point3(DVec3::Z);
                 let omega = crate::light::spot::falloff_solid_angle_sr(beam, cutoff);
                 let power = omega * spectra::integral(&t);
                 self.note("emitter spot", "spectrace's falloff between beam_width and cutoff_angle replaces Mitsuba's (linear in angle); the peak intensity is kept", &base);
-                Some(("spot", map(vec![
-                    ("position", v3(pos)), ("target", v3(target)),
-                    ("inner_angle", num(beam)), ("outer_angle", num(cutoff)),
-                    ("power", num(power)), ("spd", table(&t)),
-                ])))
+                Some((
+                    "spot",
+                    map(vec![
+                        ("position", v3(pos)),
+                        ("target", v3(target)),
+                        ("inner_angle", num(beam)),
+                        ("outer_angle", num(cutoff)),
+                        ("power", num(power)),
+                        ("spd", table(&t)),
+                    ]),
+                ))
             }
             "directional" => {
                 let t = self.emission(&p, "irradiance", &base)?;
@@ -1048,19 +1393,38 @@ impl<'a> Converter<'a> {
                 if dir.length_squared() == 0.0 {
                     return Err(el.error("direction is (0, 0, 0)"));
                 }
-                Some(("directional", map(vec![("direction", v3(dir.normalize())), ("irradiance", num(spectra::integral(&t))), ("spd", table(&t))])))
+                Some((
+                    "directional",
+                    map(vec![
+                        ("direction", v3(dir.normalize())),
+                        ("irradiance", num(spectra::integral(&t))),
+                        ("spd", table(&t)),
+                    ]),
+                ))
             }
             "constant" => {
                 let t = self.emission(&p, "radiance", &base)?;
                 Some(("environment", map(vec![("radiance", table(&t))])))
             }
             "envmap" => {
-                let f = p.string("filename").ok_or_else(|| el.error("envmap needs `filename`"))?;
+                let f = p
+                    .string("filename")
+                    .ok_or_else(|| el.error("envmap needs `filename`"))?;
                 let f = self.file(el, f)?;
                 let scale = p.float_or("scale", 1.0)?;
                 let r = m.transpose().to_cols_array_2d();
-                let rows = seq(r.iter().map(|row| seq(row.iter().map(|&x| num(x)).collect())).collect());
-                Some(("envmap", map(vec![("file", text(&f)), ("scale", num(scale)), ("transform", rows)])))
+                let rows = seq(r
+                    .iter()
+                    .map(|row| seq(row.iter().map(|&x| num(x)).collect()))
+                    .collect());
+                Some((
+                    "envmap",
+                    map(vec![
+                        ("file", text(&f)),
+                        ("scale", num(scale)),
+                        ("transform", rows),
+                    ]),
+                ))
             }
             "area" => return Err(el.error("an area emitter belongs inside a <shape>")),
             other => {
@@ -1069,14 +1433,22 @@ impl<'a> Converter<'a> {
                         let _ = p.get(n);
                     }
                 }
-                self.note(&format!("emitter {other}"), "not supported: left out", &base);
+                self.note(
+                    &format!("emitter {other}"),
+                    "not supported: left out",
+                    &base,
+                );
                 None
             }
         };
         if let Some((type_name, params)) = item {
             self.finish(&p, &format!("emitter {kind}"), &base);
             let name = self.unique(&base);
-            self.desc.lights.push(ItemDescription { name, type_name: type_name.into(), params });
+            self.desc.lights.push(ItemDescription {
+                name,
+                type_name: type_name.into(),
+                params,
+            });
         }
         Ok(())
     }
@@ -1106,11 +1478,19 @@ impl<'a> Converter<'a> {
         let left = m.transform_vector3(DVec3::X);
         // Mitsuba's image x runs along −(local x); spectrace's image right is forward × up.
         if fwd.cross(up).dot(-left) < 0.0 {
-            self.note("sensor mirrored to_world", "the camera transform mirrors the image: spectrace renders it unmirrored", &base);
+            self.note(
+                "sensor mirrored to_world",
+                "the camera transform mirrors the image: spectrace renders it unmirrored",
+                &base,
+            );
         }
         // Film first: the aspect ratio converts fov axes.
         let (mut w, mut h) = (768i64, 576i64);
-        let mut filter = map(vec![("type", text("gaussian")), ("sigma", num(0.5)), ("radius", num(2.0))]);
+        let mut filter = map(vec![
+            ("type", text("gaussian")),
+            ("sigma", num(0.5)),
+            ("radius", num(2.0)),
+        ]);
         for (i, f) in p.nested("film") {
             p.mark(i);
             let fp = Props::new(f);
@@ -1119,13 +1499,34 @@ impl<'a> Converter<'a> {
             if !(1..=65536).contains(&w) || !(1..=65536).contains(&h) {
                 return Err(f.error(format!("film size {w}×{h}: each side must be 1..65536")));
             }
-            if fp.has("crop_width") || fp.has("crop_height") || fp.has("crop_offset_x") || fp.has("crop_offset_y") {
-                for n in ["crop_width", "crop_height", "crop_offset_x", "crop_offset_y"] {
+            if fp.has("crop_width")
+                || fp.has("crop_height")
+                || fp.has("crop_offset_x")
+                || fp.has("crop_offset_y")
+            {
+                for n in [
+                    "crop_width",
+                    "crop_height",
+                    "crop_offset_x",
+                    "crop_offset_y",
+                ] {
                     let _ = fp.get(n);
                 }
-                self.note("film crop", "not supported: the whole image is rendered", &base);
+                self.note(
+                    "film crop",
+                    "not supported: the whole image is rendered",
+                    &base,
+                );
             }
-            for n in ["pixel_format", "component_format", "file_format", "banner", "high_quality_edges", "sample_border", "compensate"] {
+            for n in [
+                "pixel_format",
+                "component_format",
+                "file_format",
+                "banner",
+                "high_quality_edges",
+                "sample_border",
+                "compensate",
+            ] {
                 if fp.get(n).is_some() {
                     self.note("film output format", "ignored: spectrace writes an OpenEXR (linear, the scene's RGB space) and a PNG", &base);
                 }
@@ -1137,15 +1538,31 @@ impl<'a> Converter<'a> {
                     "box" => text("box"),
                     "gaussian" => {
                         let s = rp.float_or("stddev", 0.5)?;
-                        map(vec![("type", text("gaussian")), ("sigma", num(s)), ("radius", num(4.0 * s))])
+                        map(vec![
+                            ("type", text("gaussian")),
+                            ("sigma", num(s)),
+                            ("radius", num(4.0 * s)),
+                        ])
                     }
                     "tent" => {
                         let r0 = rp.float_or("radius", 1.0)?;
-                        self.note("rfilter tent", "a Gaussian of the same variance (σ = r/√6, radius r) stands in", &base);
-                        map(vec![("type", text("gaussian")), ("sigma", num(r0 / 6f64.sqrt())), ("radius", num(r0))])
+                        self.note(
+                            "rfilter tent",
+                            "a Gaussian of the same variance (σ = r/√6, radius r) stands in",
+                            &base,
+                        );
+                        map(vec![
+                            ("type", text("gaussian")),
+                            ("sigma", num(r0 / 6f64.sqrt())),
+                            ("radius", num(r0)),
+                        ])
                     }
                     other => {
-                        self.note(&format!("rfilter {other}"), "not supported: spectrace's Gaussian (σ 0.5) stands in", &base);
+                        self.note(
+                            &format!("rfilter {other}"),
+                            "not supported: spectrace's Gaussian (σ 0.5) stands in",
+                            &base,
+                        );
                         filter
                     }
                 };
@@ -1158,26 +1575,40 @@ impl<'a> Converter<'a> {
             let sp = Props::new(s);
             if let Some(n) = sp.int("sample_count")? {
                 if !(1..=crate::limits::MAX_SPP as i64).contains(&n) {
-                    return Err(s.error(format!("sample_count {n} outside 1..{}", crate::limits::MAX_SPP)));
+                    return Err(s.error(format!(
+                        "sample_count {n} outside 1..{}",
+                        crate::limits::MAX_SPP
+                    )));
                 }
                 self.desc.output.spp.get_or_insert(n as u32);
             }
             for n in ["seed", "jitter", "scramble_seed", "dimension"] {
                 let _ = sp.get(n);
             }
-            self.note("sampler", "only sample_count is kept: spectrace uses its own sample sequence", &base);
+            self.note(
+                "sampler",
+                "only sample_count is kept: spectrace uses its own sample sequence",
+                &base,
+            );
             self.finish(&sp, "sampler", &base);
         }
         let aspect = w as f64 / h as f64;
         let (mut fov, mut axis) = match (p.float("fov")?, p.value_of("focal_length")) {
             (Some(f), _) => (f, p.string("fov_axis").unwrap_or("x").to_string()),
             (None, Some((c, v))) => {
-                let mm: f64 = v.trim().trim_end_matches("mm").parse().map_err(|_| c.error(format!("focal_length `{v}`")))?;
+                let mm: f64 = v
+                    .trim()
+                    .trim_end_matches("mm")
+                    .parse()
+                    .map_err(|_| c.error(format!("focal_length `{v}`")))?;
                 // Mitsuba: a 35 mm film (36 × 24 mm), the focal length giving the diagonal fov.
                 let diag = 2.0 * (36f64.hypot(24.0) / (2.0 * mm)).atan().to_degrees();
                 (diag, "diagonal".to_string())
             }
-            (None, None) => (p.float_or("fov", 45.0)?, p.string("fov_axis").unwrap_or("x").to_string()),
+            (None, None) => (
+                p.float_or("fov", 45.0)?,
+                p.string("fov_axis").unwrap_or("x").to_string(),
+            ),
         };
         if p.string("fov_axis").is_some() {
             let _ = p.get("fov_axis");
@@ -1193,7 +1624,11 @@ impl<'a> Converter<'a> {
             }
             "smaller" => axis = if w <= h { "x".into() } else { "y".into() },
             "larger" => axis = if w >= h { "x".into() } else { "y".into() },
-            other => return Err(el.error(format!("fov_axis `{other}` (x, y, diagonal, smaller, larger)"))),
+            other => {
+                return Err(el.error(format!(
+                    "fov_axis `{other}` (x, y, diagonal, smaller, larger)"
+                )))
+            }
         }
         if !(fov > 0.0 && fov < 180.0) {
             return Err(el.error(format!("fov {fov}° outside (0, 180)")));
@@ -1223,14 +1658,24 @@ impl<'a> Converter<'a> {
             let _ = p.get("focus_distance");
             "pinhole"
         };
-        if p.get("principal_point_offset_x").is_some() || p.get("principal_point_offset_y").is_some() {
-            self.note("sensor principal point offset", "not supported: dropped", &base);
+        if p.get("principal_point_offset_x").is_some()
+            || p.get("principal_point_offset_y").is_some()
+        {
+            self.note(
+                "sensor principal point offset",
+                "not supported: dropped",
+                &base,
+            );
         }
         let _ = p.get("shutter_open");
         let _ = p.get("shutter_close");
         self.finish(&p, &format!("sensor {kind}"), &base);
         let name = self.unique(&base);
-        self.desc.cameras.push(ItemDescription { name, type_name: type_name.into(), params: map(params) });
+        self.desc.cameras.push(ItemDescription {
+            name,
+            type_name: type_name.into(),
+            params: map(params),
+        });
         Ok(())
     }
 
@@ -1239,7 +1684,11 @@ impl<'a> Converter<'a> {
         let p = Props::new(el);
         match kind {
             "path" | "volpath" | "volpathmis" | "prb" | "direct" | "ptracer" => {
-                let d = if kind == "direct" { Some(2) } else { p.int("max_depth")? };
+                let d = if kind == "direct" {
+                    Some(2)
+                } else {
+                    p.int("max_depth")?
+                };
                 match d {
                     None | Some(-1) => {}
                     Some(d) if d >= 1 => {
@@ -1280,7 +1729,11 @@ impl<'a> Converter<'a> {
                         let _ = p.get(n);
                     }
                 }
-                self.note(&format!("integrator {other}"), "not supported: spectrace's own (render --integrator) is used", "");
+                self.note(
+                    &format!("integrator {other}"),
+                    "not supported: spectrace's own (render --integrator) is used",
+                    "",
+                );
             }
         }
         self.finish(&p, &format!("integrator {kind}"), "");
@@ -1342,14 +1795,45 @@ fn named_ior(name: &str) -> Option<f64> {
 
 fn mesh_value(m: &crate::geometry::TriangleMesh) -> Value {
     let mut e = vec![
-        ("positions", seq(m.positions.iter().map(|p| seq(vec![num(p.x as f64), num(p.y as f64), num(p.z as f64)])).collect())),
-        ("indices", seq(m.indices.iter().map(|t| seq(t.iter().map(|&i| Value::Number(ron::Number::from(i as i64))).collect())).collect())),
+        (
+            "positions",
+            seq(m
+                .positions
+                .iter()
+                .map(|p| seq(vec![num(p.x as f64), num(p.y as f64), num(p.z as f64)]))
+                .collect()),
+        ),
+        (
+            "indices",
+            seq(m
+                .indices
+                .iter()
+                .map(|t| {
+                    seq(t
+                        .iter()
+                        .map(|&i| Value::Number(ron::Number::from(i as i64)))
+                        .collect())
+                })
+                .collect()),
+        ),
     ];
     if let Some(n) = &m.normals {
-        e.push(("normals", seq(n.iter().map(|p| seq(vec![num(p.x as f64), num(p.y as f64), num(p.z as f64)])).collect())));
+        e.push((
+            "normals",
+            seq(n
+                .iter()
+                .map(|p| seq(vec![num(p.x as f64), num(p.y as f64), num(p.z as f64)]))
+                .collect()),
+        ));
     }
     if let Some(t) = &m.uvs {
-        e.push(("uvs", seq(t.iter().map(|p| seq(vec![num(p.x as f64), num(p.y as f64)])).collect())));
+        e.push((
+            "uvs",
+            seq(t
+                .iter()
+                .map(|p| seq(vec![num(p.x as f64), num(p.y as f64)]))
+                .collect()),
+        ));
     }
     map(e)
 }
@@ -1368,7 +1852,12 @@ fn flip_winding(m: &mut crate::geometry::TriangleMesh) {
 /// Mitsuba's `cube`: [−1, 1]³, outward faces, four vertices per face.
 pub fn cube_mesh(flip: bool) -> crate::geometry::TriangleMesh {
     use glam::{Vec2, Vec3A};
-    let mut m = crate::geometry::TriangleMesh { positions: vec![], normals: None, uvs: Some(vec![]), indices: vec![] };
+    let mut m = crate::geometry::TriangleMesh {
+        positions: vec![],
+        normals: None,
+        uvs: Some(vec![]),
+        indices: vec![],
+    };
     let axes = [Vec3A::X, Vec3A::Y, Vec3A::Z];
     for a in 0..3 {
         for s in [-1.0f32, 1.0] {
@@ -1404,8 +1893,15 @@ pub fn disk_mesh(flip: bool) -> crate::geometry::TriangleMesh {
         positions.push(Vec3A::new(c as f32, s as f32, 0.0));
         uvs.push(Vec2::new((0.5 + 0.5 * c) as f32, (0.5 + 0.5 * s) as f32));
     }
-    let indices = (0..n as u32).map(|i| [0, 1 + i, 1 + (i + 1) % n as u32]).collect();
-    let mut m = crate::geometry::TriangleMesh { positions, normals: None, uvs: Some(uvs), indices };
+    let indices = (0..n as u32)
+        .map(|i| [0, 1 + i, 1 + (i + 1) % n as u32])
+        .collect();
+    let mut m = crate::geometry::TriangleMesh {
+        positions,
+        normals: None,
+        uvs: Some(uvs),
+        indices,
+    };
     if flip {
         flip_winding(&mut m);
     }
@@ -1433,7 +1929,12 @@ pub fn cylinder_mesh(p0: DVec3, p1: DVec3, r: f64, flip: bool) -> crate::geometr
         indices.push([a, b, b + 1]);
         indices.push([a, b + 1, a + 1]);
     }
-    let mut m = crate::geometry::TriangleMesh { positions, normals: Some(normals), uvs: None, indices };
+    let mut m = crate::geometry::TriangleMesh {
+        positions,
+        normals: Some(normals),
+        uvs: None,
+        indices,
+    };
     if flip {
         flip_winding(&mut m);
     }
@@ -1445,12 +1946,18 @@ pub fn cylinder_mesh(p0: DVec3, p1: DVec3, r: f64, flip: bool) -> crate::geometr
 /// Convert an expanded scene tree; `dir` is the main scene file's directory.
 pub fn convert_tree(root: &Element, dir: &Path) -> Result<Conversion, SceneError> {
     let mut ids: HashMap<&str, &Element> = HashMap::new();
-    fn collect<'a>(e: &'a Element, ids: &mut HashMap<&'a str, &'a Element>) -> Result<(), SceneError> {
+    fn collect<'a>(
+        e: &'a Element,
+        ids: &mut HashMap<&'a str, &'a Element>,
+    ) -> Result<(), SceneError> {
         for c in &e.children {
             if c.tag != "ref" {
                 if let Some(id) = c.attr("id") {
                     if let Some(prev) = ids.insert(id, c) {
-                        return Err(c.error(format!("id \"{id}\" is used twice (first at {})", prev.at())));
+                        return Err(c.error(format!(
+                            "id \"{id}\" is used twice (first at {})",
+                            prev.at()
+                        )));
                     }
                 }
             }
@@ -1466,7 +1973,10 @@ pub fn convert_tree(root: &Element, dir: &Path) -> Result<Conversion, SceneError
             units: Some("m".into()),
             emission_units: None,
             observer: Some("cie1931-2".into()),
-            output: OutputDescription { rgb_space: Some("srgb".into()), ..Default::default() },
+            output: OutputDescription {
+                rgb_space: Some("srgb".into()),
+                ..Default::default()
+            },
             materials: vec![],
             objects: vec![],
             lights: vec![],
@@ -1496,17 +2006,33 @@ pub fn convert_tree(root: &Element, dir: &Path) -> Result<Conversion, SceneError
                 // Made when a shape refers to it; one nobody uses is noted.
                 let used = root_refers(root, c.attr("id"));
                 if !used {
-                    cv.note("unused bsdf", "declared but used by no shape: left out", c.attr("id").unwrap_or(""));
+                    cv.note(
+                        "unused bsdf",
+                        "declared but used by no shape: left out",
+                        c.attr("id").unwrap_or(""),
+                    );
                 }
             }
             "texture" | "spectrum" | "rgb" | "float" => {}
-            "medium" | "phase" | "volume" => cv.note("media", "participating media are not supported: dropped", c.attr("id").unwrap_or("")),
-            other if PROPERTY_TAGS.contains(&other) => cv.note(&format!("<{other}> at scene level"), "ignored", c.attr("id").unwrap_or("")),
+            "medium" | "phase" | "volume" => cv.note(
+                "media",
+                "participating media are not supported: dropped",
+                c.attr("id").unwrap_or(""),
+            ),
+            other if PROPERTY_TAGS.contains(&other) => cv.note(
+                &format!("<{other}> at scene level"),
+                "ignored",
+                c.attr("id").unwrap_or(""),
+            ),
             other => return Err(c.error(format!("unknown element <{other}>"))),
         }
     }
     if cv.desc.cameras.is_empty() {
-        cv.note("no sensor", "Mitsuba's default camera is not made: add a <sensor>", "");
+        cv.note(
+            "no sensor",
+            "Mitsuba's default camera is not made: add a <sensor>",
+            "",
+        );
     }
     let notes = cv
         .notes
@@ -1516,18 +2042,27 @@ pub fn convert_tree(root: &Element, dir: &Path) -> Result<Conversion, SceneError
                 format!("{k}: {}", n.message)
             } else {
                 let shown: Vec<&str> = n.items.iter().take(6).map(|s| s.as_str()).collect();
-                let more = if n.items.len() > 6 { format!(" and {} more", n.items.len() - 6) } else { String::new() };
+                let more = if n.items.len() > 6 {
+                    format!(" and {} more", n.items.len() - 6)
+                } else {
+                    String::new()
+                };
                 format!("{k}: {} ({}{more})", n.message, shown.join(", "))
             }
         })
         .collect();
-    Ok(Conversion { desc: cv.desc, notes })
+    Ok(Conversion {
+        desc: cv.desc,
+        notes,
+    })
 }
 
 fn root_refers(root: &Element, id: Option<&str>) -> bool {
     let Some(id) = id else { return false };
     fn walk(e: &Element, id: &str) -> bool {
-        e.children.iter().any(|c| (c.tag == "ref" && c.attr("id") == Some(id)) || walk(c, id))
+        e.children
+            .iter()
+            .any(|c| (c.tag == "ref" && c.attr("id") == Some(id)) || walk(c, id))
     }
     walk(root, id)
 }

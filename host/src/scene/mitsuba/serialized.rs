@@ -68,7 +68,9 @@ fn mesh_offset(bytes: &[u8], index: usize) -> Result<usize, String> {
         ));
     }
     if index >= count {
-        return Err(format!("shape_index {index} asked for, but the file holds {count} meshes"));
+        return Err(format!(
+            "shape_index {index} asked for, but the file holds {count} meshes"
+        ));
     }
     let table = n - 4 - count * entry;
     let off = if version >= 4 {
@@ -94,7 +96,9 @@ pub fn parse_serialized(bytes: &[u8], index: usize) -> Result<SerializedMesh, St
     }
     let version = u16_at(bytes, off + 2).ok_or("truncated header")?;
     if !(3..=4).contains(&version) {
-        return Err(format!("serialized format version {version} (3 and 4 are read)"));
+        return Err(format!(
+            "serialized format version {version} (3 and 4 are read)"
+        ));
     }
     // The decompressed mesh cannot be larger than the triangle limit allows; a zlib stream
     // claiming more is cut off there and reported as truncated.
@@ -135,7 +139,9 @@ pub fn parse_serialized(bytes: &[u8], index: usize) -> Result<SerializedMesh, St
     } else if flags & SINGLE != 0 {
         false
     } else {
-        return Err(format!("flags {flags:#x} name neither single (0x1000) nor double (0x2000) precision"));
+        return Err(format!(
+            "flags {flags:#x} name neither single (0x1000) nor double (0x2000) precision"
+        ));
     };
     let fsize = if double { 8 } else { 4 };
     let nv = nv as usize;
@@ -153,16 +159,27 @@ pub fn parse_serialized(bytes: &[u8], index: usize) -> Result<SerializedMesh, St
         })
     };
     let p = floats(nv * 3)?;
-    let positions: Vec<Vec3A> = p.chunks_exact(3).map(|c| Vec3A::new(c[0], c[1], c[2])).collect();
+    let positions: Vec<Vec3A> = p
+        .chunks_exact(3)
+        .map(|c| Vec3A::new(c[0], c[1], c[2]))
+        .collect();
     let normals = if flags & HAS_NORMALS != 0 {
         let n = floats(nv * 3)?;
-        Some(n.chunks_exact(3).map(|c| Vec3A::new(c[0], c[1], c[2])).collect::<Vec<_>>())
+        Some(
+            n.chunks_exact(3)
+                .map(|c| Vec3A::new(c[0], c[1], c[2]))
+                .collect::<Vec<_>>(),
+        )
     } else {
         None
     };
     let uvs = if flags & HAS_UVS != 0 {
         let t = floats(nv * 2)?;
-        Some(t.chunks_exact(2).map(|c| Vec2::new(c[0], c[1])).collect::<Vec<_>>())
+        Some(
+            t.chunks_exact(2)
+                .map(|c| Vec2::new(c[0], c[1]))
+                .collect::<Vec<_>>(),
+        )
     } else {
         None
     };
@@ -185,7 +202,11 @@ pub fn parse_serialized(bytes: &[u8], index: usize) -> Result<SerializedMesh, St
     let indices: Vec<[u32; 3]> = idx.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
     let mesh = TriangleMesh {
         positions,
-        normals: if flags & FACE_NORMALS != 0 { None } else { normals },
+        normals: if flags & FACE_NORMALS != 0 {
+            None
+        } else {
+            normals
+        },
         uvs,
         indices,
     };
@@ -288,7 +309,9 @@ mod tests {
         let second = parse_serialized(&file, 1).unwrap();
         assert_eq!(second.name, "b");
         assert_eq!(second.mesh.indices.len(), 1);
-        assert!(parse_serialized(&file, 2).unwrap_err().contains("holds 2 meshes"));
+        assert!(parse_serialized(&file, 2)
+            .unwrap_err()
+            .contains("holds 2 meshes"));
     }
 
     // Broken input: errors, never a panic or a huge allocation.
@@ -298,7 +321,9 @@ mod tests {
         assert!(parse_serialized(&[0x1c, 0x04, 4, 0, 1, 2, 3], 0).is_err());
         let mut good = write_serialized(&quad(), "q");
         good.truncate(good.len() - 6);
-        assert!(parse_serialized(&good, 0).unwrap_err().contains("ends early"));
+        assert!(parse_serialized(&good, 0)
+            .unwrap_err()
+            .contains("ends early"));
         // A header claiming 2^40 triangles is refused before allocating.
         let mut body = Vec::new();
         body.extend(SINGLE.to_le_bytes());
@@ -309,7 +334,9 @@ mod tests {
         let mut enc = flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::default());
         std::io::Write::write_all(&mut enc, &body).unwrap();
         out.extend(enc.finish().unwrap());
-        assert!(parse_serialized(&out, 0).unwrap_err().contains("over the limit"));
+        assert!(parse_serialized(&out, 0)
+            .unwrap_err()
+            .contains("over the limit"));
         // An index past the vertices is caught by the mesh check.
         let mut m = quad();
         m.indices[0][2] = 9;

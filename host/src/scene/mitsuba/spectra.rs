@@ -53,7 +53,9 @@ pub fn rgb_emission_table(rgb: [f64; 3]) -> Vec<(f64, f64)> {
     }
     let s = 2.0 * m;
     let curve = uplift_srgb(rgb.map(|c| c.max(0.0) / s));
-    grid().map(|l| (l, s * curve.value(l) * d65_unit(l))).collect()
+    grid()
+        .map(|l| (l, s * curve.value(l) * d65_unit(l)))
+        .collect()
 }
 
 /// [`rgb_emission_table`] at one wavelength.
@@ -111,15 +113,29 @@ mod tests {
     #[test]
     fn matches_mitsuba_spectral_emission() {
         let nm = [400.0, 450.0, 500.0, 560.0, 600.0, 650.0, 700.0];
-        let white = [0.83593, 1.18193, 1.10461, 1.01013, 0.90918, 0.80837, 0.72334];
-        let orange = [0.07122, 0.14692, 0.21492, 0.37066, 0.52158, 0.74142, 0.87596];
+        let white = [
+            0.83593, 1.18193, 1.10461, 1.01013, 0.90918, 0.80837, 0.72334,
+        ];
+        let orange = [
+            0.07122, 0.14692, 0.21492, 0.37066, 0.52158, 0.74142, 0.87596,
+        ];
         for i in 0..nm.len() {
             let d = d65_unit(nm[i]);
-            assert!((d / white[i] - 1.0).abs() < 3e-3, "D65' at {}: {d} vs {}", nm[i], white[i]);
+            assert!(
+                (d / white[i] - 1.0).abs() < 3e-3,
+                "D65' at {}: {d} vs {}",
+                nm[i],
+                white[i]
+            );
             let w = rgb_emission([1.0, 1.0, 1.0], nm[i]);
             assert!((w / white[i] - 1.0).abs() < 3e-3, "white at {}: {w}", nm[i]);
             let o = rgb_emission([0.8, 0.3, 0.1], nm[i]);
-            assert!((o / orange[i] - 1.0).abs() < 0.02, "orange at {}: {o} vs {}", nm[i], orange[i]);
+            assert!(
+                (o / orange[i] - 1.0).abs() < 0.02,
+                "orange at {}: {o} vs {}",
+                nm[i],
+                orange[i]
+            );
         }
     }
 

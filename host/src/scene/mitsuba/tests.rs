@@ -20,7 +20,10 @@ fn temp_dir(tag: &str) -> PathBuf {
 
 fn convert_text(xml: &str) -> Result<Conversion, crate::scene::SceneError> {
     static N: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
-    let dir = temp_dir(&format!("text{}", N.fetch_add(1, std::sync::atomic::Ordering::Relaxed)));
+    let dir = temp_dir(&format!(
+        "text{}",
+        N.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
+    ));
     let file = dir.join("scene.xml");
     std::fs::write(&file, xml).unwrap();
     convert_file(&file, &[])
@@ -83,9 +86,16 @@ fn defaults_substitution_and_command_line() {
     let c = convert_file(&file, &[("spp".into(), "128".into())]).unwrap();
     assert_eq!(c.desc.output.spp, Some(128));
     let res = get(&c.desc.cameras[0].params, "resolution");
-    assert_eq!(res, &Value::Seq(vec![convert::num(40.0), convert::num(40.0)]));
-    std::fs::write(&file, r#"<scene version="3.0.0">
-<integrator type="path"><integer name="max_depth" value="$depth"/></integrator></scene>"#).unwrap();
+    assert_eq!(
+        res,
+        &Value::Seq(vec![convert::num(40.0), convert::num(40.0)])
+    );
+    std::fs::write(
+        &file,
+        r#"<scene version="3.0.0">
+<integrator type="path"><integer name="max_depth" value="$depth"/></integrator></scene>"#,
+    )
+    .unwrap();
     let e = convert_file(&file, &[]).unwrap_err().to_string();
     assert!(e.contains("s.xml:2:") && e.contains("$depth"), "{e}");
 }
@@ -110,14 +120,32 @@ fn include_and_cycles() {
     assert_eq!(c.desc.materials[0].name, "red");
     assert_eq!(c.desc.objects[0].material, "red");
 
-    std::fs::write(dir.join("a.xml"), r#"<scene version="3.0.0"><include filename="b.xml"/></scene>"#).unwrap();
-    std::fs::write(dir.join("b.xml"), r#"<scene version="3.0.0"><include filename="a.xml"/></scene>"#).unwrap();
-    let e = convert_file(&dir.join("a.xml"), &[]).unwrap_err().to_string();
+    std::fs::write(
+        dir.join("a.xml"),
+        r#"<scene version="3.0.0"><include filename="b.xml"/></scene>"#,
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("b.xml"),
+        r#"<scene version="3.0.0"><include filename="a.xml"/></scene>"#,
+    )
+    .unwrap();
+    let e = convert_file(&dir.join("a.xml"), &[])
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("cyclic include") && e.contains("b.xml"), "{e}");
-    std::fs::write(dir.join("self.xml"), r#"<scene version="3.0.0"><include filename="self.xml"/></scene>"#).unwrap();
-    let e = convert_file(&dir.join("self.xml"), &[]).unwrap_err().to_string();
+    std::fs::write(
+        dir.join("self.xml"),
+        r#"<scene version="3.0.0"><include filename="self.xml"/></scene>"#,
+    )
+    .unwrap();
+    let e = convert_file(&dir.join("self.xml"), &[])
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("cyclic include"), "{e}");
-    let e = convert_file(&dir.join("missing.xml"), &[]).unwrap_err().to_string();
+    let e = convert_file(&dir.join("missing.xml"), &[])
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("missing.xml"), "{e}");
 }
 
@@ -129,23 +157,40 @@ fn hostile_and_malformed_xml() {
 <!DOCTYPE lolz [<!ENTITY lol "lol"><!ENTITY lol2 "&lol;&lol;&lol;&lol;&lol;&lol;&lol;&lol;&lol;&lol;">
 <!ENTITY lol3 "&lol2;&lol2;&lol2;&lol2;&lol2;&lol2;&lol2;&lol2;&lol2;&lol2;">]>
 <scene version="3.0.0"><string name="x" value="&lol3;"/></scene>"#;
-    let e = parse_scene_text(laughs, Path::new("laughs.xml")).unwrap_err().to_string();
-    assert!(e.starts_with("laughs.xml:1:1:") && e.contains("DTD"), "{e}");
-    let e = parse_scene_text("<scene version=\"3.0.0\">\n  <shape type=\"sphere\">\n</scene>", Path::new("bad.xml"))
+    let e = parse_scene_text(laughs, Path::new("laughs.xml"))
         .unwrap_err()
         .to_string();
+    assert!(e.starts_with("laughs.xml:1:1:") && e.contains("DTD"), "{e}");
+    let e = parse_scene_text(
+        "<scene version=\"3.0.0\">\n  <shape type=\"sphere\">\n</scene>",
+        Path::new("bad.xml"),
+    )
+    .unwrap_err()
+    .to_string();
     assert!(e.starts_with("bad.xml:3:"), "{e}");
-    let e = parse_scene_text("<mesh/>", Path::new("m.xml")).unwrap_err().to_string();
+    let e = parse_scene_text("<mesh/>", Path::new("m.xml"))
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("<scene>"), "{e}");
-    let e = convert_text("<scene version=\"3.0.0\">\n<gizmo/></scene>").unwrap_err().to_string();
-    assert!(e.contains(":2:") && e.contains("unknown element <gizmo>"), "{e}");
+    let e = convert_text("<scene version=\"3.0.0\">\n<gizmo/></scene>")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains(":2:") && e.contains("unknown element <gizmo>"),
+        "{e}"
+    );
     let e = convert_text("<scene version=\"3.0.0\"><shape type=\"obj\"><string name=\"filename\" value=\"nowhere.obj\"/></shape></scene>")
         .unwrap_err()
         .to_string();
-    assert!(e.contains("file not found") && e.contains("nowhere.obj"), "{e}");
-    let e = convert_text(r#"<scene version="3.0.0"><shape type="sphere"><ref id="nope"/></shape></scene>"#)
-        .unwrap_err()
-        .to_string();
+    assert!(
+        e.contains("file not found") && e.contains("nowhere.obj"),
+        "{e}"
+    );
+    let e = convert_text(
+        r#"<scene version="3.0.0"><shape type="sphere"><ref id="nope"/></shape></scene>"#,
+    )
+    .unwrap_err()
+    .to_string();
     assert!(e.contains("no element has id \"nope\""), "{e}");
 }
 
@@ -180,7 +225,11 @@ fn transforms_follow_mitsuba() {
     assert!((m.transform_vector3(DVec3::Z) - DVec3::NEG_Z).length() < 1e-12);
     // Looking down −z with +y up, Mitsuba's local +x ("left") is world −x.
     assert!((m.transform_vector3(DVec3::X) - DVec3::NEG_X).length() < 1e-12);
-    let t = parse_scene_text(r#"<scene version="3.0.0"><transform name="to_world"><scale x="0"/></transform></scene>"#, Path::new("t.xml")).unwrap();
+    let t = parse_scene_text(
+        r#"<scene version="3.0.0"><transform name="to_world"><scale x="0"/></transform></scene>"#,
+        Path::new("t.xml"),
+    )
+    .unwrap();
     assert!(transform_of(&t.children[0]).is_err());
 }
 
@@ -191,24 +240,46 @@ fn camera_conventions() {
     let c = convert_text(&format!("<scene version=\"3.0.0\">{CAMERA}</scene>")).unwrap();
     let cam = &c.desc.cameras[0];
     assert_eq!(cam.type_name, "pinhole");
-    assert_eq!(vec3(get(&cam.params, "position")), DVec3::new(0.0, 0.0, 4.0));
+    assert_eq!(
+        vec3(get(&cam.params, "position")),
+        DVec3::new(0.0, 0.0, 4.0)
+    );
     assert_eq!(vec3(get(&cam.params, "look_at")), DVec3::new(0.0, 0.0, 3.0));
     assert_eq!(f(get(&cam.params, "fov")), 40.0);
-    let wide = CAMERA.replace("<float name=\"fov\" value=\"40\"/>", "<float name=\"fov\" value=\"40\"/><string name=\"fov_axis\" value=\"smaller\"/>");
+    let wide = CAMERA.replace(
+        "<float name=\"fov\" value=\"40\"/>",
+        "<float name=\"fov\" value=\"40\"/><string name=\"fov_axis\" value=\"smaller\"/>",
+    );
     let c = convert_text(&format!("<scene version=\"3.0.0\">{wide}</scene>")).unwrap();
-    assert_eq!(get(&c.desc.cameras[0].params, "fov_axis"), &Value::String("y".into()));
-    let diag = CAMERA.replace("<float name=\"fov\" value=\"40\"/>", "<float name=\"fov\" value=\"40\"/><string name=\"fov_axis\" value=\"diagonal\"/>");
+    assert_eq!(
+        get(&c.desc.cameras[0].params, "fov_axis"),
+        &Value::String("y".into())
+    );
+    let diag = CAMERA.replace(
+        "<float name=\"fov\" value=\"40\"/>",
+        "<float name=\"fov\" value=\"40\"/><string name=\"fov_axis\" value=\"diagonal\"/>",
+    );
     let c = convert_text(&format!("<scene version=\"3.0.0\">{diag}</scene>")).unwrap();
     let a: f64 = 2.0;
-    let want = 2.0 * ((20f64.to_radians().tan()) * a / (1.0 + a * a).sqrt()).atan().to_degrees();
+    let want = 2.0
+        * ((20f64.to_radians().tan()) * a / (1.0 + a * a).sqrt())
+            .atan()
+            .to_degrees();
     assert!((f(get(&c.desc.cameras[0].params, "fov")) - want).abs() < 1e-9);
     let lens = CAMERA.replace("perspective", "thinlens").replace("<float name=\"fov\" value=\"40\"/>", "<float name=\"fov\" value=\"40\"/><float name=\"aperture_radius\" value=\"0.05\"/><float name=\"focus_distance\" value=\"4\"/>");
     let c = convert_text(&format!("<scene version=\"3.0.0\">{lens}</scene>")).unwrap();
     assert_eq!(c.desc.cameras[0].type_name, "perspective");
     assert_eq!(f(get(&c.desc.cameras[0].params, "lens_radius")), 0.05);
-    let clipped = CAMERA.replace("<float name=\"fov\" value=\"40\"/>", "<float name=\"fov\" value=\"40\"/><float name=\"near_clip\" value=\"1\"/>");
+    let clipped = CAMERA.replace(
+        "<float name=\"fov\" value=\"40\"/>",
+        "<float name=\"fov\" value=\"40\"/><float name=\"near_clip\" value=\"1\"/>",
+    );
     let c = convert_text(&format!("<scene version=\"3.0.0\">{clipped}</scene>")).unwrap();
-    assert!(c.notes.iter().any(|n| n.contains("near_clip")), "{:?}", c.notes);
+    assert!(
+        c.notes.iter().any(|n| n.contains("near_clip")),
+        "{:?}",
+        c.notes
+    );
 }
 
 // BSDFs: each maps to the documented spectrace material, and what is approximated says so.
@@ -231,20 +302,33 @@ fn bsdf_mapping() {
     let m = |n: &str| c.desc.materials.iter().find(|m| m.name == n).unwrap();
     assert_eq!(m("water").type_name, "dielectric");
     assert!((f(get(&m("water").params, "ior")) - 1.333).abs() < 1e-9);
-    assert_eq!(get(&m("gold").params, "metal"), &Value::String("gold".into()));
+    assert_eq!(
+        get(&m("gold").params, "metal"),
+        &Value::String("gold".into())
+    );
     assert_eq!(m("mirror").type_name, "mirror");
     assert_eq!(f(get(&m("rough").params, "alpha")), 0.2);
     assert_eq!(m("plastic").type_name, "lambertian");
     assert_eq!(f(get(&m("two").params, "reflectance")), 0.3);
     assert_eq!(m("sheet").type_name, "thin_film");
     let notes = c.notes.join("\n");
-    for want in ["plastic: no plastic", "bsdf weird: not supported", "parameter `bogus` ignored", "thindielectric"] {
+    for want in [
+        "plastic: no plastic",
+        "bsdf weird: not supported",
+        "parameter `bogus` ignored",
+        "thindielectric",
+    ] {
         assert!(notes.contains(want), "missing `{want}` in\n{notes}");
     }
     // One note per kind, not one per element.
     let c = convert_text(r#"<scene version="3.0.0">
 <shape type="sphere"><bsdf type="plastic"/></shape><shape type="sphere"><bsdf type="plastic"/></shape></scene>"#).unwrap();
-    assert_eq!(c.notes.iter().filter(|n| n.starts_with("plastic")).count(), 1, "{:?}", c.notes);
+    assert_eq!(
+        c.notes.iter().filter(|n| n.starts_with("plastic")).count(),
+        1,
+        "{:?}",
+        c.notes
+    );
 }
 
 // Emitters in Mitsuba's spectral units: an area light's rgb radiance becomes the illuminant-
@@ -266,21 +350,49 @@ fn emitters() {
     let c = convert_file(&dir.join("s.xml"), &[]).unwrap();
     let em = &c.desc.materials[0];
     assert_eq!(em.type_name, "emissive");
-    let Value::Seq(t) = get(&em.params, "radiance") else { panic!() };
-    let at = |l: f64| t.iter().find_map(|p| match p { Value::Seq(p) if f(&p[0]) == l => Some(f(&p[1])), _ => None }).unwrap();
+    let Value::Seq(t) = get(&em.params, "radiance") else {
+        panic!()
+    };
+    let at = |l: f64| {
+        t.iter()
+            .find_map(|p| match p {
+                Value::Seq(p) if f(&p[0]) == l => Some(f(&p[1])),
+                _ => None,
+            })
+            .unwrap()
+    };
     assert!((at(560.0) / 1.01013 - 1.0).abs() < 3e-3);
-    let point = c.desc.lights.iter().find(|l| l.type_name == "point").unwrap();
+    let point = c
+        .desc
+        .lights
+        .iter()
+        .find(|l| l.type_name == "point")
+        .unwrap();
     // ∫ 2 dλ over 360–830 nm = 940 W/sr → Φ = 4π · 940 W.
-    assert!((f(get(&point.params, "power")) / (4.0 * std::f64::consts::PI * 940.0) - 1.0).abs() < 1e-12);
+    assert!(
+        (f(get(&point.params, "power")) / (4.0 * std::f64::consts::PI * 940.0) - 1.0).abs() < 1e-12
+    );
     assert!(c.desc.lights.iter().any(|l| l.type_name == "environment"));
-    let env = c.desc.lights.iter().find(|l| l.type_name == "envmap").unwrap();
+    let env = c
+        .desc
+        .lights
+        .iter()
+        .find(|l| l.type_name == "envmap")
+        .unwrap();
     assert_eq!(get(&env.params, "file"), &Value::String("sky.exr".into()));
     assert_eq!(f(get(&env.params, "scale")), 2.0);
-    let Value::Seq(rows) = get(&env.params, "transform") else { panic!() };
+    let Value::Seq(rows) = get(&env.params, "transform") else {
+        panic!()
+    };
     let Value::Seq(r0) = &rows[0] else { panic!() };
     // Row 0 of a 90° rotation about +y: (cos, 0, sin, 0) = (0, 0, 1, 0).
     assert!(f(&r0[0]).abs() < 1e-12 && (f(&r0[2]) - 1.0).abs() < 1e-12);
-    let sun = c.desc.lights.iter().find(|l| l.type_name == "directional").unwrap();
+    let sun = c
+        .desc
+        .lights
+        .iter()
+        .find(|l| l.type_name == "directional")
+        .unwrap();
     // 1 W/(m²·nm) over 400–700 nm (zero outside, as in Mitsuba) = 300 W/m², within the 5 nm
     // grid's trapezoid error at the two edges (2 × 2.5 W/m²).
     assert!((f(get(&sun.params, "irradiance")) - 300.0).abs() <= 5.0 + 1e-9);
@@ -291,7 +403,11 @@ fn emitters() {
 #[test]
 fn textures_in_the_agreed_syntax() {
     let dir = temp_dir("tex");
-    std::fs::write(dir.join("wood.png"), b"png bytes are not read by the converter").unwrap();
+    std::fs::write(
+        dir.join("wood.png"),
+        b"png bytes are not read by the converter",
+    )
+    .unwrap();
     std::fs::write(dir.join("s.xml"), r#"<scene version="3.0.0"><shape type="sphere"><bsdf type="diffuse">
 <texture type="bitmap" name="reflectance"><string name="filename" value="wood.png"/><boolean name="raw" value="true"/>
 <string name="filter_type" value="nearest"/><transform name="to_uv"><scale x="4" y="2"/><translate x="0.5" y="0.25"/></transform>
@@ -301,9 +417,13 @@ fn textures_in_the_agreed_syntax() {
     assert_eq!(get(tex, "file"), &Value::String("wood.png".into()));
     assert_eq!(get(tex, "encoding"), &Value::String("linear".into()));
     assert_eq!(get(tex, "filter"), &Value::String("nearest".into()));
-    let Value::Seq(s) = get(tex, "uv_scale") else { panic!() };
+    let Value::Seq(s) = get(tex, "uv_scale") else {
+        panic!()
+    };
     assert_eq!((f(&s[0]), f(&s[1])), (4.0, 2.0));
-    let Value::Seq(o) = get(tex, "uv_offset") else { panic!() };
+    let Value::Seq(o) = get(tex, "uv_offset") else {
+        panic!()
+    };
     assert_eq!((f(&o[0]), f(&o[1])), (0.5, 0.25));
 }
 
@@ -318,7 +438,11 @@ fn shapes() {
         uvs: None,
         indices: vec![[0, 1, 2]],
     };
-    std::fs::write(dir.join("tri.serialized"), serialized::write_serialized(&mesh, "tri")).unwrap();
+    std::fs::write(
+        dir.join("tri.serialized"),
+        serialized::write_serialized(&mesh, "tri"),
+    )
+    .unwrap();
     std::fs::write(dir.join("s.xml"), r#"<scene version="3.0.0">
 <shape type="rectangle" id="r"/><shape type="rectangle" id="rf"><boolean name="flip_normals" value="true"/></shape>
 <shape type="cube" id="c"/><shape type="disk" id="d"/>
@@ -329,7 +453,18 @@ fn shapes() {
 <shape type="bsplinecurve" id="hair"/>
 </scene>"#).unwrap();
     let c = convert_file(&dir.join("s.xml"), &[]).unwrap();
-    let o = |n: &str| c.desc.objects.iter().find(|o| o.name == n).unwrap_or_else(|| panic!("{n}: {:?}", c.desc.objects.iter().map(|o| &o.name).collect::<Vec<_>>()));
+    let o = |n: &str| {
+        c.desc
+            .objects
+            .iter()
+            .find(|o| o.name == n)
+            .unwrap_or_else(|| {
+                panic!(
+                    "{n}: {:?}",
+                    c.desc.objects.iter().map(|o| &o.name).collect::<Vec<_>>()
+                )
+            })
+    };
     let e0 = vec3(get(&o("r").params, "edge0"));
     let e1 = vec3(get(&o("r").params, "edge1"));
     assert_eq!(e0.cross(e1).normalize(), DVec3::Z);
@@ -345,20 +480,41 @@ fn shapes() {
         assert!(n.dot(centre) > 0.0, "cube face points inwards");
     }
     let disk = convert::disk_mesh(false);
-    let area: f32 = disk.indices.iter().map(|t| {
-        let [a, b, cc] = t.map(|i| disk.positions[i as usize]);
-        0.5 * (b - a).cross(cc - a).z
-    }).sum();
-    assert!((area as f64 / std::f64::consts::PI - 1.0).abs() < 5e-4, "{area}");
+    let area: f32 = disk
+        .indices
+        .iter()
+        .map(|t| {
+            let [a, b, cc] = t.map(|i| disk.positions[i as usize]);
+            0.5 * (b - a).cross(cc - a).z
+        })
+        .sum();
+    assert!(
+        (area as f64 / std::f64::consts::PI - 1.0).abs() < 5e-4,
+        "{area}"
+    );
     assert_eq!(o("m").type_name, "mesh");
-    let instances: Vec<_> = c.desc.objects.iter().filter(|o| o.type_name == "sphere").collect();
+    let instances: Vec<_> = c
+        .desc
+        .objects
+        .iter()
+        .filter(|o| o.type_name == "sphere")
+        .collect();
     assert_eq!(instances.len(), 2);
-    let xs: Vec<f64> = instances.iter().map(|o| match &o.transform[0] {
-        TransformStep::Matrix(m) => m[0][3],
-        s => panic!("{s:?}"),
-    }).collect();
+    let xs: Vec<f64> = instances
+        .iter()
+        .map(|o| match &o.transform[0] {
+            TransformStep::Matrix(m) => m[0][3],
+            s => panic!("{s:?}"),
+        })
+        .collect();
     assert!(xs.contains(&3.0) && xs.contains(&-3.0));
-    assert!(c.notes.iter().any(|n| n.starts_with("shape bsplinecurve: not supported")), "{:?}", c.notes);
+    assert!(
+        c.notes
+            .iter()
+            .any(|n| n.starts_with("shape bsplinecurve: not supported")),
+        "{:?}",
+        c.notes
+    );
 }
 
 // The public scenes convert and build into renderable spectrace scenes with the camera where
@@ -367,12 +523,22 @@ fn shapes() {
 fn public_scenes_build() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/mitsuba");
     let cbox = root.join("cornell-box/scene.xml");
-    let c = convert_file(&cbox, &[("resx".into(), "32".into()), ("resy".into(), "32".into())]).unwrap();
+    let c = convert_file(
+        &cbox,
+        &[("resx".into(), "32".into()), ("resy".into(), "32".into())],
+    )
+    .unwrap();
     let cam = &c.desc.cameras[0];
     assert!((vec3(get(&cam.params, "position")) - DVec3::new(0.0, 1.0, 6.8)).length() < 1e-9);
     assert!((vec3(get(&cam.params, "look_at")) - DVec3::new(0.0, 1.0, 5.8)).length() < 1e-9);
     assert_eq!(c.desc.output.max_depth, Some(64));
-    let scene = crate::scene::build_scene(&c.desc, cbox.parent().unwrap(), &cbox, &[&crate::scene::BuiltinFactory]).unwrap();
+    let scene = crate::scene::build_scene(
+        &c.desc,
+        cbox.parent().unwrap(),
+        &cbox,
+        &[&crate::scene::BuiltinFactory],
+    )
+    .unwrap();
     assert_eq!(scene.lights.lights().len(), 1);
     for s in ["veach-mis/scene.xml", "veach-mis/scene-mitsuba3.xml"] {
         let p = root.join(s);
@@ -386,7 +552,11 @@ fn public_scenes_build() {
 fn mirrored_camera_noted() {
     let m = CAMERA.replace("<lookat", "<scale x=\"-1\"/><lookat");
     let c = convert_text(&format!("<scene version=\"3.0.0\">{m}</scene>")).unwrap();
-    assert!(c.notes.iter().any(|n| n.contains("mirrored")), "{:?}", c.notes);
+    assert!(
+        c.notes.iter().any(|n| n.contains("mirrored")),
+        "{:?}",
+        c.notes
+    );
     let _ = DMat4::IDENTITY;
 }
 
@@ -397,11 +567,16 @@ fn include_depth_limit() {
     for i in 0..=(xml::MAX_INCLUDE_DEPTH + 1) {
         std::fs::write(
             dir.join(format!("f{i}.xml")),
-            format!(r#"<scene version="3.0.0"><include filename="f{}.xml"/></scene>"#, i + 1),
+            format!(
+                r#"<scene version="3.0.0"><include filename="f{}.xml"/></scene>"#,
+                i + 1
+            ),
         )
         .unwrap();
     }
-    let e = read_scene(&dir.join("f0.xml"), &[]).unwrap_err().to_string();
+    let e = read_scene(&dir.join("f0.xml"), &[])
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("nested deeper"), "{e}");
     let _ = convert_tree;
 }
@@ -410,7 +585,8 @@ fn include_depth_limit() {
 // description or an error, never a panic: 3000 cases of the Cornell box, under a second.
 #[test]
 fn random_edits_never_panic() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/mitsuba/cornell-box/scene.xml");
+    let root =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/mitsuba/cornell-box/scene.xml");
     let text = std::fs::read(&root).unwrap();
     let mut state = 0x9E37_79B9_7F4A_7C15u64;
     let mut next = move || {

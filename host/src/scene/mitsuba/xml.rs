@@ -195,7 +195,13 @@ impl Reader {
         })
     }
 
-    fn substitute(&self, value: &str, file: &Path, line: u32, col: u32) -> Result<String, SceneError> {
+    fn substitute(
+        &self,
+        value: &str,
+        file: &Path,
+        line: u32,
+        col: u32,
+    ) -> Result<String, SceneError> {
         if !value.contains('$') {
             return Ok(value.to_string());
         }
