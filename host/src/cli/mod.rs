@@ -6,6 +6,7 @@ pub mod bench_speed;
 pub mod blob;
 pub mod color;
 pub mod compare;
+pub mod convert;
 pub mod explain;
 pub mod interrupt;
 pub mod luminaire;
@@ -50,6 +51,8 @@ pub enum Command {
     Luminaire(luminaire::LuminaireArgs),
     /// Render a scene (default: the measured spectral Cornell box) to OpenEXR and PNG.
     Render(render::RenderArgs),
+    /// Convert a Mitsuba 3 XML scene to a spectrace RON scene, listing what changed or was dropped.
+    Convert(convert::ConvertArgs),
     /// Merge the state files of a render's slices (`render --slice K/M`) into its image.
     Merge(merge::MergeArgs),
     /// Error of a render against a reference: RMSE, relative MSE, CIEDE2000, difference image.
@@ -98,6 +101,7 @@ where
         Some(Command::Luminaire(args)) => luminaire::run(&args),
         Some(Command::Render(args)) => render::run(&args),
         Some(Command::Merge(args)) => merge::run(&args),
+        Some(Command::Convert(args)) => convert::run(&args),
         Some(Command::Compare(args)) => compare::run(&args),
         Some(Command::Reference(args)) => reference::run(&args),
         Some(Command::Bench(cmd)) => bench::run(&cmd),

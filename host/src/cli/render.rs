@@ -21,8 +21,12 @@ use std::time::Duration;
 /// Arguments of `spectrace render`.
 #[derive(clap::Args, Debug, Clone)]
 pub struct RenderArgs {
-    /// Scene file (RON). Without it the embedded measured Cornell box is rendered.
+    /// Scene file: RON, or a Mitsuba 3 XML scene (.xml, converted on loading; see `convert`).
+    /// Without it the embedded measured Cornell box is rendered.
     pub scene: Option<PathBuf>,
+    /// Set a parameter of a Mitsuba XML scene, as Mitsuba's `-D name=value`.
+    #[arg(short = 'D', value_name = "NAME=VALUE")]
+    pub define: Vec<String>,
     /// OpenEXR output (R, G, B linear + X, Y, Z); a name ending in .png writes only the PNG.
     #[arg(short = 'o', long = "output", default_value = "render.exr")]
     pub output: PathBuf,
@@ -310,7 +314,12 @@ impl RenderArgs {
 /// Load the scene named by `args` (or the default) with the given factories.
 pub fn load(args: &RenderArgs, factories: &[&dyn ObjectFactory]) -> Result<Scene, String> {
     let repr = args.representation.options()?;
-    let Some((w, h)) = args.resolution else {
+    let defines = crate::scene::mitsuba::parse_defines(&args.define)?;
+    let Some((w, h)) = args.resolution.or(if defines.is_empty() {
+        None
+    } else {
+        Some((0, 0))
+    }) else {
         return match &args.scene {
             Some(p) => load_scene_file_with(p, factories, &repr),
             None => crate::scene::cornell::cornell_box_with(factories, &repr),
@@ -320,7 +329,7 @@ pub fn load(args: &RenderArgs, factories: &[&dyn ObjectFactory]) -> Result<Scene
     // --resolution: every camera's `resolution` replaced before the scene is built.
     let (mut desc, base, file) = match &args.scene {
         Some(p) => (
-            crate::scene::read_scene_file(p).map_err(|e| e.to_string())?,
+            crate::scene::mitsuba::read_any(p, &defines).map_err(|e| e.to_string())?,
             p.parent().unwrap_or(Path::new(".")).to_path_buf(),
             p.clone(),
         ),
@@ -330,7 +339,7 @@ pub fn load(args: &RenderArgs, factories: &[&dyn ObjectFactory]) -> Result<Scene
             PathBuf::from("<embedded cornell box>"),
         ),
     };
-    for c in &mut desc.cameras {
+    for c in desc.cameras.iter_mut().filter(|_| w > 0) {
         let size: ron::Value = ron::from_str(&format!("({w}, {h})")).map_err(|e| e.to_string())?;
         match &mut c.params {
             ron::Value::Map(m) => {

@@ -49,6 +49,9 @@ pub fn load_scene_file_with(
 /// callers that change the description first (e.g. `render --resolution`); build it with
 /// [`build_scene_with`] and the file's directory as base.
 pub fn read_scene_file(path: &Path) -> Result<SceneDescription, SceneError> {
+    if super::mitsuba::is_mitsuba_file(path) {
+        return super::mitsuba::read_description(path, &[]);
+    }
     let text =
         crate::limits::read_text_limited(path, crate::limits::SCENE_FILE_MAX_BYTES, "scene file")
             .map_err(|source| SceneError::Io {

@@ -8,6 +8,7 @@ pub mod cornell;
 pub mod description;
 pub mod error;
 pub mod factory;
+pub mod mitsuba;
 pub mod objects;
 pub mod params;
 pub mod representation;
