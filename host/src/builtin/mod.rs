@@ -197,7 +197,7 @@ pub fn types() -> &'static [BuiltinType] {
     &ALL
 }
 
-static ALL: [BuiltinType; 24] = [
+static ALL: [BuiltinType; 25] = [
     material::lambertian::TYPE,
     material::mirror::TYPE,
     material::dielectric::TYPE,
@@ -210,6 +210,7 @@ static ALL: [BuiltinType; 24] = [
     light::spot::TYPE,
     light::directional::TYPE,
     light::environment::TYPE,
+    light::envmap::TYPE,
     light::luminaire::TYPE,
     spd::spec::TYPE,
     spd::table::TYPE,

@@ -13,6 +13,7 @@ pub mod resampled_observer;
 pub mod rgb_space;
 pub mod srgb_transfer;
 pub mod tm30;
+pub mod rgb_table;
 pub mod uplift;
 pub mod xyz;
 

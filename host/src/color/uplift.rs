@@ -200,6 +200,19 @@ impl RgbUplifter {
         (c, res)
     }
 
+    /// Levenberg–Marquardt from the coefficients `start` (a nearby colour's fit) towards
+    /// `rgb` (not clamped), at most `iterations` steps: the coefficients and the RGB residual
+    /// norm. What a table of fits uses to walk from one entry to the next.
+    pub fn refine(&self, rgb: [f64; 3], start: [f64; 3], iterations: usize) -> ([f64; 3], f64) {
+        self.solve(rgb, start, iterations)
+    }
+
+    /// RGB residual norm of the coefficients `c` against `rgb`.
+    pub fn residual(&self, rgb: [f64; 3], c: [f64; 3]) -> f64 {
+        let (got, _) = self.rgb_and_jacobian(c);
+        (0..3).map(|k| (got[k] - rgb[k]).powi(2)).sum::<f64>().sqrt()
+    }
+
     /// Fit a smooth reflectance whose RGB (under this uplifter) is `rgb`, clamped to [0,1].
     /// Greys are exact; other colours inside the reflectance gamut come back within ~1e-6;
     /// colours at the gamut boundary (a channel at 0 or 1 with others not) are approached as

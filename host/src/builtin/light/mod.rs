@@ -2,6 +2,7 @@
 
 pub mod directional;
 pub mod environment;
+pub mod envmap;
 pub mod luminaire;
 pub mod point;
 pub mod spot;
