@@ -10,13 +10,21 @@
 //! `z_k = s(s(k/(R−1)))`, `s(t) = 3t² − 2t³` (nodes crowd near 0 and 1, where the coefficients
 //! change fastest); a lookup interpolates the coefficients trilinearly. [`RESOLUTION`] R = 64.
 //!
-//! # Building
-//! Built once per process at first use ([`RgbToSpectrumTable::srgb`]) from the same solver the
-//! scene's `(rgb: …)` colours use ([`RgbUplifter`] for sRGB under D65, CIE 1931 2°): each
-//! `(l, x_i, y_j)` column is a chain along z, started with the full continuation fit at
-//! `z = z_{R/5}` and walked up and down with each node's fit starting from its neighbour's
-//! (a few Levenberg–Marquardt steps), the chains in parallel. Node targets are clamped into
-//! [10⁻⁶, 1 − 10⁻⁶] so every coefficient is finite (black and white are 10⁻⁶ away from 0 and 1).
+//! # Building and caching
+//! Built from the same solver the scene's `(rgb: …)` colours use ([`RgbUplifter`] for sRGB
+//! under D65, CIE 1931 2°, its weights gathered onto 5 nm nodes for speed, see
+//! [`RgbUplifter::coarsened`]): each `(l, x_i, y_j)` column is a chain along z, started with the
+//! full continuation fit at `z = z_{R/5}` and walked up and down with each node's fit starting
+//! from its neighbour's (a few Levenberg–Marquardt steps), the chains in parallel. Node targets
+//! are clamped into [10⁻⁶, 1 − 10⁻⁶] so every coefficient is finite.
+//!
+//! The first process that needs the table builds it (seconds) and saves it to
+//! `$SPECTRACE_CACHE_DIR`, else `$XDG_CACHE_HOME/spectrace`, else `~/.cache/spectrace`
+//! (`SPECTRACE_CACHE_DIR=` empty: no cache), as `rgb_to_spectrum_srgb_64_<key>.bin` (9.4 MB);
+//! later processes load it (milliseconds). The key is a CRC-32 of the solver's weights, the
+//! resolution and the format version, so a table made by a different solver is never read;
+//! the file carries a CRC-32 of its contents and a damaged file is rebuilt. Writing goes to a
+//! temporary file renamed into place, so concurrent processes never see half a table.
 //!
 //! # Out of gamut
 //! Lookups clamp each component into [0, 1] first: a reflectance cannot exceed 1 or be
@@ -53,10 +61,16 @@ fn smoothstep(t: f64) -> f64 {
 }
 
 impl RgbToSpectrumTable {
-    /// The table for linear sRGB reflectances under D65 (built at first use, shared).
+    /// The table for linear sRGB reflectances under D65 (loaded from the cache or built at
+    /// first use, then shared).
     pub fn srgb() -> &'static Self {
-        static CELL: OnceLock<RgbToSpectrumTable> = OnceLock::new();
-        CELL.get_or_init(|| Self::build(RgbUplifter::srgb(), RESOLUTION))
+        &srgb_entry().0
+    }
+
+    /// How [`srgb`](Self::srgb) got its table: `"cache"` or `"built"`, and the seconds it took.
+    pub fn srgb_origin() -> (&'static str, f64) {
+        let e = srgb_entry();
+        (e.1, e.2)
     }
 
     /// Build a table of `res` nodes per axis (≥ 2) for `uplifter`.
@@ -123,6 +137,53 @@ impl RgbToSpectrumTable {
         }
     }
 
+    /// The table as bytes: magic, resolution, z nodes, coefficients (f32 little-endian), then
+    /// a CRC-32 of all that.
+    pub fn to_bytes(&self) -> Vec<u8> {
+        let mut out = Vec::with_capacity(16 + self.coeffs.len() * 12 + self.res * 4 + 4);
+        out.extend_from_slice(MAGIC);
+        out.extend_from_slice(&(self.res as u32).to_le_bytes());
+        for z in &self.z_nodes {
+            out.extend_from_slice(&z.to_le_bytes());
+        }
+        for c in self.coeffs.iter().flatten() {
+            out.extend_from_slice(&c.to_le_bytes());
+        }
+        let crc = crc32fast::hash(&out);
+        out.extend_from_slice(&crc.to_le_bytes());
+        out
+    }
+
+    /// Read [`to_bytes`](Self::to_bytes)' format; `None` unless it is exactly a table of
+    /// resolution `res` with a matching checksum and finite values.
+    pub fn from_bytes(bytes: &[u8], res: usize) -> Option<Self> {
+        let n = 3 * res * res * res;
+        let want = MAGIC.len() + 4 + res * 4 + n * 12 + 4;
+        if bytes.len() != want || !bytes.starts_with(MAGIC) {
+            return None;
+        }
+        let (body, crc) = bytes.split_at(want - 4);
+        if crc32fast::hash(body).to_le_bytes() != crc {
+            return None;
+        }
+        let mut floats = body[MAGIC.len() + 4..]
+            .chunks_exact(4)
+            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]));
+        if u32::from_le_bytes(body[MAGIC.len()..MAGIC.len() + 4].try_into().ok()?) as usize != res {
+            return None;
+        }
+        let z_nodes: Vec<f32> = floats.by_ref().take(res).collect();
+        let flat: Vec<f32> = floats.collect();
+        if flat.len() != n * 3 || flat.iter().chain(&z_nodes).any(|v| !v.is_finite()) {
+            return None;
+        }
+        Some(Self {
+            res,
+            z_nodes,
+            coeffs: flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect(),
+        })
+    }
+
     /// Bytes held.
     pub fn memory_bytes(&self) -> usize {
         self.coeffs.len() * std::mem::size_of::<[f32; 3]>() + self.z_nodes.len() * 4
@@ -181,6 +242,72 @@ impl RgbToSpectrumTable {
     }
 }
 
+/// File format tag (and version).
+const MAGIC: &[u8; 8] = b"SPTRGB01";
+
+/// The shared sRGB table, how it was obtained and the seconds that took.
+fn srgb_entry() -> &'static (RgbToSpectrumTable, &'static str, f64) {
+    static CELL: OnceLock<(RgbToSpectrumTable, &'static str, f64)> = OnceLock::new();
+    CELL.get_or_init(|| {
+        let t0 = std::time::Instant::now();
+        let uplifter = RgbUplifter::srgb().coarsened(5.0);
+        let path = cache_file(&uplifter);
+        if let Some(p) = &path {
+            if let Some(t) = std::fs::read(p)
+                .ok()
+                .and_then(|b| RgbToSpectrumTable::from_bytes(&b, RESOLUTION))
+            {
+                return (t, "cache", t0.elapsed().as_secs_f64());
+            }
+        }
+        let table = RgbToSpectrumTable::build(&uplifter, RESOLUTION);
+        if let Some(p) = &path {
+            // Best effort: a read-only home only costs the next process the build again.
+            let _ = save_atomically(p, &table.to_bytes());
+        }
+        (table, "built", t0.elapsed().as_secs_f64())
+    })
+}
+
+/// Where the cached table lives (see the module docs), or `None` when caching is off.
+fn cache_file(uplifter: &RgbUplifter) -> Option<std::path::PathBuf> {
+    use std::path::PathBuf;
+    let dir = match std::env::var_os("SPECTRACE_CACHE_DIR") {
+        Some(d) if d.is_empty() => return None,
+        Some(d) => PathBuf::from(d),
+        None => match std::env::var_os("XDG_CACHE_HOME") {
+            Some(d) if !d.is_empty() => PathBuf::from(d).join("spectrace"),
+            _ => PathBuf::from(std::env::var_os("HOME")?).join(".cache/spectrace"),
+        },
+    };
+    let mut h = crc32fast::Hasher::new();
+    h.update(MAGIC);
+    h.update(&(RESOLUTION as u32).to_le_bytes());
+    h.update(&MARGIN.to_le_bytes());
+    for (t, w) in uplifter.weights() {
+        h.update(&t.to_le_bytes());
+        for v in w {
+            h.update(&v.to_le_bytes());
+        }
+    }
+    Some(dir.join(format!(
+        "rgb_to_spectrum_srgb_{RESOLUTION}_{:08x}.bin",
+        h.finalize()
+    )))
+}
+
+fn save_atomically(path: &std::path::Path, bytes: &[u8]) -> std::io::Result<()> {
+    let dir = path.parent().unwrap_or(std::path::Path::new("."));
+    std::fs::create_dir_all(dir)?;
+    let tmp = dir.join(format!(
+        ".{}.{}.tmp",
+        path.file_name().and_then(|n| n.to_str()).unwrap_or("table"),
+        std::process::id()
+    ));
+    std::fs::write(&tmp, bytes)?;
+    std::fs::rename(&tmp, path)
+}
+
 /// `S(c₀t² + c₁t + c₂)` at normalised wavelength `t` (see [`crate::color::uplift`]), in f32 for
 /// per-texel evaluation.
 #[inline]
@@ -203,23 +330,22 @@ pub fn t_of(lambda_nm: f32) -> f32 {
 mod tests {
     use super::*;
 
-    /// Build time and memory of the full table (printed, `--nocapture`), and its accuracy
-    /// against the direct solve: over 2000 pseudo-random colours in [0, 1]³ (fixed seed) the
-    /// table's spectrum reproduces the colour's RGB within 2e-3 per channel (half an 8-bit
-    /// step 1/255 ≈ 3.9e-3 of a linear value: below what an 8-bit texture resolves), and
-    /// differs from the direct fit's spectrum by at most 0.02 in reflectance at any
-    /// wavelength (the fits are not unique at the gamut boundary, where both are close to
-    /// the same RGB by different curves; the figure is printed). Inside [0.02, 0.98]³ the
-    /// RGB error is below 5e-4.
+    /// The shared table's origin and cost (printed, `--nocapture`), and its accuracy against
+    /// the direct solve with the full 1 nm weights: over 2000 pseudo-random colours in [0, 1]³
+    /// (fixed seed) the table's spectrum reproduces the colour's RGB within 3e-3 per channel
+    /// (below an 8-bit step of a linear value near 1, 1/255 ≈ 3.9e-3; the largest errors are
+    /// at the gamut boundary, where a component is near 0 or 1), and within 1.5e-3 inside
+    /// [0.02, 0.98]³ (the trilinear interpolation of coefficients and the 5 nm weights the table
+    /// is built with). The spectra themselves may differ from the direct fit's (the boundary
+    /// fits are not unique): the largest difference and its 99th percentile are printed.
     #[test]
     fn table_matches_the_direct_solve() {
-        let t0 = std::time::Instant::now();
         let table = RgbToSpectrumTable::srgb();
+        let (origin, secs) = RgbToSpectrumTable::srgb_origin();
         eprintln!(
-            "rgb table: {} nodes, {:.1} MB, built in {:.2} s",
+            "rgb table: {} nodes, {:.1} MB, {origin} in {secs:.2} s",
             table.coeffs.len(),
             table.memory_bytes() as f64 / 1e6,
-            t0.elapsed().as_secs_f64()
         );
         let up = RgbUplifter::srgb();
         let mut state = 0x2545_f491_4f6c_dd1du64;
@@ -229,7 +355,8 @@ mod tests {
             state ^= state << 17;
             (state >> 11) as f64 / (1u64 << 53) as f64
         };
-        let (mut worst_rgb, mut worst_inner, mut worst_refl) = (0.0f64, 0.0f64, 0.0f64);
+        let (mut worst_rgb, mut worst_inner) = (0.0f64, 0.0f64);
+        let mut refl = Vec::new();
         let t1 = std::time::Instant::now();
         let n = 2000;
         for _ in 0..n {
@@ -242,31 +369,52 @@ mod tests {
                 worst_inner = worst_inner.max(err);
             }
             let direct = up.fit(c);
-            for l in (360..=830).step_by(5) {
-                let d = (p.value(l as f64) - direct.value(l as f64)).abs();
-                worst_refl = worst_refl.max(d);
-            }
+            let d = (360..=830)
+                .step_by(5)
+                .map(|l| (p.value(l as f64) - direct.value(l as f64)).abs())
+                .fold(0.0, f64::max);
+            refl.push(d);
         }
+        refl.sort_by(f64::total_cmp);
         eprintln!(
             "rgb table vs direct fit over {n} colours: RGB error max {worst_rgb:.2e} \
-             (inside [0.02, 0.98]³: {worst_inner:.2e}), reflectance difference max \
-             {worst_refl:.3} ({:.2} ms per direct fit)",
+             (inside [0.02, 0.98]³: {worst_inner:.2e}); reflectance difference max {:.3}, 99th \
+             percentile {:.3}, median {:.4} ({:.2} ms per direct fit)",
+            refl[n - 1],
+            refl[n * 99 / 100],
+            refl[n / 2],
             t1.elapsed().as_secs_f64() * 1e3 / n as f64
         );
-        assert!(worst_rgb < 2e-3, "{worst_rgb}");
-        assert!(worst_inner < 5e-4, "{worst_inner}");
-        assert!(worst_refl < 0.02, "{worst_refl}");
+        assert!(worst_rgb < 3e-3, "{worst_rgb}");
+        assert!(worst_inner < 1.5e-3, "{worst_inner}");
     }
 
-    /// Greys come back flat and exact at the nodes (z on a node, x = y = 1): 1e-5.
+    /// Greys come back flat: within 1e-3 of the grey at 400, 550 and 700 nm (z between nodes:
+    /// the interpolated coefficient's sigmoid is not exactly the interpolated grey).
     #[test]
     fn greys_are_flat() {
-        let table = RgbToSpectrumTable::build(RgbUplifter::srgb(), 8);
-        for g in [0.0f32, 0.25, 0.5, 1.0] {
+        let table = RgbToSpectrumTable::srgb();
+        for g in [0.0f32, 0.01, 0.25, 0.5, 0.9, 1.0] {
             let p = table.polynomial([g; 3]);
             for l in [400.0, 550.0, 700.0] {
                 assert!((p.value(l) - g as f64).abs() < 1e-3, "{g} at {l}: {}", p.value(l));
             }
         }
+    }
+
+    /// The cache format round-trips exactly, and a flipped byte, a wrong resolution or a cut
+    /// file is refused (then the table is rebuilt). A small table (8³ × 3) keeps this fast.
+    #[test]
+    fn cache_format_round_trips_and_refuses_damage() {
+        let t = RgbToSpectrumTable::build(&RgbUplifter::srgb().coarsened(5.0), 8);
+        let bytes = t.to_bytes();
+        let back = RgbToSpectrumTable::from_bytes(&bytes, 8).unwrap();
+        assert_eq!(back.coeffs, t.coeffs);
+        assert_eq!(back.z_nodes, t.z_nodes);
+        let mut bad = bytes.clone();
+        bad[100] ^= 1;
+        assert!(RgbToSpectrumTable::from_bytes(&bad, 8).is_none());
+        assert!(RgbToSpectrumTable::from_bytes(&bytes, 9).is_none());
+        assert!(RgbToSpectrumTable::from_bytes(&bytes[..bytes.len() - 1], 8).is_none());
     }
 }
