@@ -4,7 +4,9 @@
 
 use spectrace::color::SRGB;
 use spectrace::film::spectral::SpectralImage;
-use spectrace::integrator::{render_with, IntegratorKind, PathTracer, RenderSettings, SampleBudget};
+use spectrace::integrator::{
+    render_with, IntegratorKind, PathTracer, RenderSettings, SampleBudget,
+};
 use spectrace::scene::{build_scene, parse_scene_str, BuiltinFactory, Scene};
 use std::path::{Path, PathBuf};
 
@@ -54,8 +56,10 @@ fn render_rgb(s: &Scene, spp: u32) -> Vec<[f64; 3]> {
 }
 
 fn white_sky(dir: &Path) {
-    exr::prelude::write_rgb_file(dir.join("white.exr"), 16, 8, |_, _| (1.0f32, 1.0f32, 1.0f32))
-        .unwrap();
+    exr::prelude::write_rgb_file(dir.join("white.exr"), 16, 8, |_, _| {
+        (1.0f32, 1.0f32, 1.0f32)
+    })
+    .unwrap();
 }
 
 /// A 2 × 2 sRGB PNG (nearest filter): each image quadrant's mean linear RGB (pixels next to
@@ -94,7 +98,10 @@ fn textured_floor_shows_the_texture_colours() {
             let m = px.iter().map(|p| p[c]).sum::<f64>() / n;
             let var = px.iter().map(|p| (p[c] - m).powi(2)).sum::<f64>() / (n - 1.0);
             let e = (var / n).sqrt();
-            eprintln!("texel {q} channel {c}: {m:.4} ± {e:.4}, want {:.4}", want[c]);
+            eprintln!(
+                "texel {q} channel {c}: {m:.4} ± {e:.4}, want {:.4}",
+                want[c]
+            );
             assert!(
                 (m - want[c]).abs() < 4.0 * e + 0.01,
                 "texel {q} channel {c}: {m} ± {e}, want {}",
@@ -132,7 +139,9 @@ fn spectral_exr_texture() {
     let out = render_with(&s, &settings, IntegratorKind::Pt, false, &|_, _| {}, None).unwrap();
     let y: Vec<f64> = out.result.image.xyz.iter().map(|p| p[1]).collect();
     let m = y.iter().sum::<f64>() / y.len() as f64;
-    let e = (y.iter().map(|v| (v - m).powi(2)).sum::<f64>() / (y.len() as f64 - 1.0) / y.len() as f64).sqrt();
+    let e =
+        (y.iter().map(|v| (v - m).powi(2)).sum::<f64>() / (y.len() as f64 - 1.0) / y.len() as f64)
+            .sqrt();
     eprintln!("spectral texture: Y = {m:.5} ± {e:.5} (want 0.5)");
     assert!((m - 0.5).abs() < 4.0 * e + 0.0015, "{m} ± {e}");
 }

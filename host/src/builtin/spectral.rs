@@ -113,7 +113,10 @@ impl TextureRef {
             match p.get(k) {
                 None => Ok(None),
                 Some(Value::String(s)) => Ok(Some(s.clone())),
-                Some(o) => Err(format!("`texture.{k}`: expected a string, got {}", kind_of(o))),
+                Some(o) => Err(format!(
+                    "`texture.{k}`: expected a string, got {}",
+                    kind_of(o)
+                )),
             }
         };
         let pair = |k: &str| -> Result<Option<(f64, f64)>, String> {
@@ -503,8 +506,12 @@ fn image_texture(
     let uv_scale = pair("uv_scale", t.uv_scale, 1.0)?;
     let uv_offset = pair("uv_offset", t.uv_offset, 0.0)?;
     let scale = t.scale.unwrap_or(1.0);
-    check::unit_interval(param, scale, None)
-        .map_err(|_| param_err(param, format!("`texture.scale` of a reflectance must lie in [0, 1], got {scale}")))?;
+    check::unit_interval(param, scale, None).map_err(|_| {
+        param_err(
+            param,
+            format!("`texture.scale` of a reflectance must lie in [0, 1], got {scale}"),
+        )
+    })?;
     let path = ctx.resolve(&t.file);
     let (image, report) = image_file::load(&path, encoding).map_err(err)?;
     if report.replaced > 0 {

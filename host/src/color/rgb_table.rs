@@ -397,7 +397,11 @@ mod tests {
         for g in [0.0f32, 0.01, 0.25, 0.5, 0.9, 1.0] {
             let p = table.polynomial([g; 3]);
             for l in [400.0, 550.0, 700.0] {
-                assert!((p.value(l) - g as f64).abs() < 1e-3, "{g} at {l}: {}", p.value(l));
+                assert!(
+                    (p.value(l) - g as f64).abs() < 1e-3,
+                    "{g} at {l}: {}",
+                    p.value(l)
+                );
             }
         }
     }

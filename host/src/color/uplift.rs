@@ -244,7 +244,10 @@ impl RgbUplifter {
     /// RGB residual norm of the coefficients `c` against `rgb`.
     pub fn residual(&self, rgb: [f64; 3], c: [f64; 3]) -> f64 {
         let (got, _) = self.rgb_and_jacobian(c);
-        (0..3).map(|k| (got[k] - rgb[k]).powi(2)).sum::<f64>().sqrt()
+        (0..3)
+            .map(|k| (got[k] - rgb[k]).powi(2))
+            .sum::<f64>()
+            .sqrt()
     }
 
     /// Fit a smooth reflectance whose RGB (under this uplifter) is `rgb`, clamped to [0,1].

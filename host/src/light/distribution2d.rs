@@ -48,7 +48,11 @@ impl Distribution1D {
     fn sample(&self, u: f64) -> (usize, f64) {
         let n = self.len();
         // The last cell with cdf ≤ u and positive probability.
-        let mut i = self.cdf.partition_point(|&c| c <= u).saturating_sub(1).min(n - 1);
+        let mut i = self
+            .cdf
+            .partition_point(|&c| c <= u)
+            .saturating_sub(1)
+            .min(n - 1);
         while i > 0 && self.p(i) <= 0.0 {
             i -= 1;
         }
@@ -56,7 +60,11 @@ impl Distribution1D {
             i += 1;
         }
         let p = self.p(i);
-        let off = if p > 0.0 { ((u - self.cdf[i]) / p).clamp(0.0, 1.0) } else { 0.5 };
+        let off = if p > 0.0 {
+            ((u - self.cdf[i]) / p).clamp(0.0, 1.0)
+        } else {
+            0.5
+        };
         (i, off.min(1.0 - f64::EPSILON))
     }
 }
@@ -95,10 +103,8 @@ impl Distribution2D {
         if weights.iter().any(|w| !(w.is_finite() && *w >= 0.0)) {
             return None;
         }
-        let conditional: Vec<Distribution1D> = weights
-            .chunks(nu)
-            .map(Distribution1D::new)
-            .collect();
+        let conditional: Vec<Distribution1D> =
+            weights.chunks(nu).map(Distribution1D::new).collect();
         let rows: Vec<f64> = conditional.iter().map(|c| c.total).collect();
         let marginal = Distribution1D::new(&rows);
         (marginal.total > 0.0 && marginal.total.is_finite()).then_some(Self {
@@ -171,9 +177,13 @@ mod tests {
         let mut counts = [0usize; 12];
         let mut state = 12345u64;
         for _ in 0..n {
-            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             let a = (state >> 40) as f32 / (1u64 << 24) as f32;
-            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             let b = (state >> 40) as f32 / (1u64 << 24) as f32;
             let s = d.sample(Vec2::new(a, b));
             counts[s.cell.1 * 4 + s.cell.0] += 1;

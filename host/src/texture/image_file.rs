@@ -180,12 +180,7 @@ pub fn max_file_bytes() -> u64 {
 /// Refuse an image of `width × height` pixels with `channels` channels before decoding it:
 /// each side ≤ [`MAX_SIDE`], and 8 bytes per channel value (the decoded floats and their
 /// copy) within half of `available` bytes.
-pub fn check_size(
-    width: u64,
-    height: u64,
-    channels: u64,
-    available: u64,
-) -> Result<(), String> {
+pub fn check_size(width: u64, height: u64, channels: u64, available: u64) -> Result<(), String> {
     if width == 0 || height == 0 {
         return Err(format!("the image is empty ({width} × {height} pixels)"));
     }
@@ -215,12 +210,8 @@ pub fn check_size(
 pub fn load(path: &Path, encoding: Option<Encoding>) -> Result<(LoadedImage, LoadReport), String> {
     let bytes = crate::limits::read_limited(path, max_file_bytes(), "image")
         .map_err(|e| format!("cannot read image {}: {e}", path.display()))?;
-    decode(
-        &bytes,
-        encoding,
-        crate::limits::available_memory_bytes(),
-    )
-    .map_err(|e| format!("image {}: {e}", path.display()))
+    decode(&bytes, encoding, crate::limits::available_memory_bytes())
+        .map_err(|e| format!("image {}: {e}", path.display()))
 }
 
 /// Decode an image held in memory (what [`load`] does after reading the file); `available`
@@ -230,12 +221,13 @@ pub fn decode(
     encoding: Option<Encoding>,
     available: u64,
 ) -> Result<(LoadedImage, LoadReport), String> {
-    let format = Format::sniff(bytes).ok_or(
-        "not a PNG, JPEG, Radiance HDR or OpenEXR file (unrecognised first bytes)",
-    )?;
+    let format = Format::sniff(bytes)
+        .ok_or("not a PNG, JPEG, Radiance HDR or OpenEXR file (unrecognised first bytes)")?;
     let encoding_used = encoding.unwrap_or(format.default_encoding());
     if matches!(format, Format::Hdr | Format::Exr) && encoding_used == Encoding::Srgb {
-        return Err("HDR and EXR files hold linear values: `encoding: \"srgb\"` does not apply".into());
+        return Err(
+            "HDR and EXR files hold linear values: `encoding: \"srgb\"` does not apply".into(),
+        );
     }
     // Third-party decoders: a panic on hostile input becomes an error, not an abort.
     let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| match format {
@@ -274,13 +266,17 @@ fn decode_with_image_crate(
     let mut limits = image::Limits::default();
     limits.max_alloc = Some(available / 2);
     reader.limits(limits);
-    let img = reader
-        .decode()
-        .map_err(|e| format!("cannot decode: {e}"))?;
+    let img = reader.decode().map_err(|e| format!("cannot decode: {e}"))?;
     let mut report = LoadReport::default();
     let pixels: Vec<[f32; 3]> = match (&img, encoding) {
         // 8-bit sRGB: one table of the 256 decoded values.
-        (image::DynamicImage::ImageRgb8(_) | image::DynamicImage::ImageRgba8(_) | image::DynamicImage::ImageLuma8(_) | image::DynamicImage::ImageLumaA8(_), _) => {
+        (
+            image::DynamicImage::ImageRgb8(_)
+            | image::DynamicImage::ImageRgba8(_)
+            | image::DynamicImage::ImageLuma8(_)
+            | image::DynamicImage::ImageLumaA8(_),
+            _,
+        ) => {
             let lut: Vec<f32> = (0..256)
                 .map(|i| {
                     let x = i as f64 / 255.0;
@@ -326,15 +322,17 @@ fn decode_exr(bytes: &[u8], available: u64) -> Result<(LoadedImage, LoadReport),
     use exr::prelude::*;
     let meta = exr::meta::MetaData::read_from_buffered(Cursor::new(bytes), false)
         .map_err(|e| format!("cannot read the OpenEXR header: {e}"))?;
-    let header = meta.headers.first().ok_or("the OpenEXR file has no layer")?;
+    let header = meta
+        .headers
+        .first()
+        .ok_or("the OpenEXR file has no layer")?;
     let channels = header.channels.list.len() as u64;
     // Every layer is decoded: its pixels count against the budget too.
     let mut total_values = 0u64;
     for h in meta.headers.iter() {
         let (w, ht) = (h.layer_size.width() as u64, h.layer_size.height() as u64);
         check_size(w, ht, h.channels.list.len() as u64, available)?;
-        total_values =
-            total_values.saturating_add(w * ht * h.channels.list.len() as u64);
+        total_values = total_values.saturating_add(w * ht * h.channels.list.len() as u64);
     }
     if total_values.saturating_mul(8) > available / 2 {
         return Err(format!(
@@ -367,14 +365,20 @@ fn decode_exr(bytes: &[u8], available: u64) -> Result<(LoadedImage, LoadReport),
             .channel_data
             .list
             .iter()
-            .filter_map(|c| crate::film::spectral::parse_channel(&c.name.to_string()).map(|l| (l, c)))
+            .filter_map(|c| {
+                crate::film::spectral::parse_channel(&c.name.to_string()).map(|l| (l, c))
+            })
             .collect();
         if spectral.is_empty() {
             continue;
         }
         spectral.sort_by(|a, b| a.0.total_cmp(&b.0));
         let nodes = spectral.len();
-        let step = if nodes > 1 { spectral[1].0 - spectral[0].0 } else { 1.0 };
+        let step = if nodes > 1 {
+            spectral[1].0 - spectral[0].0
+        } else {
+            1.0
+        };
         if !(step > 0.0) {
             return Err(format!("two spectral channels at {} nm", spectral[0].0));
         }
@@ -455,7 +459,11 @@ mod tests {
         let bytes = png_bytes(2, 1, &[128, 188, 255, 0, 1, 10]);
         let (img, _) = decode(&bytes, None, 1 << 30).unwrap();
         let LoadedImage::Rgb(img) = img else { panic!() };
-        assert!((img.pixels[0][0] - 0.21586).abs() < 1e-4, "{:?}", img.pixels);
+        assert!(
+            (img.pixels[0][0] - 0.21586).abs() < 1e-4,
+            "{:?}",
+            img.pixels
+        );
         assert!((img.pixels[0][1] as f64 - srgb_to_linear(188.0 / 255.0)).abs() < 1e-6);
         assert_eq!(img.pixels[0][2], 1.0);
         assert_eq!(img.pixels[1][0], 0.0);
@@ -470,7 +478,9 @@ mod tests {
     /// EXR magic number, and sRGB asked of an HDR file.
     #[test]
     fn broken_images_are_errors() {
-        assert!(decode(b"hello", None, 1 << 30).unwrap_err().contains("unrecognised"));
+        assert!(decode(b"hello", None, 1 << 30)
+            .unwrap_err()
+            .contains("unrecognised"));
         let good = png_bytes(4, 4, &[7; 48]);
         let e = decode(&good[..good.len() / 2], None, 1 << 30).unwrap_err();
         assert!(e.contains("cannot"), "{e}");

@@ -47,7 +47,9 @@ impl Filter {
         match s {
             "nearest" => Ok(Self::Nearest),
             "bilinear" => Ok(Self::Bilinear),
-            o => Err(format!("unknown filter `{o}` (expected \"bilinear\" or \"nearest\")")),
+            o => Err(format!(
+                "unknown filter `{o}` (expected \"bilinear\" or \"nearest\")"
+            )),
         }
     }
 }
@@ -67,7 +69,9 @@ impl Wrap {
         match s {
             "repeat" => Ok(Self::Repeat),
             "clamp" => Ok(Self::Clamp),
-            o => Err(format!("unknown wrap `{o}` (expected \"repeat\" or \"clamp\")")),
+            o => Err(format!(
+                "unknown wrap `{o}` (expected \"repeat\" or \"clamp\")"
+            )),
         }
     }
 }
@@ -163,12 +167,7 @@ impl RgbReflectanceTexture {
         scale: f32,
     ) -> (Self, usize) {
         let table = RgbToSpectrumTable::srgb();
-        let clamped = image
-            .pixels
-            .iter()
-            .flatten()
-            .filter(|&&v| v > 1.0)
-            .count();
+        let clamped = image.pixels.iter().flatten().filter(|&&v| v > 1.0).count();
         let coeffs = image.pixels.iter().map(|&c| table.lookup(c)).collect();
         (
             Self {

@@ -29,11 +29,30 @@ pub const TYPE: BuiltinType = BuiltinType {
     version: 1,
     description: "environment light from a latitude-longitude image (RGB or spectral)",
     params: &[
-        Param::required("file", "", "image path (EXR, HDR, PNG, JPEG; spectral EXR), relative to the scene file"),
+        Param::required(
+            "file",
+            "",
+            "image path (EXR, HDR, PNG, JPEG; spectral EXR), relative to the scene file",
+        ),
         Param::optional("scale", "", "1", "multiplier of the image's radiance, > 0"),
-        Param::optional("illuminance", "lx", "—", "instead of `scale`: illuminance on a horizontal up-facing (+y) plane"),
-        Param::optional("transform", "", "identity", "row-major 4×4 local-to-world matrix (Mitsuba's to_world); only the rotation is used"),
-        Param::optional("encoding", "", "srgb for PNG/JPEG", "\"srgb\" or \"linear\" (PNG/JPEG only)"),
+        Param::optional(
+            "illuminance",
+            "lx",
+            "—",
+            "instead of `scale`: illuminance on a horizontal up-facing (+y) plane",
+        ),
+        Param::optional(
+            "transform",
+            "",
+            "identity",
+            "row-major 4×4 local-to-world matrix (Mitsuba's to_world); only the rotation is used",
+        ),
+        Param::optional(
+            "encoding",
+            "",
+            "srgb for PNG/JPEG",
+            "\"srgb\" or \"linear\" (PNG/JPEG only)",
+        ),
     ],
     build: Build::Light(|v, ctx| build(&from_value(v)?, ctx)),
     state: Some(state_fns::<EnvmapParams>()),
@@ -81,8 +100,7 @@ pub fn source(p: &EnvmapParams, ctx: &FactoryContext) -> Result<EnvironmentMap, 
         .transpose()
         .map_err(|e| param_err("encoding", e))?;
     let path = ctx.resolve(&p.file);
-    let (image, report) =
-        image_file::load(&path, encoding).map_err(|e| param_err("file", e))?;
+    let (image, report) = image_file::load(&path, encoding).map_err(|e| param_err("file", e))?;
     if report.replaced > 0 {
         eprintln!(
             "warning: {}: {} pixel values were negative or not finite and were set to 0",
@@ -109,14 +127,17 @@ pub fn source(p: &EnvmapParams, ctx: &FactoryContext) -> Result<EnvironmentMap, 
     }
     let scale = crate::builtin::check::radiometric("scale", scale, "")? as f32;
     let name = path.display().to_string();
-    let map = EnvironmentMap::new(&name, image, &transform, scale)
-        .map_err(|e| param_err("file", e))?;
+    let map =
+        EnvironmentMap::new(&name, image, &transform, scale).map_err(|e| param_err("file", e))?;
     let Some(lx) = p.illuminance else {
         return Ok(map);
     };
     let lx = finite("illuminance", lx)?;
     if !(lx > 0.0) {
-        return Err(param_err("illuminance", format!("must be > 0 lx, got {lx}")));
+        return Err(param_err(
+            "illuminance",
+            format!("must be > 0 lx, got {lx}"),
+        ));
     }
     let unit = map.illuminance_at_unit_scale() * scale as f64;
     if !(unit > 0.0) {
