@@ -473,6 +473,27 @@ mod tests {
         assert!((lin.pixels[0][0] - 128.0 / 255.0).abs() < 1e-6);
     }
 
+    /// A JPEG (written by the `image` crate's encoder at quality 95) decodes as sRGB: a flat
+    /// 8 × 8 block of (200, 100, 50) comes back within 3/255 per encoded channel (JPEG is
+    /// lossy; flat blocks keep their DC value to about one code value).
+    #[test]
+    fn jpeg_decodes_as_srgb() {
+        let img = image::RgbImage::from_pixel(8, 8, image::Rgb([200, 100, 50]));
+        let mut bytes = Vec::new();
+        image::codecs::jpeg::JpegEncoder::new_with_quality(&mut bytes, 95)
+            .encode_image(&img)
+            .unwrap();
+        assert_eq!(Format::sniff(&bytes), Some(Format::Jpeg));
+        let (LoadedImage::Rgb(out), _) = decode(&bytes, None, 1 << 30).unwrap() else {
+            panic!("not RGB")
+        };
+        for (c, want) in [200.0, 100.0, 50.0].iter().enumerate() {
+            let lin = out.pixels[27][c] as f64;
+            let back = crate::color::srgb_encode(lin) * 255.0;
+            assert!((back - want).abs() < 3.0, "channel {c}: {back} vs {want}");
+        }
+    }
+
     /// Broken input of each kind is an error, not a panic: unknown bytes, a truncated PNG, a
     /// PNG header declaring 100000 × 100000 pixels (refused before decoding), garbage after an
     /// EXR magic number, and sRGB asked of an HDR file.
