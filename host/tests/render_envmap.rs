@@ -209,9 +209,9 @@ fn bad_envmaps_are_errors() {
         );
         let file = dir.join("scene.ron");
         let desc = parse_scene_str(&text, &file).unwrap();
-        let err = build_scene(&desc, &dir, &file, &[&BuiltinFactory])
-            .err()
-            .expect("an error");
+        let Err(err) = build_scene(&desc, &dir, &file, &[&BuiltinFactory]) else {
+            panic!("{params}: expected an error")
+        };
         let msg = err.to_string();
         assert!(msg.contains(want), "{params}: {msg}");
     }

@@ -170,7 +170,9 @@ fn bad_textures_are_errors() {
         (r#"(texture: (file: "ok.png", filter: "cubic"))"#, "cubic"),
         (r#"(texture: (file: "ok.png", scale: 2))"#, "scale"),
     ] {
-        let err = scene(&dir, &floor_scene(refl)).err().expect("an error");
+        let Err(err) = scene(&dir, &floor_scene(refl)) else {
+            panic!("{refl}: expected an error")
+        };
         assert!(err.contains(want), "{refl}: {err}");
     }
     let emitter = r#"(
@@ -179,6 +181,8 @@ fn bad_textures_are_errors() {
                    params: (corner: (0, 0, 0), edge0: (1, 0, 0), edge1: (0, 1, 0)))],
         cameras: [(name: "c", type: "pinhole", params: (position: (0, 0, 3), look_at: (0, 0, 0), resolution: (4, 4)))],
     )"#;
-    let err = scene(&dir, emitter).err().expect("an error");
+    let Err(err) = scene(&dir, emitter) else {
+        panic!("expected an error")
+    };
     assert!(err.contains("texture"), "{err}");
 }

@@ -111,9 +111,9 @@ impl RgbToSpectrumTable {
                 let c0 = uplifter.fit(target(k0)).coeffs;
                 out[k0] = c0.map(|v| v as f32);
                 let mut c = c0;
-                for k in k0 + 1..res {
+                for (k, o) in out.iter_mut().enumerate().skip(k0 + 1) {
                     c = fit_from(k, c);
-                    out[k] = c.map(|v| v as f32);
+                    *o = c.map(|v| v as f32);
                 }
                 c = c0;
                 for k in (0..k0).rev() {

@@ -424,8 +424,8 @@ impl EnvironmentMap {
         }
         if let Texels::Rgb(_) = self.texels {
             let white = srgb_white().eval(lambda);
-            for k in 0..LANES {
-                out[k] *= white.0[k];
+            for (o, w) in out.iter_mut().zip(white.0) {
+                *o *= w;
             }
         }
         SampledSpectrum(out.map(|v| v * self.scale))

@@ -125,7 +125,7 @@ pub fn source(p: &EnvmapParams, ctx: &FactoryContext) -> Result<EnvironmentMap, 
     if !(scale > 0.0) {
         return Err(param_err("scale", format!("must be > 0, got {scale}")));
     }
-    let scale = crate::builtin::check::radiometric("scale", scale, "")? as f32;
+    let scale = crate::builtin::check::radiometric("scale", scale, "")?;
     let name = path.display().to_string();
     let map =
         EnvironmentMap::new(&name, image, &transform, scale).map_err(|e| param_err("file", e))?;
