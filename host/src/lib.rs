@@ -21,3 +21,4 @@ pub mod plugin;
 pub mod scene;
 pub mod sensor;
 pub mod spectrum;
+pub mod texture;

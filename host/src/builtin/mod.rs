@@ -197,7 +197,7 @@ pub fn types() -> &'static [BuiltinType] {
     &ALL
 }
 
-static ALL: [BuiltinType; 26] = [
+static ALL: [BuiltinType; 27] = [
     material::lambertian::TYPE,
     material::mirror::TYPE,
     material::dielectric::TYPE,
@@ -210,6 +210,7 @@ static ALL: [BuiltinType; 26] = [
     light::spot::TYPE,
     light::directional::TYPE,
     light::environment::TYPE,
+    light::envmap::TYPE,
     light::luminaire::TYPE,
     light::cie_sky::TYPE,
     light::sun::TYPE,

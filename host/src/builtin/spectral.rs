@@ -7,7 +7,11 @@
 //!   (built-in or from a plugin),
 //! - a list of `(nm, value)` pairs,
 //! - `(rgb: (r, g, b))`, linear sRGB in [0, 1] uplifted to a smooth spectrum (reflectances),
-//! - `(type: "...", params: (...))`, an SPD type (SPDs only).
+//! - `(type: "...", params: (...))`, an SPD type (SPDs only),
+//! - `(texture: "path.png")` or `(texture: (file: "path.exr", encoding: "srgb" | "linear",
+//!   filter: "bilinear" | "nearest", wrap: "repeat" | "clamp", uv_scale: (su, sv),
+//!   uv_offset: (ou, ov), scale: 1.0))`, an image texture (reflectances only; see
+//!   [`crate::texture::image_texture`] for the conventions and `docs/textures.md`).
 //!
 //! In scene syntax (human-readable serde formats) these forms are untagged; in bincode (blobs)
 //! they are tagged, and a CSV file read at pack time is stored as its table
@@ -46,6 +50,8 @@ pub enum Spectrum {
         /// Its parameters (scene syntax).
         params: Value,
     },
+    /// An image texture.
+    Texture(TextureRef),
     /// A CSV spectrum embedded at pack time: behaves exactly like the spec `name` did.
     File {
         /// The spec it was read from (for messages and `blob inspect`).
@@ -55,6 +61,117 @@ pub enum Spectrum {
         /// Values.
         values: Vec<f64>,
     },
+}
+
+/// An image texture parameter: `(texture: "file")` or `(texture: (file: …, …))`.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct TextureRef {
+    /// Image path, relative to the scene file (absolute once embedded in a blob).
+    pub file: String,
+    /// `"srgb"` or `"linear"` (default: by format).
+    pub encoding: Option<String>,
+    /// `"bilinear"` (default) or `"nearest"`.
+    pub filter: Option<String>,
+    /// `"repeat"` (default) or `"clamp"`.
+    pub wrap: Option<String>,
+    /// `(su, sv)`, default (1, 1).
+    pub uv_scale: Option<(f64, f64)>,
+    /// `(ou, ov)`, default (0, 0).
+    pub uv_offset: Option<(f64, f64)>,
+    /// Multiplier, default 1.
+    pub scale: Option<f64>,
+}
+
+impl TextureRef {
+    const KEYS: [&'static str; 7] = [
+        "file",
+        "encoding",
+        "filter",
+        "wrap",
+        "uv_scale",
+        "uv_offset",
+        "scale",
+    ];
+
+    fn from_value(v: &Value) -> Result<Self, String> {
+        if let Value::String(file) = v {
+            return Ok(Self {
+                file: file.clone(),
+                ..Self::default()
+            });
+        }
+        let Value::Map(_) = v else {
+            return Err(format!(
+                "`texture`: expected a path or (file: .., ..), got {}",
+                kind_of(v)
+            ));
+        };
+        let p = Params::new(v);
+        p.expect_only(&Self::KEYS)
+            .map_err(|e| format!("`texture`: {e}"))?;
+        let string = |k: &str| -> Result<Option<String>, String> {
+            match p.get(k) {
+                None => Ok(None),
+                Some(Value::String(s)) => Ok(Some(s.clone())),
+                Some(o) => Err(format!(
+                    "`texture.{k}`: expected a string, got {}",
+                    kind_of(o)
+                )),
+            }
+        };
+        let pair = |k: &str| -> Result<Option<(f64, f64)>, String> {
+            match p.get(k) {
+                None => Ok(None),
+                Some(x) => as_f64_list(x)
+                    .filter(|l| l.len() == 2)
+                    .map(|l| Some((l[0], l[1])))
+                    .ok_or_else(|| format!("`texture.{k}`: expected two numbers")),
+            }
+        };
+        Ok(Self {
+            file: string("file")?.ok_or("`texture`: `file` is required")?,
+            encoding: string("encoding")?,
+            filter: string("filter")?,
+            wrap: string("wrap")?,
+            uv_scale: pair("uv_scale")?,
+            uv_offset: pair("uv_offset")?,
+            scale: match p.get("scale") {
+                None => None,
+                Some(x) => Some(as_f64(x).ok_or("`texture.scale`: expected a number")?),
+            },
+        })
+    }
+
+    fn is_plain(&self) -> bool {
+        *self
+            == Self {
+                file: self.file.clone(),
+                ..Self::default()
+            }
+    }
+}
+
+impl Serialize for TextureRef {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeStruct;
+        let mut st = s.serialize_struct("TextureRef", 7)?;
+        st.serialize_field("file", &self.file)?;
+        macro_rules! opt {
+            ($k:literal, $f:expr) => {
+                match &$f {
+                    Some(v) => st.serialize_field($k, v)?,
+                    None => st.skip_field($k)?,
+                }
+            };
+        }
+        opt!("encoding", self.encoding);
+        opt!("filter", self.filter);
+        opt!("wrap", self.wrap);
+        opt!("uv_scale", self.uv_scale);
+        opt!("uv_offset", self.uv_offset);
+        opt!("scale", self.scale);
+        st.end()
+    }
 }
 
 /// The tagged form of [`Spectrum`] in bincode (which cannot read untagged data).
@@ -67,6 +184,16 @@ enum Tagged {
     /// Params as RON text: bincode cannot carry a self-describing `ron::Value`.
     Typed(String, String),
     File(String, Vec<f64>, Vec<f64>),
+    #[allow(clippy::type_complexity)]
+    Texture(
+        String,
+        Option<String>,
+        Option<String>,
+        Option<String>,
+        Option<(f64, f64)>,
+        Option<(f64, f64)>,
+        Option<f64>,
+    ),
 }
 
 impl Spectrum {
@@ -89,6 +216,10 @@ impl Spectrum {
             }
             Value::Map(_) => {
                 let p = Params::new(v);
+                if let Some(t) = p.get("texture") {
+                    p.expect_only(&["texture"]).map_err(|e| e.to_string())?;
+                    return Ok(Spectrum::Texture(TextureRef::from_value(t)?));
+                }
                 if let Some(rgb) = p.get("rgb") {
                     let rgb = as_f64_list(rgb)
                         .filter(|l| l.len() == 3)
@@ -139,6 +270,15 @@ impl Spectrum {
                 Tagged::Typed(type_name, ron::to_string(&params).unwrap_or_default())
             }
             Spectrum::File { name, nm, values } => Tagged::File(name, nm, values),
+            Spectrum::Texture(t) => Tagged::Texture(
+                t.file,
+                t.encoding,
+                t.filter,
+                t.wrap,
+                t.uv_scale,
+                t.uv_offset,
+                t.scale,
+            ),
         }
     }
 
@@ -153,6 +293,17 @@ impl Spectrum {
                 params: ron::from_str(&params).map_err(|e| format!("bad SPD parameters: {e}"))?,
             },
             Tagged::File(name, nm, values) => Spectrum::File { name, nm, values },
+            Tagged::Texture(file, encoding, filter, wrap, uv_scale, uv_offset, scale) => {
+                Spectrum::Texture(TextureRef {
+                    file,
+                    encoding,
+                    filter,
+                    wrap,
+                    uv_scale,
+                    uv_offset,
+                    scale,
+                })
+            }
         })
     }
 
@@ -183,6 +334,14 @@ impl Serialize for Spectrum {
             params: &'a Value,
         }
         #[derive(Serialize)]
+        struct PlainTexture<'a> {
+            texture: &'a str,
+        }
+        #[derive(Serialize)]
+        struct FullTexture<'a> {
+            texture: &'a TextureRef,
+        }
+        #[derive(Serialize)]
         struct File<'a> {
             file: &'a str,
             table: Vec<(f64, f64)>,
@@ -196,6 +355,8 @@ impl Serialize for Spectrum {
             }
             .serialize(s),
             Spectrum::Typed { type_name, params } => Typed { type_name, params }.serialize(s),
+            Spectrum::Texture(t) if t.is_plain() => PlainTexture { texture: &t.file }.serialize(s),
+            Spectrum::Texture(t) => FullTexture { texture: t }.serialize(s),
             Spectrum::File { name, nm, values } => File {
                 file: name,
                 table: nm.iter().copied().zip(values.iter().copied()).collect(),
@@ -220,6 +381,12 @@ impl<'de> Deserialize<'de> for Spectrum {
 impl Embed for Spectrum {
     /// A spec naming a CSV file next to the scene becomes [`Spectrum::File`].
     fn embed(&mut self, ctx: &FactoryContext) -> Result<(), FactoryError> {
+        // Images are not copied into blobs (a blob's state is scene text): the path becomes
+        // absolute so the blob still finds the file.
+        if let Spectrum::Texture(t) = self {
+            t.file = ctx.resolve(&t.file).to_string_lossy().into_owned();
+            return Ok(());
+        }
         if let Spectrum::Spec(s) = self {
             let resolved = ctx.resolve(s);
             if resolved.is_file() {
@@ -281,6 +448,7 @@ pub fn texture(
                 Arc::new(move |l| poly.value(l as f64) as f32),
             )));
         }
+        Spectrum::Texture(t) => return image_texture(t, param, ctx),
         Spectrum::Typed { .. } => {
             return Err(param_err(
                 param,
@@ -305,6 +473,99 @@ pub fn texture(
         1.0,
         Arc::new(move |l| f(l as f64) as f32),
     )))
+}
+
+/// A reflectance image texture (see [`crate::texture::image_texture`]): RGB images uplifted
+/// per texel through the precomputed table (components clamped into [0, 1], with a warning
+/// when some were above 1), spectral EXR images as they are (values must lie in [0, 1]).
+fn image_texture(
+    t: &TextureRef,
+    param: &str,
+    ctx: &FactoryContext,
+) -> Result<Arc<dyn SpectralTexture>, FactoryError> {
+    use crate::texture::image_file::{self, Encoding, LoadedImage};
+    use crate::texture::image_texture::{
+        Filter, RgbReflectanceTexture, SpectralImageTexture, TexelLookup, Wrap,
+    };
+    let err = |e: String| param_err(param, e);
+    let encoding = t
+        .encoding
+        .as_deref()
+        .map(Encoding::parse)
+        .transpose()
+        .map_err(err)?;
+    let filter = Filter::parse(t.filter.as_deref().unwrap_or("bilinear")).map_err(err)?;
+    let wrap = Wrap::parse(t.wrap.as_deref().unwrap_or("repeat")).map_err(err)?;
+    let pair = |name: &str, v: Option<(f64, f64)>, d: f64| -> Result<glam::Vec2, FactoryError> {
+        let (a, b) = v.unwrap_or((d, d));
+        if !(a.is_finite() && b.is_finite()) {
+            return Err(param_err(param, format!("`texture.{name}` must be finite")));
+        }
+        Ok(glam::Vec2::new(a as f32, b as f32))
+    };
+    let uv_scale = pair("uv_scale", t.uv_scale, 1.0)?;
+    let uv_offset = pair("uv_offset", t.uv_offset, 0.0)?;
+    let scale = t.scale.unwrap_or(1.0);
+    check::unit_interval(param, scale, None).map_err(|_| {
+        param_err(
+            param,
+            format!("`texture.scale` of a reflectance must lie in [0, 1], got {scale}"),
+        )
+    })?;
+    let path = ctx.resolve(&t.file);
+    let (image, report) = image_file::load(&path, encoding).map_err(err)?;
+    if report.replaced > 0 {
+        eprintln!(
+            "warning: {}: {} pixel values were negative or not finite and were set to 0",
+            path.display(),
+            report.replaced
+        );
+    }
+    let name = path.display().to_string();
+    match image {
+        LoadedImage::Rgb(img) => {
+            let (tex, clamped) = RgbReflectanceTexture::new(
+                &name,
+                &img,
+                filter,
+                wrap,
+                uv_scale,
+                uv_offset,
+                scale as f32,
+            );
+            if clamped > 0 {
+                eprintln!(
+                    "warning: {name}: {clamped} colour components are above 1 and were clamped \
+                     to 1 (a reflectance cannot exceed 1)"
+                );
+            }
+            Ok(Arc::new(tex))
+        }
+        LoadedImage::Spectral(s) => {
+            let max = s.values.iter().copied().fold(0.0f32, f32::max);
+            if max as f64 * scale > 1.0 {
+                return Err(param_err(
+                    param,
+                    format!("{name}: spectral reflectance up to {max} × scale {scale} exceeds 1"),
+                ));
+            }
+            let lookup = TexelLookup {
+                width: s.width,
+                height: s.height,
+                filter,
+                wrap,
+                uv_scale,
+                uv_offset,
+            };
+            Ok(Arc::new(SpectralImageTexture::new(
+                name,
+                s,
+                lookup,
+                scale as f32,
+                true,
+            )))
+        }
+    }
 }
 
 /// An SPD parameter: the normalised SPD and, for inline tables, their raw integral (so
@@ -369,6 +630,11 @@ pub fn spd(
         Spectrum::Number(_) | Spectrum::Rgb(_) => Err(param_err(
             param,
             "expected a spectrum spec string, (nm, value) list or (type: .., params: ..), got a constant",
+        )),
+        Spectrum::Texture(_) => Err(param_err(
+            param,
+            "an image texture cannot be used here: this parameter is one spectrum for the whole \
+             surface (expected a spec string, (nm, value) list or (type: .., params: ..))",
         )),
     }
 }

@@ -11,6 +11,7 @@ pub mod matrix3;
 pub mod observer;
 pub mod resampled_observer;
 pub mod rgb_space;
+pub mod rgb_table;
 pub mod srgb_transfer;
 pub mod tm30;
 pub mod uplift;

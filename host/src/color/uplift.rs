@@ -116,6 +116,40 @@ impl RgbUplifter {
         })
     }
 
+    /// The same weights gathered onto nodes every `step_nm` nm (each 1 nm weight split between
+    /// its two neighbouring nodes linearly): `rgb_of` then integrates the piecewise-linear
+    /// interpolant of the reflectance between nodes, which for the smooth sigmoid spectra
+    /// differs from the full sum by a few 1e-4 at 5 nm. Fewer terms per evaluation: what the
+    /// precomputed table ([`super::rgb_table`]) is built with.
+    pub fn coarsened(&self, step_nm: f64) -> Self {
+        let span = UPLIFT_RANGE.1 - UPLIFT_RANGE.0;
+        let dt = step_nm / span;
+        let n = (1.0 / dt).ceil() as usize;
+        let mut nodes = vec![[0.0f64; 3]; n + 1];
+        for &(t, w) in &self.weights {
+            let x = (t / dt).clamp(0.0, n as f64);
+            let k = (x as usize).min(n - 1);
+            let f = x - k as f64;
+            for c in 0..3 {
+                nodes[k][c] += w[c] * (1.0 - f);
+                nodes[k + 1][c] += w[c] * f;
+            }
+        }
+        Self {
+            weights: nodes
+                .into_iter()
+                .enumerate()
+                .map(|(k, w)| ((k as f64 * dt).min(1.0), w))
+                .filter(|(_, w)| w.iter().any(|&v| v != 0.0))
+                .collect(),
+        }
+    }
+
+    /// The weights as `(t, [r, g, b])` (for cache keys and checks).
+    pub fn weights(&self) -> &[(f64, [f64; 3])] {
+        &self.weights
+    }
+
     /// RGB of a reflectance under this uplifter's illuminant and observer.
     pub fn rgb_of(&self, reflectance: impl Fn(f64) -> f64) -> [f64; 3] {
         let mut acc = [0.0; 3];
@@ -198,6 +232,22 @@ impl RgbUplifter {
             }
         }
         (c, res)
+    }
+
+    /// Levenberg–Marquardt from the coefficients `start` (a nearby colour's fit) towards
+    /// `rgb` (not clamped), at most `iterations` steps: the coefficients and the RGB residual
+    /// norm. What a table of fits uses to walk from one entry to the next.
+    pub fn refine(&self, rgb: [f64; 3], start: [f64; 3], iterations: usize) -> ([f64; 3], f64) {
+        self.solve(rgb, start, iterations)
+    }
+
+    /// RGB residual norm of the coefficients `c` against `rgb`.
+    pub fn residual(&self, rgb: [f64; 3], c: [f64; 3]) -> f64 {
+        let (got, _) = self.rgb_and_jacobian(c);
+        (0..3)
+            .map(|k| (got[k] - rgb[k]).powi(2))
+            .sum::<f64>()
+            .sqrt()
     }
 
     /// Fit a smooth reflectance whose RGB (under this uplifter) is `rgb`, clamped to [0,1].

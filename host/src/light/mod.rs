@@ -9,7 +9,9 @@
 pub mod area;
 pub mod daylight;
 pub mod directional;
+pub mod distribution2d;
 pub mod environment;
+pub mod envmap;
 pub mod flags;
 pub mod luminaire;
 pub mod luminous;
@@ -20,6 +22,7 @@ pub mod spot;
 pub use area::AreaLight;
 pub use directional::DirectionalLight;
 pub use environment::{ConstantEnvironment, EnvironmentLight, EnvironmentRadiance};
+pub use envmap::EnvironmentMap;
 pub use flags::LightFlags;
 pub use luminaire::LuminaireLight;
 pub use manager::LightSourceManager;

@@ -3,6 +3,7 @@
 pub mod cie_sky;
 pub mod directional;
 pub mod environment;
+pub mod envmap;
 pub mod luminaire;
 pub mod point;
 pub mod spot;

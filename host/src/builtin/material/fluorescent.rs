@@ -139,7 +139,7 @@ fn curve(v: &Spectrum, param: &str, ctx: &FactoryContext) -> Result<SpectralCurv
         Spectrum::File { nm, values, .. } => {
             SpectralCurve::tabulated(nm.clone(), values.clone()).map_err(|e| param_err(param, e))?
         }
-        Spectrum::Rgb(_) | Spectrum::Typed { .. } => {
+        Spectrum::Rgb(_) | Spectrum::Typed { .. } | Spectrum::Texture(_) => {
             return Err(param_err(
                 param,
                 "expected a number, spec string or (nm, value) list",

@@ -2,7 +2,7 @@
 //!
 //! | parameter     | unit     | default | meaning                                        |
 //! |---------------|----------|---------|------------------------------------------------|
-//! | `reflectance` | unitless | `0.5`   | spectral reflectance in [0, 1] (spectral value) |
+//! | `reflectance` | unitless | `0.5`   | spectral reflectance in [0, 1] (spectral value or image texture) |
 //!
 //! BRDF f = ρ(λ)/π.
 
@@ -24,7 +24,7 @@ pub const TYPE: BuiltinType = BuiltinType {
         "reflectance",
         "",
         "0.5",
-        "spectral reflectance in [0, 1]: number, spec, (nm, value) list or (rgb: ..)",
+        "spectral reflectance in [0, 1]: number, spec, (nm, value) list, (rgb: ..) or an image (texture: \"file.png\") / (texture: (file: .., filter: .., ..)), see docs/textures.md",
     )],
     build: Build::Material(|v, ctx| build(&from_value(v)?, ctx)),
     state: Some(state_fns::<LambertianParams>()),
