@@ -1982,6 +1982,7 @@ pub fn convert_tree(root: &Element, dir: &Path) -> Result<Conversion, SceneError
             lights: vec![],
             cameras: vec![],
             sensors: vec![],
+            plugins: vec![],
         },
         notes: BTreeMap::new(),
         used_names: HashSet::new(),
