@@ -414,9 +414,9 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
 
 /// The name of the wavelength density a render of `scene` under `plan` draws from (the
 /// settings fingerprint's `wavelength_density`): the path tracer's lanes as
-/// [`PathWavelengthSampler`](crate::integrator::wavelength_groups::PathWavelengthSampler)
+/// [`PathWavelengthSampler`](crate::integrator::wavelengths::groups::PathWavelengthSampler)
 /// resolves them, bdpt's and lt's pairs as
-/// [`PairWavelengths`](crate::integrator::pair_wavelengths::PairWavelengths) does.
+/// [`PairWavelengths`](crate::integrator::wavelengths::pairs::PairWavelengths) does.
 fn wavelength_density(
     args: &RenderArgs,
     plan: &crate::effects::RenderPlan,
@@ -425,7 +425,7 @@ fn wavelength_density(
     let sampling = args.wavelength_sampling.unwrap_or_default();
     Ok(
         if args.integrator == crate::integrator::IntegratorKind::Pt {
-            crate::integrator::wavelength_groups::PathWavelengthSampler::new(
+            crate::integrator::wavelengths::groups::PathWavelengthSampler::new(
                 plan,
                 sampling,
                 args.wavelengths_per_path.unwrap_or(4),
@@ -435,7 +435,7 @@ fn wavelength_density(
             .to_string()
         } else {
             let planned = plan.scene(scene);
-            crate::integrator::pair_wavelengths::PairWavelengths::new(plan, &planned, sampling)
+            crate::integrator::wavelengths::pairs::PairWavelengths::new(plan, &planned, sampling)
                 .key()
                 .to_string()
         },
@@ -811,7 +811,7 @@ pub fn run_with_factories(
             settings.tracer.wavelengths,
             settings.tracer.wavelengths_per_path,
         );
-        let sampler = crate::integrator::wavelength_groups::PathWavelengthSampler::new(
+        let sampler = crate::integrator::wavelengths::groups::PathWavelengthSampler::new(
             &plan,
             sampling,
             n,
@@ -862,7 +862,7 @@ pub fn run_with_factories(
     } else {
         // bdpt and lt: the density the render drew its pairs from (the plan's cached table).
         let planned = plan.scene(&scene);
-        let pair = crate::integrator::pair_wavelengths::PairWavelengths::new(
+        let pair = crate::integrator::wavelengths::pairs::PairWavelengths::new(
             &plan,
             &planned,
             settings.tracer.wavelengths,

@@ -34,8 +34,8 @@
 
 use super::analysis::{Caller, EffectSet};
 use super::effect::Effect;
-use crate::integrator::flat_colour::FlatColour;
-use crate::integrator::wavelength_mixture::WavelengthMixture;
+use crate::integrator::wavelengths::flat_colour::FlatColour;
+use crate::integrator::wavelengths::mixture::WavelengthMixture;
 use crate::light::LightFlags;
 use crate::material::{EffectsOff, Material};
 use crate::scene::Scene;
@@ -454,7 +454,7 @@ impl RenderPlan {
     }
 
     /// The observer × √emission wavelength table of the [`mixture`](Self::mixture)'s emission
-    /// ([`product_table`](crate::integrator::wavelength_groups::product_table)); `None` without
+    /// ([`product_table`](crate::integrator::wavelengths::groups::product_table)); `None` without
     /// evaluable lights or when they emit nothing in the visible range. Built once per plan, on
     /// first use (about 7 M instructions), so the render and its summary share it.
     pub fn product_table(&self) -> Option<&WavelengthTable> {
@@ -462,7 +462,7 @@ impl RenderPlan {
             .get_or_init(|| {
                 Some(self.mixture.as_ref())
                     .filter(|m| m.has_emission())
-                    .and_then(|m| crate::integrator::wavelength_groups::product_table(m).ok())
+                    .and_then(|m| crate::integrator::wavelengths::groups::product_table(m).ok())
             })
             .as_ref()
     }

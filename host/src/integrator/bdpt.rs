@@ -27,24 +27,28 @@
 //! | `max_depth` | bounces  | 64      | longest full path (`s + t − 2`), `--max-depth`       |
 //! | `rr_depth`  | vertices | 3       | subpath length from which Russian roulette may stop  |
 
-use super::beam::trace_beam;
-use super::camera_chain::{CameraChain, ChainScratch};
-use super::camera_connection::connect_to_camera;
+pub mod fluorescent_mis;
+
+use super::bdpt::fluorescent_mis::mis_weight_lanes;
+use super::connect::camera_chain::{CameraChain, ChainScratch};
+use super::connect::manifold_connection::{anchor, connect_manifold, s0_weight, Seeds};
+use super::connect::specular_seeds::{SolutionSet, SpecularShapes};
 use super::driver::{Integrator, IntegratorInfo, IntegratorOutput, Registration};
-use super::flat_colour::FlatColour;
-use super::fluorescent_join::{connect_own, t1_wavelengths, LightMode, SHARED_MODE_PROBABILITY};
-use super::fluorescent_mis::mis_weight_lanes;
-use super::light_subpath::{generate_light_subpath_own, generate_light_subpath_with, LightStart};
-use super::manifold_connection::{anchor, connect_manifold, s0_weight, Seeds};
-use super::pair_wavelengths::PairWavelengths;
+use super::fluorescence::join::{connect_own, t1_wavelengths, LightMode, SHARED_MODE_PROBABILITY};
 use super::pixel_max::PixelMaxY;
-use super::random_walk::{generate_camera_subpath, WalkShift};
 use super::render::ProgressFn;
-use super::specular_seeds::{SolutionSet, SpecularShapes};
+use super::subpath::beam::trace_beam;
+use super::subpath::camera_connection::connect_to_camera;
+use super::subpath::light_subpath::{
+    generate_light_subpath_own, generate_light_subpath_with, LightStart,
+};
+use super::subpath::random_walk::{generate_camera_subpath, WalkShift};
+use super::subpath::vertex::{geometry_term, remap0, unoccluded, Vertex};
 use super::tiled::render_tiles;
-use super::vertex::{geometry_term, remap0, unoccluded, Vertex};
-use super::wavelength_mixture::WavelengthMixture;
-use super::xyz_weights::XyzWeights;
+use super::wavelengths::flat_colour::FlatColour;
+use super::wavelengths::mixture::WavelengthMixture;
+use super::wavelengths::pairs::PairWavelengths;
+use super::wavelengths::xyz_weights::XyzWeights;
 use super::{PathStats, PixelSampler, RenderError, RenderResult, RenderSettings, SampleRng};
 use crate::camera::{Camera, CameraSample};
 use crate::effects::RenderPlan;
@@ -1074,7 +1078,7 @@ impl Bdpt {
         if let Some(cc) = camera_chain {
             // The camera-side chain connection, splatted like t = 1.
             let u_run = rng.next_1d();
-            let u = if u_run < super::camera_chain::CAMERA_CHAIN_RATE {
+            let u = if u_run < super::connect::camera_chain::CAMERA_CHAIN_RATE {
                 (u_run, rng.next_1d(), rng.next_2d())
             } else {
                 (u_run, 0.0, Vec2::ZERO)
@@ -1235,8 +1239,8 @@ impl Bdpt {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::integrator::subpath::vertex::VertexKind;
     use crate::integrator::test_support::for_each_camera_subpath;
-    use crate::integrator::vertex::VertexKind;
     use crate::scene::{build_scene, parse_scene_str, BuiltinFactory};
     use std::path::Path;
 

@@ -7,33 +7,20 @@
 //! parallel, deterministic pass loop ([`tiled`]). No integrator imports another.
 
 pub mod bdpt;
-pub mod beam;
-pub mod camera_chain;
-pub mod camera_connection;
+pub mod connect;
 pub mod driver;
-pub mod flat_colour;
 pub mod fluorescence;
-pub mod fluorescent_join;
-pub mod fluorescent_mis;
-pub mod light_subpath;
 pub mod light_tracer;
-pub mod manifold_connection;
-pub mod pair_wavelengths;
 pub mod path;
 pub mod pixel_max;
-pub mod random_walk;
 pub mod render;
 pub mod sampler;
 pub mod select;
-pub mod specular_chain;
-pub mod specular_seeds;
+pub mod subpath;
 #[cfg(test)]
 mod test_support;
 pub mod tiled;
-pub mod vertex;
-pub mod wavelength_groups;
-pub mod wavelength_mixture;
-pub mod xyz_weights;
+pub mod wavelengths;
 
 pub use driver::{Integrator, IntegratorInfo, IntegratorOptions, IntegratorOutput, Registration};
 pub use path::{render, PathStats, PathTracer, WavelengthSampling};

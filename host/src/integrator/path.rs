@@ -1,14 +1,14 @@
 //! A spectral unidirectional path tracer: next-event estimation with multiple importance
 //! sampling (power heuristic, β = 2) between light and BSDF sampling, Russian roulette, and hero
-//! wavelength sampling with several wavelength groups per path (see [`super::wavelength_groups`]):
+//! wavelength sampling with several wavelength groups per path (see [`super::wavelengths::groups`]):
 //! all groups share one geometric path, sampled with the hero group, until a dispersive event
 //! keeps only the hero wavelength.
 
 use super::driver::{Integrator, IntegratorInfo, IntegratorOutput, Registration};
-use super::fluorescence::{shift_lanes, Direction, UNIT_LOBE};
+use super::fluorescence::events::{shift_lanes, Direction, UNIT_LOBE};
 use super::render::ProgressFn;
 use super::tiled::render_tiles;
-use super::wavelength_groups::{PathWavelengthSampler, PathWavelengths, MAX_GROUPS};
+use super::wavelengths::groups::{PathWavelengthSampler, PathWavelengths, MAX_GROUPS};
 use super::{PixelSampler, RenderError, RenderResult, RenderSettings};
 use crate::camera::CameraSample;
 use crate::effects::RenderPlan;
@@ -137,7 +137,7 @@ pub struct PathTracer {
     /// How camera paths draw their hero wavelength.
     pub wavelengths: WavelengthSampling,
     /// Wavelengths carried by one camera path: 1, or a multiple of 4 up to
-    /// [`MAX_WAVELENGTHS_PER_PATH`](super::wavelength_groups::MAX_WAVELENGTHS_PER_PATH)
+    /// [`MAX_WAVELENGTHS_PER_PATH`](super::wavelengths::groups::MAX_WAVELENGTHS_PER_PATH)
     /// (4 = one hero group, the default). More wavelengths per path lower the colour noise of
     /// one sample for the cost of evaluating materials and lights once more per group. N = 1
     /// keeps only the hero lane but still computes 4-wide vectors, so it is no faster than 4.
@@ -162,7 +162,7 @@ pub enum WavelengthSampling {
     /// Importance-sampled for the observer and the scene's emission together (the default):
     /// ¾ of the density is the visible-importance shape times the square root of the lights'
     /// emission, ¼ the visible-importance density alone, one tabulated density (see
-    /// [`super::wavelength_groups`]). Fewer lanes land where the lights emit little; the
+    /// [`super::wavelengths::groups`]). Fewer lanes land where the lights emit little; the
     /// visible quarter keeps every visible wavelength possible. Falls back to `Visible` where it
     /// cannot apply (no evaluable light, fluorescence) and to the render plan's mixture where
     /// the plan draws from the lights' spectra.
@@ -174,7 +174,7 @@ pub enum WavelengthSampling {
     /// Uniform over 360–830 nm: the plain baseline, more colour noise per sample.
     Uniform,
     /// Importance-sampled from the scene's emission: the power-weighted mixture of the
-    /// evaluable lights' SPDs (continuous parts; see [`super::wavelength_groups`] for delta lines
+    /// evaluable lights' SPDs (continuous parts; see [`super::wavelengths::groups`] for delta lines
     /// and scenes without such lights). Unbiased for path tracing without fluorescence: where
     /// no light emits, every contribution is 0, so a zero density there loses nothing.
     LightSpd,
@@ -286,7 +286,7 @@ impl PathTracer {
         let mut depth = 0u32;
         let fluorescence = scene.objects.fluorescence();
         // The wavelengths each group's lanes carry now, once a fluorescent event has shifted
-        // one (see `super::fluorescence`); the film keeps weighing `lambdas`, the observed ones.
+        // one (see `super::fluorescence::events`); the film keeps weighing `lambdas`, the observed ones.
         let mut shifted: Option<[[f32; LANES]; MAX_GROUPS]> = None;
         // Filled only once a fluorescent event has shifted a lane (most paths never do).
         let mut cur_buf: Option<[SampledWavelengths; MAX_GROUPS]> = None;

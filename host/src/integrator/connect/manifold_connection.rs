@@ -38,12 +38,14 @@
 //! tracing makes those well), the camera itself as `D` (`integrator::camera_chain`), and
 //! scenes that render fluorescence.
 
-use super::specular_chain::{seed_chain, solve, Chain, Endpoint, Solved, MAX_CHAIN_VERTICES};
-use super::specular_seeds::{SolutionSet, SpecularShapes};
-use super::vertex::{Vertex, VertexKind};
-use super::PathStats;
 use crate::camera::Camera;
 use crate::geometry::spawn_ray_to;
+use crate::integrator::connect::specular_chain::{
+    seed_chain, solve, Chain, Endpoint, Solved, MAX_CHAIN_VERTICES,
+};
+use crate::integrator::connect::specular_seeds::{SolutionSet, SpecularShapes};
+use crate::integrator::subpath::vertex::{Vertex, VertexKind};
+use crate::integrator::PathStats;
 use crate::material::TransportMode;
 use crate::scene::Scene;
 use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths};
@@ -371,7 +373,7 @@ pub fn s0_weight(
 mod tests {
     use super::*;
     use crate::camera::CameraSample;
-    use crate::integrator::specular_chain::{trace_chain, Lobe};
+    use crate::integrator::connect::specular_chain::{trace_chain, Lobe};
     use crate::integrator::test_support::for_each_camera_subpath;
     use crate::scene::{build_scene, parse_scene_str, BuiltinFactory};
     use std::path::Path;
@@ -379,7 +381,7 @@ mod tests {
     /// The caustic scene as shipped (source: scenes/caustic.ron) with a 0.8 m lamp, so that
     /// camera paths through the ball hit it often.
     fn big_lamp_caustic() -> Scene {
-        let text = include_str!("../../../scenes/caustic.ron").replace(
+        let text = include_str!("../../../../scenes/caustic.ron").replace(
             "corner: (-0.025, 2.6, -0.025), edge0: (0.05, 0, 0), edge1: (0, 0, 0.05)",
             "corner: (-0.4, 2.6, -0.4), edge0: (0.8, 0, 0), edge1: (0, 0, 0.8)",
         );
@@ -390,7 +392,7 @@ mod tests {
 
     /// The caustic scene as shipped (source: scenes/caustic.ron).
     fn caustic() -> Scene {
-        let text = include_str!("../../../scenes/caustic.ron");
+        let text = include_str!("../../../../scenes/caustic.ron");
         let file = Path::new("caustic.ron");
         let desc = parse_scene_str(text, file).unwrap();
         build_scene(&desc, Path::new("."), file, &[&BuiltinFactory]).unwrap()

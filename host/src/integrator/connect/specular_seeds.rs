@@ -38,10 +38,10 @@
 //! | `THROUGH_BISECTIONS`    | 10                        | bisection steps per sign change          |
 //! | `FOLD_STEPS`            | 12                        | golden-section steps at a fold           |
 
-use super::specular_chain::{
+use crate::geometry::WorldShape;
+use crate::integrator::connect::specular_chain::{
     same_chain, solve, trace_chain, Chain, Endpoint, Lobe, Solved, MAX_CHAIN_VERTICES,
 };
-use crate::geometry::WorldShape;
 use crate::material::{MaterialFlags, ShadingContext, TransportMode};
 use crate::scene::Scene;
 use crate::spectrum::SampledWavelengths;

@@ -67,9 +67,9 @@
 //! cannot render them). A scene without evaluable lights has no emission to sample and falls
 //! back to visible-importance sampling.
 
-use super::wavelength_mixture::WavelengthMixture;
-use super::{PixelSampler, WavelengthSampling};
 use crate::effects::RenderPlan;
+use crate::integrator::wavelengths::mixture::WavelengthMixture;
+use crate::integrator::{PixelSampler, WavelengthSampling};
 use crate::spectrum::wavelength_sampling::{
     rotated, VISIBLE_CENTRE, VISIBLE_RANGE, VISIBLE_SHARPNESS,
 };

@@ -7,7 +7,7 @@
 //!
 //! - [`PairWavelengths::Product`] (`--wavelength-sampling product`, the default where it
 //!   applies): the path tracer's observer × √emission table
-//!   ([`product_table`](super::wavelength_groups::product_table),
+//!   ([`product_table`](crate::integrator::wavelengths::groups::product_table),
 //!   `¾·V·√p_emit/∫V·√p_emit + ¼·V/∫V`). It applies without
 //!   fluorescence (a fluorescent scene's light subpaths may start at their own light's
 //!   wavelengths, and its per-lane MIS weights read the mixture's lane densities: see
@@ -25,12 +25,12 @@
 //!   bit for bit the same).
 //!
 //! The lanes' pdfs are what the film divides by; the flat-path colour
-//! ([`FlatColour`](super::flat_colour::FlatColour)) needs the same density for its usable
+//! ([`FlatColour`](crate::integrator::wavelengths::flat_colour::FlatColour)) needs the same density for its usable
 //! probability, so it is built from [`PairWavelengths::pdf`].
 
-use super::wavelength_mixture::WavelengthMixture;
-use super::{PixelSampler, WavelengthSampling};
 use crate::effects::{Effect, RenderPlan};
+use crate::integrator::wavelengths::mixture::WavelengthMixture;
+use crate::integrator::{PixelSampler, WavelengthSampling};
 use crate::scene::Scene;
 use crate::spectrum::wavelength_sampling::VISIBLE_RANGE;
 use crate::spectrum::wavelength_table::WavelengthTable;

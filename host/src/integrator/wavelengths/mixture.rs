@@ -1,7 +1,7 @@
 //! The wavelengths of a camera/light path pair (BDPT and light tracing) in fluorescent and
 //! narrowband scenes and under `--wavelength-sampling visible`, drawn from
 //! [`WavelengthMixture`] (elsewhere the pair draws from the observer × √emission table, see
-//! [`super::pair_wavelengths`]); the path tracer's light-SPD sampling and the render plan's
+//! [`crate::integrator::wavelengths::pairs`]); the path tracer's light-SPD sampling and the render plan's
 //! narrowband mixture use it too.
 //!
 //!
@@ -21,7 +21,7 @@
 //! finds all emission narrowband (and no fluorescence), the emission component is drawn
 //! with probability 1 instead of ½ ([`WavelengthMixture::emission_only`]).
 
-use super::SampleRng;
+use crate::integrator::SampleRng;
 use crate::light::LightFlags;
 use crate::scene::Scene;
 use crate::spectrum::spd::{is_line_lane, line_mass_at_lane, off_lines};

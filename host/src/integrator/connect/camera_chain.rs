@@ -33,13 +33,13 @@
 //! |---------------------|-------|------------------------------------------------------------|
 //! | `CAMERA_CHAIN_RATE` | 1/256 | probability that a camera sample runs the strategy         |
 
-use super::manifold_connection::{LightPoint, ManifoldSample};
-use super::specular_chain::{Endpoint, Solved, MAX_CHAIN_VERTICES};
-use super::specular_seeds::{ScanTable, SolutionSet, SpecularShapes};
-use super::vertex::{Vertex, VertexKind};
-use super::PathStats;
 use crate::camera::Camera;
 use crate::geometry::{spawn_ray_to, Ray};
+use crate::integrator::connect::manifold_connection::{LightPoint, ManifoldSample};
+use crate::integrator::connect::specular_chain::{Endpoint, Solved, MAX_CHAIN_VERTICES};
+use crate::integrator::connect::specular_seeds::{ScanTable, SolutionSet, SpecularShapes};
+use crate::integrator::subpath::vertex::{Vertex, VertexKind};
+use crate::integrator::PathStats;
 use crate::scene::Scene;
 use crate::spectrum::{LaneMask, SampledWavelengths};
 use glam::{Vec2, Vec3A};
@@ -318,9 +318,9 @@ impl CameraChain {
 mod tests {
     use super::*;
     use crate::camera::CameraSample;
-    use crate::integrator::random_walk::generate_camera_subpath;
-    use crate::integrator::specular_chain::solve;
-    use crate::integrator::wavelength_mixture::WavelengthMixture;
+    use crate::integrator::connect::specular_chain::solve;
+    use crate::integrator::subpath::random_walk::generate_camera_subpath;
+    use crate::integrator::wavelengths::mixture::WavelengthMixture;
     use crate::integrator::SampleRng;
     use crate::scene::{build_scene, parse_scene_str, BuiltinFactory};
     use glam::DVec3;
@@ -328,7 +328,7 @@ mod tests {
 
     /// The caustic scene as shipped (source: scenes/caustic.ron).
     fn caustic() -> Scene {
-        let text = include_str!("../../../scenes/caustic.ron");
+        let text = include_str!("../../../../scenes/caustic.ron");
         let file = Path::new("caustic.ron");
         let desc = parse_scene_str(text, file).unwrap();
         build_scene(&desc, Path::new("."), file, &[&BuiltinFactory]).unwrap()
