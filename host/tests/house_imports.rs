@@ -28,8 +28,11 @@ struct Graph {
     edges: BTreeMap<Vec<String>, BTreeSet<Vec<String>>>,
 }
 
+/// `host/src`, or the tree named by `HOUSE_IMPORTS_SRC` (to measure another checkout).
 fn host_src() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("src")
+    std::env::var_os("HOUSE_IMPORTS_SRC")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("src"))
 }
 
 /// Code without comments, string and char literals (replaced by spaces, so `crate::` in a
@@ -311,7 +314,10 @@ fn paths_in(code: &str, children: &BTreeSet<String>) -> Vec<Vec<String>> {
                     break;
                 }
             }
-            paths.push(segs);
+            // `a::b::{…}` or `a::*` is a `use` tree, read above with its braces expanded.
+            if !code[k..].starts_with("::") {
+                paths.push(segs);
+            }
         }
     }
     paths
@@ -577,17 +583,17 @@ fn report(g: &Graph, circles: &[Vec<Vec<String>>], up: &[(Vec<String>, Vec<Strin
 /// Circles still standing, each as its modules in order, until their turn comes: a circle not
 /// in this list fails the test, and so does a listed circle that changed or went (take it out).
 const KNOWN_CIRCLES: &[&str] = &[
-    "spectrum::lane_mask spectrum::sampled",
-    "spectrum spectrum::builtin_spd spectrum::bundled spectrum::curve spectrum::line_spd spectrum::spd spectrum::spec spectrum::sum_spd spectrum::tabulated_spd",
+    "builtin builtin::camera::perspective builtin::check builtin::light builtin::light::directional builtin::light::environment builtin::light::luminaire builtin::light::point builtin::light::spot builtin::material::conductor builtin::material::dielectric builtin::material::emissive builtin::material::fluorescent builtin::material::lambertian builtin::material::mirror builtin::material::rough_dielectric builtin::material::thin_film builtin::observer::cie builtin::shape::mesh builtin::shape::mesh_file builtin::shape::quad builtin::shape::sphere builtin::spd::spec builtin::spd::table builtin::spectral scene::factory",
+    "camera camera::manager",
+    "geometry::bvh geometry::bvh::traverse",
+    "light light::area light::directional light::luminaire light::manager light::point light::spot",
     "material material::conductor material::dielectric material::emissive material::lambertian material::mirror material::rough_dielectric",
-    "camera camera::manager camera::perspective",
-    "geometry geometry::bvh geometry::bvh::stats geometry::bvh::traverse geometry::mesh geometry::obj geometry::ply geometry::scene_geometry",
-    "light light::area light::directional light::environment light::luminaire light::manager light::point light::spot",
-    "builtin builtin::camera::perspective builtin::check builtin::light builtin::light::directional builtin::light::environment builtin::light::luminaire builtin::light::point builtin::light::spot builtin::material::conductor builtin::material::dielectric builtin::material::emissive builtin::material::fluorescent builtin::material::lambertian builtin::material::mirror builtin::material::rough_dielectric builtin::material::thin_film builtin::observer::cie builtin::shape::mesh builtin::shape::mesh_file builtin::shape::quad builtin::shape::sphere builtin::spd::spec builtin::spd::table builtin::spectral scene scene::builder scene::cornell scene::factory scene::source",
-    "effects effects::plan integrator integrator::bdpt integrator::beam integrator::camera_chain integrator::camera_connection integrator::driver integrator::fluorescent_join integrator::fluorescent_mis integrator::light_subpath integrator::light_tracer integrator::manifold_connection integrator::pair_wavelengths integrator::path integrator::random_walk integrator::render integrator::select integrator::tiled integrator::wavelength_groups",
-    "analysis analysis::progressive",
+    "plugin plugin::blob plugin::factory",
+    "plugin::adapter plugin::representation plugin::reradiation",
     "plugin::registry plugin::services",
-    "plugin plugin::adapter plugin::blob plugin::factory plugin::representation plugin::reradiation",
+    "scene scene::builder scene::cornell scene::source",
+    "spectrum::builtin_spd spectrum::sum_spd",
+    "spectrum::lane_mask spectrum::sampled",
 ];
 
 #[test]

@@ -11,6 +11,7 @@ pub mod connect;
 pub mod driver;
 pub mod fluorescence;
 pub mod light_tracer;
+pub mod mis;
 pub mod path;
 pub mod pixel_max;
 pub mod render;
@@ -23,7 +24,10 @@ pub mod tiled;
 pub mod wavelengths;
 
 pub use driver::{Integrator, IntegratorInfo, IntegratorOptions, IntegratorOutput, Registration};
-pub use path::{render, PathStats, PathTracer, WavelengthSampling};
-pub use render::{DroppedPass, RenderError, RenderResult, RenderSettings, SampleBudget};
+pub use path::render;
+pub use render::{
+    DroppedPass, PathStats, PathTracer, RenderError, RenderResult, RenderSettings, SampleBudget,
+};
 pub use sampler::{PixelSampler, SampleRng, SamplerKind};
 pub use select::{registered, render_with, render_with_options, strategy_summary, IntegratorKind};
+pub use wavelengths::sampling::WavelengthSampling;

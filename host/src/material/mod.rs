@@ -216,7 +216,7 @@ pub trait Material: Send + Sync + Debug {
     /// every point of its surface and for every pair of directions (a grey reflectance, a
     /// constant IOR), and never shifts wavelengths: a path through it carries the same
     /// throughput in every lane, so its colour can be integrated exactly
-    /// (`integrator::flat_colour`). Materials that do not scatter at all (emitters) count as
+    /// (`integrator::wavelengths::flat_colour`). Materials that do not scatter at all (emitters) count as
     /// flat. The default is `false`, which is always safe (plugins keep it).
     fn spectrally_flat(&self) -> bool {
         false

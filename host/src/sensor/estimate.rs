@@ -33,7 +33,7 @@
 
 use crate::film::Sensor;
 use crate::geometry::{spawn_ray, spawn_ray_to};
-use crate::integrator::path::power_heuristic;
+use crate::integrator::mis::power_heuristic;
 use crate::integrator::subpath::light_subpath::{generate_light_subpath, LightStart};
 use crate::integrator::subpath::vertex::Vertex;
 use crate::integrator::wavelengths::xyz_weights::XyzWeights;

@@ -27,9 +27,9 @@
 //!     only for a lane on a delta line at the connection (discrete × discrete).
 //!
 //! The area parts are the same for every lane; they are taken relative to this strategy's as
-//! in [`crate::integrator::bdpt::mis_weight`] (the same overrides of the densities at the joined vertices,
+//! in [`super::mis::mis_weight`] (the same overrides of the densities at the joined vertices,
 //! the same scale of the light-tracing strategy's density,
-//! [`crate::integrator::bdpt::LIGHT_TRACING_MIS_SCALE`]). The event parts are products over the vertices
+//! [`super::mis::LIGHT_TRACING_MIS_SCALE`]). The event parts are products over the vertices
 //! (prefix products on the light side, suffix products on the camera side), so an event
 //! probability of 0 on one side needs no division.
 //!
@@ -38,8 +38,8 @@
 //! event's, after which only the hero lane is left (`Vertex::lanes`), and a fluorescent
 //! surface samples the cosine lobe whatever the wavelength.
 
+use super::mis::{heuristic_scale, mis_weight_overrides};
 use crate::camera::Camera;
-use crate::integrator::bdpt::{heuristic_scale, mis_weight_overrides};
 use crate::integrator::fluorescence::events::{event_probability, Direction};
 use crate::integrator::fluorescence::join::{evaluated_event_possible, reradiation_at, LightMode};
 use crate::integrator::subpath::vertex::{remap0, Vertex};
@@ -59,7 +59,7 @@ thread_local! {
 
 /// Per-lane power-heuristic weight of strategy (s, t) for the lane paths it produced, relative
 /// to every strategy that can make the same lane path (module docs). `sampled` as for
-/// [`crate::integrator::bdpt::mis_weight`]; `lambda` is the pair's wavelengths, `mode` how the light
+/// [`super::mis::mis_weight`]; `lambda` is the pair's wavelengths, `mode` how the light
 /// subpath started. Only the lanes in `need` are weighed (the others get 0: the connection
 /// gives them nothing).
 #[allow(clippy::too_many_arguments)]

@@ -2,8 +2,8 @@
 //! (a small lamp seen reflected in, or refracted through, a glass ball), which otherwise only
 //! `s = 0` makes (a camera ray that happens to reach the lamp's tiny image: a rare event).
 //! This strategy samples a point `y` on an area light by area, solves every chain of the
-//! deterministic seed set from the pinhole `c` to `y` (`integrator::specular_seeds`, solve in
-//! `integrator::specular_chain`), keeps each distinct solution once, checks the last segment's
+//! deterministic seed set from the pinhole `c` to `y` (`integrator::connect::specular_seeds`, solve in
+//! `integrator::connect::specular_chain`), keeps each distinct solution once, checks the last segment's
 //! visibility and splats each solution at the raster position of its first direction `ω0`,
 //! like the `t = 1` connection. Its contribution, per camera sample,
 //!

@@ -4,7 +4,7 @@
 //! of refractions, the only ordinary strategy is `s = 0` (a camera path that happens to hit
 //! the light through the glass: a rare event for a small light). This strategy samples a point
 //! `y` on an area light by area, seeds the chain with the surfaces the straight segment
-//! `D → y` crosses, solves it (`integrator::specular_chain`) and checks the last segment's
+//! `D → y` crosses, solves it (`integrator::connect::specular_chain`) and checks the last segment's
 //! visibility; its contribution is
 //!
 //! `β_D · f_D · |cos θ_D| · Π(R or T/η²) · L_e(y → x_k) · |dω0/dA_y| / p(y)`
@@ -22,7 +22,7 @@
 //! unbiased.
 //!
 //! Seeds: the refractions the straight segment `D → y` crosses, one reflection per smooth
-//! specular object (`integrator::specular_seeds`: the bisector point of a round shape, the
+//! specular object (`integrator::connect::specular_seeds`: the bisector point of a round shape, the
 //! mirror image through a quad; the lamp reflected by a glass ball onto `D`), and the `T T`
 //! chains through every transmitting round shape found in closed form in the plane of `D`,
 //! its centre and `y` (a ball lens joins a point near its focus to a light by up to three
@@ -35,7 +35,7 @@
 //! (left to `s = 0` and the other strategies): other chains with reflections (`T R T`, `T R R T`
 //! from `D`), other solutions of refraction chains through more than one object, rough
 //! glass, longer chains, paths the solve does not converge for, `D` seen directly (light
-//! tracing makes those well), the camera itself as `D` (`integrator::camera_chain`), and
+//! tracing makes those well), the camera itself as `D` (`integrator::connect::camera_chain`), and
 //! scenes that render fluorescence.
 
 use crate::camera::Camera;
@@ -158,7 +158,7 @@ pub fn connect_manifold(
 }
 
 /// The seeds of the connection: the straight segment's refractions, and with `shapes` the
-/// reflection seeds of every smooth specular object (`integrator::specular_seeds`); `set`
+/// reflection seeds of every smooth specular object (`integrator::connect::specular_seeds`); `set`
 /// holds the distinct solutions of one `(D, y)`.
 pub struct Seeds<'a> {
     /// The scene's specular shapes, for the reflection seeds (`None`: straight segment only).

@@ -1,5 +1,5 @@
 //! Deterministic seed chains for specular-chain solves whose straight segment gives no seed
-//! (`integrator::specular_chain::seed_chain` covers only refractions the segment `x0 → y`
+//! (`integrator::connect::specular_chain::seed_chain` covers only refractions the segment `x0 → y`
 //! crosses): a reflection off a glass ball or a mirror, and the lamp seen *through* a ball
 //! from a point beside it. Each smooth specular object gets a few seeds from its shape alone:
 //!

@@ -5,4 +5,5 @@ pub mod flat_colour;
 pub mod groups;
 pub mod mixture;
 pub mod pairs;
+pub mod sampling;
 pub mod xyz_weights;
