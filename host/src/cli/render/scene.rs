@@ -1,0 +1,46 @@
+//! The scene of a render (step 3 of the pipeline in [`super`]): the file named by the
+//! arguments, or the embedded Cornell box, with `--resolution` applied to every camera.
+
+use super::RenderArgs;
+use crate::scene::{load_scene_file_with, ObjectFactory, Scene};
+use std::path::{Path, PathBuf};
+
+/// Load the scene named by `args` (or the default) with the given factories.
+pub fn load(args: &RenderArgs, factories: &[&dyn ObjectFactory]) -> Result<Scene, String> {
+    let repr = args.representation.options()?;
+    let Some((w, h)) = args.resolution else {
+        return match &args.scene {
+            Some(p) => load_scene_file_with(p, factories, &repr),
+            None => crate::scene::cornell::cornell_box_with(factories, &repr),
+        }
+        .map_err(|e| e.to_string());
+    };
+    // --resolution: every camera's `resolution` replaced before the scene is built.
+    let (mut desc, base, file) = match &args.scene {
+        Some(p) => (
+            crate::scene::read_scene_file(p).map_err(|e| e.to_string())?,
+            p.parent().unwrap_or(Path::new(".")).to_path_buf(),
+            p.clone(),
+        ),
+        None => (
+            crate::scene::cornell_box_description().map_err(|e| e.to_string())?,
+            PathBuf::from("."),
+            PathBuf::from("<embedded cornell box>"),
+        ),
+    };
+    for c in &mut desc.cameras {
+        let size: ron::Value = ron::from_str(&format!("({w}, {h})")).map_err(|e| e.to_string())?;
+        match &mut c.params {
+            ron::Value::Map(m) => {
+                m.insert(ron::Value::String("resolution".into()), size);
+            }
+            p @ ron::Value::Unit => {
+                let mut m = ron::Map::new();
+                m.insert(ron::Value::String("resolution".into()), size);
+                *p = ron::Value::Map(m);
+            }
+            _ => {}
+        }
+    }
+    crate::scene::build_scene_with(&desc, &base, &file, factories, &repr).map_err(|e| e.to_string())
+}
