@@ -28,10 +28,10 @@ mod run;
 mod scene;
 mod summary;
 
-pub use args::{parse_ev, parse_resolution, RenderArgs};
+pub use args::{parse_ev, parse_resolution, time_budget, RenderArgs};
 pub use job::RenderJob;
 pub use output::{save_image, spectral_summary};
-pub use scene::load;
+pub use scene::{load, load_scene};
 
 use crate::integrator::IntegratorOutput;
 use crate::scene::ObjectFactory;
@@ -39,18 +39,8 @@ use run::{Progress, Rendered};
 
 /// Run `spectrace render` with the built-in types and the plugins named in `args`.
 pub fn run(args: &RenderArgs) -> Result<(), String> {
-    let registry = std::sync::Arc::new(args.plugins.registry(false)?);
-    let faults = crate::plugin::adapter::PluginFaults::new();
-    let plugins = crate::plugin::factory::PluginFactory::new(registry, faults.clone());
-    // One way in: the registry builds every type, built-in, plugin or blob.
-    let result = run_with_factories(args, &[&plugins]);
-    // Plugin calls that failed or returned unusable values contributed nothing; say so, once per
-    // call site or reason, with counts.
-    result?;
-    for line in faults.outcome()? {
-        println!("  warning: plugin {line}");
-    }
-    Ok(())
+    args.plugins
+        .with_factory(|factories| run_with_factories(args, factories))
 }
 
 /// Run `spectrace render`, building scene items with `factories` (the registry's factory, or

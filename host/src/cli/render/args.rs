@@ -332,3 +332,14 @@ pub fn parse_resolution(s: &str) -> Result<(u32, u32), String> {
     }
     Ok((w, h))
 }
+
+/// `--time SECONDS` as a duration: a positive, finite number of seconds (`render`, `reference`).
+pub fn time_budget(seconds: Option<f64>) -> Result<Option<std::time::Duration>, String> {
+    match seconds {
+        Some(t) if t.is_finite() && t > 0.0 => Ok(Some(std::time::Duration::from_secs_f64(t))),
+        Some(t) => Err(format!(
+            "--time must be a positive number of seconds, got {t}"
+        )),
+        None => Ok(None),
+    }
+}

@@ -15,7 +15,7 @@ use crate::integrator::{
 use crate::scene::{ObjectFactory, Scene};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 /// One render, decided: what to render, from which sample to which, with which settings.
 pub struct RenderJob {
@@ -136,15 +136,10 @@ impl RenderJob {
 
 /// `--spp N`, `--time SECONDS` or the scene's sample count.
 fn sample_budget(args: &RenderArgs, scene: &Scene) -> Result<SampleBudget, String> {
-    Ok(match (args.spp, args.time) {
-        (_, Some(t)) if t.is_finite() && t > 0.0 => SampleBudget::Time(Duration::from_secs_f64(t)),
-        (_, Some(t)) => {
-            return Err(format!(
-                "--time must be a positive number of seconds, got {t}"
-            ))
-        }
-        (Some(0), _) => return Err("--spp must be at least 1".into()),
-        (Some(n), _) => SampleBudget::Spp(n),
+    Ok(match (super::args::time_budget(args.time)?, args.spp) {
+        (Some(t), _) => SampleBudget::Time(t),
+        (None, Some(0)) => return Err("--spp must be at least 1".into()),
+        (None, Some(n)) => SampleBudget::Spp(n),
         (None, None) => SampleBudget::Spp(scene.options.spp),
     })
 }

@@ -2,25 +2,38 @@
 //! arguments, or the embedded Cornell box, with `--resolution` applied to every camera.
 
 use super::RenderArgs;
-use crate::scene::{load_scene_file_with, ObjectFactory, Scene};
+use crate::scene::{load_scene_file_with, ObjectFactory, RepresentationOptions, Scene};
 use std::path::{Path, PathBuf};
 
 /// Load the scene named by `args` (or the default) with the given factories.
 pub fn load(args: &RenderArgs, factories: &[&dyn ObjectFactory]) -> Result<Scene, String> {
     let repr = args.representation.options()?;
-    let Some((w, h)) = args.resolution else {
-        return match &args.scene {
+    load_scene(args.scene.as_deref(), args.resolution, &repr, factories)
+}
+
+/// Load the scene file `scene` (or the embedded Cornell box) with the given factories and
+/// spectral representation, every camera's `resolution` replaced by `resolution` if given:
+/// the scene step of `render` and `reference`.
+pub fn load_scene(
+    scene: Option<&Path>,
+    resolution: Option<(u32, u32)>,
+    repr: &RepresentationOptions,
+    factories: &[&dyn ObjectFactory],
+) -> Result<Scene, String> {
+    let repr = *repr;
+    let Some((w, h)) = resolution else {
+        return match scene {
             Some(p) => load_scene_file_with(p, factories, &repr),
             None => crate::scene::cornell::cornell_box_with(factories, &repr),
         }
         .map_err(|e| e.to_string());
     };
     // --resolution: every camera's `resolution` replaced before the scene is built.
-    let (mut desc, base, file) = match &args.scene {
+    let (mut desc, base, file) = match scene {
         Some(p) => (
             crate::scene::read_scene_file(p).map_err(|e| e.to_string())?,
             p.parent().unwrap_or(Path::new(".")).to_path_buf(),
-            p.clone(),
+            p.to_path_buf(),
         ),
         None => (
             crate::scene::cornell_box_description().map_err(|e| e.to_string())?,
