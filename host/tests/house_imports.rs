@@ -266,6 +266,31 @@ fn use_statements(code: &str) -> Vec<(Vec<String>, String, bool)> {
     uses
 }
 
+/// `code` with every `use …;` statement replaced by spaces.
+fn blank_use_statements(code: &str) -> String {
+    let mut out = code.as_bytes().to_vec();
+    let b = code.as_bytes();
+    let mut i = 0;
+    while let Some(at) = code[i..].find("use ") {
+        let start = i + at;
+        i = start + 4;
+        if start > 0 && is_ident_byte(b[start - 1]) {
+            continue;
+        }
+        let Some(end) = code[i..].find(';') else {
+            break;
+        };
+        for c in &mut out[start..i + end] {
+            if !c.is_ascii_whitespace() {
+                *c = b' ';
+            }
+        }
+        i += end;
+    }
+    // Only ASCII bytes were replaced, by ASCII spaces, inside ASCII-delimited statements.
+    String::from_utf8(out).unwrap_or_default()
+}
+
 /// Every path in `code` that starts with `crate`, `super` or `self` (in `use` trees, with their
 /// braces expanded, and inline), plus `use` paths that start with a child module's name.
 /// Re-exports (`pub use`) are left out: they name an item, they do not use it.
@@ -275,6 +300,8 @@ fn paths_in(code: &str, children: &BTreeSet<String>) -> Vec<Vec<String>> {
         .filter(|(_, _, public)| !public)
         .map(|(p, _, _)| p)
         .collect();
+    // The inline scan reads the code with its `use` statements blanked out (read above).
+    let code = &blank_use_statements(code);
     let b = code.as_bytes();
     paths.retain(|p| {
         p.first()
@@ -583,17 +610,13 @@ fn report(g: &Graph, circles: &[Vec<Vec<String>>], up: &[(Vec<String>, Vec<Strin
 /// Circles still standing, each as its modules in order, until their turn comes: a circle not
 /// in this list fails the test, and so does a listed circle that changed or went (take it out).
 const KNOWN_CIRCLES: &[&str] = &[
+    // A nested SPD type (`spec`, `table`) is built through the registry that lists every
+    // built-in type, each of which reads its spectra through `builtin::spectral`.
     "builtin builtin::camera::perspective builtin::check builtin::light builtin::light::directional builtin::light::environment builtin::light::luminaire builtin::light::point builtin::light::spot builtin::material::conductor builtin::material::dielectric builtin::material::emissive builtin::material::fluorescent builtin::material::lambertian builtin::material::mirror builtin::material::rough_dielectric builtin::material::thin_film builtin::observer::cie builtin::shape::mesh builtin::shape::mesh_file builtin::shape::quad builtin::shape::sphere builtin::spd::spec builtin::spd::table builtin::spectral scene::factory",
-    "camera camera::manager",
-    "geometry::bvh geometry::bvh::traverse",
-    "light light::area light::directional light::luminaire light::manager light::point light::spot",
-    "material material::conductor material::dielectric material::emissive material::lambertian material::mirror material::rough_dielectric",
+    // host/src/plugin/, being reshaped for plugin API 0.2.
     "plugin plugin::blob plugin::factory",
     "plugin::adapter plugin::representation plugin::reradiation",
     "plugin::registry plugin::services",
-    "scene scene::builder scene::cornell scene::source",
-    "spectrum::builtin_spd spectrum::sum_spd",
-    "spectrum::lane_mask spectrum::sampled",
 ];
 
 #[test]
