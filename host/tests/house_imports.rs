@@ -231,10 +231,10 @@ fn is_ident_byte(c: u8) -> bool {
     c.is_ascii_alphanumeric() || c == b'_'
 }
 
-/// The `use` statements of `code` with their braces expanded, as (path, name it binds, public).
-fn use_statements(code: &str) -> Vec<(Vec<String>, String, bool)> {
-    let mut uses = Vec::new();
+/// The byte ranges of the `use …;` statements of `code` (from `use` to before the `;`).
+fn use_statement_spans(code: &str) -> Vec<(usize, usize)> {
     let b = code.as_bytes();
+    let mut spans = Vec::new();
     let mut i = 0;
     while let Some(at) = code[i..].find("use ") {
         let start = i + at;
@@ -245,7 +245,17 @@ fn use_statements(code: &str) -> Vec<(Vec<String>, String, bool)> {
         let Some(end) = code[i..].find(';') else {
             break;
         };
-        let tree = code[i..i + end]
+        spans.push((start, i + end));
+        i += end;
+    }
+    spans
+}
+
+/// The `use` statements of `code` with their braces expanded, as (path, name it binds, public).
+fn use_statements(code: &str) -> Vec<(Vec<String>, String, bool)> {
+    let mut uses = Vec::new();
+    for (start, end) in use_statement_spans(code) {
+        let tree = code[start + 4..end]
             .split_whitespace()
             .collect::<Vec<_>>()
             .join(" ");
@@ -261,7 +271,6 @@ fn use_statements(code: &str) -> Vec<(Vec<String>, String, bool)> {
         let mut out = Vec::new();
         expand_use_tree(&tree, &mut Vec::new(), &mut out);
         uses.extend(out.into_iter().map(|(p, a)| (p, a, public)));
-        i += end;
     }
     uses
 }
@@ -269,25 +278,14 @@ fn use_statements(code: &str) -> Vec<(Vec<String>, String, bool)> {
 /// `code` with every `use …;` statement replaced by spaces.
 fn blank_use_statements(code: &str) -> String {
     let mut out = code.as_bytes().to_vec();
-    let b = code.as_bytes();
-    let mut i = 0;
-    while let Some(at) = code[i..].find("use ") {
-        let start = i + at;
-        i = start + 4;
-        if start > 0 && is_ident_byte(b[start - 1]) {
-            continue;
-        }
-        let Some(end) = code[i..].find(';') else {
-            break;
-        };
-        for c in &mut out[start..i + end] {
+    for (start, end) in use_statement_spans(code) {
+        for c in &mut out[start..end] {
             if !c.is_ascii_whitespace() {
                 *c = b' ';
             }
         }
-        i += end;
     }
-    // Only ASCII bytes were replaced, by ASCII spaces, inside ASCII-delimited statements.
+    // Whole statements were replaced, every byte of a multi-byte character with a space.
     String::from_utf8(out).unwrap_or_default()
 }
 

@@ -291,6 +291,22 @@ pub fn sample_cosine_hemisphere(u: Vec2) -> Vec3A {
     Vec3A::new(d.x, d.y, z)
 }
 
+/// A direction `wi` from the cosine lobe on `wo`'s side of the surface (shading frame) and its
+/// density `|cos θ|/π` (1/sr): the sampling of every diffuse lobe. `None` for a grazing `wo`
+/// or a zero density.
+#[inline]
+pub fn sample_cosine_lobe(wo: Vec3A, u: Vec2) -> Option<(Vec3A, f32)> {
+    if wo.z == 0.0 {
+        return None;
+    }
+    let mut wi = sample_cosine_hemisphere(u);
+    if wo.z < 0.0 {
+        wi.z = -wi.z;
+    }
+    let pdf = wi.z.abs() * std::f32::consts::FRAC_1_PI;
+    (pdf != 0.0).then_some((wi, pdf))
+}
+
 /// Uniform point on the unit disk with low distortion (Shirley & Chiu 1997).
 pub fn sample_concentric_disk(u: Vec2) -> Vec2 {
     let o = u * 2.0 - Vec2::ONE;
