@@ -30,7 +30,7 @@ mod summary;
 
 pub use args::{parse_ev, parse_resolution, time_budget, RenderArgs};
 pub use job::RenderJob;
-pub use output::{save_image, spectral_summary};
+pub use output::{diagnostic_layers, save_image, spectral_summary};
 pub use scene::{load, load_scene};
 
 use crate::integrator::IntegratorOutput;

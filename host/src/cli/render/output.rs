@@ -96,7 +96,13 @@ pub fn spectral_summary(
 
 /// The optional diagnostic channels of the EXR.
 pub(super) fn extra_layers(args: &RenderArgs, film: &FilmState) -> Vec<(String, Vec<f32>)> {
-    if !args.diagnostic_layer {
+    diagnostic_layers(film, args.diagnostic_layer)
+}
+
+/// The diagnostic channels of the EXR when `on` (`--diagnostic-layer` of `render` and
+/// `merge`): the film's rejected samples per pixel.
+pub fn diagnostic_layers(film: &FilmState, on: bool) -> Vec<(String, Vec<f32>)> {
+    if !on {
         return Vec::new();
     }
     let (w, h) = film.resolution();
