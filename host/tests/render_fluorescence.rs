@@ -520,7 +520,7 @@ fn band_tiles(img: &spectrace::film::XyzImage, rows: std::ops::Range<u32>) -> [f
 /// through the ball above it; bdpt 128 against lt 512) and `fluorescent_indirect_uv.ron`
 /// (bdpt 128 against pt 512; lt cannot see the card through the ball). bdpt's light
 /// subpaths here start half the time at their own wavelengths, joined to camera subpaths
-/// through fluorescent endpoints (`integrator/fluorescent_join.rs`). Tolerance: 4 combined
+/// through fluorescent endpoints (`integrator/fluorescence/join.rs`). Tolerance: 4 combined
 /// standard errors of the two means (from the seeds' spread; with 7 degrees of freedom a
 /// true mean lies beyond that about 0.5% of the time), printed with the differences. Long
 /// (about 3 minutes on two idle cores): `cargo test --release --test render_fluorescence --

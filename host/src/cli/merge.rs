@@ -68,14 +68,7 @@ pub fn run(args: &MergeArgs) -> Result<(), String> {
     }
     let outputs = super::output_paths::output_paths(&args.output, args.png.as_deref())?;
     let (w, h) = merged.film.resolution();
-    let extra = if args.diagnostic_layer {
-        vec![(
-            "rejected".to_string(),
-            merged.film.rejected.layer(w as usize * h as usize),
-        )]
-    } else {
-        Vec::new()
-    };
+    let extra = super::render::diagnostic_layers(&merged.film, args.diagnostic_layer);
     let written = super::render::save_image(
         &image,
         outputs.exr.as_deref(),

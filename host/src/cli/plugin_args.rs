@@ -1,6 +1,7 @@
 //! The plugin options shared by every subcommand that builds objects.
 
 use crate::plugin::Registry;
+use crate::scene::ObjectFactory;
 use std::path::PathBuf;
 
 /// Which plugin libraries to load.
@@ -26,6 +27,29 @@ pub struct PluginArgs {
 }
 
 impl PluginArgs {
+    /// Runs `f` with the one factory that builds every type, built-in, plugin or blob, from
+    /// the registry of these arguments; then says which plugin calls failed or returned unusable
+    /// values (they contributed nothing), once per call site or reason, with counts. The
+    /// libraries the scene file lists (`plugins: [...]`, pinned ones checked) join the registry.
+    pub fn with_factory<T>(
+        &self,
+        scene: Option<&std::path::Path>,
+        f: impl FnOnce(&[&dyn ObjectFactory]) -> Result<T, String>,
+    ) -> Result<T, String> {
+        let mut registry = self.registry(false)?;
+        if let Some(scene) = scene {
+            registry.load_scene_plugins(scene)?;
+        }
+        let registry = std::sync::Arc::new(registry);
+        let faults = crate::plugin::adapter::PluginFaults::new();
+        let plugins = crate::plugin::factory::PluginFactory::new(registry, faults.clone());
+        let result = f(&[&plugins])?;
+        for line in faults.outcome()? {
+            println!("  warning: plugin {line}");
+        }
+        Ok(result)
+    }
+
     /// A registry with the built-in types (unless `--no-builtins`) and the requested plugins. A library that cannot be
     /// loaded is an error (the user named it); in a directory, bad libraries are reported as
     /// warnings and the good ones still load.

@@ -3,11 +3,10 @@
 //! stopped (Ctrl-C, time budget) and resumed without losing samples; the f64 sums live in
 //! `REF.exr.state` (format in [`crate::analysis::reference_state`]).
 
-use crate::analysis::{run_reference, state_path, ReferenceSettings};
+use crate::analysis::{run_reference, state_path, ReferenceOutcome, ReferenceSettings};
 use crate::integrator::{IntegratorKind, PathTracer};
-use crate::scene::{load_scene_file, ObjectFactory};
+use crate::scene::Scene;
 use std::path::PathBuf;
-use std::time::Duration;
 
 /// Arguments of `spectrace reference`.
 #[derive(clap::Args, Debug, Clone)]
@@ -43,31 +42,41 @@ pub struct ReferenceArgs {
     pub plugins: super::plugin_args::PluginArgs,
 }
 
-/// Run `spectrace reference`.
+/// Run `spectrace reference`: the scene loaded with the plugins named, the settings checked,
+/// then the passes until the budget, Ctrl-C or the target.
 pub fn run(args: &ReferenceArgs) -> Result<(), String> {
     super::output_paths::check_not_directory(&args.output, "-o")?;
-    let registry = std::sync::Arc::new(args.plugins.registry(false)?);
-    let faults = crate::plugin::adapter::PluginFaults::new();
-    let plugins = crate::plugin::factory::PluginFactory::new(registry, faults.clone());
-    let factories: [&dyn ObjectFactory; 1] = [&plugins];
-    let scene = match &args.scene {
-        Some(p) => load_scene_file(p, &factories),
-        None => crate::scene::cornell::cornell_box_with(&factories, &Default::default()),
-    }
-    .map_err(|e| e.to_string())?;
-    let time = match args.time {
-        Some(t) if t.is_finite() && t > 0.0 => Some(Duration::from_secs_f64(t)),
-        Some(t) => {
-            return Err(format!(
-                "--time must be a positive number of seconds, got {t}"
-            ))
+    args.plugins.with_factory(args.scene.as_deref(), |factories| {
+        let repr = Default::default();
+        let scene =
+            super::render::load_scene(args.scene.as_deref(), None, &[], &repr, factories)?;
+        let settings = reference_settings(args, &scene)?;
+        // Before the long run, not after it: a scene that renders black should not take hours.
+        for w in scene.warnings() {
+            eprintln!("spectrace: warning: {w}");
         }
-        None => None,
-    };
+        if settings.time.is_none() && args.spp.is_none() {
+            eprintln!("spectrace: no --time or --spp: rendering until Ctrl-C");
+        }
+        let cancel = super::interrupt::interrupt_flag();
+        let on_pass = |s: &crate::analysis::ReferenceState| {
+            eprint!("\r  {} spp accumulated ({} passes)   ", s.spp(), s.passes);
+        };
+        let outcome = run_reference(&scene, &args.output, &settings, Some(cancel), &on_pass)
+            .map_err(|e| e.to_string())?;
+        eprintln!();
+        print_outcome(args, &outcome);
+        Ok(())
+    })
+}
+
+/// The reference settings of `args` for `scene`.
+fn reference_settings(args: &ReferenceArgs, scene: &Scene) -> Result<ReferenceSettings, String> {
+    let time = super::render::time_budget(args.time)?;
     if args.pass_spp == 0 {
         return Err("--pass-spp must be at least 1".into());
     }
-    let settings = ReferenceSettings {
+    Ok(ReferenceSettings {
         pass_spp: args.pass_spp,
         seed: args.seed,
         integrator: args.integrator,
@@ -82,21 +91,11 @@ pub fn run(args: &ReferenceArgs) -> Result<(), String> {
             Some(p) => p.display().to_string(),
             None => "default Cornell box".into(),
         },
-    };
-    // Before the long run, not after it: a scene that renders black should not take hours.
-    for w in scene.warnings() {
-        eprintln!("spectrace: warning: {w}");
-    }
-    if time.is_none() && args.spp.is_none() {
-        eprintln!("spectrace: no --time or --spp: rendering until Ctrl-C");
-    }
-    let cancel = super::interrupt::interrupt_flag();
-    let on_pass = |s: &crate::analysis::ReferenceState| {
-        eprint!("\r  {} spp accumulated ({} passes)   ", s.spp(), s.passes);
-    };
-    let outcome = run_reference(&scene, &args.output, &settings, Some(cancel), &on_pass)
-        .map_err(|e| e.to_string())?;
-    eprintln!();
+    })
+}
+
+/// What the run added, where the state is, and a pass dropped at the time limit.
+fn print_outcome(args: &ReferenceArgs, outcome: &ReferenceOutcome) {
     println!(
         "reference {}: {} spp in total ({} passes resumed, {} added{}), {:.3} M samples/s",
         args.output.display(),
@@ -127,8 +126,4 @@ pub fn run(args: &ReferenceArgs) -> Result<(), String> {
             }
         );
     }
-    for line in faults.outcome()? {
-        println!("  warning: plugin {line}");
-    }
-    Ok(())
 }

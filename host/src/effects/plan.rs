@@ -14,13 +14,13 @@
 //! | `thin-film`                            | per-lane Airy reflectance of the film                       | thin-film materials become their bare base (film thickness 0 nm) |
 //! | `narrowband-emission` (alias `line-emission`) | pt draws wavelengths half from the observer, half from the lights' spectra (lines with their discrete probability) | every integrator draws wavelengths from the observer alone: lines and narrow bands render black (warned) |
 //! | `flat-path-colour`                     | bdpt and lt give a path whose every vertex is spectrally flat the exact colour of its emitter's spectrum ([`FlatColour`]; found when some light has one spectral shape everywhere) | every path's colour is estimated from its four wavelengths |
-//! | `manifold` (alias `mnee`)              | bdpt adds the specular-chain connection (`integrator::manifold_connection`) for paths that only `s = 0` can make otherwise (found with specular chains) | those paths come from `s = 0` alone |
-//! | `camera-chain`                         | bdpt adds the camera-side specular-chain connection (`integrator::camera_chain`): the lamp seen reflected in or refracted through smooth specular objects from a pinhole (found with specular chains; thin-lens cameras: not run) | those paths come from `s = 0` alone |
+//! | `manifold` (alias `mnee`)              | bdpt adds the specular-chain connection (`integrator::connect::manifold_connection`) for paths that only `s = 0` can make otherwise (found with specular chains) | those paths come from `s = 0` alone |
+//! | `camera-chain`                         | bdpt adds the camera-side specular-chain connection (`integrator::connect::camera_chain`): the lamp seen reflected in or refracted through smooth specular objects from a pinhole (found with specular chains; thin-lens cameras: not run) | those paths come from `s = 0` alone |
 //!
 //! bdpt and lt draw the pair's wavelengths from the observer-plus-emission mixture
 //! ([`WavelengthMixture`]) unless `narrowband-emission` is forced off, except where the
 //! observer × √emission table applies (no fluorescence, no narrowband emission; see
-//! `integrator::pair_wavelengths`); the plan builds the mixture once ([`RenderPlan::mixture`])
+//! `integrator::wavelengths::pairs`); the plan builds the mixture once ([`RenderPlan::mixture`])
 //! and that table on first use ([`RenderPlan::product_table`]). When every light is narrowband (delta lines, or an
 //! equivalent width under 10 nm) and fluorescence is off, a wavelength off the lights' spectra
 //! carries (almost) no light, so the mixture draws from the lights' spectra alone (all three
@@ -34,8 +34,8 @@
 
 use super::analysis::{Caller, EffectSet};
 use super::effect::Effect;
-use crate::integrator::flat_colour::FlatColour;
-use crate::integrator::wavelength_mixture::WavelengthMixture;
+use crate::integrator::wavelengths::flat_colour::FlatColour;
+use crate::integrator::wavelengths::mixture::WavelengthMixture;
 use crate::light::LightFlags;
 use crate::material::{EffectsOff, Material};
 use crate::scene::Scene;
@@ -426,12 +426,12 @@ impl RenderPlan {
         self.decision(Switch::FlatPathColour).on
     }
 
-    /// bdpt adds the specular-chain connection (`integrator::manifold_connection`).
+    /// bdpt adds the specular-chain connection (`integrator::connect::manifold_connection`).
     pub fn manifold(&self) -> bool {
         self.decision(Switch::Manifold).on
     }
 
-    /// bdpt adds the camera-side specular-chain connection (`integrator::camera_chain`;
+    /// bdpt adds the camera-side specular-chain connection (`integrator::connect::camera_chain`;
     /// pinhole cameras only).
     pub fn camera_chain(&self) -> bool {
         self.decision(Switch::CameraChain).on
@@ -454,7 +454,7 @@ impl RenderPlan {
     }
 
     /// The observer × √emission wavelength table of the [`mixture`](Self::mixture)'s emission
-    /// ([`product_table`](crate::integrator::wavelength_groups::product_table)); `None` without
+    /// ([`product_table`](crate::integrator::wavelengths::mixture::product_table)); `None` without
     /// evaluable lights or when they emit nothing in the visible range. Built once per plan, on
     /// first use (about 7 M instructions), so the render and its summary share it.
     pub fn product_table(&self) -> Option<&WavelengthTable> {
@@ -462,7 +462,7 @@ impl RenderPlan {
             .get_or_init(|| {
                 Some(self.mixture.as_ref())
                     .filter(|m| m.has_emission())
-                    .and_then(|m| crate::integrator::wavelength_groups::product_table(m).ok())
+                    .and_then(|m| crate::integrator::wavelengths::mixture::product_table(m).ok())
             })
             .as_ref()
     }

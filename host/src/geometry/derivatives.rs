@@ -13,7 +13,7 @@
 //!
 //! The parameters are each shape's own: `(φ/2π, θ/π)` on spheres, `(s, t)` along the edges on
 //! quads, the barycentrics `(b1, b2)` on triangles. Callers that need an orthonormal chart build
-//! it from these (see `integrator::specular_chain`).
+//! it from these (see `integrator::connect::specular_chain`).
 
 use glam::Vec3A;
 

@@ -4,7 +4,7 @@
 //! scaled by 1/(light paths per pixel).
 //!
 //! Lights flagged `BEAMS_ONLY` (only the seed's `next_beam`) are rendered here too, by
-//! [`trace_beam_with`](super::beam::trace_beam_with), with the beam's uniforms from the light
+//! [`trace_beam_with`](super::subpath::beam::trace_beam_with), with the beam's uniforms from the light
 //! path's sequence. Wavelengths: one set per light path, drawn as bdpt draws a pair's
 //! ([`PairWavelengths`]).
 //!
@@ -19,17 +19,17 @@
 //! | `max_depth` | bounces  | 64      | longest light path, `--max-depth`                    |
 //! | `rr_depth`  | vertices | 3       | path length from which Russian roulette may stop it  |
 
-use super::beam::trace_beam_with;
-use super::camera_connection::{connect_to_camera, SplatFn};
 use super::driver::{Integrator, IntegratorInfo, IntegratorOutput, Registration};
-use super::flat_colour::FlatColour;
-use super::light_subpath::{generate_light_subpath_with, LightStart};
-use super::pair_wavelengths::PairWavelengths;
 use super::pixel_max::PixelMaxY;
-use super::random_walk::WalkShift;
 use super::render::ProgressFn;
-use super::vertex::Vertex;
-use super::xyz_weights::XyzWeights;
+use super::subpath::beam::trace_beam_with;
+use super::subpath::camera_connection::{connect_to_camera, SplatFn};
+use super::subpath::light_subpath::{generate_light_subpath_with, LightStart};
+use super::subpath::random_walk::WalkShift;
+use super::subpath::vertex::Vertex;
+use super::wavelengths::flat_colour::FlatColour;
+use super::wavelengths::pairs::PairWavelengths;
+use super::wavelengths::xyz_weights::XyzWeights;
 use super::{PathStats, PixelSampler, RenderError, RenderResult, RenderSettings, SampleRng};
 use crate::camera::Camera;
 use crate::effects::RenderPlan;

@@ -1,42 +1,42 @@
-//! Integrators and what they share. Each integrator is one file implementing
-//! [`driver::Integrator`] and one entry in [`select::registered`]: path tracing ([`path`]),
-//! bidirectional path tracing ([`bdpt`]) and light tracing ([`light_tracer`]). The path-building
-//! blocks they share live in files of their own ([`random_walk`], [`light_subpath`],
-//! [`camera_connection`], [`beam`], [`flat_colour`], [`wavelength_mixture`], [`xyz_weights`], [`pixel_max`],
-//! [`vertex`], [`wavelength_groups`], [`specular_chain`], [`specular_seeds`], [`manifold_connection`], [`camera_chain`]), as do the render settings ([`render`]) and the tiled,
-//! parallel, deterministic pass loop ([`tiled`]). No integrator imports another.
+//! Integrators and what they share, as a small tree that reads like the algorithm:
+//! - the three integrators, each implementing [`driver::Integrator`] and registered in
+//!   [`select::registered`]: path tracing ([`path`]), bidirectional path tracing ([`bdpt`], with
+//!   its MIS weights in [`bdpt::mis`] and [`bdpt::fluorescent_mis`]) and light tracing
+//!   ([`light_tracer`]);
+//! - the blocks they build paths from: [`subpath`] (vertex, random walk, light subpath, camera
+//!   connection, beams), [`connect`] (specular chains, manifold and camera-chain connections),
+//!   [`fluorescence`] (wavelength-shifting events and joins) and [`wavelengths`] (which
+//!   wavelengths a path carries and how they are weighed);
+//! - the shared frame: the trait ([`driver`]), the render settings and results ([`render`]), the
+//!   tiled, parallel, deterministic pass loop ([`tiled`]), the sample generator ([`sampler`]), the
+//!   power heuristic ([`mis`]) and the per-pixel maximum ([`pixel_max`]).
+//!
+//! Imports run one way: integrators use the blocks and the frame, never the reverse, and no
+//! integrator imports another (`host/tests/house_imports.rs` checks that no circle appears).
+//! This file only declares the modules and re-exports the public names.
 
 pub mod bdpt;
-pub mod beam;
-pub mod camera_chain;
-pub mod camera_connection;
+pub mod connect;
 pub mod driver;
-pub mod flat_colour;
 pub mod fluorescence;
-pub mod fluorescent_join;
-pub mod fluorescent_mis;
-pub mod light_subpath;
 pub mod light_tracer;
-pub mod manifold_connection;
-pub mod pair_wavelengths;
+pub mod mis;
 pub mod path;
 pub mod pixel_max;
-pub mod random_walk;
 pub mod render;
 pub mod sampler;
 pub mod select;
-pub mod specular_chain;
-pub mod specular_seeds;
+pub mod subpath;
 #[cfg(test)]
 mod test_support;
 pub mod tiled;
-pub mod vertex;
-pub mod wavelength_groups;
-pub mod wavelength_mixture;
-pub mod xyz_weights;
+pub mod wavelengths;
 
 pub use driver::{Integrator, IntegratorInfo, IntegratorOptions, IntegratorOutput, Registration};
-pub use path::{render, PathStats, PathTracer, WavelengthSampling};
-pub use render::{DroppedPass, RenderError, RenderResult, RenderSettings, SampleBudget};
+pub use path::render;
+pub use render::{
+    DroppedPass, PathStats, PathTracer, RenderError, RenderResult, RenderSettings, SampleBudget,
+};
 pub use sampler::{PixelSampler, SampleRng, SamplerKind};
 pub use select::{registered, render_with, render_with_options, strategy_summary, IntegratorKind};
+pub use wavelengths::sampling::WavelengthSampling;

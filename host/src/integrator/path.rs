@@ -1,14 +1,16 @@
 //! A spectral unidirectional path tracer: next-event estimation with multiple importance
 //! sampling (power heuristic, β = 2) between light and BSDF sampling, Russian roulette, and hero
-//! wavelength sampling with several wavelength groups per path (see [`super::wavelength_groups`]):
+//! wavelength sampling with several wavelength groups per path (see [`super::wavelengths::groups`]):
 //! all groups share one geometric path, sampled with the hero group, until a dispersive event
 //! keeps only the hero wavelength.
 
 use super::driver::{Integrator, IntegratorInfo, IntegratorOutput, Registration};
-use super::fluorescence::{shift_lanes, Direction, UNIT_LOBE};
+use super::fluorescence::events::{shift_lanes, Direction, UNIT_LOBE};
+use super::mis::power_heuristic;
 use super::render::ProgressFn;
+use super::render::{PathStats, PathTracer};
 use super::tiled::render_tiles;
-use super::wavelength_groups::{PathWavelengthSampler, PathWavelengths, MAX_GROUPS};
+use super::wavelengths::groups::{PathWavelengthSampler, PathWavelengths, MAX_GROUPS};
 use super::{PixelSampler, RenderError, RenderResult, RenderSettings};
 use crate::camera::CameraSample;
 use crate::effects::RenderPlan;
@@ -115,111 +117,6 @@ impl Integrator for PathTracing {
     }
 }
 
-/// Counters for the render summary (per thread, summed afterwards).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct PathStats {
-    /// Closest-hit rays traced.
-    pub rays: u64,
-    /// Shadow (any-hit) rays traced.
-    pub shadow_rays: u64,
-}
-
-/// Path tracer settings.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PathTracer {
-    /// Maximum number of scattering events (bounces).
-    pub max_depth: u32,
-    /// Bounce from which Russian roulette may end paths.
-    pub rr_depth: u32,
-    /// Only direct lighting (emission seen directly plus one bounce of NEE/BSDF sampling):
-    /// used for analytic tests.
-    pub direct_only: bool,
-    /// How camera paths draw their hero wavelength.
-    pub wavelengths: WavelengthSampling,
-    /// Wavelengths carried by one camera path: 1, or a multiple of 4 up to
-    /// [`MAX_WAVELENGTHS_PER_PATH`](super::wavelength_groups::MAX_WAVELENGTHS_PER_PATH)
-    /// (4 = one hero group, the default). More wavelengths per path lower the colour noise of
-    /// one sample for the cost of evaluating materials and lights once more per group. N = 1
-    /// keeps only the hero lane but still computes 4-wide vectors, so it is no faster than 4.
-    pub wavelengths_per_path: u32,
-}
-
-impl Default for PathTracer {
-    fn default() -> Self {
-        Self {
-            max_depth: 64,
-            rr_depth: 3,
-            direct_only: false,
-            wavelengths: WavelengthSampling::Product,
-            wavelengths_per_path: 4,
-        }
-    }
-}
-
-/// How camera paths draw their wavelengths (each lane's pdf is kept, so all are unbiased).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum WavelengthSampling {
-    /// Importance-sampled for the observer and the scene's emission together (the default):
-    /// ¾ of the density is the visible-importance shape times the square root of the lights'
-    /// emission, ¼ the visible-importance density alone, one tabulated density (see
-    /// [`super::wavelength_groups`]). Fewer lanes land where the lights emit little; the
-    /// visible quarter keeps every visible wavelength possible. Falls back to `Visible` where it
-    /// cannot apply (no evaluable light, fluorescence) and to the render plan's mixture where
-    /// the plan draws from the lights' spectra.
-    #[default]
-    Product,
-    /// Importance-sampled for the observer's luminance response (pbrt-v4's sech² fit):
-    /// fewer wavelengths wasted where x̄ȳz̄ are near zero.
-    Visible,
-    /// Uniform over 360–830 nm: the plain baseline, more colour noise per sample.
-    Uniform,
-    /// Importance-sampled from the scene's emission: the power-weighted mixture of the
-    /// evaluable lights' SPDs (continuous parts; see [`super::wavelength_groups`] for delta lines
-    /// and scenes without such lights). Unbiased for path tracing without fluorescence: where
-    /// no light emits, every contribution is 0, so a zero density there loses nothing.
-    LightSpd,
-}
-
-impl std::str::FromStr for WavelengthSampling {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        match s.to_ascii_lowercase().as_str() {
-            "product" | "visible-emission" => Ok(Self::Product),
-            "visible" => Ok(Self::Visible),
-            "uniform" => Ok(Self::Uniform),
-            "light" | "light-spd" | "lightspd" => Ok(Self::LightSpd),
-            other => Err(format!(
-                "unknown wavelength sampling {other:?}: expected product, visible, uniform or light"
-            )),
-        }
-    }
-}
-
-impl std::fmt::Display for WavelengthSampling {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            Self::Product => "product",
-            Self::Visible => "visible",
-            Self::Uniform => "uniform",
-            Self::LightSpd => "light",
-        })
-    }
-}
-
-/// Power heuristic with β = 2 for one sample from each of two strategies.
-#[inline]
-pub fn power_heuristic(pdf_a: f32, pdf_b: f32) -> f32 {
-    let a = pdf_a * pdf_a;
-    let b = pdf_b * pdf_b;
-    if a.is_infinite() {
-        return 1.0;
-    }
-    if a + b == 0.0 {
-        return 0.0;
-    }
-    a / (a + b)
-}
-
 /// Radiance per wavelength group (W/(m²·sr·nm) per lane); entries past the path's group count
 /// are zero.
 pub type GroupRadiance = [SampledSpectrum; MAX_GROUPS];
@@ -286,7 +183,7 @@ impl PathTracer {
         let mut depth = 0u32;
         let fluorescence = scene.objects.fluorescence();
         // The wavelengths each group's lanes carry now, once a fluorescent event has shifted
-        // one (see `super::fluorescence`); the film keeps weighing `lambdas`, the observed ones.
+        // one (see `super::fluorescence::events`); the film keeps weighing `lambdas`, the observed ones.
         let mut shifted: Option<[[f32; LANES]; MAX_GROUPS]> = None;
         // Filled only once a fluorescent event has shifted a lane (most paths never do).
         let mut cur_buf: Option<[SampledWavelengths; MAX_GROUPS]> = None;

@@ -2,7 +2,8 @@
 //! merges them into the film in tile order. Each camera sample draws its random numbers from
 //! `(seed, pixel, sample index)` only, so the image is bitwise identical for any thread count.
 
-use super::{PathTracer, SamplerKind};
+use super::sampler::SamplerKind;
+use super::wavelengths::sampling::WavelengthSampling;
 use crate::film::XyzImage;
 use std::time::Duration;
 
@@ -137,4 +138,46 @@ pub fn fixed_budget_passes(budget: SampleBudget) -> Vec<u32> {
         }
     }
     passes
+}
+
+/// Counters for the render summary (per thread, summed afterwards).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct PathStats {
+    /// Closest-hit rays traced.
+    pub rays: u64,
+    /// Shadow (any-hit) rays traced.
+    pub shadow_rays: u64,
+}
+
+/// Path settings shared by the integrators (depth, Russian roulette, wavelengths); path
+/// tracing's own methods on it are in [`super::path`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PathTracer {
+    /// Maximum number of scattering events (bounces).
+    pub max_depth: u32,
+    /// Bounce from which Russian roulette may end paths.
+    pub rr_depth: u32,
+    /// Only direct lighting (emission seen directly plus one bounce of NEE/BSDF sampling):
+    /// used for analytic tests.
+    pub direct_only: bool,
+    /// How camera paths draw their hero wavelength.
+    pub wavelengths: WavelengthSampling,
+    /// Wavelengths carried by one camera path: 1, or a multiple of 4 up to
+    /// [`MAX_WAVELENGTHS_PER_PATH`](super::wavelengths::groups::MAX_WAVELENGTHS_PER_PATH)
+    /// (4 = one hero group, the default). More wavelengths per path lower the colour noise of
+    /// one sample for the cost of evaluating materials and lights once more per group. N = 1
+    /// keeps only the hero lane but still computes 4-wide vectors, so it is no faster than 4.
+    pub wavelengths_per_path: u32,
+}
+
+impl Default for PathTracer {
+    fn default() -> Self {
+        Self {
+            max_depth: 64,
+            rr_depth: 3,
+            direct_only: false,
+            wavelengths: WavelengthSampling::Product,
+            wavelengths_per_path: 4,
+        }
+    }
 }

@@ -1,8 +1,8 @@
 //! Helpers shared by the integrators' unit tests (compiled for tests only).
 
-use super::random_walk::generate_camera_subpath;
-use super::vertex::Vertex;
-use super::wavelength_mixture::WavelengthMixture;
+use super::subpath::random_walk::generate_camera_subpath;
+use super::subpath::vertex::Vertex;
+use super::wavelengths::mixture::WavelengthMixture;
 use super::{PathStats, SampleRng};
 use crate::camera::CameraSample;
 use crate::scene::Scene;

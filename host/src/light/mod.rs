@@ -185,7 +185,7 @@ pub trait Light: Send + Sync + Debug {
     /// True when the emitted spectral radiance factors as `g(p, ω) · spd(λ)` with the shape
     /// [`spd`](Self::spd) the same at every point and in every direction (only the magnitude
     /// varies): then a spectrally flat path's colour can be integrated exactly over `spd`
-    /// (`integrator::flat_colour`). The default is `false`, which is always safe.
+    /// (`integrator::wavelengths::flat_colour`). The default is `false`, which is always safe.
     fn uniform_spectral_shape(&self) -> bool {
         false
     }

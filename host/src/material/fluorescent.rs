@@ -18,7 +18,7 @@
 //! never return more power than arrives: ρ(λᵢ) + ∫ r dλₒ ≤ 1, checked when the data is built.
 
 use super::{
-    same_hemisphere, sample_cosine_hemisphere, BsdfSample, Material, MaterialFlags, ShadingContext,
+    same_hemisphere, sample_cosine_lobe, BsdfSample, Material, MaterialFlags, ShadingContext,
     TransportMode,
 };
 use crate::spectrum::bispectral_matrix::BispectralMatrix;
@@ -171,17 +171,7 @@ impl Material for Fluorescent {
         _mode: TransportMode,
         out: &'a mut BsdfSample,
     ) -> Option<&'a BsdfSample> {
-        if wo.z == 0.0 {
-            return None;
-        }
-        let mut wi = sample_cosine_hemisphere(u);
-        if wo.z < 0.0 {
-            wi.z = -wi.z;
-        }
-        let pdf = wi.z.abs() * FRAC_1_PI;
-        if pdf == 0.0 {
-            return None;
-        }
+        let (wi, pdf) = sample_cosine_lobe(wo, u)?;
         Some(out.write(BsdfSample {
             wi,
             f: self.reflectance(lambda) * FRAC_1_PI,

@@ -2,7 +2,7 @@
 //! back into that side's hemisphere with f = R(λ)/π.
 
 use super::{
-    same_hemisphere, sample_cosine_hemisphere, BsdfSample, Material, MaterialFlags, ShadingContext,
+    same_hemisphere, sample_cosine_lobe, BsdfSample, Material, MaterialFlags, ShadingContext,
     SpectralTexture, TransportMode,
 };
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
@@ -52,17 +52,7 @@ impl Material for Lambertian {
         _mode: TransportMode,
         out: &'a mut BsdfSample,
     ) -> Option<&'a BsdfSample> {
-        if wo.z == 0.0 {
-            return None;
-        }
-        let mut wi = sample_cosine_hemisphere(u);
-        if wo.z < 0.0 {
-            wi.z = -wi.z;
-        }
-        let pdf = wi.z.abs() * FRAC_1_PI;
-        if pdf == 0.0 {
-            return None;
-        }
+        let (wi, pdf) = sample_cosine_lobe(wo, u)?;
         Some(out.write(BsdfSample {
             wi,
             f: self.reflectance.eval(lambda, ctx.uv) * FRAC_1_PI,

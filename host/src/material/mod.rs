@@ -216,7 +216,7 @@ pub trait Material: Send + Sync + Debug {
     /// every point of its surface and for every pair of directions (a grey reflectance, a
     /// constant IOR), and never shifts wavelengths: a path through it carries the same
     /// throughput in every lane, so its colour can be integrated exactly
-    /// (`integrator::flat_colour`). Materials that do not scatter at all (emitters) count as
+    /// (`integrator::wavelengths::flat_colour`). Materials that do not scatter at all (emitters) count as
     /// flat. The default is `false`, which is always safe (plugins keep it).
     fn spectrally_flat(&self) -> bool {
         false
@@ -289,6 +289,22 @@ pub fn sample_cosine_hemisphere(u: Vec2) -> Vec3A {
     let d = sample_concentric_disk(u);
     let z = (1.0 - d.x * d.x - d.y * d.y).max(0.0).sqrt();
     Vec3A::new(d.x, d.y, z)
+}
+
+/// A direction `wi` from the cosine lobe on `wo`'s side of the surface (shading frame) and its
+/// density `|cos θ|/π` (1/sr): the sampling of every diffuse lobe. `None` for a grazing `wo`
+/// or a zero density.
+#[inline]
+pub fn sample_cosine_lobe(wo: Vec3A, u: Vec2) -> Option<(Vec3A, f32)> {
+    if wo.z == 0.0 {
+        return None;
+    }
+    let mut wi = sample_cosine_hemisphere(u);
+    if wo.z < 0.0 {
+        wi.z = -wi.z;
+    }
+    let pdf = wi.z.abs() * std::f32::consts::FRAC_1_PI;
+    (pdf != 0.0).then_some((wi, pdf))
 }
 
 /// Uniform point on the unit disk with low distortion (Shirley & Chiu 1997).

@@ -75,6 +75,13 @@ struct PluginsOnly {
 /// The `plugins` list of the scene file at `scene` (empty when it has none); an error names the
 /// file and what is wrong.
 pub fn scene_plugins(scene: &Path) -> Result<Vec<ScenePlugin>, String> {
+    // A Mitsuba 3 XML scene (read by `scene::mitsuba`) names no spectrace libraries.
+    if scene
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("xml"))
+    {
+        return Ok(Vec::new());
+    }
     let text = std::fs::read_to_string(scene)
         .map_err(|e| format!("{}: cannot read: {e}", scene.display()))?;
     let parsed: PluginsOnly = ron::Options::default()

@@ -33,10 +33,10 @@
 
 use crate::film::Sensor;
 use crate::geometry::{spawn_ray, spawn_ray_to};
-use crate::integrator::light_subpath::{generate_light_subpath, LightStart};
-use crate::integrator::path::power_heuristic;
-use crate::integrator::vertex::Vertex;
-use crate::integrator::xyz_weights::XyzWeights;
+use crate::integrator::mis::power_heuristic;
+use crate::integrator::subpath::light_subpath::{generate_light_subpath, LightStart};
+use crate::integrator::subpath::vertex::Vertex;
+use crate::integrator::wavelengths::xyz_weights::XyzWeights;
 use crate::integrator::{IntegratorKind, PathStats, PathTracer, PixelSampler, SampleRng};
 use crate::light::{LightFlags, LightSampleContext};
 use crate::material::{sample_cosine_hemisphere, Frame, MaterialFlags, ShadingContext};
@@ -507,7 +507,7 @@ fn light_tracing(
                         &mut stats,
                         // Deposits are weighed at the path's own wavelengths, so light paths
                         // for sensors do not shift them (fluorescent surfaces reflect only).
-                        crate::integrator::random_walk::WalkShift::Off,
+                        crate::integrator::subpath::random_walk::WalkShift::Off,
                     ) {
                         deposit(scene, &path, sp, &lambda, photo, &mut cur, &mut stats);
                     }

@@ -8,7 +8,8 @@
 //! and the estimate becomes the mean over the live lanes only (for the hero alone:
 //! `L(λ₀)/pdf(λ₀)`, i.e. the hero's pdf becomes the single-lane pdf).
 
-use super::LANES;
+/// Number of wavelengths traced together along one path.
+pub const LANES: usize = 4;
 
 /// A set of live lanes, one bit per lane (bit `i` = lane `i`; lane 0 is the hero).
 /// `#[repr(transparent)]`: one byte, the plugin interface's live-lane bits (`plugin::layout`).

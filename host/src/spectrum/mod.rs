@@ -24,7 +24,6 @@ pub mod reradiation;
 pub mod sampled;
 pub mod spd;
 pub mod spec;
-pub mod sum_spd;
 pub mod tabulated_spd;
 pub mod tabulation;
 pub mod wavelength_sampling;

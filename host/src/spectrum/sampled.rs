@@ -4,11 +4,9 @@
 //! range, so one path estimates several wavelengths at once (Wilkie et al. 2014). Each lane keeps
 //! its own pdf (1/nm) so estimators divide by the density the wavelength was actually drawn with.
 
+pub use super::lane_mask::LANES;
 use super::LaneMask;
 use std::ops::{Add, AddAssign, Div, Index, IndexMut, Mul, MulAssign, Sub};
-
-/// Number of wavelengths traced together along one path.
-pub const LANES: usize = 4;
 
 /// One value per traced wavelength: radiance, throughput, reflectance … (unit depends on use).
 #[derive(Clone, Copy, Debug, PartialEq, Default)]

@@ -1,5 +1,5 @@
 //! A wavelength-sampling table made from any non-negative density on a wavelength range: the
-//! path tracer's observer × emission importance ([`crate::integrator::wavelength_groups`]).
+//! path tracer's observer × emission importance ([`crate::integrator::wavelengths::groups`]).
 //!
 //! Like the visible-importance table of [`super::wavelength_sampling`], it is a piecewise-constant
 //! density on [`WAVELENGTH_TABLE_SEGMENTS`] segments of equal probability: knot `k` is the

@@ -67,12 +67,10 @@
 //! cannot render them). A scene without evaluable lights has no emission to sample and falls
 //! back to visible-importance sampling.
 
-use super::wavelength_mixture::WavelengthMixture;
-use super::{PixelSampler, WavelengthSampling};
 use crate::effects::RenderPlan;
-use crate::spectrum::wavelength_sampling::{
-    rotated, VISIBLE_CENTRE, VISIBLE_RANGE, VISIBLE_SHARPNESS,
-};
+use crate::integrator::wavelengths::mixture::WavelengthMixture;
+use crate::integrator::{PixelSampler, WavelengthSampling};
+use crate::spectrum::wavelength_sampling::rotated;
 use crate::spectrum::wavelength_table::WavelengthTable;
 use crate::spectrum::{LaneMask, SampledWavelengths, LANES};
 
@@ -197,29 +195,6 @@ pub struct PathWavelengthSampler {
     /// The observer × emission table of [`WavelengthSampling::Product`] (then `sampling` is
     /// `Product`; where it does not apply, `sampling` is `Visible`).
     product: Option<WavelengthTable>,
-}
-
-/// Share of the visible-importance density in [`WavelengthSampling::Product`]'s mixture (the
-/// rest is visible importance × emission; see the module docs for how it was chosen).
-pub const PRODUCT_VISIBLE_SHARE: f64 = 0.25;
-
-/// The table of [`WavelengthSampling::Product`] for the emission component of `mixture`
-/// (which must have one): `(1 − s)·V·√p_emit/∫V·√p_emit + s·V/∫V` on [`VISIBLE_RANGE`],
-/// with `s` = [`PRODUCT_VISIBLE_SHARE`] and `V` the smooth visible-importance shape. An error
-/// when the lights emit nothing inside the visible range.
-pub fn product_table(mixture: &WavelengthMixture) -> Result<WavelengthTable, String> {
-    let visible = |l: f64| {
-        let c = (VISIBLE_SHARPNESS * (l - VISIBLE_CENTRE)).cosh();
-        1.0 / (c * c)
-    };
-    let product = |l: f64| visible(l) * mixture.emission_pdf(l).sqrt();
-    WavelengthTable::from_mixture(
-        VISIBLE_RANGE,
-        &[
-            (1.0 - PRODUCT_VISIBLE_SHARE, &product),
-            (PRODUCT_VISIBLE_SHARE, &visible),
-        ],
-    )
 }
 
 impl PathWavelengthSampler {
@@ -421,7 +396,7 @@ mod tests {
         let plan = RenderPlan::auto(&scene);
         let s = PathWavelengthSampler::new(&plan, WavelengthSampling::Product, 16, false).unwrap();
         assert_eq!(s.sampling(), WavelengthSampling::Product);
-        let table = product_table(plan.mixture()).unwrap();
+        let table = crate::integrator::wavelengths::mixture::product_table(plan.mixture()).unwrap();
         let n = 50_000u32;
         let mut sum = 0.0f64;
         for k in 0..n {

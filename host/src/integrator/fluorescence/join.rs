@@ -23,7 +23,7 @@
 //! light subpath splatted) is one strategy over both modes: the marginal density of its start
 //! wavelength is α·p_mix(λ) + (1 − α)·p_L(λ | light) ([`t1_wavelengths`]), which the splat
 //! divides by. The MIS weights of all of them are per lane, in
-//! [`super::fluorescent_mis::mis_weight_lanes`].
+//! [`crate::integrator::bdpt::fluorescent_mis::mis_weight_lanes`].
 //!
 //! Why α = ½: the two modes serve different lane paths (shared: the lanes that never shift,
 //! which are most of what a scene with a few fluorescent objects shows; own: the lanes that
@@ -31,10 +31,10 @@
 //! from both. With no knowledge of which matters more in a scene, ½ bounds the loss of either
 //! to a factor of 2 in its strategies' samples (docs/effects.md has the measurements).
 
-use super::fluorescence::Direction;
-use super::vertex::{geometry_term, unoccluded, Vertex, VertexKind};
-use super::wavelength_mixture::WavelengthMixture;
-use super::PathStats;
+use crate::integrator::fluorescence::events::Direction;
+use crate::integrator::subpath::vertex::{geometry_term, unoccluded, Vertex, VertexKind};
+use crate::integrator::wavelengths::mixture::WavelengthMixture;
+use crate::integrator::PathStats;
 use crate::material::TransportMode;
 use crate::scene::Scene;
 use crate::spectrum::reradiation::Reradiation;
@@ -171,7 +171,7 @@ pub fn evaluated_event_possible(a: f32, b: f32, lines: &[DeltaLine]) -> bool {
 
 /// `v.beta` without the weight of the keep/shift choice its subpath made on arrival (at
 /// `arrive`, leaving at `after`): that weight is value/probability of the event (ρ or r over
-/// [`Vertex::choice`]), see [`super::fluorescence::shift_lanes_recorded`]. Lanes whose choice
+/// [`Vertex::choice`]), see [`crate::integrator::fluorescence::events::shift_lanes_recorded`]. Lanes whose choice
 /// weighed 0 (nothing arrives there, or the draw failed) give 0.
 fn before_event(
     rr: &dyn Reradiation,

@@ -26,7 +26,7 @@
 //! ([`shift_lanes_recorded`], [`event_probability`]): its MIS weights are per lane.
 
 use crate::material::{
-    same_hemisphere, sample_cosine_hemisphere, BsdfSample, Material, MaterialFlags, ShadingContext,
+    same_hemisphere, sample_cosine_lobe, BsdfSample, Material, MaterialFlags, ShadingContext,
     TransportMode,
 };
 use crate::spectrum::reradiation::Reradiation;
@@ -61,17 +61,7 @@ impl Material for UnitLobe {
         _mode: TransportMode,
         out: &'a mut BsdfSample,
     ) -> Option<&'a BsdfSample> {
-        if wo.z == 0.0 {
-            return None;
-        }
-        let mut wi = sample_cosine_hemisphere(u);
-        if wo.z < 0.0 {
-            wi.z = -wi.z;
-        }
-        let pdf = wi.z.abs() * FRAC_1_PI;
-        if pdf == 0.0 {
-            return None;
-        }
+        let (wi, pdf) = sample_cosine_lobe(wo, u)?;
         Some(out.write(BsdfSample {
             wi,
             f: SampledSpectrum::splat(FRAC_1_PI),

@@ -36,8 +36,8 @@
 //! | `S` | the light's SPD resampled at 1 nm (as the light itself evaluates it) | emitter shape |
 //! | `P` | probability | `∫_{S>0} p(λ) dλ` over 300–1100 nm, midpoint rule at 0.1 nm (lines excluded: lanes on them have pdf 0) |
 
-use super::vertex::{Vertex, VertexKind};
 use crate::color::observer::Observer;
+use crate::integrator::subpath::vertex::{Vertex, VertexKind};
 use crate::material::dense::DenseSpectrum;
 use crate::scene::Scene;
 use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths, LANES};
@@ -67,7 +67,7 @@ pub struct FlatColour {
 
 impl FlatColour {
     /// The flat objects and emitters of `scene` under `observer`, for lanes drawn with the
-    /// wavelength density `density` (1/nm; e.g. [`WavelengthMixture::pdf`](super::wavelength_mixture::WavelengthMixture::pdf)); `None` when no
+    /// wavelength density `density` (1/nm; e.g. [`WavelengthMixture::pdf`](crate::integrator::wavelengths::mixture::WavelengthMixture::pdf)); `None` when no
     /// light qualifies (nothing to gain).
     pub fn new(
         scene: &Scene,
@@ -212,8 +212,8 @@ fn integrate(shape: &DenseSpectrum, observer: &dyn Observer) -> [f64; 3] {
 mod tests {
     use super::*;
     use crate::film::Sensor;
-    use crate::integrator::wavelength_mixture::WavelengthMixture;
-    use crate::integrator::xyz_weights::XyzWeights;
+    use crate::integrator::wavelengths::mixture::WavelengthMixture;
+    use crate::integrator::wavelengths::xyz_weights::XyzWeights;
     use crate::integrator::SampleRng;
     use crate::scene::{build_scene, parse_scene_str, BuiltinFactory};
     use std::path::Path;
@@ -232,7 +232,7 @@ mod tests {
     /// same number whatever the wavelengths, up to float rounding (1e-5 relative).
     #[test]
     fn exact_colour_is_the_mean_of_the_lane_estimate() {
-        let s = scene(include_str!("../../../scenes/caustic.ron"));
+        let s = scene(include_str!("../../../../scenes/caustic.ron"));
         let mixture = WavelengthMixture::new(&s);
         let fc = FlatColour::new(&s, s.observer.as_ref(), &|l| mixture.pdf(l))
             .expect("D65 lamp qualifies");
@@ -278,7 +278,7 @@ mod tests {
     /// nothing), and a dispersive glass (not). Exact booleans.
     #[test]
     fn flat_surfaces() {
-        let text = include_str!("../../../scenes/caustic.ron");
+        let text = include_str!("../../../../scenes/caustic.ron");
         let s = scene(text);
         let m = WavelengthMixture::new(&s);
         let fc = FlatColour::new(&s, s.observer.as_ref(), &|l| m.pdf(l)).unwrap();

@@ -3,14 +3,14 @@
 //! direction and wavelength), carried at its single wavelength and light traced. BDPT and light
 //! tracing both use it, with weight 1, since no other strategy can reach those lights.
 
-use super::camera_connection::{connect_to_camera, SplatFn};
-use super::random_walk::{random_walk, WalkShift};
-use super::vertex::Vertex;
-use super::{PathStats, SampleRng};
 use crate::camera::Camera;
 use crate::film::spectral_film::LaneEnergies;
 use crate::film::Sensor;
 use crate::geometry::Ray;
+use crate::integrator::subpath::camera_connection::{connect_to_camera, SplatFn};
+use crate::integrator::subpath::random_walk::{random_walk, WalkShift};
+use crate::integrator::subpath::vertex::Vertex;
+use crate::integrator::{PathStats, SampleRng};
 use crate::material::TransportMode;
 use crate::scene::Scene;
 use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths, LANES};

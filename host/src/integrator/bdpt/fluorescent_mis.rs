@@ -1,6 +1,6 @@
 //! bdpt's MIS weights in a scene that renders fluorescence: per lane, because each lane of a
 //! subpath keeps or shifts its wavelength on its own at a fluorescent vertex (as in pt and lt,
-//! [`super::fluorescence`]), so the lanes of one connection are different paths in the
+//! [`crate::integrator::fluorescence::events`]), so the lanes of one connection are different paths in the
 //! wavelength-extended path space.
 //!
 //! A lane path x₀ … x_{n−1} (light to camera) carries a wavelength on each edge; at a
@@ -15,7 +15,7 @@
 //!   the other); at a vertex whose event a connection evaluated (below) both are computed
 //!   afresh ([`event_probability`]) for the wavelengths the lane path has there,
 //! - the density of the wavelengths the strategy drew at its ends (the pair's mode, see
-//!   [`super::fluorescent_join`]):
+//!   [`crate::integrator::fluorescence::join`]):
 //!   - s = 0, s = 1: the pair's mixture density p_mix(λ_obs) at the observed wavelength;
 //!   - t = 1: α·p_mix(λ_emit) + (1 − α)·p_L(λ_emit | light of x₀), both modes together;
 //!   - s ≥ 2, t ≥ 2, shared mode: α·p_mix(λ_obs), only for lanes that never shift
@@ -23,13 +23,13 @@
 //!   - s ≥ 2, t ≥ 2, own mode: (1 − α)·p_mix(λ_obs)·p_L(λ_emit | light), without the event
 //!     probability of the evaluated vertex (x_s if fluorescent, else x_{s−1} if fluorescent),
 //!     only where that evaluation can be non-zero
-//!     ([`super::fluorescent_join::evaluated_event_possible`]); with no fluorescent endpoint
+//!     ([`crate::integrator::fluorescence::join::evaluated_event_possible`]); with no fluorescent endpoint
 //!     only for a lane on a delta line at the connection (discrete × discrete).
 //!
 //! The area parts are the same for every lane; they are taken relative to this strategy's as
-//! in [`super::bdpt::mis_weight`] (the same overrides of the densities at the joined vertices,
+//! in [`super::mis::mis_weight`] (the same overrides of the densities at the joined vertices,
 //! the same scale of the light-tracing strategy's density,
-//! [`super::bdpt::LIGHT_TRACING_MIS_SCALE`]). The event parts are products over the vertices
+//! [`super::mis::LIGHT_TRACING_MIS_SCALE`]). The event parts are products over the vertices
 //! (prefix products on the light side, suffix products on the camera side), so an event
 //! probability of 0 on one side needs no division.
 //!
@@ -38,12 +38,12 @@
 //! event's, after which only the hero lane is left (`Vertex::lanes`), and a fluorescent
 //! surface samples the cosine lobe whatever the wavelength.
 
-use super::bdpt::{heuristic_scale, mis_weight_overrides};
-use super::fluorescence::{event_probability, Direction};
-use super::fluorescent_join::{evaluated_event_possible, reradiation_at, LightMode};
-use super::vertex::{remap0, Vertex};
-use super::wavelength_mixture::WavelengthMixture;
+use super::mis::{heuristic_scale, mis_weight_overrides};
 use crate::camera::Camera;
+use crate::integrator::fluorescence::events::{event_probability, Direction};
+use crate::integrator::fluorescence::join::{evaluated_event_possible, reradiation_at, LightMode};
+use crate::integrator::subpath::vertex::{remap0, Vertex};
+use crate::integrator::wavelengths::mixture::WavelengthMixture;
 use crate::scene::Scene;
 use crate::spectrum::spd::is_line_lane;
 use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths, LANES};
@@ -59,7 +59,7 @@ thread_local! {
 
 /// Per-lane power-heuristic weight of strategy (s, t) for the lane paths it produced, relative
 /// to every strategy that can make the same lane path (module docs). `sampled` as for
-/// [`super::bdpt::mis_weight`]; `lambda` is the pair's wavelengths, `mode` how the light
+/// [`super::mis::mis_weight`]; `lambda` is the pair's wavelengths, `mode` how the light
 /// subpath started. Only the lanes in `need` are weighed (the others get 0: the connection
 /// gives them nothing).
 #[allow(clippy::too_many_arguments)]
@@ -374,10 +374,10 @@ thread_local! {
 mod tests {
     use super::*;
     use crate::camera::CameraSample;
-    use crate::integrator::fluorescence::{event_probability, Direction};
-    use crate::integrator::fluorescent_join::LightMode;
-    use crate::integrator::random_walk::generate_camera_subpath;
-    use crate::integrator::vertex::VertexKind;
+    use crate::integrator::fluorescence::events::{event_probability, Direction};
+    use crate::integrator::fluorescence::join::LightMode;
+    use crate::integrator::subpath::random_walk::generate_camera_subpath;
+    use crate::integrator::subpath::vertex::VertexKind;
     use crate::integrator::{PathStats, SampleRng};
     use crate::material::TransportMode;
     use crate::scene::{build_scene, parse_scene_str, BuiltinFactory};

@@ -16,7 +16,7 @@
 //!   chain with a reflection (the lamp seen *reflected* on a glass ball, any mirror) is never
 //!   seeded: the straight segment to a reflected image does not meet the reflector, and a
 //!   mirror it does cross has the two ends on its two sides. Seeds for those come from the
-//!   shapes themselves (`integrator::specular_seeds`, [`Chain::template`]). The solve itself
+//!   shapes themselves (`integrator::connect::specular_seeds`, [`Chain::template`]). The solve itself
 //!   handles reflections (tested below with a hand-made seed).
 //! - Solve ([`solve`]): each step solves the block-tridiagonal linear system of the
 //!   constraints' derivatives for the vertex offsets (2k unknowns, dense elimination), moves

@@ -6,9 +6,9 @@
 //! Densities are in area measure (1/m², scene units) except where noted; `delta` marks vertices
 //! scattered by a Dirac lobe (mirror, smooth glass), where no connection can be made.
 
-use super::fluorescence::UNIT_LOBE;
 use crate::camera::Camera;
 use crate::geometry::{spawn_ray_to, Ray};
+use crate::integrator::fluorescence::events::UNIT_LOBE;
 use crate::light::{Light, LightFlags};
 use crate::material::{Frame, Material, ShadingContext, TransportMode};
 use crate::scene::Scene;
@@ -495,8 +495,8 @@ pub fn light_of<'a>(scene: &'a Scene, v: &Vertex) -> Option<&'a dyn Light> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::test_support::for_each_camera_subpath;
     use super::*;
+    use crate::integrator::test_support::for_each_camera_subpath;
     use glam::Vec2;
 
     // A connection through a vertex that holds its sampled value (`sampled_f`) gets what the

@@ -1,7 +1,7 @@
 //! The wavelengths of a camera/light path pair (BDPT and light tracing) in fluorescent and
 //! narrowband scenes and under `--wavelength-sampling visible`, drawn from
 //! [`WavelengthMixture`] (elsewhere the pair draws from the observer × √emission table, see
-//! [`super::pair_wavelengths`]); the path tracer's light-SPD sampling and the render plan's
+//! [`crate::integrator::wavelengths::pairs`]); the path tracer's light-SPD sampling and the render plan's
 //! narrowband mixture use it too.
 //!
 //!
@@ -21,11 +21,14 @@
 //! finds all emission narrowband (and no fluorescence), the emission component is drawn
 //! with probability 1 instead of ½ ([`WavelengthMixture::emission_only`]).
 
-use super::SampleRng;
+use crate::integrator::SampleRng;
 use crate::light::LightFlags;
 use crate::scene::Scene;
 use crate::spectrum::spd::{is_line_lane, line_mass_at_lane, off_lines};
-use crate::spectrum::wavelength_sampling::{rotated, visible_pdf, visible_sample};
+use crate::spectrum::wavelength_sampling::{
+    rotated, visible_pdf, visible_sample, VISIBLE_CENTRE, VISIBLE_RANGE, VISIBLE_SHARPNESS,
+};
+use crate::spectrum::wavelength_table::WavelengthTable;
 use crate::spectrum::{DeltaLine, LaneMask, SampledWavelengths, Spd, LANES};
 use std::sync::Arc;
 
@@ -299,6 +302,29 @@ impl WavelengthMixture {
         let spd = emission.then(|| self.pick_spd(u_spd));
         self.lanes(u, spd, w, |l| self.pdf(l))
     }
+}
+
+/// Share of the visible-importance density in [`WavelengthSampling::Product`](crate::integrator::WavelengthSampling::Product)'s mixture (the
+/// rest is visible importance × emission; see [`super::groups`] for how it was chosen).
+pub const PRODUCT_VISIBLE_SHARE: f64 = 0.25;
+
+/// The table of [`WavelengthSampling::Product`](crate::integrator::WavelengthSampling::Product) for the emission component of `mixture`
+/// (which must have one): `(1 − s)·V·√p_emit/∫V·√p_emit + s·V/∫V` on [`VISIBLE_RANGE`],
+/// with `s` = [`PRODUCT_VISIBLE_SHARE`] and `V` the smooth visible-importance shape. An error
+/// when the lights emit nothing inside the visible range.
+pub fn product_table(mixture: &WavelengthMixture) -> Result<WavelengthTable, String> {
+    let visible = |l: f64| {
+        let c = (VISIBLE_SHARPNESS * (l - VISIBLE_CENTRE)).cosh();
+        1.0 / (c * c)
+    };
+    let product = |l: f64| visible(l) * mixture.emission_pdf(l).sqrt();
+    WavelengthTable::from_mixture(
+        VISIBLE_RANGE,
+        &[
+            (1.0 - PRODUCT_VISIBLE_SHARE, &product),
+            (PRODUCT_VISIBLE_SHARE, &visible),
+        ],
+    )
 }
 
 #[cfg(test)]

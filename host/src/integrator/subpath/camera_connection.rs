@@ -1,9 +1,9 @@
 //! The t = 1 connection: a light-subpath vertex joined to a freshly sampled lens point, the
 //! contribution landing on whatever pixel that point projects to (BDPT and light tracing).
 
-use super::vertex::{unoccluded, Vertex};
-use super::PathStats;
 use crate::camera::Camera;
+use crate::integrator::subpath::vertex::{unoccluded, Vertex};
+use crate::integrator::PathStats;
 use crate::material::TransportMode;
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};

@@ -2,11 +2,11 @@
 //! Russian roulette, the forward/reverse area densities MIS needs), and the camera subpath
 //! built from it.
 
-use super::fluorescence::{self, Direction, UNIT_LOBE};
-use super::vertex::{SampledFor, Vertex, VertexKind, ZERO_LANES};
-use super::{PathStats, SampleRng};
 use crate::camera::Camera;
 use crate::geometry::{spawn_ray, Ray};
+use crate::integrator::fluorescence::events::{self as fluorescence, Direction, UNIT_LOBE};
+use crate::integrator::subpath::vertex::{SampledFor, Vertex, VertexKind, ZERO_LANES};
+use crate::integrator::{PathStats, SampleRng};
 use crate::material::{BsdfSample, Frame, Material, MaterialFlags, ShadingContext, TransportMode};
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, LANES};
@@ -19,7 +19,7 @@ fn flip(mode: TransportMode) -> TransportMode {
     }
 }
 
-/// What a walk does at a fluorescent surface (see [`super::fluorescence`]); nothing unless the
+/// What a walk does at a fluorescent surface (see [`crate::integrator::fluorescence::events`]); nothing unless the
 /// scene renders fluorescence.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum WalkShift {
@@ -198,7 +198,7 @@ pub fn random_walk(
         if bs.flags.contains(MaterialFlags::DISPERSIVE) {
             lanes = lanes.terminate_secondary();
         }
-        let correction = super::vertex::shading_normal_correction(
+        let correction = crate::integrator::subpath::vertex::shading_normal_correction(
             hit.geometric_normal,
             hit.shading_normal,
             wo_world,

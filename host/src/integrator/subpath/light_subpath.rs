@@ -1,10 +1,10 @@
 //! The light subpath: a light chosen by power, an emitted ray, then the random walk in
 //! importance mode (BDPT and light tracing).
 
-use super::random_walk::{random_walk, WalkShift};
-use super::vertex::Vertex;
-use super::wavelength_mixture::WavelengthMixture;
-use super::{PathStats, SampleRng};
+use crate::integrator::subpath::random_walk::{random_walk, WalkShift};
+use crate::integrator::subpath::vertex::Vertex;
+use crate::integrator::wavelengths::mixture::WavelengthMixture;
+use crate::integrator::{PathStats, SampleRng};
 use crate::light::LightFlags;
 use crate::material::TransportMode;
 use crate::scene::Scene;

@@ -1,5 +1,5 @@
 //! Deterministic seed chains for specular-chain solves whose straight segment gives no seed
-//! (`integrator::specular_chain::seed_chain` covers only refractions the segment `x0 → y`
+//! (`integrator::connect::specular_chain::seed_chain` covers only refractions the segment `x0 → y`
 //! crosses): a reflection off a glass ball or a mirror, and the lamp seen *through* a ball
 //! from a point beside it. Each smooth specular object gets a few seeds from its shape alone:
 //!
@@ -38,10 +38,10 @@
 //! | `THROUGH_BISECTIONS`    | 10                        | bisection steps per sign change          |
 //! | `FOLD_STEPS`            | 12                        | golden-section steps at a fold           |
 
-use super::specular_chain::{
+use crate::geometry::WorldShape;
+use crate::integrator::connect::specular_chain::{
     same_chain, solve, trace_chain, Chain, Endpoint, Lobe, Solved, MAX_CHAIN_VERTICES,
 };
-use crate::geometry::WorldShape;
 use crate::material::{MaterialFlags, ShadingContext, TransportMode};
 use crate::scene::Scene;
 use crate::spectrum::SampledWavelengths;

@@ -4,7 +4,7 @@
 //! of refractions, the only ordinary strategy is `s = 0` (a camera path that happens to hit
 //! the light through the glass: a rare event for a small light). This strategy samples a point
 //! `y` on an area light by area, seeds the chain with the surfaces the straight segment
-//! `D → y` crosses, solves it (`integrator::specular_chain`) and checks the last segment's
+//! `D → y` crosses, solves it (`integrator::connect::specular_chain`) and checks the last segment's
 //! visibility; its contribution is
 //!
 //! `β_D · f_D · |cos θ_D| · Π(R or T/η²) · L_e(y → x_k) · |dω0/dA_y| / p(y)`
@@ -22,7 +22,7 @@
 //! unbiased.
 //!
 //! Seeds: the refractions the straight segment `D → y` crosses, one reflection per smooth
-//! specular object (`integrator::specular_seeds`: the bisector point of a round shape, the
+//! specular object (`integrator::connect::specular_seeds`: the bisector point of a round shape, the
 //! mirror image through a quad; the lamp reflected by a glass ball onto `D`), and the `T T`
 //! chains through every transmitting round shape found in closed form in the plane of `D`,
 //! its centre and `y` (a ball lens joins a point near its focus to a light by up to three
@@ -35,15 +35,17 @@
 //! (left to `s = 0` and the other strategies): other chains with reflections (`T R T`, `T R R T`
 //! from `D`), other solutions of refraction chains through more than one object, rough
 //! glass, longer chains, paths the solve does not converge for, `D` seen directly (light
-//! tracing makes those well), the camera itself as `D` (`integrator::camera_chain`), and
+//! tracing makes those well), the camera itself as `D` (`integrator::connect::camera_chain`), and
 //! scenes that render fluorescence.
 
-use super::specular_chain::{seed_chain, solve, Chain, Endpoint, Solved, MAX_CHAIN_VERTICES};
-use super::specular_seeds::{SolutionSet, SpecularShapes};
-use super::vertex::{Vertex, VertexKind};
-use super::PathStats;
 use crate::camera::Camera;
 use crate::geometry::spawn_ray_to;
+use crate::integrator::connect::specular_chain::{
+    seed_chain, solve, Chain, Endpoint, Solved, MAX_CHAIN_VERTICES,
+};
+use crate::integrator::connect::specular_seeds::{SolutionSet, SpecularShapes};
+use crate::integrator::subpath::vertex::{Vertex, VertexKind};
+use crate::integrator::PathStats;
 use crate::material::TransportMode;
 use crate::scene::Scene;
 use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths};
@@ -156,7 +158,7 @@ pub fn connect_manifold(
 }
 
 /// The seeds of the connection: the straight segment's refractions, and with `shapes` the
-/// reflection seeds of every smooth specular object (`integrator::specular_seeds`); `set`
+/// reflection seeds of every smooth specular object (`integrator::connect::specular_seeds`); `set`
 /// holds the distinct solutions of one `(D, y)`.
 pub struct Seeds<'a> {
     /// The scene's specular shapes, for the reflection seeds (`None`: straight segment only).
@@ -371,7 +373,7 @@ pub fn s0_weight(
 mod tests {
     use super::*;
     use crate::camera::CameraSample;
-    use crate::integrator::specular_chain::{trace_chain, Lobe};
+    use crate::integrator::connect::specular_chain::{trace_chain, Lobe};
     use crate::integrator::test_support::for_each_camera_subpath;
     use crate::scene::{build_scene, parse_scene_str, BuiltinFactory};
     use std::path::Path;
@@ -379,7 +381,7 @@ mod tests {
     /// The caustic scene as shipped (source: scenes/caustic.ron) with a 0.8 m lamp, so that
     /// camera paths through the ball hit it often.
     fn big_lamp_caustic() -> Scene {
-        let text = include_str!("../../../scenes/caustic.ron").replace(
+        let text = include_str!("../../../../scenes/caustic.ron").replace(
             "corner: (-0.025, 2.6, -0.025), edge0: (0.05, 0, 0), edge1: (0, 0, 0.05)",
             "corner: (-0.4, 2.6, -0.4), edge0: (0.8, 0, 0), edge1: (0, 0, 0.8)",
         );
@@ -390,7 +392,7 @@ mod tests {
 
     /// The caustic scene as shipped (source: scenes/caustic.ron).
     fn caustic() -> Scene {
-        let text = include_str!("../../../scenes/caustic.ron");
+        let text = include_str!("../../../../scenes/caustic.ron");
         let file = Path::new("caustic.ron");
         let desc = parse_scene_str(text, file).unwrap();
         build_scene(&desc, Path::new("."), file, &[&BuiltinFactory]).unwrap()

@@ -2,8 +2,8 @@
 //! (a small lamp seen reflected in, or refracted through, a glass ball), which otherwise only
 //! `s = 0` makes (a camera ray that happens to reach the lamp's tiny image: a rare event).
 //! This strategy samples a point `y` on an area light by area, solves every chain of the
-//! deterministic seed set from the pinhole `c` to `y` (`integrator::specular_seeds`, solve in
-//! `integrator::specular_chain`), keeps each distinct solution once, checks the last segment's
+//! deterministic seed set from the pinhole `c` to `y` (`integrator::connect::specular_seeds`, solve in
+//! `integrator::connect::specular_chain`), keeps each distinct solution once, checks the last segment's
 //! visibility and splats each solution at the raster position of its first direction `ω0`,
 //! like the `t = 1` connection. Its contribution, per camera sample,
 //!
@@ -33,13 +33,13 @@
 //! |---------------------|-------|------------------------------------------------------------|
 //! | `CAMERA_CHAIN_RATE` | 1/256 | probability that a camera sample runs the strategy         |
 
-use super::manifold_connection::{LightPoint, ManifoldSample};
-use super::specular_chain::{Endpoint, Solved, MAX_CHAIN_VERTICES};
-use super::specular_seeds::{ScanTable, SolutionSet, SpecularShapes};
-use super::vertex::{Vertex, VertexKind};
-use super::PathStats;
 use crate::camera::Camera;
 use crate::geometry::{spawn_ray_to, Ray};
+use crate::integrator::connect::manifold_connection::{LightPoint, ManifoldSample};
+use crate::integrator::connect::specular_chain::{Endpoint, Solved, MAX_CHAIN_VERTICES};
+use crate::integrator::connect::specular_seeds::{ScanTable, SolutionSet, SpecularShapes};
+use crate::integrator::subpath::vertex::{Vertex, VertexKind};
+use crate::integrator::PathStats;
 use crate::scene::Scene;
 use crate::spectrum::{LaneMask, SampledWavelengths};
 use glam::{Vec2, Vec3A};
@@ -318,9 +318,9 @@ impl CameraChain {
 mod tests {
     use super::*;
     use crate::camera::CameraSample;
-    use crate::integrator::random_walk::generate_camera_subpath;
-    use crate::integrator::specular_chain::solve;
-    use crate::integrator::wavelength_mixture::WavelengthMixture;
+    use crate::integrator::connect::specular_chain::solve;
+    use crate::integrator::subpath::random_walk::generate_camera_subpath;
+    use crate::integrator::wavelengths::mixture::WavelengthMixture;
     use crate::integrator::SampleRng;
     use crate::scene::{build_scene, parse_scene_str, BuiltinFactory};
     use glam::DVec3;
@@ -328,7 +328,7 @@ mod tests {
 
     /// The caustic scene as shipped (source: scenes/caustic.ron).
     fn caustic() -> Scene {
-        let text = include_str!("../../../scenes/caustic.ron");
+        let text = include_str!("../../../../scenes/caustic.ron");
         let file = Path::new("caustic.ron");
         let desc = parse_scene_str(text, file).unwrap();
         build_scene(&desc, Path::new("."), file, &[&BuiltinFactory]).unwrap()

@@ -7,11 +7,11 @@
 //!
 //! - [`PairWavelengths::Product`] (`--wavelength-sampling product`, the default where it
 //!   applies): the path tracer's observer × √emission table
-//!   ([`product_table`](super::wavelength_groups::product_table),
+//!   ([`product_table`](crate::integrator::wavelengths::mixture::product_table),
 //!   `¾·V·√p_emit/∫V·√p_emit + ¼·V/∫V`). It applies without
 //!   fluorescence (a fluorescent scene's light subpaths may start at their own light's
 //!   wavelengths, and its per-lane MIS weights read the mixture's lane densities: see
-//!   `integrator/fluorescent_join.rs`), where no light is narrowband or has lines (the scene
+//!   `integrator/fluorescence/join.rs`), where no light is narrowband or has lines (the scene
 //!   analysis; there the plan's mixture draws from the lights' spectra) and where some light
 //!   has an evaluable spectrum. These are the scene's properties, not the render plan's
 //!   switches: under `--effects all` bdpt and lt render a scene without those effects as under
@@ -25,12 +25,12 @@
 //!   bit for bit the same).
 //!
 //! The lanes' pdfs are what the film divides by; the flat-path colour
-//! ([`FlatColour`](super::flat_colour::FlatColour)) needs the same density for its usable
+//! ([`FlatColour`](crate::integrator::wavelengths::flat_colour::FlatColour)) needs the same density for its usable
 //! probability, so it is built from [`PairWavelengths::pdf`].
 
-use super::wavelength_mixture::WavelengthMixture;
-use super::{PixelSampler, WavelengthSampling};
 use crate::effects::{Effect, RenderPlan};
+use crate::integrator::wavelengths::mixture::WavelengthMixture;
+use crate::integrator::{PixelSampler, WavelengthSampling};
 use crate::scene::Scene;
 use crate::spectrum::wavelength_sampling::VISIBLE_RANGE;
 use crate::spectrum::wavelength_table::WavelengthTable;

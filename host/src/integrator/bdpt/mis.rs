@@ -1,0 +1,243 @@
+//! The multiple-importance weights of bidirectional path tracing: the power heuristic over the
+//! strategies (s, t) that can make a path (Veach 1997, §10.2), the reverse densities a
+//! connection gives its joined vertices ([`Overrides`]), and the scale of the light-tracing
+//! strategy ([`LIGHT_TRACING_MIS_SCALE`]). [`super::fluorescent_mis`] builds the per-lane
+//! weights of fluorescent connections from the same parts.
+
+use crate::camera::Camera;
+use crate::integrator::subpath::vertex::{remap0, Vertex};
+use crate::material::TransportMode;
+use crate::scene::Scene;
+use crate::spectrum::SampledWavelengths;
+
+/// The joined vertices of strategy (s, t) and the reverse densities the connection gives
+/// them (area measure, 1/m²), for [`mis_weight_lanes`](super::fluorescent_mis::mis_weight_lanes): the same computation as the start of
+/// [`mis_weight`], which keeps its own inline copy (a call returning two vertex copies cost
+/// the scalar weight 15% more instructions).
+pub struct Overrides {
+    /// The camera-side endpoint (the sampled lens vertex for t = 1), as a copy.
+    pub pt: Vertex,
+    /// The light-side endpoint (the sampled light vertex for s = 1, t ≥ 2), if s ≥ 1.
+    pub qs: Option<Vertex>,
+    /// Density of `pt` sampled from the light side.
+    pub pt_rev: f32,
+    /// Density of the vertex before `pt` sampled from the light side, if t ≥ 2.
+    pub pt_minus_rev: Option<f32>,
+    /// Density of `qs` sampled from the camera side.
+    pub qs_rev: Option<f32>,
+    /// Density of the vertex before `qs` sampled from the camera side, if s ≥ 2.
+    pub qs_minus_rev: Option<f32>,
+}
+
+/// [`Overrides`] of strategy (s, t); `sampled` as for [`mis_weight`].
+#[allow(clippy::too_many_arguments)]
+pub fn mis_weight_overrides(
+    scene: &Scene,
+    camera: &dyn Camera,
+    light_path: &[Vertex],
+    camera_path: &[Vertex],
+    sampled: Option<&Vertex>,
+    s: usize,
+    t: usize,
+    lambda: &SampledWavelengths,
+) -> Overrides {
+    // The (up to) four vertices whose reverse densities the connection changes, as copies.
+    let pt = match (t, sampled) {
+        (1, Some(v)) => *v,
+        _ => camera_path[t - 1],
+    };
+    let qs = if s == 0 {
+        None
+    } else if s == 1 && t > 1 {
+        sampled.copied()
+    } else {
+        Some(light_path[s - 1])
+    };
+    let pt_minus = if t >= 2 {
+        Some(&camera_path[t - 2])
+    } else {
+        None
+    };
+    let qs_minus = if s >= 2 {
+        Some(&light_path[s - 2])
+    } else {
+        None
+    };
+    use TransportMode::{Importance, Radiance};
+    let pt_rev = match &qs {
+        Some(q) => q.pdf(scene, camera, qs_minus, &pt, lambda, Importance),
+        None => pt_minus.map_or(0.0, |m| pt.pdf_light_origin(scene, m)),
+    };
+    let pt_minus_rev = pt_minus.map(|m| match &qs {
+        Some(q) => pt.pdf(scene, camera, Some(q), m, lambda, Importance),
+        None => pt.pdf_light(scene, m),
+    });
+    let qs_rev = qs
+        .as_ref()
+        .map(|q| pt.pdf(scene, camera, pt_minus, q, lambda, Radiance));
+    let qs_minus_rev = match (&qs, qs_minus) {
+        (Some(q), Some(m)) => Some(q.pdf(scene, camera, Some(&pt), m, lambda, Radiance)),
+        _ => None,
+    };
+    Overrides {
+        pt,
+        qs,
+        pt_rev,
+        pt_minus_rev,
+        qs_rev,
+        qs_minus_rev,
+    }
+}
+
+/// Power-heuristic weight of strategy (s, t) for the path it produced, relative to all other
+/// strategies that could have produced the same path (Veach 1997, §10.2), with t = 1's density
+/// scaled by [`LIGHT_TRACING_MIS_SCALE`]. `sampled` is the
+/// freshly sampled lens vertex (t = 1) or light vertex (s = 1, t ≥ 2).
+#[allow(clippy::too_many_arguments)]
+pub fn mis_weight(
+    scene: &Scene,
+    camera: &dyn Camera,
+    light_path: &[Vertex],
+    camera_path: &[Vertex],
+    sampled: Option<&Vertex>,
+    s: usize,
+    t: usize,
+    lambda: &SampledWavelengths,
+) -> f32 {
+    // The same overrides as [`mis_weight_overrides`], written out here on purpose: calling it
+    // (even `#[inline(always)]`, moving the `Overrides` with its two vertex copies) costs
+    // +2.0% of bdpt's instructions on the Cornell box (callgrind, 1 spp: 2.639 G → 2.690 G).
+    // Keep the two in step. Here the vertices are borrowed, not copied (nothing below changes
+    // them; the copies cost 0.4% of bdpt's instructions in `memcpy`).
+    // The (up to) four vertices whose reverse densities the connection changes.
+    let pt: &Vertex = match (t, sampled) {
+        (1, Some(v)) => v,
+        _ => &camera_path[t - 1],
+    };
+    let qs: Option<&Vertex> = if s == 0 {
+        None
+    } else if s == 1 && t > 1 {
+        sampled
+    } else {
+        Some(&light_path[s - 1])
+    };
+    let pt_minus = if t >= 2 {
+        Some(&camera_path[t - 2])
+    } else {
+        None
+    };
+    let qs_minus = if s >= 2 {
+        Some(&light_path[s - 2])
+    } else {
+        None
+    };
+    use TransportMode::{Importance, Radiance};
+    let pt_rev = match qs {
+        Some(q) => q.pdf(scene, camera, qs_minus, pt, lambda, Importance),
+        None => pt_minus.map_or(0.0, |m| pt.pdf_light_origin(scene, m)),
+    };
+    let pt_minus_rev = pt_minus.map(|m| match qs {
+        Some(q) => pt.pdf(scene, camera, Some(q), m, lambda, Importance),
+        None => pt.pdf_light(scene, m),
+    });
+    let qs_rev = qs.map(|q| pt.pdf(scene, camera, pt_minus, q, lambda, Radiance));
+    let qs_minus_rev = match (qs, qs_minus) {
+        (Some(q), Some(m)) => Some(q.pdf(scene, camera, Some(pt), m, lambda, Radiance)),
+        _ => None,
+    };
+    // (pdf_fwd, pdf_rev, delta) of camera vertex i and light vertex i after the overrides.
+    let cam = |i: usize| -> (f32, f32, bool) {
+        if i + 1 == t {
+            (pt.pdf_fwd, pt_rev, false)
+        } else if i + 2 == t {
+            let v = &camera_path[i];
+            (v.pdf_fwd, pt_minus_rev.unwrap_or(v.pdf_rev), v.delta)
+        } else {
+            let v = &camera_path[i];
+            (v.pdf_fwd, v.pdf_rev, v.delta)
+        }
+    };
+    let light_v = |i: usize| -> &Vertex {
+        if i + 1 == s {
+            qs.unwrap_or_else(|| &light_path[i])
+        } else {
+            &light_path[i]
+        }
+    };
+    let light = |i: usize| -> (f32, f32, bool) {
+        let v = light_v(i);
+        if i + 1 == s {
+            (v.pdf_fwd, qs_rev.unwrap_or(v.pdf_rev), false)
+        } else if i + 2 == s {
+            (v.pdf_fwd, qs_minus_rev.unwrap_or(v.pdf_rev), v.delta)
+        } else {
+            (v.pdf_fwd, v.pdf_rev, v.delta)
+        }
+    };
+    let sq = |x: f32| x * x;
+    // Strategies' squared densities relative to this one's, each times its heuristic scale.
+    let own_scale = heuristic_scale(t);
+    let mut sum = 0.0f32;
+    let mut ri = 1.0f32;
+    for i in (1..t).rev() {
+        let (fwd, rev, delta) = cam(i);
+        ri *= sq(remap0(rev) / remap0(fwd));
+        if !delta && !cam(i - 1).2 {
+            sum += ri * heuristic_scale(i) / own_scale;
+        }
+    }
+    ri = 1.0;
+    for i in (0..s).rev() {
+        let (fwd, rev, delta) = light(i);
+        ri *= sq(remap0(rev) / remap0(fwd));
+        let delta_before = if i > 0 {
+            light(i - 1).2
+        } else {
+            light_v(0).is_unhittable_light(scene)
+        };
+        if !delta && !delta_before {
+            // The alternative has t + (s − i) ≥ 2 camera vertices: scale 1.
+            sum += ri / own_scale;
+        }
+    }
+    let w = 1.0 / (1.0 + sum);
+    if w.is_finite() {
+        w
+    } else {
+        0.0
+    }
+}
+
+/// The light-tracing strategy's (t = 1) density in the power heuristic is counted as
+/// `LIGHT_TRACING_MIS_SCALE` times its value (its squared density as the square).
+///
+/// Why: the power heuristic weighs strategies by their densities alone and does not see that
+/// the camera-side strategies are stratified (each pixel's Sobol' points, one after the
+/// other) while the light subpaths' splats land in random pixels in random numbers. Where both
+/// reach a path with similar densities — the directly lit floor of the caustic scene, s = 2,
+/// t = 1 against s = 1, t = 2 — the t = 1 share had 117× the per-pixel variance
+/// (docs/performance.md, "The caustic"). Variance-aware MIS (Grittmann, Georgiev, Slusallek,
+/// Křivánek 2019) scales each technique's density by an estimate of its variance for this
+/// reason; a constant scale is its simplest form. Any positive scale keeps BDPT unbiased: every
+/// strategy's weight is computed with the same scaled densities, so the weights of the
+/// strategies that can make a path still sum to one. Where light tracing is the only
+/// practical strategy (caustics seen on a diffuse surface: L S…S D E, whose other strategy is a
+/// camera path that hits the light through the glass), its density exceeds the other's by
+/// orders of magnitude and a scale of ¼ leaves its weight near 1.
+///
+/// Measured on `scenes/caustic.ron`, BDPT 64 spp, 8 seeds, MSE against the reference
+/// (docs/performance.md): scales 1, ½, ¼, 0.1, 0.05 give caustic-region MSE 1.63, 0.63, 0.40,
+/// 0.39, 0.38 (×10⁻⁶) and rest 3.52, 1.83, 1.49, 1.46, 1.46 (×10⁻⁶), the caustic's core
+/// unchanged. ¼ takes nearly all of the gain and keeps more weight on light tracing for
+/// caustics of large lights, where the camera paths that hit the light are less rare.
+pub const LIGHT_TRACING_MIS_SCALE: f32 = 0.25;
+
+/// The factor of a strategy's squared density in the power heuristic, by its camera vertex
+/// count `t` (see [`LIGHT_TRACING_MIS_SCALE`]).
+pub fn heuristic_scale(t: usize) -> f32 {
+    if t == 1 {
+        LIGHT_TRACING_MIS_SCALE * LIGHT_TRACING_MIS_SCALE
+    } else {
+        1.0
+    }
+}
