@@ -146,8 +146,10 @@ pub const ZERO_LANES: [f32; LANES] = [0.0; LANES];
 /// each side of the specular vertex. Zeroing both densities (and mapping zero to one in the
 /// ratio, pbrt's `remap0`) drops those terms, so the ratio between, say, light tracing and a
 /// camera path that hits the light through a glass ball is off by `G(glass, light) /
-/// G(floor, glass)`: for a caustic on a floor a few centimetres from the ball and a lamp 0.8 m
-/// away, a factor of about 1/100, which handed the caustic to the far noisier `s = 0`.
+/// G(floor, glass)`: for the caustic of a 0.1 m ball on a floor lit by a lamp 0.8 m up
+/// (`scenes/bench/glass_sphere.ron`), a factor of about 1/900, which handed the caustic to the
+/// far noisier `s = 0` (`host/tests/integrators_caustic_mis.rs` checks the weights against
+/// densities computed from scratch).
 /// The Fresnel choice of lobe is left out: it is the same for both directions through a
 /// dielectric interface (Fresnel reflectance is reciprocal), so it would cancel. The factors
 /// `n²` matter only where a chain starts and ends in different media; they are given relative
@@ -162,9 +164,9 @@ pub fn delta_densities(wi: Vec3A, wo: Vec3A, eta: f32) -> (f32, f32) {
     (wi.z.abs() * eta2, wo.z.abs())
 }
 
-/// `x` if non-zero, else 1: a zero density marks a step no subpath can sample (the positional
-/// density of a point light seen from outside, for example), which cancels in the MIS ratio
-/// instead of producing 0/0.
+/// `x` if non-zero, else 1: a density left at zero (one no sampling procedure gives, such as the
+/// reverse density of a subpath's first vertex) cancels in the MIS ratio instead of producing
+/// 0/0.
 #[inline]
 pub fn remap0(x: f32) -> f32 {
     if x != 0.0 {
