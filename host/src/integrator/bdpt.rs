@@ -945,6 +945,11 @@ impl Bdpt {
                     ) {
                         c.weight *= w;
                     }
+                }
+                if s == 0 {
+                    // A path the camera-side chain connection can make too: its share,
+                    // whatever `manifold` says (the chain has its own switch, and whenever it
+                    // runs, the s = 0 paths it also makes must give up its share).
                     if let Some(cc) = camera_chain {
                         if let Some(w) = cc.s0_weight(
                             scene,
