@@ -222,12 +222,14 @@ fn weights_through_the_ball_match_brute_force_densities() {
             &mut path,
             &mut stats,
         );
-        if path.len() != 5
-            || !on(&path[1], FLOOR)
-            || !(on(&path[2], BALL) && path[2].delta)
-            || !(on(&path[3], BALL) && path[3].delta)
-            || !on(&path[4], LAMP)
-        {
+        let through_ball = path.len() == 5
+            && on(&path[1], FLOOR)
+            && on(&path[2], BALL)
+            && path[2].delta
+            && on(&path[3], BALL)
+            && path[3].delta
+            && on(&path[4], LAMP);
+        if !through_ball {
             continue;
         }
         let w = mis_weight(&scene, camera, &[], &path, None, 0, 5, &lambda);
@@ -265,11 +267,13 @@ fn weights_through_the_ball_match_brute_force_densities() {
             &mut stats,
             WalkShift::Off,
         );
-        if path.len() != 4
-            || !(on(&path[1], BALL) && path[1].delta)
-            || !(on(&path[2], BALL) && path[2].delta)
-            || !on(&path[3], FLOOR)
-        {
+        let through_ball = path.len() == 4
+            && on(&path[1], BALL)
+            && path[1].delta
+            && on(&path[2], BALL)
+            && path[2].delta
+            && on(&path[3], FLOOR);
+        if !through_ball {
             continue;
         }
         let Some((_, _, cam)) =
