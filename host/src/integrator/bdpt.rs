@@ -10,7 +10,8 @@
 //! Special cases: s = 0 (the camera path hits an area light), s = 1 (a light point sampled
 //! afresh, as in next-event estimation), t = 1 (a lens point sampled afresh; the contribution
 //! lands on another pixel and is splatted), delta lights (never hit, so s = 0 is not a strategy
-//! for them), delta BSDFs (no connection through them; their zero densities cancel), directional
+//! for them), delta BSDFs (no connection through them; their directions carry the stand-in
+//! densities of [`super::vertex::delta_densities`], which keep the geometry terms), directional
 //! lights (positional density on a disk, see [`Vertex::pdf_light`]), finite apertures (the lens
 //! density is the camera's own), shading normals (adjoint correction on light subpaths).
 //! Wavelengths: one set per pair ([`PairWavelengths`]: observer × √emission, or the plan's
@@ -718,6 +719,11 @@ impl Bdpt {
                     ) {
                         c.weight *= w;
                     }
+                }
+                if s == 0 {
+                    // A path the camera-side chain connection can make too: its share,
+                    // whatever `manifold` says (the chain has its own switch, and whenever it
+                    // runs, the s = 0 paths it also makes must give up its share).
                     if let Some(cc) = camera_chain {
                         if let Some(w) = cc.s0_weight(
                             scene,

@@ -186,12 +186,13 @@ pub fn random_walk(
         }
         let wi_world = frame.to_world(bs.wi);
         pdf_fwd = bs.pdf;
-        // A specular sample makes a delta vertex, whose densities MIS never reads: its reverse
+        // A specular sample makes a delta vertex: its two directions get the stand-in
+        // densities of `delta_densities` (not zero: see there), and the material's reverse
         // density is not asked for (a plugin's material would cross the boundary for it).
-        let mut pdf_rev = 0.0;
+        let pdf_rev;
         if bs.flags.is_specular() {
             path[n - 1].delta = true;
-            pdf_fwd = 0.0;
+            (pdf_fwd, pdf_rev) = super::vertex::delta_densities(bs.wi, wo, bs.eta);
         } else {
             pdf_rev = material.pdf(bs.wi, wo, &ctx, &cur, flip(mode));
         }

@@ -4,7 +4,8 @@
 //! the vertex) and `pdf_rev` (density with which the *other* direction would have generated it).
 //!
 //! Densities are in area measure (1/m², scene units) except where noted; `delta` marks vertices
-//! scattered by a Dirac lobe (mirror, smooth glass), where no connection can be made.
+//! scattered by a Dirac lobe (mirror, smooth glass), where no connection can be made, and whose
+//! directions carry the stand-in densities of [`delta_densities`].
 
 use crate::camera::Camera;
 use crate::geometry::{spawn_ray_to, Ray};
@@ -131,8 +132,41 @@ impl SampledFor {
 /// Four zero lanes (what an empty `sampled_f` and `sampled_lambda` hold).
 pub const ZERO_LANES: [f32; LANES] = [0.0; LANES];
 
-/// `x` if non-zero, else 1: a zero density marks an unsampleable (delta) step, which cancels in
-/// the MIS ratio instead of producing 0/0.
+/// The solid-angle densities (1/sr) that stand in for a specular (Dirac) lobe's in the MIS
+/// ratios: `(towards wi, towards wo)` at a vertex that scattered `wo` into `wi` (local shading
+/// frame), `eta` the relative index crossed (`n` on `wi`'s side over `n` on `wo`'s side, 1 for
+/// reflection).
+///
+/// Why not zero: a specular vertex `x_i` between `x_{i−1}` and `x_{i+1}` is made by either
+/// subpath, and both make it with the same Dirac delta *in the measure the lobe preserves*:
+/// `n²·|cos θ|·dω` (projected solid angle times the squared index: a mirror maps it onto
+/// itself, a refraction too, by étendue `n_i²cos θ_i dω_i = n_t²cos θ_t dω_t`). In that measure
+/// the delta cancels between two strategies, but what remains does not: the area densities of
+/// the vertices it reaches, `n²|cos θ_x_i|·|cos θ_next|/d²`, a generalised geometry term on
+/// each side of the specular vertex. Zeroing both densities (and mapping zero to one in the
+/// ratio, pbrt's `remap0`) drops those terms, so the ratio between, say, light tracing and a
+/// camera path that hits the light through a glass ball is off by `G(glass, light) /
+/// G(floor, glass)`: for the caustic of a 0.1 m ball on a floor lit by a lamp 0.8 m up
+/// (`scenes/bench/glass_sphere.ron`), a factor of about 1/900, which handed the caustic to the
+/// far noisier `s = 0` (`host/tests/integrators_caustic_mis.rs` checks the weights against
+/// densities computed from scratch).
+/// The Fresnel choice of lobe is left out: it is the same for both directions through a
+/// dielectric interface (Fresnel reflectance is reciprocal), so it would cancel. The factors
+/// `n²` matter only where a chain starts and ends in different media; they are given relative
+/// to `wo`'s side, whose common factor cancels within each chain.
+#[inline]
+pub fn delta_densities(wi: Vec3A, wo: Vec3A, eta: f32) -> (f32, f32) {
+    let eta2 = if eta > 0.0 && eta.is_finite() {
+        eta * eta
+    } else {
+        1.0
+    };
+    (wi.z.abs() * eta2, wo.z.abs())
+}
+
+/// `x` if non-zero, else 1: a density left at zero (one no sampling procedure gives, such as the
+/// reverse density of a subpath's first vertex) cancels in the MIS ratio instead of producing
+/// 0/0.
 #[inline]
 pub fn remap0(x: f32) -> f32 {
     if x != 0.0 {
