@@ -11,7 +11,7 @@
 //! afresh, as in next-event estimation), t = 1 (a lens point sampled afresh; the contribution
 //! lands on another pixel and is splatted), delta lights (never hit, so s = 0 is not a strategy
 //! for them), delta BSDFs (no connection through them; their directions carry the stand-in
-//! densities of [`super::vertex::delta_densities`], which keep the geometry terms), directional
+//! densities of [`super::subpath::vertex::delta_densities`], which keep the geometry terms), directional
 //! lights (positional density on a disk, see [`Vertex::pdf_light`]), finite apertures (the lens
 //! density is the camera's own), shading normals (adjoint correction on light subpaths).
 //! Wavelengths: one set per pair ([`PairWavelengths`]: observer × √emission, or the plan's

@@ -628,8 +628,7 @@ fn random_edits_never_panic() {
 // 1.5% at 128 spp; with the 0.44% systematic difference in blue at 256×256: tolerance 4%.
 #[test]
 fn cornell_box_mean_matches_mitsuba() {
-    use crate::integrator::path::{render, PathTracer};
-    use crate::integrator::{RenderSettings, SampleBudget};
+    use crate::integrator::{render, PathTracer, RenderSettings, SampleBudget};
     let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/mitsuba/cornell-box/scene.xml");
     let c = convert_file(
         &p,
