@@ -610,10 +610,12 @@ fn report(g: &Graph, circles: &[Vec<Vec<String>>], up: &[(Vec<String>, Vec<Strin
 const KNOWN_CIRCLES: &[&str] = &[
     // A nested SPD type (`spec`, `table`) is built through the registry that lists every
     // built-in type, each of which reads its spectra through `builtin::spectral`.
-    "builtin builtin::camera::perspective builtin::check builtin::light builtin::light::directional builtin::light::environment builtin::light::luminaire builtin::light::point builtin::light::spot builtin::material::conductor builtin::material::dielectric builtin::material::emissive builtin::material::fluorescent builtin::material::lambertian builtin::material::mirror builtin::material::rough_dielectric builtin::material::thin_film builtin::observer::cie builtin::shape::mesh builtin::shape::mesh_file builtin::shape::quad builtin::shape::sphere builtin::spd::spec builtin::spd::table builtin::spectral scene::factory",
-    // host/src/plugin/, being reshaped for plugin API 0.2.
+    "builtin builtin::camera::perspective builtin::check builtin::light builtin::light::cie_sky builtin::light::directional builtin::light::environment builtin::light::envmap builtin::light::luminaire builtin::light::point builtin::light::spot builtin::light::sun builtin::light::sun_place builtin::material::conductor builtin::material::dielectric builtin::material::emissive builtin::material::fluorescent builtin::material::lambertian builtin::material::mirror builtin::material::rough_dielectric builtin::material::thin_film builtin::observer::cie builtin::shape::mesh builtin::shape::mesh_file builtin::shape::quad builtin::shape::sphere builtin::spd::spec builtin::spd::table builtin::spectral scene::factory",
+    // The re-radiation adapter reports through the adapter's `Origin`, which the adapter's
+    // material holds it with; the registry and its services, the blob and factory modules:
+    // host/src/plugin/ after plugin API 0.2, still to untangle.
     "plugin plugin::blob plugin::factory",
-    "plugin::adapter plugin::representation plugin::reradiation",
+    "plugin::adapter plugin::reradiation",
     "plugin::registry plugin::services",
 ];
 

@@ -46,28 +46,29 @@ pub struct ReferenceArgs {
 /// then the passes until the budget, Ctrl-C or the target.
 pub fn run(args: &ReferenceArgs) -> Result<(), String> {
     super::output_paths::check_not_directory(&args.output, "-o")?;
-    args.plugins.with_factory(args.scene.as_deref(), |factories| {
-        let repr = Default::default();
-        let scene =
-            super::render::load_scene(args.scene.as_deref(), None, &[], &repr, factories)?;
-        let settings = reference_settings(args, &scene)?;
-        // Before the long run, not after it: a scene that renders black should not take hours.
-        for w in scene.warnings() {
-            eprintln!("spectrace: warning: {w}");
-        }
-        if settings.time.is_none() && args.spp.is_none() {
-            eprintln!("spectrace: no --time or --spp: rendering until Ctrl-C");
-        }
-        let cancel = super::interrupt::interrupt_flag();
-        let on_pass = |s: &crate::analysis::ReferenceState| {
-            eprint!("\r  {} spp accumulated ({} passes)   ", s.spp(), s.passes);
-        };
-        let outcome = run_reference(&scene, &args.output, &settings, Some(cancel), &on_pass)
-            .map_err(|e| e.to_string())?;
-        eprintln!();
-        print_outcome(args, &outcome);
-        Ok(())
-    })
+    args.plugins
+        .with_factory(args.scene.as_deref(), |factories| {
+            let repr = Default::default();
+            let scene =
+                super::render::load_scene(args.scene.as_deref(), None, &[], &repr, factories)?;
+            let settings = reference_settings(args, &scene)?;
+            // Before the long run, not after it: a scene that renders black should not take hours.
+            for w in scene.warnings() {
+                eprintln!("spectrace: warning: {w}");
+            }
+            if settings.time.is_none() && args.spp.is_none() {
+                eprintln!("spectrace: no --time or --spp: rendering until Ctrl-C");
+            }
+            let cancel = super::interrupt::interrupt_flag();
+            let on_pass = |s: &crate::analysis::ReferenceState| {
+                eprint!("\r  {} spp accumulated ({} passes)   ", s.spp(), s.passes);
+            };
+            let outcome = run_reference(&scene, &args.output, &settings, Some(cancel), &on_pass)
+                .map_err(|e| e.to_string())?;
+            eprintln!();
+            print_outcome(args, &outcome);
+            Ok(())
+        })
 }
 
 /// The reference settings of `args` for `scene`.

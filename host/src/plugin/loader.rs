@@ -110,9 +110,9 @@ pub fn load_library_pinned(path: &Path, sha256: Option<&str>) -> Result<LoadedPl
             "",
         ));
     }
-    let actual = super::pin::sha256_file(&file)?;
+    let actual = super::pin::sha256_file(&file).map_err(|e| LoadError::new(path, e, ""))?;
     if let Some(expected) = sha256 {
-        super::pin::check(path, expected, &actual)?;
+        super::pin::check(expected, &actual).map_err(|e| LoadError::new(path, e, ""))?;
     }
     let mut plugin = load_resolved(path, &file)?;
     plugin.sha256 = Some(actual);

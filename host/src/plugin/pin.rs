@@ -18,7 +18,6 @@
 //! | `"PATH"` | string | load the library at PATH (relative to the scene file) |
 //! | `(path: "PATH", sha256: "HEX")` | struct | load it only if its SHA-256 is HEX (64 hex digits, either case) |
 
-use super::loader::LoadError;
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 use std::path::{Path, PathBuf};
@@ -82,8 +81,11 @@ pub fn scene_plugins(scene: &Path) -> Result<Vec<ScenePlugin>, String> {
     {
         return Ok(Vec::new());
     }
-    let text = std::fs::read_to_string(scene)
-        .map_err(|e| format!("{}: cannot read: {e}", scene.display()))?;
+    // The same limit as the scene reader's: `/dev/zero` named as a scene must not be read
+    // until memory runs out.
+    let text =
+        crate::limits::read_text_limited(scene, crate::limits::SCENE_FILE_MAX_BYTES, "scene file")
+            .map_err(|e| format!("{}: {e}", scene.display()))?;
     let parsed: PluginsOnly = ron::Options::default()
         .with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME)
         .from_str(&text)
@@ -102,35 +104,27 @@ pub fn sha256_hex(bytes: &[u8]) -> String {
     digest.iter().map(|b| format!("{b:02x}")).collect()
 }
 
-/// The SHA-256 of the file at `path`; an error names the file.
-pub fn sha256_file(path: &Path) -> Result<String, LoadError> {
-    let bytes = std::fs::read(path)
-        .map_err(|e| LoadError::new(path, format!("cannot read it to hash it: {e}"), ""))?;
+/// The SHA-256 of the file at `path`; the error says what went wrong (the caller names the
+/// file, as the loader's errors do).
+pub fn sha256_file(path: &Path) -> Result<String, String> {
+    let bytes = std::fs::read(path).map_err(|e| format!("cannot read it to hash it: {e}"))?;
     Ok(sha256_hex(&bytes))
 }
 
 /// `Ok` when `expected` is a well-formed SHA-256 (64 hex digits) equal to `actual`; otherwise
-/// the refusal, naming both hashes.
-pub fn check(path: &Path, expected: &str, actual: &str) -> Result<(), LoadError> {
+/// the refusal, naming both hashes (the caller names the file).
+pub fn check(expected: &str, actual: &str) -> Result<(), String> {
     let expected_norm = expected.trim().to_ascii_lowercase();
     if expected_norm.len() != 64 || !expected_norm.bytes().all(|b| b.is_ascii_hexdigit()) {
-        return Err(LoadError::new(
-            path,
-            format!(
-                "its pinned sha256 `{expected}` is not a SHA-256 (64 hexadecimal digits); the \
-                 file's is {actual}"
-            ),
-            "",
+        return Err(format!(
+            "its pinned sha256 `{expected}` is not a SHA-256 (64 hexadecimal digits); the \
+             file's is {actual}"
         ));
     }
     if expected_norm != actual {
-        return Err(LoadError::new(
-            path,
-            format!(
-                "SHA-256 mismatch: the scene pins {expected_norm}, the file is {actual}; refusing \
-                 to load a library other than the one pinned (rebuild or re-pin it)"
-            ),
-            "",
+        return Err(format!(
+            "SHA-256 mismatch: the scene pins {expected_norm}, the file is {actual}; refusing to \
+             load a library other than the one pinned (rebuild or re-pin it)"
         ));
     }
     Ok(())
@@ -160,14 +154,14 @@ mod tests {
         assert_eq!(list[1].sha256(), Some("AB"));
         let abc = sha256_hex(b"abc");
         let p = Path::new("lib.so");
-        assert!(check(p, &abc.to_uppercase(), &abc).is_ok());
+        assert!(check(&abc.to_uppercase(), &abc).is_ok());
         let other = sha256_hex(b"abd");
-        let e = check(p, &other, &abc).unwrap_err().to_string();
+        let e = check(&other, &abc).unwrap_err().to_string();
         assert!(
             e.contains(&other) && e.contains(&abc) && e.contains("mismatch"),
             "{e}"
         );
-        let e = check(p, "12ab", &abc).unwrap_err().to_string();
+        let e = check("12ab", &abc).unwrap_err().to_string();
         assert!(e.contains("not a SHA-256"), "{e}");
     }
 }

@@ -273,9 +273,9 @@ impl Registry {
                 .find(|p| canonical.is_some() && std::fs::canonicalize(&p.path).ok() == canonical);
             if let Some(p) = already {
                 if let (Some(want), Some(have)) = (item.sha256(), &p.sha256) {
-                    let file = path.clone();
-                    super::pin::check(&file, want, have)
-                        .map_err(|e| format!("{}: plugins: {e}", scene.display()))?;
+                    super::pin::check(want, have).map_err(|e| {
+                        format!("{}: plugins: {}: {e}", scene.display(), path.display())
+                    })?;
                 }
                 continue;
             }

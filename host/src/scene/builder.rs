@@ -61,6 +61,24 @@ pub fn read_scene_file(path: &Path) -> Result<SceneDescription, SceneError> {
     parse_scene_str(&text, path)
 }
 
+/// Read any scene file's description: a Mitsuba XML file with `defines` (`-D name=value`), a
+/// RON file as [`read_scene_file`] does (then `defines` must be empty).
+pub fn read_scene_file_defined(
+    path: &Path,
+    defines: &[(String, String)],
+) -> Result<SceneDescription, SceneError> {
+    if super::mitsuba::is_mitsuba_file(path) {
+        super::mitsuba::read_description(path, defines)
+    } else if defines.is_empty() {
+        read_scene_file(path)
+    } else {
+        Err(SceneError::Scene {
+            file: path.to_path_buf(),
+            message: "-D name=value sets parameters of Mitsuba XML scenes only".into(),
+        })
+    }
+}
+
 /// Ask each factory in turn; the first that knows the type builds it.
 fn first_known<T>(
     factories: &[&dyn ObjectFactory],
@@ -379,7 +397,7 @@ pub fn build_scene_with(
     options.light_items = light_items;
     let sensors = crate::sensor::build_sensors(&desc.sensors, metres)
         .map_err(|(item, e)| item_err(item, e))?;
-    let glare = crate::sensor::glare::build_glare_observers(&desc.sensors, metres)
+    let glare = crate::sensor::glare_observer::build_glare_observers(&desc.sensors, metres)
         .map_err(|(item, e)| item_err(item, e))?;
 
     Ok(Scene {

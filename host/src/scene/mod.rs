@@ -97,7 +97,7 @@ pub struct Scene {
     /// Illuminance sensors (the scene's `sensors`), measured after the image.
     pub sensors: Vec<crate::sensor::IlluminanceGrid>,
     /// Glare observers (the scene's `glare_observer` sensors), measured after the image.
-    pub glare: Vec<crate::sensor::glare::GlareObserver>,
+    pub glare: Vec<crate::sensor::glare_observer::GlareObserver>,
 }
 
 impl Scene {

@@ -28,8 +28,7 @@ pub const TYPE_NAME: &str = "illuminance_grid";
 /// Most points one grid may have (each costs `samples` paths).
 pub const MAX_POINTS: u64 = 1_000_000;
 
-/// Most samples per point (the sums stay exact enough in f64 far beyond this).
-pub const MAX_SAMPLES: u32 = 1 << 24;
+pub use super::MAX_SAMPLES;
 
 /// Parameters of an `illuminance_grid`, as written in the scene.
 #[derive(Clone, Debug, PartialEq, Deserialize)]
@@ -153,7 +152,7 @@ pub fn build_sensors(
     let mut out: Vec<IlluminanceGrid> = Vec::with_capacity(items.len());
     for it in items {
         let item = format!("sensor {:?}", it.name);
-        if it.type_name == super::glare::TYPE_NAME {
+        if it.type_name == super::glare_observer::TYPE_NAME {
             continue;
         }
         if it.type_name != TYPE_NAME {
@@ -162,7 +161,7 @@ pub fn build_sensors(
                 format!(
                     "unknown sensor type `{}`; known: {TYPE_NAME}, {}",
                     it.type_name,
-                    super::glare::TYPE_NAME
+                    super::glare_observer::TYPE_NAME
                 ),
             ));
         }

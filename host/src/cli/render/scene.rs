@@ -41,7 +41,8 @@ pub fn load_scene(
     // --resolution: every camera's `resolution` replaced before the scene is built.
     let (mut desc, base, file) = match scene {
         Some(p) => (
-            crate::scene::mitsuba::read_any(p, defines).map_err(|e| e.to_string())?,
+            crate::scene::builder::read_scene_file_defined(p, defines)
+                .map_err(|e| e.to_string())?,
             p.parent().unwrap_or(Path::new(".")).to_path_buf(),
             p.to_path_buf(),
         ),

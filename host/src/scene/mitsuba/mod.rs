@@ -61,20 +61,5 @@ pub fn parse_defines(args: &[String]) -> Result<Vec<(String, String)>, String> {
         .collect()
 }
 
-/// Read any scene file's description: a Mitsuba XML file with `defines`, a RON file as
-/// [`crate::scene::read_scene_file`] does (then `defines` must be empty).
-pub fn read_any(path: &Path, defines: &[(String, String)]) -> Result<SceneDescription, SceneError> {
-    if is_mitsuba_file(path) {
-        read_description(path, defines)
-    } else if defines.is_empty() {
-        crate::scene::read_scene_file(path)
-    } else {
-        Err(SceneError::Scene {
-            file: path.to_path_buf(),
-            message: "-D name=value sets parameters of Mitsuba XML scenes only".into(),
-        })
-    }
-}
-
 #[cfg(test)]
 mod tests;
