@@ -17,7 +17,6 @@ pub mod reference;
 pub mod render;
 pub mod representation_args;
 pub mod sensors;
-pub mod speed_regions;
 
 use clap::{Parser, Subcommand};
 use std::ffi::OsString;
