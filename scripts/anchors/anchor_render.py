@@ -175,6 +175,7 @@ def mitsuba_dict(sc, sampler, rr_off, mi):
         shape["bsdf"] = bsdfs[s["material"]]
         if m["type"] == "emitter":
             shape["emitter"] = {"type": "area", "radiance": spec(m["radiance"])}
+        shape["id"] = f"shape_{i}"
         scene[f"shape_{i}"] = shape
     return scene
 
@@ -412,7 +413,8 @@ def cmd_describe(a):
     probe = [450.0, 550.0, 650.0]
     if a.renderer == "mitsuba":
         mi, dr = import_mitsuba(a.threads)
-        scene = mi.load_dict(mitsuba_dict(sc, "independent", False, mi))
+        # optimize=False: Mitsuba would merge the meshes that share a BSDF into one.
+        scene = mi.load_dict(mitsuba_dict(sc, "independent", False, mi), optimize=False)
         shapes = {}
         for s in scene.shapes():
             i = int(s.id().split("_")[1])
@@ -428,7 +430,7 @@ def cmd_describe(a):
             if s.emitter() is not None:
                 v = s.emitter().eval(si)
                 entry["radiance"] = [float(dr.slice(v)[j]) for j in range(3)]
-            elif "diffuse" in str(bsdf) and "Diffuse" in str(bsdf):
+            elif mi.has_flag(bsdf.flags(), mi.BSDFFlags.DiffuseReflection):
                 v = bsdf.eval_diffuse_reflectance(si)
                 entry["reflectance"] = [float(dr.slice(v)[j]) for j in range(3)]
             shapes[sc["shapes"][i]["name"]] = entry
@@ -449,8 +451,10 @@ def cmd_describe(a):
         get = lambda k: [float(x) for x in props.Get(k).GetFloats()] if props.IsDefined(k) else None
         objs = {}
         for i, s in enumerate(sc["shapes"]):
-            objs[s["name"]] = {"defined": props.IsDefined(f"scene.objects.shape_{i}.shape")}
-        out = {"shapes": objs, "camera": {"origin": get("scene.camera.lookat.orig"),
+            objs[s["name"]] = {"defined": bool(scene.IsMeshDefined(f"shape_{i}"))
+                               and bool(scene.IsMaterialDefined(s["material"]))}
+        out = {"shapes": objs, "objects": int(scene.GetObjectCount()),
+               "camera": {"origin": get("scene.camera.lookat.orig"),
                                           "target": get("scene.camera.lookat.target")}}
     print(json.dumps(out), flush=True)
 
