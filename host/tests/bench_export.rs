@@ -167,9 +167,8 @@ fn describe(py: &Path, scene_json: &Path, renderer: &str) -> Option<serde_json::
     let line = String::from_utf8_lossy(&out.stdout)
         .lines()
         .rev()
-        .find(|l| l.starts_with('{'))
-        .unwrap()
-        .to_string();
+        .find_map(|l| l.find("{\"").map(|i| l[i..].to_string()))
+        .unwrap();
     Some(serde_json::from_str(&line).unwrap())
 }
 

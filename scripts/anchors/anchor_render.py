@@ -14,8 +14,8 @@ scene itself. Used by `spectrace bench speed`; runs on its own too:
 
 `render` prints one JSON line per budget: renderer, config, spp, seconds, load_seconds,
 jit_seconds, file. One timer definition for every renderer: `seconds` runs from the start of
-sampling to the image in memory. Scene loading (and LuxCore's preprocessing before its first
-sample) is `load_seconds`. Mitsuba's sampling time is the execution time of its kernels (Dr.Jit's
+sampling to the image in memory. Scene loading (for LuxCore: until RenderSession.Start()
+returns, its preprocessing included) is `load_seconds`. Mitsuba's sampling time is the execution time of its kernels (Dr.Jit's
 kernel history); the rest of the render call's wall time (tracing the program, compiling it)
 is `jit_seconds`. This leaves out of Mitsuba's time all it spends outside its kernels: the
 comparison errs in its favour.
@@ -320,13 +320,7 @@ def run_luxcore(sc, cfg, args, budgets, out_prefix):
         p = lux.Properties(); p.SetFromString("\n".join(lines) + "\n"); scene.Parse(p)
         c = lux.Properties(); c.SetFromString("\n".join(config) + "\n")
         session = lux.RenderSession(lux.RenderConfig(c, scene))
-        session.Start()
-        # Preprocessing (BVH, light distributions) ends when the first samples are counted.
-        while True:
-            session.UpdateStats()
-            if session.GetStats().Get("stats.renderengine.total.samplecount").GetFloat() > 0:
-                break
-            time.sleep(0.001)
+        session.Start()  # returns when the scene is prepared (BVH, light distributions)
         t_start = time.perf_counter()
         load = t_start - t0
         while time.perf_counter() - t_start < b:
@@ -338,7 +332,7 @@ def run_luxcore(sc, cfg, args, budgets, out_prefix):
         secs = time.perf_counter() - t_start
         session.Stop()
         results.append((buf[::-1].astype(np.float64),
-                        {"spp": int(round(samples / (w * h))), "seconds": round(secs, 5),
+                        {"spp": round(samples / (w * h), 3), "seconds": round(secs, 5),
                          "load_seconds": round(load, 4), "jit_seconds": 0.0, "budget": b}))
     rr = "off" if cfg["rr_off"] else "default"
     return results, f"luxcore {lux.Version()} {cfg['engine']} sampler {cfg['sampler'] or 'default'}, " \

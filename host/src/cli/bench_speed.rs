@@ -153,7 +153,8 @@ struct Point {
     anchor: bool,
     seed: u64,
     budget: f64,
-    spp: u32,
+    /// Samples per pixel (fractional for LuxCore's short runs: samples over pixels).
+    spp: f64,
     seconds: f64,
     load_seconds: f64,
     jit_seconds: f64,
@@ -328,7 +329,7 @@ pub fn run_speed(args: &SpeedArgs) -> Result<(), String> {
                         anchor: false,
                         seed,
                         budget: b,
-                        spp: out.result.spp,
+                        spp: f64::from(out.result.spp),
                         seconds: out.result.elapsed.as_secs_f64(),
                         load_seconds: load,
                         jit_seconds: 0.0,
@@ -446,7 +447,7 @@ fn reference(
     ))
 }
 
-type AnchorLine = (String, PathBuf, f64, u32, f64, f64, f64);
+type AnchorLine = (String, PathBuf, f64, f64, f64, f64, f64);
 
 /// Runs one anchor configuration at every budget; its result lines or why it failed.
 fn run_anchor(
@@ -486,7 +487,8 @@ fn run_anchor(
     }
     let stdout = String::from_utf8_lossy(&output.stdout);
     let mut out = Vec::new();
-    for line in stdout.lines().filter(|l| l.trim_start().starts_with('{')) {
+    // Mitsuba's log goes to stdout too, and may leave a colour escape before a result line.
+    for line in stdout.lines().filter_map(|l| l.find("{\"config\"").map(|i| &l[i..])) {
         let v: serde_json::Value =
             serde_json::from_str(line).map_err(|e| format!("unreadable result line: {e}"))?;
         let f = |k: &str| v[k].as_f64().ok_or(format!("result line without {k}"));
@@ -494,7 +496,7 @@ fn run_anchor(
             v["renderer"].as_str().unwrap_or("?").to_string(),
             PathBuf::from(v["file"].as_str().ok_or("result line without file")?),
             f("budget")?,
-            f("spp")? as u32,
+            f("spp")?,
             f("seconds")?,
             f("load_seconds")?,
             f("jit_seconds")?,
@@ -512,7 +514,7 @@ fn run_anchor(
 
 fn print_point(p: &Point) {
     println!(
-        "{:18} {:32} seed {:2} budget {:6.2} s: {:7} spp in {:7.3} s (load {:.2} s, JIT {:.2} s), RMSE {:.5}",
+        "{:18} {:32} seed {:2} budget {:6.2} s: {:9.2} spp in {:7.3} s (load {:.2} s, JIT {:.2} s), RMSE {:.5}",
         p.scene,
         p.config,
         p.seed,
@@ -753,7 +755,7 @@ fn full_run_estimate(points: &[Point], args: &SpeedArgs, elapsed: f64, scenes: u
     let rate = points
         .iter()
         .filter(|p| p.config == "mitsuba-independent" && p.seconds > 0.0)
-        .map(|p| p.spp as f64 / p.seconds)
+        .map(|p| p.spp / p.seconds)
         .fold(0.0, f64::max);
     let refs = if rate > 0.0 {
         format!(
@@ -873,7 +875,7 @@ mod tests {
             anchor,
             seed: 0,
             budget: seconds,
-            spp: 1,
+            spp: 1.0,
             seconds,
             load_seconds: 0.0,
             jit_seconds: 0.0,
