@@ -13,7 +13,10 @@ fn repo() -> PathBuf {
 }
 
 fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("spectrace-bench-export-{name}-{}", std::process::id()));
+    let d = std::env::temp_dir().join(format!(
+        "spectrace-bench-export-{name}-{}",
+        std::process::id()
+    ));
     let _ = std::fs::remove_dir_all(&d);
     d
 }
@@ -87,7 +90,10 @@ fn cornell_box_exports_the_files_numbers_and_the_built_geometry() {
     for (a, b) in pos.iter().zip([0.278, 0.273, -0.8]) {
         assert!((a - b).abs() < 1e-9, "{pos:?}");
     }
-    assert_eq!((j["width"].as_u64(), j["height"].as_u64()), (Some(256), Some(256)));
+    assert_eq!(
+        (j["width"].as_u64(), j["height"].as_u64()),
+        (Some(256), Some(256))
+    );
     let scene = SceneSource::from_path(Some(scene_path))
         .build(&Default::default())
         .unwrap();
@@ -124,7 +130,13 @@ fn what_the_anchors_cannot_share_is_refused() {
         )
     };
     let cases = [
-        (base("(name: \"m\", type: \"dielectric\", params: (ior: \"bk7\"))", ""), "dispersive"),
+        (
+            base(
+                "(name: \"m\", type: \"dielectric\", params: (ior: \"bk7\"))",
+                "",
+            ),
+            "dispersive",
+        ),
         (base("(name: \"m\", type: \"mirror\")", ""), "mirror"),
         (
             base(
@@ -146,7 +158,9 @@ fn what_the_anchors_cannot_share_is_refused() {
 /// The Python named by SPECTRACE_ANCHOR_PYTHON, when it can import the renderers.
 fn anchor_python() -> Option<PathBuf> {
     let Some(py) = std::env::var_os("SPECTRACE_ANCHOR_PYTHON") else {
-        println!("skipped: SPECTRACE_ANCHOR_PYTHON is not set (a Python with mitsuba and pyluxcore)");
+        println!(
+            "skipped: SPECTRACE_ANCHOR_PYTHON is not set (a Python with mitsuba and pyluxcore)"
+        );
         return None;
     };
     Some(PathBuf::from(py))
@@ -160,10 +174,17 @@ fn describe(py: &Path, scene_json: &Path, renderer: &str) -> Option<serde_json::
         .output()
         .ok()?;
     if out.status.code() == Some(3) {
-        println!("skipped: {renderer} cannot be imported ({})", String::from_utf8_lossy(&out.stderr));
+        println!(
+            "skipped: {renderer} cannot be imported ({})",
+            String::from_utf8_lossy(&out.stderr)
+        );
         return None;
     }
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let line = String::from_utf8_lossy(&out.stdout)
         .lines()
         .rev()
@@ -195,14 +216,22 @@ fn anchors_load_what_spectrace_renders() {
         let scene = SceneSource::from_path(Some(scene_path.clone()))
             .build(&Default::default())
             .unwrap();
-        let Some(m) = describe(&py, &e.path, "mitsuba") else { return };
+        let Some(m) = describe(&py, &e.path, "mitsuba") else {
+            return;
+        };
         for (i, s) in j["shapes"].as_array().unwrap().iter().enumerate() {
             let name = s["name"].as_str().unwrap();
             let got = &m["shapes"][name];
             let (lo, hi) = bounds(scene.geometry.shape(i as u32).unwrap());
             for k in 0..3 {
-                let (gl, gh) = (got["min"][k].as_f64().unwrap(), got["max"][k].as_f64().unwrap());
-                assert!((gl - lo[k]).abs() < 1e-5 && (gh - hi[k]).abs() < 1e-5, "{name}: {got} vs {lo:?} {hi:?}");
+                let (gl, gh) = (
+                    got["min"][k].as_f64().unwrap(),
+                    got["max"][k].as_f64().unwrap(),
+                );
+                assert!(
+                    (gl - lo[k]).abs() < 1e-5 && (gh - hi[k]).abs() < 1e-5,
+                    "{name}: {got} vs {lo:?} {hi:?}"
+                );
             }
             let mat = &j["materials"][s["material"].as_str().unwrap()];
             let key = match mat["type"].as_str().unwrap() {
@@ -221,19 +250,32 @@ fn anchors_load_what_spectrace_renders() {
         }
         let cam = &j["camera"];
         let v = |x: &serde_json::Value| -> Vec<f64> {
-            x.as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect()
+            x.as_array()
+                .unwrap()
+                .iter()
+                .map(|v| v.as_f64().unwrap())
+                .collect()
         };
         let (pos, look) = (v(&cam["position"]), v(&cam["look_at"]));
-        let len = (0..3).map(|k| (look[k] - pos[k]).powi(2)).sum::<f64>().sqrt();
+        let len = (0..3)
+            .map(|k| (look[k] - pos[k]).powi(2))
+            .sum::<f64>()
+            .sqrt();
         let origin = v(&m["camera"]["origin"]);
         let forward = v(&m["camera"]["forward"]);
         for k in 0..3 {
             assert!((origin[k] - pos[k]).abs() < 1e-5, "{origin:?} {pos:?}");
-            assert!((forward[k] - (look[k] - pos[k]) / len).abs() < 1e-5, "{forward:?}");
+            assert!(
+                (forward[k] - (look[k] - pos[k]) / len).abs() < 1e-5,
+                "{forward:?}"
+            );
         }
         if cam["fov_axis"] == "x" {
             let fov = m["camera"]["x_fov"].as_f64().unwrap();
-            assert!((fov - cam["fov_deg"].as_f64().unwrap()).abs() < 1e-4, "{fov}");
+            assert!(
+                (fov - cam["fov_deg"].as_f64().unwrap()).abs() < 1e-4,
+                "{fov}"
+            );
         }
         if let Some(l) = describe(&py, &e.path, "luxcore") {
             let (o, t) = (v(&l["camera"]["origin"]), v(&l["camera"]["target"]));
@@ -241,7 +283,11 @@ fn anchors_load_what_spectrace_renders() {
                 assert!((o[k] - pos[k]).abs() < 1e-6 && (t[k] - look[k]).abs() < 1e-6);
             }
             for s in j["shapes"].as_array().unwrap() {
-                assert_eq!(l["shapes"][s["name"].as_str().unwrap()]["defined"], true, "{l}");
+                assert_eq!(
+                    l["shapes"][s["name"].as_str().unwrap()]["defined"],
+                    true,
+                    "{l}"
+                );
             }
         }
         let _ = std::fs::remove_dir_all(&dir);

@@ -488,7 +488,10 @@ fn run_anchor(
     let stdout = String::from_utf8_lossy(&output.stdout);
     let mut out = Vec::new();
     // Mitsuba's log goes to stdout too, and may leave a colour escape before a result line.
-    for line in stdout.lines().filter_map(|l| l.find("{\"config\"").map(|i| &l[i..])) {
+    for line in stdout
+        .lines()
+        .filter_map(|l| l.find("{\"config\"").map(|i| &l[i..]))
+    {
         let v: serde_json::Value =
             serde_json::from_str(line).map_err(|e| format!("unreadable result line: {e}"))?;
         let f = |k: &str| v[k].as_f64().ok_or(format!("result line without {k}"));
