@@ -686,8 +686,7 @@ fn report(
             let g = group(c);
             let last_budget = budgets.last().copied().unwrap_or(0.0);
             let at_last: Vec<&&Point> = g.iter().filter(|p| p.budget == last_budget).collect();
-            let spp =
-                at_last.iter().map(|p| p.spp as f64).sum::<f64>() / at_last.len().max(1) as f64;
+            let spp = at_last.iter().map(|p| p.spp).sum::<f64>() / at_last.len().max(1) as f64;
             let load = g.iter().map(|p| p.load_seconds).sum::<f64>() / g.len().max(1) as f64;
             let jit = g.iter().map(|p| p.jit_seconds).sum::<f64>() / g.len().max(1) as f64;
             let v = verdict(&g, None, reference.var_total);
