@@ -132,7 +132,7 @@ fn what_the_anchors_cannot_share_is_refused() {
     let cases = [
         (
             base(
-                "(name: \"m\", type: \"dielectric\", params: (ior: \"bk7\"))",
+                "(name: \"m\", type: \"dielectric\", params: (ior: \"N-BK7\"))",
                 "",
             ),
             "dispersive",
