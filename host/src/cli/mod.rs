@@ -19,7 +19,6 @@ pub mod render;
 pub mod representation_args;
 pub mod sensors;
 pub mod sensors_glare;
-pub mod speed_regions;
 
 use clap::{Parser, Subcommand};
 use std::ffi::OsString;
