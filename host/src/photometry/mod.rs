@@ -13,6 +13,7 @@ pub mod ies;
 pub mod ies_writer;
 pub mod luminaire;
 mod number_stream;
+pub mod tm25;
 
 pub use candela_table::CandelaTable;
 pub use direction_sampler::DirectionSampler;
