@@ -197,7 +197,7 @@ pub fn types() -> &'static [BuiltinType] {
     &ALL
 }
 
-static ALL: [BuiltinType; 24] = [
+static ALL: [BuiltinType; 27] = [
     material::lambertian::TYPE,
     material::mirror::TYPE,
     material::dielectric::TYPE,
@@ -211,6 +211,9 @@ static ALL: [BuiltinType; 24] = [
     light::directional::TYPE,
     light::environment::TYPE,
     light::luminaire::TYPE,
+    light::near_field::TYPE,
+    light::ray_file::TYPE,
+    light::gldf::TYPE,
     spd::spec::TYPE,
     spd::table::TYPE,
     observer::cie::CIE1931_2,

@@ -7,12 +7,14 @@ pub mod blob;
 pub mod color;
 pub mod compare;
 pub mod explain;
+pub mod gldf;
 pub mod interrupt;
 pub mod luminaire;
 pub mod merge;
 pub mod output_paths;
 pub mod plugin_args;
 pub mod plugins;
+pub mod rays;
 pub mod reference;
 pub mod render;
 pub mod representation_args;
@@ -47,6 +49,9 @@ pub enum Command {
     Color(color::ColorArgs),
     /// A measured luminaire (IES LM-63, EULUMDAT): header, flux in lm, candela at angles.
     Luminaire(luminaire::LuminaireArgs),
+    /// IES TM-25 ray files: `rays info FILE`, `rays export SCENE --light NAME -N COUNT -o OUT`.
+    #[command(subcommand)]
+    Rays(rays::RaysCommand),
     /// Render a scene (default: the measured spectral Cornell box) to OpenEXR and PNG.
     Render(render::RenderArgs),
     /// Merge the state files of a render's slices (`render --slice K/M`) into its image.
@@ -95,6 +100,7 @@ where
         Some(Command::Blob(cmd)) => blob::run(&cmd, verbose),
         Some(Command::Color(args)) => color::run(&args),
         Some(Command::Luminaire(args)) => luminaire::run(&args),
+        Some(Command::Rays(cmd)) => rays::run(&cmd),
         Some(Command::Render(args)) => render::run(&args),
         Some(Command::Merge(args)) => merge::run(&args),
         Some(Command::Compare(args)) => compare::run(&args),

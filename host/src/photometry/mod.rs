@@ -8,6 +8,7 @@ pub mod efficacy;
 pub mod error;
 pub mod eulumdat;
 pub mod eulumdat_writer;
+pub mod gldf;
 pub mod goniometer;
 pub mod ies;
 pub mod ies_writer;

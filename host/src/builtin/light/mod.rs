@@ -2,8 +2,11 @@
 
 pub mod directional;
 pub mod environment;
+pub mod gldf;
 pub mod luminaire;
+pub mod near_field;
 pub mod point;
+pub mod ray_file;
 pub mod spot;
 
 use crate::builtin::param_err;
