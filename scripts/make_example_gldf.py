@@ -37,8 +37,8 @@ xml = """<?xml version="1.0" encoding="UTF-8"?>
         <Name><Locale language="en">LED, CIE LED-B1 spectrum</Locale></Name>
         <SpectrumReference spectrumId="spectrumLed" />
         <ColorInformation>
-          <ColorRenderingIndex>84</ColorRenderingIndex>
-          <CorrelatedColorTemperature>2733</CorrelatedColorTemperature>
+          <ColorRenderingIndex>82</ColorRenderingIndex>
+          <CorrelatedColorTemperature>2735</CorrelatedColorTemperature>
         </ColorInformation>
       </FixedLightSource>
     </LightSources>
