@@ -108,13 +108,15 @@ pub fn build(p: &GldfParams, ctx: &FactoryContext) -> Result<Arc<dyn Light>, Fac
     let spd = match (g.spectrum_of(&e), &p.spd) {
         (Some(s), None) => Spectrum::Pairs(s.clone()),
         (None, Some(s)) => s.clone(),
-        (Some(_), Some(_)) => return Err(param_err(
-            "spd",
-            format!(
+        (Some(_), Some(_)) => {
+            return Err(param_err(
+                "spd",
+                format!(
                 "emitter `{}` has a spectrum in the container; `spd` would replace it (remove one)",
                 e.id
             ),
-        )),
+            ))
+        }
         (None, None) => {
             return Err(param_err(
                 "spd",

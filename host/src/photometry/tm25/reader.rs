@@ -436,7 +436,7 @@ pub fn parse_header(bytes: &[u8], path: &Path) -> Result<(Tm25Header, RayLayout)
         spectra.push(table);
     }
     let table_bytes = c.at - table_start;
-    if table_bytes % 32 != 0 {
+    if !table_bytes.is_multiple_of(32) {
         c.take(
             32 - table_bytes % 32,
             "4.7.4 spectral tables (padding to 32 bytes)",
@@ -517,7 +517,7 @@ fn check_flags(f: &KnownData, id: SpectralId) -> Result<(), String> {
     if id == SpectralId::PerRay && !f.wavelength {
         return Err("spectral data identifier 2 needs the wavelength flag".into());
     }
-    if matches!(id, SpectralId::PerRay | SpectralId::Indexed) && !(f.radiant && !f.luminous) {
+    if matches!(id, SpectralId::PerRay | SpectralId::Indexed) && (!f.radiant || f.luminous) {
         return Err(format!(
             "spectral data identifier {} needs radiant flux and no luminous flux",
             id.code()

@@ -62,19 +62,19 @@ pub fn write_tm25(
     n_rays: u64,
     rays: impl Iterator<Item = WriteRay>,
 ) -> std::io::Result<()> {
-    let (id, lambda, lmin, lmax, tables): (i32, f32, f32, f32, Vec<&Vec<(f32, f32)>>) =
-        match &header.spectrum {
-            Tm25Spectrum::None => (0, f32::NAN, f32::NAN, f32::NAN, vec![]),
-            Tm25Spectrum::Single(l) => (1, *l, *l, *l, vec![]),
-            Tm25Spectrum::PerRay => (2, f32::NAN, f32::NAN, f32::NAN, vec![]),
-            Tm25Spectrum::Table(t) => (
-                3,
-                f32::NAN,
-                t.first().map_or(f32::NAN, |p| p.0),
-                t.last().map_or(f32::NAN, |p| p.0),
-                vec![t],
-            ),
-        };
+    type Table<'a> = Vec<&'a Vec<(f32, f32)>>;
+    let (id, lambda, lmin, lmax, tables): (i32, f32, f32, f32, Table) = match &header.spectrum {
+        Tm25Spectrum::None => (0, f32::NAN, f32::NAN, f32::NAN, vec![]),
+        Tm25Spectrum::Single(l) => (1, *l, *l, *l, vec![]),
+        Tm25Spectrum::PerRay => (2, f32::NAN, f32::NAN, f32::NAN, vec![]),
+        Tm25Spectrum::Table(t) => (
+            3,
+            f32::NAN,
+            t.first().map_or(f32::NAN, |p| p.0),
+            t.last().map_or(f32::NAN, |p| p.0),
+            vec![t],
+        ),
+    };
     let per_ray = id == 2;
     let mut h = Vec::with_capacity(super::FIXED_HEADER_BYTES);
     h.extend_from_slice(b"TM25");
@@ -97,7 +97,7 @@ pub fn write_tm25(
     h.extend_from_slice(&0i32.to_le_bytes()); // no additional text
     h.resize(256, 0);
     for f in [1, 1, 1, per_ray as i32, 0, 0, 0, 0] {
-        h.extend_from_slice(&(f as i32).to_le_bytes());
+        h.extend_from_slice(&f.to_le_bytes());
     }
     for t in &header.texts {
         utf32_block(&mut h, t, 4000)?;
