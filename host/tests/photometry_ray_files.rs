@@ -430,3 +430,57 @@ fn the_reader_survives_damaged_files() {
     println!("{accepted} accepted, {refused} refused");
     assert!(accepted > 0 && refused > 0);
 }
+
+/// `max_rays` below the file's count: 500 rays chosen by systematic resampling in proportion to
+/// flux stand for the 10 000. The light's flux is unchanged (the sum is taken over every ray;
+/// 1e-9), and the share of the beams' flux in each 30° ring of γ matches the file's within 4σ
+/// of a 500-ray multinomial sample (systematic resampling varies less, so this is loose on it)
+/// + 400 000 draws' own noise.
+#[test]
+fn max_rays_keeps_the_flux_and_the_distribution() {
+    let (_, rays) = raw_rays(&rays_dir().join("cylinder_10k_lighttools.TM25RAY"));
+    let text = |m: u64| {
+        format!(
+            r#"(materials: [(name: "black", type: "lambertian", params: (reflectance: 0))],
+            objects: [(name: "floor", type: "quad", material: "black",
+                       params: (corner: (-5, 0, 5), edge0: (10, 0, 0), edge1: (0, 0, -10)))],
+            lights: [(name: "led", type: "ray_file", params: (file: "cylinder_10k_lighttools.TM25RAY",
+             position: (0, 0.5, 0), aim: (0, 0, 1), x_axis: (1, 0, 0), max_rays: {m}))],
+            cameras: [(name: "c", type: "pinhole", params: (position: (0, 1, 5), look_at: (0, 0, 0), resolution: (4, 4)))])"#
+        )
+    };
+    let full = scene(&text(4_000_000));
+    let sub = scene(&text(500));
+    let (lf, ls) = (&full.lights.lights()[0], &sub.lights.lights()[0]);
+    assert!((lf.power() / ls.power() - 1.0).abs() < 1e-9);
+    let total: f64 = rays.iter().map(|r| r[6] as f64).sum();
+    let mut want = [0.0f64; 6];
+    for r in &rays {
+        let (g, _) = angles([r[3], r[4], r[5]]);
+        want[((g / 30.0) as usize).min(5)] += r[6] as f64 / total;
+    }
+    let n = 400_000;
+    let mut got = [0.0f64; 6];
+    for i in 0..n {
+        let u = spectrace_plugin_api::RandomSample {
+            u: std::array::from_fn(|k| ((i as f64 + 0.5) / n as f64 + 0.37 * k as f64).fract()),
+        };
+        let b = ls.next_beam(&u).unwrap();
+        // File frame = world frame here: γ from +z.
+        let (g, _) = angles([
+            b.direction.x as f32,
+            b.direction.y as f32,
+            b.direction.z as f32,
+        ]);
+        got[((g / 30.0) as usize).min(5)] += 1.0 / n as f64;
+    }
+    for k in 0..6 {
+        let p = want[k];
+        let sigma = (p * (1.0 - p) / 500.0).sqrt() + (p * (1.0 - p) / n as f64).sqrt();
+        println!(
+            "ring {k}: {:.4} of the flux from 500 rays, {p:.4} in the file (σ {sigma:.4})",
+            got[k]
+        );
+        assert!((got[k] - p).abs() <= 4.0 * sigma, "ring {k}");
+    }
+}
