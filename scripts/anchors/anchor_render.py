@@ -1,300 +1,345 @@
-"""Render one of spectrace's benchmark scenes in an anchor renderer for a fixed wall-clock budget.
+"""Render a spectrace benchmark scene in an anchor renderer (Mitsuba 3, LuxCore).
 
-Used by `spectrace bench speed`; runs on its own too:
+The scene is the one spectrace builds, exported once by `spectrace bench export SCENE --out DIR`
+(DIR/scene.json and one PLY per object: world-space geometry in metres, spectra every nm from
+360 to 830 nm, camera). This script turns it into each renderer's scene; it never describes a
+scene itself. Used by `spectrace bench speed`; runs on its own too:
 
-    python scripts/anchors/anchor_render.py --renderer mitsuba --scene cornell --seconds 10 \
-        --threads 2 --out /tmp/mitsuba_cornell.exr
-    python scripts/anchors/anchor_render.py --renderer luxcore --engine BIDIRCPU --scene caustic ...
+    python scripts/anchors/anchor_render.py configs
+    python scripts/anchors/anchor_render.py render --scene-json DIR/scene.json \
+        --config mitsuba-multijitter --budgets 1,2,4 --threads 2 --seed 0 --out-prefix /tmp/x
+    python scripts/anchors/anchor_render.py reference --scene-json DIR/scene.json --spp 4096 \
+        --out-prefix /tmp/ref      # two independent halves and their mean (Mitsuba 3)
+    python scripts/anchors/anchor_render.py describe --scene-json DIR/scene.json --renderer mitsuba
 
-Prints one JSON line: renderer, integrator, spp, seconds (sampling time, scene loading and
-Mitsuba's JIT warm-up excluded, as for spectrace), file. Exits with status 3 and a message on
-stderr when the renderer's Python module is not installed.
+`render` prints one JSON line per budget: renderer, config, spp, seconds, load_seconds,
+jit_seconds, file. One timer definition for every renderer: `seconds` runs from the start of
+sampling to the image in memory. Scene loading (for LuxCore: until RenderSession.Start()
+returns, its preprocessing included) is `load_seconds`. Mitsuba's sampling time is the execution time of its kernels (Dr.Jit's
+kernel history); the rest of the render call's wall time (tracing the program, compiling it)
+is `jit_seconds`. This leaves out of Mitsuba's time all it spends outside its kernels: the
+comparison errs in its favour.
 
-Setup: `python3 -m venv VENV && VENV/bin/pip install mitsuba pyluxcore numpy openexr`
-(seen with mitsuba 3.9.1, drjit 1.5.0, pyluxcore 2.11.2, openexr 3.5.3); Mitsuba's llvm_*
-variants need LLVM >= 16 (Debian: `apt-get install libllvm19`, then
-`export DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1`).
+Configurations (`configs` lists them), each with Russian roulette at the renderer's default and
+off (`-rroff`):
+  mitsuba-{independent,multijitter,orthogonal,ldsampler}: Mitsuba 3 `path` in llvm_ad_spectral
+      (its spectral path tracer; the sampler is the only difference);
+  luxcore-bidir-{sobol,random,metropolis}: LuxCore BIDIRCPU with that sampler;
+  luxcore-bidirvm: LuxCore BIDIRVMCPU (vertex merging; its default sampler).
+LuxCore is an RGB renderer: every reflectance is projected to linear sRGB under the scene's
+(first) emitter's spectrum, conductors become a `fresnelcolor` of their normal-incidence
+reflectance under that light with GGX-like roughness `uroughness = alpha` (LuxCore's metal2
+uses Schlick's distribution, whose r equals alpha squared of GGX); LuxCore has no analytic
+sphere (a scene with one is refused for it). Where these projections are not exact the
+benchmark's fit shows LuxCore's error floor and calls it biased.
 
-The scenes are written out by hand from the project's own data and must be kept in step with
-it: the Cornell box from host/data/scenes/cornell_box.json (as the Mitsuba and LuxCore Cornell
-scripts in the project's shared anchors directory do; LuxCore's screen-window shift and the
-"first-bounce exact" RGB projection are taken from there), the caustic from scenes/caustic.ron
-(as docs/figures/caustic/mitsuba_reference.py does for Mitsuba). Film convention as spectrace's:
-XYZ = integral of L x y z over integral of y, then linear sRGB. LuxCore is an RGB renderer:
-spectra are projected to linear sRGB under the scene's light; its Russian roulette is switched
-off (with it, BIDIRCPU comes out 2-6% too bright on the Cornell box).
+Exit status 3 with a message on stderr when the renderer's Python module cannot be imported.
+Setup: `python3 -m venv VENV && VENV/bin/pip install mitsuba pyluxcore numpy openexr`; Mitsuba's
+llvm variants need LLVM >= 16 (Debian: `apt-get install libllvm19`; the script sets
+DRJIT_LIBLLVM_PATH to /usr/lib/x86_64-linux-gnu/libLLVM.so.19.1 when that exists and the
+variable is unset).
 """
-import argparse, csv, json, math, os, struct, sys, tempfile, time
+import argparse, csv, json, math, os, sys, time
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
-DATA = os.path.join(ROOT, "host", "data")
+CMF = os.path.join(ROOT, "host", "data", "cie", "cie1931_2deg.csv")
+FORMAT = "spectrace-bench-scene/1"
 
-# Linear sRGB (D65) from CIE 1931 XYZ (the matrix Mitsuba 3 uses).
+# Linear sRGB (D65) from CIE 1931 XYZ.
 XYZ_TO_SRGB = [[3.240479, -1.537150, -0.498535],
                [-0.969256, 1.875991, 0.041556],
                [0.055648, -0.204043, 1.057311]]
 
-
-def read_table(path, column):
-    rows = [r for r in csv.reader(l for l in open(path) if not l.startswith("#"))]
-    return [(float(r[0]), float(r[column])) for r in rows[1:]]
+MITSUBA_SAMPLERS = ["independent", "multijitter", "orthogonal", "ldsampler"]
+LUX_SAMPLERS = ["sobol", "random", "metropolis"]
 
 
-def interp(pairs, x):
-    """Linear interpolation, 0 outside the table (as Mitsuba's irregular spectrum)."""
-    if x < pairs[0][0] or x > pairs[-1][0]:
-        return 0.0
-    lo, hi = 0, len(pairs) - 1
-    while hi - lo > 1:
-        mid = (lo + hi) // 2
-        if pairs[mid][0] <= x:
-            lo = mid
-        else:
-            hi = mid
-    (x0, y0), (x1, y1) = pairs[lo], pairs[hi]
-    return y0 if x1 == x0 else y0 + (y1 - y0) * (x - x0) / (x1 - x0)
+def all_configs():
+    out = []
+    for s in MITSUBA_SAMPLERS:
+        out += [f"mitsuba-{s}", f"mitsuba-{s}-rroff"]
+    for s in LUX_SAMPLERS:
+        out += [f"luxcore-bidir-{s}", f"luxcore-bidir-{s}-rroff"]
+    out += ["luxcore-bidirvm", "luxcore-bidirvm-rroff"]
+    return out
 
 
-def srgb_of(spectra, scale=1.0):
-    """Linear sRGB of the product of `spectra` (lists of (nm, value)) at 1 nm, 360-830 nm."""
-    cmf = [read_table(os.path.join(DATA, "cie", "cie1931_2deg.csv"), c) for c in (1, 2, 3)]
+def parse_config(name):
+    if name not in all_configs():
+        raise SystemExit(f"unknown config {name!r}; known: {', '.join(all_configs())}")
+    parts = name.split("-")
+    rr_off = parts[-1] == "rroff"
+    if rr_off:
+        parts = parts[:-1]
+    if parts[0] == "mitsuba":
+        return {"renderer": "mitsuba", "sampler": parts[1], "rr_off": rr_off}
+    if parts[1] == "bidirvm":
+        return {"renderer": "luxcore", "engine": "BIDIRVMCPU", "sampler": None, "rr_off": rr_off}
+    return {"renderer": "luxcore", "engine": "BIDIRCPU", "sampler": parts[2].upper(), "rr_off": rr_off}
+
+
+def load_scene(path):
+    sc = json.load(open(path))
+    if sc.get("format") != FORMAT:
+        raise SystemExit(f"{path}: not a {FORMAT} file (got {sc.get('format')!r}); "
+                         "export it with `spectrace bench export`")
+    sc["dir"] = os.path.dirname(os.path.abspath(path))
+    return sc
+
+
+# ------------------------------------------------------------------------------- spectra → RGB
+def cmf_table():
+    rows = [r for r in csv.reader(l for l in open(CMF) if not l.startswith("#"))][1:]
+    return {int(round(float(r[0]))): (float(r[1]), float(r[2]), float(r[3])) for r in rows}
+
+
+def srgb_of(grid, values):
+    """Linear sRGB of a spectrum on `grid` (nm), XYZ = sum L·cmf / sum y (spectrace's film)."""
+    cmf = cmf_table()
     xyz, ysum = [0.0, 0.0, 0.0], 0.0
-    for nm in range(360, 831):
-        s = scale
-        for sp in spectra:
-            s *= interp(sp, nm)
-        bars = [interp(c, nm) for c in cmf]
+    for nm, v in zip(grid, values):
+        bars = cmf.get(int(round(nm)))
+        if bars is None:
+            continue
         for i in range(3):
-            xyz[i] += s * bars[i]
+            xyz[i] += v * bars[i]
         ysum += bars[1]
-    xyz = [v / ysum for v in xyz]
+    xyz = [c / ysum for c in xyz]
     return [sum(XYZ_TO_SRGB[r][c] * xyz[c] for c in range(3)) for r in range(3)]
 
 
-def constant(v):
-    return [(360.0, v), (830.0, v)]
+def fresnel_conductor(cos_i, eta, k):
+    """Unpolarised Fresnel reflectance of a conductor (complex IOR eta + ik) at cos_i."""
+    n = complex(eta, k)
+    sin2 = 1 - cos_i * cos_i
+    cos_t = (1 - sin2 / (n * n)) ** 0.5
+    rs = (cos_i - n * cos_t) / (cos_i + n * cos_t)
+    rp = (n * cos_i - cos_t) / (n * cos_i + cos_t)
+    return 0.5 * (abs(rs) ** 2 + abs(rp) ** 2)
 
 
-def irregular(pairs, scale=1.0):
-    return {"type": "irregular", "wavelengths": ", ".join(repr(w) for w, _ in pairs),
-            "values": ", ".join(repr(v * scale) for _, v in pairs)}
+def first_emitter(sc):
+    for m in sc["materials"].values():
+        if m["type"] == "emitter":
+            return m["radiance"]
+    raise SystemExit("the scene has no emitter")
 
 
-def write_ply(path, verts, faces, normals=None):
-    with open(path, "wb") as f:
-        props = "property float x\nproperty float y\nproperty float z\n"
-        if normals is not None:
-            props += "property float nx\nproperty float ny\nproperty float nz\n"
-        f.write(("ply\nformat binary_little_endian 1.0\nelement vertex %d\n%selement face %d\n"
-                 "property list uchar int vertex_indices\nend_header\n"
-                 % (len(verts), props, len(faces))).encode())
-        for i, v in enumerate(verts):
-            f.write(struct.pack("<3f", *v))
-            if normals is not None:
-                f.write(struct.pack("<3f", *normals[i]))
-        for fc in faces:
-            f.write(struct.pack("<B3i", 3, *fc))
-    return path
-
-
-def quads_ply(path, quads):
-    """Each quad (4 vertices, spectrace's winding) as triangles (0,1,2), (0,2,3)."""
-    verts, faces = [], []
-    for q in quads:
-        b = len(verts)
-        verts.extend(q)
-        faces += [(b, b + 1, b + 2), (b, b + 2, b + 3)]
-    return write_ply(path, verts, faces)
-
-
-def quad(corner, e0, e1):
-    c = corner
-    return [c, [c[i] + e0[i] for i in range(3)], [c[i] + e0[i] + e1[i] for i in range(3)],
-            [c[i] + e1[i] for i in range(3)]]
-
-
-def sphere_ply(path, center, radius, n_theta=256, n_phi=512):
-    """A finely tessellated sphere with smooth normals (LuxCore has no analytic sphere)."""
-    verts, normals, faces = [], [], []
-    for i in range(n_theta + 1):
-        th = math.pi * i / n_theta
-        for j in range(n_phi):
-            ph = 2 * math.pi * j / n_phi
-            n = (math.sin(th) * math.cos(ph), math.cos(th), math.sin(th) * math.sin(ph))
-            normals.append(n)
-            verts.append(tuple(center[k] + radius * n[k] for k in range(3)))
-    idx = lambda i, j: i * n_phi + (j % n_phi)
-    for i in range(n_theta):
-        for j in range(n_phi):
-            a, b, c, d = idx(i, j), idx(i, j + 1), idx(i + 1, j + 1), idx(i + 1, j)
-            if i != 0:
-                faces.append((a, c, b))
-            if i != n_theta - 1:
-                faces.append((a, d, c))
-    return write_ply(path, verts, faces, normals)
-
-
-# ------------------------------------------------------------------------------------ scenes
-def cornell(tmp):
-    d = json.load(open(os.path.join(DATA, "scenes", "cornell_box.json")))
-    cam = d["camera"]
-    sp = d["spectra"]
-    surfaces = []
-    for name, s in d["surfaces"].items():
-        surfaces.append((name, quads_ply(os.path.join(tmp, name + ".ply"), s["quads"]), s["material"]))
-    w, h = cam["image_size"]
-    return {
-        "name": "cornell", "width": w, "height": h, "max_depth": 64,
-        "camera": (cam["position"], cam["look_at"], cam["up"], cam["fov_deg"]),
-        "light_spectrum": sp["light_emission"], "light_scale": 1.0,
-        "reflectance": {m: sp[m] for m in ("white", "red", "green")},
-        "surfaces": [(n, p, "light" if m == "light_emitter" else m) for n, p, m in surfaces],
-        "spheres": [],
-    }
-
-
-def caustic(tmp):
-    d65 = read_table(os.path.join(DATA, "illuminants", "d65.csv"), 1)
-    integral = sum(0.5 * (d65[i][1] + d65[i + 1][1]) * (d65[i + 1][0] - d65[i][0])
-                   for i in range(len(d65) - 1))
-    blue = read_table(os.path.join(DATA, "reflectance", "colorchecker_babelcolor_average.csv"), 13)
-    return {
-        "name": "caustic", "width": 160, "height": 120, "max_depth": 16,
-        "camera": ([0, 1.6, 4.5], [0, 0.5, 0], [0, 1, 0], 45.0),
-        "light_spectrum": d65, "light_scale": 480000.0 / integral,
-        "reflectance": {"floor": constant(0.7), "wall": blue},
-        "surfaces": [
-            ("floor", quads_ply(os.path.join(tmp, "floor.ply"), [quad([-2, 0, 2], [4, 0, 0], [0, 0, -4])]), "floor"),
-            ("back", quads_ply(os.path.join(tmp, "back.ply"), [quad([-2, 0, -2], [4, 0, 0], [0, 3, 0])]), "wall"),
-            ("lamp", quads_ply(os.path.join(tmp, "lamp.ply"),
-                               [quad([-0.025, 2.6, -0.025], [0.05, 0, 0], [0, 0, 0.05])]), "light"),
-        ],
-        "spheres": [("glass_ball", [0, 0.8, 0], 0.5, 1.5)],
-    }
-
-
-# ------------------------------------------------------------------------------------ Mitsuba
-def run_mitsuba(sc, args, tmp):
-    import numpy as np
-    import mitsuba as mi, drjit as dr
-    mi.set_variant(args.variant)
-    dr.set_thread_count(args.threads)
-    pos, target, up, fov = sc["camera"]
-    diffuse = lambda r: {"type": "twosided", "bsdf": {"type": "diffuse", "reflectance": irregular(r)}}
+# ------------------------------------------------------------------------------------- Mitsuba
+def mitsuba_dict(sc, sampler, rr_off, mi):
+    grid = sc["wavelengths_nm"]
+    spec = lambda vals: {"type": "irregular", "wavelengths": ", ".join(repr(w) for w in grid),
+                         "values": ", ".join(repr(v) for v in vals)}
+    cam = sc["camera"]
+    d = sc["max_depth"]
     scene = {
         "type": "scene",
-        # Mitsuba counts vertices: spectrace's depth d is its d + 1.
-        "integrator": {"type": "path", "max_depth": sc["max_depth"] + 1},
+        # Mitsuba counts vertices (the camera's too): spectrace's depth d is its d + 1.
+        "integrator": {"type": "path", "max_depth": d + 1,
+                       **({"rr_depth": d + 2} if rr_off else {})},
         "sensor": {
-            "type": "perspective", "fov": fov, "fov_axis": "x",
-            "to_world": mi.ScalarTransform4f().look_at(origin=pos, target=target, up=up),
-            "sampler": {"type": "independent"},
+            "type": "perspective", "fov": cam["fov_deg"], "fov_axis": cam["fov_axis"],
+            "to_world": mi.ScalarTransform4f().look_at(origin=cam["position"], target=cam["look_at"],
+                                                       up=cam["up"]),
+            "sampler": {"type": sampler},
             "film": {"type": "hdrfilm", "width": sc["width"], "height": sc["height"],
                      "rfilter": {"type": "box"}, "pixel_format": "rgb"},
         },
     }
-    for name, path, mat in sc["surfaces"]:
-        shape = {"type": "ply", "filename": path, "face_normals": True}
-        if mat == "light":
-            shape["bsdf"] = {"type": "diffuse", "reflectance": {"type": "spectrum", "value": 0.0}}
-            shape["emitter"] = {"type": "area", "radiance": irregular(sc["light_spectrum"], sc["light_scale"])}
+    bsdfs = {}
+    for name, m in sc["materials"].items():
+        if m["type"] == "diffuse":
+            b = {"type": "twosided", "bsdf": {"type": "diffuse", "reflectance": spec(m["reflectance"])}}
+        elif m["type"] == "dielectric":
+            b = {"type": "dielectric", "int_ior": m["ior"], "ext_ior": 1.0}
+        elif m["type"] == "conductor":
+            inner = {"type": "conductor", "eta": spec(m["eta"]), "k": spec(m["k"])}
+            if m["alpha"] > 0:
+                inner = {"type": "roughconductor", "distribution": "ggx", "alpha": m["alpha"],
+                         "eta": spec(m["eta"]), "k": spec(m["k"])}
+            b = {"type": "twosided", "bsdf": inner}
+        elif m["type"] == "emitter":
+            if m["two_sided"]:
+                raise SystemExit(f"material {name}: Mitsuba's area emitter is one-sided")
+            b = {"type": "diffuse", "reflectance": {"type": "spectrum", "value": 0.0}}
         else:
-            shape["bsdf"] = diffuse(sc["reflectance"][mat])
-        scene[name] = shape
-    for name, c, r, ior in sc["spheres"]:
-        scene[name] = {"type": "sphere", "center": c, "radius": r,
-                       "bsdf": {"type": "dielectric", "int_ior": ior, "ext_ior": 1.0}}
-    scene = mi.load_dict(scene)
-    # JIT warm-up and calibration: a 1-spp and a 4-spp render; their rate sizes the timed render.
-    np.array(mi.render(scene, spp=1, seed=1))
-    t0 = time.perf_counter()
-    np.array(mi.render(scene, spp=4, seed=2))
-    rate = 4 / max(time.perf_counter() - t0, 1e-3)
-    spp = args.spp if args.spp else max(1, int(rate * args.seconds))
-    t0 = time.perf_counter()
-    img = np.array(mi.render(scene, spp=spp, seed=args.seed), dtype=np.float64)
-    secs = time.perf_counter() - t0
-    return img, spp, secs, f"mitsuba {mi.__version__}", f"path ({args.variant})"
+            raise SystemExit(f"material {name}: unknown type {m['type']}")
+        bsdfs[name] = b
+    for i, s in enumerate(sc["shapes"]):
+        m = sc["materials"][s["material"]]
+        if "sphere" in s:
+            shape = {"type": "sphere", "center": s["sphere"]["center"], "radius": s["sphere"]["radius"]}
+        else:
+            shape = {"type": "ply", "filename": os.path.join(sc["dir"], s["ply"]),
+                     "face_normals": not s["normals"]}
+        shape["bsdf"] = bsdfs[s["material"]]
+        if m["type"] == "emitter":
+            shape["emitter"] = {"type": "area", "radiance": spec(m["radiance"])}
+        shape["id"] = f"shape_{i}"
+        scene[f"shape_{i}"] = shape
+    return scene
 
 
-# ------------------------------------------------------------------------------------ LuxCore
-def run_luxcore(sc, args, tmp):
+def import_mitsuba(threads):
+    lib = "/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1"
+    if "DRJIT_LIBLLVM_PATH" not in os.environ and os.path.exists(lib):
+        os.environ["DRJIT_LIBLLVM_PATH"] = lib
+    import mitsuba as mi, drjit as dr
+    mi.set_variant("llvm_ad_spectral")
+    dr.set_thread_count(threads)
+    dr.set_flag(dr.JitFlag.KernelHistory, True)
+    return mi, dr
+
+
+def kernel_seconds(dr):
+    """Execution time of the kernels launched since the last call, seconds (Dr.Jit's kernel
+    history, in ms); clears the history."""
+    return sum(k.get("execution_time", 0.0) for k in dr.kernel_history()) / 1000.0
+
+
+def run_mitsuba(sc, cfg, args, budgets, out_prefix, spp_fixed=None):
     import numpy as np
-    import OpenEXR  # noqa: F401  -- must come before pyluxcore (their bundled OpenEXR clashes)
-    import pyluxcore
-    pyluxcore.Init(lambda msg: None)
-    pos, target, up, fov_x = sc["camera"]
+    mi, dr = import_mitsuba(args.threads)
+    t0 = time.perf_counter()
+    scene = mi.load_dict(mitsuba_dict(sc, cfg["sampler"], cfg["rr_off"], mi))
+    load = time.perf_counter() - t0
+    dr.kernel_history()  # clear
+    # Calibration (also compiles the kernels once): the rate at 4 spp sizes each budget.
+    np.array(mi.render(scene, spp=1, seed=10_000 + args.seed))
+    dr.kernel_history()  # clear: the calibration's time is the 4-spp render's alone
+    t0 = time.perf_counter()
+    np.array(mi.render(scene, spp=4, seed=20_000 + args.seed))
+    wall = time.perf_counter() - t0
+    rate = 4 / max(kernel_seconds(dr), 1e-3)
+    results = []
+    for i, b in enumerate(budgets):
+        spp = spp_fixed or max(1, int(rate * b))
+        dr.kernel_history()
+        t0 = time.perf_counter()
+        img = np.array(mi.render(scene, spp=spp, seed=args.seed * 1000 + i), dtype=np.float64)
+        wall = time.perf_counter() - t0
+        secs = kernel_seconds(dr)
+        sampler = scene.sensors()[0].sampler()
+        results.append((img, {"spp": int(sampler.sample_count()), "requested_spp": spp,
+                              "seconds": round(max(secs, 1e-6), 5),
+                              "jit_seconds": round(max(wall - secs, 0.0), 4),
+                              "load_seconds": round(load, 4), "budget": b}))
+    return results, f"mitsuba {mi.__version__} llvm_ad_spectral path, sampler {cfg['sampler']}, " \
+                    f"rr {'off' if cfg['rr_off'] else 'default (depth 5)'}"
+
+
+# ------------------------------------------------------------------------------------- LuxCore
+def luxcore_props(sc, cfg, args, budget):
+    grid = sc["wavelengths_nm"]
+    light = first_emitter(sc)
+    light_rgb = srgb_of(grid, light)
+    cam = sc["camera"]
     w, h = sc["width"], sc["height"]
     f = lambda v: " ".join("%.9g" % x for x in v)
     # LuxCore's field of view spans the shorter image side.
+    fov_x = cam["fov_deg"]
+    if cam["fov_axis"] == "y":
+        fov_x = math.degrees(2 * math.atan(math.tan(math.radians(fov_x) / 2) * w / h))
     fov = fov_x if w <= h else math.degrees(2 * math.atan(math.tan(math.radians(fov_x) / 2) * h / w))
     aspect = max(w, h) / min(w, h)
     sx, sy = (aspect, 1.0) if w >= h else (1.0, aspect)
-    light = [(nm, v) for nm, v in sc["light_spectrum"]]
-    light_rgb = srgb_of([light], sc["light_scale"])
     lines = [
         "scene.camera.type = perspective",
-        f"scene.camera.lookat.orig = {f(pos)}", f"scene.camera.lookat.target = {f(target)}",
-        f"scene.camera.up = {f(up)}", f"scene.camera.fieldofview = {fov:.9g}",
+        f"scene.camera.lookat.orig = {f(cam['position'])}",
+        f"scene.camera.lookat.target = {f(cam['look_at'])}",
+        f"scene.camera.up = {f(cam['up'])}", f"scene.camera.fieldofview = {fov:.9g}",
         # LuxCore's raster lands one pixel lower than Mitsuba's and spectrace's: shift one row.
         f"scene.camera.screenwindow = {-sx:.9g} {sx:.9g} {-sy - 2.0 / h:.9g} {sy - 2.0 / h:.9g}",
     ]
-    for m, refl in sc["reflectance"].items():
-        lit = srgb_of([refl, light], sc["light_scale"])
-        kd = [min(max(lit[i] / light_rgb[i], 0.0), 1.0) for i in range(3)]
-        lines += [f"scene.materials.{m}.type = matte", f"scene.materials.{m}.kd = {f(kd)}"]
-    lines += ["scene.materials.light.type = matte", "scene.materials.light.kd = 0 0 0",
-              f"scene.materials.light.emission = {f(light_rgb)}",
-              "scene.materials.light.emission.gain = 1 1 1",
-              "scene.materials.light.emission.power = 0", "scene.materials.light.emission.efficency = 0"]
-    for name, c, r, ior in sc["spheres"]:
-        path = sphere_ply(os.path.join(tmp, name + ".ply"), c, r)
-        lines += [f"scene.materials.{name}.type = glass", f"scene.materials.{name}.kr = 1 1 1",
-                  f"scene.materials.{name}.kt = 1 1 1", f"scene.materials.{name}.interiorior = {ior}",
-                  f"scene.materials.{name}.exteriorior = 1.0",
-                  f"scene.shapes.{name}.type = mesh", f'scene.shapes.{name}.ply = "{path}"',
-                  f"scene.objects.{name}.shape = {name}", f"scene.objects.{name}.material = {name}"]
-    for name, path, mat in sc["surfaces"]:
-        lines += [f"scene.shapes.{name}.type = mesh", f'scene.shapes.{name}.ply = "{path}"',
-                  f"scene.objects.{name}.shape = {name}", f"scene.objects.{name}.material = {mat}"]
+    under_light = lambda vals: [min(max(c / l, 0.0), 1.0) if l > 0 else 0.0 for c, l in
+                                zip(srgb_of(grid, [v * e for v, e in zip(vals, light)]), light_rgb)]
+    for name, m in sc["materials"].items():
+        p = f"scene.materials.{name}"
+        if m["type"] == "diffuse":
+            lines += [f"{p}.type = matte", f"{p}.kd = {f(under_light(m['reflectance']))}"]
+        elif m["type"] == "dielectric":
+            lines += [f"{p}.type = glass", f"{p}.kr = 1 1 1", f"{p}.kt = 1 1 1",
+                      f"{p}.interiorior = {m['ior']}", f"{p}.exteriorior = 1.0"]
+        elif m["type"] == "conductor":
+            r0 = [fresnel_conductor(1.0, n, k) for n, k in zip(m["eta"], m["k"])]
+            lines += [f"scene.textures.{name}_fresnel.type = fresnelcolor",
+                      f"scene.textures.{name}_fresnel.kr = {f(under_light(r0))}",
+                      f"{p}.type = metal2", f"{p}.fresnel = {name}_fresnel",
+                      f"{p}.uroughness = {max(m['alpha'], 1e-4):.9g}",
+                      f"{p}.vroughness = {max(m['alpha'], 1e-4):.9g}"]
+        elif m["type"] == "emitter":
+            rgb = srgb_of(grid, m["radiance"])
+            lines += [f"{p}.type = matte", f"{p}.kd = 0 0 0", f"{p}.emission = {f(rgb)}",
+                      f"{p}.emission.gain = 1 1 1", f"{p}.emission.power = 0",
+                      f"{p}.emission.efficency = 0"]
+    for i, s in enumerate(sc["shapes"]):
+        if "sphere" in s:
+            raise SystemExit(f"shape {s['name']}: LuxCore has no analytic sphere; the bench scene "
+                             "must use a mesh for every renderer")
+        n = f"shape_{i}"
+        lines += [f"scene.shapes.{n}.type = mesh",
+                  f'scene.shapes.{n}.ply = "{os.path.join(sc["dir"], s["ply"])}"',
+                  f"scene.objects.{n}.shape = {n}", f"scene.objects.{n}.material = {s['material']}"]
     d = sc["max_depth"]
     config = [
-        f"renderengine.type = {args.engine}", f"renderengine.seed = {args.seed + 1}",
-        "sampler.type = RANDOM", f"native.threads.count = {args.threads}",
+        f"renderengine.type = {cfg['engine']}", f"renderengine.seed = {args.seed + 1}",
+        f"native.threads.count = {args.threads}",
         f"film.width = {w}", f"film.height = {h}",
         "film.filter.type = BOX", "film.filter.width = 0.5",
         "film.outputs.0.type = RGB", "film.outputs.0.filename = unused.exr",
-        # --spp: a fixed sample count (time unlimited), for checking that seeds change the
-        # sample sequence; otherwise the time budget.
-        f"batch.haltspp = {args.spp}", f"batch.halttime = {0 if args.spp else args.seconds}",
+        f"batch.halttime = {budget * 20 + 60}",  # a safety net; the script stops the session
         f"path.maxdepth = {d}", f"light.maxdepth = {d}",
         f"path.pathdepth.total = {d}", f"path.pathdepth.diffuse = {d}",
         f"path.pathdepth.glossy = {d}", f"path.pathdepth.specular = {d}",
-        "path.russianroulette.depth = 1000", "light.russianroulette.depth = 1000",
         "path.clamping.variance.maxvalue = 0",
         "film.noiseestimation.warmup = 1000000000",
     ]
-    scene = pyluxcore.Scene()
-    p = pyluxcore.Properties(); p.SetFromString("\n".join(lines) + "\n"); scene.Parse(p)
-    c = pyluxcore.Properties(); c.SetFromString("\n".join(config) + "\n")
-    session = pyluxcore.RenderSession(pyluxcore.RenderConfig(c, scene))
-    t0 = time.perf_counter()
-    session.Start()
-    while True:  # halt conditions are only checked inside UpdateStats()
-        time.sleep(0.005)
+    if cfg["sampler"]:
+        config.append(f"sampler.type = {cfg['sampler']}")
+    if cfg["rr_off"]:
+        config += ["path.russianroulette.depth = 1000", "light.russianroulette.depth = 1000"]
+    return lines, config
+
+
+def import_luxcore():
+    import OpenEXR  # noqa: F401  -- must come before pyluxcore (their bundled OpenEXR clashes)
+    import pyluxcore
+    pyluxcore.Init(lambda msg: None)
+    return pyluxcore
+
+
+def run_luxcore(sc, cfg, args, budgets, out_prefix):
+    import numpy as np
+    lux = import_luxcore()
+    w, h = sc["width"], sc["height"]
+    results = []
+    for b in budgets:
+        lines, config = luxcore_props(sc, cfg, args, b)
+        t0 = time.perf_counter()
+        scene = lux.Scene()
+        p = lux.Properties(); p.SetFromString("\n".join(lines) + "\n"); scene.Parse(p)
+        c = lux.Properties(); c.SetFromString("\n".join(config) + "\n")
+        session = lux.RenderSession(lux.RenderConfig(c, scene))
+        session.Start()  # returns when the scene is prepared (BVH, light distributions)
+        t_start = time.perf_counter()
+        load = t_start - t0
+        while time.perf_counter() - t_start < b:
+            time.sleep(min(0.005, max(b - (time.perf_counter() - t_start), 0)))
         session.UpdateStats()
-        if session.HasDone():
-            break
-    secs = time.perf_counter() - t0
-    # Samples taken (the pass counter lags behind for BIDIRCPU); as samples per pixel.
-    samples = session.GetStats().Get("stats.renderengine.total.samplecount").GetFloat()
-    spp = int(round(samples / (w * h)))
-    buf = np.zeros((h, w, 3), dtype=np.float32)
-    session.GetFilm().GetOutputFloat(pyluxcore.FilmOutputType.RGB, buf)
-    session.Stop()
-    return buf[::-1].astype(np.float64), spp, secs, f"luxcore {pyluxcore.Version()}", f"{args.engine} (RGB)"
+        samples = session.GetStats().Get("stats.renderengine.total.samplecount").GetFloat()
+        buf = np.zeros((h, w, 3), dtype=np.float32)
+        session.GetFilm().GetOutputFloat(lux.FilmOutputType.RGB, buf)
+        secs = time.perf_counter() - t_start
+        session.Stop()
+        results.append((buf[::-1].astype(np.float64),
+                        {"spp": round(samples / (w * h), 3), "seconds": round(secs, 5),
+                         "load_seconds": round(load, 4), "jit_seconds": 0.0, "budget": b}))
+    rr = "off" if cfg["rr_off"] else "default"
+    return results, f"luxcore {lux.Version()} {cfg['engine']} sampler {cfg['sampler'] or 'default'}, " \
+                    f"rr {rr} (RGB)"
 
 
+# ------------------------------------------------------------------------------------ outputs
 def write_exr(path, rgb):
     import numpy as np
     import OpenEXR
@@ -304,39 +349,162 @@ def write_exr(path, rgb):
         f.write(path)
 
 
+def check_finite(img, what):
+    import numpy as np
+    bad = ~np.isfinite(img)
+    if bad.any():
+        y, x = np.argwhere(bad.any(axis=2))[0]
+        raise SystemExit(f"{what}: {int(bad.any(axis=2).sum())} pixel(s) with a non-finite value, "
+                         f"the first at ({x}, {y})")
+
+
+def cmd_render(a):
+    sc = load_scene(a.scene_json)
+    cfg = parse_config(a.config)
+    budgets = [float(x) for x in a.budgets.split(",")]
+    if cfg["renderer"] == "mitsuba":
+        results, desc = run_mitsuba(sc, cfg, a, budgets, a.out_prefix)
+    else:
+        results, desc = run_luxcore(sc, cfg, a, budgets, a.out_prefix)
+    for i, (img, info) in enumerate(results):
+        path = f"{a.out_prefix}_b{i}.exr"
+        write_exr(path, img)  # written even when non-finite, for inspection
+        check_finite(img, f"{a.config} at {info['budget']} s ({path})")
+        print(json.dumps({"config": a.config, "renderer": desc, "file": path, **info}), flush=True)
+
+
+def cmd_reference(a):
+    """Two independent Mitsuba renders (seeds differ) of --spp/2 each and their mean."""
+    import numpy as np
+    sc = load_scene(a.scene_json)
+    mi, dr = import_mitsuba(a.threads)
+    scene = mi.load_dict(mitsuba_dict(sc, "independent", False, mi))
+    half = max(1, a.spp // 2)
+    imgs, t0 = [], time.perf_counter()
+    for k in range(2):
+        img = np.zeros((sc["height"], sc["width"], 3))
+        # In passes of at most 1024 spp (memory), each pass with its own seed.
+        done, p = 0, 0
+        while done < half:
+            n = min(1024, half - done)
+            img += n * np.array(mi.render(scene, spp=n, seed=1_000_003 * (k + 1) + p), dtype=np.float64)
+            done += n
+            p += 1
+        img /= half
+        check_finite(img, f"reference half {k + 1}")
+        imgs.append(img)
+        write_exr(f"{a.out_prefix}_half{k + 1}.exr", img)
+    write_exr(f"{a.out_prefix}.exr", 0.5 * (imgs[0] + imgs[1]))
+    print(json.dumps({"renderer": f"mitsuba {mi.__version__} llvm_ad_spectral path independent",
+                      "spp": 2 * half, "seconds": round(time.perf_counter() - t0, 3),
+                      "file": f"{a.out_prefix}.exr"}), flush=True)
+
+
+def cmd_describe(a):
+    """What the renderer got, for the export test: per shape its bounds and triangle count, the
+    materials' spectra at 450, 550 and 650 nm as the renderer evaluates them, the camera."""
+    sc = load_scene(a.scene_json)
+    probe = [450.0, 550.0, 650.0]
+    if a.renderer == "mitsuba":
+        mi, dr = import_mitsuba(a.threads)
+        # optimize=False: Mitsuba would merge the meshes that share a BSDF into one.
+        scene = mi.load_dict(mitsuba_dict(sc, "independent", False, mi), optimize=False)
+        shapes = {}
+        for s in scene.shapes():
+            i = int(s.id().split("_")[1])
+            bb = s.bbox()
+            entry = {"min": list(map(float, bb.min)), "max": list(map(float, bb.max)),
+                     "triangles": int(s.face_count()) if s.is_mesh() else 0}
+            si = dr.zeros(mi.SurfaceInteraction3f)
+            si.wavelengths = mi.Spectrum([probe[0], probe[1], probe[2], 500.0])
+            si.n = mi.Normal3f(0, 0, 1)
+            si.sh_frame = mi.Frame3f(si.n)
+            si.wi = mi.Vector3f(0, 0, 1)
+            bsdf = s.bsdf()
+            if s.emitter() is not None:
+                v = s.emitter().eval(si)
+                entry["radiance"] = [float(dr.slice(v)[j]) for j in range(3)]
+            elif mi.has_flag(bsdf.flags(), mi.BSDFFlags.DiffuseReflection):
+                v = bsdf.eval_diffuse_reflectance(si)
+                entry["reflectance"] = [float(dr.slice(v)[j]) for j in range(3)]
+            shapes[sc["shapes"][i]["name"]] = entry
+        sensor = scene.sensors()[0]
+        m = sensor.world_transform().matrix
+        params = mi.traverse(sensor)
+        out = {"shapes": shapes, "camera": {
+            "origin": [float(dr.slice(m[r, 3])) for r in range(3)],
+            "forward": [float(dr.slice(m[r, 2])) for r in range(3)],
+            "x_fov": float(dr.slice(params["x_fov"])) if "x_fov" in params else None},
+            "size": [int(v) for v in sensor.film().size()]}
+    else:
+        lux = import_luxcore()
+        lines, _ = luxcore_props(sc, parse_config("luxcore-bidir-sobol"), a, 1.0)
+        scene = lux.Scene()
+        p = lux.Properties(); p.SetFromString("\n".join(lines) + "\n"); scene.Parse(p)
+        props = scene.ToProperties()
+        get = lambda k: [float(x) for x in props.Get(k).GetFloats()] if props.IsDefined(k) else None
+        objs = {}
+        for i, s in enumerate(sc["shapes"]):
+            objs[s["name"]] = {"defined": bool(scene.IsMeshDefined(f"shape_{i}"))
+                               and bool(scene.IsMaterialDefined(s["material"]))}
+        out = {"shapes": objs, "objects": int(scene.GetObjectCount()),
+               "camera": {"origin": get("scene.camera.lookat.orig"),
+                                          "target": get("scene.camera.lookat.target")}}
+    print(json.dumps(out), flush=True)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--renderer", choices=["mitsuba", "luxcore"], required=True)
-    ap.add_argument("--scene", choices=["cornell", "caustic"], required=True)
-    ap.add_argument("--seconds", type=float, required=True)
-    ap.add_argument("--threads", type=int, default=2)
-    ap.add_argument("--seed", type=int, default=0,
-                    help="Mitsuba: mi.render's seed; LuxCore: renderengine.seed = SEED + 1. "
-                         "Different seeds give independent "
-                         "sample sequences (checked with --spp, docs/performance.md)")
-    ap.add_argument("--spp", type=int, default=0,
-                    help="render this many samples per pixel instead of the time budget")
-    ap.add_argument("--variant", default="llvm_ad_spectral", help="Mitsuba variant")
-    ap.add_argument("--engine", default="BIDIRCPU", help="LuxCore engine (BIDIRCPU, PATHCPU)")
-    ap.add_argument("--out", required=True, help="output OpenEXR (linear sRGB R, G, B)")
+    sub = ap.add_subparsers(dest="cmd", required=True)
+    sub.add_parser("configs", help="list the configurations")
+    r = sub.add_parser("render", help="render at each budget")
+    r.add_argument("--scene-json", required=True)
+    r.add_argument("--config", required=True)
+    r.add_argument("--budgets", required=True, help="comma-separated seconds")
+    r.add_argument("--threads", type=int, default=2)
+    r.add_argument("--seed", type=int, default=0)
+    r.add_argument("--out-prefix", required=True)
+    f = sub.add_parser("reference", help="long Mitsuba render in two independent halves")
+    f.add_argument("--scene-json", required=True)
+    f.add_argument("--spp", type=int, required=True)
+    f.add_argument("--threads", type=int, default=2)
+    f.add_argument("--out-prefix", required=True)
+    d = sub.add_parser("describe", help="what a renderer gets from the exported scene")
+    d.add_argument("--scene-json", required=True)
+    d.add_argument("--renderer", choices=["mitsuba", "luxcore"], required=True)
+    d.add_argument("--threads", type=int, default=2)
+    d.add_argument("--seed", type=int, default=0)
     a = ap.parse_args()
-    module = "mitsuba" if a.renderer == "mitsuba" else "pyluxcore"
+    if a.cmd == "configs":
+        print("\n".join(all_configs()))
+        return
+    renderer = getattr(a, "renderer", None) or (parse_config(a.config)["renderer"]
+                                                if a.cmd == "render" else "mitsuba")
+    module = "mitsuba" if renderer == "mitsuba" else "pyluxcore"
     try:
         __import__("OpenEXR")
-        __import__(module)
+        __import__("numpy")
+        if module == "mitsuba":
+            import_mitsuba(getattr(a, "threads", 2))
+        else:
+            __import__(module)
     except Exception as e:  # not installed, or its shared libraries missing
-        print(f"{module} cannot be imported here ({e}); pip install {module} openexr", file=sys.stderr)
-        sys.exit(3)
-    with tempfile.TemporaryDirectory() as tmp:
-        sc = cornell(tmp) if a.scene == "cornell" else caustic(tmp)
-        run = run_mitsuba if a.renderer == "mitsuba" else run_luxcore
-        img, spp, secs, renderer, integrator = run(sc, a, tmp)
-    write_exr(a.out, img)
-    print(json.dumps({"renderer": renderer, "integrator": integrator, "spp": spp,
-                      "seconds": round(secs, 4), "file": a.out}), flush=True)
+        print(f"{module} cannot be imported here ({e}); pip install {module} openexr numpy",
+              file=sys.stderr)
+        sys.stdout.flush(); sys.stderr.flush()
+        os._exit(3)
+    {"render": cmd_render, "reference": cmd_reference, "describe": cmd_describe}[a.cmd](a)
 
 
 if __name__ == "__main__":
-    main()
+    try:
+        main()
+        code = 0
+    except SystemExit as e:
+        if isinstance(e.code, str):
+            print(e.code, file=sys.stderr)
+            code = 2
+        else:
+            code = e.code or 0
     sys.stdout.flush(); sys.stderr.flush()
-    os._exit(0)  # pyluxcore 2.11 can crash during interpreter teardown; the results are written
+    os._exit(code)  # pyluxcore 2.11 can crash during interpreter teardown; the results are written

@@ -3,6 +3,8 @@
 //! benchmarks of renderer configurations.
 
 pub mod accuracy_bench;
+pub mod bench_fit;
+pub mod bench_scene;
 pub mod ciede2000;
 pub mod cielab;
 pub mod diff_image;

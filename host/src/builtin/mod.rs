@@ -197,7 +197,7 @@ pub fn types() -> &'static [BuiltinType] {
     &ALL
 }
 
-static ALL: [BuiltinType; 27] = [
+static ALL: [BuiltinType; 30] = [
     material::lambertian::TYPE,
     material::mirror::TYPE,
     material::dielectric::TYPE,
@@ -214,6 +214,9 @@ static ALL: [BuiltinType; 27] = [
     light::luminaire::TYPE,
     light::cie_sky::TYPE,
     light::sun::TYPE,
+    light::near_field::TYPE,
+    light::ray_file::TYPE,
+    light::gldf::TYPE,
     spd::spec::TYPE,
     spd::table::TYPE,
     observer::cie::CIE1931_2,

@@ -22,6 +22,8 @@ pub enum BenchCommand {
     /// Equal-time efficiency of spectrace against Mitsuba 3 and LuxCore on the Cornell box and
     /// the caustic (see docs/performance.md).
     Speed(super::bench_speed::SpeedArgs),
+    /// Write a scene for the anchors (scene.json and PLY files; see `bench speed`).
+    Export(super::bench_speed::ExportArgs),
     /// The cost of each effect: every bundled scene with `--effects auto`, `all` and each of
     /// its effects switched off (time per sample, mean Y; see docs/effects.md).
     Effects(super::bench_effects::EffectsBenchArgs),
@@ -74,6 +76,7 @@ pub fn run(cmd: &BenchCommand) -> Result<(), String> {
     match cmd {
         BenchCommand::Accuracy(a) => run_accuracy(a),
         BenchCommand::Speed(a) => super::bench_speed::run_speed(a),
+        BenchCommand::Export(a) => super::bench_speed::run_export(a),
         BenchCommand::Effects(a) => super::bench_effects::run_bench(a),
     }
 }

@@ -1,548 +1,807 @@
-//! `spectrace bench speed [--budget SECONDS] [--seeds N] [--threads N] [--python PY] [--out DIR]`:
-//! the Cornell box and the glass-sphere caustic rendered for the same wall-clock budget by
-//! spectrace's path tracer and BDPT and by the anchors (Mitsuba 3's spectral path tracer,
-//! LuxCore's BIDIRCPU and PATHCPU, through `scripts/anchors/anchor_render.py`), every image
-//! compared with one long reference per scene (directly visible light left out, as
-//! `spectrace compare` does).
+//! `spectrace bench speed`: spectrace against the anchors (Mitsuba 3, LuxCore) on the scene
+//! suite in scenes/bench/, fair by construction (docs/performance.md):
 //!
-//! Every renderer renders every scene `--seeds` times (seeds `--seed`, `--seed + 1`, …; the runs
-//! of one seed are made one after the other for all renderers, so a change of the machine's
-//! load is spread over all of them). The efficiency of a renderer is `1 / mean(MSE·seconds)`
-//! over its runs: for an unbiased renderer the expected MSE falls as 1/time, so the mean of
-//! `MSE·seconds` estimates its inverse efficiency whatever the budget, and its standard error
-//! over the runs gives the efficiency's. One run's MSE is not enough where rare, very bright
-//! samples decide it (the lamp seen through the glass ball of the caustic scene): the mean over
-//! runs counts them at their true rate, and the standard error says how well it is known.
-//! Prints and writes DIR/speed.md: per run the spp, seconds and RMSE; per renderer the mean,
-//! the efficiency with its standard error and the ratio to the best anchor with the ratio's
-//! standard error; for the caustic also the efficiency per region ([`CausticRegions`]).
-//! An anchor that cannot be installed or run is reported and skipped.
+//! - every scene is written once, as a spectrace scene, and exported to the anchors
+//!   (`spectrace bench export`, [`crate::analysis::bench_scene`]): the same triangles, spectra
+//!   and camera everywhere;
+//! - every anchor runs in each of its documented configurations (Mitsuba 3's four samplers,
+//!   LuxCore's BIDIRCPU with three samplers and BIDIRVMCPU, each with Russian roulette at its
+//!   default and off; `scripts/anchors/anchor_render.py configs`), and spectrace is compared
+//!   with the best of them;
+//! - the reference is a long Mitsuba 3 render in two independent halves, never a spectrace
+//!   render; its own noise (from the halves) is reported and allowed for in the fit;
+//! - one timer for all: sampling start to image in memory; scene loading, BVH and JIT are
+//!   reported beside it;
+//! - a non-finite pixel is an error;
+//! - each renderer renders at three or more budgets; MSE = a/t + b is fitted
+//!   ([`crate::analysis::bench_fit`]): `a` is its inverse efficiency, `b` a floor; a renderer
+//!   with a significant floor is reported as biased, not ranked;
+//! - the error is split into regions (lamp images, caustic core, rest) and fitted per region;
+//! - the CPU model and vector extensions head the output.
 //!
-//! Paths default to the repository layout, so run it from the repository root (or pass them).
+//! Writes DIR/speed.md (the tables) and DIR/points.csv (every render). Paths default to the
+//! repository layout: run it from the repository root.
 
-use super::speed_regions::{CausticRegions, RegionSplit, REGION_GROUPS};
-use crate::analysis::{compare_images_excluding, CompareOptions, RgbImage};
+use crate::analysis::bench_fit::{
+    cpu_description, fit_inverse_time, reference_variance, view_masks, Fit, RegionSplit, Regions,
+    REGION_NAMES,
+};
+use crate::analysis::bench_scene::export_scene;
+use crate::analysis::RgbImage;
 use crate::integrator::{render_with, IntegratorKind, PathTracer, RenderSettings, SampleBudget};
 use crate::scene::SceneSource;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use std::time::Duration;
+use std::time::{Duration, Instant};
+
+/// The suite: name and scene file (relative to the repository root).
+pub const SUITE: [(&str, &str); 6] = [
+    ("cornell", "scenes/cornell_box.ron"),
+    ("glass_sphere", "scenes/bench/glass_sphere.ron"),
+    ("glass_sphere_mesh", "scenes/bench/glass_sphere_mesh.ron"),
+    ("spectral_caustic", "scenes/bench/spectral_caustic.ron"),
+    ("glossy_metals", "scenes/bench/glossy_metals.ron"),
+    ("window_room", "scenes/bench/window_room.ron"),
+];
+
+/// Every anchor configuration (as `anchor_render.py configs` lists them).
+pub const ANCHOR_CONFIGS: [&str; 16] = [
+    "mitsuba-independent",
+    "mitsuba-independent-rroff",
+    "mitsuba-multijitter",
+    "mitsuba-multijitter-rroff",
+    "mitsuba-orthogonal",
+    "mitsuba-orthogonal-rroff",
+    "mitsuba-ldsampler",
+    "mitsuba-ldsampler-rroff",
+    "luxcore-bidir-sobol",
+    "luxcore-bidir-sobol-rroff",
+    "luxcore-bidir-random",
+    "luxcore-bidir-random-rroff",
+    "luxcore-bidir-metropolis",
+    "luxcore-bidir-metropolis-rroff",
+    "luxcore-bidirvm",
+    "luxcore-bidirvm-rroff",
+];
 
 /// Arguments of `spectrace bench speed`.
 #[derive(clap::Args, Debug, Clone)]
 pub struct SpeedArgs {
-    /// Wall-clock budget of every render (one renderer, scene and seed), in seconds.
-    #[arg(long, default_value_t = 10.0)]
-    pub budget: f64,
-    /// Independent runs (seeds) per renderer and scene; the whole benchmark takes about
-    /// seeds × budget × 5 renderers × scenes. The efficiency's standard error needs at least 2.
-    #[arg(long, default_value_t = 4)]
-    pub seeds: u32,
+    /// Quick mode, for checking that everything runs: budgets 0.25, 0.5 and 1 s, one seed, a
+    /// 256-spp reference (noisy: its noise is reported and allowed for, but the ratios are not
+    /// figures to quote). Explicit --budgets/--seeds/--reference-spp win.
+    #[arg(long)]
+    pub quick: bool,
+    /// Comma-separated sampling budgets per render, seconds (at least three). Default 4,8,16.
+    #[arg(long, value_delimiter = ',')]
+    pub budgets: Option<Vec<f64>>,
+    /// Independent runs (seeds) per renderer, budget and scene. Default 2.
+    #[arg(long)]
+    pub seeds: Option<u32>,
     /// Worker threads of every renderer.
     #[arg(long, default_value_t = 2)]
     pub threads: usize,
-    /// Comma-separated scenes: cornell, caustic.
-    #[arg(long, value_delimiter = ',', default_value = "cornell,caustic")]
-    pub scenes: Vec<String>,
-    /// Comma-separated spectrace integrators to run: pt, bdpt.
-    #[arg(long, value_delimiter = ',', default_value = "pt,bdpt")]
+    /// Comma-separated suite scene names (see `--list`) or scene files. Default: the suite.
+    #[arg(long, value_delimiter = ',')]
+    pub scenes: Option<Vec<String>>,
+    /// Comma-separated spectrace integrators: bdpt, pt, lt.
+    #[arg(long, value_delimiter = ',', default_value = "bdpt,pt,lt")]
     pub integrators: Vec<String>,
-    /// Python interpreter with mitsuba and pyluxcore installed (see the anchor script); default
+    /// Comma-separated anchor configurations (default: all; see `--list`).
+    #[arg(long, value_delimiter = ',')]
+    pub configs: Option<Vec<String>>,
+    /// Python interpreter with mitsuba, pyluxcore, numpy and openexr; default
     /// $SPECTRACE_ANCHOR_PYTHON, else python3.
     #[arg(long)]
     pub python: Option<PathBuf>,
     /// The anchor script.
     #[arg(long, default_value = "scripts/anchors/anchor_render.py")]
     pub anchor_script: PathBuf,
-    /// Render spectrace only.
+    /// Render spectrace only (against existing references).
     #[arg(long)]
     pub no_anchors: bool,
-    /// The caustic scene file.
-    #[arg(long, default_value = "scenes/caustic.ron")]
-    pub caustic_scene: PathBuf,
-    /// Reference of the Cornell box (Mitsuba 3, 10,240 spp).
-    #[arg(long, default_value = "host/data/reference/cbox_reference_mitsuba.exr")]
-    pub cornell_reference: PathBuf,
-    /// Reference of the caustic (spectrace BDPT, 16,384 spp, checked against Mitsuba 3 in
-    /// docs/accuracy.md; lower noise in the caustic than the path-traced Mitsuba reference).
-    #[arg(
-        long,
-        default_value = "docs/figures/caustic/reference_bdpt_16384spp.exr"
-    )]
-    pub caustic_reference: PathBuf,
-    /// Output directory for the images and speed.md.
+    /// Directory of references: NAME.exr, NAME_half1.exr, NAME_half2.exr (Mitsuba 3). Missing
+    /// ones are rendered into OUT/references with --reference-spp.
+    #[arg(long, default_value = "scenes/bench/references")]
+    pub references: PathBuf,
+    /// Samples per pixel of a reference rendered here (both halves together). Default 16384;
+    /// 256 with --quick.
+    #[arg(long)]
+    pub reference_spp: Option<u32>,
+    /// Output directory.
     #[arg(long, default_value = "speed-out")]
     pub out: PathBuf,
-    /// First seed; run k uses seed + k, for spectrace and the anchors alike.
+    /// First seed; run k uses seed + k, for every renderer.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
+    /// List the suite and the anchor configurations and exit.
+    #[arg(long)]
+    pub list: bool,
 }
 
-/// One measured render.
+impl SpeedArgs {
+    fn budgets(&self) -> Vec<f64> {
+        self.budgets.clone().unwrap_or_else(|| {
+            if self.quick {
+                vec![0.25, 0.5, 1.0]
+            } else {
+                vec![4.0, 8.0, 16.0]
+            }
+        })
+    }
+    fn seeds(&self) -> u32 {
+        self.seeds.unwrap_or(if self.quick { 1 } else { 2 })
+    }
+    fn reference_spp(&self) -> u32 {
+        self.reference_spp
+            .unwrap_or(if self.quick { 256 } else { 16384 })
+    }
+    fn python(&self) -> PathBuf {
+        self.python.clone().unwrap_or_else(|| {
+            std::env::var_os("SPECTRACE_ANCHOR_PYTHON")
+                .map_or_else(|| "python3".into(), PathBuf::from)
+        })
+    }
+}
+
+/// One render at one budget.
 #[derive(Clone, Debug)]
-struct SpeedRow {
+struct Point {
     scene: String,
+    config: String,
     renderer: String,
-    integrator: String,
     anchor: bool,
     seed: u64,
-    spp: u32,
+    budget: f64,
+    /// Samples per pixel (fractional for LuxCore's short runs: samples over pixels).
+    spp: f64,
     seconds: f64,
-    pixels: usize,
-    rmse: f64,
-    /// Squared error per region (caustic scene only).
-    regions: Option<RegionSplit>,
+    load_seconds: f64,
+    jit_seconds: f64,
+    split: RegionSplit,
 }
 
-impl SpeedRow {
-    fn samples_per_second(&self) -> f64 {
-        self.spp as f64 * self.pixels as f64 / self.seconds.max(1e-9)
-    }
-    /// Equal-time efficiency of this run alone: error variance falls as 1/time, so
-    /// 1/(RMSE²·t) is independent of the budget for an unbiased renderer.
-    #[cfg(test)]
-    fn efficiency(&self) -> f64 {
-        1.0 / (self.rmse * self.rmse * self.seconds.max(1e-9))
-    }
+/// The reference of one scene and what is known of its noise.
+struct Reference {
+    image: RgbImage,
+    spp: String,
+    /// Variance of the reference per value: whole image and per region.
+    var_total: f64,
+    var_region: [f64; 3],
 }
-
-/// Mean and standard error of the mean of `x` (standard error NaN for fewer than 2 values).
-fn mean_se(x: &[f64]) -> (f64, f64) {
-    let n = x.len() as f64;
-    let mean = x.iter().sum::<f64>() / n;
-    if x.len() < 2 {
-        return (mean, f64::NAN);
-    }
-    let var = x.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / (n - 1.0);
-    (mean, (var / n).sqrt())
-}
-
-/// An efficiency `1/m` from the mean `m` of a renderer's per-run `MSE·seconds`, with its
-/// relative standard error (that of `m`, to first order).
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct Efficiency {
-    value: f64,
-    rel_se: f64,
-}
-
-impl Efficiency {
-    fn from_products(mse_seconds: &[f64]) -> Self {
-        let (m, se) = mean_se(mse_seconds);
-        Self {
-            value: 1.0 / m,
-            rel_se: se / m,
-        }
-    }
-    /// `self / other` and the ratio's standard error (relative errors added in quadrature:
-    /// the runs of two renderers are independent).
-    fn ratio(&self, other: &Efficiency) -> (f64, f64) {
-        let r = self.value / other.value;
-        (r, r * self.rel_se.hypot(other.rel_se))
-    }
-}
-
-/// All runs of one renderer and integrator on one scene.
-struct Summary<'a> {
-    runs: Vec<&'a SpeedRow>,
-}
-
-impl Summary<'_> {
-    fn first(&self) -> &SpeedRow {
-        self.runs[0]
-    }
-    fn mean(&self, f: impl Fn(&SpeedRow) -> f64) -> f64 {
-        self.runs.iter().map(|r| f(r)).sum::<f64>() / self.runs.len() as f64
-    }
-    /// Efficiency from every run's MSE·seconds.
-    fn efficiency(&self) -> Efficiency {
-        let p: Vec<f64> = self
-            .runs
-            .iter()
-            .map(|r| r.rmse * r.rmse * r.seconds)
-            .collect();
-        Efficiency::from_products(&p)
-    }
-    /// Efficiency of the regions of `REGION_GROUPS[i]` alone (caustic scene).
-    fn region_efficiency(&self, i: usize) -> Option<Efficiency> {
-        let group = REGION_GROUPS[i].1;
-        let p: Option<Vec<f64>> = self
-            .runs
-            .iter()
-            .map(|r| r.regions.map(|g| g.group_mse(group) * r.seconds))
-            .collect();
-        p.map(|p| Efficiency::from_products(&p))
-    }
-}
-
-/// Rows grouped by (scene, renderer, integrator), in the order they first appear.
-fn summaries(rows: &[SpeedRow]) -> Vec<Summary<'_>> {
-    let mut out: Vec<Summary> = Vec::new();
-    for r in rows {
-        let same = |s: &&mut Summary| {
-            let f = s.first();
-            (f.scene == r.scene) && (f.renderer == r.renderer) && (f.integrator == r.integrator)
-        };
-        match out.iter_mut().find(|s| same(s)) {
-            Some(s) => s.runs.push(r),
-            None => out.push(Summary { runs: vec![r] }),
-        }
-    }
-    out
-}
-
-/// The anchor renders of every scene: (renderer, engine/variant arguments).
-const ANCHORS: [(&str, &str, &str); 3] = [
-    ("mitsuba", "--variant", "llvm_ad_spectral"),
-    ("luxcore", "--engine", "BIDIRCPU"),
-    ("luxcore", "--engine", "PATHCPU"),
-];
 
 /// Run `spectrace bench speed`.
 pub fn run_speed(args: &SpeedArgs) -> Result<(), String> {
-    if !(args.budget.is_finite() && args.budget > 0.0) {
+    if args.list {
+        println!("scenes:");
+        for (n, p) in SUITE {
+            println!("  {n:18} {p}");
+        }
+        println!("anchor configurations:\n  {}", ANCHOR_CONFIGS.join("\n  "));
+        return Ok(());
+    }
+    let budgets = args.budgets();
+    if budgets.len() < 3 || budgets.iter().any(|b| !(b.is_finite() && *b > 0.0)) {
         return Err(format!(
-            "--budget must be a positive number of seconds, got {}",
-            args.budget
+            "--budgets needs three or more positive numbers of seconds (the fit MSE = a/t + b has \
+             two parameters), got {budgets:?}"
         ));
     }
     if args.threads == 0 {
         return Err("--threads must be at least 1".into());
     }
-    if args.seeds == 0 {
-        return Err("--seeds must be at least 1 (2 or more for a standard error)".into());
-    }
-    for name in &args.scenes {
-        if !matches!(name.as_str(), "cornell" | "caustic") {
-            return Err(format!(
-                "unknown scene '{name}' in --scenes (known: cornell, caustic)"
-            ));
-        }
+    if args.seeds() == 0 {
+        return Err("--seeds must be at least 1".into());
     }
     let mut kinds = Vec::new();
     for name in &args.integrators {
         kinds.push(match name.as_str() {
-            "pt" => (IntegratorKind::Pt, "pt"),
-            "bdpt" => (IntegratorKind::Bdpt, "bdpt"),
+            "pt" => (IntegratorKind::Pt, "spectrace-pt"),
+            "bdpt" => (IntegratorKind::Bdpt, "spectrace-bdpt"),
+            "lt" => (IntegratorKind::Lt, "spectrace-lt"),
             other => {
                 return Err(format!(
-                    "unknown integrator '{other}' in --integrators (known: pt, bdpt)"
+                    "unknown integrator '{other}' in --integrators (known: bdpt, pt, lt)"
                 ))
             }
         });
     }
+    let configs: Vec<String> = match &args.configs {
+        Some(c) => {
+            for name in c {
+                if !ANCHOR_CONFIGS.contains(&name.as_str()) {
+                    return Err(format!(
+                        "unknown anchor configuration '{name}' in --configs (see --list)"
+                    ));
+                }
+            }
+            c.clone()
+        }
+        None => ANCHOR_CONFIGS.iter().map(|s| s.to_string()).collect(),
+    };
+    let scenes: Vec<(String, PathBuf)> = match &args.scenes {
+        None => SUITE
+            .iter()
+            .map(|(n, p)| (n.to_string(), PathBuf::from(p)))
+            .collect(),
+        Some(list) => list
+            .iter()
+            .map(|s| match SUITE.iter().find(|(n, _)| n == s) {
+                Some((n, p)) => Ok((n.to_string(), PathBuf::from(p))),
+                None if s.ends_with(".ron") => Ok((
+                    Path::new(s)
+                        .file_stem()
+                        .map_or("scene".into(), |x| x.to_string_lossy().to_string()),
+                    PathBuf::from(s),
+                )),
+                None => Err(format!(
+                    "unknown scene '{s}' in --scenes (a suite name, see --list, or a .ron file)"
+                )),
+            })
+            .collect::<Result<_, _>>()?,
+    };
     std::fs::create_dir_all(&args.out)
         .map_err(|e| format!("cannot create {}: {e}", args.out.display()))?;
-    let mut rows = Vec::new();
-    let mut notes = Vec::new();
-    for scene_name in &args.scenes {
-        let (source, reference_path) = match scene_name.as_str() {
-            "cornell" => (SceneSource::from_path(None), &args.cornell_reference),
-            _ => (
-                SceneSource::from_path(Some(args.caustic_scene.clone())),
-                &args.caustic_reference,
-            ),
-        };
-        let reference = RgbImage::read_exr(reference_path).map_err(|e| {
-            format!("{e} (run from the repository root or pass the reference's path)")
-        })?;
-        let regions = (scene_name == "caustic").then(|| CausticRegions::new(&reference));
-        let scene = source
+    let cpu = cpu_description();
+    println!("CPU: {cpu}");
+    let started = Instant::now();
+    let mut points: Vec<Point> = Vec::new();
+    let mut notes: Vec<String> = Vec::new();
+    let mut references = Vec::new();
+    for (name, path) in &scenes {
+        if !path.exists() {
+            let note = format!("{name}: {} not found, skipped", path.display());
+            println!("{note}");
+            notes.push(note);
+            continue;
+        }
+        let export_dir = args.out.join("scenes").join(name);
+        let exported = export_scene(path, &export_dir)?;
+        let t0 = Instant::now();
+        let scene = SceneSource::from_path(Some(path.clone()))
             .build(&Default::default())
-            .map_err(|e| format!("{scene_name}: {e}"))?;
-        // Anchors that failed once are not tried again for the other seeds.
-        let mut skipped = vec![false; ANCHORS.len()];
-        for k in 0..u64::from(args.seeds) {
+            .map_err(|e| format!("{name}: {e}"))?;
+        let load = t0.elapsed().as_secs_f64();
+        let (emitter, shiny, _, _) = view_masks(&scene)?;
+        let reference = reference(args, name, &exported.path)?;
+        let regions = Regions::from_masks(&emitter, &shiny, &reference.0)
+            .map_err(|e| format!("{name}: {e}"))?;
+        let counted = regions.counted();
+        let var_total = reference_variance(&reference.1, &reference.2, &counted);
+        let mut var_region = [0.0; 3];
+        for (r, v) in var_region.iter_mut().enumerate() {
+            let mask: Vec<bool> = regions.region.iter().map(|x| *x == Some(r)).collect();
+            *v = reference_variance(&reference.1, &reference.2, &mask);
+        }
+        let pixels = regions.pixels();
+        println!(
+            "{name}: reference {} (RMSE of its own noise {:.5}); regions: {}",
+            reference.3,
+            var_total.sqrt(),
+            REGION_NAMES
+                .iter()
+                .zip(pixels)
+                .map(|(n, p)| format!("{n} {p} px"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+        references.push((
+            name.clone(),
+            Reference {
+                image: reference.0.clone(),
+                spp: reference.3.clone(),
+                var_total,
+                var_region,
+            },
+            pixels,
+        ));
+        let reference_image = &reference.0;
+        let mut failed: Vec<String> = Vec::new();
+        for k in 0..u64::from(args.seeds()) {
             let seed = args.seed + k;
             for &(kind, label) in &kinds {
-                let settings = RenderSettings {
-                    sampler: Default::default(),
-                    budget: SampleBudget::Time(Duration::from_secs_f64(args.budget)),
-                    seed,
-                    threads: Some(args.threads),
-                    camera: None,
-                    tile_size: 16,
-                    tracer: PathTracer {
-                        max_depth: scene.options.max_depth,
-                        ..PathTracer::default()
-                    },
-                };
-                let out = render_with(&scene, &settings, kind, false, &|_, _| {}, None)
-                    .map_err(|e| format!("{scene_name} {label}: {e}"))?;
-                let img = RgbImage::from_xyz(&out.result.image, &scene.options.rgb_space);
-                let path = args
-                    .out
-                    .join(format!("{scene_name}_spectrace_{label}_seed{seed}.exr"));
-                crate::film::write_exr(&path, &out.result.image, &scene.options.rgb_space)
-                    .map_err(|e| format!("{}: {e}", path.display()))?;
-                let row = SpeedRow {
-                    scene: scene_name.clone(),
-                    renderer: format!("spectrace {}", env!("CARGO_PKG_VERSION")),
-                    integrator: label.into(),
-                    anchor: false,
-                    seed,
-                    spp: out.result.spp,
-                    seconds: out.result.elapsed.as_secs_f64(),
-                    pixels: img.width as usize * img.height as usize,
-                    rmse: rmse(&img, &reference, scene_name)?,
-                    regions: regions.as_ref().map(|g| g.split(&img, &reference)),
-                };
-                print_row(&row);
-                rows.push(row);
+                for (i, &b) in budgets.iter().enumerate() {
+                    let settings = RenderSettings {
+                        sampler: Default::default(),
+                        budget: SampleBudget::Time(Duration::from_secs_f64(b)),
+                        seed: seed * 1000 + i as u64,
+                        threads: Some(args.threads),
+                        camera: None,
+                        tile_size: 16,
+                        tracer: PathTracer {
+                            max_depth: scene.options.max_depth,
+                            ..PathTracer::default()
+                        },
+                    };
+                    let out = render_with(&scene, &settings, kind, false, &|_, _| {}, None)
+                        .map_err(|e| format!("{name} {label}: {e}"))?;
+                    let img = RgbImage::from_xyz(&out.result.image, &scene.options.rgb_space);
+                    let file = args.out.join(format!("{name}_{label}_s{seed}_b{i}.exr"));
+                    crate::film::write_exr(&file, &out.result.image, &scene.options.rgb_space)
+                        .map_err(|e| format!("{}: {e}", file.display()))?;
+                    let split = regions
+                        .split(&img, reference_image)
+                        .map_err(|e| format!("{name} {label} at {b} s: {e}"))?;
+                    let p = Point {
+                        scene: name.clone(),
+                        config: label.into(),
+                        renderer: format!("spectrace {}", env!("CARGO_PKG_VERSION")),
+                        anchor: false,
+                        seed,
+                        budget: b,
+                        spp: f64::from(out.result.spp),
+                        seconds: out.result.elapsed.as_secs_f64(),
+                        load_seconds: load,
+                        jit_seconds: 0.0,
+                        split,
+                    };
+                    print_point(&p);
+                    points.push(p);
+                }
             }
             if args.no_anchors {
                 continue;
             }
-            for (a, (renderer, flag, value)) in ANCHORS.into_iter().enumerate() {
-                if skipped[a] {
+            for config in &configs {
+                if failed.contains(config) {
                     continue;
                 }
-                let path = args
-                    .out
-                    .join(format!("{scene_name}_{renderer}_{value}_seed{seed}.exr"));
-                match run_anchor(args, scene_name, renderer, flag, value, seed, &path) {
-                    Ok((spp, seconds, renderer, integrator)) => {
-                        let img = RgbImage::read_exr(&path).map_err(|e| e.to_string())?;
-                        let row = SpeedRow {
-                            scene: scene_name.clone(),
-                            renderer,
-                            integrator,
-                            anchor: true,
-                            seed,
-                            spp,
-                            seconds,
-                            pixels: img.width as usize * img.height as usize,
-                            rmse: rmse(&img, &reference, scene_name)?,
-                            regions: regions.as_ref().map(|g| g.split(&img, &reference)),
-                        };
-                        print_row(&row);
-                        rows.push(row);
+                match run_anchor(args, &exported.path, config, &budgets, seed, name) {
+                    Ok(lines) => {
+                        for (renderer, file, budget, spp, secs, load, jit) in lines {
+                            let img = RgbImage::read_exr(&file).map_err(|e| e.to_string())?;
+                            let split = regions
+                                .split(&img, reference_image)
+                                .map_err(|e| format!("{name} {config} at {budget} s: {e}"))?;
+                            let p = Point {
+                                scene: name.clone(),
+                                config: config.clone(),
+                                renderer,
+                                anchor: true,
+                                seed,
+                                budget,
+                                spp,
+                                seconds: secs,
+                                load_seconds: load,
+                                jit_seconds: jit,
+                                split,
+                            };
+                            print_point(&p);
+                            points.push(p);
+                        }
                     }
                     Err(why) => {
-                        let note = format!("{scene_name}: {renderer} {value} skipped: {why}");
+                        let note = format!("{name}: {config} skipped: {why}");
                         println!("{note}");
                         notes.push(note);
-                        skipped[a] = true;
+                        failed.push(config.clone());
                     }
                 }
             }
         }
     }
-    let table = table(&rows, args, &notes);
-    println!("\n{table}");
-    let md = args.out.join("speed.md");
-    std::fs::write(&md, &table).map_err(|e| format!("cannot write {}: {e}", md.display()))?;
-    println!("wrote {}", md.display());
+    let elapsed = started.elapsed().as_secs_f64();
+    let estimate = full_run_estimate(&points, args, elapsed, scenes.len());
+    let md = report(&points, &references, args, &cpu, &notes, &estimate);
+    println!("\n{md}");
+    let path = args.out.join("speed.md");
+    std::fs::write(&path, &md).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    let csv_path = args.out.join("points.csv");
+    std::fs::write(&csv_path, points_csv(&points))
+        .map_err(|e| format!("cannot write {}: {e}", csv_path.display()))?;
+    println!("wrote {} and {}", path.display(), csv_path.display());
     Ok(())
 }
 
-fn rmse(img: &RgbImage, reference: &RgbImage, scene: &str) -> Result<f64, String> {
-    if (img.width, img.height) != (reference.width, reference.height) {
+/// The scene's reference (mean, half 1, half 2, description): from --references, else rendered
+/// with Mitsuba 3 into OUT/references.
+fn reference(
+    args: &SpeedArgs,
+    name: &str,
+    scene_json: &Path,
+) -> Result<(RgbImage, RgbImage, RgbImage, String), String> {
+    let read = |dir: &Path| -> Option<(RgbImage, RgbImage, RgbImage)> {
+        let f = |s: &str| RgbImage::read_exr(&dir.join(format!("{name}{s}.exr"))).ok();
+        Some((f("")?, f("_half1")?, f("_half2")?))
+    };
+    if let Some((a, b, c)) = read(&args.references) {
+        let desc = format!(
+            "from {}",
+            args.references.join(format!("{name}.exr")).display()
+        );
+        return Ok((a, b, c, desc));
+    }
+    let dir = args.out.join("references");
+    std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let spp = args.reference_spp();
+    println!("{name}: rendering a {spp}-spp Mitsuba 3 reference in two halves …");
+    let prefix = dir.join(name);
+    let out = std::process::Command::new(args.python())
+        .arg(&args.anchor_script)
+        .arg("reference")
+        .arg("--scene-json")
+        .arg(scene_json)
+        .arg("--spp")
+        .arg(spp.to_string())
+        .arg("--threads")
+        .arg(args.threads.to_string())
+        .arg("--out-prefix")
+        .arg(&prefix)
+        .output()
+        .map_err(|e| format!("cannot run {}: {e}", args.python().display()))?;
+    if !out.status.success() {
+        let err = String::from_utf8_lossy(&out.stderr);
         return Err(format!(
-            "{scene}: the render is {}×{} but the reference is {}×{}",
-            img.width, img.height, reference.width, reference.height
+            "{name}: no reference in {} and Mitsuba 3 could not render one ({}): {}",
+            args.references.display(),
+            out.status,
+            err.lines().last().unwrap_or("")
         ));
     }
-    let (c, _) = compare_images_excluding(
-        img,
-        reference,
-        CompareOptions {
-            exclude_light: true,
-        },
-        None,
-    );
-    Ok(c.rmse)
+    let (a, b, c) = read(&dir).ok_or_else(|| format!("{name}: the reference was not written"))?;
+    Ok((
+        a,
+        b,
+        c,
+        format!("Mitsuba 3 independent, {spp} spp, rendered here"),
+    ))
 }
 
-fn print_row(r: &SpeedRow) {
-    println!(
-        "{:8} {:22} {:28} seed {:3} {:6} spp {:7.2} s {:7.3} Msamples/s  RMSE {:.5}",
-        r.scene,
-        r.renderer,
-        r.integrator,
-        r.seed,
-        r.spp,
-        r.seconds,
-        r.samples_per_second() / 1e6,
-        r.rmse
-    );
-}
+type AnchorLine = (String, PathBuf, f64, f64, f64, f64, f64);
 
-/// Runs the anchor script; returns (spp, seconds, renderer, integrator) or why it was skipped.
+/// Runs one anchor configuration at every budget; its result lines or why it failed.
 fn run_anchor(
     args: &SpeedArgs,
-    scene: &str,
-    renderer: &str,
-    flag: &str,
-    value: &str,
+    scene_json: &Path,
+    config: &str,
+    budgets: &[f64],
     seed: u64,
-    out: &Path,
-) -> Result<(u32, f64, String, String), String> {
+    scene: &str,
+) -> Result<Vec<AnchorLine>, String> {
     if !args.anchor_script.exists() {
         return Err(format!(
             "{} not found (run from the repository root or pass --anchor-script)",
             args.anchor_script.display()
         ));
     }
-    let python = args.python.clone().unwrap_or_else(|| {
-        std::env::var_os("SPECTRACE_ANCHOR_PYTHON").map_or_else(|| "python3".into(), PathBuf::from)
-    });
-    let output = std::process::Command::new(&python)
+    let budget_list: Vec<String> = budgets.iter().map(|b| b.to_string()).collect();
+    let prefix = args.out.join(format!("{scene}_{config}_s{seed}"));
+    let output = std::process::Command::new(args.python())
         .arg(&args.anchor_script)
-        .args(["--renderer", renderer, "--scene", scene, flag, value])
-        .arg("--seconds")
-        .arg(args.budget.to_string())
+        .arg("render")
+        .arg("--scene-json")
+        .arg(scene_json)
+        .args(["--config", config, "--budgets", &budget_list.join(",")])
         .arg("--threads")
         .arg(args.threads.to_string())
         .arg("--seed")
         .arg(seed.to_string())
-        .arg("--out")
-        .arg(out)
+        .arg("--out-prefix")
+        .arg(&prefix)
         .output()
-        .map_err(|e| format!("cannot run {}: {e}", python.display()))?;
+        .map_err(|e| format!("cannot run {}: {e}", args.python().display()))?;
     let stderr = String::from_utf8_lossy(&output.stderr);
     if !output.status.success() {
         let last = stderr.lines().last().unwrap_or("no message");
         return Err(format!("{} ({last})", output.status));
     }
     let stdout = String::from_utf8_lossy(&output.stdout);
-    let line = stdout
+    let mut out = Vec::new();
+    // Mitsuba's log goes to stdout too, and may leave a colour escape before a result line.
+    for line in stdout
         .lines()
-        .rev()
-        .find(|l| l.trim_start().starts_with('{'))
-        .ok_or_else(|| "the anchor script printed no result line".to_string())?;
-    let v: serde_json::Value =
-        serde_json::from_str(line).map_err(|e| format!("unreadable result line: {e}"))?;
-    let spp = v["spp"].as_u64().ok_or("result line without spp")? as u32;
-    let seconds = v["seconds"].as_f64().ok_or("result line without seconds")?;
-    let text = |k: &str| v[k].as_str().unwrap_or("?").to_string();
-    Ok((spp, seconds, text("renderer"), text("integrator")))
+        .filter_map(|l| l.find("{\"config\"").map(|i| &l[i..]))
+    {
+        let v: serde_json::Value =
+            serde_json::from_str(line).map_err(|e| format!("unreadable result line: {e}"))?;
+        let f = |k: &str| v[k].as_f64().ok_or(format!("result line without {k}"));
+        out.push((
+            v["renderer"].as_str().unwrap_or("?").to_string(),
+            PathBuf::from(v["file"].as_str().ok_or("result line without file")?),
+            f("budget")?,
+            f("spp")?,
+            f("seconds")?,
+            f("load_seconds")?,
+            f("jit_seconds")?,
+        ));
+    }
+    if out.len() != budgets.len() {
+        return Err(format!(
+            "{} result lines for {} budgets",
+            out.len(),
+            budgets.len()
+        ));
+    }
+    Ok(out)
 }
 
-/// `value ± se` with the precision the standard error allows (two significant digits of it);
-/// "value ± –" without a standard error.
+fn print_point(p: &Point) {
+    println!(
+        "{:18} {:32} seed {:2} budget {:6.2} s: {:9.2} spp in {:7.3} s (load {:.2} s, JIT {:.2} s), RMSE {:.5}",
+        p.scene,
+        p.config,
+        p.seed,
+        p.budget,
+        p.spp,
+        p.seconds,
+        p.load_seconds,
+        p.jit_seconds,
+        p.split.total_mse().sqrt()
+    );
+}
+
+fn points_csv(points: &[Point]) -> String {
+    let mut s = String::from(
+        "scene,config,renderer,seed,budget_s,spp,seconds,load_s,jit_s,mse,mse_lamp_images,mse_caustic_core,mse_rest\n",
+    );
+    for p in points {
+        let _ = writeln!(
+            s,
+            "{},{},\"{}\",{},{},{},{:.5},{:.4},{:.4},{:e},{:e},{:e},{:e}",
+            p.scene,
+            p.config,
+            p.renderer.replace('"', "'"),
+            p.seed,
+            p.budget,
+            p.spp,
+            p.seconds,
+            p.load_seconds,
+            p.jit_seconds,
+            p.split.total_mse(),
+            p.split.mse(0),
+            p.split.mse(1),
+            p.split.mse(2)
+        );
+    }
+    s
+}
+
+/// The fit of one configuration on one scene: the whole image (`None` region) or a region.
+fn fit_of(points: &[&Point], region: Option<usize>) -> Option<Fit> {
+    let pts: Vec<(f64, f64)> = points
+        .iter()
+        .map(|p| {
+            (
+                p.seconds,
+                region.map_or(p.split.total_mse(), |r| p.split.mse(r)),
+            )
+        })
+        .collect();
+    fit_inverse_time(&pts)
+}
+
+/// `value ± se` with two significant digits of the standard error (`–` without one).
 fn pm(value: f64, se: f64) -> String {
     if !se.is_finite() || se <= 0.0 {
-        return format!("{value:.3} ± –");
+        return format!("{value:.3e} ± –");
     }
-    let digits = (1 - se.log10().floor() as i32).clamp(0, 6) as usize;
-    format!("{value:.digits$} ± {se:.digits$}")
+    format!("{value:.2e} ± {se:.1e}")
 }
 
-/// The best anchor on `scene` (by the region `region`, or the whole image): its index in
-/// `sums` and its efficiency.
-fn best_anchor(
-    sums: &[Summary],
-    scene: &str,
-    region: Option<usize>,
-) -> Option<(usize, Efficiency)> {
-    sums.iter()
-        .enumerate()
-        .filter(|(_, s)| s.first().anchor && s.first().scene == scene)
-        .filter_map(|(k, s)| match region {
-            Some(i) => s.region_efficiency(i).map(|e| (k, e)),
-            None => Some((k, s.efficiency())),
-        })
-        .max_by(|a, b| a.1.value.total_cmp(&b.1.value))
+/// The verdict of one fit against the reference's variance `var`: the efficiency ratio to the
+/// best unbiased anchor's, or why there is none.
+struct Verdict {
+    fit: Option<Fit>,
+    biased: bool,
 }
 
-/// Summary `k`'s efficiency `eff` as a multiple of the best anchor's, with its standard error;
-/// "1 (best)" for the best anchor itself, "–" without anchors.
-fn ratio_cell(k: usize, eff: Option<Efficiency>, best: Option<(usize, Efficiency)>) -> String {
-    match (eff, best) {
-        (_, Some((b, _))) if b == k => "1 (best)".into(),
-        (Some(e), Some((_, b))) => {
-            let (r, se) = e.ratio(&b);
-            pm(r, se)
-        }
-        _ => "–".into(),
+fn verdict(points: &[&Point], region: Option<usize>, var: f64) -> Verdict {
+    let fit = fit_of(points, region);
+    Verdict {
+        biased: fit.is_some_and(|f| f.biased(var)),
+        fit,
     }
 }
 
-/// The Markdown tables: per run; per renderer the efficiency from all its runs and its ratio
-/// to the best anchor's; for the caustic, the same per region.
-fn table(rows: &[SpeedRow], args: &SpeedArgs, notes: &[String]) -> String {
+fn report(
+    points: &[Point],
+    references: &[(String, Reference, [usize; 3])],
+    args: &SpeedArgs,
+    cpu: &str,
+    notes: &[String],
+    estimate: &str,
+) -> String {
     let mut s = String::new();
+    let budgets = args.budgets();
+    let _ = writeln!(s, "CPU: {cpu}\n");
     let _ = writeln!(
         s,
-        "Budget {} s per render, {} threads, {} seed(s) per renderer from seed {}; RMSE in linear \
-         sRGB against the scene's reference, directly visible light excluded. Efficiency = \
-         1/mean(RMSE²·seconds) over a renderer's runs, ± one standard error (from the spread of \
-         RMSE²·seconds over the runs); the ratio's standard error adds both relative errors in \
-         quadrature.\n",
-        args.budget, args.threads, args.seeds, args.seed
+        "Budgets {:?} s, {} seed(s), {} threads per renderer. Seconds = sampling start to image \
+         in memory (load/BVH and JIT beside). Fit MSE = a/t + b per configuration over all its \
+         renders (linear sRGB, directly seen emitters left out); a = MSE·s of the noise \
+         (efficiency 1/a), b = floor; \"biased\" = b minus the reference's own variance above \
+         2 standard errors and a tenth of a/t at the longest budget. Ratio = a of the best \
+         unbiased anchor configuration / a of the row (> 1: more efficient than the best \
+         anchor).\n",
+        budgets,
+        args.seeds(),
+        args.threads
     );
-    let sums = summaries(rows);
-    let _ = writeln!(
-        s,
-        "| scene | renderer | integrator | runs | spp (mean) | seconds (mean) | Msamples/s | \
-         RMSE per run | √(mean MSE) | efficiency | × best anchor |"
-    );
-    let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|---|");
-    for (k, sum) in sums.iter().enumerate() {
-        let f = sum.first();
-        let eff = sum.efficiency();
-        let ratio = ratio_cell(k, Some(eff), best_anchor(&sums, &f.scene, None));
-        let per_run: Vec<String> = sum.runs.iter().map(|r| format!("{:.5}", r.rmse)).collect();
+    for (name, reference, pixels) in references {
+        let scene_points: Vec<&Point> = points.iter().filter(|p| &p.scene == name).collect();
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | {:.0} | {:.2} | {:.3} | {} | {:.5} | {} | {} |",
-            f.scene,
-            f.renderer,
-            f.integrator,
-            sum.runs.len(),
-            sum.mean(|r| r.spp as f64),
-            sum.mean(|r| r.seconds),
-            sum.mean(SpeedRow::samples_per_second) / 1e6,
-            per_run.join(", "),
-            sum.mean(|r| r.rmse * r.rmse).sqrt(),
-            pm(eff.value, eff.value * eff.rel_se),
-            ratio
+            "### {name}\n\nReference: {}, {}×{} px; its own noise RMSE {:.2e} (whole), per region \
+             {}. Regions: {}.\n",
+            reference.spp,
+            reference.image.width,
+            reference.image.height,
+            reference.var_total.sqrt(),
+            reference
+                .var_region
+                .iter()
+                .map(|v| format!("{:.1e}", v.sqrt()))
+                .collect::<Vec<_>>()
+                .join(" / "),
+            REGION_NAMES
+                .iter()
+                .zip(pixels)
+                .map(|(n, p)| format!("{n} {p} px"))
+                .collect::<Vec<_>>()
+                .join(", ")
         );
-    }
-    if sums.iter().any(|x| x.first().regions.is_some()) {
-        let _ = writeln!(
-            s,
-            "\nCaustic by region (docs/performance.md, \"The caustic\"; regions from the reference \
-             alone): share of the squared error (mean over runs) and the efficiency of the region \
-             alone as a multiple of the best anchor's on that region.\n"
-        );
-        let names: Vec<&str> = REGION_GROUPS.iter().map(|g| g.0).collect();
-        let _ = writeln!(s, "| renderer | integrator | {} |", names.join(" | "));
-        let _ = writeln!(s, "|---|---|{}", "---|".repeat(names.len()));
-        for (k, sum) in sums.iter().enumerate() {
-            let f = sum.first();
-            if f.regions.is_none() {
-                continue;
+        let mut configs: Vec<&str> = Vec::new();
+        for p in &scene_points {
+            if !configs.contains(&p.config.as_str()) {
+                configs.push(&p.config);
             }
-            let cells: Vec<String> = (0..REGION_GROUPS.len())
-                .map(|i| {
-                    let share = sum.mean(|r| {
-                        r.regions
-                            .unwrap_or_default()
-                            .group_share(REGION_GROUPS[i].1)
-                    });
-                    let best = best_anchor(&sums, &f.scene, Some(i));
-                    let ratio = if best.is_some() {
-                        format!(", {}", ratio_cell(k, sum.region_efficiency(i), best))
-                    } else {
-                        String::new()
-                    };
-                    format!("{:.0}%{ratio}", 100.0 * share)
+        }
+        let group = |c: &str| -> Vec<&Point> {
+            scene_points
+                .iter()
+                .copied()
+                .filter(|p| p.config == c)
+                .collect()
+        };
+        // The best unbiased anchor configuration, whole image and per region: its a.
+        let best = |region: Option<usize>, var: f64| -> Option<(String, f64)> {
+            configs
+                .iter()
+                .filter(|c| group(c).first().is_some_and(|p| p.anchor))
+                .filter_map(|c| {
+                    let v = verdict(&group(c), region, var);
+                    match v.fit {
+                        Some(f) if !v.biased && f.a > 0.0 => Some((c.to_string(), f.a)),
+                        _ => None,
+                    }
+                })
+                .min_by(|a, b| a.1.total_cmp(&b.1))
+        };
+        let best_all = best(None, reference.var_total);
+        let best_region: Vec<Option<(String, f64)>> = (0..3)
+            .map(|r| best(Some(r), reference.var_region[r]))
+            .collect();
+        let _ = writeln!(
+            s,
+            "| configuration | renderer | spp at {} s | load s | JIT s | a (MSE·s) | b (MSE) | verdict | × best anchor | {} |",
+            budgets.last().copied().unwrap_or(0.0),
+            REGION_NAMES
+                .iter()
+                .map(|n| format!("{n}: × best"))
+                .collect::<Vec<_>>()
+                .join(" | ")
+        );
+        let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|---|---|");
+        for c in &configs {
+            let g = group(c);
+            let last_budget = budgets.last().copied().unwrap_or(0.0);
+            let at_last: Vec<&&Point> = g.iter().filter(|p| p.budget == last_budget).collect();
+            let spp = at_last.iter().map(|p| p.spp).sum::<f64>() / at_last.len().max(1) as f64;
+            let load = g.iter().map(|p| p.load_seconds).sum::<f64>() / g.len().max(1) as f64;
+            let jit = g.iter().map(|p| p.jit_seconds).sum::<f64>() / g.len().max(1) as f64;
+            let v = verdict(&g, None, reference.var_total);
+            let ratio_cell = |v: &Verdict, best: &Option<(String, f64)>| -> String {
+                match (&v.fit, best) {
+                    (None, _) => "no fit".into(),
+                    (Some(_), _) if v.biased => "biased".into(),
+                    (Some(f), Some((bc, ba))) if bc == c => {
+                        format!("1 (best, a {ba:.1e})", ba = f.a.min(*ba))
+                    }
+                    (Some(f), Some((_, ba))) if f.a > 0.0 => format!("{:.2}", ba / f.a),
+                    (Some(_), Some(_)) => "a ≤ 0".into(),
+                    (Some(_), None) => "no unbiased anchor".into(),
+                }
+            };
+            let (a, b) = match &v.fit {
+                Some(f) => (pm(f.a, f.se_a), pm(f.b, f.se_b)),
+                None => ("–".into(), "–".into()),
+            };
+            let verdict_text = match &v.fit {
+                None => "no fit".to_string(),
+                Some(_) if v.biased => "biased (floor)".into(),
+                Some(_) => "unbiased".into(),
+            };
+            let regions: Vec<String> = (0..3)
+                .map(|r| {
+                    if pixels[r] == 0 {
+                        return "–".into();
+                    }
+                    ratio_cell(
+                        &verdict(&g, Some(r), reference.var_region[r]),
+                        &best_region[r],
+                    )
                 })
                 .collect();
             let _ = writeln!(
                 s,
-                "| {} | {} | {} |",
-                f.renderer,
-                f.integrator,
-                cells.join(" | ")
+                "| {c} | {} | {spp:.0} | {load:.2} | {jit:.2} | {a} | {b} | {verdict_text} | {} | {} |",
+                g[0].renderer,
+                ratio_cell(&v, &best_all),
+                regions.join(" | ")
             );
         }
+        let _ = writeln!(
+            s,
+            "\nBest unbiased anchor: {}.\n",
+            best_all.map_or("none".into(), |b| b.0)
+        );
     }
     for n in notes {
-        let _ = writeln!(s, "\n- {n}");
+        let _ = writeln!(s, "- {n}");
     }
+    let _ = writeln!(s, "\n{estimate}");
     s
+}
+
+/// How long the full run (default budgets and seeds, every configuration and scene) would take,
+/// from this run's per-render overheads (wall time not spent sampling).
+fn full_run_estimate(points: &[Point], args: &SpeedArgs, elapsed: f64, scenes: usize) -> String {
+    let sampled: f64 = points.iter().map(|p| p.seconds).sum();
+    let renders = points.len().max(1) as f64;
+    let overhead_per_render = ((elapsed - sampled) / renders).max(0.0);
+    let full_budgets = [4.0, 8.0, 16.0];
+    let per_config_seed = full_budgets.iter().sum::<f64>() + 3.0 * overhead_per_render;
+    let configs = (ANCHOR_CONFIGS.len() + 3) as f64;
+    let run = per_config_seed * configs * 2.0 * SUITE.len() as f64;
+    // References: 16384 spp per scene at the rate Mitsuba's independent sampler showed here.
+    let rate = points
+        .iter()
+        .filter(|p| p.config == "mitsuba-independent" && p.seconds > 0.0)
+        .map(|p| p.spp / p.seconds)
+        .fold(0.0, f64::max);
+    let refs = if rate > 0.0 {
+        format!(
+            "{:.1} h for the six 16,384-spp references",
+            16384.0 / rate * SUITE.len() as f64 / 3600.0
+        )
+    } else {
+        "the references' time unknown (no mitsuba-independent render in this run)".into()
+    };
+    format!(
+        "This run: {:.0} s wall for {} renders over {} scene(s) ({:.1} s overhead per render). \
+         Full run (`spectrace bench speed`, budgets 4, 8, 16 s, 2 seeds, {} configurations, {} \
+         scenes, {} threads): about {:.1} h of renders plus {refs}.",
+        elapsed,
+        points.len(),
+        scenes,
+        overhead_per_render,
+        configs,
+        SUITE.len(),
+        args.threads,
+        run / 3600.0
+    )
+}
+
+/// Arguments of `spectrace bench export`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct ExportArgs {
+    /// The scene file (RON).
+    pub scene: PathBuf,
+    /// Output directory: scene.json and one PLY per object.
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+/// Run `spectrace bench export`.
+pub fn run_export(args: &ExportArgs) -> Result<(), String> {
+    let e = export_scene(&args.scene, &args.out)?;
+    println!(
+        "wrote {} ({} shapes, {} materials)",
+        e.path.display(),
+        e.json["shapes"].as_array().map_or(0, Vec::len),
+        e.json["materials"].as_object().map_or(0, |m| m.len())
+    );
+    Ok(())
 }
 
 #[cfg(test)]
@@ -562,67 +821,112 @@ mod tests {
         Cli::parse_from(argv).args
     }
 
-    // Bad input is refused before anything is rendered, with an error naming the option or
-    // the item: a non-positive budget, zero threads, an unknown scene or integrator name, no seeds.
+    // Bad input is refused before anything is rendered, with an error naming the option or the
+    // item: fewer than three budgets, a non-positive budget, zero threads or seeds, an unknown
+    // scene, integrator or anchor configuration.
     #[test]
     fn bad_arguments_are_named() {
         let dir = std::env::temp_dir().join("spectrace-bench-speed-args");
         let out = dir.to_string_lossy().to_string();
-        let e = run_speed(&parse(&["--budget=-1", "--out", &out])).unwrap_err();
-        assert!(e.contains("--budget"), "{e}");
+        let e = run_speed(&parse(&["--budgets", "1,2", "--out", &out])).unwrap_err();
+        assert!(e.contains("--budgets"), "{e}");
+        let e = run_speed(&parse(&["--budgets=1,-2,3", "--out", &out])).unwrap_err();
+        assert!(e.contains("--budgets"), "{e}");
         let e = run_speed(&parse(&["--threads", "0", "--out", &out])).unwrap_err();
         assert!(e.contains("--threads"), "{e}");
+        let e = run_speed(&parse(&["--seeds", "0", "--out", &out])).unwrap_err();
+        assert!(e.contains("--seeds"), "{e}");
         let e = run_speed(&parse(&["--scenes", "kitchen", "--out", &out])).unwrap_err();
         assert!(e.contains("kitchen"), "{e}");
         let e = run_speed(&parse(&["--integrators", "mlt", "--out", &out])).unwrap_err();
         assert!(e.contains("mlt"), "{e}");
-        let e = run_speed(&parse(&["--seeds", "0", "--out", &out])).unwrap_err();
-        assert!(e.contains("--seeds"), "{e}");
+        let e = run_speed(&parse(&["--configs", "mitsuba-sobol", "--out", &out])).unwrap_err();
+        assert!(e.contains("mitsuba-sobol"), "{e}");
     }
 
-    // Efficiency is 1/(RMSE²·t): halving the RMSE at the same time quadruples it; samples/s
-    // counts every pixel's samples. Exact arithmetic on chosen numbers.
+    // The anchor configurations listed here are exactly those the script knows (its `configs`
+    // command); checked only where a Python 3 is available (CI has one, without the renderers:
+    // `configs` imports neither).
     #[test]
-    fn efficiency_and_rate() {
-        let row = |rmse: f64| SpeedRow {
-            scene: "s".into(),
-            renderer: "r".into(),
-            integrator: "i".into(),
-            anchor: false,
-            seed: 0,
-            spp: 10,
-            seconds: 2.0,
-            pixels: 100,
-            rmse,
-            regions: None,
+    fn configurations_match_the_script() {
+        let script =
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("../scripts/anchors/anchor_render.py");
+        let out = match std::process::Command::new("python3")
+            .arg(&script)
+            .arg("configs")
+            .output()
+        {
+            Ok(o) if o.status.success() => o,
+            _ => {
+                println!("skipped: python3 cannot run {}", script.display());
+                return;
+            }
         };
-        assert_eq!(row(0.5).efficiency(), 2.0);
-        assert_eq!(row(0.25).efficiency(), 8.0);
-        assert_eq!(row(0.5).samples_per_second(), 500.0);
+        let listed: Vec<String> = String::from_utf8_lossy(&out.stdout)
+            .lines()
+            .map(str::to_string)
+            .collect();
+        assert_eq!(listed, ANCHOR_CONFIGS.to_vec());
     }
 
-    // The efficiency of several runs is 1/mean(MSE·t), not the mean of the runs' efficiencies
-    // (which one lucky run without an outlier would decide), and its standard error is the
-    // sample standard deviation of MSE·t over √n, relative to the mean. Runs with MSE·t = 1
-    // and 3: mean 2, sd √2, SE 1 → efficiency 0.5 with relative SE 0.5. The ratio of two such
-    // efficiencies has relative SE √(0.5² + 0.5²). Exact arithmetic on chosen numbers
-    // (1e-12: rounding of the square roots).
+    fn point(config: &str, anchor: bool, seconds: f64, mse: f64) -> Point {
+        Point {
+            scene: "s".into(),
+            config: config.into(),
+            renderer: "r".into(),
+            anchor,
+            seed: 0,
+            budget: seconds,
+            spp: 1.0,
+            seconds,
+            load_seconds: 0.0,
+            jit_seconds: 0.0,
+            split: RegionSplit {
+                sse: [0.0, 0.0, 3.0 * mse],
+                values: [0, 0, 3],
+            },
+        }
+    }
+
+    // The report ranks against the best *unbiased* anchor: anchor A has a = 1 and a floor of
+    // 0.2 (biased), anchor B a = 2 with no floor, spectrace a = 1 with no floor: spectrace is
+    // 2.00× the best anchor (B), and A is listed as biased, not as the best.
     #[test]
-    fn efficiency_over_runs_and_its_standard_error() {
-        let e = Efficiency::from_products(&[1.0, 3.0]);
-        assert_eq!(e.value, 0.5);
-        assert!((e.rel_se - 0.5).abs() < 1e-12, "{e:?}");
-        let (r, se) = e.ratio(&Efficiency {
-            value: 0.25,
-            rel_se: 0.5,
-        });
-        assert_eq!(r, 2.0);
-        assert!((se - 2.0 * 0.5f64.hypot(0.5)).abs() < 1e-12, "{se}");
-        // One run: no standard error, shown as such.
-        let one = Efficiency::from_products(&[4.0]);
-        assert_eq!(one.value, 0.25);
-        assert!(one.rel_se.is_nan());
-        assert_eq!(pm(0.25, f64::NAN), "0.250 ± –");
-        assert_eq!(pm(1.2344, 0.0321), "1.234 ± 0.032");
+    fn report_ranks_against_the_best_unbiased_anchor() {
+        let mut pts = Vec::new();
+        for t in [1.0, 2.0, 4.0, 8.0] {
+            pts.push(point("A", true, t, 1.0 / t + 0.2));
+            pts.push(point("B", true, t, 2.0 / t));
+            pts.push(point("spectrace-bdpt", false, t, 1.0 / t));
+        }
+        let reference = Reference {
+            image: RgbImage {
+                width: 1,
+                height: 1,
+                rgb: vec![[0.0; 3]],
+            },
+            spp: "test".into(),
+            var_total: 0.0,
+            var_region: [0.0; 3],
+        };
+        let args = parse(&["--budgets", "1,2,4,8"]);
+        let md = report(
+            &pts,
+            &[("s".into(), reference, [0, 0, 1])],
+            &args,
+            "cpu",
+            &[],
+            "",
+        );
+        let row = |c: &str| {
+            md.lines()
+                .find(|l| l.starts_with(&format!("| {c} |")))
+                .unwrap_or_else(|| panic!("{md}"))
+                .to_string()
+        };
+        assert!(row("A").contains("biased (floor)"), "{md}");
+        assert!(row("B").contains("1 (best"), "{md}");
+        assert!(row("spectrace-bdpt").contains("| 2.00 |"), "{md}");
+        assert!(md.contains("Best unbiased anchor: B"), "{md}");
     }
 }

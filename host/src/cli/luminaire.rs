@@ -449,6 +449,12 @@ pub fn run(args: &LuminaireArgs) -> Result<(), String> {
     let Some(path) = &args.file else {
         return Err("luminaire: give a file (.ies or .ldt), or `luminaire export`".into());
     };
+    if path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("gldf"))
+    {
+        return super::gldf::info(path, args.json);
+    }
     let lum = load_luminaire(path).map_err(|e| e.to_string())?;
     let file = path.display().to_string();
     for w in &lum.warnings {

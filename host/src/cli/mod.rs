@@ -8,18 +8,19 @@ pub mod color;
 pub mod compare;
 pub mod convert;
 pub mod explain;
+pub mod gldf;
 pub mod interrupt;
 pub mod luminaire;
 pub mod merge;
 pub mod output_paths;
 pub mod plugin_args;
 pub mod plugins;
+pub mod rays;
 pub mod reference;
 pub mod render;
 pub mod representation_args;
 pub mod sensors;
 pub mod sensors_glare;
-pub mod speed_regions;
 
 use clap::{Parser, Subcommand};
 use std::ffi::OsString;
@@ -49,6 +50,9 @@ pub enum Command {
     Color(color::ColorArgs),
     /// A measured luminaire (IES LM-63, EULUMDAT): header, flux in lm, candela at angles.
     Luminaire(luminaire::LuminaireArgs),
+    /// IES TM-25 ray files: `rays info FILE`, `rays export SCENE --light NAME -N COUNT -o OUT`.
+    #[command(subcommand)]
+    Rays(rays::RaysCommand),
     /// Render a scene (default: the measured spectral Cornell box) to OpenEXR and PNG.
     Render(render::RenderArgs),
     /// Convert a Mitsuba 3 XML scene to a spectrace RON scene, listing what changed or was dropped.
@@ -99,6 +103,7 @@ where
         Some(Command::Blob(cmd)) => blob::run(&cmd, verbose),
         Some(Command::Color(args)) => color::run(&args),
         Some(Command::Luminaire(args)) => luminaire::run(&args),
+        Some(Command::Rays(cmd)) => rays::run(&cmd),
         Some(Command::Render(args)) => render::run(&args),
         Some(Command::Merge(args)) => merge::run(&args),
         Some(Command::Convert(args)) => convert::run(&args),

@@ -71,6 +71,11 @@ impl LuminaireLight {
         self.position
     }
 
+    /// World directions of the luminaire frame's x, y, z axes.
+    pub fn axes(&self) -> [Vec3A; 3] {
+        self.axes
+    }
+
     /// World direction `w` in the luminaire frame (f64 for the table lookup).
     fn to_local(&self, w: Vec3A) -> [f64; 3] {
         let [x, y, z] = self.axes;

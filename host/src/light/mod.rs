@@ -16,7 +16,9 @@ pub mod flags;
 pub mod luminaire;
 pub mod luminous;
 pub mod manager;
+pub mod near_field;
 pub mod point;
+pub mod ray_file;
 pub mod spot;
 
 pub use area::AreaLight;

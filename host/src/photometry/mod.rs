@@ -8,11 +8,13 @@ pub mod efficacy;
 pub mod error;
 pub mod eulumdat;
 pub mod eulumdat_writer;
+pub mod gldf;
 pub mod goniometer;
 pub mod ies;
 pub mod ies_writer;
 pub mod luminaire;
 mod number_stream;
+pub mod tm25;
 
 pub use candela_table::CandelaTable;
 pub use direction_sampler::DirectionSampler;

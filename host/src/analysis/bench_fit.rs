@@ -1,0 +1,469 @@
+//! The arithmetic of `spectrace bench speed`: the error-against-time fit, the image regions the
+//! errors are split into, the reference's own noise, and the CPU the figures belong to.
+//!
+//! **Fit.** An unbiased renderer's expected mean squared error against the true image falls as
+//! `a/t` with its sampling time `t`; a renderer that converges to something else keeps a floor
+//! `b`. Against a reference that has noise of its own (variance `v_ref` per value) every
+//! renderer's measured MSE gains `v_ref` as well, so the measured points follow
+//! `MSE(t) = a/t + b` with `b = v_ref + bias²`. [`fit_inverse_time`] fits `a` and `b` by least
+//! squares weighted by 1/MSE² (each point's MSE is known to a roughly constant *relative*
+//! error), with standard errors from the residuals. `a` (MSE·seconds) is the renderer's
+//! inverse efficiency; a floor is *significant* when `b − v_ref` exceeds both twice its
+//! standard error and a tenth of the noise term at the longest budget ([`Fit::biased`]): such a
+//! renderer converges to a different image and is listed as biased instead of being ranked.
+//!
+//! **Regions.** [`Regions::new`] splits the pixels of the scene's default camera, from the
+//! scene's geometry and the reference image alone (never from a render being judged):
+//!
+//! | region       | pixels                                                                     |
+//! |--------------|----------------------------------------------------------------------------|
+//! | (left out)   | the camera sees an emitter directly anywhere in the pixel's footprint      |
+//! | lamp images  | the camera sees a specular or glossy surface, and the reference there is brighter than [`BRIGHT_FACTOR`] × the median counted luminance |
+//! | caustic core | the camera sees a diffuse surface that bright                              |
+//! | rest         | everything else                                                            |
+//!
+//! A non-finite value in a render is an error ([`Regions::split`]): dropping such pixels would
+//! reward a renderer for its failures.
+
+use crate::analysis::RgbImage;
+use crate::camera::CameraSample;
+use crate::material::MaterialFlags;
+use crate::scene::Scene;
+use glam::Vec2;
+
+/// A region is "bright" above this multiple of the median luminance of the counted pixels.
+pub const BRIGHT_FACTOR: f64 = 4.0;
+
+/// Names of the regions, in the order of [`RegionSplit::sse`].
+pub const REGION_NAMES: [&str; 3] = ["lamp images", "caustic core", "rest"];
+
+/// Result of [`fit_inverse_time`]: `MSE(t) = a/t + b`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Fit {
+    /// Noise term, MSE·seconds (smaller is more efficient).
+    pub a: f64,
+    /// Standard error of `a`.
+    pub se_a: f64,
+    /// Floor, MSE.
+    pub b: f64,
+    /// Standard error of `b`.
+    pub se_b: f64,
+    /// Points fitted.
+    pub n: usize,
+    /// Longest time among the points, seconds.
+    pub t_max: f64,
+}
+
+impl Fit {
+    /// Efficiency 1/a (1/(MSE·s)).
+    pub fn efficiency(&self) -> f64 {
+        1.0 / self.a
+    }
+    /// True when the floor left after the reference's own noise `ref_var` is significant: more
+    /// than twice its standard error and more than a tenth of the noise term at the longest
+    /// budget (a floor too small to matter over the measured times is not called a bias).
+    pub fn biased(&self, ref_var: f64) -> bool {
+        let excess = self.b - ref_var;
+        self.n > 2 && excess > 2.0 * self.se_b && excess > 0.1 * self.a / self.t_max
+    }
+}
+
+/// Weighted least-squares fit of `MSE = a/t + b` to `(t, mse)` points (weights 1/mse²).
+/// `None` with fewer than two distinct times or a non-positive or non-finite point.
+pub fn fit_inverse_time(points: &[(f64, f64)]) -> Option<Fit> {
+    if points
+        .iter()
+        .any(|&(t, m)| !(t.is_finite() && t > 0.0 && m.is_finite() && m > 0.0))
+    {
+        return None;
+    }
+    let fit_with = |w: &dyn Fn(usize) -> f64| -> Option<(f64, f64, [f64; 3])> {
+        // Normal equations of y = a·x + b, x = 1/t.
+        let (mut sw, mut sx, mut sy, mut sxx, mut sxy) = (0.0, 0.0, 0.0, 0.0, 0.0);
+        for (i, &(t, y)) in points.iter().enumerate() {
+            let (x, wi) = (1.0 / t, w(i));
+            sw += wi;
+            sx += wi * x;
+            sy += wi * y;
+            sxx += wi * x * x;
+            sxy += wi * x * y;
+        }
+        let det = sw * sxx - sx * sx;
+        if det.abs() <= 1e-12 * sw * sxx {
+            return None;
+        }
+        let a = (sw * sxy - sx * sy) / det;
+        let b = (sxx * sy - sx * sxy) / det;
+        Some((a, b, [sw / det, sxx / det, det]))
+    };
+    // First pass weighted by the measured values, second by the fitted ones (less biased
+    // towards points that came out low by chance).
+    let (a0, b0, _) = fit_with(&|i| 1.0 / (points[i].1 * points[i].1))?;
+    let pred = |i: usize| (a0 / points[i].0 + b0).max(0.1 * points[i].1);
+    let (a, b, [inv_a, inv_b, _]) = fit_with(&|i| 1.0 / (pred(i) * pred(i)))?;
+    let n = points.len();
+    let dof = n.saturating_sub(2);
+    // Residual variance of the weighted fit (unit weight variance); with no degrees of freedom
+    // the standard errors are unknown.
+    let s2 = if dof > 0 {
+        points
+            .iter()
+            .enumerate()
+            .map(|(i, &(t, y))| {
+                let r = y - (a / t + b);
+                r * r / (pred(i) * pred(i))
+            })
+            .sum::<f64>()
+            / dof as f64
+    } else {
+        f64::NAN
+    };
+    Some(Fit {
+        a,
+        se_a: (s2 * inv_a).sqrt(),
+        b,
+        se_b: (s2 * inv_b).sqrt(),
+        n,
+        t_max: points.iter().map(|p| p.0).fold(0.0, f64::max),
+    })
+}
+
+/// The reference's own noise per value (variance of the full reference, both halves averaged):
+/// the MSE between two independent halves over 4 (each half has twice the full image's
+/// variance; their difference four times it), over the counted pixels (`mask` true).
+pub fn reference_variance(half1: &RgbImage, half2: &RgbImage, counted: &[bool]) -> f64 {
+    let (mut s, mut n) = (0.0, 0usize);
+    for ((a, b), &c) in half1.rgb.iter().zip(&half2.rgb).zip(counted) {
+        if c {
+            for k in 0..3 {
+                s += (a[k] - b[k]) * (a[k] - b[k]);
+                n += 1;
+            }
+        }
+    }
+    s / n.max(1) as f64 / 4.0
+}
+
+/// Squared error of one render summed per region, with the number of values (pixels × 3).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RegionSplit {
+    /// Σ (a − b)² over the region's counted pixels and channels.
+    pub sse: [f64; 3],
+    /// Number of values in each region.
+    pub values: [usize; 3],
+}
+
+impl RegionSplit {
+    /// MSE of region `i` (0 for an empty region).
+    pub fn mse(&self, i: usize) -> f64 {
+        self.sse[i] / self.values[i].max(1) as f64
+    }
+    /// MSE over all counted pixels.
+    pub fn total_mse(&self) -> f64 {
+        self.sse.iter().sum::<f64>() / self.values.iter().sum::<usize>().max(1) as f64
+    }
+}
+
+/// The region of every pixel (`None`: left out), see the module docs.
+#[derive(Clone, Debug)]
+pub struct Regions {
+    /// Per pixel, row-major.
+    pub region: Vec<Option<usize>>,
+    /// Image size.
+    pub width: u32,
+    /// Image size.
+    pub height: u32,
+}
+
+fn luminance(p: &[f64; 3]) -> f64 {
+    0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]
+}
+
+/// What the default camera sees first in each pixel's footprint (a 3×3 grid over the pixel and
+/// half of each neighbour, lens centre): (emitter anywhere, specular/glossy anywhere).
+pub fn view_masks(scene: &Scene) -> Result<(Vec<bool>, Vec<bool>, u32, u32), String> {
+    let cam = scene.cameras.get(None)?;
+    let (w, h) = cam.camera.resolution();
+    let mut emitter = vec![false; (w * h) as usize];
+    let mut shiny = vec![false; (w * h) as usize];
+    for y in 0..h {
+        for x in 0..w {
+            let k = (y * w + x) as usize;
+            for j in 0..3 {
+                for i in 0..3 {
+                    let sample = CameraSample {
+                        p_film: Vec2::new(x as f32 - 0.5 + i as f32, y as f32 - 0.5 + j as f32),
+                        p_lens: Vec2::splat(0.5),
+                    };
+                    let Some(r) = cam.camera.generate_ray(&sample) else {
+                        continue;
+                    };
+                    if let Some(hit) = scene.geometry.intersect(&r.ray, f32::INFINITY) {
+                        let f = scene.objects.material(hit.object).flags();
+                        emitter[k] |= f.contains(MaterialFlags::EMISSIVE);
+                        shiny[k] |= f.intersects(MaterialFlags::SPECULAR)
+                            || f.intersects(MaterialFlags::GLOSSY);
+                    }
+                }
+            }
+        }
+    }
+    Ok((emitter, shiny, w, h))
+}
+
+impl Regions {
+    /// Regions from the two view masks and the reference.
+    pub fn from_masks(
+        emitter: &[bool],
+        shiny: &[bool],
+        reference: &RgbImage,
+    ) -> Result<Self, String> {
+        let n = reference.rgb.len();
+        if emitter.len() != n || shiny.len() != n {
+            return Err(format!(
+                "the reference is {}×{} but the scene's camera has {} pixels",
+                reference.width,
+                reference.height,
+                emitter.len()
+            ));
+        }
+        let mut lum: Vec<f64> = (0..n)
+            .filter(|&i| !emitter[i])
+            .map(|i| luminance(&reference.rgb[i]))
+            .collect();
+        lum.sort_by(f64::total_cmp);
+        let median = lum.get(lum.len() / 2).copied().unwrap_or(0.0);
+        let bright = BRIGHT_FACTOR * median;
+        let region = (0..n)
+            .map(|i| {
+                if emitter[i] {
+                    None
+                } else if luminance(&reference.rgb[i]) > bright {
+                    Some(if shiny[i] { 0 } else { 1 })
+                } else {
+                    Some(2)
+                }
+            })
+            .collect();
+        Ok(Self {
+            region,
+            width: reference.width,
+            height: reference.height,
+        })
+    }
+
+    /// Pixels counted in each region.
+    pub fn pixels(&self) -> [usize; 3] {
+        let mut n = [0; 3];
+        for r in self.region.iter().flatten() {
+            n[*r] += 1;
+        }
+        n
+    }
+
+    /// Counted pixels (not left out).
+    pub fn counted(&self) -> Vec<bool> {
+        self.region.iter().map(Option::is_some).collect()
+    }
+
+    /// Squared error of `test` against `reference` per region. A non-finite value anywhere in
+    /// `test` (left-out pixels included) is an error naming the first such pixel.
+    pub fn split(&self, test: &RgbImage, reference: &RgbImage) -> Result<RegionSplit, String> {
+        if (test.width, test.height) != (self.width, self.height) {
+            return Err(format!(
+                "the render is {}×{} but the reference is {}×{}",
+                test.width, test.height, self.width, self.height
+            ));
+        }
+        let bad = test
+            .rgb
+            .iter()
+            .filter(|p| p.iter().any(|v| !v.is_finite()))
+            .count();
+        if let Some(i) = test
+            .rgb
+            .iter()
+            .position(|p| p.iter().any(|v| !v.is_finite()))
+        {
+            let w = self.width as usize;
+            return Err(format!(
+                "{bad} pixel(s) with a non-finite value, the first at ({}, {}): {:?}",
+                i % w,
+                i / w,
+                test.rgb[i]
+            ));
+        }
+        let mut out = RegionSplit::default();
+        for ((r, t), f) in self.region.iter().zip(&test.rgb).zip(&reference.rgb) {
+            let Some(r) = *r else { continue };
+            out.sse[r] += (0..3).map(|c| (t[c] - f[c]) * (t[c] - f[c])).sum::<f64>();
+            out.values[r] += 3;
+        }
+        Ok(out)
+    }
+}
+
+/// The CPU the figures belong to: model name and the vector extensions the Linux kernel
+/// reports (`/proc/cpuinfo`), and the logical CPU count; "unknown" elsewhere.
+pub fn cpu_description() -> String {
+    let info = std::fs::read_to_string("/proc/cpuinfo").unwrap_or_default();
+    cpu_description_from(&info)
+}
+
+/// [`cpu_description`] from the text of /proc/cpuinfo.
+pub fn cpu_description_from(info: &str) -> String {
+    let field = |name: &str| {
+        info.lines()
+            .find(|l| l.split(':').next().is_some_and(|k| k.trim() == name))
+            .and_then(|l| l.split_once(':'))
+            .map(|(_, v)| v.trim().to_string())
+    };
+    let model = field("model name").unwrap_or_else(|| "unknown CPU".into());
+    let flags = field("flags")
+        .or_else(|| field("Features"))
+        .unwrap_or_default();
+    const VECTOR: [&str; 9] = [
+        "sse4_2", "avx", "avx2", "fma", "avx512f", "avx512bw", "avx512vl", "asimd", "sve",
+    ];
+    let have: Vec<&str> = VECTOR
+        .iter()
+        .copied()
+        .filter(|v| flags.split_whitespace().any(|f| f == *v))
+        .collect();
+    let cpus = info.lines().filter(|l| l.starts_with("processor")).count();
+    format!(
+        "{model}; {cpus} logical CPU(s) visible; vector extensions: {}",
+        if have.is_empty() {
+            "none reported".to_string()
+        } else {
+            have.join(" ")
+        }
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    // Exact data on MSE = a/t + b are fitted exactly (a = 2, b = 0.01 at t = 1, 2, 4, 8;
+    // 1e-9 relative: rounding). The floor is not significant once it is the reference's
+    // variance, nor without that allowance, because 0.01 is under a tenth of the noise term at
+    // the longest budget (a/t_max = 0.25): a floor too small to matter is not called a bias.
+    #[test]
+    fn fit_recovers_exact_parameters() {
+        let pts: Vec<(f64, f64)> = [1.0, 2.0, 4.0, 8.0]
+            .iter()
+            .map(|&t| (t, 2.0 / t + 0.01))
+            .collect();
+        let f = fit_inverse_time(&pts).unwrap();
+        assert!((f.a - 2.0).abs() < 1e-9 * 2.0, "{f:?}");
+        assert!((f.b - 0.01).abs() < 1e-9, "{f:?}");
+        assert!(!f.biased(0.01));
+        assert!(!f.biased(0.0));
+        assert!((f.efficiency() - 0.5).abs() < 1e-9);
+    }
+
+    // Noisy unbiased data (relative noise ±10%, alternating) with a = 1, b = 0 at budgets 1..16
+    // s, two runs each: the fitted floor is not significant, a is within 10%. A renderer with a
+    // floor of 0.05 (a fifth of its noise at 4 s, 80% at 16 s) on the same noise is called
+    // biased. The tolerances are the noise's size.
+    #[test]
+    fn floor_is_detected_only_when_present() {
+        let mut unbiased = Vec::new();
+        let mut biased = Vec::new();
+        for (k, &t) in [1.0, 2.0, 4.0, 8.0, 16.0].iter().enumerate() {
+            for s in [-1.0, 1.0] {
+                let noise = 1.0 + 0.1 * s * if k % 2 == 0 { 1.0 } else { -1.0 };
+                unbiased.push((t, noise / t));
+                biased.push((t, noise * (1.0 / t + 0.05)));
+            }
+        }
+        let f = fit_inverse_time(&unbiased).unwrap();
+        assert!((f.a - 1.0).abs() < 0.1, "{f:?}");
+        assert!(!f.biased(0.0), "{f:?}");
+        let g = fit_inverse_time(&biased).unwrap();
+        assert!(g.biased(0.0), "{g:?}");
+        assert!((g.b - 0.05).abs() < 0.02, "{g:?}");
+    }
+
+    // Degenerate input is refused: one distinct time, a zero or non-finite MSE.
+    #[test]
+    fn fit_refuses_degenerate_points() {
+        assert!(fit_inverse_time(&[(1.0, 1.0), (1.0, 2.0)]).is_none());
+        assert!(fit_inverse_time(&[(1.0, 0.0), (2.0, 1.0)]).is_none());
+        assert!(fit_inverse_time(&[(1.0, f64::NAN), (2.0, 1.0)]).is_none());
+    }
+
+    // Regions on a 4×2 image: pixel 0 sees an emitter (left out), pixels 1 and 2 are bright
+    // (> 4 × the median 0.1 of the counted luminances), 1 on a shiny surface (lamp image), 2 on
+    // a diffuse one (caustic core); the others are the rest. A NaN in the render is an error
+    // naming its pixel; the region MSEs are the sums of the squared differences per region.
+    #[test]
+    fn regions_and_non_finite_pixels() {
+        let grey = |v: f64| [v; 3];
+        let reference = RgbImage {
+            width: 4,
+            height: 2,
+            rgb: vec![
+                grey(9.0),
+                grey(1.0),
+                grey(2.0),
+                grey(0.1),
+                grey(0.1),
+                grey(0.1),
+                grey(0.1),
+                grey(0.3),
+            ],
+        };
+        let emitter = [true, false, false, false, false, false, false, false];
+        let shiny = [false, true, false, true, false, false, false, false];
+        let r = Regions::from_masks(&emitter, &shiny, &reference).unwrap();
+        assert_eq!(r.pixels(), [1, 1, 5]);
+        let mut test = reference.clone();
+        test.rgb[1] = grey(1.5);
+        test.rgb[7] = grey(0.2);
+        let s = r.split(&test, &reference).unwrap();
+        assert!((s.mse(0) - 0.25).abs() < 1e-12);
+        assert_eq!(s.mse(1), 0.0);
+        assert!((s.mse(2) - 0.01 / 5.0).abs() < 1e-12, "{s:?}");
+        // The left-out pixel is still checked for finiteness.
+        test.rgb[0] = [f64::NAN, 0.0, 0.0];
+        let e = r.split(&test, &reference).unwrap_err();
+        assert!(e.contains("(0, 0)") && e.contains("non-finite"), "{e}");
+        test.rgb[0] = grey(9.0);
+        test.rgb[6][2] = f64::INFINITY;
+        let e = r.split(&test, &reference).unwrap_err();
+        assert!(e.contains("(2, 1)"), "{e}");
+    }
+
+    // Two halves differing by ±d per value: MSE between them 4d², so the full reference's
+    // variance is d² (exact).
+    #[test]
+    fn reference_variance_from_halves() {
+        let a = RgbImage {
+            width: 2,
+            height: 1,
+            rgb: vec![[1.0; 3], [2.0; 3]],
+        };
+        let b = RgbImage {
+            width: 2,
+            height: 1,
+            rgb: vec![[1.2; 3], [1.8; 3]],
+        };
+        let v = reference_variance(&a, &b, &[true, true]);
+        assert!((v - 0.01).abs() < 1e-12, "{v}");
+    }
+
+    // The CPU line names the model and the vector extensions present, not those absent.
+    #[test]
+    fn cpu_line_from_cpuinfo() {
+        let info = "processor\t: 0\nmodel name\t: Test CPU 9000\nflags\t\t: fpu sse4_2 avx avx2 fma\n\
+                    processor\t: 1\nmodel name\t: Test CPU 9000\nflags\t\t: fpu sse4_2 avx avx2 fma\n";
+        let s = cpu_description_from(info);
+        assert!(
+            s.contains("Test CPU 9000") && s.contains("avx2") && s.contains("2 logical"),
+            "{s}"
+        );
+        assert!(!s.contains("avx512"), "{s}");
+    }
+}
