@@ -153,7 +153,6 @@ mod tests {
         assert_eq!(list[1].path(), "b.so");
         assert_eq!(list[1].sha256(), Some("AB"));
         let abc = sha256_hex(b"abc");
-        let p = Path::new("lib.so");
         assert!(check(&abc.to_uppercase(), &abc).is_ok());
         let other = sha256_hex(b"abd");
         let e = check(&other, &abc).unwrap_err().to_string();
