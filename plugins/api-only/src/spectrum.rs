@@ -70,7 +70,7 @@ impl EmissionSpd {
         let (lo, hi) = (r.min_nm, r.max_nm);
         let cells = ((hi - lo) / STEP_NM).round();
         // The grid must end on the range's end and stay small.
-        if !(cells >= 1.0 && cells <= 1e6 && (lo + cells * STEP_NM - hi).abs() < 1e-9) {
+        if !((1.0..=1e6).contains(&cells) && (lo + cells * STEP_NM - hi).abs() < 1e-9) {
             return Ok(None);
         }
         let cells = cells as usize;

@@ -247,7 +247,7 @@ impl PluginType for Spot {
             .spd(params.spd.as_deref().unwrap_or("e"))
             .map_err(|e| bad("spd", e))?;
         let flux = flux_w(&params, inner, outer, &handle)?;
-        if !(flux.is_finite() && flux >= 0.0 && flux <= MAX_F32) {
+        if !(0.0..=MAX_F32).contains(&flux) {
             return Err(bad(
                 "power",
                 format!("{flux} W must be finite, ≥ 0 and at most {MAX_F32:e} W"),
