@@ -21,6 +21,6 @@ for pair in "cornell scenes/api_only/cornell_box.ron scenes/api_only/cornell_box
         "$st" compare "$tmp/$name-plugin.exr" "$tmp/$name-builtin.exr" --diff "$out/$name-delta-e.png"
         echo "independent seeds (plugin 2, built in 1): the noise level"
         "$st" compare "$tmp/$name-plugin-seed2.exr" "$tmp/$name-builtin.exr" --diff "$out/$name-delta-e-seed2.png"
-    } | tee "$out/$name-compare.txt"
+    } | sed "s#$tmp/##g" | tee "$out/$name-compare.txt"
 done
 rm -r "$tmp"
