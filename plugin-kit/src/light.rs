@@ -438,7 +438,11 @@ fn emission(
         detail.push(format!(
             "{pdf_mismatch} records whose densities differ from emission_pdf"
         ));
-        min_p = 0.0;
+        // A direction rounded to f32 right at a jump of the density (a cone's edge) may land
+        // on the other side of it: a few in 10⁴ are tolerated, a systematic difference is not.
+        if pdf_mismatch as f64 > 1e-4 * (origins * SAMPLES) as f64 {
+            min_p = 0.0;
+        }
     }
     if tested == 0 && pdf_mismatch == 0 && min_p.is_infinite() {
         return CheckResult::skipped(
