@@ -20,7 +20,8 @@ pub const SAMPLES: usize = 100_000;
 /// Run every SPD check.
 pub fn run(obj: &SpdObject, calls: &Calls<'_, SpdObject>) -> Vec<CheckResult> {
     let (a, b) = (obj.range.min_nm, obj.range.max_nm);
-    if !(a.is_finite() && b.is_finite() && a < b) {
+    let line_only = a == b && !obj.lines.is_empty();
+    if !(a.is_finite() && b.is_finite() && (a < b || line_only)) {
         return vec![CheckResult::failed(
             "integral",
             format!("the declared range [{a}, {b}] nm is empty or not finite"),
@@ -53,6 +54,7 @@ pub fn run(obj: &SpdObject, calls: &Calls<'_, SpdObject>) -> Vec<CheckResult> {
 
 fn integral(obj: &SpdObject) -> CheckResult {
     let (a, b) = (obj.range.min_nm, obj.range.max_nm);
+    // A spectrum of lines alone may declare a range of zero width: no continuous part.
     let n = (((b - a) / 0.05).ceil() as usize).max(2);
     let mut bad = 0u64;
     let mut error = None;
@@ -116,7 +118,7 @@ fn chi2(obj: &SpdObject, samples: &[spectrace_plugin_api::WavelengthSample]) -> 
             pdf_mismatch += 1;
         }
     }
-    if cont.is_empty() {
+    if cont.is_empty() || !(b > a) {
         return CheckResult::skipped("chi2", "every sample is on a line: no continuous part");
     }
     let (counts, integrals, outside) = interval_cells(&cont, a, b, 64, &mut |x| {
