@@ -28,9 +28,13 @@ pub fn run(args: &CheckArgs, verbose: bool) -> Result<(), String> {
     // Only the types no plugin can provide, so that a library providing the standard names
     // loads too; the library's SPD specs are resolved by the host's spectrum module.
     let mut registry = crate::plugin::core_registry();
-    registry
-        .load_plugin(&args.library)
-        .map_err(|e| if verbose { e.verbose() } else { e.to_string() })?;
+    registry.load_plugin(&args.library).map_err(|e| {
+        if verbose {
+            e.verbose()
+        } else {
+            e.to_string()
+        }
+    })?;
     let plugin = registry
         .plugins()
         .last()

@@ -39,7 +39,9 @@ const OBSERVER: &str = include_str!("../../templates/plugin/observer.rs");
 
 /// The source tree this binary was built from (the workspace root), when it still exists.
 fn own_tree() -> Option<PathBuf> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).parent()?.to_path_buf();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()?
+        .to_path_buf();
     root.join("plugin-api/Cargo.toml").is_file().then_some(root)
 }
 
@@ -105,7 +107,11 @@ pub fn run(args: &NewArgs) -> Result<(), String> {
         "material" => (MATERIAL, "Diffuse", "check_material"),
         "spd" => (SPD, "Triangle", "check_spd"),
         "observer" => (OBSERVER, "GaussianSensor", "check_observer"),
-        other => return Err(format!("--kind {other}: use light, material, spd or observer")),
+        other => {
+            return Err(format!(
+                "--kind {other}: use light, material, spd or observer"
+            ))
+        }
     };
     let fill = |t: &str| {
         t.replace("__API__", &api)
