@@ -15,6 +15,8 @@ pub mod merge;
 pub mod output_paths;
 pub mod plugin_args;
 pub mod plugins;
+pub mod plugins_check;
+pub mod plugins_new;
 pub mod rays;
 pub mod reference;
 pub mod render;

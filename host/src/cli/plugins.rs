@@ -7,6 +7,9 @@ use crate::plugin::TypeDoc;
 /// Arguments of `spectrace plugins`.
 #[derive(clap::Args, Debug)]
 pub struct PluginsArgs {
+    /// `check`: run the conformance kit on a library; `new`: write a plugin crate to start from.
+    #[command(subcommand)]
+    pub action: Option<PluginsAction>,
     #[command(flatten)]
     /// Libraries and directories to load.
     pub plugins: PluginArgs,
@@ -18,8 +21,22 @@ pub struct PluginsArgs {
     pub markdown: bool,
 }
 
+/// What `spectrace plugins` can do besides listing.
+#[derive(clap::Subcommand, Debug)]
+pub enum PluginsAction {
+    /// Run the conformance kit on the types of a plugin library (exit status 1 when a check fails).
+    Check(super::plugins_check::CheckArgs),
+    /// Write a new plugin crate (light, material, SPD or observer) with a conformance test.
+    New(super::plugins_new::NewArgs),
+}
+
 /// List each loaded plugin with its version, API version and types (with parameters).
 pub fn run(args: &PluginsArgs, verbose: bool) -> Result<(), String> {
+    match &args.action {
+        Some(PluginsAction::Check(a)) => return super::plugins_check::run(a, verbose),
+        Some(PluginsAction::New(a)) => return super::plugins_new::run(a),
+        None => {}
+    }
     let registry = args.plugins.registry(verbose)?;
     if args.markdown {
         println!("{}", scene_format_markdown(&registry));

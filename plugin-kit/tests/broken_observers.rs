@@ -1,0 +1,21 @@
+//! Each deliberately broken fixture type (plugins/fixtures/broken-*) is caught by the one check
+//! named for its defect, and passes every other check: the kit's checks are each proven to see
+//! what they claim to, and not to blame a contract that holds. Run in-process on the fixture's
+//! root module (the same objects a loaded library gives; `tests/tests/plugin_kit.rs` checks the
+//! built libraries through `spectrace plugins check`).
+
+mod common;
+use common::{assert_only, check};
+
+#[test]
+fn each_broken_observer_fails_its_check_alone() {
+    for (ty, check_name) in [
+        ("negative_lobe", "finite"),
+        ("range_too_short", "range"),
+        ("state_forgets", "state"),
+    ] {
+        let r = check(spectrace_fixture_broken_observers::root_module(), ty);
+        println!("{r}");
+        assert_only(&r, check_name);
+    }
+}
