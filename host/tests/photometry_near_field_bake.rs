@@ -233,6 +233,28 @@ fn baked_panel_lights_like_the_panel_close_under_it() {
     // The point bake under the centre at 0.1 m: I0/h² = L·A/h² (1.0e5 lx), 37× the panel's.
     let (p, _) = point[0][0];
     assert!((p / 1.0e5 - 1.0).abs() < 0.01, "point bake {p} lx");
+
+    // The near-field blob exports as IES with its opening as the luminous dimensions (so IES →
+    // `near_field_luminaire` gives the same light back) and its table's flux (1e-6: the same
+    // numbers, shortest round-trip decimals).
+    let ies = temp("panel_export.ies");
+    run(&[
+        "luminaire",
+        "export",
+        temp("panel.blob").to_str().unwrap(),
+        "--format",
+        "ies",
+        "-o",
+        ies.to_str().unwrap(),
+    ]);
+    let lum = spectrace::photometry::load_luminaire(&ies).unwrap();
+    println!("exported opening {:?} m, {} lm", lum.size_m, lum.flux_lm());
+    assert!((lum.size_m[0] - 1.0).abs() < 1e-3 && (lum.size_m[1] - 1.0).abs() < 1e-3);
+    assert!(lum.size_m[2].abs() < 1e-6);
+    let baked_light = load(&baked_path);
+    let l = &baked_light.lights.lights()[0];
+    let k = spectrace::photometry::efficacy::luminous_efficacy_lm_per_w(l.spd().as_ref());
+    assert!((lum.flux_lm() / (l.power() * k) - 1.0).abs() < 1e-6);
 }
 
 /// The same panel given as an IES LM-63 file (a Lambertian table I0·cos γ every 2.5°, I0 =
