@@ -186,7 +186,8 @@ fn check_sha256(want: Option<&str>, got: &str, what: &str) -> Result<(), Factory
         Some(w) if !w.trim().eq_ignore_ascii_case(got) => Err(param_err(
             "sha256",
             format!(
-                "{what} has SHA-256 {got}, not the {} the light was made with: a different file",
+                "{what} has SHA-256 {got}, not the pinned {}: a different file from the one \
+                 the light was made with",
                 w.trim()
             ),
         )),
