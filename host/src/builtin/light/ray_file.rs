@@ -19,10 +19,11 @@
 //!
 //! Flux: radiant flux per ray (W) when the file has it; otherwise its luminous flux (lm)
 //! divided by the luminous efficacy of the ray's spectrum (its single wavelength, its table, or
-//! `spd`). The total is the rays' sum; a header total that differs by more than 0.1 % is
-//! reported, since the rays are the data. The light's spectrum: the file's table (identifier
-//! 3), its line (1), the flux-weighted histogram of the rays' wavelengths at 1 nm (2), the
-//! flux-weighted mix of its tables (4), or `spd` (0).
+//! `spd`). The total is the rays' sum; both it and the header's total are printed, and a header
+//! total that differs by more than 1 % ([`HEADER_MISMATCH`]) is warned about, since the rays
+//! are the data. The light's spectrum: the file's table (identifier 3), its line (1), the
+//! flux-weighted histogram of the rays' wavelengths at 1 nm (2), the flux-weighted mix of its
+//! tables (4), or `spd` (0).
 //!
 //! At build the chosen model is stated on standard error (`ray_file: … beams only …`), with
 //! the header's flux next to the rays' sum.
