@@ -14,15 +14,21 @@
 //! its table (with `flux_lm` and `multiplier` applied, the tilt table kept); any other light is
 //! measured first, as `bake` does.
 //!
-//! `spectrace luminaire bake SCENE --light NAME -o OUT.blob [--step DEG] [--samples N]`
+//! `spectrace luminaire bake SCENE --light NAME -o OUT.blob [--step DEG] [--samples N] [--point]`
 //! measures a light of a scene like a goniophotometer (see [`crate::photometry::goniometer`]):
-//! its spectrum, a type C intensity table every `--step` degrees (default 2.5) and its size,
-//! and writes a blob of a built-in `luminaire` light that renders without the light's plugin.
+//! its spectrum, a type C intensity table every `--step` degrees (default 2.5) and its size
+//! (the box of the points it emits from), and writes a blob that renders without the light's
+//! plugin: a `near_field_luminaire` emitting the table from that box (see
+//! [`crate::light::near_field`]) when the box has a face of non-zero area, so that close to a
+//! large panel the baked light lights as the panel does; a point `luminaire` when the light
+//! emits from a point or a line, or with `--point`.
 //! NAME is a light of the scene's `lights` or an object with an emissive material.
 
 use super::plugin_args::PluginArgs;
 use crate::builtin::light::luminaire::{exported_luminaire, LuminaireParams};
+use crate::builtin::light::near_field::{self, NearFieldParams};
 use crate::builtin::spectral::Spectrum;
+use crate::light::near_field::NearFieldLight;
 use crate::light::Light;
 use crate::photometry::eulumdat_writer::write_eulumdat;
 use crate::photometry::goniometer::{measure, GoniometerSettings, Measurement};
@@ -58,7 +64,8 @@ pub enum LuminaireCommand {
     /// Write a luminaire file, a light blob or a light of a scene as IES LM-63-2019 or EULUMDAT.
     Export(ExportArgs),
     /// Measure a light of a scene (any kind, plugin lights included) and save it as a blob of
-    /// a `luminaire` light: spectrum, goniometric table, size.
+    /// a `near_field_luminaire` (or, for a point-like light or with --point, a `luminaire`):
+    /// spectrum, goniometric table, luminous opening.
     Bake(BakeArgs),
 }
 
@@ -88,6 +95,10 @@ pub struct BakeArgs {
     #[command(flatten)]
     /// Measurement resolution.
     pub measure: MeasureArgs,
+    /// Write a point luminaire even when the light has a luminous opening (its far field only:
+    /// close to a large emitter it lights as a point would).
+    #[arg(long)]
+    pub point: bool,
     #[command(flatten)]
     /// Plugins to load.
     pub plugins: PluginArgs,
@@ -156,7 +167,14 @@ fn factory(plugins: &PluginArgs) -> Result<PluginFactory, String> {
 }
 
 /// The light `name` of the scene file `path`: a listed light or an emissive object.
-fn scene_light(path: &Path, name: &str, factory: &PluginFactory) -> Result<Source, String> {
+/// With `export_table`, a `near_field_luminaire` gives its table as it is (for `export`); else
+/// it is built and measured like any light (for `bake`, which keeps its opening).
+fn scene_light(
+    path: &Path,
+    name: &str,
+    factory: &PluginFactory,
+    export_table: bool,
+) -> Result<Source, String> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
     let desc = crate::scene::parse_scene_str(&text, path).map_err(|e| e.to_string())?;
@@ -167,6 +185,12 @@ fn scene_light(path: &Path, name: &str, factory: &PluginFactory) -> Result<Sourc
                 .map_err(|e| format!("{}: light `{name}`: {e}", path.display()))?;
             let ctx = factory.context(&base, format!("light `{name}`"));
             return Ok(Source::Luminaire(Box::new(p), ctx));
+        }
+        if item.type_name == near_field::TYPE.name && export_table {
+            let p: NearFieldParams = crate::builtin::from_value(&item.params)
+                .map_err(|e| format!("{}: light `{name}`: {e}", path.display()))?;
+            let ctx = factory.context(&base, format!("light `{name}`"));
+            return Ok(Source::Luminaire(Box::new(point_params(&p)), ctx));
         }
     }
     let factories: [&dyn ObjectFactory; 1] = [factory];
@@ -200,6 +224,22 @@ fn scene_light(path: &Path, name: &str, factory: &PluginFactory) -> Result<Sourc
     }
 }
 
+/// The point luminaire of a near-field luminaire's parameters (the same table, frame and
+/// factors; the opening dropped): what `export` writes of it.
+fn point_params(p: &NearFieldParams) -> LuminaireParams {
+    LuminaireParams {
+        file: p.file.clone(),
+        table: p.table.clone(),
+        position: p.position,
+        aim: p.aim,
+        c0: p.c0,
+        spd: p.spd.clone(),
+        flux_lm: p.flux_lm,
+        multiplier: p.multiplier,
+        tilt_deg: p.tilt_deg,
+    }
+}
+
 /// The light a blob holds.
 fn blob_light(path: &Path, factory: &PluginFactory) -> Result<Source, String> {
     let blob = Blob::read_file(path).map_err(|e| e.to_string())?;
@@ -216,6 +256,13 @@ fn blob_light(path: &Path, factory: &PluginFactory) -> Result<Source, String> {
                 .map_err(|e| format!("{}: bad luminaire state: {e}", path.display()))?;
         let ctx = factory.context(Path::new("."), format!("blob {}", path.display()));
         return Ok(Source::Luminaire(Box::new(p), ctx));
+    }
+    if blob.plugin == BUILTIN_PLUGIN && blob.type_name == near_field::TYPE.name {
+        let (p, _): (NearFieldParams, usize) =
+            bincode::serde::decode_from_slice(&blob.payload, bincode::config::standard())
+                .map_err(|e| format!("{}: bad near-field luminaire state: {e}", path.display()))?;
+        let ctx = factory.context(Path::new("."), format!("blob {}", path.display()));
+        return Ok(Source::Luminaire(Box::new(point_params(&p)), ctx));
     }
     match blob
         .instantiate(factory)
@@ -251,7 +298,7 @@ pub fn export(args: &ExportArgs) -> Result<(), String> {
         }
         (None, Some(scene), Some(light)) => {
             let f = factory(&args.plugins)?;
-            let src = scene_light(scene, light, &f)?;
+            let src = scene_light(scene, light, &f, true)?;
             let name = format!("light `{light}` of {}", scene.display());
             let lum = source_luminaire(src, &args.measure, &name)?;
             (lum, name.clone(), name)
@@ -290,7 +337,7 @@ fn source_luminaire(src: Source, m: &MeasureArgs, name: &str) -> Result<Luminair
 pub fn bake(args: &BakeArgs) -> Result<(), String> {
     let f = factory(&args.plugins)?;
     let name = format!("light `{}` of {}", args.light, args.scene.display());
-    let light: Arc<dyn Light> = match scene_light(&args.scene, &args.light, &f)? {
+    let light: Arc<dyn Light> = match scene_light(&args.scene, &args.light, &f, false)? {
         Source::Light(l) => l,
         Source::Luminaire(p, ctx) => Arc::new(
             crate::builtin::light::luminaire::build_luminaire(&p, &ctx)
@@ -306,28 +353,8 @@ pub fn bake(args: &BakeArgs) -> Result<(), String> {
             |n| n.to_string_lossy().into_owned()
         )
     );
-    let params = LuminaireParams {
-        file: None,
-        table: Some(m.table(&source)),
-        position: m.centre,
-        aim: None,
-        c0: None,
-        spd: Some(Spectrum::Pairs(m.spectrum.clone())),
-        flux_lm: None,
-        multiplier: None,
-        tilt_deg: None,
-    };
-    let payload = bincode::serde::encode_to_vec(&params, bincode::config::standard())
-        .map_err(|e| format!("cannot encode the baked light: {e}"))?;
-    let ty = crate::builtin::light::luminaire::TYPE;
-    let blob = Blob {
-        kind: ObjectKind::Light,
-        plugin: BUILTIN_PLUGIN.to_string(),
-        plugin_version: env!("CARGO_PKG_VERSION").to_string(),
-        type_name: ty.name.to_string(),
-        type_version: ty.version,
-        payload,
-    };
+    let near = !args.point && NearFieldLight::has_opening(m.size);
+    let blob = baked_blob(&m, &source, near)?;
     // The blob must load with the built-in types alone (no plugin).
     let builtins = PluginFactory::new(
         Arc::new(crate::plugin::builtin_registry()),
@@ -359,11 +386,72 @@ pub fn bake(args: &BakeArgs) -> Result<(), String> {
         baked.power() * k
     );
     println!(
-        "emitter           centre ({:.4}, {:.4}, {:.4}), size {:.4} × {:.4} × {:.4} (x, z, y; scene units)",
+        "emitter           centre ({:.4}, {:.4}, {:.4}) m, size {:.4} × {:.4} × {:.4} m (x, z, y)",
         m.centre[0], m.centre[1], m.centre[2], m.size[0], m.size[1], m.size[2]
     );
+    if near {
+        println!(
+            "emits from        its opening: a near_field_luminaire of {:.4} × {:.4} × {:.4} m",
+            m.size[0], m.size[1], m.size[2]
+        );
+    } else if args.point {
+        println!("emits from        a point (--point): a luminaire");
+    } else {
+        println!(
+            "emits from        a point: a luminaire (the emitter has no face of non-zero area)"
+        );
+    }
     println!("wrote             {}", args.output.display());
     Ok(())
+}
+
+/// The blob of a measured light: a `near_field_luminaire` emitting the table from the measured
+/// box (`near`), else a point `luminaire`. Lengths in metres (the scene's unit is converted when
+/// the scene is built), the frame the world's (the goniometer measures in it).
+fn baked_blob(m: &Measurement, source: &str, near: bool) -> Result<Blob, String> {
+    let table = Some(m.table(source));
+    let spd = Some(Spectrum::Pairs(m.spectrum.clone()));
+    let encode = |r: Result<Vec<u8>, bincode::error::EncodeError>| {
+        r.map_err(|e| format!("cannot encode the baked light: {e}"))
+    };
+    let (ty, payload) = if near {
+        let p = NearFieldParams {
+            file: None,
+            table,
+            position: m.centre,
+            aim: None,
+            c0: None,
+            spd,
+            flux_lm: None,
+            multiplier: None,
+            tilt_deg: None,
+            size_m: Some(m.size),
+        };
+        let bytes = bincode::serde::encode_to_vec(&p, bincode::config::standard());
+        (near_field::TYPE, encode(bytes)?)
+    } else {
+        let p = LuminaireParams {
+            file: None,
+            table,
+            position: m.centre,
+            aim: None,
+            c0: None,
+            spd,
+            flux_lm: None,
+            multiplier: None,
+            tilt_deg: None,
+        };
+        let bytes = bincode::serde::encode_to_vec(&p, bincode::config::standard());
+        (crate::builtin::light::luminaire::TYPE, encode(bytes)?)
+    };
+    Ok(Blob {
+        kind: ObjectKind::Light,
+        plugin: BUILTIN_PLUGIN.to_string(),
+        plugin_version: env!("CARGO_PKG_VERSION").to_string(),
+        type_name: ty.name.to_string(),
+        type_version: ty.version,
+        payload,
+    })
 }
 
 fn parse_angles(s: &str) -> Result<(f64, f64), String> {

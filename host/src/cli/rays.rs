@@ -152,10 +152,8 @@ fn info(a: &InfoArgs) -> Result<(), String> {
     let s = far_field_summary(&f);
     let mismatch = |header: f32, sum: Option<f64>, unit: &str| {
         if let Some(sum) = sum {
-            if header > 0.0 && (sum / header as f64 - 1.0).abs() > 1e-3 {
-                eprintln!(
-                    "warning: {file}: the header's total is {header} {unit}, the rays sum to {sum:.6} {unit}"
-                );
+            if let Some(w) = crate::builtin::light::ray_file::header_mismatch(header, sum, unit) {
+                eprintln!("warning: {file}: {w}");
             }
         }
     };

@@ -14,31 +14,44 @@
 //! | `max_rays`       | —           | `4000000`    | at most this many rays are drawn from (more: chosen by flux, systematic resampling) |
 //! | `model`          | —           | `"beams"`    | `"beams"`: the rays themselves (light tracing and BDPT light paths only); `"near_field"`: a luminaire with a luminous opening built from the rays (their binned far field and the box of their start points), seen by every integrator and by sensors |
 //! | `table_step_deg` | degrees     | `5`          | angular step of the `near_field` model's table (divides 180) |
+//! | `sha256`         | —           | —            | the file's SHA-256 (hex): a file with another is refused |
+//! | `data_base64`    | —           | —            | the file's bytes in base64, instead of reading `file` (then only its name) |
 //!
 //! Flux: radiant flux per ray (W) when the file has it; otherwise its luminous flux (lm)
 //! divided by the luminous efficacy of the ray's spectrum (its single wavelength, its table, or
-//! `spd`). The total is the rays' sum; a header total that differs by more than 0.1 % is
-//! reported, since the rays are the data. The light's spectrum: the file's table (identifier
-//! 3), its line (1), the flux-weighted histogram of the rays' wavelengths at 1 nm (2), the
-//! flux-weighted mix of its tables (4), or `spd` (0).
+//! `spd`). The total is the rays' sum; both it and the header's total are printed, and a header
+//! total that differs by more than 1 % ([`HEADER_MISMATCH`]) is warned about, since the rays
+//! are the data. The light's spectrum: the file's table (identifier 3), its line (1), the
+//! flux-weighted histogram of the rays' wavelengths at 1 nm (2), the flux-weighted mix of its
+//! tables (4), or `spd` (0).
 //!
-//! At build the chosen model is stated on standard error (`ray_file: … beams only …`).
+//! At build the chosen model is stated on standard error (`ray_file: … beams only …`), with
+//! the header's flux next to the rays' sum.
+//!
+//! Blobs (`spectrace blob pack`): a file of at most [`EMBED_LIMIT_BYTES`] is embedded
+//! (`data_base64`, with its `sha256`), so the blob renders after the file is gone; a larger one
+//! is referred to by absolute path and SHA-256 (said on standard error at pack time), so the
+//! blob renders only where that very file is, and a changed file is refused by name.
 
 use super::light_spd;
 use crate::builtin::spectral::Spectrum;
-use crate::builtin::{check, from_value, param_err, Build, BuiltinType};
+use crate::builtin::{check, from_value, param_err, state_fns, Build, BuiltinType, Embed};
 use crate::light::near_field::NearFieldLight;
 use crate::light::ray_file::{file_spectra, RayFileLight, RaySpectrum};
 use crate::light::{Light, LuminaireLight};
 use crate::photometry::efficacy::luminous_efficacy_lm_per_w;
 use crate::photometry::goniometer::{measure, GoniometerSettings};
 use crate::photometry::tm25::{RayFile, SpectralId};
+use crate::plugin::pin::sha256_hex;
 use crate::plugin::type_doc::Param;
 use crate::scene::units::LengthUnit;
 use crate::scene::{FactoryContext, FactoryError};
 use crate::spectrum::{parse_spd_spec, Interpolation, Spd, TabulatedSpd};
+use base64::engine::general_purpose::STANDARD as BASE64;
+use base64::Engine as _;
 use glam::Vec3A;
 use serde::{Deserialize, Serialize};
+use std::path::PathBuf;
 use std::sync::Arc;
 
 /// The type.
@@ -74,10 +87,22 @@ pub const TYPE: BuiltinType = BuiltinType {
             "\"beams\" (light tracing, BDPT light paths) or \"near_field\" (connectable luminaire)",
         ),
         Param::optional("table_step_deg", "degrees", "5", "near_field table step"),
+        Param::optional("sha256", "", "—", "the file's SHA-256 (hex); another file is refused"),
+        Param::optional(
+            "data_base64",
+            "",
+            "—",
+            "the file's bytes in base64 instead of reading `file` (what blobs store)",
+        ),
     ],
     build: Build::Light(|v, ctx| build(&from_value(v)?, ctx)),
-    state: None,
+    state: Some(state_fns::<RayFileParams>()),
 };
+
+/// Largest ray file a blob embeds, bytes (16 MiB: about 600 000 rays of 28 bytes; base64 makes
+/// the payload 4/3 of that, well under the blob payload limit of 64 MiB). Larger files are
+/// referred to by path and SHA-256.
+pub const EMBED_LIMIT_BYTES: u64 = 16 << 20;
 
 /// Parameters of [`TYPE`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -114,6 +139,97 @@ pub struct RayFileParams {
     /// Table step of the near-field model, degrees.
     #[serde(default)]
     pub table_step_deg: Option<f64>,
+    /// SHA-256 of the file, hex.
+    #[serde(default)]
+    pub sha256: Option<String>,
+    /// The file's bytes, base64 (standard alphabet, padded).
+    #[serde(default)]
+    pub data_base64: Option<String>,
+}
+
+impl Embed for RayFileParams {
+    /// A file up to [`EMBED_LIMIT_BYTES`] goes into the blob; a larger one is pinned by absolute
+    /// path and SHA-256.
+    fn embed(&mut self, ctx: &FactoryContext) -> Result<(), FactoryError> {
+        self.spd.embed(ctx)?;
+        if self.data_base64.is_some() {
+            return Ok(());
+        }
+        let path = ctx.resolve(&self.file);
+        let file = RayFile::open(&path).map_err(|e| param_err("file", e))?;
+        let hash = sha256_hex(file.bytes());
+        check_sha256(self.sha256.as_deref(), &hash, &path.display().to_string())?;
+        self.sha256 = Some(hash.clone());
+        let len = file.bytes().len() as u64;
+        if len <= EMBED_LIMIT_BYTES {
+            self.data_base64 = Some(BASE64.encode(file.bytes()));
+            self.file = path
+                .file_name()
+                .map_or_else(|| self.file.clone(), |n| n.to_string_lossy().into_owned());
+        } else {
+            let abs = std::path::absolute(&path).unwrap_or(path.clone());
+            eprintln!(
+                "note: {}: {:.1} MiB is over the {} MiB a blob embeds; the blob refers to it by \
+                 path and SHA-256 {hash} and renders only where that file is",
+                abs.display(),
+                len as f64 / (1u64 << 20) as f64,
+                EMBED_LIMIT_BYTES >> 20
+            );
+            self.file = abs.to_string_lossy().into_owned();
+        }
+        Ok(())
+    }
+}
+
+/// Refuse a file whose SHA-256 `got` is not the `want`ed one (when one is given).
+fn check_sha256(want: Option<&str>, got: &str, what: &str) -> Result<(), FactoryError> {
+    match want {
+        Some(w) if !w.trim().eq_ignore_ascii_case(got) => Err(param_err(
+            "sha256",
+            format!(
+                "{what} has SHA-256 {got}, not the pinned {}: a different file from the one \
+                 the light was made with",
+                w.trim()
+            ),
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// The ray file `p` names: decoded from `data_base64`, or mapped from `file`; checked against
+/// `sha256` when given.
+fn open_file(p: &RayFileParams, ctx: &FactoryContext) -> Result<(RayFile, PathBuf), FactoryError> {
+    match &p.data_base64 {
+        Some(data) => {
+            let label = PathBuf::from(format!("{} (embedded)", p.file));
+            // Bounded: base64 of at most the blob payload limit.
+            let bytes = BASE64
+                .decode(data.trim())
+                .map_err(|e| param_err("data_base64", format!("not base64: {e}")))?;
+            if let Some(want) = &p.sha256 {
+                check_sha256(
+                    Some(want),
+                    &sha256_hex(&bytes),
+                    &label.display().to_string(),
+                )?;
+            }
+            let file =
+                RayFile::from_bytes(bytes, &label).map_err(|e| param_err("data_base64", e))?;
+            Ok((file, label))
+        }
+        None => {
+            let path = ctx.resolve(&p.file);
+            let file = RayFile::open(&path).map_err(|e| param_err("file", e))?;
+            if let Some(want) = &p.sha256 {
+                check_sha256(
+                    Some(want),
+                    &sha256_hex(file.bytes()),
+                    &path.display().to_string(),
+                )?;
+            }
+            Ok((file, path))
+        }
+    }
 }
 
 /// World directions of the file's x, y, z axes.
@@ -227,10 +343,31 @@ fn spectra(
     })
 }
 
+/// Header totals and rays' sums differing by more than this (relative) are reported. 1 %: a
+/// header total is a summary that makers round (three significant figures is 0.5 % at worst),
+/// while files whose header and rays disagree do so grossly (the LightTools example: 1 lm
+/// against 10 000 lm).
+pub const HEADER_MISMATCH: f64 = 0.01;
+
+/// The warning for a header total (`header`, NaN or 0 when not given) that disagrees with the
+/// rays' sum by more than [`HEADER_MISMATCH`]: which one the light uses and why.
+pub fn header_mismatch(header: f32, rays: f64, unit: &str) -> Option<String> {
+    let h = header as f64;
+    if !(h > 0.0) || ((rays / h) - 1.0).abs() <= HEADER_MISMATCH {
+        return None;
+    }
+    Some(format!(
+        "the header's total flux is {header} {unit} but the rays sum to {rays:.6} {unit} \
+         ({:+.1} %); the light uses the rays' sum (the rays are the data, the header a summary; \
+         `flux_w` / `flux_lm` set another total)",
+        100.0 * (rays / h - 1.0)
+    ))
+}
+
 /// Build the light.
 pub fn build(p: &RayFileParams, ctx: &FactoryContext) -> Result<Arc<dyn Light>, FactoryError> {
-    let path = ctx.resolve(&p.file);
-    let file = Arc::new(RayFile::open(&path).map_err(|e| param_err("file", e))?);
+    let (file, path) = open_file(p, ctx)?;
+    let file = Arc::new(file);
     for w in &file.header.warnings {
         eprintln!("warning: {}: {w}", path.display());
     }
@@ -277,19 +414,31 @@ pub fn build(p: &RayFileParams, ctx: &FactoryContext) -> Result<Arc<dyn Light>, 
         (None, Some(lm)) => check::radiometric("flux_lm", lm, "lm")? as f64 / (rays_w * k),
         (None, None) => 1.0,
     };
-    let header_total = if h.flags.radiant {
-        h.radiant_flux_w as f64
+    // f32 as the file stores it (printed with its own shortest decimals).
+    let header_f32 = if h.flags.radiant {
+        h.radiant_flux_w
     } else {
-        h.luminous_flux_lm as f64
+        h.luminous_flux_lm
     };
+    let header_total = header_f32 as f64;
     let rays_total = rays_w / w_per_unit;
-    if header_total > 0.0 && ((rays_total / header_total) - 1.0).abs() > 1e-3 {
-        let unit = if h.flags.radiant { "W" } else { "lm" };
-        eprintln!(
-            "warning: {}: the header's total flux is {header_total} {unit} but the rays sum to \
-             {rays_total:.6} {unit}; the rays' sum is used",
-            path.display()
-        );
+    let unit_name = if h.flags.radiant { "W" } else { "lm" };
+    let header_text = if header_total.is_nan() {
+        "not given (NaN)".to_string()
+    } else {
+        format!("{header_f32} {unit_name}")
+    };
+    let used = match (p.flux_w, p.flux_lm) {
+        (None, None) => "the rays' sum",
+        _ => "the rays scaled to the given flux",
+    };
+    eprintln!(
+        "ray_file {}: flux: header {header_text}, rays' sum {rays_total:.6} {unit_name}; the light \
+         emits {used}",
+        path.display()
+    );
+    if let Some(w) = header_mismatch(header_f32, rays_total, unit_name) {
+        eprintln!("warning: {}: {w}", path.display());
     }
     let light = RayFileLight::new(
         file.clone(),

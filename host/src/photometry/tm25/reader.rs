@@ -295,7 +295,15 @@ pub fn parse_header(bytes: &[u8], path: &Path) -> Result<(Tm25Header, RayLayout)
     if version != 2013 {
         return Err(err(
             "4.7.1.2 version",
-            format!("version {version} is not known (TM-25-13 files say 2013)"),
+            match version {
+                2020 => {
+                    "version 2020 (ANSI/IES TM-25-20) is not read: the 2020 revision's changes \
+                         to the layout are not public, so its files cannot be read safely; \
+                         TM-25-13 files (version 2013) are"
+                        .to_string()
+                }
+                v => format!("version {v} is not known (TM-25-13 files say 2013)"),
+            },
         ));
     }
     let creation_method = c.i32("4.7.1.3 creation method")?;
@@ -766,7 +774,7 @@ mod tests {
         // Unknown version, wrong magic.
         let mut v = good.clone();
         v[4..8].copy_from_slice(&2020i32.to_le_bytes());
-        assert!(err_of(v).contains("version 2020 is not known"));
+        assert!(err_of(v).contains("version 2020 (ANSI/IES TM-25-20) is not read"));
         let mut m = good.clone();
         m[0] = b'X';
         assert!(err_of(m).contains("not a TM-25"));
