@@ -21,10 +21,7 @@ const LEFT: [f64; 3] = [4.0, 1.0, 0.5];
 const RIGHT: [f64; 3] = [0.3, 0.8, 2.5];
 
 fn temp_dir(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!(
-        "spectrace-emtex-{tag}-{}",
-        std::process::id()
-    ));
+    let d = std::env::temp_dir().join(format!("spectrace-emtex-{tag}-{}", std::process::id()));
     std::fs::create_dir_all(&d).unwrap();
     d
 }

@@ -20,10 +20,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 fn temp_dir(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!(
-        "spectrace-envpaths-{tag}-{}",
-        std::process::id()
-    ));
+    let d = std::env::temp_dir().join(format!("spectrace-envpaths-{tag}-{}", std::process::id()));
     std::fs::create_dir_all(&d).unwrap();
     d
 }
@@ -57,7 +54,7 @@ const SCENE: &str = r#"(
     cameras: [(name: "c", type: "pinhole",
                params: (position: (0, 3, 0.01), look_at: (0, 0, 0), fov: 20, resolution: (16, 16)))],
     sensors: [(name: "open", type: "illuminance_grid",
-               params: (corner: (-0.9, 0.001, 0.9), edge0: (0.3, 0, 0), edge1: (0, 0, -0.3),
+               params: (corner: (-0.98, 0.001, 0.98), edge0: (0.1, 0, 0), edge1: (0, 0, -0.1),
                         resolution: (2, 2)))],
 )"#;
 
@@ -109,14 +106,15 @@ impl EnvironmentRadiance for UniformlySampled {
 /// unbiased; the spread includes no image structure). A wrong emission density (e.g. the
 /// map's pdf without the disc's cos θ/πR², or a split `pdf_le` disagreeing with `sample_le`
 /// in BDPT's MIS) scales or skews the light paths' share and moves these means by far more
-/// than 4 SE: each SE is below 1.5% of the region's mean (asserted).
+/// than 4 SE: each SE is below 2% of the region's mean (asserted; light tracing needs 4096
+/// paths per pixel for that: most light paths from the sky land outside the camera's view).
 #[test]
 fn light_paths_agree_with_path_tracing() {
     let dir = temp_dir("agree");
     write_sun_sky(&dir.join("sky.exr"));
     let s = scene(&dir, "scale: 1");
     let pt = render(&s, IntegratorKind::Pt, 256, 3);
-    for (kind, spp) in [(IntegratorKind::Lt, 512), (IntegratorKind::Bdpt, 64)] {
+    for (kind, spp) in [(IntegratorKind::Lt, 4096), (IntegratorKind::Bdpt, 64)] {
         let img = render(&s, kind, spp, 5);
         for q in 0..4 {
             let (qx, qy) = (q % 2, q / 2);
@@ -133,7 +131,7 @@ fn light_paths_agree_with_path_tracing() {
                 "{kind} quadrant {q}: PT {level:.5}, {kind} − PT = {md:+.5} ± {se:.5} ({:+.2}%)",
                 100.0 * md / level
             );
-            assert!(se < 0.015 * level, "{kind} quadrant {q}: SE {se} too large");
+            assert!(se < 0.02 * level, "{kind} quadrant {q}: SE {se} too large");
             assert!(
                 md.abs() < 4.0 * se,
                 "{kind} quadrant {q}: {kind} − PT = {md} ± {se} (PT level {level})"
@@ -143,8 +141,9 @@ fn light_paths_agree_with_path_tracing() {
 }
 
 /// The illuminance sensor's two estimators (sensor path tracing, used by PT and BDPT, and
-/// light tracing, used by LT) read the map's `illuminance` on unobstructed floor points (the
-/// ball is far enough that it hides under 0.1% of the sky from them): each of 4 points within
+/// light tracing, used by LT) read the map's `illuminance` on floor points at the corner away
+/// from the ball (1.3 m off: it hides ~0.7% of the sky's cosine-weighted light, which is a
+/// quarter of the total, the sun being the rest; and not the sun): each of 4 points within
 /// 4 of its standard errors + 1% (the map's illuminance is a quadrature over its nodes; its
 /// error on this 64 × 32 map with a 2 × 2-node sun is under 1%) of 5000 lx, each standard
 /// error under 3% of it.

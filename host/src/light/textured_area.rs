@@ -421,8 +421,9 @@ mod tests {
     /// Positions follow the texture's power: with the right half 9× as luminous as the left,
     /// 90% of 100k `sample_le` origins land on the right (binomial: within 4 SE, SE ≈ 0.001,
     /// the 10⁻³ floor shifts the share by < 1e-3); every sample's `pdf_le` and `pdf_li` give the
-    /// densities `sample_le` and `sample_li` reported (1e-4 relative); the density is 1.8 /m²
-    /// on the right half and 0.2 on the left (1e-3); the radiance carried is the texel's.
+    /// densities `sample_le` and `sample_li` reported (1e-4 relative); the density is
+    /// 2·(0.9 + f)/(1 + 2f) /m² on the right half and 2·(0.1 + f)/(1 + 2f) on the left, f = 5e-4
+    /// the floor (1e-4 relative: f32); the radiance carried is the texel's.
     #[test]
     fn positions_follow_the_texture_power() {
         let l = light([0.1, 0.1, 0.1], [0.9, 0.9, 0.9]);
@@ -441,14 +442,23 @@ mod tests {
             p_error: Vec3A::ZERO,
             n: -Vec3A::Z,
         };
-        let floor = 1e-3 * 0.5 / (1.0 + 1e-3);
+        // Cell weights: luminance 0.1 and 0.9 plus the floor 10⁻³ × their mean 0.5.
+        let f = 1e-3 * 0.5;
+        let (want_left, want_right) = (
+            2.0 * (0.1 + f) / (1.0 + 2.0 * f),
+            2.0 * (0.9 + f) / (1.0 + 2.0 * f),
+        );
         for _ in 0..n {
             let s = l
                 .sample_le(Vec2::new(rnd(), rnd()), Vec2::new(rnd(), rnd()), &lambda)
                 .unwrap();
             let x = s.ray.origin.x;
-            let want = if x > 0.0 { 1.8 } else { 0.2 };
-            assert!((s.pdf_pos / want - 1.0).abs() < 1e-3 + 2.0 * floor, "{}", s.pdf_pos);
+            let want = if x > 0.0 { want_right } else { want_left };
+            assert!(
+                (s.pdf_pos / want - 1.0).abs() < 1e-4,
+                "{} vs {want}",
+                s.pdf_pos
+            );
             let (pp, pd) = l.pdf_le(&s.ray, s.normal);
             assert!((pp / s.pdf_pos - 1.0).abs() < 1e-4 && (pd / s.pdf_dir - 1.0).abs() < 1e-4);
             if x.abs() > 1e-4 {
@@ -458,9 +468,7 @@ mod tests {
             if x > 0.0 {
                 right += 1;
             }
-            let li = l
-                .sample_li(&ctx, Vec2::new(rnd(), rnd()), &lambda)
-                .unwrap();
+            let li = l.sample_li(&ctx, Vec2::new(rnd(), rnd()), &lambda).unwrap();
             let back = l.pdf_li(&ctx, li.p_light, li.n_light);
             assert!((back / li.pdf - 1.0).abs() < 1e-4, "{back} vs {}", li.pdf);
         }

@@ -71,7 +71,9 @@ impl EmissionTexture {
             return Err(format!("{name}: lookup and image sizes differ"));
         }
         if !(scale.is_finite() && scale >= 0.0) {
-            return Err(format!("{name}: the scale must be finite and ≥ 0, got {scale}"));
+            return Err(format!(
+                "{name}: the scale must be finite and ≥ 0, got {scale}"
+            ));
         }
         let (texels, luminance) = match image {
             LoadedImage::Rgb(img) => {
@@ -191,7 +193,10 @@ impl EmissionTexture {
                             .filter(|ci| ci[3] > 0.0)
                             .map(|ci| (ci[3] * eval_coeffs([ci[0], ci[1], ci[2]], t)) as f64)
                             .sum();
-                        (l as f64, sum / n * white.value(lf) as f64 * self.scale as f64)
+                        (
+                            l as f64,
+                            sum / n * white.value(lf) as f64 * self.scale as f64,
+                        )
                     })
                     .collect()
             }

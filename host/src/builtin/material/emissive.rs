@@ -133,7 +133,10 @@ fn textured(
     let pair = |name: &str, v: Option<(f64, f64)>, d: f64| -> Result<glam::Vec2, FactoryError> {
         let (a, b) = v.unwrap_or((d, d));
         if !(a.is_finite() && b.is_finite()) {
-            return Err(param_err("radiance", format!("`texture.{name}` must be finite")));
+            return Err(param_err(
+                "radiance",
+                format!("`texture.{name}` must be finite"),
+            ));
         }
         Ok(glam::Vec2::new(a as f32, b as f32))
     };
