@@ -142,8 +142,8 @@ impl EmissionTexture {
                     }
                 }
                 let white = srgb_white().eval(lambda);
-                for k in 0..LANES {
-                    out[k] *= white.0[k];
+                for (o, wl) in out.iter_mut().zip(white.0) {
+                    *o *= wl;
                 }
             }
             Texels::Spectral(s) => {
@@ -151,8 +151,8 @@ impl EmissionTexture {
                     if w == 0.0 {
                         continue;
                     }
-                    for k in 0..LANES {
-                        out[k] += w * s.value(i, lambda.lambda[k]);
+                    for (o, &l) in out.iter_mut().zip(&lambda.lambda) {
+                        *o += w * s.value(i, l);
                     }
                 }
             }
