@@ -13,15 +13,17 @@
 //! direction from the [`EnvironmentRadiance`] (uniform over the sphere of directions unless the
 //! source importance-samples) and reports that solid-angle density, which the BSDF-hit side of
 //! MIS asks again through [`Light::pdf_li`]. Light subpaths (light tracing, BDPT, the
-//! illuminance sensors) draw their direction from the same distribution (an image is
-//! importance-sampled by luminance, so bright skies and suns start as many paths as they
-//! deserve), then a point uniform on the disc of radius `R` through the centre across that
+//! illuminance sensors) of a source that asks for it
+//! ([`EnvironmentRadiance::samples_emission`]: image maps do, so bright skies and suns start as
+//! many paths as they deserve) draw their direction from the same distribution, then a point uniform on the disc of radius `R` through the centre across that
 //! direction, moved along it onto the sphere (pbrt's construction, kept on the sphere so that the
 //! start is an ordinary area-light vertex). Densities: position `1/(4πR²)`, direction
 //! `4 · cos θ · p(ω)` (`θ` from the inward normal, `p` the source's density of `ω`), whose
 //! product is the joint density `p(ω) · cos θ/(πR²)`; for a uniform source this is exactly an
 //! area light's uniform position and `cos θ/π` lobe, so no special case is needed in the
-//! connections.
+//! connections. Other sources (the constant sky, the CIE skies, plugin environments) start
+//! uniformly on the sphere with cosine-distributed inward directions: those same densities,
+//! drawn directly.
 //! Power for light selection: `π R² · 4π · L̄`, the flux through the scene's bounding disc (as
 //! pbrt does), `L̄` the direction-averaged radiance integrated over wavelength.
 
@@ -29,7 +31,7 @@ use super::LightSampleContext;
 use super::{sample_uniform_sphere, Light, LightFlags, LightLeSample, LightLiSample};
 use crate::geometry::{Aabb, Ray};
 use crate::material::dense::DenseSpectrum;
-use crate::material::{sample_concentric_disk, Frame};
+use crate::material::{sample_concentric_disk, sample_cosine_hemisphere, Frame};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spd};
 use glam::{Vec2, Vec3A};
 use std::f32::consts::PI;
@@ -59,6 +61,14 @@ pub trait EnvironmentRadiance: Send + Sync + Debug {
     /// returns the unit direction `dir`.
     fn direction_pdf(&self, _p: Vec3A, _dir: Vec3A) -> f32 {
         1.0 / (4.0 * PI)
+    }
+
+    /// True when light subpaths should also draw their direction from
+    /// [`sample_direction`](Self::sample_direction) (asked from the sphere's centre; see the
+    /// module docs). `false` (the default) keeps the uniform start: uniform on the sphere,
+    /// cosine-distributed inwards.
+    fn samples_emission(&self) -> bool {
+        false
     }
 }
 
@@ -204,6 +214,22 @@ impl Light for EnvironmentLight {
 
     fn sample_le(&self, u1: Vec2, u2: Vec2, lambda: &SampledWavelengths) -> Option<LightLeSample> {
         let (c, r) = self.sphere();
+        if !self.source.samples_emission() {
+            let origin = c + sample_uniform_sphere(u1) * r;
+            let n = self.inward(origin);
+            let local = sample_cosine_hemisphere(u2);
+            if !(local.z > 0.0) {
+                return None;
+            }
+            let dir = Frame::from_normal(n).to_world(local);
+            return Some(LightLeSample {
+                ray: Ray::new(origin, dir),
+                radiance: self.source.radiance(-dir, lambda),
+                pdf_pos: 1.0 / (4.0 * PI * r * r),
+                pdf_dir: local.z / PI,
+                normal: n,
+            });
+        }
         // The direction first, from the source's own distribution (the map's luminance for an
         // image, uniform for the constant sky), asked from the sphere's centre.
         let (w, pdf_w) = self.source.sample_direction(c, u2)?;
@@ -242,6 +268,9 @@ impl Light for EnvironmentLight {
         let cos = self.inward(ray.origin).dot(dir);
         if !(cos > 0.0) {
             return (1.0 / (4.0 * PI * r * r), 0.0);
+        }
+        if !self.source.samples_emission() {
+            return (1.0 / (4.0 * PI * r * r), cos / PI);
         }
         split_density(r, cos, self.source.direction_pdf(c, -dir))
     }

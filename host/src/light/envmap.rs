@@ -468,6 +468,10 @@ impl EnvironmentRadiance for EnvironmentMap {
         Some(((self.to_world * local).normalize_or_zero(), pdf))
     }
 
+    fn samples_emission(&self) -> bool {
+        true
+    }
+
     fn direction_pdf(&self, _p: Vec3A, dir: Vec3A) -> f32 {
         let d = (self.to_local * dir).normalize_or_zero();
         if d == Vec3A::ZERO {
