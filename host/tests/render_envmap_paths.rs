@@ -107,14 +107,15 @@ impl EnvironmentRadiance for UniformlySampled {
 /// map's pdf without the disc's cos θ/πR², or a split `pdf_le` disagreeing with `sample_le`
 /// in BDPT's MIS) scales or skews the light paths' share and moves these means by far more
 /// than 4 SE: each SE is below 2% of the region's mean (asserted; light tracing needs 4096
-/// paths per pixel for that: most light paths from the sky land outside the camera's view).
+/// paths per pixel for that: most light paths from the sky land outside the camera's view;
+/// BDPT 1024 samples: at 64 its SE in the shadowed quadrant was 4.7%).
 #[test]
 fn light_paths_agree_with_path_tracing() {
     let dir = temp_dir("agree");
     write_sun_sky(&dir.join("sky.exr"));
     let s = scene(&dir, "scale: 1");
     let pt = render(&s, IntegratorKind::Pt, 256, 3);
-    for (kind, spp) in [(IntegratorKind::Lt, 4096), (IntegratorKind::Bdpt, 64)] {
+    for (kind, spp) in [(IntegratorKind::Lt, 4096), (IntegratorKind::Bdpt, 1024)] {
         let img = render(&s, kind, spp, 5);
         for q in 0..4 {
             let (qx, qy) = (q % 2, q / 2);
