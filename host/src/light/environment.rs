@@ -12,9 +12,18 @@
 //! sphere like any area light (no vertex at infinity). Next-event estimation draws the incident
 //! direction from the [`EnvironmentRadiance`] (uniform over the sphere of directions unless the
 //! source importance-samples) and reports that solid-angle density, which the BSDF-hit side of
-//! MIS asks again through [`Light::pdf_li`]. Light subpaths start uniformly on the sphere with
-//! cosine-distributed inward directions (position density `1/(4πR²)`, direction `cos θ/π`), the
-//! same densities an area light uses, so no special case is needed in the connections.
+//! MIS asks again through [`Light::pdf_li`]. Light subpaths (light tracing, BDPT, the
+//! illuminance sensors) of a source that asks for it
+//! ([`EnvironmentRadiance::samples_emission`]: image maps do, so bright skies and suns start as
+//! many paths as they deserve) draw their direction from the same distribution, then a point uniform on the disc of radius `R` through the centre across that
+//! direction, moved along it onto the sphere (pbrt's construction, kept on the sphere so that the
+//! start is an ordinary area-light vertex). Densities: position `1/(4πR²)`, direction
+//! `4 · cos θ · p(ω)` (`θ` from the inward normal, `p` the source's density of `ω`), whose
+//! product is the joint density `p(ω) · cos θ/(πR²)`; for a uniform source this is exactly an
+//! area light's uniform position and `cos θ/π` lobe, so no special case is needed in the
+//! connections. Other sources (the constant sky, the CIE skies, plugin environments) start
+//! uniformly on the sphere with cosine-distributed inward directions: those same densities,
+//! drawn directly.
 //! Power for light selection: `π R² · 4π · L̄`, the flux through the scene's bounding disc (as
 //! pbrt does), `L̄` the direction-averaged radiance integrated over wavelength.
 
@@ -22,7 +31,7 @@ use super::LightSampleContext;
 use super::{sample_uniform_sphere, Light, LightFlags, LightLeSample, LightLiSample};
 use crate::geometry::{Aabb, Ray};
 use crate::material::dense::DenseSpectrum;
-use crate::material::{sample_cosine_hemisphere, Frame};
+use crate::material::{sample_concentric_disk, sample_cosine_hemisphere, Frame};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spd};
 use glam::{Vec2, Vec3A};
 use std::f32::consts::PI;
@@ -52,6 +61,14 @@ pub trait EnvironmentRadiance: Send + Sync + Debug {
     /// returns the unit direction `dir`.
     fn direction_pdf(&self, _p: Vec3A, _dir: Vec3A) -> f32 {
         1.0 / (4.0 * PI)
+    }
+
+    /// True when light subpaths should also draw their direction from
+    /// [`sample_direction`](Self::sample_direction) (asked from the sphere's centre; see the
+    /// module docs). `false` (the default) keeps the uniform start: uniform on the sphere,
+    /// cosine-distributed inwards.
+    fn samples_emission(&self) -> bool {
+        false
     }
 }
 
@@ -197,27 +214,65 @@ impl Light for EnvironmentLight {
 
     fn sample_le(&self, u1: Vec2, u2: Vec2, lambda: &SampledWavelengths) -> Option<LightLeSample> {
         let (c, r) = self.sphere();
-        let origin = c + sample_uniform_sphere(u1) * r;
-        let n = self.inward(origin);
-        let local = sample_cosine_hemisphere(u2);
-        if !(local.z > 0.0) {
+        if !self.source.samples_emission() {
+            let origin = c + sample_uniform_sphere(u1) * r;
+            let n = self.inward(origin);
+            let local = sample_cosine_hemisphere(u2);
+            if !(local.z > 0.0) {
+                return None;
+            }
+            let dir = Frame::from_normal(n).to_world(local);
+            return Some(LightLeSample {
+                ray: Ray::new(origin, dir),
+                radiance: self.source.radiance(-dir, lambda),
+                pdf_pos: 1.0 / (4.0 * PI * r * r),
+                pdf_dir: local.z / PI,
+                normal: n,
+            });
+        }
+        // The direction first, from the source's own distribution (the map's luminance for an
+        // image, uniform for the constant sky), asked from the sphere's centre.
+        let (w, pdf_w) = self.source.sample_direction(c, u2)?;
+        if !(pdf_w > 0.0 && pdf_w.is_finite()) {
             return None;
         }
-        let dir = Frame::from_normal(n).to_world(local);
-        let radiance = self.source.radiance(-dir, lambda);
+        let w = w.normalize_or_zero();
+        if w == Vec3A::ZERO {
+            return None;
+        }
+        // Then a point uniform on the disc of radius R through the centre across `w`, moved
+        // along `w` onto the sphere: the ray travels along −w through the disc point.
+        let d = sample_concentric_disk(u1);
+        let frame = Frame::from_normal(w);
+        let h2 = 1.0 - d.length_squared();
+        if !(h2 > 0.0) {
+            return None;
+        }
+        let cos = h2.sqrt();
+        let origin = c + frame.to_world(Vec3A::new(d.x, d.y, cos)) * r;
+        let dir = -w;
+        let (pdf_pos, pdf_dir) = split_density(r, cos, pdf_w);
+        let radiance = self.source.radiance(w, lambda);
         Some(LightLeSample {
             ray: Ray::new(origin, dir),
             radiance,
-            pdf_pos: 1.0 / (4.0 * PI * r * r),
-            pdf_dir: local.z / PI,
-            normal: n,
+            pdf_pos,
+            pdf_dir,
+            normal: self.inward(origin),
         })
     }
 
     fn pdf_le(&self, ray: &Ray, _n: Vec3A) -> (f32, f32) {
-        let (_, r) = self.sphere();
-        let cos = self.inward(ray.origin).dot(ray.dir.normalize_or_zero());
-        (1.0 / (4.0 * PI * r * r), cos.max(0.0) / PI)
+        let (c, r) = self.sphere();
+        let dir = ray.dir.normalize_or_zero();
+        let cos = self.inward(ray.origin).dot(dir);
+        if !(cos > 0.0) {
+            return (1.0 / (4.0 * PI * r * r), 0.0);
+        }
+        if !self.source.samples_emission() {
+            return (1.0 / (4.0 * PI * r * r), cos / PI);
+        }
+        split_density(r, cos, self.source.direction_pdf(c, -dir))
     }
 
     fn escape_point(&self, ray: &Ray) -> Option<(Vec3A, Vec3A)> {
@@ -231,6 +286,18 @@ impl Light for EnvironmentLight {
         let r = (view_bounds.max - view_bounds.min).length() * 0.5;
         let _ = self.sphere.set((c, 1.01 * r.max(1e-3)));
     }
+}
+
+/// `sample_le`'s densities for an inward ray meeting the sphere (radius `r`) at an angle of
+/// cosine `cos` to its inward normal and travelling along `−w`, `w` drawn with density `pdf_w`
+/// (1/sr): the joint density in area × solid angle is `pdf_w · cos/(πR²)` (a uniform disc point
+/// of density `1/(πR²)` in the plane across `w`, projected onto the sphere: `dA⊥ = cos · dA`).
+/// It is reported as the uniform positional density `1/(4πR²)` (the marginal over positions
+/// when the directions are uniform) times the directional density `4 · cos · pdf_w`, which for
+/// a uniform source is `cos/π`, the cosine lobe of an area light. Only the product enters the
+/// light subpath's throughput; BDPT's MIS asks [`Light::pdf_le`] for the same split.
+fn split_density(r: f32, cos: f32, pdf_w: f32) -> (f32, f32) {
+    (1.0 / (4.0 * PI * r * r), 4.0 * cos.max(0.0) * pdf_w)
 }
 
 #[cfg(test)]
@@ -255,7 +322,12 @@ mod tests {
         let lambda = SampledWavelengths::sample_visible(0.3);
         let (c, r) = l.sphere();
         for k in 0..200 {
-            let u1 = Vec2::new((k as f32 * 0.618).fract(), (k as f32 * 0.414 + 0.1).fract());
+            // (Off the unit square's edge, which maps to the disc's rim: a ray grazing the
+            // sphere, of density zero, for which `sample_le` gives nothing.)
+            let u1 = Vec2::new(
+                (k as f32 * 0.618 + 0.013).fract(),
+                (k as f32 * 0.414 + 0.1).fract(),
+            );
             let u2 = Vec2::new(
                 (k as f32 * 0.732 + 0.05).fract(),
                 (k as f32 * 0.236 + 0.3).fract(),

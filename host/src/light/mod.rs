@@ -20,6 +20,7 @@ pub mod near_field;
 pub mod point;
 pub mod ray_file;
 pub mod spot;
+pub mod textured_area;
 
 pub use area::AreaLight;
 pub use directional::DirectionalLight;
@@ -30,6 +31,7 @@ pub use luminaire::LuminaireLight;
 pub use manager::LightSourceManager;
 pub use point::PointLight;
 pub use spot::SpotLight;
+pub use textured_area::TexturedAreaLight;
 
 use crate::geometry::{Aabb, Ray};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spd};

@@ -1,10 +1,14 @@
 //! The surface of an area light: emits `scale · S(λ)` radiance (W/(m²·sr·nm), `S` a normalised
 //! SPD in 1/nm, `scale` in W/(m²·sr)) from its front side (along the geometric normal) and
 //! reflects nothing, as the measured Cornell box light is modelled by the anchor renderers.
+//! A textured emitter ([`Emissive::textured`]) emits the [`EmissionTexture`]'s radiance at the
+//! surface's texture coordinates instead; its profile then holds the texture's mean spectrum
+//! (normalised) and mean integrated radiance, for light selection and wavelength sampling.
 
 use super::dense::DenseSpectrum;
 use super::{BsdfSample, EmissionProfile, Material, MaterialFlags, ShadingContext, TransportMode};
-use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spd};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spd, TabulatedSpd};
+use crate::texture::emission_texture::EmissionTexture;
 use glam::{Vec2, Vec3A};
 use std::sync::Arc;
 
@@ -13,6 +17,7 @@ use std::sync::Arc;
 pub struct Emissive {
     profile: EmissionProfile,
     radiance: DenseSpectrum,
+    texture: Option<Arc<EmissionTexture>>,
 }
 
 impl Emissive {
@@ -25,7 +30,37 @@ impl Emissive {
                 scale,
                 two_sided,
             },
+            texture: None,
         }
+    }
+
+    /// An emitter whose radiance is `texture`'s at the surface's texture coordinates. An error
+    /// when the texture emits nothing.
+    pub fn textured(texture: Arc<EmissionTexture>, two_sided: bool) -> Result<Self, String> {
+        let mean = texture.mean_spectrum();
+        let integral: f64 = mean
+            .windows(2)
+            .map(|w| 0.5 * (w[0].1 + w[1].1) * (w[1].0 - w[0].0))
+            .sum();
+        let (nm, v): (Vec<f64>, Vec<f64>) = mean.into_iter().unzip();
+        if !(integral > 0.0 && integral.is_finite()) {
+            return Err(format!(
+                "{}: the emission texture emits nothing (every texel is black)",
+                texture.name()
+            ));
+        }
+        let spd: Arc<dyn Spd> = Arc::new(
+            TabulatedSpd::new(
+                texture.name(),
+                &nm,
+                &v,
+                crate::spectrum::Interpolation::Linear,
+            )
+            .map_err(|e| e.to_string())?,
+        );
+        let mut e = Self::new(spd, integral as f32, two_sided);
+        e.texture = Some(texture);
+        Ok(e)
     }
 }
 
@@ -78,15 +113,21 @@ impl Material for Emissive {
         Some(self.profile.clone())
     }
 
+    fn emission_texture(&self) -> Option<Arc<EmissionTexture>> {
+        self.texture.clone()
+    }
+
     fn emitted(
         &self,
         wo: Vec3A,
         ctx: &ShadingContext,
         lambda: &SampledWavelengths,
     ) -> SampledSpectrum {
-        let _ = ctx;
         if wo.z > 0.0 || (self.profile.two_sided && wo.z < 0.0) {
-            self.radiance.eval(lambda)
+            match &self.texture {
+                Some(t) => t.eval(ctx.uv, lambda),
+                None => self.radiance.eval(lambda),
+            }
         } else {
             SampledSpectrum::zero()
         }

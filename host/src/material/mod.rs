@@ -203,6 +203,13 @@ pub trait Material: Send + Sync + Debug {
         None
     }
 
+    /// For emissive materials whose radiance varies over the surface: the texture it is read
+    /// from (then [`emission`](Self::emission) holds its mean, and the area light built on the
+    /// surface samples positions by the texture's power). `None` for uniform emitters.
+    fn emission_texture(&self) -> Option<Arc<crate::texture::emission_texture::EmissionTexture>> {
+        None
+    }
+
     /// For fluorescent materials ([`MaterialFlags::FLUORESCENT`]): the wavelength-shifting
     /// data. Such a material scatters diffusely (a cosine lobe, f = 1/π per unit albedo) in both
     /// its parts; [`sample`](Self::sample)/[`eval`](Self::eval) give the part that keeps its

@@ -290,11 +290,23 @@ pub fn build_scene_with(
     for (i, o) in objects.iter().enumerate() {
         if let Some(profile) = o.material.emission() {
             if geometry.object_area(i as u32) > 0.0 {
-                lights.push(Arc::new(AreaLight::new(
-                    geometry.clone(),
-                    i as u32,
-                    profile,
-                )));
+                match o.material.emission_texture() {
+                    Some(texture) => {
+                        let texels = texture.texels_shown();
+                        lights.push(Arc::new(crate::light::TexturedAreaLight::new(
+                            geometry.clone(),
+                            i as u32,
+                            profile,
+                            texture,
+                            texels,
+                        )))
+                    }
+                    None => lights.push(Arc::new(AreaLight::new(
+                        geometry.clone(),
+                        i as u32,
+                        profile,
+                    ))),
+                }
                 light_items.push(format!("object {:?}", o.name));
             } else {
                 warnings.push(format!(

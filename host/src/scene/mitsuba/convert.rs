@@ -1253,14 +1253,26 @@ impl<'a> Converter<'a> {
                 return Err(em.error("only an `area` emitter can be attached to a shape"));
             }
             let ep = Props::new(em);
-            let t = self.emission(&ep, "radiance", &base)?;
+            // A bitmap radiance becomes an emission texture (RGB by the illuminant method, as
+            // Mitsuba 3's spectral variants read it); anything else a uniform spectrum.
+            let textured = match ep.get("radiance") {
+                Some(c) => {
+                    let c = self.resolve(c)?;
+                    (c.tag == "texture" && c.attr("type") == Some("bitmap")).then_some(c)
+                }
+                None => None,
+            };
+            let radiance = match textured {
+                Some(c) => self.texture(c, &base)?,
+                None => table(&self.emission(&ep, "radiance", &base)?),
+            };
             self.finish(&ep, "emitter area", &base);
             let name = self.unique(&format!("{base}.emitter"));
             self.desc.materials.push(ItemDescription {
                 name: name.clone(),
                 type_name: "emissive".into(),
                 params: map(vec![
-                    ("radiance", table(&t)),
+                    ("radiance", radiance),
                     ("two_sided", Value::Bool(false)),
                 ]),
             });

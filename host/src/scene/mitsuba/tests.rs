@@ -427,6 +427,34 @@ fn textures_in_the_agreed_syntax() {
     assert_eq!((f(&o[0]), f(&o[1])), (0.5, 0.25));
 }
 
+// Textured emission: an `area` emitter whose `radiance` is a bitmap becomes an `emissive`
+// material with `radiance: (texture: (file: …))` (an emission texture), not a uniform stand-in,
+// and no note about textured emission is made.
+#[test]
+fn textured_area_emitter_becomes_an_emission_texture() {
+    let dir = temp_dir("emtex");
+    std::fs::write(dir.join("screen.exr"), b"not read by the converter").unwrap();
+    std::fs::write(
+        dir.join("s.xml"),
+        r#"<scene version="3.0.0"><shape type="rectangle"><emitter type="area">
+<texture type="bitmap" name="radiance"><string name="filename" value="screen.exr"/></texture>
+</emitter></shape></scene>"#,
+    )
+    .unwrap();
+    let c = convert_file(&dir.join("s.xml"), &[]).unwrap();
+    let m = &c.desc.materials[0];
+    assert_eq!(m.type_name, "emissive");
+    let tex = get(get(&m.params, "radiance"), "texture");
+    assert_eq!(get(tex, "file"), &Value::String("screen.exr".into()));
+    assert!(
+        !c.notes
+            .iter()
+            .any(|n| format!("{n:?}").contains("textured emission")),
+        "{:?}",
+        c.notes
+    );
+}
+
 // Shapes: rectangle → quad with normal +z (swapped edges when flipped), cube → 12 outward
 // triangles, disk → fan, serialized → inline mesh, instances → copies with composed transforms.
 #[test]
