@@ -1307,7 +1307,20 @@ impl Light for PluginLight {
             super::layout::as_vec4f(&ray.dir),
         );
         match checked::density_f32(p.position).and(checked::density_f32(p.direction)) {
-            Ok(()) => (p.position, p.direction),
+            // The interface reports a delta part's density as 1; the host's own lights answer 0
+            // there (no other strategy produces such a ray), and the MIS weights expect that.
+            Ok(()) => (
+                if self.flags.contains(LightFlags::DELTA_POSITION) {
+                    0.0
+                } else {
+                    p.position
+                },
+                if self.flags.contains(LightFlags::DELTA_DIRECTION) {
+                    0.0
+                } else {
+                    p.direction
+                },
+            ),
             Err(reason) => self.calls.refused("emission_pdf", reason, (0.0, 0.0)),
         }
     }

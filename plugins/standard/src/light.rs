@@ -22,10 +22,11 @@ use spectrace::light::{
     ConstantEnvironment, EnvironmentLight, EnvironmentRadiance, Light as HostLight, LightFlags,
 };
 use spectrace::plugin::layout::{as_light_context, as_light_sample_mut, as_vec3a};
+use spectrace::spectrum::{LaneMask, SampledWavelengths};
 use spectrace_plugin_api::{
-    light_flags, EmissionPdf, EmittedRay, Flags, Host, Incident, LightSource, ParamDoc,
+    light_flags, Beam, EmissionPdf, EmittedRay, Flags, Host, Incident, LightSource, ParamDoc,
     PluginError, PluginResult, PluginType, RandomSample, Receiver, RepresentedBeam, SceneBounds,
-    Spd, Vec4f, Wavelengths, LANES,
+    Spd, Vec3, Vec4f, Wavelengths, LANES,
 };
 use std::sync::Arc;
 
@@ -89,7 +90,9 @@ fn sample_emission<L: HostLight + ?Sized>(
     }
 }
 
-/// `emission_pdf` in the host's layout.
+/// `emission_pdf` in the host's layout. The host's lights answer 0 for the density of a delta
+/// position or direction (no other strategy can produce it); the interface says 1 there, as
+/// `sample_emission` writes it, so a delta part is reported as 1.
 #[inline]
 fn emission_pdf<L: HostLight + ?Sized>(
     light: &L,
@@ -98,10 +101,65 @@ fn emission_pdf<L: HostLight + ?Sized>(
 ) -> EmissionPdf {
     let ray = Ray::new(host_v(*origin), host_v(*direction));
     let (position, direction) = light.pdf_le(&ray, Vec3A::ZERO);
+    let flags = light.flags();
     EmissionPdf {
-        position,
-        direction,
+        position: if flags.contains(LightFlags::DELTA_POSITION) {
+            1.0
+        } else {
+            position
+        },
+        direction: if flags.contains(LightFlags::DELTA_DIRECTION) {
+            1.0
+        } else {
+            direction
+        },
     }
+}
+
+/// The seed's `next_beam` for a built-in, which samples its emission (`sample_le`) but keeps no
+/// beams of its own: the wavelength drawn from the light's normalised spectrum with `u[4]`, the
+/// ray with `u[0..4]`, and the power one beam carries as an estimate of the whole light,
+/// `value · |cos θ| / (p_position · p_direction · p(λ))` W (delta densities count as 1).
+fn beam_from_emission<L: HostLight + ?Sized>(
+    light: &L,
+    sample: &RandomSample,
+) -> PluginResult<RepresentedBeam> {
+    let drawn = light.spd().sample(sample.u[4]);
+    if !(drawn.pdf > 0.0) {
+        return Err(PluginError::unsupported(
+            "next_beam: the light's spectrum gives no wavelength for these numbers",
+        ));
+    }
+    let lambda = SampledWavelengths {
+        lambda: [drawn.lambda as f32; LANES],
+        pdf: [drawn.pdf as f32; LANES],
+        lanes: LaneMask::ALL,
+    };
+    let u1 = Vec2::new(sample.u[0] as f32, sample.u[1] as f32);
+    let u2 = Vec2::new(sample.u[2] as f32, sample.u[3] as f32);
+    let (origin, direction, power_w) = match light.sample_le(u1, u2, &lambda) {
+        Some(s) if s.pdf_pos > 0.0 && s.pdf_dir > 0.0 => {
+            let cos = if s.normal == Vec3A::ZERO {
+                1.0
+            } else {
+                s.normal.dot(s.ray.dir).abs() as f64
+            };
+            let power =
+                s.radiance.0[0] as f64 * cos / (s.pdf_pos as f64 * s.pdf_dir as f64 * drawn.pdf);
+            (s.ray.origin, s.ray.dir, power)
+        }
+        // No emission for these numbers: a beam that carries nothing.
+        _ => (Vec3A::ZERO, Vec3A::Y, 0.0),
+    };
+    let v = |a: Vec3A| Vec3::new(a.x as f64, a.y as f64, a.z as f64);
+    Ok(Beam {
+        origin: v(origin),
+        direction: v(direction),
+        wavelength_nm: drawn.lambda,
+        power_w,
+        source_id: 0,
+    }
+    .into())
 }
 
 macro_rules! light_type {
@@ -163,10 +221,10 @@ macro_rules! light_type {
                 Ok(())
             }
             fn next_beam(&self, sample: &RandomSample) -> PluginResult<RepresentedBeam> {
-                self.light
-                    .next_beam(sample)
-                    .map(Into::into)
-                    .ok_or_else(|| PluginError::unsupported("next_beam"))
+                match self.light.next_beam(sample) {
+                    Some(beam) => Ok(beam.into()),
+                    None => beam_from_emission(&self.light, sample),
+                }
             }
             #[inline]
             fn sample_toward(
@@ -265,9 +323,21 @@ impl LightSource for Environment {
         self.light.preprocess_view(&view);
         Ok(())
     }
-    fn next_beam(&self, _sample: &RandomSample) -> PluginResult<RepresentedBeam> {
-        // As for the built-in: the host starts an environment's light paths on its own sphere.
-        Err(PluginError::unsupported("next_beam of an environment"))
+    fn next_beam(&self, sample: &RandomSample) -> PluginResult<RepresentedBeam> {
+        // From the built-in's own emission, which starts on the disc of the scene's bounding
+        // sphere across the sampled direction (sized in `scene_bounds`).
+        beam_from_emission(&self.light, sample)
+    }
+    fn sample_emission(
+        &self,
+        u: [f32; 4],
+        lambda: &Wavelengths,
+        out: &mut EmittedRay,
+    ) -> PluginResult<bool> {
+        Ok(sample_emission(&self.light, u, lambda, out))
+    }
+    fn emission_pdf(&self, origin: &Vec4f, direction: &Vec4f) -> PluginResult<EmissionPdf> {
+        Ok(emission_pdf(&self.light, origin, direction))
     }
     fn sample_toward(
         &self,

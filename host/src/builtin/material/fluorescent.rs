@@ -98,8 +98,9 @@ pub struct FluorescentParams {
     /// `false`: the non-fluorescent twin.
     #[serde(default)]
     pub reradiate: Option<bool>,
-    /// A `.BFC` file's text, stored at pack time so a blob does not depend on the file.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    /// A `.BFC` file's text, stored at pack time so a blob does not depend on the file. Always
+    /// written (bincode is not self-describing: a skipped field could not be read back).
+    #[serde(default)]
     pub bfc_text: Option<String>,
 }
 
