@@ -289,3 +289,9 @@ mod tests {
         assert_eq!(e, "parameter `a`: missing");
     }
 }
+
+impl From<ParamsError> for crate::scene::FactoryError {
+    fn from(e: ParamsError) -> Self {
+        crate::scene::FactoryError::Param(e.to_string())
+    }
+}

@@ -16,6 +16,7 @@ pub mod source;
 pub mod units;
 pub mod warnings;
 
+pub use crate::builtin::BuiltinFactory;
 pub use builder::{
     build_scene, build_scene_with, load_scene_file, load_scene_file_with, parse_scene_str,
     read_scene_file,
@@ -23,7 +24,7 @@ pub use builder::{
 pub use cornell::{cornell_box_description, default_scene, default_scene_with};
 pub use description::SceneDescription;
 pub use error::SceneError;
-pub use factory::{BuiltinFactory, FactoryContext, FactoryError, ObjectFactory, SpdFactories};
+pub use factory::{FactoryContext, FactoryError, ObjectFactory, SpdFactories};
 pub use objects::{SceneObject, SceneObjectManager};
 pub use representation::{ReflectanceSource, RepresentationOptions};
 pub use source::SceneSource;
