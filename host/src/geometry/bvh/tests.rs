@@ -5,7 +5,9 @@ use super::collapse::*;
 use super::traverse::*;
 use super::wide_node::*;
 use super::*;
-use crate::geometry::Ray;
+use super::tree::*;
+use crate::geometry::{Aabb, Ray};
+use glam::Vec3A;
 
 /// Uniform numbers in [0, 1) from a 64-bit LCG started at `s` (the tests' shared
 /// deterministic source of boxes and rays).
