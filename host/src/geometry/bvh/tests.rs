@@ -3,9 +3,9 @@
 use super::build::*;
 use super::collapse::*;
 use super::traverse::*;
+use super::tree::*;
 use super::wide_node::*;
 use super::*;
-use super::tree::*;
 use crate::geometry::{Aabb, Ray};
 use glam::Vec3A;
 
