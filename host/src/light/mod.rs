@@ -20,6 +20,7 @@ pub mod manager;
 pub mod near_field;
 pub mod point;
 pub mod ray_file;
+pub mod scene_sphere;
 pub mod spot;
 
 pub use area::AreaLight;
