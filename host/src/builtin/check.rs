@@ -127,6 +127,26 @@ pub fn ior_curve(param: &str, eta: &dyn Fn(f64) -> f64) -> Result<(), FactoryErr
     Ok(())
 }
 
+/// A parameter error in the form every built-in uses.
+pub fn param_err(param: &str, message: impl std::fmt::Display) -> FactoryError {
+    FactoryError::Param(format!("parameter `{param}`: {message}"))
+}
+
+/// `v` if every component is finite and within the `f32` range the geometry uses, else an
+/// error naming `param`.
+pub fn finite3(param: &str, v: [f64; 3]) -> Result<glam::Vec3A, FactoryError> {
+    position(param, v)
+}
+
+/// `x` if finite, else an error naming `param`.
+pub fn finite(param: &str, x: f64) -> Result<f64, FactoryError> {
+    if x.is_finite() {
+        Ok(x)
+    } else {
+        Err(param_err(param, "must be finite"))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -152,25 +172,5 @@ mod tests {
         }
         // f32::MAX itself is representable.
         assert!(radiometric("power", MAX_F32, "W").unwrap().is_finite());
-    }
-}
-
-/// A parameter error in the form every built-in uses.
-pub fn param_err(param: &str, message: impl std::fmt::Display) -> FactoryError {
-    FactoryError::Param(format!("parameter `{param}`: {message}"))
-}
-
-/// `v` if every component is finite and within the `f32` range the geometry uses, else an
-/// error naming `param`.
-pub fn finite3(param: &str, v: [f64; 3]) -> Result<glam::Vec3A, FactoryError> {
-    position(param, v)
-}
-
-/// `x` if finite, else an error naming `param`.
-pub fn finite(param: &str, x: f64) -> Result<f64, FactoryError> {
-    if x.is_finite() {
-        Ok(x)
-    } else {
-        Err(param_err(param, "must be finite"))
     }
 }

@@ -241,6 +241,12 @@ impl<'de> de::SeqAccess<'de> for SeqAcc {
     }
 }
 
+impl From<ParamsError> for crate::scene::FactoryError {
+    fn from(e: ParamsError) -> Self {
+        crate::scene::FactoryError::Param(e.to_string())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -287,11 +293,5 @@ mod tests {
         assert!(e.contains("`d`") && e.contains("unknown parameter"), "{e}");
         let e = read("()").unwrap_err().to_string();
         assert_eq!(e, "parameter `a`: missing");
-    }
-}
-
-impl From<ParamsError> for crate::scene::FactoryError {
-    fn from(e: ParamsError) -> Self {
-        crate::scene::FactoryError::Param(e.to_string())
     }
 }
