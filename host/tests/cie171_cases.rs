@@ -292,139 +292,87 @@ fn print_and_check(rows: &[Row]) {
 /// CIE sky type `ty` (sun 40° altitude, due south) of 10 000 lx horizontal illuminance, no sun:
 /// the floor receives the sky component alone.
 fn daylight_case(roof: bool, ty: usize) {
-    let mut rows = Vec::new();
-    let room = |roof_hole: bool| {
-        let mut q = vec![
-            quad("floor", [-2.0, 0.0, 2.0], [4.0, 0.0, 0.0], [0.0, 0.0, -4.0]),
-            quad("west", [-2.0, 0.0, 2.0], [0.0, 0.0, -4.0], [0.0, 3.0, 0.0]),
-            quad("east", [2.0, 0.0, 2.0], [0.0, 3.0, 0.0], [0.0, 0.0, -4.0]),
-            quad("north", [-2.0, 0.0, -2.0], [4.0, 0.0, 0.0], [0.0, 3.0, 0.0]),
-        ];
-        if roof_hole {
-            q.push(quad(
-                "south",
-                [-2.0, 0.0, 2.0],
-                [0.0, 3.0, 0.0],
-                [4.0, 0.0, 0.0],
-            ));
-            q.push(quad(
-                "r1",
-                [-2.0, 3.0, 2.0],
-                [4.0, 0.0, 0.0],
-                [0.0, 0.0, -1.0],
-            ));
-            q.push(quad(
-                "r2",
-                [-2.0, 3.0, -1.0],
-                [4.0, 0.0, 0.0],
-                [0.0, 0.0, -1.0],
-            ));
-            q.push(quad(
-                "r3",
-                [-2.0, 3.0, 1.0],
-                [1.0, 0.0, 0.0],
-                [0.0, 0.0, -2.0],
-            ));
-            q.push(quad(
-                "r4",
-                [1.0, 3.0, 1.0],
-                [1.0, 0.0, 0.0],
-                [0.0, 0.0, -2.0],
-            ));
-        } else {
-            q.push(quad(
-                "roof",
-                [-2.0, 3.0, 2.0],
-                [4.0, 0.0, 0.0],
-                [0.0, 0.0, -4.0],
-            ));
-            // South wall (z = 2) with a 2 m × 1.5 m window, sill at 1 m.
-            q.push(quad(
-                "s1",
-                [-2.0, 0.0, 2.0],
-                [0.0, 3.0, 0.0],
-                [1.0, 0.0, 0.0],
-            ));
-            q.push(quad(
-                "s2",
-                [1.0, 0.0, 2.0],
-                [0.0, 3.0, 0.0],
-                [1.0, 0.0, 0.0],
-            ));
-            q.push(quad(
-                "s3",
-                [-1.0, 0.0, 2.0],
-                [0.0, 1.0, 0.0],
-                [2.0, 0.0, 0.0],
-            ));
-            q.push(quad(
-                "s4",
-                [-1.0, 2.5, 2.0],
-                [0.0, 0.5, 0.0],
-                [2.0, 0.0, 0.0],
-            ));
-        }
-        q.join(",")
-    };
-    let opening = if roof {
+    // (name, corner, edge0, edge1) of the room's quads: the floor and three walls, then either
+    // the south wall and the roof around its opening, or the roof and the south wall around
+    // its window.
+    type Quad = (&'static str, [f64; 3], [f64; 3], [f64; 3]);
+    const WALLS: [Quad; 4] = [
+        ("floor", [-2.0, 0.0, 2.0], [4.0, 0.0, 0.0], [0.0, 0.0, -4.0]),
+        ("west", [-2.0, 0.0, 2.0], [0.0, 0.0, -4.0], [0.0, 3.0, 0.0]),
+        ("east", [2.0, 0.0, 2.0], [0.0, 3.0, 0.0], [0.0, 0.0, -4.0]),
+        ("north", [-2.0, 0.0, -2.0], [4.0, 0.0, 0.0], [0.0, 3.0, 0.0]),
+    ];
+    const ROOF_OPENING: [Quad; 5] = [
+        ("south", [-2.0, 0.0, 2.0], [0.0, 3.0, 0.0], [4.0, 0.0, 0.0]),
+        ("r1", [-2.0, 3.0, 2.0], [4.0, 0.0, 0.0], [0.0, 0.0, -1.0]),
+        ("r2", [-2.0, 3.0, -1.0], [4.0, 0.0, 0.0], [0.0, 0.0, -1.0]),
+        ("r3", [-2.0, 3.0, 1.0], [1.0, 0.0, 0.0], [0.0, 0.0, -2.0]),
+        ("r4", [1.0, 3.0, 1.0], [1.0, 0.0, 0.0], [0.0, 0.0, -2.0]),
+    ];
+    // South wall (z = 2) with a 2 m × 1.5 m window, sill at 1 m.
+    const WINDOW: [Quad; 5] = [
+        ("roof", [-2.0, 3.0, 2.0], [4.0, 0.0, 0.0], [0.0, 0.0, -4.0]),
+        ("s1", [-2.0, 0.0, 2.0], [0.0, 3.0, 0.0], [1.0, 0.0, 0.0]),
+        ("s2", [1.0, 0.0, 2.0], [0.0, 3.0, 0.0], [1.0, 0.0, 0.0]),
+        ("s3", [-1.0, 0.0, 2.0], [0.0, 1.0, 0.0], [2.0, 0.0, 0.0]),
+        ("s4", [-1.0, 2.5, 2.0], [0.0, 0.5, 0.0], [2.0, 0.0, 0.0]),
+    ];
+    let rest = if roof { &ROOF_OPENING } else { &WINDOW };
+    let room = WALLS
+        .iter()
+        .chain(rest)
+        .map(|(name, c, e0, e1)| quad(name, *c, *e0, *e1))
+        .collect::<Vec<_>>()
+        .join(",");
+    // The opening (corner, edge, edge) and the floor points measured.
+    let (opening, pts) = if roof {
         (
-            DVec3::new(-1.0, 3.0, -1.0),
-            DVec3::new(2.0, 0.0, 0.0),
-            DVec3::new(0.0, 0.0, 2.0),
-        )
-    } else {
-        (
-            DVec3::new(-1.0, 1.0, 2.0),
-            DVec3::new(2.0, 0.0, 0.0),
-            DVec3::new(0.0, 1.5, 0.0),
-        )
-    };
-    {
-        let pts = if roof {
-            vec![
+            (
+                DVec3::new(-1.0, 3.0, -1.0),
+                DVec3::new(2.0, 0.0, 0.0),
+                DVec3::new(0.0, 0.0, 2.0),
+            ),
+            [
                 DVec3::new(0.0, 0.0, 0.0),
                 DVec3::new(1.0, 0.0, 0.0),
                 DVec3::new(1.5, 0.0, 1.5),
-            ]
-        } else {
-            vec![
+            ],
+        )
+    } else {
+        (
+            (
+                DVec3::new(-1.0, 1.0, 2.0),
+                DVec3::new(2.0, 0.0, 0.0),
+                DVec3::new(0.0, 1.5, 0.0),
+            ),
+            [
                 DVec3::new(0.0, 0.0, 1.0),
                 DVec3::new(0.0, 0.0, 0.0),
                 DVec3::new(1.0, 0.0, -1.0),
-            ]
-        };
-        {
-            let s = scene(&format!(
-                r#"({ROOM_MATERIALS}, objects: [{}],
-                   lights: [(name: "sky", type: "cie_sky", params: (sky_type: {ty}, sun_altitude: 40,
-                             sun_azimuth: 180, horizontal_illuminance_lx: 10000))],
-                   cameras: [(name: "c", type: "pinhole", params: (position: (0, 1.5, 0), look_at: (0, 1.5, -1), resolution: (2, 2)))],
-                   sensors: [{}])"#,
-                room(roof),
-                point_sensors(&pts)
-            ));
-            let want: Vec<f64> = pts
-                .iter()
-                .map(|p| {
-                    sky_component(
-                        *p,
-                        opening.0,
-                        opening.1,
-                        opening.2,
-                        ty,
-                        (40.0, 180.0),
-                        10_000.0,
-                    )
-                })
-                .collect();
-            let case = format!(
-                "sky component, {} opening, CIE sky type {ty}",
-                if roof { "roof" } else { "façade (south)" }
-            );
-            measure_points(&s, &case, &want, 262_144, &mut rows);
-        }
-    }
-
+            ],
+        )
+    };
+    let s = scene(&format!(
+        r#"({ROOM_MATERIALS}, objects: [{room}],
+           lights: [(name: "sky", type: "cie_sky", params: (sky_type: {ty}, sun_altitude: 40,
+                     sun_azimuth: 180, horizontal_illuminance_lx: 10000))],
+           cameras: [(name: "c", type: "pinhole", params: (position: (0, 1.5, 0), look_at: (0, 1.5, -1), resolution: (2, 2)))],
+           sensors: [{}])"#,
+        point_sensors(&pts)
+    ));
+    let want: Vec<f64> = pts
+        .iter()
+        .map(|p| {
+            let (c, e0, e1) = opening;
+            sky_component(*p, c, e0, e1, ty, (40.0, 180.0), 10_000.0)
+        })
+        .collect();
+    let case = format!(
+        "sky component, {} opening, CIE sky type {ty}",
+        if roof { "roof" } else { "façade (south)" }
+    );
+    let mut rows = Vec::new();
+    measure_points(&s, &case, &want, 262_144, &mut rows);
     print_and_check(&rows);
 }
 

@@ -11,7 +11,7 @@
 use crate::error::{PluginError, PluginResult};
 use crate::guard::{guarded, guarded_call, keep_error};
 use crate::lanes::{status, Scatter, Surface, Values, Vec4f, Wavelengths};
-use crate::reradiation::{GuardedReradiation, Reradiation, ReradiationBox};
+use crate::reradiation::{GuardedReradiation, OffersReradiation, Reradiation, ReradiationBox};
 use crate::spd::{GuardedSpd, Spd, SpdObject};
 use crate::types::{Flags, TransportMode, LANES};
 use abi_stable::{
@@ -141,6 +141,12 @@ pub trait Material: Send + Sync + 'static {
     /// re-radiation.
     fn reradiation(&self) -> Option<&dyn Reradiation> {
         None
+    }
+}
+
+impl<T: Material> OffersReradiation for T {
+    fn offered_reradiation(&self) -> Option<&dyn Reradiation> {
+        self.reradiation()
     }
 }
 

@@ -27,7 +27,6 @@
 
 use crate::error::{PluginError, PluginResult};
 use crate::guard::guarded;
-use crate::material::Material;
 use abi_stable::{
     sabi_trait,
     std_types::{RBox, ROption, RResult},
@@ -46,7 +45,8 @@ pub struct WavelengthDraw {
 }
 
 /// What a plugin author implements for the wavelength-shifting part of a `FLUORESCENT`
-/// material (see the module docs); returned by [`Material::reradiation`]. Wavelengths in nm.
+/// material (see the module docs); returned by [`crate::Material::reradiation`]. Wavelengths
+/// in nm.
 pub trait Reradiation: Send + Sync {
     /// Ordinary reflectance ρ(λ) in [0, 1]: light leaving at the wavelength it arrived with.
     /// Must equal what the material's `eval` returns times π.
@@ -110,15 +110,23 @@ pub trait AbiReradiation: Send + Sync {
 /// The re-radiation face of a material behind the stable ABI, owned.
 pub type ReradiationBox = AbiReradiation_TO<'static, RBox<()>>;
 
-/// Serves a material's [`Material::reradiation`] behind the ABI, panics caught.
+/// What [`GuardedReradiation`] serves: an object that may offer a re-radiation face. Every
+/// [`crate::Material`] is one (through [`crate::Material::reradiation`]; the impl is in
+/// `material.rs`, so this module needs nothing of materials).
+pub trait OffersReradiation: Send + Sync + 'static {
+    /// The re-radiation face, if any.
+    fn offered_reradiation(&self) -> Option<&dyn Reradiation>;
+}
+
+/// Serves a material's [`crate::Material::reradiation`] behind the ABI, panics caught.
 pub struct GuardedReradiation<T> {
     inner: Arc<T>,
 }
 
-impl<T: Material> GuardedReradiation<T> {
+impl<T: OffersReradiation> GuardedReradiation<T> {
     /// The re-radiation face of `inner`, or `None` when it offers none (asked once, here).
     pub fn boxed(inner: Arc<T>) -> RResult<ROption<ReradiationBox>, PluginError> {
-        match guarded("reradiation", || Ok(inner.reradiation().is_some())) {
+        match guarded("reradiation", || Ok(inner.offered_reradiation().is_some())) {
             RResult::ROk(true) => RResult::ROk(ROption::RSome(AbiReradiation_TO::from_value(
                 Self { inner },
                 abi_stable::sabi_trait::TD_Opaque,
@@ -133,7 +141,7 @@ impl<T: Material> GuardedReradiation<T> {
         call: &str,
         f: impl FnOnce(&dyn Reradiation) -> PluginResult<R>,
     ) -> RResult<R, PluginError> {
-        guarded(call, || match self.inner.reradiation() {
+        guarded(call, || match self.inner.offered_reradiation() {
             Some(r) => f(r),
             None => Err(PluginError::unsupported(
                 "reradiation() returned None after returning Some when the material was built",
@@ -142,7 +150,7 @@ impl<T: Material> GuardedReradiation<T> {
     }
 }
 
-impl<T: Material> AbiReradiation for GuardedReradiation<T> {
+impl<T: OffersReradiation> AbiReradiation for GuardedReradiation<T> {
     fn reflectance(&self, l: f64) -> RResult<f64, PluginError> {
         self.with("reflectance", |r| r.reflectance(l))
     }

@@ -4,7 +4,6 @@
 //! Every error names the parameter (the scene builder adds the item), so a bad value is refused
 //! before it can turn into a silently black or missing light.
 
-use super::param_err;
 use crate::scene::FactoryError;
 use crate::spectrum::wavelength_sampling::VISIBLE_RANGE;
 
@@ -126,6 +125,26 @@ pub fn ior_curve(param: &str, eta: &dyn Fn(f64) -> f64) -> Result<(), FactoryErr
         }
     }
     Ok(())
+}
+
+/// A parameter error in the form every built-in uses.
+pub fn param_err(param: &str, message: impl std::fmt::Display) -> FactoryError {
+    FactoryError::Param(format!("parameter `{param}`: {message}"))
+}
+
+/// `v` if every component is finite and within the `f32` range the geometry uses, else an
+/// error naming `param`.
+pub fn finite3(param: &str, v: [f64; 3]) -> Result<glam::Vec3A, FactoryError> {
+    position(param, v)
+}
+
+/// `x` if finite, else an error naming `param`.
+pub fn finite(param: &str, x: f64) -> Result<f64, FactoryError> {
+    if x.is_finite() {
+        Ok(x)
+    } else {
+        Err(param_err(param, "must be finite"))
+    }
 }
 
 #[cfg(test)]

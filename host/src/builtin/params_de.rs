@@ -241,6 +241,12 @@ impl<'de> de::SeqAccess<'de> for SeqAcc {
     }
 }
 
+impl From<ParamsError> for crate::scene::FactoryError {
+    fn from(e: ParamsError) -> Self {
+        crate::scene::FactoryError::Param(e.to_string())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

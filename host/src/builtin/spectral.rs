@@ -571,7 +571,7 @@ fn image_texture(
 /// An SPD parameter: the normalised SPD and, for inline tables, their raw integral (so
 /// absolute tabulated values can be reproduced as `integral · spd(λ)`). Tables (inline, CSV,
 /// bundled) are read with `ctx.representation.spd_interpolation`. SPD types are looked up in
-/// the scene's registry (built-in or plugin), else in the built-in table.
+/// the context's SPD factories (the scene's registry, then the built-in table).
 pub fn spd(
     value: &Spectrum,
     param: &str,
@@ -609,22 +609,16 @@ pub fn spd(
         }
         Spectrum::Typed { type_name, params } => {
             // The scene's registry first (one way in: it may provide `spec` from a library),
-            // then the built-in table (scenes built with the built-in factory alone).
-            let built = match ctx.spd_factories.build(type_name, params, ctx) {
-                Some(r) => r,
-                None => match super::find(crate::plugin::Kind::Spd, type_name) {
-                    Some(super::BuiltinType {
-                        build: super::Build::Spd(f),
-                        ..
-                    }) => f(params, ctx),
-                    _ => {
-                        return Err(FactoryError::UnknownType {
-                            kind: "spd",
-                            type_name: type_name.clone(),
-                        })
-                    }
-                },
-            };
+            // then the built-in table, which every context lists last.
+            let built = ctx
+                .spd_factories
+                .build(type_name, params, ctx)
+                .unwrap_or_else(|| {
+                    Err(FactoryError::UnknownType {
+                        kind: "spd",
+                        type_name: type_name.clone(),
+                    })
+                });
             Ok((built?, None))
         }
         Spectrum::Number(_) | Spectrum::Rgb(_) => Err(param_err(

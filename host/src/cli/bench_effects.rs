@@ -19,12 +19,13 @@
 //! Timing is wall clock of the sampling loop on a possibly shared machine: compare ratios
 //! within one run of the command, not across machines.
 
+use crate::cli::render::{default_settings, load_scene};
 use crate::effects::{EffectsMode, EffectsRequest, RenderPlan, Switch};
 use crate::integrator::select::render_planned;
-use crate::integrator::{IntegratorKind, PathTracer, RenderSettings, SampleBudget};
-use crate::scene::{load_scene_file_with, BuiltinFactory, RepresentationOptions, Scene};
+use crate::integrator::{IntegratorKind, SampleBudget};
+use crate::scene::{BuiltinFactory, Scene};
 use std::fmt::Write as _;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Arguments of `spectrace bench effects`.
 #[derive(clap::Args, Debug, Clone)]
@@ -69,8 +70,14 @@ fn load(name: &str, dir: &std::path::Path) -> Result<Scene, String> {
         return crate::scene::default_scene().map_err(|e| e.to_string());
     }
     let path = dir.join(format!("{name}.ron"));
-    load_scene_file_with(&path, &[&BuiltinFactory], &RepresentationOptions::default())
-        .map_err(|e| format!("{}: {e}", path.display()))
+    load_scene(
+        Some(&path),
+        None,
+        &[],
+        &Default::default(),
+        &[&BuiltinFactory],
+    )
+    .map_err(|e| format!("{}: {e}", path.display()))
 }
 
 fn run(
@@ -84,18 +91,8 @@ fn run(
     let (mut secs, mut samples) = (0.0f64, 0u64);
     let mut ys = Vec::new();
     for seed in 1..=args.seeds.max(2) as u64 {
-        let settings = RenderSettings {
-            sampler: Default::default(),
-            budget: SampleBudget::Spp(args.spp),
-            seed,
-            threads: args.threads,
-            camera: None,
-            tile_size: 16,
-            tracer: PathTracer {
-                max_depth: scene.options.max_depth,
-                ..PathTracer::default()
-            },
-        };
+        let budget = SampleBudget::Spp(args.spp);
+        let settings = default_settings(budget, seed, args.threads, scene.options.max_depth);
         let out = render_planned(scene, &plan, &settings, kind, false, &|_, _| {}, None)
             .map_err(|e| e.to_string())?;
         secs += out.result.elapsed.as_secs_f64();
@@ -126,59 +123,12 @@ pub fn run_bench(args: &EffectsBenchArgs) -> Result<(), String> {
     );
     for name in &args.scenes {
         let scene = load(name, &args.dir)?;
-        let auto_plan = RenderPlan::auto(&scene);
-        // The switchable effects this scene calls for: each is also run forced off.
-        let found: Vec<Switch> = Switch::ALL
-            .into_iter()
-            .filter(|s| match s {
-                Switch::Dispersion => auto_plan.dispersion(),
-                Switch::Fluorescence => auto_plan.fluorescence(),
-                Switch::ThinFilm => auto_plan.thin_film(),
-                Switch::NarrowbandEmission => auto_plan.emission_wavelengths(),
-                Switch::FlatPathColour => auto_plan.flat_path_colour(),
-                Switch::Manifold => auto_plan.manifold(),
-                Switch::CameraChain => auto_plan.camera_chain(),
-            })
-            .collect();
+        let found = switchable_effects(&RenderPlan::auto(&scene));
         for &kind in &args.integrators {
-            let mut requests = vec![
-                ("auto".to_string(), EffectsRequest::default()),
-                (
-                    "all".to_string(),
-                    EffectsRequest {
-                        mode: EffectsMode::All,
-                        forced: Vec::new(),
-                    },
-                ),
-            ];
-            for s in &found {
-                requests.push((
-                    format!("auto, {}=off", s.name()),
-                    EffectsRequest {
-                        mode: EffectsMode::Auto,
-                        forced: vec![(*s, false)],
-                    },
-                ));
-            }
             let mut auto: Option<Run> = None;
-            for (label, req) in requests {
+            for (label, req) in requests(&found) {
                 let r = run(&scene, &req, kind, args, label)?;
-                let base = auto.as_ref().unwrap_or(&r);
-                let ratio = r.us_per_sample / base.us_per_sample;
-                let se = (r.se_y.powi(2) + base.se_y.powi(2)).sqrt();
-                let delta = if auto.is_none() {
-                    "—".to_string()
-                } else if se > 0.0 {
-                    format!("{:+.1}", (r.mean_y - base.mean_y) / se)
-                } else if r.mean_y == base.mean_y {
-                    "0 (identical)".to_string()
-                } else {
-                    "≠ (no noise)".to_string()
-                };
-                let row = format!(
-                    "| {name} | {kind} | {} | {:.2} | {ratio:.2} | {:.5} ± {:.5} | {delta} |\n",
-                    r.label, r.us_per_sample, r.mean_y, r.se_y
-                );
+                let row = table_row(name, kind, &r, auto.as_ref());
                 print!("{row}");
                 table.push_str(&row);
                 if auto.is_none() {
@@ -188,21 +138,88 @@ pub fn run_bench(args: &EffectsBenchArgs) -> Result<(), String> {
         }
     }
     if let Some(path) = &args.out {
-        let mut text = String::new();
-        let _ = writeln!(
-            text,
-            "<!-- spectrace bench effects --spp {} --seeds {} --integrators {} -->",
-            args.spp,
-            args.seeds.max(2),
-            args.integrators
-                .iter()
-                .map(|k| k.name())
-                .collect::<Vec<_>>()
-                .join(",")
-        );
-        text.push_str(&table);
-        std::fs::write(path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-        println!("wrote {}", path.display());
+        write_table(args, path, &table)?;
     }
+    Ok(())
+}
+
+/// The switchable effects the scene calls for (each is also run forced off).
+fn switchable_effects(auto_plan: &RenderPlan) -> Vec<Switch> {
+    Switch::ALL
+        .into_iter()
+        .filter(|s| match s {
+            Switch::Dispersion => auto_plan.dispersion(),
+            Switch::Fluorescence => auto_plan.fluorescence(),
+            Switch::ThinFilm => auto_plan.thin_film(),
+            Switch::NarrowbandEmission => auto_plan.emission_wavelengths(),
+            Switch::FlatPathColour => auto_plan.flat_path_colour(),
+            Switch::Manifold => auto_plan.manifold(),
+            Switch::CameraChain => auto_plan.camera_chain(),
+        })
+        .collect()
+}
+
+/// The runs of one scene and integrator: auto first (the baseline), all, then auto with each
+/// found effect forced off.
+fn requests(found: &[Switch]) -> Vec<(String, EffectsRequest)> {
+    let mut requests = vec![
+        ("auto".to_string(), EffectsRequest::default()),
+        (
+            "all".to_string(),
+            EffectsRequest {
+                mode: EffectsMode::All,
+                forced: Vec::new(),
+            },
+        ),
+    ];
+    for s in found {
+        requests.push((
+            format!("auto, {}=off", s.name()),
+            EffectsRequest {
+                mode: EffectsMode::Auto,
+                forced: vec![(*s, false)],
+            },
+        ));
+    }
+    requests
+}
+
+/// One table row: the run's cost and mean against the `auto` run (`None`: this is it).
+fn table_row(name: &str, kind: IntegratorKind, r: &Run, auto: Option<&Run>) -> String {
+    let base = auto.unwrap_or(r);
+    let ratio = r.us_per_sample / base.us_per_sample;
+    let se = (r.se_y.powi(2) + base.se_y.powi(2)).sqrt();
+    let delta = if auto.is_none() {
+        "—".to_string()
+    } else if se > 0.0 {
+        format!("{:+.1}", (r.mean_y - base.mean_y) / se)
+    } else if r.mean_y == base.mean_y {
+        "0 (identical)".to_string()
+    } else {
+        "≠ (no noise)".to_string()
+    };
+    format!(
+        "| {name} | {kind} | {} | {:.2} | {ratio:.2} | {:.5} ± {:.5} | {delta} |\n",
+        r.label, r.us_per_sample, r.mean_y, r.se_y
+    )
+}
+
+/// `--out`: the table with the command that made it.
+fn write_table(args: &EffectsBenchArgs, path: &Path, table: &str) -> Result<(), String> {
+    let mut text = String::new();
+    let _ = writeln!(
+        text,
+        "<!-- spectrace bench effects --spp {} --seeds {} --integrators {} -->",
+        args.spp,
+        args.seeds.max(2),
+        args.integrators
+            .iter()
+            .map(|k| k.name())
+            .collect::<Vec<_>>()
+            .join(",")
+    );
+    text.push_str(table);
+    std::fs::write(path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    println!("wrote {}", path.display());
     Ok(())
 }

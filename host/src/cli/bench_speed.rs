@@ -28,8 +28,9 @@ use crate::analysis::bench_fit::{
 };
 use crate::analysis::bench_scene::export_scene;
 use crate::analysis::RgbImage;
-use crate::integrator::{render_with, IntegratorKind, PathTracer, RenderSettings, SampleBudget};
-use crate::scene::SceneSource;
+use crate::cli::render::{default_settings, load_scene};
+use crate::integrator::{render_with, IntegratorKind, SampleBudget};
+use crate::scene::{BuiltinFactory, Scene};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -170,16 +171,78 @@ struct Reference {
     var_region: [f64; 3],
 }
 
+/// What one `bench speed` run renders: the budgets, spectrace's integrators, the anchor
+/// configurations and the scenes, checked.
+struct SpeedPlan {
+    budgets: Vec<f64>,
+    kinds: Vec<(IntegratorKind, &'static str)>,
+    configs: Vec<String>,
+    scenes: Vec<(String, PathBuf)>,
+}
+
+/// One scene made ready: loaded, exported to the anchors, its reference and regions.
+struct SceneSetup {
+    name: String,
+    scene: Scene,
+    load_seconds: f64,
+    exported: PathBuf,
+    regions: Regions,
+    reference: Reference,
+}
+
 /// Run `spectrace bench speed`.
 pub fn run_speed(args: &SpeedArgs) -> Result<(), String> {
     if args.list {
-        println!("scenes:");
-        for (n, p) in SUITE {
-            println!("  {n:18} {p}");
-        }
-        println!("anchor configurations:\n  {}", ANCHOR_CONFIGS.join("\n  "));
+        print_list();
         return Ok(());
     }
+    let plan = speed_plan(args)?;
+    std::fs::create_dir_all(&args.out)
+        .map_err(|e| format!("cannot create {}: {e}", args.out.display()))?;
+    let cpu = cpu_description();
+    println!("CPU: {cpu}");
+    let started = Instant::now();
+    let mut points: Vec<Point> = Vec::new();
+    let mut notes: Vec<String> = Vec::new();
+    let mut references = Vec::new();
+    for (name, path) in &plan.scenes {
+        if !path.exists() {
+            let note = format!("{name}: {} not found, skipped", path.display());
+            println!("{note}");
+            notes.push(note);
+            continue;
+        }
+        let setup = set_up_scene(args, name, path)?;
+        let mut failed: Vec<String> = Vec::new();
+        for k in 0..u64::from(args.seeds()) {
+            let seed = args.seed + k;
+            points.extend(own_points(args, &plan, &setup, seed)?);
+            if !args.no_anchors {
+                let found = anchor_points(args, &plan, &setup, seed, &mut failed, &mut notes)?;
+                points.extend(found);
+            }
+        }
+        let pixels = setup.regions.pixels();
+        references.push((setup.name, setup.reference, pixels));
+    }
+    let elapsed = started.elapsed().as_secs_f64();
+    let estimate = full_run_estimate(&points, args, elapsed, plan.scenes.len());
+    let md = report(&points, &references, args, &cpu, &notes, &estimate);
+    println!("\n{md}");
+    write_results(args, &md, &points)
+}
+
+/// `--list`: the suite's scenes and the anchor configurations.
+fn print_list() {
+    println!("scenes:");
+    for (n, p) in SUITE {
+        println!("  {n:18} {p}");
+    }
+    println!("anchor configurations:\n  {}", ANCHOR_CONFIGS.join("\n  "));
+}
+
+/// The run's plan from the arguments, each list checked.
+fn speed_plan(args: &SpeedArgs) -> Result<SpeedPlan, String> {
     let budgets = args.budgets();
     if budgets.len() < 3 || budgets.iter().any(|b| !(b.is_finite() && *b > 0.0)) {
         return Err(format!(
@@ -193,20 +256,32 @@ pub fn run_speed(args: &SpeedArgs) -> Result<(), String> {
     if args.seeds() == 0 {
         return Err("--seeds must be at least 1".into());
     }
-    let mut kinds = Vec::new();
-    for name in &args.integrators {
-        kinds.push(match name.as_str() {
-            "pt" => (IntegratorKind::Pt, "spectrace-pt"),
-            "bdpt" => (IntegratorKind::Bdpt, "spectrace-bdpt"),
-            "lt" => (IntegratorKind::Lt, "spectrace-lt"),
-            other => {
-                return Err(format!(
-                    "unknown integrator '{other}' in --integrators (known: bdpt, pt, lt)"
-                ))
-            }
-        });
-    }
-    let configs: Vec<String> = match &args.configs {
+    Ok(SpeedPlan {
+        budgets,
+        kinds: integrator_kinds(&args.integrators)?,
+        configs: anchor_configs(args.configs.as_deref())?,
+        scenes: suite_scenes(args.scenes.as_deref())?,
+    })
+}
+
+/// `--integrators`: spectrace's integrators and their labels.
+fn integrator_kinds(names: &[String]) -> Result<Vec<(IntegratorKind, &'static str)>, String> {
+    names
+        .iter()
+        .map(|name| match name.as_str() {
+            "pt" => Ok((IntegratorKind::Pt, "spectrace-pt")),
+            "bdpt" => Ok((IntegratorKind::Bdpt, "spectrace-bdpt")),
+            "lt" => Ok((IntegratorKind::Lt, "spectrace-lt")),
+            other => Err(format!(
+                "unknown integrator '{other}' in --integrators (known: bdpt, pt, lt)"
+            )),
+        })
+        .collect()
+}
+
+/// `--configs`: the anchor configurations (all by default).
+fn anchor_configs(given: Option<&[String]>) -> Result<Vec<String>, String> {
+    match given {
         Some(c) => {
             for name in c {
                 if !ANCHOR_CONFIGS.contains(&name.as_str()) {
@@ -215,179 +290,193 @@ pub fn run_speed(args: &SpeedArgs) -> Result<(), String> {
                     ));
                 }
             }
-            c.clone()
+            Ok(c.to_vec())
         }
-        None => ANCHOR_CONFIGS.iter().map(|s| s.to_string()).collect(),
-    };
-    let scenes: Vec<(String, PathBuf)> = match &args.scenes {
-        None => SUITE
+        None => Ok(ANCHOR_CONFIGS.iter().map(|s| s.to_string()).collect()),
+    }
+}
+
+/// `--scenes`: suite names or .ron files (the whole suite by default).
+fn suite_scenes(given: Option<&[String]>) -> Result<Vec<(String, PathBuf)>, String> {
+    let Some(list) = given else {
+        return Ok(SUITE
             .iter()
             .map(|(n, p)| (n.to_string(), PathBuf::from(p)))
-            .collect(),
-        Some(list) => list
-            .iter()
-            .map(|s| match SUITE.iter().find(|(n, _)| n == s) {
-                Some((n, p)) => Ok((n.to_string(), PathBuf::from(p))),
-                None if s.ends_with(".ron") => Ok((
-                    Path::new(s)
-                        .file_stem()
-                        .map_or("scene".into(), |x| x.to_string_lossy().to_string()),
-                    PathBuf::from(s),
-                )),
-                None => Err(format!(
-                    "unknown scene '{s}' in --scenes (a suite name, see --list, or a .ron file)"
-                )),
-            })
-            .collect::<Result<_, _>>()?,
+            .collect());
     };
-    std::fs::create_dir_all(&args.out)
-        .map_err(|e| format!("cannot create {}: {e}", args.out.display()))?;
-    let cpu = cpu_description();
-    println!("CPU: {cpu}");
-    let started = Instant::now();
-    let mut points: Vec<Point> = Vec::new();
-    let mut notes: Vec<String> = Vec::new();
-    let mut references = Vec::new();
-    for (name, path) in &scenes {
-        if !path.exists() {
-            let note = format!("{name}: {} not found, skipped", path.display());
-            println!("{note}");
-            notes.push(note);
-            continue;
-        }
-        let export_dir = args.out.join("scenes").join(name);
-        let exported = export_scene(path, &export_dir)?;
-        let t0 = Instant::now();
-        let scene = SceneSource::from_path(Some(path.clone()))
-            .build(&Default::default())
-            .map_err(|e| format!("{name}: {e}"))?;
-        let load = t0.elapsed().as_secs_f64();
-        let (emitter, shiny, _, _) = view_masks(&scene)?;
-        let reference = reference(args, name, &exported.path)?;
-        let regions = Regions::from_masks(&emitter, &shiny, &reference.0)
-            .map_err(|e| format!("{name}: {e}"))?;
-        let counted = regions.counted();
-        let var_total = reference_variance(&reference.1, &reference.2, &counted);
-        let mut var_region = [0.0; 3];
-        for (r, v) in var_region.iter_mut().enumerate() {
-            let mask: Vec<bool> = regions.region.iter().map(|x| *x == Some(r)).collect();
-            *v = reference_variance(&reference.1, &reference.2, &mask);
-        }
-        let pixels = regions.pixels();
-        println!(
-            "{name}: reference {} (RMSE of its own noise {:.5}); regions: {}",
-            reference.3,
-            var_total.sqrt(),
-            REGION_NAMES
-                .iter()
-                .zip(pixels)
-                .map(|(n, p)| format!("{n} {p} px"))
-                .collect::<Vec<_>>()
-                .join(", ")
-        );
-        references.push((
-            name.clone(),
-            Reference {
-                image: reference.0.clone(),
-                spp: reference.3.clone(),
-                var_total,
-                var_region,
-            },
-            pixels,
-        ));
-        let reference_image = &reference.0;
-        let mut failed: Vec<String> = Vec::new();
-        for k in 0..u64::from(args.seeds()) {
-            let seed = args.seed + k;
-            for &(kind, label) in &kinds {
-                for (i, &b) in budgets.iter().enumerate() {
-                    let settings = RenderSettings {
-                        sampler: Default::default(),
-                        budget: SampleBudget::Time(Duration::from_secs_f64(b)),
-                        seed: seed * 1000 + i as u64,
-                        threads: Some(args.threads),
-                        camera: None,
-                        tile_size: 16,
-                        tracer: PathTracer {
-                            max_depth: scene.options.max_depth,
-                            ..PathTracer::default()
-                        },
-                    };
-                    let out = render_with(&scene, &settings, kind, false, &|_, _| {}, None)
-                        .map_err(|e| format!("{name} {label}: {e}"))?;
-                    let img = RgbImage::from_xyz(&out.result.image, &scene.options.rgb_space);
-                    let file = args.out.join(format!("{name}_{label}_s{seed}_b{i}.exr"));
-                    crate::film::write_exr(&file, &out.result.image, &scene.options.rgb_space)
-                        .map_err(|e| format!("{}: {e}", file.display()))?;
-                    let split = regions
-                        .split(&img, reference_image)
-                        .map_err(|e| format!("{name} {label} at {b} s: {e}"))?;
-                    let p = Point {
-                        scene: name.clone(),
-                        config: label.into(),
-                        renderer: format!("spectrace {}", env!("CARGO_PKG_VERSION")),
-                        anchor: false,
-                        seed,
-                        budget: b,
-                        spp: f64::from(out.result.spp),
-                        seconds: out.result.elapsed.as_secs_f64(),
-                        load_seconds: load,
-                        jit_seconds: 0.0,
-                        split,
-                    };
-                    print_point(&p);
-                    points.push(p);
-                }
-            }
-            if args.no_anchors {
-                continue;
-            }
-            for config in &configs {
-                if failed.contains(config) {
-                    continue;
-                }
-                match run_anchor(args, &exported.path, config, &budgets, seed, name) {
-                    Ok(lines) => {
-                        for (renderer, file, budget, spp, secs, load, jit) in lines {
-                            let img = RgbImage::read_exr(&file).map_err(|e| e.to_string())?;
-                            let split = regions
-                                .split(&img, reference_image)
-                                .map_err(|e| format!("{name} {config} at {budget} s: {e}"))?;
-                            let p = Point {
-                                scene: name.clone(),
-                                config: config.clone(),
-                                renderer,
-                                anchor: true,
-                                seed,
-                                budget,
-                                spp,
-                                seconds: secs,
-                                load_seconds: load,
-                                jit_seconds: jit,
-                                split,
-                            };
-                            print_point(&p);
-                            points.push(p);
-                        }
-                    }
-                    Err(why) => {
-                        let note = format!("{name}: {config} skipped: {why}");
-                        println!("{note}");
-                        notes.push(note);
-                        failed.push(config.clone());
-                    }
-                }
-            }
+    list.iter()
+        .map(|s| match SUITE.iter().find(|(n, _)| n == s) {
+            Some((n, p)) => Ok((n.to_string(), PathBuf::from(p))),
+            None if s.ends_with(".ron") => Ok((
+                Path::new(s)
+                    .file_stem()
+                    .map_or("scene".into(), |x| x.to_string_lossy().to_string()),
+                PathBuf::from(s),
+            )),
+            None => Err(format!(
+                "unknown scene '{s}' in --scenes (a suite name, see --list, or a .ron file)"
+            )),
+        })
+        .collect()
+}
+
+/// Export the scene to the anchors, load it (the render pipeline's scene step, timed), and
+/// find its reference and regions; prints the reference's noise and the regions' sizes.
+fn set_up_scene(args: &SpeedArgs, name: &str, path: &Path) -> Result<SceneSetup, String> {
+    let export_dir = args.out.join("scenes").join(name);
+    let exported = export_scene(path, &export_dir)?;
+    let t0 = Instant::now();
+    let scene = load_scene(
+        Some(path),
+        None,
+        &[],
+        &Default::default(),
+        &[&BuiltinFactory],
+    )
+    .map_err(|e| format!("{name}: {e}"))?;
+    let load_seconds = t0.elapsed().as_secs_f64();
+    let (emitter, shiny, _, _) = view_masks(&scene)?;
+    let (image, half1, half2, spp) = reference(args, name, &exported.path)?;
+    let regions =
+        Regions::from_masks(&emitter, &shiny, &image).map_err(|e| format!("{name}: {e}"))?;
+    let counted = regions.counted();
+    let var_total = reference_variance(&half1, &half2, &counted);
+    let mut var_region = [0.0; 3];
+    for (r, v) in var_region.iter_mut().enumerate() {
+        let mask: Vec<bool> = regions.region.iter().map(|x| *x == Some(r)).collect();
+        *v = reference_variance(&half1, &half2, &mask);
+    }
+    println!(
+        "{name}: reference {spp} (RMSE of its own noise {:.5}); regions: {}",
+        var_total.sqrt(),
+        REGION_NAMES
+            .iter()
+            .zip(regions.pixels())
+            .map(|(n, p)| format!("{n} {p} px"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    Ok(SceneSetup {
+        name: name.to_string(),
+        scene,
+        load_seconds,
+        exported: exported.path,
+        regions,
+        reference: Reference {
+            image,
+            spp,
+            var_total,
+            var_region,
+        },
+    })
+}
+
+/// spectrace's renders of one scene with one seed: every integrator at every budget, each
+/// written as an EXR, measured against the reference and printed.
+fn own_points(
+    args: &SpeedArgs,
+    plan: &SpeedPlan,
+    setup: &SceneSetup,
+    seed: u64,
+) -> Result<Vec<Point>, String> {
+    let (name, scene) = (&setup.name, &setup.scene);
+    let mut points = Vec::new();
+    for &(kind, label) in &plan.kinds {
+        for (i, &b) in plan.budgets.iter().enumerate() {
+            let settings = default_settings(
+                SampleBudget::Time(Duration::from_secs_f64(b)),
+                seed * 1000 + i as u64,
+                Some(args.threads),
+                scene.options.max_depth,
+            );
+            let out = render_with(scene, &settings, kind, false, &|_, _| {}, None)
+                .map_err(|e| format!("{name} {label}: {e}"))?;
+            let img = RgbImage::from_xyz(&out.result.image, &scene.options.rgb_space);
+            let file = args.out.join(format!("{name}_{label}_s{seed}_b{i}.exr"));
+            crate::film::write_exr(&file, &out.result.image, &scene.options.rgb_space)
+                .map_err(|e| format!("{}: {e}", file.display()))?;
+            let split = setup
+                .regions
+                .split(&img, &setup.reference.image)
+                .map_err(|e| format!("{name} {label} at {b} s: {e}"))?;
+            let p = Point {
+                scene: name.clone(),
+                config: label.into(),
+                renderer: format!("spectrace {}", env!("CARGO_PKG_VERSION")),
+                anchor: false,
+                seed,
+                budget: b,
+                spp: f64::from(out.result.spp),
+                seconds: out.result.elapsed.as_secs_f64(),
+                load_seconds: setup.load_seconds,
+                jit_seconds: 0.0,
+                split,
+            };
+            print_point(&p);
+            points.push(p);
         }
     }
-    let elapsed = started.elapsed().as_secs_f64();
-    let estimate = full_run_estimate(&points, args, elapsed, scenes.len());
-    let md = report(&points, &references, args, &cpu, &notes, &estimate);
-    println!("\n{md}");
+    Ok(points)
+}
+
+/// The anchors' renders of one scene with one seed, in every configuration not yet `failed`;
+/// a configuration that fails is noted and not tried again for this scene.
+fn anchor_points(
+    args: &SpeedArgs,
+    plan: &SpeedPlan,
+    setup: &SceneSetup,
+    seed: u64,
+    failed: &mut Vec<String>,
+    notes: &mut Vec<String>,
+) -> Result<Vec<Point>, String> {
+    let name = &setup.name;
+    let mut points = Vec::new();
+    for config in &plan.configs {
+        if failed.contains(config) {
+            continue;
+        }
+        let lines = match run_anchor(args, &setup.exported, config, &plan.budgets, seed, name) {
+            Ok(lines) => lines,
+            Err(why) => {
+                let note = format!("{name}: {config} skipped: {why}");
+                println!("{note}");
+                notes.push(note);
+                failed.push(config.clone());
+                continue;
+            }
+        };
+        for (renderer, file, budget, spp, secs, load, jit) in lines {
+            let img = RgbImage::read_exr(&file).map_err(|e| e.to_string())?;
+            let split = setup
+                .regions
+                .split(&img, &setup.reference.image)
+                .map_err(|e| format!("{name} {config} at {budget} s: {e}"))?;
+            let p = Point {
+                scene: name.clone(),
+                config: config.clone(),
+                renderer,
+                anchor: true,
+                seed,
+                budget,
+                spp,
+                seconds: secs,
+                load_seconds: load,
+                jit_seconds: jit,
+                split,
+            };
+            print_point(&p);
+            points.push(p);
+        }
+    }
+    Ok(points)
+}
+
+/// DIR/speed.md and DIR/points.csv.
+fn write_results(args: &SpeedArgs, md: &str, points: &[Point]) -> Result<(), String> {
     let path = args.out.join("speed.md");
-    std::fs::write(&path, &md).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    std::fs::write(&path, md).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
     let csv_path = args.out.join("points.csv");
-    std::fs::write(&csv_path, points_csv(&points))
+    std::fs::write(&csv_path, points_csv(points))
         .map_err(|e| format!("cannot write {}: {e}", csv_path.display()))?;
     println!("wrote {} and {}", path.display(), csv_path.display());
     Ok(())

@@ -65,6 +65,51 @@ fn blob_kind(s: &str) -> Result<ObjectKind, String> {
         .ok_or_else(|| format!("unknown kind `{s}`; blobs hold a light, material, spd or observer"))
 }
 
+/// The scene items named by `--light`, `--material`, `--spd`, `--observer` and `--item`.
+fn picked_items(
+    light: &Option<String>,
+    material: &Option<String>,
+    spd: &Option<String>,
+    observer: &Option<String>,
+    item: &Option<String>,
+) -> Result<Vec<(ObjectKind, String)>, String> {
+    let items = item
+        .iter()
+        .map(|it| {
+            let (k, n) = it
+                .split_once(':')
+                .ok_or_else(|| format!("--item `{it}`: expected KIND:NAME, e.g. light:lamp"))?;
+            Ok((blob_kind(k)?, n.to_string()))
+        })
+        .collect::<Result<Vec<_>, String>>()?;
+    Ok([
+        light.clone().map(|n| (ObjectKind::Light, n)),
+        material.clone().map(|n| (ObjectKind::Material, n)),
+        spd.clone().map(|n| (ObjectKind::Spd, n)),
+        observer.clone().map(|n| (ObjectKind::Observer, n)),
+    ]
+    .into_iter()
+    .flatten()
+    .chain(items)
+    .collect())
+}
+
+/// `blob pack TYPE --params ..`: a type and its parameters packed, built once first.
+fn pack_type(
+    registry: crate::plugin::Registry,
+    kind: &str,
+    type_name: &str,
+    params: &str,
+) -> Result<Blob, String> {
+    let kind = blob_kind(kind)?;
+    let value: ron::Value = ron::from_str(params).map_err(|e| format!("--params: {e}"))?;
+    let factory = crate::plugin::factory::RegistryFactory::new(
+        std::sync::Arc::new(registry),
+        crate::plugin::adapter::PluginFaults::new(),
+    );
+    Blob::pack_item(&factory, kind, type_name, &value, std::path::Path::new("."))
+}
+
 /// Run a blob subcommand.
 pub fn run(cmd: &BlobCommand, verbose: bool) -> Result<(), String> {
     match cmd {
@@ -84,25 +129,7 @@ pub fn run(cmd: &BlobCommand, verbose: bool) -> Result<(), String> {
             let registry = plugins.registry(verbose)?;
             let blob = match (scene, type_name) {
                 (Some(scene), _) => {
-                    let picked: Vec<(ObjectKind, String)> = [
-                        light.clone().map(|n| (ObjectKind::Light, n)),
-                        material.clone().map(|n| (ObjectKind::Material, n)),
-                        spd.clone().map(|n| (ObjectKind::Spd, n)),
-                        observer.clone().map(|n| (ObjectKind::Observer, n)),
-                    ]
-                    .into_iter()
-                    .flatten()
-                    .chain(
-                        item.iter()
-                            .map(|it| {
-                                let (k, n) = it.split_once(':').ok_or_else(|| {
-                                    format!("--item `{it}`: expected KIND:NAME, e.g. light:lamp")
-                                })?;
-                                Ok((blob_kind(k)?, n.to_string()))
-                            })
-                            .collect::<Result<Vec<_>, String>>()?,
-                    )
-                    .collect();
+                    let picked = picked_items(light, material, spd, observer, item)?;
                     let [(kind, name)] = picked.as_slice() else {
                         return Err(
                             "with --scene give exactly one of --light, --material, --spd, --observer or --item"
@@ -111,16 +138,7 @@ pub fn run(cmd: &BlobCommand, verbose: bool) -> Result<(), String> {
                     };
                     Blob::pack_scene_item(&registry, scene, *kind, name)?
                 }
-                (None, Some(type_name)) => {
-                    let kind = blob_kind(kind)?;
-                    let value: ron::Value =
-                        ron::from_str(params).map_err(|e| format!("--params: {e}"))?;
-                    let factory = crate::plugin::factory::RegistryFactory::new(
-                        std::sync::Arc::new(registry),
-                        crate::plugin::adapter::PluginFaults::new(),
-                    );
-                    Blob::pack_item(&factory, kind, type_name, &value, std::path::Path::new("."))?
-                }
+                (None, Some(type_name)) => pack_type(registry, kind, type_name, params)?,
                 _ => return Err("give a TYPE, or --scene FILE with the item to pack".into()),
             };
             blob.write_file(output).map_err(|e| e.to_string())?;

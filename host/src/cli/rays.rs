@@ -11,7 +11,7 @@
 use super::plugin_args::PluginArgs;
 use crate::light::Light;
 use crate::photometry::tm25::export::export_light;
-use crate::photometry::tm25::{RayFile, SpectralId, TEXT_FIELDS};
+use crate::photometry::tm25::{RayFile, SpectralId, Tm25Header, TEXT_FIELDS};
 use crate::plugin::factory::PluginFactory;
 use crate::scene::ObjectFactory;
 use std::path::{Path, PathBuf};
@@ -159,51 +159,71 @@ fn info(a: &InfoArgs) -> Result<(), String> {
     };
     mismatch(h.radiant_flux_w, s.sums.0, "W");
     mismatch(h.luminous_flux_lm, s.sums.1, "lm");
-    let fl = &h.flags;
     if a.json {
-        let spectra: Vec<serde_json::Value> = h
-            .spectra
-            .iter()
-            .map(|t| {
-                let peak = t.iter().copied().fold((0.0f32, 0.0f32), |m, p| if p.1 > m.1 { p } else { m });
-                serde_json::json!({"points": t.len(), "min_nm": t[0].0, "max_nm": t[t.len() - 1].0, "peak_nm": peak.0})
-            })
-            .collect();
-        let num = |v: f32| {
-            if v.is_nan() {
-                serde_json::Value::Null
-            } else {
-                serde_json::json!(v)
-            }
-        };
-        println!(
-            "{}",
-            serde_json::json!({
-                "file": file,
-                "version": h.version,
-                "creation_method": h.creation_method,
-                "header_luminous_flux_lm": num(h.luminous_flux_lm),
-                "header_radiant_flux_w": num(h.radiant_flux_w),
-                "rays": h.n_rays,
-                "date": h.date,
-                "spectral_id": h.spectral_id.code(),
-                "single_wavelength_nm": num(h.single_wavelength_nm),
-                "flags": {"radiant": fl.radiant, "wavelength": fl.wavelength, "luminous": fl.luminous,
-                          "stokes": fl.stokes, "tristimulus": fl.tristimulus, "spectrum_index": fl.spectrum_index},
-                "record_bytes": f.layout.record_bytes(),
-                "additional_columns": h.column_names,
-                "texts": h.texts,
-                "rays_radiant_flux_w": s.sums.0,
-                "rays_luminous_flux_lm": s.sums.1,
-                "spectra": spectra,
-                "bounds_mm": [s.bounds.0, s.bounds.1],
-                "far_field": {"ring_deg": 10, "relative_intensity": s.rings,
-                              "half_intensity_deg": s.half_intensity_deg, "forward_share": s.forward_share},
-                "warnings": h.warnings,
-            })
-        );
-        return Ok(());
+        print_json(&file, &f, &s);
+    } else {
+        print_text(&file, &f, &s);
     }
+    Ok(())
+}
+
+/// `rays info --json`: the header, the rays' sums and the far field as one JSON object.
+fn print_json(file: &str, f: &RayFile, s: &FarFieldSummary) {
+    let h = &f.header;
+    let fl = &h.flags;
+    let spectra: Vec<serde_json::Value> = h
+        .spectra
+        .iter()
+        .map(|t| {
+            let peak = t.iter().copied().fold((0.0f32, 0.0f32), |m, p| if p.1 > m.1 { p } else { m });
+            serde_json::json!({"points": t.len(), "min_nm": t[0].0, "max_nm": t[t.len() - 1].0, "peak_nm": peak.0})
+        })
+        .collect();
+    let num = |v: f32| {
+        if v.is_nan() {
+            serde_json::Value::Null
+        } else {
+            serde_json::json!(v)
+        }
+    };
+    println!(
+        "{}",
+        serde_json::json!({
+            "file": file,
+            "version": h.version,
+            "creation_method": h.creation_method,
+            "header_luminous_flux_lm": num(h.luminous_flux_lm),
+            "header_radiant_flux_w": num(h.radiant_flux_w),
+            "rays": h.n_rays,
+            "date": h.date,
+            "spectral_id": h.spectral_id.code(),
+            "single_wavelength_nm": num(h.single_wavelength_nm),
+            "flags": {"radiant": fl.radiant, "wavelength": fl.wavelength, "luminous": fl.luminous,
+                      "stokes": fl.stokes, "tristimulus": fl.tristimulus, "spectrum_index": fl.spectrum_index},
+            "record_bytes": f.layout.record_bytes(),
+            "additional_columns": h.column_names,
+            "texts": h.texts,
+            "rays_radiant_flux_w": s.sums.0,
+            "rays_luminous_flux_lm": s.sums.1,
+            "spectra": spectra,
+            "bounds_mm": [s.bounds.0, s.bounds.1],
+            "far_field": {"ring_deg": 10, "relative_intensity": s.rings,
+                          "half_intensity_deg": s.half_intensity_deg, "forward_share": s.forward_share},
+            "warnings": h.warnings,
+        })
+    );
+}
+
+/// `rays info`: the header, the rays' sums, the columns and spectra, the far field.
+fn print_text(file: &str, f: &RayFile, s: &FarFieldSummary) {
+    print_header(file, f, s);
+    print_columns_and_spectra(&f.header);
+    print_far_field(s);
+}
+
+/// The header's fields and the fluxes the rays sum to.
+fn print_header(file: &str, f: &RayFile, s: &FarFieldSummary) {
+    let h = &f.header;
     println!("file               {file}");
     println!(
         "version            {} (creation method {}: {})",
@@ -231,6 +251,11 @@ fn info(a: &InfoArgs) -> Result<(), String> {
     if let Some(lm) = s.sums.1 {
         println!("rays' luminous flux {lm:.6} lm");
     }
+}
+
+/// The record's columns, the spectrum, the spectral tables and the text fields.
+fn print_columns_and_spectra(h: &Tm25Header) {
+    let fl = &h.flags;
     let cols: Vec<&str> = [
         (fl.radiant, "radiant flux"),
         (fl.wavelength, "wavelength"),
@@ -287,6 +312,10 @@ fn info(a: &InfoArgs) -> Result<(), String> {
             );
         }
     }
+}
+
+/// Where the rays start and how their directions spread.
+fn print_far_field(s: &FarFieldSummary) {
     println!(
         "start points (mm)  x {:.3} .. {:.3}, y {:.3} .. {:.3}, z {:.3} .. {:.3}",
         s.bounds.0[0], s.bounds.1[0], s.bounds.0[1], s.bounds.1[1], s.bounds.0[2], s.bounds.1[2]
@@ -298,7 +327,6 @@ fn info(a: &InfoArgs) -> Result<(), String> {
     );
     let rings: Vec<String> = s.rings.iter().map(|v| format!("{v:.2}")).collect();
     println!("relative intensity per 10° ring of γ: {}", rings.join(" "));
-    Ok(())
 }
 
 /// The light `name` of a scene: a listed light or an emissive object.

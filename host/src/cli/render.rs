@@ -19,7 +19,8 @@
 //!    slice or an unfinished render;
 //! 5. [`summary`] and [`output`]: the summary printed and the files written.
 //!
-//! `merge` uses the same output step ([`save_image`], [`spectral_summary`]).
+//! `merge` uses the same output step ([`save_image`], [`spectral_summary`]); `bench` the scene
+//! step ([`load_scene`]) and the default settings ([`default_settings`]).
 
 mod args;
 mod job;
@@ -29,7 +30,7 @@ mod scene;
 mod summary;
 
 pub use args::{parse_ev, parse_resolution, time_budget, RenderArgs};
-pub use job::RenderJob;
+pub use job::{default_settings, RenderJob};
 pub use output::{diagnostic_layers, save_image, spectral_summary};
 pub use scene::{load, load_scene};
 

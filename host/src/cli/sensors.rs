@@ -5,7 +5,7 @@
 use crate::film::XyzImage;
 use crate::integrator::{IntegratorKind, RenderSettings};
 use crate::scene::Scene;
-use crate::sensor::{measure, Estimator, MeasureSettings};
+use crate::sensor::{measure, Estimator, IlluminanceGrid, MeasureSettings, SensorReading};
 use std::path::Path;
 
 /// Measure every sensor of `scene` with the estimator of `integrator`, print one summary line
@@ -45,38 +45,7 @@ pub fn measure_sensors(
         };
         let t = std::time::Instant::now();
         let r = measure(scene, grid, &ms).map_err(|e| format!("sensor {:?}: {e}", grid.name))?;
-        let (mean, se) = r.mean();
-        let (lo, hi) = r.min_max();
-        let max_se = r.stderr.iter().cloned().fold(0.0, f64::max);
-        println!(
-            "  {}: {}×{} points, {} samples each, mean {:.4} ± {:.4} lx, min {:.4} lx, max \
-             {:.4} lx, largest standard error {:.4} lx ({:.2} s)",
-            r.name,
-            r.resolution.0,
-            r.resolution.1,
-            r.samples,
-            mean,
-            se,
-            lo,
-            hi,
-            max_se,
-            t.elapsed().as_secs_f64()
-        );
-        if r.non_finite > 0 {
-            println!(
-                "  warning: sensor {:?}: {} non-finite samples dropped",
-                r.name, r.non_finite
-            );
-        }
-        if hi <= 0.0 {
-            // + 0.0 prints −0 as 0.
-            let n = grid.normal() + glam::DVec3::ZERO;
-            println!(
-                "  warning: sensor {:?} reads 0 lx everywhere: its normal edge0 × edge1 = \
-                 ({:.3}, {:.3}, {:.3}) may face away from the light (swap edge0 and edge1)",
-                r.name, n.x, n.y, n.z
-            );
-        }
+        print_reading(&r, grid, t.elapsed().as_secs_f64());
         let rep = crate::sensor::report::report(&r, &df_reference)?;
         for line in crate::sensor::report::summary_lines(&r, &rep) {
             println!("{line}");
@@ -92,6 +61,33 @@ pub fn measure_sensors(
     }
     super::sensors_glare::measure_glare_observers(scene, settings, spp, out)?;
     Ok(())
+}
+
+/// A grid's summary line and its warnings (non-finite samples dropped, 0 lx everywhere).
+fn print_reading(r: &SensorReading, grid: &IlluminanceGrid, seconds: f64) {
+    let (mean, se) = r.mean();
+    let (lo, hi) = r.min_max();
+    let max_se = r.stderr.iter().cloned().fold(0.0, f64::max);
+    println!(
+        "  {}: {}×{} points, {} samples each, mean {:.4} ± {:.4} lx, min {:.4} lx, max \
+         {:.4} lx, largest standard error {:.4} lx ({:.2} s)",
+        r.name, r.resolution.0, r.resolution.1, r.samples, mean, se, lo, hi, max_se, seconds
+    );
+    if r.non_finite > 0 {
+        println!(
+            "  warning: sensor {:?}: {} non-finite samples dropped",
+            r.name, r.non_finite
+        );
+    }
+    if hi <= 0.0 {
+        // + 0.0 prints −0 as 0.
+        let n = grid.normal() + glam::DVec3::ZERO;
+        println!(
+            "  warning: sensor {:?} reads 0 lx everywhere: its normal edge0 × edge1 = \
+             ({:.3}, {:.3}, {:.3}) may face away from the light (swap edge0 and edge1)",
+            r.name, n.x, n.y, n.z
+        );
+    }
 }
 
 /// `--luminance-out F.csv`: per-pixel luminance of the image, cd/m².

@@ -445,7 +445,8 @@ impl Blob {
         Self::pack_plugin(registry, ObjectKind::Light, type_name, params_ron)
     }
 
-    fn check_plugin(&self, registry: &super::Registry) -> Result<(), BlobLoadError> {
+    /// The plugin that wrote this blob is loaded in `registry` (built-in blobs need none).
+    pub fn check_plugin(&self, registry: &super::Registry) -> Result<(), BlobLoadError> {
         let loaded = registry
             .plugins()
             .iter()
@@ -481,7 +482,7 @@ impl Blob {
     }
 
     /// The built-in type this blob holds, if it was written for one.
-    fn builtin_type(&self) -> Result<&'static crate::builtin::BuiltinType, String> {
+    pub fn builtin_type(&self) -> Result<&'static crate::builtin::BuiltinType, String> {
         let ty = crate::builtin::find(self.kind.into(), &self.type_name).ok_or_else(|| {
             format!(
                 "written by the host for built-in {} type `{}`, which this host does not have",
@@ -498,7 +499,7 @@ impl Blob {
     }
 
     /// A built-in blob's parameters in scene syntax (decoded from its bincode payload).
-    fn builtin_params(&self) -> Result<String, String> {
+    pub fn builtin_params(&self) -> Result<String, String> {
         let ty = self.builtin_type()?;
         let state = ty
             .state
@@ -536,271 +537,6 @@ impl Blob {
             self.payload.len()
         )
     }
-}
-
-impl Blob {
-    /// Save an object of `kind` (type and scene parameters, files relative to `base_dir`) as
-    /// a self-contained blob. The object is built once first, so a blob with bad parameters is
-    /// never written. Built-in types store their parameter struct as bincode with every file
-    /// they read embedded; plugin types store their plugin's state.
-    pub fn pack_item(
-        factory: &super::factory::RegistryFactory,
-        kind: ObjectKind,
-        type_name: &str,
-        params: &ron::Value,
-        base_dir: &Path,
-    ) -> Result<Blob, String> {
-        use super::factory::Source;
-        let registry = factory.registry();
-        let entry = registry
-            .lookup(kind, type_name)
-            .map_err(|e| e.to_string())?;
-        let Some(ty) = entry.builtin else {
-            if type_name == super::factory::BLOB_LIGHT {
-                return Err("a blob cannot be packed into a blob; copy the file instead".into());
-            }
-            let text = ron::to_string(params).map_err(|e| e.to_string())?;
-            return Self::pack_plugin(registry, kind, type_name, &text).map_err(|e| e.to_string());
-        };
-        let ctx = factory.context(base_dir, format!("{kind} `{type_name}`"));
-        factory
-            .build(kind.into(), type_name, Source::Params(params), &ctx)
-            .map_err(|e| format!("built-in {kind} `{type_name}`: {e}"))?;
-        let state = ty
-            .state
-            .ok_or_else(|| format!("a {kind} `{type_name}` cannot be a blob"))?;
-        let payload = (state.save)(params, &ctx)
-            .map_err(|e| format!("built-in {kind} `{type_name}`: {e}"))?;
-        Ok(Blob {
-            kind,
-            plugin: BUILTIN_PLUGIN.to_string(),
-            plugin_version: env!("CARGO_PKG_VERSION").to_string(),
-            type_name: ty.name.to_string(),
-            type_version: ty.version,
-            payload,
-        })
-    }
-
-    /// Save a built-in light (type and RON parameters) as a blob; relative files resolve
-    /// against the working directory.
-    pub fn pack_builtin_light(type_name: &str, params: &ron::Value) -> Result<Blob, String> {
-        let factory = super::factory::RegistryFactory::new(
-            std::sync::Arc::new(super::builtin_registry()),
-            super::adapter::PluginFaults::new(),
-        );
-        Self::pack_item(
-            &factory,
-            ObjectKind::Light,
-            type_name,
-            params,
-            Path::new("."),
-        )
-    }
-
-    /// Save the item `name` of `kind` of a scene file as a blob (built-in or plugin type). For
-    /// an observer, `name` is the scene's `observer` type name.
-    pub fn pack_scene_item(
-        registry: &super::Registry,
-        scene: &Path,
-        kind: ObjectKind,
-        name: &str,
-    ) -> Result<Blob, String> {
-        let text = std::fs::read_to_string(scene)
-            .map_err(|e| format!("{}: cannot read: {e}", scene.display()))?;
-        let desc = crate::scene::parse_scene_str(&text, scene).map_err(|e| e.to_string())?;
-        let (type_name, params) = match kind {
-            ObjectKind::Observer => {
-                let (obs, params) = desc
-                    .observer
-                    .as_ref()
-                    .map(|o| o.type_and_params())
-                    .unwrap_or(("cie1931-2", ron::Value::Unit));
-                if obs != name {
-                    return Err(format!(
-                        "{}: the scene's observer is `{obs}`, not `{name}`",
-                        scene.display()
-                    ));
-                }
-                (obs.to_string(), params)
-            }
-            _ => {
-                let items = match kind {
-                    ObjectKind::Light => &desc.lights,
-                    ObjectKind::Material => &desc.materials,
-                    _ => &Vec::new(),
-                };
-                let found = if kind == ObjectKind::Spd {
-                    find_scene_spd(&desc, name)
-                } else {
-                    items
-                        .iter()
-                        .find(|l| l.name == name)
-                        .map(|i| (i.type_name.clone(), i.params.clone()))
-                };
-                found.ok_or_else(|| {
-                    let names: Vec<String> = if kind == ObjectKind::Spd {
-                        scene_spd_names(&desc)
-                    } else {
-                        items.iter().map(|l| l.name.clone()).collect()
-                    };
-                    format!(
-                        "{}: no {kind} named `{name}` ({kind}s: {})",
-                        scene.display(),
-                        names.join(", ")
-                    )
-                })?
-            }
-        };
-        let factory = super::factory::RegistryFactory::new(
-            std::sync::Arc::new(registry.clone()),
-            super::adapter::PluginFaults::new(),
-        );
-        // A blob's lengths are metres: a light's parameters in the scene's unit are converted
-        // as the scene builder converts them.
-        let params = if kind == ObjectKind::Light {
-            let unit = crate::scene::LengthUnit::parse(desc.units.as_deref().unwrap_or("m"))
-                .map_err(|e| format!("{}: units: {e}", scene.display()))?;
-            match crate::scene::ObjectFactory::param_docs(&factory, "light", &type_name) {
-                Some(docs) => crate::scene::units::params_in_metres(&params, &docs, unit.metres()),
-                None => params,
-            }
-        } else {
-            params
-        };
-        let base = scene.parent().unwrap_or(Path::new("."));
-        Self::pack_item(&factory, kind, &type_name, &params, base)
-            .map_err(|e| format!("{}: {kind} `{name}`: {e}", scene.display()))
-    }
-
-    /// Save the light named `light` of a scene file as a blob (built-in or plugin type).
-    pub fn pack_scene_light(
-        registry: &super::Registry,
-        scene: &Path,
-        light: &str,
-    ) -> Result<Blob, String> {
-        Self::pack_scene_item(registry, scene, ObjectKind::Light, light)
-    }
-
-    /// Rebuild the object this blob holds, built-in or from its plugin, through `factory`.
-    pub fn instantiate(
-        &self,
-        factory: &super::factory::RegistryFactory,
-    ) -> Result<super::factory::Built, String> {
-        use super::factory::Source;
-        let kind = crate::plugin::Kind::from(self.kind);
-        let ctx = factory.context(
-            Path::new("."),
-            format!("{kind} `{}` (blob)", self.type_name),
-        );
-        let source = Source::State {
-            type_version: self.type_version,
-            bytes: &self.payload,
-        };
-        if self.plugin == BUILTIN_PLUGIN {
-            let ty = self.builtin_type()?;
-            // A built-in's state is built by the built-in itself, even in a registry where a
-            // library provides the same name.
-            let text = self.builtin_params()?;
-            let params: ron::Value =
-                ron::from_str(&text).map_err(|e| format!("bad saved state: {e}"))?;
-            let _ = source;
-            return build_builtin(ty, &params, &ctx).map_err(|e| e.to_string());
-        }
-        self.check_plugin(factory.registry())
-            .map_err(|e| e.to_string())?;
-        factory
-            .build(kind, &self.type_name, source, &ctx)
-            .map_err(|e| e.to_string())
-    }
-}
-
-/// `v` with every string longer than 256 characters cut to its first 64 and a count (embedded
-/// data, such as a ray file's base64, is not for reading on a terminal).
-fn shortened(v: ron::Value) -> ron::Value {
-    use ron::Value;
-    match v {
-        Value::String(s) if s.chars().count() > 256 => {
-            let head: String = s.chars().take(64).collect();
-            Value::String(format!("{head}… ({} characters in all)", s.chars().count()))
-        }
-        Value::Seq(items) => Value::Seq(items.into_iter().map(shortened).collect()),
-        Value::Option(Some(inner)) => Value::Option(Some(Box::new(shortened(*inner)))),
-        Value::Map(m) => Value::Map(m.into_iter().map(|(k, v)| (k, shortened(v))).collect()),
-        other => other,
-    }
-}
-
-fn build_builtin(
-    ty: &crate::builtin::BuiltinType,
-    params: &ron::Value,
-    ctx: &crate::scene::FactoryContext,
-) -> Result<super::factory::Built, crate::scene::FactoryError> {
-    use super::factory::Built;
-    use crate::builtin::Build;
-    Ok(match ty.build {
-        Build::Material(f) => Built::Material(f(params, ctx)?),
-        Build::Light(f) => Built::Light(f(params, ctx)?),
-        Build::Spd(f) => Built::Spd(f(params, ctx)?),
-        Build::Observer(f) => Built::Observer(f(params, ctx)?),
-        Build::Shape(_) | Build::Camera(_) => {
-            return Err(crate::scene::FactoryError::Param(
-                "shapes and cameras are not blobs".into(),
-            ))
-        }
-    })
-}
-
-/// SPDs of a scene that can be packed by name: `LIGHT.spd` or `MATERIAL.radiance` (the
-/// spectral parameter of a light or emissive material), as `(type: "spec", params: (spec: ..))`
-/// or the item's own `(type: .., params: ..)`.
-fn find_scene_spd(
-    desc: &crate::scene::SceneDescription,
-    name: &str,
-) -> Option<(String, ron::Value)> {
-    let (item, param) = name.split_once('.')?;
-    let owner = desc
-        .lights
-        .iter()
-        .chain(desc.materials.iter())
-        .find(|i| i.name == item)?;
-    let value = crate::scene::params::Params::new(&owner.params)
-        .get(param)?
-        .clone();
-    let p = crate::scene::params::Params::new(&value);
-    if let (Some(ron::Value::String(t)), true) =
-        (p.get("type"), matches!(value, ron::Value::Map(_)))
-    {
-        return Some((
-            t.clone(),
-            p.get("params").cloned().unwrap_or(ron::Value::Unit),
-        ));
-    }
-    let key = if matches!(value, ron::Value::Seq(_)) {
-        "values"
-    } else {
-        "spec"
-    };
-    let mut m = ron::Map::new();
-    m.insert(ron::Value::String(key.into()), value);
-    Some((
-        if key == "values" { "table" } else { "spec" }.to_string(),
-        ron::Value::Map(m),
-    ))
-}
-
-fn scene_spd_names(desc: &crate::scene::SceneDescription) -> Vec<String> {
-    let mut out = Vec::new();
-    for (items, param) in [(&desc.lights, "spd"), (&desc.materials, "radiance")] {
-        for i in items {
-            if crate::scene::params::Params::new(&i.params)
-                .get(param)
-                .is_some()
-            {
-                out.push(format!("{}.{param}", i.name));
-            }
-        }
-    }
-    out
 }
 
 #[cfg(test)]
@@ -862,5 +598,21 @@ mod tests {
             Blob::decode(&bytes),
             Err(BlobError::PayloadBeyondFile { declared: 1000, .. })
         ));
+    }
+}
+
+/// `v` with every string longer than 256 characters cut to its first 64 and a count (embedded
+/// data, such as a ray file's base64, is not for reading on a terminal).
+fn shortened(v: ron::Value) -> ron::Value {
+    use ron::Value;
+    match v {
+        Value::String(s) if s.chars().count() > 256 => {
+            let head: String = s.chars().take(64).collect();
+            Value::String(format!("{head}… ({} characters in all)", s.chars().count()))
+        }
+        Value::Seq(items) => Value::Seq(items.into_iter().map(shortened).collect()),
+        Value::Option(Some(inner)) => Value::Option(Some(Box::new(shortened(*inner)))),
+        Value::Map(m) => Value::Map(m.into_iter().map(|(k, v)| (k, shortened(v))).collect()),
+        other => other,
     }
 }

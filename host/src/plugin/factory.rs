@@ -7,7 +7,7 @@
 use super::adapter::{
     Origin, PluginFaults, PluginLight, PluginMaterial, PluginObserver, PluginSpd,
 };
-use super::blob::Blob;
+use super::blob::{Blob, BUILTIN_PLUGIN};
 use super::registry::{Provider, Registry, RegistryError};
 use super::type_doc::{Kind, TypeDoc};
 use crate::builtin::Build;
@@ -20,6 +20,7 @@ use crate::spectrum::Spd;
 use spectrace_plugin_api::abi::std_types::{ROption, RStr};
 use spectrace_plugin_api::module::ObjectSource;
 use spectrace_plugin_api::ObjectKind;
+use std::path::Path;
 use std::sync::Arc;
 
 /// The type name that loads a blob file, for each blob kind:
@@ -120,15 +121,19 @@ impl PluginFactory {
         &self.registry
     }
 
-    /// A context whose SPD lookups go through this factory's registry (for items built outside
-    /// a scene, such as blobs).
+    /// A context whose SPD lookups go through this factory's registry, then the built-in
+    /// types (for items built outside a scene, such as blobs).
     pub fn context(&self, base_dir: &std::path::Path, item: String) -> FactoryContext {
+        let builtin: Arc<dyn ObjectFactory> = Arc::new(crate::builtin::BuiltinFactory);
         FactoryContext {
             base_dir: base_dir.to_path_buf(),
             item,
             representation: Default::default(),
             spd_factories: crate::scene::SpdFactories(
-                self.shared_spd_factory().into_iter().collect(),
+                self.shared_spd_factory()
+                    .into_iter()
+                    .chain([builtin])
+                    .collect(),
             ),
         }
     }
@@ -418,4 +423,51 @@ impl ObjectFactory for PluginFactory {
             }),
         }
     }
+}
+
+impl RegistryFactory {
+    /// Rebuild the object `blob` holds, built-in or from its plugin.
+    pub fn build_blob(&self, blob: &Blob) -> Result<Built, String> {
+        let kind = Kind::from(blob.kind);
+        let ctx = self.context(
+            Path::new("."),
+            format!("{kind} `{}` (blob)", blob.type_name),
+        );
+        if blob.plugin == BUILTIN_PLUGIN {
+            let ty = blob.builtin_type()?;
+            // A built-in's state is built by the built-in itself, even in a registry where a
+            // library provides the same name.
+            let text = blob.builtin_params()?;
+            let params: ron::Value =
+                ron::from_str(&text).map_err(|e| format!("bad saved state: {e}"))?;
+            return build_builtin(ty, &params, &ctx).map_err(|e| e.to_string());
+        }
+        blob.check_plugin(self.registry())
+            .map_err(|e| e.to_string())?;
+        let source = Source::State {
+            type_version: blob.type_version,
+            bytes: &blob.payload,
+        };
+        self.build(kind, &blob.type_name, source, &ctx)
+            .map_err(|e| e.to_string())
+    }
+}
+
+/// A built-in type's object from its parameters (a built-in blob's state).
+fn build_builtin(
+    ty: &crate::builtin::BuiltinType,
+    params: &ron::Value,
+    ctx: &FactoryContext,
+) -> Result<Built, FactoryError> {
+    Ok(match ty.build {
+        Build::Material(f) => Built::Material(f(params, ctx)?),
+        Build::Light(f) => Built::Light(f(params, ctx)?),
+        Build::Spd(f) => Built::Spd(f(params, ctx)?),
+        Build::Observer(f) => Built::Observer(f(params, ctx)?),
+        Build::Shape(_) | Build::Camera(_) => {
+            return Err(FactoryError::Param(
+                "shapes and cameras are not blobs".into(),
+            ))
+        }
+    })
 }

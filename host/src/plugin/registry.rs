@@ -3,7 +3,7 @@
 //! at registration, naming both providers; unknown names list what is available.
 
 use super::loader::{load_dir, load_library, LoadError, LoadedPlugin};
-use super::services::HostServices;
+use super::services::{HostServices, PluginSpds};
 use super::type_doc::{Kind, TypeDoc};
 use crate::builtin::BuiltinType;
 use spectrace_plugin_api::abi::std_types::{RResult, RSlice, RStr};
@@ -485,6 +485,18 @@ fn construct_error(kind: Kind, name: &str, provider: String, error: PluginError)
         name: name.to_string(),
         provider,
         error,
+    }
+}
+
+/// The services lent to plugin constructors build plugin SPDs through the registry.
+impl PluginSpds for Registry {
+    fn provides_spd(&self, name: &str) -> bool {
+        matches!(self.plugin_for(ObjectKind::Spd, name), Ok(Some(_)))
+    }
+
+    fn create_spd(&self, name: &str, params: &str) -> Result<SpdObject, String> {
+        self.create_plugin_spd(name, ObjectSource::Params(RStr::from_str(params)))
+            .map_err(|e| e.to_string())
     }
 }
 

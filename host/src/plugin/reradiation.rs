@@ -15,8 +15,8 @@
 //! would create energy, or answers NaN or negative values there, is refused with the
 //! wavelength named.
 
-use super::adapter::Origin;
 use super::checked::{self, Reason};
+use super::faults::Origin;
 use crate::spectrum::reradiation::Reradiation;
 use spectrace_plugin_api::abi::std_types::{ROption, RResult};
 use spectrace_plugin_api::reradiation::ReradiationBox;

@@ -4,27 +4,34 @@
 //! (`d65`, `blackbody:3000`, a CSV path, …). Built-in SPDs are lent through the same guarded
 //! ABI wrapper plugins use, so a plugin cannot tell them apart.
 
-use super::registry::Registry;
 use crate::spectrum::{parse_spd_spec, Spd as HostSpd};
 use spectrace_plugin_api::abi::sabi_trait::TD_Opaque;
 use spectrace_plugin_api::abi::std_types::{RResult, RStr};
 use spectrace_plugin_api::host::{AbiHost, AbiHost_TO, HostRef};
-use spectrace_plugin_api::module::ObjectSource;
 use spectrace_plugin_api::spd::GuardedSpd;
 use spectrace_plugin_api::{
-    ObjectKind, PluginError, PluginResult, Spd, SpdObject, SpectralLine, WavelengthRange,
-    WavelengthSample,
+    PluginError, PluginResult, Spd, SpdObject, SpectralLine, WavelengthRange, WavelengthSample,
 };
 use std::sync::Arc;
 
-/// The host's services, borrowing the registry for the duration of a constructor call.
+/// The plugin SPD types the services can build (the registry lends itself as one): passed in,
+/// so that the services know nothing of the registry that lends them.
+pub trait PluginSpds {
+    /// A plugin provides SPD type `name`.
+    fn provides_spd(&self, name: &str) -> bool;
+    /// Build the plugin SPD `name` from its parameters (RON text).
+    fn create_spd(&self, name: &str, params: &str) -> Result<SpdObject, String>;
+}
+
+/// The host's services, borrowing the plugin SPD types (the registry) for the duration of a
+/// constructor call.
 pub struct HostServices<'r> {
-    registry: &'r Registry,
+    registry: &'r dyn PluginSpds,
 }
 
 impl<'r> HostServices<'r> {
     /// Services backed by `registry`.
-    pub fn new(registry: &'r Registry) -> Self {
+    pub fn new(registry: &'r dyn PluginSpds) -> Self {
         Self { registry }
     }
 
@@ -37,10 +44,10 @@ impl<'r> HostServices<'r> {
     pub fn resolve_spd(&self, spec: &str) -> Result<SpdObject, PluginError> {
         let spec = spec.trim();
         let (name, params) = crate::spectrum::spec::split_type_spec(spec);
-        if let Ok(Some(_)) = self.registry.plugin_for(ObjectKind::Spd, name) {
+        if self.registry.provides_spd(name) {
             return self
                 .registry
-                .create_plugin_spd(name, ObjectSource::Params(RStr::from_str(params)))
+                .create_spd(name, params)
                 .map_err(|e| PluginError::invalid_parameter(format!("spd `{spec}`: {e}")));
         }
         let spd = parse_spd_spec(spec)

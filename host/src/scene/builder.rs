@@ -139,10 +139,14 @@ pub fn build_scene_with(
         item,
         message,
     };
+    // The scene's factories that share their SPD types, then the built-in table (so a nested
+    // `(type: "table", ..)` is found however the scene was built).
+    let builtin: Arc<dyn ObjectFactory> = Arc::new(crate::builtin::BuiltinFactory);
     let spd_factories = SpdFactories(
         factories
             .iter()
             .filter_map(|f| f.shared_spd_factory())
+            .chain([builtin])
             .collect(),
     );
     let ctx_for = |item: &str| FactoryContext {

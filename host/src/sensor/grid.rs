@@ -28,7 +28,7 @@ pub const TYPE_NAME: &str = "illuminance_grid";
 /// Most points one grid may have (each costs `samples` paths).
 pub const MAX_POINTS: u64 = 1_000_000;
 
-pub use super::MAX_SAMPLES;
+pub use super::limits::MAX_SAMPLES;
 
 /// Parameters of an `illuminance_grid`, as written in the scene.
 #[derive(Clone, Debug, PartialEq, Deserialize)]

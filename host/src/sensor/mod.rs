@@ -14,13 +14,12 @@ pub mod estimate;
 pub mod glare;
 pub mod glare_observer;
 pub mod grid;
+pub mod limits;
 pub mod luminance;
 pub mod output;
 pub mod report;
 pub mod statistics;
 
-/// Most samples per point of a sensor (the sums stay exact enough in f64 far beyond this).
-pub const MAX_SAMPLES: u32 = 1 << 24;
-
 pub use estimate::{measure, Estimator, MeasureSettings, SensorReading, KM_LM_PER_W};
 pub use grid::{build_sensors, IlluminanceGrid};
+pub use limits::MAX_SAMPLES;

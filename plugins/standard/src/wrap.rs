@@ -46,13 +46,16 @@ pub fn params_doc(ty: &BuiltinType) -> Vec<ParamDoc> {
 }
 
 /// The context the host's constructors run in: relative paths against the working directory
-/// (plugin parameters do not carry the scene's folder).
+/// (plugin parameters do not carry the scene's folder); SPD types nested in a spectrum are
+/// the built-in ones.
 pub fn context(item: &str) -> FactoryContext {
     FactoryContext {
         base_dir: ".".into(),
         item: item.to_string(),
         representation: Default::default(),
-        spd_factories: Default::default(),
+        spd_factories: spectrace::scene::SpdFactories(vec![Arc::new(
+            spectrace::builtin::BuiltinFactory,
+        )]),
     }
 }
 

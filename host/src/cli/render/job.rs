@@ -242,6 +242,28 @@ fn check_resumed_state(
     Ok(())
 }
 
+/// The integrator settings of a render with every flag at its default (no camera chosen,
+/// the default wavelength and sample sampling): what `bench` renders with.
+pub fn default_settings(
+    budget: SampleBudget,
+    seed: u64,
+    threads: Option<usize>,
+    max_depth: u32,
+) -> RenderSettings {
+    RenderSettings {
+        sampler: Default::default(),
+        budget,
+        seed,
+        threads,
+        camera: None,
+        tile_size: 16,
+        tracer: PathTracer {
+            max_depth,
+            ..PathTracer::default()
+        },
+    }
+}
+
 /// The integrator settings of `args`.
 fn render_settings(args: &RenderArgs, budget: SampleBudget, max_depth: u32) -> RenderSettings {
     RenderSettings {

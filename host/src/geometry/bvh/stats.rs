@@ -4,8 +4,8 @@
 use glam::Vec3A;
 
 use super::traverse::{node_hits_portable, quant_hits_portable, RayBoxes};
+use super::tree::Bvh;
 use super::wide_node::WIDTH;
-use super::Bvh;
 use crate::geometry::{Aabb, Ray};
 
 /// Counts and surface-area costs of a tree.

@@ -3,9 +3,11 @@
 use super::build::*;
 use super::collapse::*;
 use super::traverse::*;
+use super::tree::*;
 use super::wide_node::*;
 use super::*;
-use crate::geometry::Ray;
+use crate::geometry::{Aabb, Ray};
+use glam::Vec3A;
 
 /// Uniform numbers in [0, 1) from a 64-bit LCG started at `s` (the tests' shared
 /// deterministic source of boxes and rays).

@@ -5,8 +5,9 @@ use std::mem::MaybeUninit;
 
 use glam::{Vec3A, Vec4};
 
+use super::kernel::TraversalKernel;
+use super::tree::Bvh;
 use super::wide_node::{QuantNode, WideNode, WIDTH};
-use super::Bvh;
 use crate::geometry::float_error::gamma;
 use crate::geometry::prefetch::prefetch_line;
 use crate::geometry::Ray;
@@ -15,32 +16,6 @@ use crate::geometry::Ray;
 /// so 64 cover nine levels even when every box is hit; deeper searches spill into a `Vec`. The
 /// array is left uninitialised (zeroing it for every ray cost 4% of traversal).
 pub(super) const STACK_SIZE: usize = 64;
-
-/// Which box-test kernel the traversal runs (see the module documentation).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum TraversalKernel {
-    /// Two four-wide halves per node (`glam::Vec4`); runs everywhere.
-    #[default]
-    Portable,
-    /// One 256-bit AVX operation per node; only where the CPU has AVX2 (and `popcnt` and FMA,
-    /// which every AVX2 CPU has: `popcnt` orders the hit children, FMA decodes quantised
-    /// planes in one exact step).
-    Avx2,
-}
-
-impl TraversalKernel {
-    /// The fastest kernel this CPU runs.
-    pub fn best_available() -> TraversalKernel {
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2")
-            && std::arch::is_x86_feature_detected!("popcnt")
-            && std::arch::is_x86_feature_detected!("fma")
-        {
-            return TraversalKernel::Avx2;
-        }
-        TraversalKernel::Portable
-    }
-}
 
 /// A traversal stack entry: a wide node (`count == 0`) or a leaf's primitives, and the
 /// distance at which the ray enters its box.

@@ -10,13 +10,14 @@
 //! looking at the sun, or a mirror reflecting it, shows the sky behind; see `docs/daylight.md`).
 
 use crate::geometry::{Aabb, Ray};
+use crate::light::scene_sphere::SceneSphere;
 use crate::light::{Light, LightFlags, LightLeSample, LightLiSample, LightSampleContext};
-use crate::material::{sample_concentric_disk, Frame};
+use crate::material::Frame;
 use crate::spectrum::spd::spd_at;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spd};
 use glam::{Vec2, Vec3A};
 use std::f32::consts::PI;
-use std::sync::{Arc, OnceLock};
+use std::sync::Arc;
 
 /// The sun's mean angular diameter, degrees.
 pub const SUN_DIAMETER_DEG: f64 = 0.533;
@@ -38,7 +39,7 @@ pub struct SunLight {
     irradiance: f32,
     /// Why it gives no light, if it does not (below the horizon).
     note: Option<String>,
-    bounds: OnceLock<(Vec3A, f32)>,
+    bounds: SceneSphere,
 }
 
 impl SunLight {
@@ -67,12 +68,8 @@ impl SunLight {
             spd,
             irradiance: irradiance_w_m2,
             note,
-            bounds: OnceLock::new(),
+            bounds: SceneSphere::new(),
         })
-    }
-
-    fn sphere(&self) -> (Vec3A, f32) {
-        *self.bounds.get().unwrap_or(&(Vec3A::ZERO, 1.0))
     }
 
     /// A direction towards a point of the disc, uniform over its solid angle.
@@ -102,7 +99,7 @@ impl Light for SunLight {
     }
 
     fn power(&self) -> f64 {
-        let (_, r) = self.sphere();
+        let (_, r) = self.bounds.get();
         (self.irradiance * PI * r * r) as f64
     }
 
@@ -119,16 +116,8 @@ impl Light for SunLight {
         if self.irradiance <= 0.0 {
             return None;
         }
-        let (_, r) = self.sphere();
-        let wi = self.disc_direction(u);
-        Some(LightLiSample {
-            radiance: spd_at(self.spd.as_ref(), lambda) * self.irradiance,
-            wi,
-            pdf: 1.0,
-            p_light: ctx.p + wi * (2.0 * r),
-            p_light_error: Vec3A::ZERO,
-            n_light: Vec3A::ZERO,
-        })
+        let radiance = spd_at(self.spd.as_ref(), lambda) * self.irradiance;
+        Some(self.bounds.incident(ctx, self.disc_direction(u), radiance))
     }
 
     fn pdf_li(&self, _ctx: &LightSampleContext, _p: Vec3A, _n: Vec3A) -> f32 {
@@ -150,29 +139,22 @@ impl Light for SunLight {
         if self.irradiance <= 0.0 {
             return None;
         }
-        let (c, r) = self.sphere();
         let dir = -self.disc_direction(u2);
-        let frame = Frame::from_normal(dir);
-        let d = sample_concentric_disk(u1) * r;
-        let origin = c + frame.to_world(Vec3A::new(d.x, d.y, 0.0)) - dir * r;
         Some(LightLeSample {
-            ray: Ray::new(origin, dir),
+            ray: self.bounds.emitted_ray(u1, dir),
             radiance: spd_at(self.spd.as_ref(), lambda) * self.irradiance,
-            pdf_pos: 1.0 / (PI * r * r),
+            pdf_pos: self.bounds.disc_pdf(),
             pdf_dir: 1.0,
             normal: Vec3A::ZERO,
         })
     }
 
     fn pdf_le(&self, _ray: &Ray, _n: Vec3A) -> (f32, f32) {
-        let (_, r) = self.sphere();
-        (1.0 / (PI * r * r), 0.0)
+        (self.bounds.disc_pdf(), 0.0)
     }
 
     fn preprocess(&self, scene_bounds: &Aabb) {
-        let c = (scene_bounds.min + scene_bounds.max) * 0.5;
-        let r = ((scene_bounds.max - scene_bounds.min).length() * 0.5).max(1e-3);
-        let _ = self.bounds.set((c, r));
+        self.bounds.set(scene_bounds);
     }
 
     fn build_warning(&self) -> Option<String> {

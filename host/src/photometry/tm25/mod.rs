@@ -56,8 +56,7 @@ pub mod export;
 pub mod reader;
 pub mod writer;
 
-pub use reader::{KnownData, RawRay, RayFile, RayLayout, SpectralId, Tm25Header, TEXT_FIELDS};
+pub use reader::{
+    KnownData, RawRay, RayFile, RayLayout, SpectralId, Tm25Header, FIXED_HEADER_BYTES, TEXT_FIELDS,
+};
 pub use writer::{write_tm25, Tm25Spectrum, WriteHeader, WriteRay};
-
-/// Size of the fixed header: file header block 256, flags 32, nine text fields 36 000 bytes.
-pub const FIXED_HEADER_BYTES: usize = 256 + 32 + 9 * 4000;

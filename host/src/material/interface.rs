@@ -1,0 +1,299 @@
+//! What a material is to the integrators: the [`Material`] trait and its sampling records.
+
+use super::flags::MaterialFlags;
+use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spd};
+use glam::{Vec2, Vec3A};
+use std::fmt::Debug;
+use std::sync::Arc;
+
+/// How an emissive material emits, so the scene can turn its objects into area lights:
+/// radiance `scale · spd(λ)` in W/(m²·sr·nm), uniform over the surface.
+#[derive(Clone, Debug)]
+pub struct EmissionProfile {
+    /// Normalised SPD (1/nm), also used to draw light-path wavelengths.
+    pub spd: Arc<dyn Spd>,
+    /// Integrated radiance in W/(m²·sr).
+    pub scale: f32,
+    /// Whether the back side emits as well.
+    pub two_sided: bool,
+}
+
+/// Which quantity a path carries. Refraction scales radiance by 1/η² but not importance, and
+/// shading normals need the adjoint correction only on light paths (Veach 1997, ch. 5).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TransportMode {
+    /// Camera paths: carrying radiance towards the eye.
+    Radiance,
+    /// Light paths: carrying importance/flux away from lights.
+    Importance,
+}
+
+/// What a material may know about the surface point besides the directions. Laid out as the
+/// plugin interface's `SurfaceF32` (`#[repr(C)]`), so extension v5 passes it to plugins by
+/// reference (`plugin::layout`).
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+#[repr(C)]
+pub struct ShadingContext {
+    /// Surface parameterisation (for textures).
+    pub uv: Vec2,
+    /// World-space position (scene units), for procedural materials.
+    pub p: Vec3A,
+    /// Geometric normal (world, unit; zero when unknown).
+    pub ng: Vec3A,
+    /// Shading normal (world, unit; the `z` axis of the local frame; zero when unknown).
+    pub ns: Vec3A,
+}
+
+impl ShadingContext {
+    /// The context of surface point `p` with geometric normal `ng`, shading normal `ns` and
+    /// texture coordinates `uv`.
+    pub fn at(p: Vec3A, ng: Vec3A, ns: Vec3A, uv: Vec2) -> Self {
+        Self { uv, p, ng, ns }
+    }
+}
+
+/// A sampled scattering direction. `#[repr(C)]` in the plugin interface's `ScatterF32` layout:
+/// a plugin material writes it in place (`plugin::layout`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C)]
+pub struct BsdfSample {
+    /// Sampled incident direction, local frame, unit.
+    pub wi: Vec3A,
+    /// BSDF value f(wo, wi) in 1/sr (for delta lobes: the delta's weight divided by |cos θi|,
+    /// so `f·|cos θi|/pdf` is the throughput factor in every case).
+    pub f: SampledSpectrum,
+    /// Density of `wi` (1/sr), or the discrete lobe probability for delta lobes.
+    pub pdf: f32,
+    /// The lobe that was sampled (REFLECTION/TRANSMISSION × DIFFUSE/GLOSSY/SPECULAR, plus
+    /// DISPERSIVE when the direction depended on the hero wavelength).
+    pub flags: MaterialFlags,
+    /// Relative IOR crossed (`n_transmitted/n_incident`), 1 for reflection.
+    pub eta: f32,
+}
+
+impl BsdfSample {
+    /// Write `s` here and lend it back: how a [`Material::sample_into`] answers.
+    #[inline]
+    pub fn write(&mut self, s: Self) -> &Self {
+        *self = s;
+        self
+    }
+
+    /// All zero: a record for [`Material::sample_into`] to write.
+    pub const ZERO: Self = Self {
+        wi: Vec3A::ZERO,
+        f: SampledSpectrum::zero(),
+        pdf: 0.0,
+        flags: MaterialFlags::NONE,
+        eta: 0.0,
+    };
+}
+
+/// Effects a render switches off (see `effects::plan`); a material that has one of them
+/// offers a replacement without it through [`Material::without_effects`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EffectsOff {
+    /// Dispersion off: a wavelength-dependent IOR is replaced by its value at `reference_nm`.
+    pub dispersion: bool,
+    /// Thin film off: the film is removed (thickness 0 nm), leaving the bare base.
+    pub thin_film: bool,
+    /// Wavelength (nm) at which a dispersive IOR is frozen.
+    pub reference_nm: f32,
+}
+
+/// A surface material as the integrator sees it. Object safe; built-ins and plugin adapters
+/// implement it alike.
+pub trait Material: Send + Sync + Debug {
+    /// What lobes this material has (union over all lobes).
+    fn flags(&self) -> MaterialFlags;
+
+    /// Sample `wi` given `wo`, writing the sample into `out`: `Some` of it, or `None` when no
+    /// light is scattered (e.g. `wo` on the wrong side of a one-sided surface; what `out` holds
+    /// then is not to be read). `u_lobe` picks a lobe, `u` the direction within it.
+    ///
+    /// Written in place rather than returned by value so that a plugin material can write its
+    /// sample straight into the caller's record (`plugin::layout`; the host checks it there): a
+    /// returned `Option<BsdfSample>` was one copy on each side of the plugin boundary per call
+    /// (docs/performance.md, "Plugin overhead"). The render loops keep one record per path and
+    /// pass it to every bounce; [`sample`](Self::sample) returns a copy, for everything else.
+    #[allow(clippy::too_many_arguments)] // `sample`'s six and the record
+    fn sample_into<'a>(
+        &self,
+        wo: Vec3A,
+        ctx: &ShadingContext,
+        lambda: &SampledWavelengths,
+        u_lobe: f32,
+        u: Vec2,
+        mode: TransportMode,
+        out: &'a mut BsdfSample,
+    ) -> Option<&'a BsdfSample>;
+
+    /// [`sample_into`](Self::sample_into), the sample returned by value (a copy): for callers
+    /// outside the render loops.
+    fn sample(
+        &self,
+        wo: Vec3A,
+        ctx: &ShadingContext,
+        lambda: &SampledWavelengths,
+        u_lobe: f32,
+        u: Vec2,
+        mode: TransportMode,
+    ) -> Option<BsdfSample> {
+        let mut s = BsdfSample::ZERO;
+        self.sample_into(wo, ctx, lambda, u_lobe, u, mode, &mut s)
+            .copied()
+    }
+
+    /// BSDF value f(wo, wi) in 1/sr; zero for delta lobes.
+    fn eval(
+        &self,
+        wo: Vec3A,
+        wi: Vec3A,
+        ctx: &ShadingContext,
+        lambda: &SampledWavelengths,
+        mode: TransportMode,
+    ) -> SampledSpectrum;
+
+    /// Density (1/sr) with which [`sample`](Self::sample) would return `wi`; zero for delta lobes.
+    fn pdf(
+        &self,
+        wo: Vec3A,
+        wi: Vec3A,
+        ctx: &ShadingContext,
+        lambda: &SampledWavelengths,
+        mode: TransportMode,
+    ) -> f32;
+
+    /// For emissive materials: the emission the area light built on this surface uses. Must agree
+    /// with [`emitted`](Self::emitted).
+    fn emission(&self) -> Option<EmissionProfile> {
+        None
+    }
+
+    /// For emissive materials whose radiance varies over the surface: the texture it is read
+    /// from (then [`emission`](Self::emission) holds its mean, and the area light built on the
+    /// surface samples positions by the texture's power). `None` for uniform emitters.
+    fn emission_texture(&self) -> Option<Arc<crate::texture::emission_texture::EmissionTexture>> {
+        None
+    }
+
+    /// For fluorescent materials ([`MaterialFlags::FLUORESCENT`]): the wavelength-shifting
+    /// data. Such a material scatters diffusely (a cosine lobe, f = 1/π per unit albedo) in both
+    /// its parts; [`sample`](Self::sample)/[`eval`](Self::eval) give the part that keeps its
+    /// wavelength (ρ/π) and integrators that shift wavelengths read the rest from here (see
+    /// `integrator::fluorescence`).
+    fn reradiation(&self) -> Option<&dyn crate::spectrum::reradiation::Reradiation> {
+        None
+    }
+
+    /// True when this material scatters the same fraction of light at every wavelength, at
+    /// every point of its surface and for every pair of directions (a grey reflectance, a
+    /// constant IOR), and never shifts wavelengths: a path through it carries the same
+    /// throughput in every lane, so its colour can be integrated exactly
+    /// (`integrator::wavelengths::flat_colour`). Materials that do not scatter at all (emitters) count as
+    /// flat. The default is `false`, which is always safe (plugins keep it).
+    fn spectrally_flat(&self) -> bool {
+        false
+    }
+
+    /// True when `f(wo, wi)` is one value for every `wi` on `wo`'s side of the surface and 0 on
+    /// the other (an ideal diffuse reflector), and [`sample`](Self::sample) returns exactly
+    /// that value as its `f`: the path tracer then reuses the sampled direction's `f` for
+    /// next-event estimation at the same point instead of evaluating the reflectance again.
+    /// The default `false` is always safe.
+    fn f_same_for_all_directions(&self) -> bool {
+        false
+    }
+
+    /// True when [`sample`](Self::sample) draws `wi` with the cosine-weighted density, so that
+    /// [`pdf`](Self::pdf) is `|cos θi|/π` on `wo`'s side and 0 on the other (an ideal diffuse
+    /// reflector): a plugin material that declares it has its density computed by the host
+    /// instead of called for (`plugin::cosine_pdf`). The default `false` is always safe.
+    fn cosine_weighted_pdf(&self) -> bool {
+        false
+    }
+
+    /// This material with the effects in `off` switched off (the render plan's
+    /// `--effect NAME=off`), and one sentence saying what changed; `None` when none of them
+    /// applies or the material cannot switch them off.
+    fn without_effects(&self, _off: &EffectsOff) -> Option<(Arc<dyn Material>, String)> {
+        None
+    }
+
+    /// Radiance emitted towards `wo` in W/(m²·sr·nm) (only for [`MaterialFlags::EMISSIVE`]).
+    fn emitted(
+        &self,
+        _wo: Vec3A,
+        _ctx: &ShadingContext,
+        _lambda: &SampledWavelengths,
+    ) -> SampledSpectrum {
+        SampledSpectrum::zero()
+    }
+}
+
+/// True when `a` and `b` lie on the same side of the local surface.
+#[inline]
+pub fn same_hemisphere(a: Vec3A, b: Vec3A) -> bool {
+    a.z * b.z > 0.0
+}
+
+/// Mirror `wo` about the normal `n` (both unit, pointing away from the surface).
+#[inline]
+pub fn reflect(wo: Vec3A, n: Vec3A) -> Vec3A {
+    -wo + n * (2.0 * wo.dot(n))
+}
+
+/// Refract `wi` through a surface with normal `n` (on `wi`'s side) and relative IOR
+/// `eta = n_transmitted / n_incident`. `None` under total internal reflection.
+#[inline]
+pub fn refract(wi: Vec3A, n: Vec3A, eta: f32) -> Option<Vec3A> {
+    let cos_i = n.dot(wi);
+    let sin2_i = (1.0 - cos_i * cos_i).max(0.0);
+    let sin2_t = sin2_i / (eta * eta);
+    if sin2_t >= 1.0 {
+        return None;
+    }
+    let cos_t = (1.0 - sin2_t).sqrt();
+    Some(-wi / eta + n * (cos_i / eta - cos_t))
+}
+
+/// Cosine-weighted direction on the upper hemisphere (Malley's method, concentric disk mapping
+/// so strata stay compact).
+pub fn sample_cosine_hemisphere(u: Vec2) -> Vec3A {
+    let d = sample_concentric_disk(u);
+    let z = (1.0 - d.x * d.x - d.y * d.y).max(0.0).sqrt();
+    Vec3A::new(d.x, d.y, z)
+}
+
+/// A direction `wi` from the cosine lobe on `wo`'s side of the surface (shading frame) and its
+/// density `|cos θ|/π` (1/sr): the sampling of every diffuse lobe. `None` for a grazing `wo`
+/// or a zero density.
+#[inline]
+pub fn sample_cosine_lobe(wo: Vec3A, u: Vec2) -> Option<(Vec3A, f32)> {
+    if wo.z == 0.0 {
+        return None;
+    }
+    let mut wi = sample_cosine_hemisphere(u);
+    if wo.z < 0.0 {
+        wi.z = -wi.z;
+    }
+    let pdf = wi.z.abs() * std::f32::consts::FRAC_1_PI;
+    (pdf != 0.0).then_some((wi, pdf))
+}
+
+/// Uniform point on the unit disk with low distortion (Shirley & Chiu 1997).
+pub fn sample_concentric_disk(u: Vec2) -> Vec2 {
+    let o = u * 2.0 - Vec2::ONE;
+    if o.x == 0.0 && o.y == 0.0 {
+        return Vec2::ZERO;
+    }
+    let (r, theta) = if o.x.abs() > o.y.abs() {
+        (o.x, std::f32::consts::FRAC_PI_4 * (o.y / o.x))
+    } else {
+        (
+            o.y,
+            std::f32::consts::FRAC_PI_2 - std::f32::consts::FRAC_PI_4 * (o.x / o.y),
+        )
+    };
+    Vec2::new(r * theta.cos(), r * theta.sin())
+}
