@@ -232,7 +232,7 @@ fn weights_through_the_ball_match_brute_force_densities() {
         if !through_ball {
             continue;
         }
-        let w = mis_weight(&scene, camera, &[], &path, None, 0, 5, &lambda);
+        let w = mis_weight(&scene, camera, &[], &path, None, 0, 5, &lambda, 1);
         let (xf, gf, gl, xl) = (dv(path[1].p), dv(path[2].p), dv(path[3].p), dv(path[4].p));
         // The independent trace must find this very path.
         let end = chain_end(xf, (gf - xf).normalize(), LAMP_Y).unwrap();
@@ -281,7 +281,7 @@ fn weights_through_the_ball_match_brute_force_densities() {
         else {
             continue;
         };
-        let w = mis_weight(&scene, camera, &path, &[], Some(&cam), 4, 1, &lambda);
+        let w = mis_weight(&scene, camera, &path, &[], Some(&cam), 4, 1, &lambda, 1);
         let (xl, gl, gf, xf) = (dv(path[0].p), dv(path[1].p), dv(path[2].p), dv(path[3].p));
         let end = chain_end(xl, (gl - xl).normalize(), 0.0).unwrap();
         assert!(

@@ -27,6 +27,10 @@
 //! |-------------|----------|---------|------------------------------------------------------|
 //! | `max_depth` | bounces  | 64      | longest full path (`s + t − 2`), `--max-depth`       |
 //! | `rr_depth`  | vertices | 3       | subpath length from which Russian roulette may stop  |
+//!
+//! Light subpaths: each camera sample traces [`LIGHT_PATHS`] of them. The first is joined to
+//! every camera-subpath prefix; all of them are joined to the camera (t = 1), which the power
+//! heuristic then counts as that many samples (see [`LIGHT_PATHS`]).
 
 pub mod fluorescent_mis;
 pub mod mis;
@@ -98,6 +102,7 @@ pub const REGISTRATION: Registration = Registration {
             rr_depth: settings.tracer.rr_depth,
             strategy_images: options.strategy_images,
             spectral: options.spectral,
+            light_paths: LIGHT_PATHS,
         }))
     },
 };
@@ -116,7 +121,29 @@ pub struct Bdpt {
     pub strategy_images: bool,
     /// Also accumulate a spectral image at these nodes.
     pub spectral: Option<SpectralBins>,
+    /// Light subpaths per camera sample: the first is joined to every camera-subpath prefix,
+    /// every one to the camera (t = 1, see [`LIGHT_PATHS`]).
+    pub light_paths: u32,
 }
+
+/// Light subpaths traced per camera sample (see [`Bdpt::light_paths`]).
+///
+/// Why more than one: a camera sample of BDPT (camera subpath, its connections, the
+/// specular-chain strategies) costs several light paths of `lt` (callgrind: 4.0× on
+/// `scenes/bench/glass_sphere_mesh.ron`, 2.8× on the Cornell box), while a caustic seen on a
+/// diffuse surface is made by the light-tracing strategy alone: with one light subpath per
+/// camera sample, BDPT's efficiency in that caustic's core was 0.22× that of `lt`. Each
+/// further light subpath is joined to the camera only (t = 1), the cheap part of a light
+/// path's use, and the power heuristic counts the t = 1 strategy `light_paths` times (Veach
+/// 1997, §9.2: the heuristic over `nᵢ·pᵢ`; [`mis::heuristic_scale`]) while each t = 1
+/// contribution is divided by `light_paths`: the estimate stays unbiased and the images
+/// deterministic (the subpaths draw from the camera sample's own sequence).
+///
+/// Why 4: measured per region (docs/performance.md, "BDPT and its own strategies",
+/// instruction counts and variances): 4 takes most of the gain in caustic cores (glass
+/// sphere: 2.4× the efficiency of 1) without costing the regions the camera strategies make
+/// more than a factor the light paths partly give back there.
+pub const LIGHT_PATHS: u32 = 4;
 
 /// One strategy's unweighted contribution and where it goes.
 #[derive(Clone, Copy, Debug)]
@@ -149,6 +176,7 @@ pub fn connect(
     t: usize,
     lambda: &SampledWavelengths,
     mode: Option<&LightMode>,
+    light_paths: u32,
     rng: &mut SampleRng,
     stats: &mut PathStats,
 ) -> Option<Connection> {
@@ -163,6 +191,7 @@ pub fn connect(
             (s, t),
             lambda,
             mode,
+            light_paths,
             rng,
             stats,
         )
@@ -175,6 +204,7 @@ pub fn connect(
             (s, t),
             lambda,
             None,
+            light_paths,
             rng,
             stats,
         )
@@ -191,6 +221,7 @@ fn connect_in<const FLUORESCENT: bool>(
     (s, t): (usize, usize),
     lambda: &SampledWavelengths,
     mode: Option<&LightMode>,
+    light_paths: u32,
     rng: &mut SampleRng,
     stats: &mut PathStats,
 ) -> Option<Connection> {
@@ -329,6 +360,7 @@ fn connect_in<const FLUORESCENT: bool>(
             (0..LANES)
                 .filter(|&k| l[k] != 0.0)
                 .fold(LaneMask::NONE, |acc, k| acc.with(k)),
+            light_paths,
         )
     } else {
         SampledSpectrum::splat(mis_weight(
@@ -340,8 +372,13 @@ fn connect_in<const FLUORESCENT: bool>(
             s,
             t,
             lambda,
+            light_paths,
         ))
     };
+    if t == 1 && light_paths > 1 {
+        // One of `light_paths` samples of the light-tracing strategy.
+        l *= 1.0 / light_paths as f32;
+    }
     let mut lanes = camera_path[t - 1].lanes;
     if s > 0 && s <= light_path.len() {
         lanes = lanes.intersect(light_path[s - 1].lanes);
@@ -647,10 +684,15 @@ impl Bdpt {
             &mut worker.stats,
         );
         if let LightStart::Beams { index, pmf } = start {
+            let inv = 1.0 / self.light_paths as f64;
             let mut splat = |raster: Vec2, xyz: [f64; 3], e: &dyn Fn() -> LaneEnergies| {
+                // One of `light_paths` light subpaths of this camera sample.
+                let xyz = xyz.map(|v| v * inv);
                 Self::record_splat(splats, strategies, pixel_max, raster, xyz, None);
                 if let Some(sf) = spectral {
-                    sf.splat(raster.x, raster.y, &xyz, &e());
+                    let mut e = e();
+                    e.e = e.e.map(|v| v * inv);
+                    sf.splat(raster.x, raster.y, &xyz, &e);
                 }
             };
             trace_beam(
@@ -697,6 +739,7 @@ impl Bdpt {
                     t,
                     &lambda,
                     mode.as_ref(),
+                    self.light_paths,
                     rng,
                     &mut worker.stats,
                 ) else {
@@ -911,6 +954,95 @@ impl Bdpt {
                     }
                 },
             );
+        }
+        for _ in 1..self.light_paths {
+            // The further light subpaths of this camera sample: light tracing only (t = 1).
+            let u_start = (ld.next_1d(), ld.next_2d(), ld.next_2d());
+            let (start, mode) = self.light_subpath(
+                scene,
+                mixture,
+                &lambda,
+                u_start,
+                rng,
+                &mut light_path,
+                &mut worker.stats,
+            );
+            if let LightStart::Beams { index, pmf } = start {
+                let inv = 1.0 / self.light_paths as f64;
+                let mut splat = |raster: Vec2, xyz: [f64; 3], e: &dyn Fn() -> LaneEnergies| {
+                    let xyz = xyz.map(|v| v * inv);
+                    Self::record_splat(splats, strategies, pixel_max, raster, xyz, None);
+                    if let Some(sf) = spectral {
+                        let mut e = e();
+                        e.e = e.e.map(|v| v * inv);
+                        sf.splat(raster.x, raster.y, &xyz, &e);
+                    }
+                };
+                trace_beam(
+                    scene,
+                    camera,
+                    sensor,
+                    index,
+                    pmf,
+                    self.max_depth,
+                    self.rr_depth,
+                    rng,
+                    &mut worker.stats,
+                    &mut splat,
+                );
+            }
+            if let Some(fc) = flat {
+                fc.prefix(&light_path, &mut worker.light_flat);
+            }
+            for s in 1..=light_path.len().min(max_depth + 1) {
+                let Some(c) = connect(
+                    scene,
+                    camera,
+                    mixture,
+                    &light_path,
+                    &camera_path,
+                    s,
+                    1,
+                    &lambda,
+                    mode.as_ref(),
+                    self.light_paths,
+                    rng,
+                    &mut worker.stats,
+                ) else {
+                    continue;
+                };
+                let Some(r) = c.raster else { continue };
+                let shifted_weights;
+                let w = match (&mode, light_path.get(s - 1)) {
+                    (Some(m), Some(q)) => {
+                        shifted_weights = XyzWeights::new(sensor, &t1_wavelengths(m, q));
+                        &shifted_weights
+                    }
+                    _ => &weights,
+                };
+                let xyz = connection_xyz(
+                    flat,
+                    (&worker.camera_flat, &worker.light_flat),
+                    s,
+                    1,
+                    &c,
+                    w,
+                    &lambda,
+                );
+                if let Some(kind) = check_sample(&xyz) {
+                    splats.reject(Rejection {
+                        x,
+                        y,
+                        strategy: format!("bdpt s={s} t=1"),
+                        kind,
+                    });
+                    continue;
+                }
+                Self::record_splat(splats, strategies, pixel_max, r, xyz, Some((s, 1)));
+                if let Some(sf) = spectral {
+                    sf.splat(r.x, r.y, &xyz, &w.energies(&(c.l * c.weight), c.lanes));
+                }
+            }
         }
         worker.camera_path = camera_path;
         worker.light_path = light_path;
