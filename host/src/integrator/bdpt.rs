@@ -28,8 +28,9 @@
 //! | `max_depth` | bounces  | 64      | longest full path (`s + t − 2`), `--max-depth`       |
 //! | `rr_depth`  | vertices | 3       | subpath length from which Russian roulette may stop  |
 //!
-//! Light subpaths: each camera sample traces [`LIGHT_PATHS`] of them. The first is joined to
-//! every camera-subpath prefix; all of them are joined to the camera (t = 1), which the power
+//! Light subpaths: in a scene with delta surfaces (caustics), each camera sample traces
+//! [`LIGHT_PATHS`] of them ([`light_paths_for`]), otherwise one. The first is joined to every
+//! camera-subpath prefix; all of them are joined to the camera (t = 1), which the power
 //! heuristic then counts as that many samples (see [`LIGHT_PATHS`]).
 
 pub mod fluorescent_mis;
@@ -62,7 +63,7 @@ use crate::film::spectral::SpectralBins;
 use crate::film::spectral_film::{LaneEnergies, SpectralFilm};
 use crate::film::{Rejection, Sensor, SplatFilm};
 use crate::light::{LightFlags, LightSampleContext};
-use crate::material::TransportMode;
+use crate::material::{MaterialFlags, TransportMode};
 use crate::scene::Scene;
 use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths, LANES};
 use fluorescent_mis::mis_weight_lanes;
@@ -121,8 +122,9 @@ pub struct Bdpt {
     pub strategy_images: bool,
     /// Also accumulate a spectral image at these nodes.
     pub spectral: Option<SpectralBins>,
-    /// Light subpaths per camera sample: the first is joined to every camera-subpath prefix,
-    /// every one to the camera (t = 1, see [`LIGHT_PATHS`]).
+    /// Light subpaths per camera sample in scenes with delta surfaces ([`light_paths_for`]):
+    /// the first is joined to every camera-subpath prefix, every one to the camera (t = 1, see
+    /// [`LIGHT_PATHS`]).
     pub light_paths: u32,
 }
 
@@ -144,6 +146,29 @@ pub struct Bdpt {
 /// sphere: 2.4× the efficiency of 1) without costing the regions the camera strategies make
 /// more than a factor the light paths partly give back there.
 pub const LIGHT_PATHS: u32 = 4;
+
+/// Light subpaths per camera sample that `bdpt` traces in `scene`: `light_paths` when some
+/// non-emissive surface scatters by a delta lobe (smooth glass, mirrors, coatings), else 1.
+///
+/// Why: the paths only light tracing makes well are those whose first camera-side vertex is
+/// diffuse and whose light side reaches it through delta vertices (`L S+ D E`, caustics seen
+/// directly); without delta surfaces every light-subpath vertex can be joined to the camera
+/// subpath, the t ≥ 2 strategies make the same paths as t = 1 at comparable densities, and
+/// extra light subpaths cost more than they give (measured: docs/performance.md, "BDPT and
+/// its own strategies": the Cornell box with 4 light subpaths, 2.2× the instructions per
+/// sample for 1.4–1.7× less variance). A scene without such surfaces renders exactly as with
+/// one light subpath.
+pub fn light_paths_for(scene: &Scene, light_paths: u32) -> u32 {
+    let caustics = (0..scene.geometry.object_count() as u32).any(|o| {
+        let f = scene.objects.material(o).flags();
+        f.is_specular() && !f.contains(MaterialFlags::EMISSIVE)
+    });
+    if caustics {
+        light_paths.max(1)
+    } else {
+        1
+    }
+}
 
 /// One strategy's unweighted contribution and where it goes.
 #[derive(Clone, Copy, Debug)]
@@ -492,6 +517,10 @@ fn render_bdpt(
         .map_err(RenderError::Setup)?;
     let camera = cam.camera.as_ref();
     let (width, height) = camera.resolution();
+    let bdpt = &Bdpt {
+        light_paths: light_paths_for(scene, bdpt.light_paths),
+        ..*bdpt
+    };
     let sensor = Sensor::new(scene.observer.clone());
     let mixture = plan.mixture();
     let pair = PairWavelengths::new(plan, scene, settings.tracer.wavelengths);
