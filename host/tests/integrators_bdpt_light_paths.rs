@@ -104,7 +104,7 @@ fn more_light_paths_per_camera_sample_make_the_caustic_core_cheaper() {
         rays_n as f64 / rays_1 as f64,
         (mean_n - mean_1) / se
     );
-    assert!(LIGHT_PATHS > 1, "the default traces one light subpath");
+    const { assert!(LIGHT_PATHS > 1, "the default traces one light subpath") };
     assert!(rays_n > rays_1, "the extra light subpaths trace no rays");
     assert!(
         ratio > 2.0,
