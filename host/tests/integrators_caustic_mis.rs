@@ -232,7 +232,7 @@ fn weights_through_the_ball_match_brute_force_densities() {
         if !through_ball {
             continue;
         }
-        let w = mis_weight(&scene, camera, &[], &path, None, 0, 5, &lambda);
+        let w = mis_weight(&scene, camera, &[], &path, None, 0, 5, &lambda, 1);
         let (xf, gf, gl, xl) = (dv(path[1].p), dv(path[2].p), dv(path[3].p), dv(path[4].p));
         // The independent trace must find this very path.
         let end = chain_end(xf, (gf - xf).normalize(), LAMP_Y).unwrap();
@@ -281,7 +281,7 @@ fn weights_through_the_ball_match_brute_force_densities() {
         else {
             continue;
         };
-        let w = mis_weight(&scene, camera, &path, &[], Some(&cam), 4, 1, &lambda);
+        let w = mis_weight(&scene, camera, &path, &[], Some(&cam), 4, 1, &lambda, 1);
         let (xl, gl, gf, xf) = (dv(path[0].p), dv(path[1].p), dv(path[2].p), dv(path[3].p));
         let end = chain_end(xl, (gl - xl).normalize(), 0.0).unwrap();
         assert!(
@@ -323,12 +323,14 @@ fn core_pixels() -> impl Iterator<Item = usize> {
 /// Quantity: per-pixel variance of luminance Y in the core at 32 spp, BDPT over light tracing,
 /// each estimated from two seeds' images ((A − B)²/2 averaged over the 72 pixels). Light
 /// tracing is the good strategy here, and BDPT with right weights gives it nearly the whole
-/// core: measured ratio 0.75–1.0 (four seed pairs: 0.79 for the pair used here); with zero
+/// core: measured ratio 0.75–1.0 with one light subpath per camera sample (four seed pairs:
+/// 0.79 for the pair used here), 0.24 with the default four (`bdpt::LIGHT_PATHS`); with zero
 /// densities at the specular vertices 20–24 (23.7 here; the core went to `s = 0`, whose samples
 /// are rare and large). Limit 2: the
 /// ratio of two 72-pixel variance estimates scatters by about ±30% (heavier tails than
 /// Gaussian), and 2 is still ten times below the failure. Also: the `s = 0` strategies' share
-/// of the core's value below 20% (measured 4.6%; 99.9% without the fix), and the two means within
+/// of the core's value below 20% (measured 4.6% with one light subpath, 0.3% with four; 99.9%
+/// without the fix), and the two means within
 /// 4 standard errors of each other (no bias between the estimators).
 #[test]
 fn bdpt_matches_light_tracing_in_the_caustic_core() {

@@ -27,6 +27,11 @@
 //! |-------------|----------|---------|------------------------------------------------------|
 //! | `max_depth` | bounces  | 64      | longest full path (`s + t − 2`), `--max-depth`       |
 //! | `rr_depth`  | vertices | 3       | subpath length from which Russian roulette may stop  |
+//!
+//! Light subpaths: in a scene with delta surfaces (caustics), each camera sample traces
+//! [`LIGHT_PATHS`] of them ([`light_paths_for`]), otherwise one. The first is joined to every
+//! camera-subpath prefix; all of them are joined to the camera (t = 1), which the power
+//! heuristic then counts as that many samples (see [`LIGHT_PATHS`]).
 
 pub mod fluorescent_mis;
 pub mod mis;
@@ -58,7 +63,7 @@ use crate::film::spectral::SpectralBins;
 use crate::film::spectral_film::{LaneEnergies, SpectralFilm};
 use crate::film::{Rejection, Sensor, SplatFilm};
 use crate::light::{LightFlags, LightSampleContext};
-use crate::material::TransportMode;
+use crate::material::{MaterialFlags, TransportMode};
 use crate::scene::Scene;
 use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths, LANES};
 use fluorescent_mis::mis_weight_lanes;
@@ -98,6 +103,7 @@ pub const REGISTRATION: Registration = Registration {
             rr_depth: settings.tracer.rr_depth,
             strategy_images: options.strategy_images,
             spectral: options.spectral,
+            light_paths: LIGHT_PATHS,
         }))
     },
 };
@@ -116,6 +122,54 @@ pub struct Bdpt {
     pub strategy_images: bool,
     /// Also accumulate a spectral image at these nodes.
     pub spectral: Option<SpectralBins>,
+    /// Light subpaths per camera sample in scenes with delta surfaces ([`light_paths_for`]):
+    /// the first is joined to every camera-subpath prefix, every one to the camera (t = 1, see
+    /// [`LIGHT_PATHS`]).
+    pub light_paths: u32,
+}
+
+/// Light subpaths traced per camera sample (see [`Bdpt::light_paths`]).
+///
+/// Why more than one: a camera sample of BDPT (camera subpath, its connections, the
+/// specular-chain strategies) costs several light paths of `lt` (callgrind: 4.0× on
+/// `scenes/bench/glass_sphere_mesh.ron`, 2.8× on the Cornell box), while a caustic seen on a
+/// diffuse surface is made by the light-tracing strategy alone: with one light subpath per
+/// camera sample, BDPT's efficiency in that caustic's core was 0.22× that of `lt`. Each
+/// further light subpath is joined to the camera only (t = 1), the cheap part of a light
+/// path's use, and the power heuristic counts the t = 1 strategy `light_paths` times (Veach
+/// 1997, §9.2: the heuristic over `nᵢ·pᵢ`; [`mis::heuristic_scale`]) while each t = 1
+/// contribution is divided by `light_paths`: the estimate stays unbiased and the images
+/// deterministic (the subpaths draw from the camera sample's own sequence).
+///
+/// Why 4 (docs/performance.md, "BDPT and its own strategies": instruction counts and
+/// variances per region): it raises BDPT's efficiency in the caustic cores of the glass
+/// sphere and the spectral caustic 2.4× and 2.6×, and costs the lamp images seen in the
+/// glass 1.6–1.7×, where BDPT stays 3.5× or more ahead of path tracing. Other counts were
+/// not compared: the core's gain is bounded by the camera sample's own cost, which stays,
+/// and the other regions pay for every subpath.
+pub const LIGHT_PATHS: u32 = 4;
+
+/// Light subpaths per camera sample that `bdpt` traces in `scene`: `light_paths` when some
+/// non-emissive surface scatters by a delta lobe (smooth glass, mirrors, coatings), else 1.
+///
+/// Why: the paths only light tracing makes well are those whose first camera-side vertex is
+/// diffuse and whose light side reaches it through delta vertices (`L S+ D E`, caustics seen
+/// directly); without delta surfaces every light-subpath vertex can be joined to the camera
+/// subpath, the t ≥ 2 strategies make the same paths as t = 1 at comparable densities, and
+/// extra light subpaths cost more than they give (measured: docs/performance.md, "BDPT and
+/// its own strategies": the Cornell box with 4 light subpaths, 2.2× the instructions per
+/// sample for 1.4–1.7× less variance). A scene without such surfaces renders exactly as with
+/// one light subpath.
+pub fn light_paths_for(scene: &Scene, light_paths: u32) -> u32 {
+    let caustics = (0..scene.geometry.object_count() as u32).any(|o| {
+        let f = scene.objects.material(o).flags();
+        f.is_specular() && !f.contains(MaterialFlags::EMISSIVE)
+    });
+    if caustics {
+        light_paths.max(1)
+    } else {
+        1
+    }
 }
 
 /// One strategy's unweighted contribution and where it goes.
@@ -149,6 +203,7 @@ pub fn connect(
     t: usize,
     lambda: &SampledWavelengths,
     mode: Option<&LightMode>,
+    light_paths: u32,
     rng: &mut SampleRng,
     stats: &mut PathStats,
 ) -> Option<Connection> {
@@ -163,6 +218,7 @@ pub fn connect(
             (s, t),
             lambda,
             mode,
+            light_paths,
             rng,
             stats,
         )
@@ -175,6 +231,7 @@ pub fn connect(
             (s, t),
             lambda,
             None,
+            light_paths,
             rng,
             stats,
         )
@@ -191,6 +248,7 @@ fn connect_in<const FLUORESCENT: bool>(
     (s, t): (usize, usize),
     lambda: &SampledWavelengths,
     mode: Option<&LightMode>,
+    light_paths: u32,
     rng: &mut SampleRng,
     stats: &mut PathStats,
 ) -> Option<Connection> {
@@ -329,6 +387,7 @@ fn connect_in<const FLUORESCENT: bool>(
             (0..LANES)
                 .filter(|&k| l[k] != 0.0)
                 .fold(LaneMask::NONE, |acc, k| acc.with(k)),
+            light_paths,
         )
     } else {
         SampledSpectrum::splat(mis_weight(
@@ -340,8 +399,13 @@ fn connect_in<const FLUORESCENT: bool>(
             s,
             t,
             lambda,
+            light_paths,
         ))
     };
+    if t == 1 && light_paths > 1 {
+        // One of `light_paths` samples of the light-tracing strategy.
+        l *= 1.0 / light_paths as f32;
+    }
     let mut lanes = camera_path[t - 1].lanes;
     if s > 0 && s <= light_path.len() {
         lanes = lanes.intersect(light_path[s - 1].lanes);
@@ -455,6 +519,10 @@ fn render_bdpt(
         .map_err(RenderError::Setup)?;
     let camera = cam.camera.as_ref();
     let (width, height) = camera.resolution();
+    let bdpt = &Bdpt {
+        light_paths: light_paths_for(scene, bdpt.light_paths),
+        ..*bdpt
+    };
     let sensor = Sensor::new(scene.observer.clone());
     let mixture = plan.mixture();
     let pair = PairWavelengths::new(plan, scene, settings.tracer.wavelengths);
@@ -647,10 +715,15 @@ impl Bdpt {
             &mut worker.stats,
         );
         if let LightStart::Beams { index, pmf } = start {
+            let inv = 1.0 / self.light_paths as f64;
             let mut splat = |raster: Vec2, xyz: [f64; 3], e: &dyn Fn() -> LaneEnergies| {
+                // One of `light_paths` light subpaths of this camera sample.
+                let xyz = xyz.map(|v| v * inv);
                 Self::record_splat(splats, strategies, pixel_max, raster, xyz, None);
                 if let Some(sf) = spectral {
-                    sf.splat(raster.x, raster.y, &xyz, &e());
+                    let mut e = e();
+                    e.e = e.e.map(|v| v * inv);
+                    sf.splat(raster.x, raster.y, &xyz, &e);
                 }
             };
             trace_beam(
@@ -697,6 +770,7 @@ impl Bdpt {
                     t,
                     &lambda,
                     mode.as_ref(),
+                    self.light_paths,
                     rng,
                     &mut worker.stats,
                 ) else {
@@ -911,6 +985,95 @@ impl Bdpt {
                     }
                 },
             );
+        }
+        for _ in 1..self.light_paths {
+            // The further light subpaths of this camera sample: light tracing only (t = 1).
+            let u_start = (ld.next_1d(), ld.next_2d(), ld.next_2d());
+            let (start, mode) = self.light_subpath(
+                scene,
+                mixture,
+                &lambda,
+                u_start,
+                rng,
+                &mut light_path,
+                &mut worker.stats,
+            );
+            if let LightStart::Beams { index, pmf } = start {
+                let inv = 1.0 / self.light_paths as f64;
+                let mut splat = |raster: Vec2, xyz: [f64; 3], e: &dyn Fn() -> LaneEnergies| {
+                    let xyz = xyz.map(|v| v * inv);
+                    Self::record_splat(splats, strategies, pixel_max, raster, xyz, None);
+                    if let Some(sf) = spectral {
+                        let mut e = e();
+                        e.e = e.e.map(|v| v * inv);
+                        sf.splat(raster.x, raster.y, &xyz, &e);
+                    }
+                };
+                trace_beam(
+                    scene,
+                    camera,
+                    sensor,
+                    index,
+                    pmf,
+                    self.max_depth,
+                    self.rr_depth,
+                    rng,
+                    &mut worker.stats,
+                    &mut splat,
+                );
+            }
+            if let Some(fc) = flat {
+                fc.prefix(&light_path, &mut worker.light_flat);
+            }
+            for s in 1..=light_path.len().min(max_depth + 1) {
+                let Some(c) = connect(
+                    scene,
+                    camera,
+                    mixture,
+                    &light_path,
+                    &camera_path,
+                    s,
+                    1,
+                    &lambda,
+                    mode.as_ref(),
+                    self.light_paths,
+                    rng,
+                    &mut worker.stats,
+                ) else {
+                    continue;
+                };
+                let Some(r) = c.raster else { continue };
+                let shifted_weights;
+                let w = match (&mode, light_path.get(s - 1)) {
+                    (Some(m), Some(q)) => {
+                        shifted_weights = XyzWeights::new(sensor, &t1_wavelengths(m, q));
+                        &shifted_weights
+                    }
+                    _ => &weights,
+                };
+                let xyz = connection_xyz(
+                    flat,
+                    (&worker.camera_flat, &worker.light_flat),
+                    s,
+                    1,
+                    &c,
+                    w,
+                    &lambda,
+                );
+                if let Some(kind) = check_sample(&xyz) {
+                    splats.reject(Rejection {
+                        x,
+                        y,
+                        strategy: format!("bdpt s={s} t=1"),
+                        kind,
+                    });
+                    continue;
+                }
+                Self::record_splat(splats, strategies, pixel_max, r, xyz, Some((s, 1)));
+                if let Some(sf) = spectral {
+                    sf.splat(r.x, r.y, &xyz, &w.energies(&(c.l * c.weight), c.lanes));
+                }
+            }
         }
         worker.camera_path = camera_path;
         worker.light_path = light_path;

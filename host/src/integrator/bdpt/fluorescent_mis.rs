@@ -73,6 +73,7 @@ pub fn mis_weight_lanes(
     lambda: &SampledWavelengths,
     mode: &LightMode,
     need: LaneMask,
+    light_paths: u32,
 ) -> SampledSpectrum {
     let o = mis_weight_overrides(
         scene,
@@ -317,11 +318,12 @@ pub fn mis_weight_lanes(
                 for &m in modes {
                     let d = density(sp, m);
                     if d > 0.0 {
-                        sum += ratio * sq(d / own_density) * heuristic_scale(tp) as f64;
+                        sum +=
+                            ratio * sq(d / own_density) * heuristic_scale(tp, light_paths) as f64;
                     }
                 }
             }
-            let w = heuristic_scale(t) as f64 / sum;
+            let w = heuristic_scale(t, light_paths) as f64 / sum;
             out[k] = if w.is_finite() { w as f32 } else { 0.0 };
         }
         out
@@ -683,6 +685,7 @@ mod tests {
                         &pair,
                         &mode,
                         LaneMask::ALL,
+                        1,
                     );
                     if t == 1 {
                         if let Some(w0) = t1_weight {

@@ -103,6 +103,7 @@ pub fn mis_weight(
     s: usize,
     t: usize,
     lambda: &SampledWavelengths,
+    light_paths: u32,
 ) -> f32 {
     // The same overrides as [`mis_weight_overrides`], written out here on purpose: calling it
     // (even `#[inline(always)]`, moving the `Overrides` with its two vertex copies) costs
@@ -176,14 +177,14 @@ pub fn mis_weight(
     };
     let sq = |x: f32| x * x;
     // Strategies' squared densities relative to this one's, each times its heuristic scale.
-    let own_scale = heuristic_scale(t);
+    let own_scale = heuristic_scale(t, light_paths);
     let mut sum = 0.0f32;
     let mut ri = 1.0f32;
     for i in (1..t).rev() {
         let (fwd, rev, delta) = cam(i);
         ri *= sq(remap0(rev) / remap0(fwd));
         if !delta && !cam(i - 1).2 {
-            sum += ri * heuristic_scale(i) / own_scale;
+            sum += ri * heuristic_scale(i, light_paths) / own_scale;
         }
     }
     ri = 1.0;
@@ -233,10 +234,14 @@ pub fn mis_weight(
 pub const LIGHT_TRACING_MIS_SCALE: f32 = 0.25;
 
 /// The factor of a strategy's squared density in the power heuristic, by its camera vertex
-/// count `t` (see [`LIGHT_TRACING_MIS_SCALE`]).
-pub fn heuristic_scale(t: usize) -> f32 {
+/// count `t`, when each camera sample traces `light_paths` light subpaths for the light-tracing
+/// strategy (t = 1): the square of its sample count (Veach 1997, §9.2.1: the power heuristic
+/// over `n_i p_i`) times that of [`LIGHT_TRACING_MIS_SCALE`]. The other strategies take one
+/// sample per camera sample.
+pub fn heuristic_scale(t: usize, light_paths: u32) -> f32 {
     if t == 1 {
-        LIGHT_TRACING_MIS_SCALE * LIGHT_TRACING_MIS_SCALE
+        let c = LIGHT_TRACING_MIS_SCALE * light_paths.max(1) as f32;
+        c * c
     } else {
         1.0
     }
