@@ -147,8 +147,8 @@ fn spectral_exr_texture() {
 }
 
 /// Bad textures are errors naming the file and the problem: missing, not an image, truncated,
-/// a PNG header claiming 100000 × 100000 pixels, an unknown filter, a texture where one
-/// spectrum is needed (an emitter's radiance), a reflectance scale above 1.
+/// a PNG header claiming 100000 × 100000 pixels, an unknown filter, a textured emitter given
+/// one luminance (which of its texels would it fix?), a reflectance scale above 1.
 #[test]
 fn bad_textures_are_errors() {
     let dir = temp_dir("bad");
@@ -176,13 +176,13 @@ fn bad_textures_are_errors() {
         assert!(err.contains(want), "{refl}: {err}");
     }
     let emitter = r#"(
-        materials: [(name: "glow", type: "emissive", params: (radiance: (texture: "ok.png"), scale: 1))],
+        materials: [(name: "glow", type: "emissive", params: (radiance: (texture: "ok.png"), luminance_cd_m2: 100))],
         objects: [(name: "q", type: "quad", material: "glow",
                    params: (corner: (0, 0, 0), edge0: (1, 0, 0), edge1: (0, 1, 0)))],
         cameras: [(name: "c", type: "pinhole", params: (position: (0, 0, 3), look_at: (0, 0, 0), resolution: (4, 4)))],
     )"#;
     let Err(err) = scene(&dir, emitter) else {
-        panic!("expected an error")
+        panic!("a textured emitter given a luminance: expected an error")
     };
     assert!(err.contains("texture"), "{err}");
 }
