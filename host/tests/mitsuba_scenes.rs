@@ -45,9 +45,10 @@ fn exr_mean(path: &Path) -> [f64; 3] {
 /// saturated texels; docs/mitsuba-import.md, "Compared against Mitsuba 3"); noise adds little:
 /// Mitsuba's own 256-spp means at this size (seeds 1 and 2) lie within 0.13% of its 4096-spp
 /// mean, and ours, with as many samples, scatter alike, so 0.5% on top of the 1% is over 3σ
-/// of both. What it catches: an sRGB texture read as linear (wood texels 2–4× darker), a
-/// missing or doubled `scale` (×3), an environment map mirrored or unrotated (the bright
-/// windows then light the plane from elsewhere: several %), a lost texture (constant 0.5).
+/// of both. What it catches: an sRGB texture read as linear (mid-tone texels twice too
+/// bright), a missing `scale` (÷3), a lost texture (a constant 0.5 in place of the darker
+/// wood); a mirrored or unrotated map changes which windows light the scene (its effect on the
+/// mean is not measured here).
 /// A texture upside down on this object hardly moves the mean: that is checked per pixel by
 /// `mesh_uvs_follow_mitsubas_image_orientation` and in the docs' region RMSE.
 #[test]
@@ -84,9 +85,7 @@ fn textured_env_lit_scene_matches_mitsuba_3() {
     let res = render(&scene, &settings, &|_, _| {}, None).unwrap();
     assert_eq!(res.image.non_finite_count(), 0);
     let ours = SRGB.xyz_to_rgb(res.image.mean_xyz());
-    let want = exr_mean(
-        &scene_dir().join("../../reference/textured_flatplane_80x60_mitsuba.exr"),
-    );
+    let want = exr_mean(&scene_dir().join("../../reference/textured_flatplane_80x60_mitsuba.exr"));
     for c in 0..3 {
         let ratio = ours[c] / want[c];
         assert!(

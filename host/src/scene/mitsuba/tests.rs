@@ -491,14 +491,18 @@ fn checkerboard_mean_and_resource_path() {
     std::fs::create_dir_all(dir.join("common/textures")).unwrap();
     std::fs::create_dir_all(dir.join("docs/scenes")).unwrap();
     std::fs::write(dir.join("common/textures/wood.png"), b"not read").unwrap();
-    std::fs::write(dir.join("docs/scenes/s.xml"), r#"<scene version="3.0.0"><path value="../../common"/>
+    std::fs::write(
+        dir.join("docs/scenes/s.xml"),
+        r#"<scene version="3.0.0"><path value="../../common"/>
 <shape type="sphere" id="a"><bsdf type="diffuse"><texture type="bitmap" name="reflectance">
 <string name="filename" value="textures/wood.png"/></texture></bsdf></shape>
 <shape type="sphere" id="b"><bsdf type="diffuse"><texture type="checkerboard" name="reflectance">
 <rgb name="color0" value="0.2"/><rgb name="color1" value="0.4"/></texture></bsdf></shape>
 <shape type="sphere" id="c"><bsdf type="diffuse"><texture type="checkerboard" name="reflectance">
 <rgb name="color0" value="0.2, 0.4, 0.6"/><rgb name="color1" value="0.4"/></texture></bsdf></shape>
-</scene>"#).unwrap();
+</scene>"#,
+    )
+    .unwrap();
     let c = convert_file(&dir.join("docs/scenes/s.xml"), &[]).unwrap();
     let refl = |i: usize| get(&c.desc.materials[i].params, "reflectance").clone();
     let tex = refl(0);
@@ -514,11 +518,24 @@ fn checkerboard_mean_and_resource_path() {
         panic!()
     };
     let rgb: Vec<f64> = rgb.iter().map(f).collect();
-    assert!((rgb[0] - 0.3).abs() < 1e-12 && (rgb[1] - 0.4).abs() < 1e-12 && (rgb[2] - 0.5).abs() < 1e-12);
+    assert!(
+        (rgb[0] - 0.3).abs() < 1e-12
+            && (rgb[1] - 0.4).abs() < 1e-12
+            && (rgb[2] - 0.5).abs() < 1e-12
+    );
     // A missing folder is an error naming it.
-    std::fs::write(dir.join("docs/scenes/bad.xml"), r#"<scene version="3.0.0"><path value="nowhere"/></scene>"#).unwrap();
-    let e = convert_file(&dir.join("docs/scenes/bad.xml"), &[]).unwrap_err().to_string();
-    assert!(e.contains("folder not found") && e.contains("nowhere"), "{e}");
+    std::fs::write(
+        dir.join("docs/scenes/bad.xml"),
+        r#"<scene version="3.0.0"><path value="nowhere"/></scene>"#,
+    )
+    .unwrap();
+    let e = convert_file(&dir.join("docs/scenes/bad.xml"), &[])
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("folder not found") && e.contains("nowhere"),
+        "{e}"
+    );
 }
 
 // Shapes: rectangle → quad with normal +z (swapped edges when flipped), cube → 12 outward
