@@ -286,9 +286,9 @@ mod tests {
                 assert!(!e.is_empty());
             }
         }
-        let e = parse_serialized(&bytes, 0)
-            .err()
-            .expect("mesh 0's offset is outside the file");
+        let Err(e) = parse_serialized(&bytes, 0) else {
+            panic!("mesh 0's offset is outside the file")
+        };
         assert!(e.contains("outside the file"), "{e}");
     }
 
