@@ -4,6 +4,7 @@
 //! | parameter | unit | default | meaning                                      |
 //! |-----------|------|---------|----------------------------------------------|
 //! | `file`    | —    | —       | the mesh file, relative to the scene file    |
+//! | `flip_v`  | —    | false   | texture coordinate v read as 1 − v (for files written with v = 0 at the image's top row, as Mitsuba reads PLY files) |
 
 use crate::builtin::{from_value, Build, BuiltinType};
 use crate::geometry::{load_obj, load_ply, Shape};
@@ -17,15 +18,19 @@ pub const OBJ: BuiltinType = BuiltinType {
     aliases: &[],
     version: 1,
     description: "triangle mesh from a Wavefront OBJ file",
-    params: &[Param::required(
-        "file",
-        "",
-        "OBJ file, relative to the scene file",
-    )],
+    params: &[
+        Param::required("file", "", "OBJ file, relative to the scene file"),
+        Param::optional(
+            "flip_v",
+            "",
+            "false",
+            "texture coordinate v read as 1 − v (uvs written with v = 0 at the image's top row)",
+        ),
+    ],
     build: Build::Shape(|v, ctx| {
         let p: MeshFileParams = from_value(v)?;
         load_obj(&ctx.resolve(&p.file))
-            .map(Shape::Mesh)
+            .map(|m| Shape::Mesh(p.apply(m)))
             .map_err(|e| FactoryError::Param(e.to_string()))
     }),
     state: None,
@@ -37,15 +42,19 @@ pub const PLY: BuiltinType = BuiltinType {
     aliases: &[],
     version: 1,
     description: "triangle mesh from a PLY file (ASCII or binary)",
-    params: &[Param::required(
-        "file",
-        "",
-        "PLY file, relative to the scene file",
-    )],
+    params: &[
+        Param::required("file", "", "PLY file, relative to the scene file"),
+        Param::optional(
+            "flip_v",
+            "",
+            "false",
+            "texture coordinate v read as 1 − v (uvs written with v = 0 at the image's top row)",
+        ),
+    ],
     build: Build::Shape(|v, ctx| {
         let p: MeshFileParams = from_value(v)?;
         load_ply(&ctx.resolve(&p.file))
-            .map(Shape::Mesh)
+            .map(|m| Shape::Mesh(p.apply(m)))
             .map_err(|e| FactoryError::Param(e.to_string()))
     }),
     state: None,
@@ -57,4 +66,21 @@ pub const PLY: BuiltinType = BuiltinType {
 pub struct MeshFileParams {
     /// The file.
     pub file: String,
+    /// Texture coordinate v read as 1 − v.
+    #[serde(default)]
+    pub flip_v: bool,
+}
+
+impl MeshFileParams {
+    /// The mesh with its texture coordinates flipped in v when asked.
+    fn apply(&self, mut m: crate::geometry::TriangleMesh) -> crate::geometry::TriangleMesh {
+        if self.flip_v {
+            if let Some(uvs) = &mut m.uvs {
+                for t in uvs {
+                    t.y = 1.0 - t.y;
+                }
+            }
+        }
+        m
+    }
 }

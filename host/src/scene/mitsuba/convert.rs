@@ -54,6 +54,24 @@ fn table(t: &[(f64, f64)]) -> Value {
 }
 
 /// Numbers in a Mitsuba attribute: separated by commas and/or white space.
+/// The RGB triple of a converted reflectance: a number (grey) or `(rgb: [r, g, b])`.
+fn rgb_of(v: &Value) -> Option<[f64; 3]> {
+    let n = |v: &Value| match v {
+        Value::Number(x) => Some(x.into_f64()),
+        _ => None,
+    };
+    match v {
+        Value::Number(_) => n(v).map(|g| [g; 3]),
+        Value::Map(m) if m.len() == 1 => match m.iter().next() {
+            Some((Value::String(k), Value::Seq(s))) if k == "rgb" && s.len() == 3 => {
+                Some([n(&s[0])?, n(&s[1])?, n(&s[2])?])
+            }
+            _ => None,
+        },
+        _ => None,
+    }
+}
+
 pub fn numbers(s: &str) -> Option<Vec<f64>> {
     s.split(|c: char| c == ',' || c.is_whitespace())
         .filter(|t| !t.is_empty())
@@ -362,6 +380,8 @@ struct Note {
 
 struct Converter<'a> {
     dir: PathBuf,
+    /// Folders from `<path value>` elements, the last one first (Mitsuba prepends them).
+    search: Vec<PathBuf>,
     ids: HashMap<&'a str, &'a Element>,
     desc: SceneDescription,
     notes: BTreeMap<String, Note>,
@@ -415,23 +435,28 @@ impl<'a> Converter<'a> {
             .ok_or_else(|| r.error(format!("no element has id \"{id}\"")))
     }
 
-    /// A file named in the scene: relative to the element's file, else to the main scene's
-    /// directory (Mitsuba's resolver); returned relative to the main directory when inside it.
+    /// A file named in the scene: relative to the element's file, else to the `<path>` folders
+    /// (the last declared first), else to the main scene's directory (Mitsuba's resolver);
+    /// returned relative to the main directory when inside it.
     fn file(&self, el: &Element, name: &str) -> Result<String, SceneError> {
         let here = el.file.parent().unwrap_or(Path::new("."));
-        let mut p = here.join(name);
-        if !p.exists() {
-            let alt = self.dir.join(name);
-            if alt.exists() {
-                p = alt;
-            } else {
-                return Err(el.error(format!(
-                    "file not found: {} (nor {})",
-                    p.display(),
-                    alt.display()
-                )));
-            }
-        }
+        let first = here.join(name);
+        let candidates = std::iter::once(first.clone())
+            .chain(self.search.iter().map(|d| d.join(name)))
+            .chain(std::iter::once(self.dir.join(name)));
+        let Some(p) = candidates.into_iter().find(|c| c.exists()) else {
+            let tried: Vec<String> = self
+                .search
+                .iter()
+                .chain(std::iter::once(&self.dir))
+                .map(|d| d.join(name).display().to_string())
+                .collect();
+            return Err(el.error(format!(
+                "file not found: {} (nor {})",
+                first.display(),
+                tried.join(", ")
+            )));
+        };
         Ok(match p.strip_prefix(&self.dir) {
             Ok(rel) => rel.to_string_lossy().into_owned(),
             Err(_) => p.to_string_lossy().into_owned(),
@@ -522,8 +547,12 @@ impl<'a> Converter<'a> {
                             item,
                         );
                     }
-                    entries.push(("uv_scale", seq(vec![num(m.x_axis.x), num(m.y_axis.y)])));
-                    entries.push(("uv_offset", seq(vec![num(m.w_axis.x), num(m.w_axis.y)])));
+                    // Mitsuba: row from the top = s_v·v + o_v, with v flipped on loading
+                    // as above; spectrace: row from the top = 1 − (s_v·v' + o_v') with
+                    // v' = 1 − v, so o_v' = 1 − s_v − o_v (s_v unchanged).
+                    let (sv, ov) = (m.y_axis.y, m.w_axis.y);
+                    entries.push(("uv_scale", seq(vec![num(m.x_axis.x), num(sv)])));
+                    entries.push(("uv_offset", seq(vec![num(m.w_axis.x), num(1.0 - sv - ov)])));
                 }
                 if let Some(w) = p.string("wrap_mode") {
                     if w != "repeat" {
@@ -535,13 +564,32 @@ impl<'a> Converter<'a> {
             }
             "checkerboard" => {
                 let a = self.reflectance(&p, "color0", 0.4, item)?;
-                let _ = self.reflectance(&p, "color1", 0.2, item)?;
-                self.note(
-                    "texture checkerboard",
-                    "not supported: its color0 is used as a constant",
-                    item,
-                );
-                Ok(a)
+                let b = self.reflectance(&p, "color1", 0.2, item)?;
+                // The two colours cover equal areas: their mean keeps the surface's mean
+                // reflectance (what an image's mean depends on) where color0 alone would not.
+                match (rgb_of(&a), rgb_of(&b)) {
+                    (Some(x), Some(y)) => {
+                        self.note(
+                            "texture checkerboard",
+                            "not supported: the mean of color0 and color1 is used as a constant",
+                            item,
+                        );
+                        let m: Vec<Value> = (0..3).map(|i| num(0.5 * (x[i] + y[i]))).collect();
+                        Ok(if m[0] == m[1] && m[1] == m[2] {
+                            m[0].clone()
+                        } else {
+                            map(vec![("rgb", seq(m))])
+                        })
+                    }
+                    _ => {
+                        self.note(
+                            "texture checkerboard",
+                            "not supported: its color0 is used as a constant (color1 is a spectrum or texture)",
+                            item,
+                        );
+                        Ok(a)
+                    }
+                }
             }
             other => {
                 self.note(
@@ -1116,11 +1164,17 @@ impl<'a> Converter<'a> {
                 if p.bool("face_normals")?.unwrap_or(false) {
                     self.note("shape face_normals", "the file's vertex normals are used anyway (spectrace interpolates them when the file has them)", &base);
                 }
-                if kind == "obj" {
-                    let _ = p.get("flip_tex_coords");
-                }
+                // Mitsuba's bitmap puts v = 0 at the image's top row and reads a file's uvs as
+                // stored, except OBJ's, which it flips (`flip_tex_coords`, default true);
+                // spectrace puts v = 0 at the bottom row. So a PLY, or an OBJ read unflipped,
+                // gets `flip_v`.
+                let flip_v = kind == "ply" || !p.bool("flip_tex_coords")?.unwrap_or(true);
                 mesh_flip_note = flip;
-                (kind.to_string(), map(vec![("file", text(&f))]))
+                let mut entries = vec![("file", text(&f))];
+                if flip_v {
+                    entries.push(("flip_v", Value::Bool(true)));
+                }
+                (kind.to_string(), map(entries))
             }
             "serialized" => {
                 let f = p
@@ -1142,6 +1196,13 @@ impl<'a> Converter<'a> {
                 let s = super::serialized::parse_serialized(&bytes, index as usize)
                     .map_err(|e| el.error(format!("{}: {e}", full.display())))?;
                 let mut mesh = s.mesh;
+                // Mitsuba reads serialized uvs with v = 0 at the image's top row; spectrace's
+                // v = 0 is the bottom row.
+                if let Some(uvs) = &mut mesh.uvs {
+                    for t in uvs {
+                        t.y = 1.0 - t.y;
+                    }
+                }
                 if p.bool("face_normals")?.unwrap_or(false) {
                     mesh.normals = None;
                 }
@@ -1978,8 +2039,17 @@ pub fn convert_tree(root: &Element, dir: &Path) -> Result<Conversion, SceneError
         Ok(())
     }
     collect(root, &mut ids)?;
+    // `<path>` folders anywhere at scene level (includes are already expanded), last first.
+    let search: Vec<PathBuf> = root
+        .children
+        .iter()
+        .rev()
+        .filter(|c| c.tag == "path")
+        .filter_map(|c| c.attr("value").map(PathBuf::from))
+        .collect();
     let mut cv = Converter {
         dir: dir.to_path_buf(),
+        search,
         ids,
         desc: SceneDescription {
             units: Some("m".into()),
@@ -2026,7 +2096,7 @@ pub fn convert_tree(root: &Element, dir: &Path) -> Result<Conversion, SceneError
                     );
                 }
             }
-            "texture" | "spectrum" | "rgb" | "float" => {}
+            "texture" | "spectrum" | "rgb" | "float" | "path" => {}
             "medium" | "phase" | "volume" => cv.note(
                 "media",
                 "participating media are not supported: dropped",

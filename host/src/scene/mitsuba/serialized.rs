@@ -79,7 +79,9 @@ fn mesh_offset(bytes: &[u8], index: usize) -> Result<usize, String> {
         u32_at(bytes, table + index * 4).map(|v| v as usize)
     }
     .ok_or("truncated mesh table")?;
-    if off + 4 > table {
+    // `off` is the file's word: up to 2^64 − 1, so no `off + 4` (it overflowed, found by the
+    // `mitsuba_serialized` fuzz target).
+    if off > table || table - off < 4 {
         return Err(format!("mesh {index}'s offset {off} lies outside the file"));
     }
     Ok(off)
@@ -266,6 +268,29 @@ pub fn write_serialized(mesh: &TriangleMesh, name: &str) -> Vec<u8> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Regression (fuzz target `mitsuba_serialized`, 2026-12-07): a one-mesh table whose offset
+    /// is 0xffff_ffff_ffff_fffc made `off + 4` overflow (a panic with overflow checks on, as in
+    /// debug builds; a wrapped comparison otherwise). Now an error naming the offset.
+    #[test]
+    fn offset_near_u64_max_is_an_error() {
+        let bytes = [
+            0x1c, 0x04, 0x04, 0x00, 0x78, 0x9c, 0x63, 0x16, 0x60, 0x60, 0x28, 0x2e, 0x2c, 0x4d,
+            0x4c, 0x95, 0x8d, 0xc6, 0xc7, 0xa7, 0x96, 0x58, 0x36, 0x2e, 0xb9, 0x10, 0x9a, 0x11,
+            0xc9, 0x3d, 0x20, 0x9a, 0x19, 0x88, 0x01, 0xed, 0xa9, 0x0a, 0xc1, 0x00, 0x00, 0x00,
+            0x00, 0x14, 0x19, 0x88, 0x01, 0xed, 0xa9, 0x0a, 0xc1, 0xfc, 0xff, 0xff, 0xff, 0xff,
+            0xff, 0xff, 0xff, 0x01, 0x00, 0x00, 0x00,
+        ];
+        for index in 0..2 {
+            if let Err(e) = parse_serialized(&bytes, index) {
+                assert!(!e.is_empty());
+            }
+        }
+        let Err(e) = parse_serialized(&bytes, 0) else {
+            panic!("mesh 0's offset is outside the file")
+        };
+        assert!(e.contains("outside the file"), "{e}");
+    }
 
     fn quad() -> TriangleMesh {
         TriangleMesh {

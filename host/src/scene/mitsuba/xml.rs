@@ -288,6 +288,22 @@ impl Reader {
                 }
                 return Ok(());
             }
+            "path" => {
+                // Mitsuba 3's `<path value="…"/>`: a folder added to the file resolver, relative
+                // to the file that names it. Kept in the tree, made absolute, for the converter.
+                let Some(value) = here.attr("value") else {
+                    return Err(here.error("needs `value` (a folder)"));
+                };
+                let dir = file.parent().unwrap_or(Path::new(".")).join(value);
+                if !dir.is_dir() {
+                    return Err(here.error(format!("folder not found: {}", dir.display())));
+                }
+                let mut here = here;
+                let v = dir.to_string_lossy().into_owned();
+                here.attrs = vec![("value".into(), v)];
+                out.push(here);
+                return Ok(());
+            }
             "include" => {
                 let Some(name) = here.attr("filename") else {
                     return Err(here.error("needs `filename`"));

@@ -1,0 +1,98 @@
+//! A public Mitsuba 3 scene with an image texture and an environment map, imported and rendered
+//! by spectrace, against Mitsuba 3's own render of the same files.
+//!
+//! Scene: `scenes/mitsuba/mitsuba-data/docs/scenes/bsdf_diffuse_textured-flatplane.xml`, Mitsuba
+//! 3's material-preview object with the `wood.jpg` bitmap texture, lit only by the `museum.exr`
+//! environment map (rotated by its `to_world`, `scale` 3), the plane's checkerboard replaced by
+//! its mean 0.3 in the file (spectrace's importer makes a checkerboard its mean; the flat plane
+//! keeps that approximation out of this check; sources and licence in `scenes/mitsuba/README.md`).
+//!
+//! Reference: `scenes/mitsuba/mitsuba-data/reference/textured_flatplane_80x60_mitsuba.exr`,
+//! Mitsuba 3.9.1 `llvm_ad_spectral`, 4096 spp, 80 × 60, made with
+//! `python scripts/mitsuba_import/compare.py render bsdf_diffuse_textured-flatplane.xml
+//! OUT.exr --spp 4096 --seed 7 --size 80 60 --threads 2` in that folder.
+
+use spectrace::color::SRGB;
+use spectrace::integrator::{render, PathTracer, RenderSettings, SampleBudget};
+use spectrace::scene::{build_scene, BuiltinFactory};
+use spectrace::texture::image_file::{decode, LoadedImage};
+use std::path::Path;
+
+fn scene_dir() -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/mitsuba/mitsuba-data/docs/scenes")
+}
+
+/// Per-channel mean linear sRGB of an EXR.
+fn exr_mean(path: &Path) -> [f64; 3] {
+    let bytes = std::fs::read(path).unwrap();
+    let (img, _) = decode(&bytes, None, 1 << 28).unwrap();
+    let LoadedImage::Rgb(img) = img else {
+        panic!("{}: not an RGB image", path.display())
+    };
+    let mut m = [0.0f64; 3];
+    for p in &img.pixels {
+        for c in 0..3 {
+            m[c] += p[c] as f64;
+        }
+    }
+    m.map(|v| v / img.pixels.len() as f64)
+}
+
+/// Quantity: the image's per-channel mean linear sRGB (80 × 60, path tracer, 256 spp, seed 1)
+/// against Mitsuba 3's 4096-spp render of the same file. Tolerance: 1.5% per channel. Why: the
+/// known difference is the environment light's colour, R −0.9%, G 0.0%, B +0.9% on long
+/// renders of this scene at 160 × 120 (the two renderers' RGB → spectrum uplifts of the map's
+/// saturated texels; docs/mitsuba-import.md, "Compared against Mitsuba 3"); noise adds little:
+/// Mitsuba's own 256-spp means at this size (seeds 1 and 2) lie within 0.13% of its 4096-spp
+/// mean, and ours, with as many samples, scatter alike, so 0.5% on top of the 1% is over 3σ
+/// of both. What it catches: an sRGB texture read as linear (mid-tone texels twice too
+/// bright), a missing `scale` (÷3), a lost texture (a constant 0.5 in place of the darker
+/// wood); a mirrored or unrotated map changes which windows light the scene (its effect on the
+/// mean is not measured here).
+/// A texture upside down on this object hardly moves the mean: that is checked per pixel by
+/// `mesh_uvs_follow_mitsubas_image_orientation` and in the docs' region RMSE.
+#[test]
+fn textured_env_lit_scene_matches_mitsuba_3() {
+    let file = scene_dir().join("bsdf_diffuse_textured-flatplane.xml");
+    let conv = spectrace::scene::mitsuba::convert_file(&file, &[]).unwrap();
+    let mut desc = conv.desc;
+    if let ron::Value::Map(m) = &mut desc.cameras[0].params {
+        m.insert(
+            ron::Value::String("resolution".into()),
+            ron::Value::Seq(vec![
+                ron::Value::Number(ron::Number::from(80i64)),
+                ron::Value::Number(ron::Number::from(60i64)),
+            ]),
+        );
+    }
+    let scene = build_scene(
+        &desc,
+        &scene_dir(),
+        Path::new("textured"),
+        &[&BuiltinFactory],
+    )
+    .unwrap();
+    let settings = RenderSettings {
+        budget: SampleBudget::Spp(256),
+        seed: 1,
+        threads: Some(2),
+        tracer: PathTracer {
+            max_depth: scene.options.max_depth,
+            ..PathTracer::default()
+        },
+        ..RenderSettings::default()
+    };
+    let res = render(&scene, &settings, &|_, _| {}, None).unwrap();
+    assert_eq!(res.image.non_finite_count(), 0);
+    let ours = SRGB.xyz_to_rgb(res.image.mean_xyz());
+    let want = exr_mean(&scene_dir().join("../../reference/textured_flatplane_80x60_mitsuba.exr"));
+    for c in 0..3 {
+        let ratio = ours[c] / want[c];
+        assert!(
+            (ratio - 1.0).abs() < 0.015,
+            "channel {c}: spectrace {:?} vs Mitsuba {:?} (ratio {ratio:.4})",
+            ours,
+            want
+        );
+    }
+}
