@@ -122,9 +122,39 @@ pub fn parse_params<P: DeserializeOwned>(type_name: &str, text: &str) -> PluginR
         ron::Value::Unit => ron::Value::Map(ron::Map::new()),
         v => v,
     };
-    value
-        .into_rust()
-        .map_err(|e| PluginError::invalid_parameter(format!("{type_name}: parameters: {e}")))
+    match value.clone().into_rust() {
+        Ok(p) => Ok(p),
+        // Scene files give an optional parameter bare (`roughness: 0.3` for an `Option<f64>`),
+        // which serde's reading of a `ron::Value` refuses ("expected option"); read again
+        // from struct syntax with RON's implicit-`Some` extension before giving up.
+        Err(e) => implicit_some(&value)
+            .ok_or_else(|| PluginError::invalid_parameter(format!("{type_name}: parameters: {e}"))),
+    }
+}
+
+/// `value` (a map of parameter names) read as a struct with RON's `implicit_some` extension.
+fn implicit_some<P: DeserializeOwned>(value: &ron::Value) -> Option<P> {
+    let ron::Value::Map(map) = value else {
+        return None;
+    };
+    let mut text = String::from("(");
+    for (key, v) in map.iter() {
+        let ron::Value::String(key) = key else {
+            return None;
+        };
+        if key.is_empty() || !key.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
+            return None;
+        }
+        text.push_str(key);
+        text.push_str(": ");
+        text.push_str(&ron::to_string(v).ok()?);
+        text.push_str(", ");
+    }
+    text.push(')');
+    ron::Options::default()
+        .with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME)
+        .from_str(&text)
+        .ok()
 }
 
 /// Encode parameters as saved state (bincode, standard config).
@@ -351,4 +381,36 @@ macro_rules! __plugin_create_fn {
             })
         }
     };
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_params;
+    use serde::Deserialize;
+
+    #[derive(Deserialize, Debug, PartialEq)]
+    #[serde(deny_unknown_fields)]
+    struct P {
+        metal: String,
+        #[serde(default)]
+        roughness: Option<f64>,
+    }
+
+    /// An optional parameter given bare, as scene files write it (and as the host passes a
+    /// scene's parameters: map syntax), reads as `Some`; absent, as `None`; `Some(..)` still
+    /// works; a wrong type or an unknown name is still an error naming the type.
+    #[test]
+    fn optional_parameters_are_given_bare() {
+        let p: P = parse_params("t", r#"{"metal": "gold", "roughness": 0.3}"#).unwrap();
+        assert_eq!(p.roughness, Some(0.3));
+        let p: P = parse_params("t", r#"(metal: "gold", roughness: 0.3)"#).unwrap();
+        assert_eq!(p.roughness, Some(0.3));
+        let p: P = parse_params("t", r#"(metal: "gold", roughness: Some(0.5))"#).unwrap();
+        assert_eq!(p.roughness, Some(0.5));
+        let p: P = parse_params("t", r#"(metal: "gold")"#).unwrap();
+        assert_eq!(p.roughness, None);
+        let e = parse_params::<P>("t", r#"(metal: "gold", roughness: "rough")"#).unwrap_err();
+        assert!(e.to_string().contains("t: parameters"), "{e}");
+        assert!(parse_params::<P>("t", r#"(metal: "gold", colour: 1)"#).is_err());
+    }
 }
