@@ -545,6 +545,18 @@ pub fn run(args: &LuminaireArgs) -> Result<(), String> {
     }
     let lum = load_luminaire(path).map_err(|e| e.to_string())?;
     let file = path.display().to_string();
+    warn_about(&lum, &file);
+    if args.json {
+        println!("{}", report_json(&lum, &file, &args.at));
+        return Ok(());
+    }
+    print_report(&lum, &file, &args.at);
+    Ok(())
+}
+
+/// Warnings a reader of `file` should see: the reader's own, a table of zeros, a luminaire
+/// giving more than its lamps' flux.
+fn warn_about(lum: &Luminaire, file: &str) {
     for w in &lum.warnings {
         eprintln!("warning: {file}: {w}");
     }
@@ -561,10 +573,11 @@ pub fn run(args: &LuminaireArgs) -> Result<(), String> {
             );
         }
     }
-    if args.json {
-        println!("{}", report_json(&lum, &file, &args.at));
-        return Ok(());
-    }
+}
+
+/// The luminaire's summary as text; `at`: extra (h, v) directions, degrees.
+fn print_report(lum: &Luminaire, file: &str, at: &[(f64, f64)]) {
+    let flux = lum.flux_lm();
     println!("file              {file}");
     println!("format            {}", lum.format.name());
     println!("photometric type  {}", type_name(lum.photometric_type));
@@ -613,8 +626,7 @@ pub fn run(args: &LuminaireArgs) -> Result<(), String> {
         println!("rated lamp flux   none (absolute photometry)");
     }
     println!("max intensity     {:.2} cd", lum.max_cd());
-    for &(h, v) in &args.at {
+    for &(h, v) in at {
         println!("cd at h={h} v={v}  {:.3}", lum.candela_at(h, v));
     }
-    Ok(())
 }

@@ -54,54 +54,9 @@ fn toml_path(p: &Path) -> String {
 /// Write the crate; the error names what is wrong.
 pub fn run(args: &NewArgs) -> Result<(), String> {
     let name = args.name.as_str();
-    let valid = name.chars().next().is_some_and(|c| c.is_ascii_lowercase())
-        && name
-            .chars()
-            .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '-' || c == '_');
-    if !valid {
-        return Err(format!(
-            "plugin name `{name}`: use lower-case letters, digits, `-` and `_`, starting with a letter"
-        ));
-    }
+    check_name(name)?;
     let ident = name.replace('-', "_");
-    let (api, kit) = match (&args.api_version, &args.api_path) {
-        (Some(v), _) => (
-            format!("spectrace-plugin-api = \"{v}\""),
-            format!("spectrace-plugin-kit = \"{v}\""),
-        ),
-        (None, path) => {
-            let tree = match path {
-                Some(p) => p.clone(),
-                None => own_tree().ok_or_else(|| {
-                    "the spectrace source tree this binary was built from is gone: give \
-                     --api-path DIR (a spectrace checkout) or --api-version 0.2"
-                        .to_string()
-                })?,
-            };
-            let tree = tree
-                .canonicalize()
-                .map_err(|e| format!("--api-path {}: {e}", tree.display()))?;
-            if !tree.join("plugin-api/Cargo.toml").is_file() {
-                return Err(format!(
-                    "--api-path {}: no plugin-api/Cargo.toml there (give a spectrace checkout)",
-                    tree.display()
-                ));
-            }
-            (
-                format!(
-                    "# This spectrace tree's API; to build against the published crate instead:\n\
-                     # spectrace-plugin-api = \"0.2\"\n\
-                     spectrace-plugin-api = {{ path = {} }}",
-                    toml_path(&tree.join("plugin-api"))
-                ),
-                format!(
-                    "# The conformance kit; published: spectrace-plugin-kit = \"0.2\"\n\
-                     spectrace-plugin-kit = {{ path = {} }}",
-                    toml_path(&tree.join("plugin-kit"))
-                ),
-            )
-        }
-    };
+    let (api, kit) = dependency_lines(args)?;
     let (source, rust_type, check) = match args.kind.as_str() {
         "light" => (LIGHT, "PointLight", "check_light"),
         "material" => (MATERIAL, "Diffuse", "check_material"),
@@ -129,17 +84,10 @@ pub fn run(args: &NewArgs) -> Result<(), String> {
             root.display()
         ));
     }
-    let write = |rel: &str, text: String| -> Result<(), String> {
-        let path = root.join(rel);
-        if let Some(parent) = path.parent() {
-            std::fs::create_dir_all(parent).map_err(|e| format!("{}: {e}", parent.display()))?;
-        }
-        std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))
-    };
-    write("Cargo.toml", fill(CARGO_TOML))?;
-    write("src/lib.rs", fill(source))?;
-    write("tests/conformance.rs", fill(CONFORMANCE))?;
-    write(".gitignore", "/target\n".into())?;
+    write_file(&root, "Cargo.toml", fill(CARGO_TOML))?;
+    write_file(&root, "src/lib.rs", fill(source))?;
+    write_file(&root, "tests/conformance.rs", fill(CONFORMANCE))?;
+    write_file(&root, ".gitignore", "/target\n".into())?;
     println!(
         "wrote {} ({} `{ident}`): build with `cargo build --release`, test with `cargo test`, \
          check the library with `spectrace plugins check {}`",
@@ -154,4 +102,69 @@ pub fn run(args: &NewArgs) -> Result<(), String> {
             .display()
     );
     Ok(())
+}
+
+/// A crate name cargo and the loader both accept.
+fn check_name(name: &str) -> Result<(), String> {
+    let valid = name.chars().next().is_some_and(|c| c.is_ascii_lowercase())
+        && name
+            .chars()
+            .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '-' || c == '_');
+    if valid {
+        Ok(())
+    } else {
+        Err(format!(
+            "plugin name `{name}`: use lower-case letters, digits, `-` and `_`, starting with a letter"
+        ))
+    }
+}
+
+/// The `Cargo.toml` lines of the API and the kit: the published version, or a spectrace tree by
+/// path (`--api-path`, else the tree this binary was built from).
+fn dependency_lines(args: &NewArgs) -> Result<(String, String), String> {
+    if let Some(v) = &args.api_version {
+        return Ok((
+            format!("spectrace-plugin-api = \"{v}\""),
+            format!("spectrace-plugin-kit = \"{v}\""),
+        ));
+    }
+    let tree = match &args.api_path {
+        Some(p) => p.clone(),
+        None => own_tree().ok_or_else(|| {
+            "the spectrace source tree this binary was built from is gone: give \
+             --api-path DIR (a spectrace checkout) or --api-version 0.2"
+                .to_string()
+        })?,
+    };
+    let tree = tree
+        .canonicalize()
+        .map_err(|e| format!("--api-path {}: {e}", tree.display()))?;
+    if !tree.join("plugin-api/Cargo.toml").is_file() {
+        return Err(format!(
+            "--api-path {}: no plugin-api/Cargo.toml there (give a spectrace checkout)",
+            tree.display()
+        ));
+    }
+    Ok((
+        format!(
+            "# This spectrace tree's API; to build against the published crate instead:\n\
+             # spectrace-plugin-api = \"0.2\"\n\
+             spectrace-plugin-api = {{ path = {} }}",
+            toml_path(&tree.join("plugin-api"))
+        ),
+        format!(
+            "# The conformance kit; published: spectrace-plugin-kit = \"0.2\"\n\
+             spectrace-plugin-kit = {{ path = {} }}",
+            toml_path(&tree.join("plugin-kit"))
+        ),
+    ))
+}
+
+/// Write `rel` under the new crate's `root`, making its folders.
+fn write_file(root: &std::path::Path, rel: &str, text: String) -> Result<(), String> {
+    let path = root.join(rel);
+    if let Some(parent) = path.parent() {
+        std::fs::create_dir_all(parent).map_err(|e| format!("{}: {e}", parent.display()))?;
+    }
+    std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))
 }

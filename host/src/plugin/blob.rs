@@ -539,6 +539,22 @@ impl Blob {
     }
 }
 
+/// `v` with every string longer than 256 characters cut to its first 64 and a count (embedded
+/// data, such as a ray file's base64, is not for reading on a terminal).
+fn shortened(v: ron::Value) -> ron::Value {
+    use ron::Value;
+    match v {
+        Value::String(s) if s.chars().count() > 256 => {
+            let head: String = s.chars().take(64).collect();
+            Value::String(format!("{head}… ({} characters in all)", s.chars().count()))
+        }
+        Value::Seq(items) => Value::Seq(items.into_iter().map(shortened).collect()),
+        Value::Option(Some(inner)) => Value::Option(Some(Box::new(shortened(*inner)))),
+        Value::Map(m) => Value::Map(m.into_iter().map(|(k, v)| (k, shortened(v))).collect()),
+        other => other,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -598,21 +614,5 @@ mod tests {
             Blob::decode(&bytes),
             Err(BlobError::PayloadBeyondFile { declared: 1000, .. })
         ));
-    }
-}
-
-/// `v` with every string longer than 256 characters cut to its first 64 and a count (embedded
-/// data, such as a ray file's base64, is not for reading on a terminal).
-fn shortened(v: ron::Value) -> ron::Value {
-    use ron::Value;
-    match v {
-        Value::String(s) if s.chars().count() > 256 => {
-            let head: String = s.chars().take(64).collect();
-            Value::String(format!("{head}… ({} characters in all)", s.chars().count()))
-        }
-        Value::Seq(items) => Value::Seq(items.into_iter().map(shortened).collect()),
-        Value::Option(Some(inner)) => Value::Option(Some(Box::new(shortened(*inner)))),
-        Value::Map(m) => Value::Map(m.into_iter().map(|(k, v)| (k, shortened(v))).collect()),
-        other => other,
     }
 }
