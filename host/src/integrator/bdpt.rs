@@ -714,10 +714,11 @@ impl Bdpt {
             &mut light_path,
             &mut worker.stats,
         );
-        if let LightStart::Beams { index, pmf } = start {
+        // A beams-only light's subpath, one of `light_paths` of this camera sample: light
+        // tracing alone, each splat weighted 1/light_paths.
+        let trace_beams = |index: usize, pmf: f32, rng: &mut _, stats: &mut _| {
             let inv = 1.0 / self.light_paths as f64;
             let mut splat = |raster: Vec2, xyz: [f64; 3], e: &dyn Fn() -> LaneEnergies| {
-                // One of `light_paths` light subpaths of this camera sample.
                 let xyz = xyz.map(|v| v * inv);
                 Self::record_splat(splats, strategies, pixel_max, raster, xyz, None);
                 if let Some(sf) = spectral {
@@ -735,9 +736,12 @@ impl Bdpt {
                 self.max_depth,
                 self.rr_depth,
                 rng,
-                &mut worker.stats,
+                stats,
                 &mut splat,
             );
+        };
+        if let LightStart::Beams { index, pmf } = start {
+            trace_beams(index, pmf, rng, &mut worker.stats);
         }
         if let Some(fc) = flat {
             fc.prefix(&camera_path, &mut worker.camera_flat);
@@ -999,28 +1003,7 @@ impl Bdpt {
                 &mut worker.stats,
             );
             if let LightStart::Beams { index, pmf } = start {
-                let inv = 1.0 / self.light_paths as f64;
-                let mut splat = |raster: Vec2, xyz: [f64; 3], e: &dyn Fn() -> LaneEnergies| {
-                    let xyz = xyz.map(|v| v * inv);
-                    Self::record_splat(splats, strategies, pixel_max, raster, xyz, None);
-                    if let Some(sf) = spectral {
-                        let mut e = e();
-                        e.e = e.e.map(|v| v * inv);
-                        sf.splat(raster.x, raster.y, &xyz, &e);
-                    }
-                };
-                trace_beam(
-                    scene,
-                    camera,
-                    sensor,
-                    index,
-                    pmf,
-                    self.max_depth,
-                    self.rr_depth,
-                    rng,
-                    &mut worker.stats,
-                    &mut splat,
-                );
+                trace_beams(index, pmf, rng, &mut worker.stats);
             }
             if let Some(fc) = flat {
                 fc.prefix(&light_path, &mut worker.light_flat);
