@@ -11,7 +11,8 @@
 //! | `roughness` | unitless | —             | perceptual roughness r, α = r²                   |
 //! | `alpha`     | unitless | `0.1`         | GGX α directly (wins over `roughness`)           |
 //!
-//! One-sided: light arriving from below the shading normal is absorbed. With α < 1e-3 the
+//! Two-sided, like a metal sheet: from below the shading normal the same lobe is mirrored
+//! through the surface (directions with their z negated). With α < 1e-3 the
 //! surface is a perfect mirror (a SPECULAR event of weight F/cos θ, density 1); otherwise a
 //! GLOSSY lobe f = F(wo·m) D(m) G2(wo, wi) / (4 cos θo cos θi), m the half vector, sampled from
 //! the normals visible from `wo`: pdf = D_wo(m) / (4 |wo·m|).
@@ -158,6 +159,16 @@ impl Conductor {
         self.fresnel(wo.dot(m), lambda).map(|f| f * s)
     }
 
+    /// `wo` and `wi` turned to the side `wo` is on (z negated for both when `wo` is below).
+    #[inline]
+    fn to_upper(wo: Vec4f, wi: Vec4f) -> (Vec4f, Vec4f) {
+        if wo.z < 0.0 {
+            (flip_z(wo), flip_z(wi))
+        } else {
+            (wo, wi)
+        }
+    }
+
     /// The unit half vector of `wo` and `wi` when both are above the surface on a rough lobe.
     #[inline]
     fn half(&self, wo: Vec4f, wi: Vec4f) -> Option<Vec4f> {
@@ -194,20 +205,22 @@ impl Material for Conductor {
         out: &mut Scatter,
     ) -> PluginResult<bool> {
         let wo = xyz(wo);
-        if wo.z <= 0.0 {
+        if wo.z == 0.0 {
             return Ok(false);
         }
         if self.ggx.smooth() {
             let wi = Vec4f::new(-wo.x, -wo.y, wo.z);
             *out = Scatter {
                 wi,
-                value: self.fresnel(wi.z, lambda).map(|f| f / wi.z),
+                value: self.fresnel(wi.z, lambda).map(|f| f / wi.z.abs()),
                 pdf: 1.0,
                 flags: material_flags::SPECULAR,
                 eta: 1.0,
             };
             return Ok(true);
         }
+        let below = wo.z < 0.0;
+        let wo = if below { flip_z(wo) } else { wo };
         let m = self.ggx.sample_visible(wo, [u[1], u[2]]);
         let wi = reflect(wo, m);
         if !(wo.z * wi.z > 0.0) {
@@ -219,7 +232,7 @@ impl Material for Conductor {
             return Ok(false);
         }
         *out = Scatter {
-            wi,
+            wi: if below { flip_z(wi) } else { wi },
             value: self.glossy(wo, wi, m, lambda),
             pdf,
             flags: material_flags::GLOSSY,
@@ -236,7 +249,7 @@ impl Material for Conductor {
         lambda: &Wavelengths,
         _mode: TransportMode,
     ) -> PluginResult<[f32; LANES]> {
-        let (wo, wi) = (xyz(wo), xyz(wi));
+        let (wo, wi) = Self::to_upper(xyz(wo), xyz(wi));
         Ok(match self.half(wo, wi) {
             Some(m) => self.glossy(wo, wi, m, lambda),
             None => [0.0; LANES],
@@ -251,10 +264,16 @@ impl Material for Conductor {
         _lambda: &Wavelengths,
         _mode: TransportMode,
     ) -> PluginResult<f32> {
-        let (wo, wi) = (xyz(wo), xyz(wi));
+        let (wo, wi) = Self::to_upper(xyz(wo), xyz(wi));
         Ok(match self.half(wo, wi) {
             Some(m) => self.ggx.d_visible(wo, m) / (4.0 * wo.dot(m).abs()),
             None => 0.0,
         })
     }
+}
+
+/// `w` mirrored through the surface (z negated).
+#[inline]
+fn flip_z(w: Vec4f) -> Vec4f {
+    Vec4f::new(w.x, w.y, -w.z)
 }
