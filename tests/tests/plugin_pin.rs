@@ -3,8 +3,8 @@
 //! with both hashes named, the plain path form keeps working, and the hash `spectrace plugins`
 //! prints is the file's SHA-256.
 
-use spectrace::scene_file::pin::sha256_hex;
 use spectrace::plugin::Registry;
+use spectrace::scene_file::pin::sha256_hex;
 use spectrace_tests::plugin_library;
 use std::path::PathBuf;
 

@@ -285,6 +285,7 @@ fn write_radiance_hdr(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::builtin::sensor::glare_observer::guth_position_index;
     use glam::DVec3;
     use std::f64::consts::FRAC_PI_2;
 
