@@ -169,7 +169,7 @@ fn every_kind_round_trips_through_a_moved_blob_without_its_sources() {
                     .chain(&desc.materials)
                     .find(|i| i.name == item)
                     .unwrap();
-                let v = spectrace::scene::params::Params::new(&owner.params)
+                let v = spectrace::scene_file::params::Params::new(&owner.params)
                     .get(param)
                     .unwrap()
                     .clone();

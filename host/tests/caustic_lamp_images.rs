@@ -11,8 +11,8 @@
 //! Run: `cargo test --release -p spectrace --test caustic_lamp_images` (about 15 s).
 
 use glam::DVec3;
-use spectrace::effects::{EffectsRequest, RenderPlan};
 use spectrace::integrator::select::render_planned;
+use spectrace::integrator::{EffectsRequest, RenderPlan};
 use spectrace::integrator::{IntegratorKind, PathTracer, RenderSettings, SampleBudget};
 use spectrace::scene::{build_scene, parse_scene_str, BuiltinFactory, Scene};
 use spectrace::spectrum::spd::Spd;

@@ -2,7 +2,8 @@
 //! for (exact sets: the analysis is deterministic), and `spectrace explain` runs on them.
 //! Run: `cargo test --release -p spectrace --test effects_explain`.
 
-use spectrace::effects::{analyze, Effect, RenderPlan};
+use spectrace::effects::{analyze, Effect};
+use spectrace::integrator::RenderPlan;
 use spectrace::scene::{load_scene_file_with, BuiltinFactory, RepresentationOptions};
 use std::path::PathBuf;
 

@@ -1,9 +1,9 @@
-//! The render plan (`effects::plan`): switching an effect off is the same render as a scene
+//! The render plan (`integrator::plan`): switching an effect off is the same render as a scene
 //! without it, and `--effects all` renders what `auto` renders where the scene has none of the
 //! switchable effects. Run: `cargo test --release -p spectrace --test effects_plan`.
 
-use spectrace::effects::{EffectsMode, EffectsRequest, RenderPlan};
 use spectrace::integrator::select::render_planned;
+use spectrace::integrator::{EffectsMode, EffectsRequest, RenderPlan};
 use spectrace::integrator::{IntegratorKind, PathTracer, RenderSettings, SampleBudget};
 use spectrace::scene::{build_scene, parse_scene_str, BuiltinFactory, Scene};
 use std::path::Path;

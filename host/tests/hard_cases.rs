@@ -4,10 +4,11 @@
 use glam::{Vec2, Vec3A};
 use spectrace::material::metals::ComplexIorTable;
 use spectrace::material::{
-    ConstantTexture, Lambertian, Material, Mirror, RoughConductor, RoughDielectric, ShadingContext,
+    Lambertian, Material, Mirror, RoughConductor, RoughDielectric, ShadingContext,
     SmoothDielectric, SpectralIor, TransportMode,
 };
 use spectrace::spectrum::SampledWavelengths;
+use spectrace::texture::ConstantTexture;
 use std::sync::Arc;
 
 /// Every built-in material, with GGX widths from 1e-8 (clamped inside to the smallest the
@@ -297,7 +298,7 @@ fn spd_inversion_on_hostile_tables() {
 /// and then moved by `shift` along (1, 1, 1), the camera moved with it, at `res`×`res` pixels.
 fn cornell_scaled(scale: f64, shift: f64, res: i64) -> spectrace::scene::Scene {
     use ron::Value;
-    use spectrace::scene::description::TransformStep;
+    use spectrace::scene_file::description::TransformStep;
     let mut desc = spectrace::scene::cornell_box_description().unwrap();
     // Its numbers read as metres (the file says millimetres): the scales below are then the
     // stored 32-bit coordinates' own magnitudes, which is what the limits are about.

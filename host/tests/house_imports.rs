@@ -3,12 +3,18 @@
 //! written inline in code), has no cycle between files, and no file imports the module that
 //! contains it (a `mod.rs` that re-exports its children is the usual way such a circle starts).
 //!
-//! Quantity: the number of strongly connected components with more than one file, and the number
-//! of imports of an enclosing module. Tolerance: zero for both; a count is exact, not sampled.
+//! The same holds one level up: between the crate's top-level modules (its floors), imports run
+//! only down the list [`HOST_FLOORS`], so the floors form no circle either; `plugin-api/src`,
+//! whose floors are its files, has no circle between them.
+//!
+//! Quantity: the number of strongly connected components with more than one file, the number
+//! of imports of an enclosing module, and the number of floor circles and imports from a floor
+//! to one at or above it. Tolerance: zero for each; a count is exact, not sampled.
 //! Test code (`#[cfg(test)]` modules and files) is left out: a test may reach anywhere.
 //!
 //! `cargo test --release -p spectrace --test house_imports -- --nocapture` prints every circle
-//! and every upward import it finds.
+//! and every upward import it finds, and the imports between the floors with the file imports
+//! behind any that runs up. `HOUSE_IMPORTS_SRC=DIR` measures another checkout's `host/src`.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -26,6 +32,10 @@ struct Graph {
     /// For each module, the names it re-exports and the paths they stand for.
     reexports: BTreeMap<Vec<String>, BTreeMap<String, Vec<String>>>,
     edges: BTreeMap<Vec<String>, BTreeSet<Vec<String>>>,
+    /// For each module, the modules its paths name before any re-export is followed
+    /// (`crate::scene::FactoryContext` names `scene` even when `scene` re-exports it from
+    /// elsewhere): a floor that writes a higher floor's path depends on it in the reader's eyes.
+    named: BTreeMap<Vec<String>, BTreeSet<Vec<String>>>,
 }
 
 /// `host/src`, or the tree named by `HOUSE_IMPORTS_SRC` (to measure another checkout).
@@ -475,8 +485,10 @@ fn graph(root: &Path) -> Graph {
         modules,
         reexports,
         edges: BTreeMap::new(),
+        named: BTreeMap::new(),
     };
     let mut edges: BTreeMap<Vec<String>, BTreeSet<Vec<String>>> = BTreeMap::new();
+    let mut named: BTreeMap<Vec<String>, BTreeSet<Vec<String>>> = BTreeMap::new();
     for (path, module) in &g.modules {
         let children: BTreeSet<String> = g
             .modules
@@ -485,15 +497,22 @@ fn graph(root: &Path) -> Graph {
             .map(|k| k.last().unwrap().clone())
             .collect();
         let out = edges.entry(path.clone()).or_default();
+        let names = named.entry(path.clone()).or_default();
         for p in paths_in(&module.code, &children) {
             if let Some(target) = resolve(path, &p, &g) {
                 if &target != path && !target.is_empty() {
                     out.insert(target);
                 }
             }
+            if let Some((module, _)) = resolve_module(path, &p, &g.modules) {
+                if &module != path && !module.is_empty() {
+                    names.insert(module);
+                }
+            }
         }
     }
     g.edges = edges;
+    g.named = named;
     g
 }
 
@@ -571,13 +590,15 @@ fn upward_imports(g: &Graph) -> Vec<(Vec<String>, Vec<String>)> {
 }
 
 /// The crate's top-level modules (its floors) and the imports between them: an import of
-/// `light::point` from `scene::builder` counts as `scene` → `light`. A circle here is an import
-/// that runs from a lower floor back up.
+/// `light::point` from `scene::builder` counts as `scene` → `light`, and so does a path that
+/// names a floor only to reach what it re-exports from another (`crate::scene::FactoryContext`
+/// counts for `scene` and for the floor that defines it). A circle here is an import that runs
+/// from a lower floor back up.
 fn floors(g: &Graph) -> Graph {
     let top = |p: &Vec<String>| p.iter().take(1).cloned().collect::<Vec<String>>();
     let mut modules = BTreeMap::new();
     let mut edges: BTreeMap<Vec<String>, BTreeSet<Vec<String>>> = BTreeMap::new();
-    for (from, tos) in &g.edges {
+    for (from, tos) in g.edges.iter().chain(&g.named) {
         let f = top(from);
         modules.entry(f.clone()).or_insert_with(|| Module {
             file: g.modules[from].file.clone(),
@@ -594,6 +615,7 @@ fn floors(g: &Graph) -> Graph {
         modules,
         reexports: BTreeMap::new(),
         edges,
+        named: BTreeMap::new(),
     }
 }
 
@@ -639,10 +661,113 @@ fn report(g: &Graph, circles: &[Vec<Vec<String>>], up: &[(Vec<String>, Vec<Strin
     }
 }
 
+/// The floors of `host/src`, lowest first: its top-level modules, each importing only from the
+/// floors before it in this list (what each holds: `docs/README.md`, "How the code is
+/// organised").
+///
+/// - base: `limits`, `spectrum`, `color`, `geometry`, `sampler` (random numbers), `film`;
+/// - objects: `texture` < `material` (a material evaluates textures) < `camera` < `photometry`
+///   (photometric data files) < `light` (including lights measured as instruments do);
+/// - `scene_file` (the file format and the `ObjectFactory` contract) < `builtin` (the built-in
+///   types and sensor items) < `scene` (the builder and the built scene);
+/// - `effects` (what a scene calls for) < `integrator` (the render plan and the integrators);
+/// - `plugin` (the plugin host and registry: it builds scene items through the factory contract
+///   and lists the integrators' types) < `analysis` < `sensor` (measurements that render) < `cli`.
+const HOST_FLOORS: [&str; 20] = [
+    "limits",
+    "spectrum",
+    "color",
+    "geometry",
+    "sampler",
+    "film",
+    "texture",
+    "material",
+    "camera",
+    "photometry",
+    "light",
+    "scene_file",
+    "builtin",
+    "scene",
+    "effects",
+    "integrator",
+    "plugin",
+    "analysis",
+    "sensor",
+    "cli",
+];
+
+/// The imports between the floors (top-level modules) of `g`, printed floor by floor, with every
+/// circle among them and the file imports behind each edge of a circle. Returns the problems:
+/// each circle, and with `order` (lowest floor first) each floor missing from it and each import
+/// from a floor to one at or above it.
+fn check_floors(g: &Graph, order: Option<&[&str]>) -> Vec<String> {
+    let fl = floors(g);
+    let mut problems = Vec::new();
+    for (from, tos) in &fl.edges {
+        let tos: Vec<String> = tos.iter().map(|t| name(t)).collect();
+        eprintln!("floor {} -> {}", name(from), tos.join(", "));
+    }
+    let behind = |m: &Vec<String>, t: &Vec<String>| {
+        let mut seen = BTreeSet::new();
+        for (from, tos) in g.edges.iter().chain(&g.named) {
+            for to in tos {
+                if from.first() == m.first()
+                    && to.first() == t.first()
+                    && seen.insert((from.clone(), to.clone()))
+                {
+                    eprintln!("          {} -> {}", name(from), name(to));
+                }
+            }
+        }
+    };
+    let fc = circles(&fl);
+    eprintln!(
+        "floor circles: {}",
+        if fc.is_empty() {
+            "none".to_string()
+        } else {
+            fc.len().to_string()
+        }
+    );
+    for c in &fc {
+        let names: Vec<String> = c.iter().map(|m| name(m)).collect();
+        eprintln!("  {}", names.join(" <-> "));
+        problems.push(format!("floors in a circle: {}", names.join(" <-> ")));
+        for m in c {
+            for t in fl.edges.get(m).into_iter().flatten() {
+                if c.contains(t) {
+                    eprintln!("      {} -> {}", name(m), name(t));
+                    behind(m, t);
+                }
+            }
+        }
+    }
+    if let Some(order) = order {
+        let rank = |f: &Vec<String>| order.iter().position(|o| f.first().is_some_and(|n| n == o));
+        for f in fl.modules.keys().filter(|f| !f.is_empty()) {
+            if rank(f).is_none() {
+                problems.push(format!("floor {} is not in the list of floors", name(f)));
+            }
+        }
+        for (from, tos) in &fl.edges {
+            for to in tos {
+                if let (Some(a), Some(b)) = (rank(from), rank(to)) {
+                    if b >= a {
+                        eprintln!("import up: {} -> {}", name(from), name(to));
+                        behind(from, to);
+                        problems.push(format!("import up: {} -> {}", name(from), name(to)));
+                    }
+                }
+            }
+        }
+    }
+    problems
+}
+
 /// No circle between the files of `host/src`, and no file importing a module that contains it
 /// (each folder's `mod.rs` only declares and re-exports; what its files share lives in a file
-/// of its own). The imports between the top-level modules (the crate's floors) are printed,
-/// with any circle among them, for the reader: that measure is not yet brought to zero.
+/// of its own). Between the top-level modules, the floors of [`HOST_FLOORS`], imports run only
+/// down: no circle, and no import from a floor to one above it.
 #[test]
 fn the_host_has_no_import_circles_and_no_upward_imports() {
     let g = graph(&host_src());
@@ -654,18 +779,7 @@ fn the_host_has_no_import_circles_and_no_upward_imports() {
     let c = circles(&g);
     let up = upward_imports(&g);
     report(&g, &c, &up);
-    let fl = floors(&g);
-    for c in circles(&fl) {
-        let names: Vec<String> = c.iter().map(|m| name(m)).collect();
-        eprintln!("floors in a circle: {}", names.join(" <-> "));
-        for m in &c {
-            for t in fl.edges.get(m).into_iter().flatten() {
-                if c.contains(t) {
-                    eprintln!("      {} -> {}", name(m), name(t));
-                }
-            }
-        }
-    }
+    let floor_problems = check_floors(&g, Some(&HOST_FLOORS));
     let found: Vec<String> = c
         .iter()
         .map(|m| m.iter().map(|p| name(p)).collect::<Vec<_>>().join(" "))
@@ -682,9 +796,15 @@ fn the_host_has_no_import_circles_and_no_upward_imports() {
         up.is_empty(),
         "imports of an enclosing module (move what the children share out of its mod.rs): {up:#?}"
     );
+    assert!(
+        floor_problems.is_empty(),
+        "imports between the floors of host/src that do not run down (run with --nocapture for \
+         the file imports behind each): {floor_problems:#?}"
+    );
 }
 
-/// The plugin API crate (`plugin-api/src`) read the same way: no circle, no upward import.
+/// The plugin API crate (`plugin-api/src`) read the same way: no circle, no upward import, no
+/// circle between its top-level modules.
 #[test]
 fn the_plugin_api_has_no_import_circles_and_no_upward_imports() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../plugin-api/src");
@@ -698,7 +818,12 @@ fn the_plugin_api_has_no_import_circles_and_no_upward_imports() {
     let c = circles(&g);
     let up = upward_imports(&g);
     report(&g, &c, &up);
+    let floor_problems = check_floors(&g, None);
     assert!(c.is_empty(), "import circles in plugin-api/src: {c:?}");
+    assert!(
+        floor_problems.is_empty(),
+        "circles between the top-level modules of plugin-api/src: {floor_problems:#?}"
+    );
     assert!(
         up.is_empty(),
         "imports of an enclosing module in plugin-api/src: {up:?}"
@@ -707,8 +832,9 @@ fn the_plugin_api_has_no_import_circles_and_no_upward_imports() {
 
 /// The reader finds what it should: a circle written on purpose in a small tree is reported
 /// (a `mod.rs` calling its child, the child calling a function of the `mod.rs`), an import of a
-/// re-exported name counts for the file that defines it, and paths in doc comments, in test
-/// modules and in re-exports are not imports.
+/// re-exported name counts for the file that defines it, paths in doc comments, in test
+/// modules and in re-exports are not imports, and an import against the order of the floors is
+/// reported.
 #[test]
 fn the_reader_sees_a_circle_and_an_upward_import() {
     let dir = std::env::temp_dir().join(format!("spectrace-house-imports-{}", std::process::id()));
@@ -740,4 +866,17 @@ fn the_reader_sees_a_circle_and_an_upward_import() {
     assert_eq!(up, vec![(s("a::x"), s("a"))]);
     assert_eq!(g.edges[&s("b")], BTreeSet::from([s("a::x")]));
     assert_eq!(g.edges[&s("c")], BTreeSet::from([s("a::x"), s("b")]));
+    // `crate::a::X` names `a` (which re-exports `X` from `a::x`): for the floors, `c` uses `a`.
+    assert_eq!(g.named[&s("c")], BTreeSet::from([s("a"), s("b")]));
+    // Floors a < b < c: every import runs down. Listed b < a < c, `b` imports a floor above it;
+    // a floor left out of the list is reported.
+    assert!(check_floors(&g, Some(&["a", "b", "c"])).is_empty());
+    assert_eq!(
+        check_floors(&g, Some(&["b", "a", "c"])),
+        vec!["import up: b -> a".to_string()]
+    );
+    assert_eq!(
+        check_floors(&g, Some(&["a", "b"])),
+        vec!["floor c is not in the list of floors".to_string()]
+    );
 }

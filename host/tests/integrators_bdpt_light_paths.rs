@@ -10,9 +10,9 @@
 //!
 //! Run: `cargo test --release -p spectrace --test integrators_bdpt_light_paths` (about 10 s).
 
-use spectrace::effects::{EffectsRequest, RenderPlan};
 use spectrace::integrator::bdpt::{light_paths_for, Bdpt, LIGHT_PATHS};
 use spectrace::integrator::driver::{Integrator, IntegratorOutput};
+use spectrace::integrator::{EffectsRequest, RenderPlan};
 use spectrace::integrator::{PathTracer, RenderSettings, SampleBudget};
 use spectrace::scene::{build_scene, parse_scene_str, BuiltinFactory, Scene};
 use std::path::Path;

@@ -20,7 +20,6 @@
 
 use glam::{DVec3, Vec2, Vec3A};
 use spectrace::camera::CameraSample;
-use spectrace::effects::{EffectsRequest, RenderPlan};
 use spectrace::integrator::bdpt::mis::{mis_weight, LIGHT_TRACING_MIS_SCALE};
 use spectrace::integrator::select::render_planned;
 use spectrace::integrator::subpath::camera_connection::connect_to_camera;
@@ -28,6 +27,7 @@ use spectrace::integrator::subpath::light_subpath::generate_light_subpath;
 use spectrace::integrator::subpath::random_walk::{generate_camera_subpath, WalkShift};
 use spectrace::integrator::subpath::vertex::{Vertex, VertexKind};
 use spectrace::integrator::wavelengths::mixture::WavelengthMixture;
+use spectrace::integrator::{EffectsRequest, RenderPlan};
 use spectrace::integrator::{
     IntegratorKind, PathStats, PathTracer, RenderSettings, SampleBudget, SampleRng,
 };

@@ -3,9 +3,9 @@
 //! independent estimators of the same image.
 //! Run: `cargo test --release -p spectrace --test integrators_manifold` (a few seconds).
 
-use spectrace::effects::{EffectsMode, EffectsRequest, RenderPlan, Switch};
 use spectrace::film::XyzImage;
 use spectrace::integrator::select::render_planned;
+use spectrace::integrator::{EffectsMode, EffectsRequest, RenderPlan, Switch};
 use spectrace::integrator::{IntegratorKind, PathTracer, RenderSettings, SampleBudget};
 use spectrace::scene::{build_scene, parse_scene_str, BuiltinFactory, Scene};
 use std::path::Path;

@@ -9,10 +9,10 @@ use spectrace::geometry::Ray;
 use spectrace::integrator::{
     render_with, IntegratorKind, PathTracer, RenderSettings, SampleBudget,
 };
+use spectrace::light::measure::goniometer::{measure, GoniometerSettings};
 use spectrace::light::{
     Light, LightFlags, LightLeSample, LightLiSample, LightSampleContext, LightSourceManager,
 };
-use spectrace::photometry::goniometer::{measure, GoniometerSettings};
 use spectrace::photometry::load_luminaire;
 use spectrace::scene::{build_scene, load_scene_file, parse_scene_str, BuiltinFactory, Scene};
 use spectrace::spectrum::{BuiltinSpd, SampledSpectrum, SampledWavelengths, Spd};

@@ -6,7 +6,7 @@
 //! binned by position (irradiance); both compared with what the renderer derives from the
 //! light: its beams, its near-field model's table, its sensor-grid lux.
 
-use spectrace::photometry::goniometer::{measure, GoniometerSettings};
+use spectrace::light::measure::goniometer::{measure, GoniometerSettings};
 use spectrace::scene::{build_scene, parse_scene_str, BuiltinFactory, Scene};
 use spectrace::sensor::{measure as measure_grid, Estimator, MeasureSettings};
 use std::path::{Path, PathBuf};
@@ -291,7 +291,7 @@ fn round_trip_light_to_rays_to_light_renders_the_same() {
         std::process::id()
     ));
     let mut bytes = Vec::new();
-    let summary = spectrace::photometry::tm25::export::export_light(
+    let summary = spectrace::light::measure::tm25_export::export_light(
         spot.lights.lights()[0].as_ref(),
         1_000_000,
         1,

@@ -7,10 +7,11 @@
 use glam::{Vec2, Vec3A};
 use spectrace::material::metals::ComplexIorTable;
 use spectrace::material::{
-    ConstantTexture, Lambertian, Material, Mirror, RoughConductor, RoughDielectric, ShadingContext,
+    Lambertian, Material, Mirror, RoughConductor, RoughDielectric, ShadingContext,
     SmoothDielectric, SpectralIor, TransportMode,
 };
 use spectrace::spectrum::SampledWavelengths;
+use spectrace::texture::ConstantTexture;
 use std::sync::Arc;
 
 /// A small deterministic 2D low-discrepancy sequence (R2, Roberts 2018) for stable estimates.

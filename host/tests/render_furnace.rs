@@ -10,11 +10,12 @@ use spectrace::geometry::{Geometry, Shape, ShapeDesc, Transform};
 use spectrace::integrator::{render, PathTracer, RenderSettings, SampleBudget};
 use spectrace::light::{AreaLight, Light, LightSourceManager};
 use spectrace::material::{
-    BsdfSample, ConstantTexture, EmissionProfile, Emissive, Lambertian, Material, MaterialFlags,
-    ShadingContext, TransportMode,
+    BsdfSample, EmissionProfile, Emissive, Lambertian, Material, MaterialFlags, ShadingContext,
+    TransportMode,
 };
 use spectrace::scene::{Scene, SceneObject, SceneObjectManager, SceneOptions};
 use spectrace::spectrum::{parse_spd_spec, SampledSpectrum, SampledWavelengths, Spd};
+use spectrace::texture::ConstantTexture;
 use std::sync::Arc;
 
 /// A wall that both reflects (Lambertian, albedo `a`) and emits (uniform radiance, two-sided).

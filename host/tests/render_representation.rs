@@ -12,11 +12,11 @@ use spectrace::color::{
     chromaticity, reflectance_xyz, CieObserverKind, Observer, ResampledObserver, SRGB,
 };
 use spectrace::integrator::{render, render_with, PathTracer, RenderSettings, SampleBudget};
-use spectrace::scene::representation::{step_value, uplift_of};
 use spectrace::scene::{
     build_scene_with, default_scene, default_scene_with, parse_scene_str, BuiltinFactory,
     ReflectanceSource, RepresentationOptions, Scene, SceneSource,
 };
+use spectrace::scene_file::representation::{step_value, uplift_of};
 use spectrace::spectrum::{Interpolation, Spd, SpectralCurve, TabulatedSpd};
 use std::path::Path;
 use std::time::Duration;

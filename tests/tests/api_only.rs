@@ -412,10 +412,10 @@ fn render(
         threads: Some(2),
         ..RenderSettings::default()
     };
-    let plan = spectrace::effects::RenderPlan::new(
+    let plan = spectrace::integrator::RenderPlan::new(
         &scene,
-        &spectrace::effects::EffectsRequest {
-            mode: spectrace::effects::EffectsMode::Auto,
+        &spectrace::integrator::EffectsRequest {
+            mode: spectrace::integrator::EffectsMode::Auto,
             forced: vec![],
         },
     );

@@ -1,10 +1,10 @@
-//! Pinned plugin libraries (`host/src/plugin/pin.rs`): a scene lists the libraries it needs,
+//! Pinned plugin libraries (`host/src/scene_file/pin.rs`): a scene lists the libraries it needs,
 //! by path or by path and SHA-256; a pinned library whose file hashes differently is refused
 //! with both hashes named, the plain path form keeps working, and the hash `spectrace plugins`
 //! prints is the file's SHA-256.
 
-use spectrace::plugin::pin::sha256_hex;
 use spectrace::plugin::Registry;
+use spectrace::scene_file::pin::sha256_hex;
 use spectrace_tests::plugin_library;
 use std::path::PathBuf;
 
@@ -89,7 +89,7 @@ fn a_pinned_library_loads_only_with_its_own_hash() {
 #[test]
 fn the_scene_format_accepts_both_forms() {
     let text = r#"(plugins: ["a.so", (path: "b.so", sha256: "00")])"#;
-    let d: spectrace::scene::description::SceneDescription = ron::from_str(text).unwrap();
+    let d: spectrace::scene_file::description::SceneDescription = ron::from_str(text).unwrap();
     assert_eq!(d.plugins.len(), 2);
     assert_eq!(d.plugins[1].path(), "b.so");
 }

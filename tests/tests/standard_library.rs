@@ -353,10 +353,10 @@ fn render_xyz(
     // `flat-path-colour` stays as `auto` decides: by their declared bits the library's types
     // declare spectral flatness and uniform emission shapes exactly where the built-ins do (see
     // `library_declares_flatness_where_the_builtins_do`), so both are estimated alike.
-    let plan = spectrace::effects::RenderPlan::new(
+    let plan = spectrace::integrator::RenderPlan::new(
         &scene,
-        &spectrace::effects::EffectsRequest {
-            mode: spectrace::effects::EffectsMode::Auto,
+        &spectrace::integrator::EffectsRequest {
+            mode: spectrace::integrator::EffectsMode::Auto,
             forced: vec![],
         },
     );

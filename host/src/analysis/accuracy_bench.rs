@@ -9,7 +9,8 @@ use super::{
     compare_images_excluding, specular_view_mask, AnalysisError, CompareOptions, RgbImage,
 };
 use crate::integrator::{render_with, IntegratorKind, PathTracer, RenderSettings, SampleBudget};
-use crate::scene::{ReflectanceSource, RepresentationOptions, Scene, SceneSource};
+use crate::scene::{Scene, SceneSource};
+use crate::scene_file::{ReflectanceSource, RepresentationOptions};
 use crate::spectrum::Interpolation;
 use std::time::{Duration, Instant};
 

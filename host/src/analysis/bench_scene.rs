@@ -24,7 +24,8 @@ use crate::builtin::spectral::{alpha, Ior};
 use crate::geometry::{TriangleMesh, WorldShape};
 use crate::material::metals::ComplexIorTable;
 use crate::material::{Material, ShadingContext, TransportMode};
-use crate::scene::{Scene, SceneDescription, SceneSource};
+use crate::scene::{Scene, SceneSource};
+use crate::scene_file::SceneDescription;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, LANES};
 use glam::{Vec2, Vec3A};
 use serde_json::{json, Value};
@@ -269,7 +270,7 @@ fn export_built(
 }
 
 fn export_material(
-    md: &crate::scene::description::ItemDescription,
+    md: &crate::scene_file::description::ItemDescription,
     m: &dyn Material,
     grid: &[f64],
 ) -> Result<Value, String> {

@@ -11,8 +11,8 @@
 
 use super::{AnalysisError, ReferenceState};
 use crate::film::write_exr;
-use crate::integrator::sampler::mix64;
 use crate::integrator::{render_with, IntegratorKind, PathTracer, RenderSettings, SampleBudget};
+use crate::sampler::mix64;
 use crate::scene::Scene;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};

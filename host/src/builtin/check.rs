@@ -4,7 +4,7 @@
 //! Every error names the parameter (the scene builder adds the item), so a bad value is refused
 //! before it can turn into a silently black or missing light.
 
-use crate::scene::FactoryError;
+use crate::scene_file::FactoryError;
 use crate::spectrum::wavelength_sampling::VISIBLE_RANGE;
 
 /// Largest radiometric value (W, W/m², W/(m²·sr)) the renderer can hold: lights and emitters

@@ -6,8 +6,8 @@ use crate::camera::{Filter, PerspectiveCamera};
 use crate::geometry::Shape;
 use crate::light::Light;
 use crate::material::Material;
-use crate::plugin::type_doc::Kind;
-use crate::scene::{FactoryContext, FactoryError, ObjectFactory};
+use crate::scene_file::type_doc::Kind;
+use crate::scene_file::{FactoryContext, FactoryError, ObjectFactory};
 use crate::spectrum::Spd;
 use ron::Value;
 use std::sync::Arc;
@@ -47,7 +47,7 @@ impl ObjectFactory for BuiltinFactory {
         &self,
         kind: &'static str,
         type_name: &str,
-    ) -> Option<Vec<crate::plugin::type_doc::ParamDoc>> {
+    ) -> Option<Vec<crate::scene_file::type_doc::ParamDoc>> {
         let ty = super::registry::find(Kind::parse(kind)?, type_name)?;
         Some(ty.doc(type_name).params)
     }

@@ -1,8 +1,8 @@
-//! The built-in types: every material, light, SPD type, observer, shape and camera the host
-//! provides without plugins. One type, one file, its parameter table at the top and a typed
+//! The built-in types: every material, light, SPD type, observer, shape, camera and sensor the
+//! host provides without plugins. One type, one file, its parameter table at the top and a typed
 //! serde parameter struct; each file exports a `TYPE` constant ([`BuiltinType`]) that the
 //! registry registers exactly like a plugin's type (same type information, same duplicate rule,
-//! same constructor call through [`crate::scene::ObjectFactory`]).
+//! same constructor call through [`crate::scene_file::ObjectFactory`]).
 //!
 //! A built-in's parameter struct is also its saved state: a blob of a built-in type is the
 //! struct encoded with bincode (see [`crate::plugin::blob`]), with the data it reads from files
@@ -21,6 +21,7 @@ pub mod material;
 pub mod observer;
 pub mod params_de;
 pub mod registry;
+pub mod sensor;
 pub mod shape;
 pub mod spd;
 pub mod spectral;

@@ -143,7 +143,7 @@ impl<'de> de::Deserializer<'de> for ValueDe {
             Value::Option(Some(v)) => ValueDe(*v).deserialize_struct(_name, _fields, visitor),
             other => Err(de::Error::custom(format_args!(
                 "expected a struct `(name: value, …)`, got {}",
-                crate::scene::params::kind_of(&other)
+                crate::scene_file::params::kind_of(&other)
             ))),
         }
     }
@@ -167,7 +167,7 @@ impl<'de> de::Deserializer<'de> for ValueDe {
             Value::String(s) => visitor.visit_enum(s.into_deserializer()),
             other => Err(de::Error::custom(format_args!(
                 "expected a name string, got {}",
-                crate::scene::params::kind_of(&other)
+                crate::scene_file::params::kind_of(&other)
             ))),
         }
     }
@@ -241,9 +241,9 @@ impl<'de> de::SeqAccess<'de> for SeqAcc {
     }
 }
 
-impl From<ParamsError> for crate::scene::FactoryError {
+impl From<ParamsError> for crate::scene_file::FactoryError {
     fn from(e: ParamsError) -> Self {
-        crate::scene::FactoryError::Param(e.to_string())
+        crate::scene_file::FactoryError::Param(e.to_string())
     }
 }
 

@@ -2,7 +2,7 @@
 
 use super::built_in_type::BuiltinType;
 use super::{camera, light, material, observer, shape, spd};
-use crate::plugin::type_doc::Kind;
+use crate::scene_file::type_doc::Kind;
 
 /// Every built-in type, in documentation order.
 pub fn types() -> &'static [BuiltinType] {

@@ -22,12 +22,13 @@
 
 use super::{check, param_err, Embed};
 use crate::color::uplift_srgb;
-use crate::material::{ConstantTexture, CurveTexture, SpectralIor, SpectralTexture};
-use crate::scene::params::{as_f64, as_f64_list, kind_of, Params};
-use crate::scene::representation::reflectance_fn;
-use crate::scene::{FactoryContext, FactoryError};
+use crate::material::SpectralIor;
+use crate::scene_file::params::{as_f64, as_f64_list, kind_of, Params};
+use crate::scene_file::representation::reflectance_fn;
+use crate::scene_file::{FactoryContext, FactoryError};
 use crate::spectrum::spec::parse_spd_spec_with;
 use crate::spectrum::{Spd, SpectralCurve, TabulatedSpd};
+use crate::texture::{ConstantTexture, CurveTexture, SpectralTexture};
 use ron::Value;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use std::sync::Arc;

@@ -151,7 +151,7 @@ struct PrebuiltDefault<'a> {
 impl SceneProvider for PrebuiltDefault<'_> {
     fn scene_with(
         &self,
-        representation: &crate::scene::RepresentationOptions,
+        representation: &crate::scene_file::RepresentationOptions,
     ) -> Result<crate::scene::Scene, String> {
         if representation.is_default() {
             Ok(self.scene.clone())

@@ -20,8 +20,8 @@
 //! within one run of the command, not across machines.
 
 use crate::cli::render::{default_settings, load_scene};
-use crate::effects::{EffectsMode, EffectsRequest, RenderPlan, Switch};
 use crate::integrator::select::render_planned;
+use crate::integrator::{EffectsMode, EffectsRequest, RenderPlan, Switch};
 use crate::integrator::{IntegratorKind, SampleBudget};
 use crate::scene::{BuiltinFactory, Scene};
 use std::fmt::Write as _;

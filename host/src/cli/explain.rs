@@ -3,10 +3,9 @@
 //! skip (see [`crate::effects`]), then the render plan `render` would use with the same
 //! `--effects`/`--effect` arguments. Without SCENE: the built-in Cornell box.
 
-use crate::effects::{EffectsRequest, RenderPlan};
-use crate::scene::{
-    default_scene_with, load_scene_file_with, BuiltinFactory, RepresentationOptions,
-};
+use crate::integrator::{EffectsRequest, RenderPlan};
+use crate::scene::{default_scene_with, load_scene_file_with, BuiltinFactory};
+use crate::scene_file::RepresentationOptions;
 use std::path::PathBuf;
 
 /// Arguments of `spectrace explain`.
@@ -19,7 +18,7 @@ pub struct ExplainArgs {
     pub plugins: super::plugin_args::PluginArgs,
     /// The render plan for `--effects auto` (default) or `all`, as `render` would make it.
     #[arg(long, value_enum, default_value = "auto")]
-    pub effects: crate::effects::EffectsMode,
+    pub effects: crate::integrator::EffectsMode,
     /// Force one effect on or off, NAME=on|off (repeatable), as for `render`.
     #[arg(long = "effect", value_name = "NAME=on|off")]
     pub effect: Vec<String>,

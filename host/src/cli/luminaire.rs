@@ -15,7 +15,7 @@
 //! measured first, as `bake` does.
 //!
 //! `spectrace luminaire bake SCENE --light NAME -o OUT.blob [--step DEG] [--samples N] [--point]`
-//! measures a light of a scene like a goniophotometer (see [`crate::photometry::goniometer`]):
+//! measures a light of a scene like a goniophotometer (see [`crate::light::measure::goniometer`]):
 //! its spectrum, a type C intensity table every `--step` degrees (default 2.5) and its size
 //! (the box of the points it emits from), and writes a blob that renders without the light's
 //! plugin: a `near_field_luminaire` emitting the table from that box (see
@@ -28,15 +28,15 @@ use super::plugin_args::PluginArgs;
 use crate::builtin::light::luminaire::{exported_luminaire, LuminaireParams};
 use crate::builtin::light::near_field::{self, NearFieldParams};
 use crate::builtin::spectral::Spectrum;
+use crate::light::measure::goniometer::{measure, GoniometerSettings, Measurement};
 use crate::light::near_field::NearFieldLight;
 use crate::light::Light;
 use crate::photometry::eulumdat_writer::write_eulumdat;
-use crate::photometry::goniometer::{measure, GoniometerSettings, Measurement};
 use crate::photometry::ies_writer::write_ies_2019;
 use crate::photometry::{load_luminaire, Luminaire, PhotometricType};
 use crate::plugin::blob::{Blob, BUILTIN_PLUGIN};
 use crate::plugin::factory::{Built, PluginFactory};
-use crate::scene::{FactoryContext, ObjectFactory};
+use crate::scene_file::{FactoryContext, ObjectFactory};
 use spectrace_plugin_api::ObjectKind;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;

@@ -1,7 +1,7 @@
 //! The plugin options shared by every subcommand that builds objects.
 
 use crate::plugin::Registry;
-use crate::scene::ObjectFactory;
+use crate::scene_file::ObjectFactory;
 use std::path::PathBuf;
 
 /// Which plugin libraries to load.

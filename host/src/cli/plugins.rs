@@ -2,7 +2,7 @@
 
 use super::plugin_args::PluginArgs;
 use crate::plugin::reference::{builtins_text, params_text, scene_format_markdown};
-use crate::plugin::TypeDoc;
+use crate::scene_file::TypeDoc;
 
 /// Arguments of `spectrace plugins`.
 #[derive(clap::Args, Debug)]

@@ -3,17 +3,17 @@
 //! | command | what |
 //! |---|---|
 //! | `rays info FILE [--json]` | the header (version, creation method, fluxes, ray count, date, spectral identifier, flags, record size, the nine text fields), the rays' summed flux against the header's, the spectral tables, the start points' box and a far-field summary (relative intensity per 10° ring of γ from the file's +z, the half-intensity angle, the share of flux in the forward hemisphere) |
-//! | `rays export SCENE --light NAME -N COUNT -o OUT.TM25RAY [--seed S]` | draws COUNT rays from a light of the scene (any kind: built-in, plugin, blob, luminaire, emissive object) and writes them as TM-25-13 in the world frame, start points in mm ([`crate::photometry::tm25::export`]) |
+//! | `rays export SCENE --light NAME -N COUNT -o OUT.TM25RAY [--seed S]` | draws COUNT rays from a light of the scene (any kind: built-in, plugin, blob, luminaire, emissive object) and writes them as TM-25-13 in the world frame, start points in mm ([`crate::light::measure::tm25_export`]) |
 //!
 //! To put an exported file back where its light was: a `ray_file` light with
 //! `position: (0, 0, 0), aim: (0, 0, 1), x_axis: (1, 0, 0)` (file frame = world frame).
 
 use super::plugin_args::PluginArgs;
+use crate::light::measure::tm25_export::export_light;
 use crate::light::Light;
-use crate::photometry::tm25::export::export_light;
 use crate::photometry::tm25::{RayFile, SpectralId, Tm25Header, TEXT_FIELDS};
 use crate::plugin::factory::PluginFactory;
-use crate::scene::ObjectFactory;
+use crate::scene_file::ObjectFactory;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 

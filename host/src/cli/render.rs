@@ -35,7 +35,7 @@ pub use output::{diagnostic_layers, save_image, spectral_summary};
 pub use scene::{load, load_scene};
 
 use crate::integrator::IntegratorOutput;
-use crate::scene::ObjectFactory;
+use crate::scene_file::ObjectFactory;
 use run::{Progress, Rendered};
 
 /// Run `spectrace render` with the built-in types and the plugins named in `args`.
@@ -118,7 +118,7 @@ fn finish(
     if let Some(note) = exposure_note {
         println!("  {note}");
     }
-    if scene.options.length_unit != crate::scene::LengthUnit::Metre {
+    if scene.options.length_unit != crate::scene_file::LengthUnit::Metre {
         println!(
             "  scene units: {} (lengths converted to metres when the scene was built)",
             scene.options.length_unit

@@ -1,7 +1,7 @@
 //! The spectral representation switches on the command line (`spectrace render`), so the
 //! representations the accuracy benchmark compares can also be rendered and looked at.
 
-use crate::scene::{ReflectanceSource, RepresentationOptions};
+use crate::scene_file::{ReflectanceSource, RepresentationOptions};
 use crate::spectrum::Interpolation;
 
 /// `--spd-interpolation`, `--reflectance`, `--observer-step`.

@@ -2,10 +2,11 @@
 //! image (`--sensors-out DIR` writes `DIR/NAME.csv` and `DIR/NAME.png`) and write per-pixel
 //! luminance (`--luminance-out F.csv`). Each sensor's line says which estimator measured it.
 
+use crate::builtin::sensor::grid::IlluminanceGrid;
 use crate::film::XyzImage;
 use crate::integrator::{IntegratorKind, RenderSettings};
 use crate::scene::Scene;
-use crate::sensor::{measure, Estimator, IlluminanceGrid, MeasureSettings, SensorReading};
+use crate::sensor::{measure, Estimator, MeasureSettings, SensorReading};
 use std::path::Path;
 
 /// Measure every sensor of `scene` with the estimator of `integrator`, print one summary line

@@ -3,13 +3,12 @@
 //! `Material`/`Light` interfaces), each with the objects that call for it, and what the
 //! renderer does about each and what it skips (`spectrace explain SCENE`).
 //!
-//! The [`RenderPlan`] turns the findings and the command line into what the render does; the
-//! integrators read it. Data flows one way: the [`crate::scene::Scene`] is only read.
+//! The integrator's [`RenderPlan`](crate::integrator::plan::RenderPlan) turns the findings and
+//! the command line into what the render does. Data flows one way: the
+//! [`crate::scene::Scene`] is only read, and this floor sits below the integrator.
 
 pub mod analysis;
 pub mod effect;
-pub mod plan;
 
 pub use analysis::{analyze, Caller, EffectSet, Finding};
 pub use effect::Effect;
-pub use plan::{EffectsMode, EffectsRequest, RenderPlan, Switch};

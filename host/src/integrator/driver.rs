@@ -5,8 +5,8 @@
 
 use super::render::ProgressFn;
 use super::{RenderError, RenderResult, RenderSettings};
-use crate::effects::RenderPlan;
 use crate::film::XyzImage;
+use crate::integrator::plan::RenderPlan;
 use crate::light::LightFlags;
 use crate::scene::Scene;
 use spectrace_plugin_api::ParamDoc;

@@ -7,9 +7,11 @@
 //!   connection, beams), [`connect`] (specular chains, manifold and camera-chain connections),
 //!   [`fluorescence`] (wavelength-shifting events and joins) and [`wavelengths`] (which
 //!   wavelengths a path carries and how they are weighed);
-//! - the shared frame: the trait ([`driver`]), the render settings and results ([`render`]), the
-//!   tiled, parallel, deterministic pass loop ([`tiled`]), the sample generator ([`sampler`]), the
-//!   power heuristic ([`mis`]) and the per-pixel maximum ([`pixel_max`]).
+//! - the shared frame: the render plan they read ([`plan`]: what the render does about each
+//!   effect), the trait ([`driver`]), the render settings and results ([`render`]), the tiled,
+//!   parallel, deterministic pass loop ([`tiled`]), the power heuristic ([`mis`]) and the
+//!   per-pixel maximum ([`pixel_max`]); the sample generator is a floor below
+//!   ([`crate::sampler`]).
 //!
 //! Imports run one way: integrators use the blocks and the frame, never the reverse, and no
 //! integrator imports another (`host/tests/house_imports.rs` checks that no circle appears).
@@ -23,8 +25,8 @@ pub mod light_tracer;
 pub mod mis;
 pub mod path;
 pub mod pixel_max;
+pub mod plan;
 pub mod render;
-pub mod sampler;
 pub mod select;
 pub mod subpath;
 #[cfg(test)]
@@ -32,11 +34,12 @@ mod test_support;
 pub mod tiled;
 pub mod wavelengths;
 
+pub use crate::sampler::{PixelSampler, SampleRng, SamplerKind};
 pub use driver::{Integrator, IntegratorInfo, IntegratorOptions, IntegratorOutput, Registration};
 pub use path::render;
+pub use plan::{EffectsMode, EffectsRequest, RenderPlan, Switch};
 pub use render::{
     DroppedPass, PathStats, PathTracer, RenderError, RenderResult, RenderSettings, SampleBudget,
 };
-pub use sampler::{PixelSampler, SampleRng, SamplerKind};
 pub use select::{registered, render_with, render_with_options, strategy_summary, IntegratorKind};
 pub use wavelengths::sampling::WavelengthSampling;

@@ -2,9 +2,9 @@
 //! merges them into the film in tile order. Each camera sample draws its random numbers from
 //! `(seed, pixel, sample index)` only, so the image is bitwise identical for any thread count.
 
-use super::sampler::SamplerKind;
 use super::wavelengths::sampling::WavelengthSampling;
 use crate::film::XyzImage;
+use crate::sampler::SamplerKind;
 use std::time::Duration;
 
 /// How many samples to take.

@@ -169,7 +169,7 @@ pub fn render_with(
     progress: &ProgressFn<'_>,
     cancel: Option<&std::sync::atomic::AtomicBool>,
 ) -> Result<IntegratorOutput, RenderError> {
-    let plan = crate::effects::RenderPlan::auto(scene);
+    let plan = crate::integrator::plan::RenderPlan::auto(scene);
     render_planned(
         scene,
         &plan,
@@ -191,16 +191,16 @@ pub fn render_with_options(
     progress: &ProgressFn<'_>,
     cancel: Option<&std::sync::atomic::AtomicBool>,
 ) -> Result<IntegratorOutput, RenderError> {
-    let plan = crate::effects::RenderPlan::auto(scene);
+    let plan = crate::integrator::plan::RenderPlan::auto(scene);
     render_planned_with_options(scene, &plan, settings, kind, options, progress, cancel)
 }
 
 /// [`render_with`] under a given render plan (made for `scene` by
-/// [`RenderPlan::new`](crate::effects::RenderPlan::new)): the integrator renders the plan's
+/// [`RenderPlan::new`](crate::integrator::plan::RenderPlan::new)): the integrator renders the plan's
 /// scene (materials with a switched-off effect replaced) and reads the plan.
 pub fn render_planned(
     scene: &Scene,
-    plan: &crate::effects::RenderPlan,
+    plan: &crate::integrator::plan::RenderPlan,
     settings: &RenderSettings,
     kind: IntegratorKind,
     strategy_images: bool,
@@ -217,7 +217,7 @@ pub fn render_planned(
 /// [`render_with_options`] under a given render plan.
 pub fn render_planned_with_options(
     scene: &Scene,
-    plan: &crate::effects::RenderPlan,
+    plan: &crate::integrator::plan::RenderPlan,
     settings: &RenderSettings,
     kind: IntegratorKind,
     options: IntegratorOptions,

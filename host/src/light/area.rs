@@ -4,8 +4,8 @@
 
 use super::{Light, LightFlags, LightLeSample, LightLiSample, LightSampleContext};
 use crate::geometry::{spawn_ray, Geometry, Ray};
-use crate::material::dense::DenseSpectrum;
 use crate::material::{sample_cosine_hemisphere, EmissionProfile, Frame};
+use crate::spectrum::dense::DenseSpectrum;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spd};
 use glam::{Vec2, Vec3A};
 use std::f32::consts::PI;

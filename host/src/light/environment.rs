@@ -30,8 +30,8 @@
 use super::LightSampleContext;
 use super::{sample_uniform_sphere, Light, LightFlags, LightLeSample, LightLiSample};
 use crate::geometry::{Aabb, Ray};
-use crate::material::dense::DenseSpectrum;
 use crate::material::{sample_concentric_disk, sample_cosine_hemisphere, Frame};
+use crate::spectrum::dense::DenseSpectrum;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spd};
 use glam::{Vec2, Vec3A};
 use std::f32::consts::PI;

@@ -17,6 +17,7 @@ pub mod interface;
 pub mod luminaire;
 pub mod luminous;
 pub mod manager;
+pub mod measure;
 pub mod near_field;
 pub mod point;
 pub mod ray_file;

@@ -5,8 +5,8 @@
 //! surface's texture coordinates instead; its profile then holds the texture's mean spectrum
 //! (normalised) and mean integrated radiance, for light selection and wavelength sampling.
 
-use super::dense::DenseSpectrum;
 use super::{BsdfSample, EmissionProfile, Material, MaterialFlags, ShadingContext, TransportMode};
+use crate::spectrum::dense::DenseSpectrum;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spd, TabulatedSpd};
 use crate::texture::emission_texture::EmissionTexture;
 use glam::{Vec2, Vec3A};

@@ -89,7 +89,7 @@ impl BsdfSample {
     };
 }
 
-/// Effects a render switches off (see `effects::plan`); a material that has one of them
+/// Effects a render switches off (see `integrator::plan`); a material that has one of them
 /// offers a replacement without it through [`Material::without_effects`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EffectsOff {

@@ -3,9 +3,10 @@
 
 use super::{
     same_hemisphere, sample_cosine_lobe, BsdfSample, Material, MaterialFlags, ShadingContext,
-    SpectralTexture, TransportMode,
+    TransportMode,
 };
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use crate::texture::SpectralTexture;
 use glam::{Vec2, Vec3A};
 use std::f32::consts::FRAC_1_PI;
 use std::sync::Arc;

@@ -4,7 +4,7 @@
 //! 1972 for Au, Ag, Cu; Rakić 1995 for Al; both as tabulated on refractiveindex.info) and
 //! interpolated linearly in wavelength.
 
-use super::texture::piecewise_linear_eval;
+use crate::texture::spectral_texture::piecewise_linear_eval;
 
 /// Source: host/data/metals/au.csv (Johnson & Christy 1972 via refractiveindex.info).
 const AU: &str = include_str!("../../data/metals/au.csv");

@@ -1,7 +1,8 @@
 //! An ideal specular mirror with a spectral reflectance (a delta BSDF: sampled, never evaluated).
 
-use super::{BsdfSample, Material, MaterialFlags, ShadingContext, SpectralTexture, TransportMode};
+use super::{BsdfSample, Material, MaterialFlags, ShadingContext, TransportMode};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use crate::texture::SpectralTexture;
 use glam::{Vec2, Vec3A};
 use std::sync::Arc;
 

@@ -7,7 +7,6 @@
 
 pub mod complex;
 pub mod conductor;
-pub mod dense;
 pub mod dielectric;
 pub mod emissive;
 pub mod flags;
@@ -21,7 +20,6 @@ pub mod metals;
 pub mod microfacet;
 pub mod mirror;
 pub mod rough_dielectric;
-pub mod texture;
 pub mod thin_film;
 
 pub use conductor::RoughConductor;
@@ -33,7 +31,6 @@ pub use ior::SpectralIor;
 pub use lambertian::Lambertian;
 pub use mirror::Mirror;
 pub use rough_dielectric::RoughDielectric;
-pub use texture::{ConstantTexture, CurveTexture, SpectralTexture};
 
 pub use interface::{
     reflect, refract, same_hemisphere, sample_concentric_disk, sample_cosine_hemisphere,

@@ -1,6 +1,6 @@
 //! A candela table written out as data (scene syntax or bincode): what a luminaire file holds,
 //! without the file. A scene can give a luminaire light its table inline, a blob stores it this
-//! way (the file is read at pack time), and a baked light ([`super::goniometer`]) is one.
+//! way (the file is read at pack time), and a baked light ([`crate::light::measure::goniometer`]) is one.
 //!
 //! | field              | unit    | meaning                                                          |
 //! |--------------------|---------|------------------------------------------------------------------|

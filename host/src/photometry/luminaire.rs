@@ -34,7 +34,7 @@ pub enum SourceFormat {
     /// EULUMDAT (`.ldt`).
     Eulumdat,
     /// A table written out in a scene or blob ([`super::CandelaTable`]), or measured from a
-    /// light ([`super::goniometer`]).
+    /// light ([`crate::light::measure::goniometer`]).
     Table,
 }
 

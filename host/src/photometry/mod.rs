@@ -9,7 +9,6 @@ pub mod error;
 pub mod eulumdat;
 pub mod eulumdat_writer;
 pub mod gldf;
-pub mod goniometer;
 pub mod ies;
 pub mod ies_writer;
 pub mod luminaire;

@@ -77,11 +77,11 @@ pub fn check(m: &dyn Material) -> Result<(), String> {
 mod tests {
     use super::*;
     use crate::material::lambertian::Lambertian;
-    use crate::material::texture::ConstantTexture;
     use crate::material::{BsdfSample, MaterialFlags, ShadingContext, TransportMode};
     use crate::plugin::flatness::SET_A_NM;
     use crate::plugin::same_f::PROBE_WI;
     use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths, LANES};
+    use crate::texture::spectral_texture::ConstantTexture;
     use glam::Vec2;
     use std::sync::Arc;
 

@@ -9,13 +9,13 @@ use super::adapter::{
 };
 use super::blob::{Blob, BUILTIN_PLUGIN};
 use super::registry::{Provider, Registry, RegistryError};
-use super::type_doc::{Kind, TypeDoc};
 use crate::builtin::Build;
 use crate::camera::{Filter, PerspectiveCamera};
 use crate::geometry::Shape;
 use crate::light::Light;
 use crate::material::Material;
-use crate::scene::{FactoryContext, FactoryError, ObjectFactory};
+use crate::scene_file::type_doc::{Kind, TypeDoc};
+use crate::scene_file::{FactoryContext, FactoryError, ObjectFactory};
 use crate::spectrum::Spd;
 use spectrace_plugin_api::abi::std_types::{ROption, RStr};
 use spectrace_plugin_api::module::ObjectSource;
@@ -39,7 +39,7 @@ pub fn blob_type_doc(kind: Kind) -> TypeDoc {
         description: format!(
             "a {kind} saved with `spectrace blob pack` (self-contained; plugin types need their plugin loaded)"
         ),
-        params: vec![super::type_doc::ParamDoc {
+        params: vec![crate::scene_file::type_doc::ParamDoc {
             name: "file".into(),
             unit: String::new(),
             default: None,
@@ -129,7 +129,7 @@ impl PluginFactory {
             base_dir: base_dir.to_path_buf(),
             item,
             representation: Default::default(),
-            spd_factories: crate::scene::SpdFactories(
+            spd_factories: crate::scene_file::SpdFactories(
                 self.shared_spd_factory()
                     .into_iter()
                     .chain([builtin])
@@ -269,7 +269,7 @@ impl PluginFactory {
         params: &ron::Value,
         ctx: &FactoryContext,
     ) -> Result<Built, FactoryError> {
-        let p = crate::scene::params::Params::new(params);
+        let p = crate::scene_file::params::Params::new(params);
         p.expect_only(&["file"])?;
         let file = ctx.resolve(p.string("file")?);
         let blob = Blob::read_file(&file).map_err(|e| FactoryError::Param(e.to_string()))?;
@@ -313,7 +313,7 @@ impl ObjectFactory for PluginFactory {
         &self,
         kind: &'static str,
         type_name: &str,
-    ) -> Option<Vec<super::type_doc::ParamDoc>> {
+    ) -> Option<Vec<crate::scene_file::type_doc::ParamDoc>> {
         let kind = Kind::parse(kind)?;
         // A light type with its own declared beam representation converts its own lengths.
         let own_units = |p: &super::LoadedPlugin| {

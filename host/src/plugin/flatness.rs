@@ -112,7 +112,7 @@ pub fn check(m: &dyn Material, flags: MaterialFlags, reradiates: bool) -> Result
 mod tests {
     use super::*;
     use crate::material::lambertian::Lambertian;
-    use crate::material::texture::{ConstantTexture, CurveTexture};
+    use crate::texture::spectral_texture::{ConstantTexture, CurveTexture};
     use std::sync::Arc;
 
     // A grey Lambertian passes; one whose reflectance rises from 0.2 at 380 nm to 0.8 at

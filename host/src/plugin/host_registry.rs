@@ -3,7 +3,7 @@
 
 use super::factory::{blob_type_doc, BLOB_KINDS};
 use super::registry::Registry;
-use super::type_doc::{Kind, ParamDoc, TypeDoc};
+use crate::scene_file::type_doc::{Kind, ParamDoc, TypeDoc};
 
 /// A registry holding every built-in type of [`crate::builtin`] (with its aliases) and the
 /// host's `blob` type of each blob kind, ready for plugins to be added: a plugin type with a

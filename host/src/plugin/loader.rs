@@ -110,9 +110,11 @@ pub fn load_library_pinned(path: &Path, sha256: Option<&str>) -> Result<LoadedPl
             "",
         ));
     }
-    let actual = super::pin::sha256_file(&file).map_err(|e| LoadError::new(path, e, ""))?;
+    let actual =
+        crate::scene_file::pin::sha256_file(&file).map_err(|e| LoadError::new(path, e, ""))?;
     if let Some(expected) = sha256 {
-        super::pin::check(expected, &actual).map_err(|e| LoadError::new(path, e, ""))?;
+        crate::scene_file::pin::check(expected, &actual)
+            .map_err(|e| LoadError::new(path, e, ""))?;
     }
     let mut plugin = load_resolved(path, &file)?;
     plugin.sha256 = Some(actual);

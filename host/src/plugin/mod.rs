@@ -15,7 +15,6 @@ pub mod library_check;
 pub mod loader;
 pub mod observer_table;
 pub mod pack;
-pub mod pin;
 pub mod reference;
 pub mod registry;
 pub mod representation;
@@ -23,12 +22,11 @@ pub mod reradiation;
 pub mod ron_text;
 pub mod same_f;
 pub mod services;
-pub mod type_doc;
 pub mod uniform_shape;
 
 pub use loader::{LoadError, LoadedPlugin};
 
+pub use crate::scene_file::type_doc::{Kind, ParamDoc, TypeDoc};
 pub use host_registry::{builtin_registry, core_registry};
 pub use registry::{Registry, RegistryError};
 pub use spectrace_plugin_api::ObjectKind;
-pub use type_doc::{Kind, ParamDoc, TypeDoc};

@@ -124,10 +124,12 @@ impl Blob {
         // A blob's lengths are metres: a light's parameters in the scene's unit are converted
         // as the scene builder converts them.
         let params = if kind == ObjectKind::Light {
-            let unit = crate::scene::LengthUnit::parse(desc.units.as_deref().unwrap_or("m"))
+            let unit = crate::scene_file::LengthUnit::parse(desc.units.as_deref().unwrap_or("m"))
                 .map_err(|e| format!("{}: units: {e}", scene.display()))?;
-            match crate::scene::ObjectFactory::param_docs(&factory, "light", &type_name) {
-                Some(docs) => crate::scene::units::params_in_metres(&params, &docs, unit.metres()),
+            match crate::scene_file::ObjectFactory::param_docs(&factory, "light", &type_name) {
+                Some(docs) => {
+                    crate::scene_file::units::params_in_metres(&params, &docs, unit.metres())
+                }
                 None => params,
             }
         } else {
@@ -158,7 +160,7 @@ impl Blob {
 /// spectral parameter of a light or emissive material), as `(type: "spec", params: (spec: ..))`
 /// or the item's own `(type: .., params: ..)`.
 fn find_scene_spd(
-    desc: &crate::scene::SceneDescription,
+    desc: &crate::scene_file::SceneDescription,
     name: &str,
 ) -> Option<(String, ron::Value)> {
     let (item, param) = name.split_once('.')?;
@@ -167,10 +169,10 @@ fn find_scene_spd(
         .iter()
         .chain(desc.materials.iter())
         .find(|i| i.name == item)?;
-    let value = crate::scene::params::Params::new(&owner.params)
+    let value = crate::scene_file::params::Params::new(&owner.params)
         .get(param)?
         .clone();
-    let p = crate::scene::params::Params::new(&value);
+    let p = crate::scene_file::params::Params::new(&value);
     if let (Some(ron::Value::String(t)), true) =
         (p.get("type"), matches!(value, ron::Value::Map(_)))
     {
@@ -192,11 +194,11 @@ fn find_scene_spd(
     ))
 }
 
-fn scene_spd_names(desc: &crate::scene::SceneDescription) -> Vec<String> {
+fn scene_spd_names(desc: &crate::scene_file::SceneDescription) -> Vec<String> {
     let mut out = Vec::new();
     for (items, param) in [(&desc.lights, "spd"), (&desc.materials, "radiance")] {
         for i in items {
-            if crate::scene::params::Params::new(&i.params)
+            if crate::scene_file::params::Params::new(&i.params)
                 .get(param)
                 .is_some()
             {

@@ -3,7 +3,7 @@
 //! `spectrace plugins --builtins`. A test fails when the file and the tables differ.
 
 use super::registry::{Provider, Registry, TypeEntry};
-use super::type_doc::{Kind, TypeDoc};
+use crate::scene_file::type_doc::{Kind, TypeDoc};
 use std::fmt::Write;
 
 /// The command that regenerates `docs/scene-format.md`.

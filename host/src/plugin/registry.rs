@@ -4,8 +4,8 @@
 
 use super::loader::{load_dir, load_library, LoadError, LoadedPlugin};
 use super::services::{HostServices, PluginSpds};
-use super::type_doc::{Kind, TypeDoc};
 use crate::builtin::BuiltinType;
+use crate::scene_file::type_doc::{Kind, TypeDoc};
 use spectrace_plugin_api::abi::std_types::{RResult, RSlice, RStr};
 use spectrace_plugin_api::module::ObjectSource;
 use spectrace_plugin_api::HostRef;
@@ -262,7 +262,7 @@ impl Registry {
     /// scene file; pinned ones checked), skipping a library already loaded from the same file.
     /// A scene without the field loads nothing. Errors name the scene file.
     pub fn load_scene_plugins(&mut self, scene: &Path) -> Result<(), String> {
-        let list = super::pin::scene_plugins(scene)?;
+        let list = crate::scene_file::pin::scene_plugins(scene)?;
         let base = scene.parent().unwrap_or(Path::new("."));
         for item in list {
             let path = item.resolve(base);
@@ -273,7 +273,7 @@ impl Registry {
                 .find(|p| canonical.is_some() && std::fs::canonicalize(&p.path).ok() == canonical);
             if let Some(p) = already {
                 if let (Some(want), Some(have)) = (item.sha256(), &p.sha256) {
-                    super::pin::check(want, have).map_err(|e| {
+                    crate::scene_file::pin::check(want, have).map_err(|e| {
                         format!("{}: plugins: {}: {e}", scene.display(), path.display())
                     })?;
                 }

@@ -135,9 +135,9 @@ pub(super) fn probe_directions(wi: Vec3A) -> impl Iterator<Item = Vec3A> {
 mod tests {
     use super::*;
     use crate::material::lambertian::Lambertian;
-    use crate::material::texture::{ConstantTexture, CurveTexture};
     use crate::material::{BsdfSample, MaterialFlags};
     use crate::spectrum::SampledSpectrum;
+    use crate::texture::spectral_texture::{ConstantTexture, CurveTexture};
     use std::sync::Arc;
 
     /// A glossy-looking liar: Lambertian sampling, but `eval` grows with cos θi.

@@ -1,9 +1,5 @@
 //! From a RON scene file (or a [`SceneDescription`]) to a renderable [`Scene`].
 
-use super::description::{SceneDescription, TransformStep};
-use super::factory::{FactoryContext, FactoryError, ObjectFactory, SpdFactories};
-use super::representation::RepresentationOptions;
-use super::units::{params_in_metres, LengthUnit};
 use super::{Scene, SceneError, SceneObject, SceneObjectManager, SceneOptions};
 use crate::camera::manager::NamedCamera;
 use crate::camera::CameraManager;
@@ -11,6 +7,10 @@ use crate::color::{Observer, ResampledObserver, RgbColorSpace};
 use crate::geometry::{Geometry, GeometryError, ShapeDesc, Transform};
 use crate::light::{AreaLight, Light, LightFlags, LightSourceManager};
 use crate::material::Material;
+use crate::scene_file::description::{SceneDescription, TransformStep};
+use crate::scene_file::factory::{FactoryContext, FactoryError, ObjectFactory, SpdFactories};
+use crate::scene_file::representation::RepresentationOptions;
+use crate::scene_file::units::{params_in_metres, LengthUnit};
 use glam::DVec3;
 use std::collections::HashMap;
 use std::path::Path;
@@ -395,7 +395,7 @@ pub fn build_scene_with(
         }
         powers.push(power);
     }
-    warnings.extend(super::units::undeclared_unit_warning(
+    warnings.extend(crate::scene_file::units::undeclared_unit_warning(
         desc.units.is_some(),
         f64::from((bounds.max - bounds.min).max_element()),
     ));
@@ -411,10 +411,11 @@ pub fn build_scene_with(
     ));
     let lights = LightSourceManager::new(lights, objects.len());
     options.light_items = light_items;
-    let sensors = crate::sensor::build_sensors(&desc.sensors, metres)
+    let sensors = crate::builtin::sensor::grid::build_sensors(&desc.sensors, metres)
         .map_err(|(item, e)| item_err(item, e))?;
-    let glare = crate::sensor::glare_observer::build_glare_observers(&desc.sensors, metres)
-        .map_err(|(item, e)| item_err(item, e))?;
+    let glare =
+        crate::builtin::sensor::glare_observer::build_glare_observers(&desc.sensors, metres)
+            .map_err(|(item, e)| item_err(item, e))?;
 
     Ok(Scene {
         geometry,

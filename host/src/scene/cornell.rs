@@ -5,8 +5,11 @@
 //! 39.31° horizontal field, 256×256. The scene says `units: "mm"` (it is built in metres) and
 //! `emission_units: "relative"`: the emission spectrum's shape is measured, its scale is not. `scenes/cornell_box.ron` is the same description as a file.
 
-use super::description::{ItemDescription, ObjectDescription, OutputDescription, SceneDescription};
-use super::{build_scene_with, BuiltinFactory, RepresentationOptions, Scene, SceneError};
+use super::{build_scene_with, BuiltinFactory, Scene, SceneError};
+use crate::scene_file::description::{
+    ItemDescription, ObjectDescription, OutputDescription, SceneDescription,
+};
+use crate::scene_file::RepresentationOptions;
 use ron::{Map, Number, Value};
 use std::path::Path;
 
@@ -180,7 +183,7 @@ pub fn default_scene_with(representation: &RepresentationOptions) -> Result<Scen
 /// The default scene with its types built by `factories` (e.g. the registry's factory, whose
 /// types may come from a library instead of the built-ins).
 pub fn cornell_box_with(
-    factories: &[&dyn super::ObjectFactory],
+    factories: &[&dyn crate::scene_file::ObjectFactory],
     representation: &RepresentationOptions,
 ) -> Result<Scene, SceneError> {
     let desc = cornell_box_description()?;

@@ -1,11 +1,11 @@
 //! A built scene ([`Scene`]): geometry, materials, cameras, lights, observer, options and sensors, as the render plan takes it.
 
 use super::objects::SceneObjectManager;
-use super::units::LengthUnit;
 use crate::camera::CameraManager;
 use crate::color::{Observer, RgbColorSpace};
 use crate::geometry::Geometry;
 use crate::light::LightSourceManager;
+use crate::scene_file::units::LengthUnit;
 use std::sync::Arc;
 
 /// Render settings a scene file may carry (the command line overrides them).
@@ -68,9 +68,9 @@ pub struct Scene {
     /// light, powers near the renderer's limits, …); see [`warnings`]. Printed by `render`.
     pub warnings: Vec<String>,
     /// Illuminance sensors (the scene's `sensors`), measured after the image.
-    pub sensors: Vec<crate::sensor::IlluminanceGrid>,
+    pub sensors: Vec<crate::builtin::sensor::grid::IlluminanceGrid>,
     /// Glare observers (the scene's `glare_observer` sensors), measured after the image.
-    pub glare: Vec<crate::sensor::glare_observer::GlareObserver>,
+    pub glare: Vec<crate::builtin::sensor::glare_observer::GlareObserver>,
 }
 
 impl Scene {

@@ -1,10 +1,8 @@
 //! Where a scene comes from, so it can be rebuilt with other representation switches (the
 //! accuracy benchmark builds one scene per distinct [`RepresentationOptions`]).
 
-use super::{
-    default_scene_with, load_scene_file_with, BuiltinFactory, RepresentationOptions, Scene,
-    SceneError,
-};
+use super::{default_scene_with, load_scene_file_with, BuiltinFactory, Scene, SceneError};
+use crate::scene_file::RepresentationOptions;
 use std::path::PathBuf;
 
 /// A scene that can be (re)built: the embedded Cornell box or a RON file (built-in types only).

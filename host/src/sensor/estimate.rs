@@ -46,7 +46,7 @@ use glam::Vec3A;
 use rayon::prelude::*;
 use std::sync::Arc;
 
-use super::grid::IlluminanceGrid;
+use crate::builtin::sensor::grid::IlluminanceGrid;
 
 pub use crate::photometry::efficacy::KM_LM_PER_W;
 
@@ -320,7 +320,7 @@ pub fn measure(
 /// samples of a point are independent (the standard error then holds) and the first
 /// dimensions are still well distributed.
 pub(crate) fn point_sampler(seed: u64, k: usize, i: u32) -> PixelSampler {
-    let stream = crate::integrator::sampler::mix64(
+    let stream = crate::sampler::mix64(
         (k as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ (i as u64) ^ 0x5E45_0A5E,
     );
     PixelSampler::new(seed ^ 0x53E4_5025, stream, 0)

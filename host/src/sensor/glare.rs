@@ -1,11 +1,9 @@
 //! The glare measurement: the fisheye luminance image of a [`GlareObserver`] rendered with the
 //! path tracer, UGR from it, and the EXR / Radiance HDR / JSON outputs. The observer, its
-//! parameters and the method are documented in [`super::glare_observer`].
+//! parameters and the method are documented in [`crate::builtin::sensor::glare_observer`].
 
 use super::estimate::{draw_wavelengths, point_sampler, Photometric};
-pub use super::glare_observer::{
-    build_glare_observers, guth_position_index, GlareObserver, GlareParams, TYPE_NAME,
-};
+use crate::builtin::sensor::glare_observer::GlareObserver;
 use crate::geometry::Ray;
 use crate::integrator::{PathStats, PathTracer};
 use crate::scene::Scene;
@@ -287,6 +285,7 @@ fn write_radiance_hdr(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::builtin::sensor::glare_observer::guth_position_index;
     use glam::DVec3;
     use std::f64::consts::FRAC_PI_2;
 

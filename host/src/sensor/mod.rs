@@ -1,7 +1,10 @@
-//! Illuminance sensors: grids of points where a render measures the illuminance in lux, with
-//! its standard error, as a lighting designer's calculation grid (the scene's `sensors` list).
+//! Sensor measurements: after the image, a render measures the illuminance in lux at the
+//! scene's sensor grids, with its standard error, as a lighting designer's calculation grid,
+//! and the glare and daylight factor seen by its observers. The sensor items themselves
+//! (`illuminance_grid`, `glare_observer` and their parameter tables) are built-in types, a floor
+//! below the scene ([`crate::builtin::sensor`]); this floor renders, so it sits above the
+//! integrator.
 //!
-//! - [`grid`]: the `illuminance_grid` scene item and its parameter table.
 //! - [`estimate`]: the estimators (sensor path tracing, light tracing) and the photometric
 //!   conversion (683 lm/W × ȳ).
 //! - [`output`]: the CSV and the false-colour map with isolux contours (`--sensors-out`).
@@ -12,14 +15,9 @@
 pub mod daylight_factor;
 pub mod estimate;
 pub mod glare;
-pub mod glare_observer;
-pub mod grid;
-pub mod limits;
 pub mod luminance;
 pub mod output;
 pub mod report;
 pub mod statistics;
 
 pub use estimate::{measure, Estimator, MeasureSettings, SensorReading, KM_LM_PER_W};
-pub use grid::{build_sensors, IlluminanceGrid};
-pub use limits::MAX_SAMPLES;

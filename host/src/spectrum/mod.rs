@@ -12,6 +12,7 @@ pub mod builtin_spd;
 pub mod bundled;
 pub mod csv_table;
 pub mod curve;
+pub mod dense;
 pub mod discrete;
 pub mod error;
 pub mod fluorescence_model;

@@ -26,9 +26,9 @@
 use super::image_file::{RgbImage, SpectralTexels};
 use crate::color::rgb_table::{eval_coeffs, t_of, RgbToSpectrumTable};
 use crate::color::Observer;
-use crate::material::dense::DenseSpectrum;
-use crate::material::SpectralTexture;
+use crate::spectrum::dense::DenseSpectrum;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, LANES};
+use crate::texture::SpectralTexture;
 use glam::Vec2;
 use std::sync::{Arc, OnceLock};
 

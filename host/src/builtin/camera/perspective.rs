@@ -16,9 +16,9 @@
 
 use crate::builtin::{finite, finite3, from_value, Build, BuiltinType};
 use crate::camera::{Filter, FovAxis, PerspectiveCamera};
-use crate::plugin::type_doc::Param;
-use crate::scene::params::Params;
-use crate::scene::{FactoryContext, FactoryError};
+use crate::scene_file::params::Params;
+use crate::scene_file::type_doc::Param;
+use crate::scene_file::{FactoryContext, FactoryError};
 use glam::Vec3A;
 use ron::Value;
 use serde::{Deserialize, Serialize};
@@ -92,7 +92,7 @@ fn err(message: impl Into<String>) -> FactoryError {
 }
 
 fn filter(v: &Option<Value>) -> Result<Filter, FactoryError> {
-    let pe = |e: crate::scene::params::ParamError| {
+    let pe = |e: crate::scene_file::params::ParamError| {
         err(format!("parameter `filter.{}`: {}", e.param, e.message))
     };
     let f = match v {
@@ -137,7 +137,7 @@ pub fn build(
     pinhole: bool,
     _ctx: &FactoryContext,
 ) -> Result<(PerspectiveCamera, Filter), FactoryError> {
-    let res = crate::scene::params::as_f64_list(&p.resolution)
+    let res = crate::scene_file::params::as_f64_list(&p.resolution)
         .filter(|l| {
             l.len() == 2
                 && l.iter()

@@ -21,8 +21,8 @@ use crate::builtin::{from_value, param_err, state_fns, Build, BuiltinType, Embed
 use crate::light::daylight::cie_sky::SkyBrightness;
 use crate::light::daylight::{cie_sky_model, daylight_spd, default_sky_cct, CieSky};
 use crate::light::{EnvironmentLight, Light};
-use crate::plugin::type_doc::Param;
-use crate::scene::{FactoryContext, FactoryError};
+use crate::scene_file::type_doc::Param;
+use crate::scene_file::{FactoryContext, FactoryError};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 

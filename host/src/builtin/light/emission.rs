@@ -3,7 +3,7 @@
 
 use crate::builtin::param_err;
 use crate::builtin::spectral::{spd, Spectrum};
-use crate::scene::{FactoryContext, FactoryError};
+use crate::scene_file::{FactoryContext, FactoryError};
 use crate::spectrum::{parse_spd_spec, Spd};
 use std::sync::Arc;
 

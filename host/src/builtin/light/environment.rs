@@ -9,8 +9,8 @@
 use crate::builtin::spectral::{spd, Spectrum};
 use crate::builtin::{finite, from_value, param_err, state_fns, Build, BuiltinType, Embed};
 use crate::light::{ConstantEnvironment, EnvironmentLight, Light};
-use crate::plugin::type_doc::Param;
-use crate::scene::{FactoryContext, FactoryError};
+use crate::scene_file::type_doc::Param;
+use crate::scene_file::{FactoryContext, FactoryError};
 use crate::spectrum::parse_spd_spec;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;

@@ -16,8 +16,8 @@
 
 use crate::builtin::{finite, from_value, param_err, state_fns, Build, BuiltinType, Embed};
 use crate::light::{EnvironmentLight, EnvironmentMap, Light};
-use crate::plugin::type_doc::Param;
-use crate::scene::{FactoryContext, FactoryError};
+use crate::scene_file::type_doc::Param;
+use crate::scene_file::{FactoryContext, FactoryError};
 use crate::texture::image_file::{self, Encoding};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;

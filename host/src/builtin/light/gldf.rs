@@ -24,8 +24,8 @@ use crate::builtin::{from_value, param_err, Build, BuiltinType};
 use crate::light::Light;
 use crate::photometry::gldf::Gldf;
 use crate::photometry::CandelaTable;
-use crate::plugin::type_doc::Param;
-use crate::scene::{FactoryContext, FactoryError};
+use crate::scene_file::type_doc::Param;
+use crate::scene_file::{FactoryContext, FactoryError};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 

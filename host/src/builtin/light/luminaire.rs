@@ -31,8 +31,8 @@ use crate::builtin::{check, from_value, param_err, state_fns, Build, BuiltinType
 use crate::light::{Light, LuminaireLight};
 use crate::photometry::efficacy::luminous_efficacy_lm_per_w;
 use crate::photometry::{load_luminaire, CandelaTable, Luminaire};
-use crate::plugin::type_doc::Param;
-use crate::scene::{FactoryContext, FactoryError};
+use crate::scene_file::type_doc::Param;
+use crate::scene_file::{FactoryContext, FactoryError};
 use crate::spectrum::parse_spd_spec;
 use glam::Vec3A;
 use serde::{Deserialize, Serialize};

@@ -19,8 +19,8 @@ use crate::light::near_field::NearFieldLight;
 use crate::light::Light;
 use crate::photometry::efficacy::luminous_efficacy_lm_per_w;
 use crate::photometry::CandelaTable;
-use crate::plugin::type_doc::Param;
-use crate::scene::{FactoryContext, FactoryError};
+use crate::scene_file::type_doc::Param;
+use crate::scene_file::{FactoryContext, FactoryError};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 

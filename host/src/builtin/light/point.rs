@@ -17,8 +17,8 @@ use super::{exactly_one, from_photometric, light_spd, non_negative};
 use crate::builtin::spectral::Spectrum;
 use crate::builtin::{finite3, from_value, state_fns, Build, BuiltinType, Embed};
 use crate::light::{Light, PointLight};
-use crate::plugin::type_doc::Param;
-use crate::scene::{FactoryContext, FactoryError};
+use crate::scene_file::type_doc::Param;
+use crate::scene_file::{FactoryContext, FactoryError};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 

@@ -22,8 +22,8 @@ use crate::builtin::{
     finite, finite3, from_value, param_err, state_fns, Build, BuiltinType, Embed,
 };
 use crate::light::{Light, SpotLight};
-use crate::plugin::type_doc::Param;
-use crate::scene::{FactoryContext, FactoryError};
+use crate::scene_file::type_doc::Param;
+use crate::scene_file::{FactoryContext, FactoryError};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 

@@ -22,8 +22,8 @@ use crate::builtin::{from_value, param_err, state_fns, Build, BuiltinType, Embed
 use crate::light::daylight::sun::{disc_solid_angle, SUN_DIAMETER_DEG};
 use crate::light::daylight::{daylight_spd, default_sun_cct, direction, SunLight};
 use crate::light::Light;
-use crate::plugin::type_doc::Param;
-use crate::scene::{FactoryContext, FactoryError};
+use crate::scene_file::type_doc::Param;
+use crate::scene_file::{FactoryContext, FactoryError};
 use glam::Vec3A;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;

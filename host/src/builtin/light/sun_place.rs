@@ -5,7 +5,7 @@
 
 use crate::builtin::param_err;
 use crate::light::daylight::solar_position::{sun_position, LocalTime, SunPosition};
-use crate::scene::FactoryError;
+use crate::scene_file::FactoryError;
 
 /// The placement parameters as written (shared by both lights' parameter structs).
 #[derive(Clone, Debug, Default, PartialEq)]

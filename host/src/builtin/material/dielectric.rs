@@ -7,8 +7,8 @@
 use crate::builtin::spectral::Ior;
 use crate::builtin::{from_value, state_fns, Build, BuiltinType, Embed};
 use crate::material::{Material, SmoothDielectric};
-use crate::plugin::type_doc::Param;
-use crate::scene::{FactoryContext, FactoryError};
+use crate::scene_file::type_doc::Param;
+use crate::scene_file::{FactoryContext, FactoryError};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 

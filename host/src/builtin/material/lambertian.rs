@@ -8,9 +8,10 @@
 
 use crate::builtin::spectral::{texture, Spectrum};
 use crate::builtin::{from_value, state_fns, Build, BuiltinType, Embed};
-use crate::material::{ConstantTexture, Lambertian, Material};
-use crate::plugin::type_doc::Param;
-use crate::scene::{FactoryContext, FactoryError};
+use crate::material::{Lambertian, Material};
+use crate::scene_file::type_doc::Param;
+use crate::scene_file::{FactoryContext, FactoryError};
+use crate::texture::ConstantTexture;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 

@@ -13,8 +13,8 @@ use crate::builtin::{from_value, param_err, state_fns, Build, BuiltinType, Embed
 use crate::material::metals::ComplexIorTable;
 use crate::material::thin_film::{ThinFilm, ThinFilmBase};
 use crate::material::Material;
-use crate::plugin::type_doc::Param;
-use crate::scene::{FactoryContext, FactoryError};
+use crate::scene_file::type_doc::Param;
+use crate::scene_file::{FactoryContext, FactoryError};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 

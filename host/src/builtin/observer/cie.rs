@@ -8,7 +8,7 @@
 
 use crate::builtin::{from_value, state_fns, Build, BuiltinType, Embed};
 use crate::color::{CieObserverKind, Observer};
-use crate::scene::FactoryError;
+use crate::scene_file::FactoryError;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 

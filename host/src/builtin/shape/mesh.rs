@@ -9,8 +9,8 @@
 
 use crate::builtin::{from_value, param_err, Build, BuiltinType};
 use crate::geometry::{Shape, TriangleMesh};
-use crate::plugin::type_doc::Param;
-use crate::scene::{FactoryContext, FactoryError};
+use crate::scene_file::type_doc::Param;
+use crate::scene_file::{FactoryContext, FactoryError};
 use glam::{Vec2, Vec3A};
 use serde::{Deserialize, Serialize};
 

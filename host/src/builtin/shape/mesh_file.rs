@@ -8,8 +8,8 @@
 
 use crate::builtin::{from_value, Build, BuiltinType};
 use crate::geometry::{load_obj, load_ply, Shape};
-use crate::plugin::type_doc::Param;
-use crate::scene::FactoryError;
+use crate::scene_file::type_doc::Param;
+use crate::scene_file::FactoryError;
 use serde::{Deserialize, Serialize};
 
 /// Wavefront OBJ.

@@ -9,8 +9,8 @@
 
 use crate::builtin::{finite3, from_value, Build, BuiltinType};
 use crate::geometry::Shape;
-use crate::plugin::type_doc::Param;
-use crate::scene::{FactoryContext, FactoryError};
+use crate::scene_file::type_doc::Param;
+use crate::scene_file::{FactoryContext, FactoryError};
 use serde::{Deserialize, Serialize};
 
 /// The type.

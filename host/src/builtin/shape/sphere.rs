@@ -7,8 +7,8 @@
 
 use crate::builtin::{finite, finite3, from_value, param_err, Build, BuiltinType};
 use crate::geometry::Shape;
-use crate::plugin::type_doc::Param;
-use crate::scene::{FactoryContext, FactoryError};
+use crate::scene_file::type_doc::Param;
+use crate::scene_file::{FactoryContext, FactoryError};
 use glam::Vec3A;
 use serde::{Deserialize, Serialize};
 

@@ -6,8 +6,8 @@
 
 use crate::builtin::spectral::{spd, Spectrum};
 use crate::builtin::{from_value, state_fns, Build, BuiltinType, Embed};
-use crate::plugin::type_doc::Param;
-use crate::scene::{FactoryContext, FactoryError};
+use crate::scene_file::type_doc::Param;
+use crate::scene_file::{FactoryContext, FactoryError};
 use crate::spectrum::Spd;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;

@@ -73,7 +73,7 @@ pub struct RenderArgs {
     /// Effects to simulate: auto (what the scene analysis finds, the default) or all (every
     /// switchable effect's machinery, found or not).
     #[arg(long, value_enum, default_value = "auto")]
-    pub effects: crate::effects::EffectsMode,
+    pub effects: crate::integrator::EffectsMode,
     /// Force one effect on or off, NAME=on|off (repeatable): dispersion, fluorescence,
     /// thin-film, narrowband-emission (alias line-emission), flat-path-colour.
     #[arg(long = "effect", value_name = "NAME=on|off")]
@@ -294,8 +294,8 @@ impl RenderArgs {
     /// The effects request in the settings fingerprint; empty for the default (`auto`, nothing
     /// forced), so checkpoints written before `--effects` existed still resume.
     fn effects_key(&self) -> String {
-        match crate::effects::EffectsRequest::parse(self.effects, &self.effect) {
-            Ok(r) if r == crate::effects::EffectsRequest::default() => String::new(),
+        match crate::integrator::EffectsRequest::parse(self.effects, &self.effect) {
+            Ok(r) if r == crate::integrator::EffectsRequest::default() => String::new(),
             Ok(r) => format!(" effects={}", r.key()),
             Err(e) => format!(" effects=invalid({e})"),
         }

@@ -6,13 +6,14 @@
 use super::args::{RenderArgs, StoredRender};
 use super::scene::load;
 use crate::cli::output_paths::{output_paths, OutputPaths};
-use crate::effects::{EffectsRequest, RenderPlan};
 use crate::film::spectral::SpectralBins;
 use crate::film::{state_file::fnv1a64, RenderState, SliceSpec};
+use crate::integrator::{EffectsRequest, RenderPlan};
 use crate::integrator::{
     IntegratorKind, PathTracer, RenderSettings, SampleBudget, WavelengthSampling,
 };
-use crate::scene::{ObjectFactory, Scene};
+use crate::scene::Scene;
+use crate::scene_file::ObjectFactory;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::time::Instant;

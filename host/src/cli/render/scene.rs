@@ -2,7 +2,8 @@
 //! arguments, or the embedded Cornell box, with `--resolution` applied to every camera.
 
 use super::RenderArgs;
-use crate::scene::{load_scene_file_with, ObjectFactory, RepresentationOptions, Scene};
+use crate::scene::{load_scene_file_with, Scene};
+use crate::scene_file::{ObjectFactory, RepresentationOptions};
 use std::path::{Path, PathBuf};
 
 /// Load the scene named by `args` (or the default) with the given factories.

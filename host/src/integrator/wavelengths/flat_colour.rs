@@ -38,8 +38,8 @@
 
 use crate::color::observer::Observer;
 use crate::integrator::subpath::vertex::{Vertex, VertexKind};
-use crate::material::dense::DenseSpectrum;
 use crate::scene::Scene;
+use crate::spectrum::dense::DenseSpectrum;
 use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths, LANES};
 
 /// Sub-steps per nm of the `K_S` and `P` integrals (midpoint rule).

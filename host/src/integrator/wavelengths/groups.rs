@@ -67,7 +67,7 @@
 //! cannot render them). A scene without evaluable lights has no emission to sample and falls
 //! back to visible-importance sampling.
 
-use crate::effects::RenderPlan;
+use crate::integrator::plan::RenderPlan;
 use crate::integrator::wavelengths::mixture::WavelengthMixture;
 use crate::integrator::{PixelSampler, WavelengthSampling};
 use crate::spectrum::wavelength_sampling::rotated;

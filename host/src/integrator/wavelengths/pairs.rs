@@ -28,7 +28,8 @@
 //! ([`FlatColour`](crate::integrator::wavelengths::flat_colour::FlatColour)) needs the same density for its usable
 //! probability, so it is built from [`PairWavelengths::pdf`].
 
-use crate::effects::{Effect, RenderPlan};
+use crate::effects::Effect;
+use crate::integrator::plan::RenderPlan;
 use crate::integrator::wavelengths::mixture::WavelengthMixture;
 use crate::integrator::{PixelSampler, WavelengthSampling};
 use crate::scene::Scene;

@@ -8,7 +8,7 @@
 use super::cie_sky_model::SkyType;
 use super::sky_sampler::HemisphereSampler;
 use crate::light::EnvironmentRadiance;
-use crate::material::dense::DenseSpectrum;
+use crate::spectrum::dense::DenseSpectrum;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spd};
 use glam::{DVec3, Vec2, Vec3A};
 use std::f64::consts::PI;

@@ -52,7 +52,6 @@
 //! luminous flux, Stokes needs radiant flux, tristimulus needs luminous flux and identifier 0,
 //! the spectrum-index flag is set exactly for identifier 4, identifiers 3 and 4 need tables.
 
-pub mod export;
 pub mod reader;
 pub mod writer;
 

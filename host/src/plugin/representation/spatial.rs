@@ -5,7 +5,7 @@
 use spectrace_plugin_api::{BeamRepresentation, DirectionEncoding, Handedness, Vec3};
 
 /// Metres per unit of the host's world: scenes are converted to metres when built, whatever
-/// their `units` (see `scene::units`), so a beam's `power_w` and a radiance's m² hold.
+/// their `units` (see `scene_file::units`), so a beam's `power_w` and a radiance's m² hold.
 pub const SCENE_METRES_PER_UNIT: f64 = 1.0;
 
 /// Converts origins and directions of one declared representation.

@@ -5,10 +5,10 @@
 
 use super::spectra;
 use super::xml::Element;
-use crate::scene::description::{
+use crate::scene::SceneError;
+use crate::scene_file::description::{
     ItemDescription, ObjectDescription, OutputDescription, SceneDescription, TransformStep,
 };
-use crate::scene::SceneError;
 use glam::{DMat4, DVec3};
 use ron::Value;
 use std::cell::RefCell;

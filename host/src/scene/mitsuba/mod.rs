@@ -13,8 +13,8 @@ pub mod xml;
 
 pub use convert::Conversion;
 
-use crate::scene::description::SceneDescription;
 use crate::scene::SceneError;
+use crate::scene_file::description::SceneDescription;
 use std::path::Path;
 
 /// True when `path` names a Mitsuba XML scene (by its extension).

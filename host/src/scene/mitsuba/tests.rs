@@ -5,7 +5,7 @@
 use super::convert::{convert_tree, transform_of, Conversion};
 use super::xml::{parse_scene_text, read_scene};
 use super::*;
-use crate::scene::description::TransformStep;
+use crate::scene_file::description::TransformStep;
 use glam::{DMat4, DVec3};
 use ron::Value;
 use std::path::PathBuf;

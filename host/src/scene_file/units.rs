@@ -16,7 +16,7 @@
 //! A plugin light type that declares its own beam representation (`metres_per_unit`, see
 //! `plugin::representation`) converts its own lengths; its parameters are taken in its unit.
 
-use crate::plugin::type_doc::ParamDoc;
+use super::type_doc::ParamDoc;
 use ron::{Number, Value};
 
 /// The unit a parameter table gives for lengths in the scene's unit.

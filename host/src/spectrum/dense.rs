@@ -213,7 +213,7 @@ impl DenseSpectrum {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::material::texture::piecewise_linear_eval;
+    use crate::texture::spectral_texture::piecewise_linear_eval;
 
     /// A piecewise-linear curve with integer-nm breakpoints is reproduced exactly (1e-6, f32
     /// rounding) at arbitrary wavelengths, and the original function is used outside the grid.

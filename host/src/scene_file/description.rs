@@ -58,14 +58,14 @@ pub struct SceneDescription {
     #[serde(default)]
     pub cameras: Vec<ItemDescription>,
     /// Illuminance sensors measured by the render (`illuminance_grid`, see
-    /// [`crate::sensor::grid`]).
+    /// [`crate::builtin::sensor::grid`]).
     #[serde(default)]
     pub sensors: Vec<ItemDescription>,
     /// Plugin libraries the scene needs, loaded before it is built: `"PATH"` or
     /// `(path: "PATH", sha256: "HEX")` (pinned; relative to the scene file; see
-    /// [`crate::plugin::pin`]).
+    /// [`super::pin`]).
     #[serde(default)]
-    pub plugins: Vec<crate::plugin::pin::ScenePlugin>,
+    pub plugins: Vec<super::pin::ScenePlugin>,
 }
 
 /// The scene's observer: a type name with default parameters, or a type with parameters.

@@ -122,10 +122,10 @@ impl GlareObserver {
             ));
         }
         if let Some(s) = p.samples {
-            if s == 0 || s > super::MAX_SAMPLES {
+            if s == 0 || s > super::limits::MAX_SAMPLES {
                 return Err(format!(
                     "parameter `samples` {s}: must be 1–{}",
-                    super::MAX_SAMPLES
+                    super::limits::MAX_SAMPLES
                 ));
             }
         }
@@ -193,10 +193,10 @@ pub fn guth_position_index(tau: f64, sigma: f64) -> f64 {
 }
 
 /// Build the scene's `glare_observer` sensor items (other types are left to
-/// [`super::build_sensors`](crate::sensor::build_sensors)), positions converted to metres; names must be unique among all
+/// [`super::grid::build_sensors`]), positions converted to metres; names must be unique among all
 /// sensors. An error names the item.
 pub fn build_glare_observers(
-    items: &[crate::scene::description::ItemDescription],
+    items: &[crate::scene_file::description::ItemDescription],
     metres: f64,
 ) -> Result<Vec<GlareObserver>, (String, String)> {
     let mut out: Vec<GlareObserver> = Vec::new();

@@ -14,10 +14,10 @@
 //! Random numbers: the renderer's own generator per ray ([`SampleRng::for_sample`]), so the same
 //! seed gives the same file.
 
-use super::writer::{write_tm25, Tm25Spectrum, WriteHeader, WriteRay};
-use crate::integrator::sampler::SampleRng;
 use crate::light::{Light, LightFlags};
 use crate::photometry::efficacy::luminous_efficacy_lm_per_w;
+use crate::photometry::tm25::writer::{write_tm25, Tm25Spectrum, WriteHeader, WriteRay};
+use crate::sampler::SampleRng;
 use crate::spectrum::spd::spd_at;
 use crate::spectrum::{LaneMask, SampledWavelengths, LANES};
 use spectrace_plugin_api::RandomSample;

@@ -160,7 +160,7 @@ pub trait ObjectFactory: Send + Sync {
         &self,
         _kind: &'static str,
         _type_name: &str,
-    ) -> Option<Vec<crate::plugin::type_doc::ParamDoc>> {
+    ) -> Option<Vec<super::type_doc::ParamDoc>> {
         None
     }
 

@@ -23,7 +23,7 @@ pub enum Kind {
     /// A camera (`cameras: [...]`).
     Camera,
     /// A rendering algorithm. Integrator types register under this kind with
-    /// [`super::Registry::register_builtin`]; the integrator module provides their constructors.
+    /// [`crate::plugin::Registry::register_builtin`]; the integrator module provides their constructors.
     Integrator,
 }
 

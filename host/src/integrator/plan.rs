@@ -1,5 +1,5 @@
 //! [`RenderPlan`]: what a render does about each effect, decided once from the scene analysis
-//! ([`super::analyze`]) and the command line, and read by the integrators (which never
+//! ([`crate::effects::analyze`]) and the command line, and read by the integrators (which never
 //! re-derive it). Data flows one way: scene → analysis → plan → integrator.
 //!
 //! | setting (command line)        | values                 | meaning                                              |
@@ -32,10 +32,10 @@
 //! needs light paths ([`RenderPlan::light_paths_needed`]): beam-only lights, or point-like and
 //! directional lights seen through delta BSDFs; pt cannot render those.
 
-use super::analysis::{Caller, EffectSet};
-use super::effect::Effect;
-use crate::integrator::wavelengths::flat_colour::FlatColour;
-use crate::integrator::wavelengths::mixture::WavelengthMixture;
+use super::wavelengths::flat_colour::FlatColour;
+use super::wavelengths::mixture::WavelengthMixture;
+use crate::effects::analysis::{Caller, EffectSet};
+use crate::effects::effect::Effect;
 use crate::light::LightFlags;
 use crate::material::{EffectsOff, Material};
 use crate::scene::Scene;
@@ -254,7 +254,7 @@ pub struct RenderPlan {
 impl RenderPlan {
     /// The plan for `scene` under `request`.
     pub fn new(scene: &Scene, request: &EffectsRequest) -> Self {
-        let effects = super::analyze(scene);
+        let effects = crate::effects::analyze(scene);
         let decisions = Switch::ALL.map(|s| {
             if let Some(on) = request.forced(s) {
                 return Decision {
@@ -462,7 +462,7 @@ impl RenderPlan {
             .get_or_init(|| {
                 Some(self.mixture.as_ref())
                     .filter(|m| m.has_emission())
-                    .and_then(|m| crate::integrator::wavelengths::mixture::product_table(m).ok())
+                    .and_then(|m| super::wavelengths::mixture::product_table(m).ok())
             })
             .as_ref()
     }

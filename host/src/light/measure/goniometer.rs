@@ -18,11 +18,11 @@
 //! The grid: `v` (γ) 0..180° and `h` (C) 0..360° in steps of `step_deg`, the luminaire frame
 //! equal to the world frame (γ = 0 straight down, C0 along +x, C90 along −z).
 
-use super::candela_table::CandelaTable;
-use super::efficacy::luminous_efficacy_lm_per_w;
-use super::luminaire::{Luminaire, PhotometricType, SourceFormat, Symmetry};
-use crate::integrator::sampler::SampleRng;
 use crate::light::{Light, LightFlags, LightSampleContext};
+use crate::photometry::candela_table::CandelaTable;
+use crate::photometry::efficacy::luminous_efficacy_lm_per_w;
+use crate::photometry::luminaire::{Luminaire, PhotometricType, SourceFormat, Symmetry};
+use crate::sampler::SampleRng;
 use crate::spectrum::spd::spd_at;
 use crate::spectrum::{Interpolation, SampledWavelengths, Spd, TabulatedSpd, LANES};
 use glam::{Vec2, Vec3A};

@@ -2,7 +2,7 @@
 //! (reflectance, emission) at a surface point. Implementations adapt tabulated curves, RGB
 //! uplifts or plugin spectra; materials never know which.
 
-use super::dense::DenseSpectrum;
+use crate::spectrum::dense::DenseSpectrum;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::Vec2;
 use std::fmt::Debug;

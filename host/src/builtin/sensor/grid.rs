@@ -18,7 +18,7 @@
 //! | `resolution` | points        | —                     | (nx, ny), each ≥ 1, nx·ny ≤ 1 000 000          |
 //! | `samples`    | per point     | the render's spp      | estimator samples per point (≥ 1)              |
 //!
-//! Results are in lux (lm/m²) with their standard error; see [`super::estimate`].
+//! Results are in lux (lm/m²) with their standard error; see [`crate::sensor::estimate`].
 
 use serde::Deserialize;
 
@@ -146,7 +146,7 @@ impl IlluminanceGrid {
 /// Build the scene's `sensors` items, their lengths converted to metres (`metres` per scene
 /// unit, see the scene's `units`); an error names the item and what is wrong.
 pub fn build_sensors(
-    items: &[crate::scene::description::ItemDescription],
+    items: &[crate::scene_file::description::ItemDescription],
     metres: f64,
 ) -> Result<Vec<IlluminanceGrid>, (String, String)> {
     let mut out: Vec<IlluminanceGrid> = Vec::with_capacity(items.len());
