@@ -189,6 +189,44 @@ pub struct EmittedRay {
     pub normal: Vec4f,
 }
 
+impl EmittedRay {
+    /// The beam this emission sample stands for, for a light that implements
+    /// [`next_beam`](crate::LightSource::next_beam) by sampling its own emission: draw the
+    /// wavelength from the emission spectrum (`wavelength_nm`, with density `wavelength_pdf`:
+    /// 1/nm, or the discrete probability of a spectral line), fill this ray for it in lane 0
+    /// (as [`sample_emission`](crate::LightSource::sample_emission) does), then
+    ///
+    /// `power_w = value[0] · |cos θ| / (pdf_position · pdf_direction · wavelength_pdf)` W,
+    ///
+    /// the one-sample estimate of the whole light's radiant flux, which is what a
+    /// [`Beam`](crate::Beam) carries (θ between `normal` and `direction`; |cos θ| = 1 when
+    /// `normal` is zero, as for point-like lights; a delta position or direction has density 1).
+    /// `None` when a density is not positive or the power is not finite and ≥ 0: no beam.
+    pub fn to_beam(&self, wavelength_nm: f64, wavelength_pdf: f64) -> Option<crate::Beam> {
+        let (pos, dir) = (self.pdf_position as f64, self.pdf_direction as f64);
+        if !(pos > 0.0 && dir > 0.0 && wavelength_pdf > 0.0) {
+            return None;
+        }
+        let (d, n) = (self.direction.to_f64(), self.normal.to_f64());
+        let cos = if n == Vec3::default() {
+            1.0
+        } else {
+            n.dot(d).abs()
+        };
+        let power_w = self.value[0] as f64 * cos / (pos * dir * wavelength_pdf);
+        if !(power_w.is_finite() && power_w >= 0.0) {
+            return None;
+        }
+        Some(crate::Beam {
+            origin: self.origin.to_f64(),
+            direction: d,
+            wavelength_nm,
+            power_w,
+            source_id: 0,
+        })
+    }
+}
+
 /// The densities with which [`LightSource::sample_emission`](crate::LightSource::sample_emission)
 /// would produce a given ray, returned by value (NaN in both: the call failed).
 #[repr(C)]
@@ -214,4 +252,60 @@ pub mod status {
     /// The call failed (an error, or a panic caught on the plugin's side): its error is kept
     /// for `take_error`; the record is not to be read.
     pub const ERROR: u32 = 2;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `to_beam` against the formula worked by hand: value 2 W/(m²·sr·nm), densities 0.5 /m²,
+    /// 0.25 /sr and 0.01 /nm, the normal at 60° to the direction (|cos θ| = 1/2):
+    /// 2 · 0.5 / (0.5 · 0.25 · 0.01) = 800 W. Tolerance 1e-12 relative: cos θ is the
+    /// direction's y, 0.5 exactly, so only the f64 division rounds.
+    #[test]
+    fn to_beam_is_the_one_sample_flux_estimate() {
+        let c = 0.5f32;
+        let s = (0.75f32).sqrt();
+        let ray = EmittedRay {
+            origin: Vec4f::new(1.0, 2.0, 3.0),
+            direction: Vec4f::new(s, c, 0.0),
+            value: [2.0, 9.0, 9.0, 9.0],
+            pdf_position: 0.5,
+            pdf_direction: 0.25,
+            normal: Vec4f::new(0.0, 1.0, 0.0),
+        };
+        let b = ray.to_beam(550.0, 0.01).expect("a beam");
+        assert!((b.power_w / 800.0 - 1.0).abs() < 1e-12, "{}", b.power_w);
+        assert_eq!(b.wavelength_nm, 550.0);
+        assert_eq!(b.origin, Vec3::new(1.0, 2.0, 3.0));
+        // No surface: |cos θ| = 1.
+        let point = EmittedRay {
+            normal: Vec4f::default(),
+            ..ray
+        };
+        let b = point.to_beam(550.0, 0.01).expect("a beam");
+        assert!((b.power_w / 1600.0 - 1.0).abs() < 1e-12, "{}", b.power_w);
+        // No sample: a density of 0 anywhere, or a power that is not finite and ≥ 0.
+        for bad in [
+            EmittedRay {
+                pdf_position: 0.0,
+                ..ray
+            },
+            EmittedRay {
+                pdf_direction: 0.0,
+                ..ray
+            },
+            EmittedRay {
+                value: [-1.0; LANES],
+                ..ray
+            },
+            EmittedRay {
+                value: [f32::NAN; LANES],
+                ..ray
+            },
+        ] {
+            assert_eq!(bad.to_beam(550.0, 0.01), None);
+        }
+        assert_eq!(ray.to_beam(550.0, 0.0), None);
+    }
 }

@@ -1,5 +1,8 @@
 //! Helpers shared by the workspace integration tests.
 
+use spectrace::integrator::{IntegratorKind, RenderSettings, SampleBudget};
+use spectrace::plugin::factory::RegistryFactory;
+use spectrace::scene::Scene;
 use std::path::PathBuf;
 
 /// The directory cargo put this test's artifacts in (`target/<profile>`), where the plugin
@@ -32,4 +35,43 @@ pub fn plugin_library(name: &str) -> PathBuf {
         path.display()
     );
     path
+}
+
+/// Render `scene`, built by `factory`, with `kind` (`spp` samples per pixel, `seed`, two
+/// threads), effects as `--effects auto` chooses them; XYZ per pixel. Panics when the render
+/// fails or a plugin object faulted (the plugin-versus-built-in comparisons need a clean run).
+pub fn render_auto_xyz(
+    scene: &Scene,
+    factory: &RegistryFactory,
+    kind: IntegratorKind,
+    spp: u32,
+    seed: u64,
+) -> Vec<[f64; 3]> {
+    let settings = RenderSettings {
+        budget: SampleBudget::Spp(spp),
+        seed,
+        threads: Some(2),
+        ..RenderSettings::default()
+    };
+    let plan = spectrace::integrator::RenderPlan::new(
+        scene,
+        &spectrace::integrator::EffectsRequest {
+            mode: spectrace::integrator::EffectsMode::Auto,
+            forced: vec![],
+        },
+    );
+    let out = spectrace::integrator::select::render_planned(
+        scene,
+        &plan,
+        &settings,
+        kind,
+        false,
+        &|_, _| {},
+        None,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let faults = factory.faults();
+    assert_eq!(faults.count(), 0, "{:?}", faults.report());
+    assert_eq!(faults.invalid_count(), 0, "{:?}", faults.report());
+    out.result.image.xyz
 }

@@ -7,7 +7,7 @@ mod support;
 
 use glam::{Vec2, Vec3A};
 use spectrace::geometry::{Aabb, Ray};
-use spectrace::integrator::{IntegratorKind, RenderSettings, SampleBudget};
+use spectrace::integrator::IntegratorKind;
 use spectrace::light::LightSampleContext;
 use spectrace::material::{ShadingContext, TransportMode};
 use spectrace::plugin::adapter::PluginFaults;
@@ -15,7 +15,7 @@ use spectrace::plugin::factory::RegistryFactory;
 use spectrace::plugin::Registry;
 use spectrace::scene::{FactoryContext, ObjectFactory};
 use spectrace::spectrum::SampledWavelengths;
-use spectrace_tests::plugin_library;
+use spectrace_tests::{plugin_library, render_auto_xyz};
 use std::collections::{BTreeMap, BTreeSet};
 use std::sync::Arc;
 use support::{mean_and_se, repo};
@@ -406,32 +406,7 @@ fn render(
         &factories,
     )
     .unwrap_or_else(|e| panic!("{e}"));
-    let settings = RenderSettings {
-        budget: SampleBudget::Spp(spp),
-        seed,
-        threads: Some(2),
-        ..RenderSettings::default()
-    };
-    let plan = spectrace::integrator::RenderPlan::new(
-        &scene,
-        &spectrace::integrator::EffectsRequest {
-            mode: spectrace::integrator::EffectsMode::Auto,
-            forced: vec![],
-        },
-    );
-    let out = spectrace::integrator::select::render_planned(
-        &scene,
-        &plan,
-        &settings,
-        kind,
-        false,
-        &|_, _| {},
-        None,
-    )
-    .unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(f.faults().count(), 0, "{:?}", f.faults().report());
-    assert_eq!(f.faults().invalid_count(), 0, "{:?}", f.faults().report());
-    out.result.image.xyz
+    render_auto_xyz(&scene, &f, kind, spp, seed)
 }
 
 /// Per block: the z statistic of the difference of the two sets' mean block values, over the

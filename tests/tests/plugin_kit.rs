@@ -41,217 +41,154 @@ fn failures(report: &Value) -> Vec<String> {
 }
 
 /// Every shipped type, with parameters (types with required parameters cannot be built from
-/// `()`).
-const SHIPPED: &[(&str, &str, &str)] = &[
+/// `()`), by library: (type, parameters).
+const SHIPPED: &[(&str, &[(&str, &str)])] = &[
     (
         "spectrace-point-light",
-        "isotropic_point",
-        "(position: (0, 0, 0), power_w: 10)",
-    ),
-    (
-        "spectrace-point-light",
-        "smooth_spot",
-        "(position: (0, 0, 0), direction: (0, -1, 0), power_w: 10)",
+        &[
+            ("isotropic_point", "(position: (0, 0, 0), power_w: 10)"),
+            (
+                "smooth_spot",
+                "(position: (0, 0, 0), direction: (0, -1, 0), power_w: 10)",
+            ),
+        ],
     ),
     (
         "spectrace-example-laser",
-        "laser",
-        "(origin: (0, 0, 0), direction: (0, 0, -1), wavelength_nm: 532, power_w: 1)",
+        &[(
+            "laser",
+            "(origin: (0, 0, 0), direction: (0, 0, -1), wavelength_nm: 532, power_w: 1)",
+        )],
     ),
     (
         "spectrace-sensor-spectra",
-        "lorentzian",
-        "(centre_nm: 589, fwhm_nm: 10)",
+        &[
+            ("lorentzian", "(centre_nm: 589, fwhm_nm: 10)"),
+            ("gaussian_sensor", "()"),
+        ],
     ),
-    ("spectrace-sensor-spectra", "gaussian_sensor", "()"),
-    ("spectrace-rough-diffuse", "oren_nayar", "(roughness: 0.8)"),
-    ("spectrace-standard", "lambertian", "()"),
-    ("spectrace-standard", "mirror", "()"),
-    ("spectrace-standard", "dielectric", "()"),
-    ("spectrace-standard", "rough_dielectric", "()"),
-    ("spectrace-standard", "conductor", "()"),
     (
-        "spectrace-standard",
-        "emissive",
-        "(radiance: \"d65\", scale: 10)",
-    ),
-    ("spectrace-standard", "fluorescent", "(bfc: \"CIBA12\")"),
-    ("spectrace-standard", "spec", "(spec: \"d65\")"),
-    ("spectrace-standard", "spec", "(spec: \"fl11\")"),
-    ("spectrace-standard", "spec", "(spec: \"line:589\")"),
-    (
-        "spectrace-standard",
-        "table",
-        "(values: ((400, 1), (500, 2), (600, 1.5), (700, 0.5)))",
-    ),
-    ("spectrace-standard", "cie1931-2", "()"),
-    ("spectrace-standard", "cie1964-10", "()"),
-    ("spectrace-standard", "cie2015-2", "()"),
-    ("spectrace-standard", "cie2015-10", "()"),
-    (
-        "spectrace-standard",
-        "point",
-        "(position: (0, 0.5, 0), power: 20)",
+        "spectrace-rough-diffuse",
+        &[("oren_nayar", "(roughness: 0.8)")],
     ),
     (
         "spectrace-standard",
-        "spot",
-        "(position: (0, 0.5, 0), target: (0, -1, 0), power: 20)",
-    ),
-    (
-        "spectrace-standard",
-        "directional",
-        "(direction: (0, -1, 0), irradiance: 2)",
-    ),
-    (
-        "spectrace-standard",
-        "environment",
-        "(radiance: \"d65\", scale: 0.5)",
+        &[
+            ("lambertian", "()"),
+            ("mirror", "()"),
+            ("dielectric", "()"),
+            ("rough_dielectric", "()"),
+            ("conductor", "()"),
+            ("emissive", "(radiance: \"d65\", scale: 10)"),
+            ("fluorescent", "(bfc: \"CIBA12\")"),
+            ("spec", "(spec: \"d65\")"),
+            ("spec", "(spec: \"fl11\")"),
+            ("spec", "(spec: \"line:589\")"),
+            (
+                "table",
+                "(values: ((400, 1), (500, 2), (600, 1.5), (700, 0.5)))",
+            ),
+            ("cie1931-2", "()"),
+            ("cie1964-10", "()"),
+            ("cie2015-2", "()"),
+            ("cie2015-10", "()"),
+            ("point", "(position: (0, 0.5, 0), power: 20)"),
+            (
+                "spot",
+                "(position: (0, 0.5, 0), target: (0, -1, 0), power: 20)",
+            ),
+            ("directional", "(direction: (0, -1, 0), irradiance: 2)"),
+            ("environment", "(radiance: \"d65\", scale: 0.5)"),
+        ],
     ),
     (
         "spectrace-api-only",
-        "api_conductor",
-        "(metal: \"aluminium\", roughness: 0.25)",
-    ),
-    (
-        "spectrace-api-only",
-        "api_conductor",
-        "(metal: \"gold\", roughness: 0.5)",
-    ),
-    (
-        "spectrace-api-only",
-        "api_spot",
-        "(position: (0, 0.5, 0), target: (0, -1, 0), inner_angle: 12, outer_angle: 22, \
-         power: 60, spd: \"blackbody:2856\")",
+        &[
+            ("api_conductor", "(metal: \"aluminium\", roughness: 0.25)"),
+            ("api_conductor", "(metal: \"gold\", roughness: 0.5)"),
+            (
+                "api_spot",
+                "(position: (0, 0.5, 0), target: (0, -1, 0), inner_angle: 12, outer_angle: 22, \
+                 power: 60, spd: \"blackbody:2856\")",
+            ),
+        ],
     ),
 ];
 
 #[test]
 fn every_shipped_plugin_type_passes_plugins_check() {
     let mut problems = Vec::new();
-    for (lib, ty, params) in SHIPPED {
-        let (ok, reports) = check(lib, &["--type", ty, "--params", params]);
-        assert_eq!(reports.len(), 1, "{lib} {ty}");
-        let failed = failures(&reports[0]);
-        if !failed.is_empty() {
-            problems.push(format!(
-                "{lib} `{ty}` {params}: failed {failed:?}\n{:#}",
-                reports[0]
-            ));
+    for (lib, types) in SHIPPED {
+        for (ty, params) in *types {
+            let (ok, reports) = check(lib, &["--type", ty, "--params", params]);
+            assert_eq!(reports.len(), 1, "{lib} {ty}");
+            let failed = failures(&reports[0]);
+            if !failed.is_empty() {
+                problems.push(format!(
+                    "{lib} `{ty}` {params}: failed {failed:?}\n{:#}",
+                    reports[0]
+                ));
+            }
+            assert_eq!(ok, failed.is_empty(), "{lib} {ty}: exit status");
         }
-        assert_eq!(ok, failed.is_empty(), "{lib} {ty}: exit status");
     }
     assert!(problems.is_empty(), "{}", problems.join("\n"));
 }
 
-/// (library, type, the one check that must fail).
-const BROKEN: &[(&str, &str, &str)] = &[
+/// Each broken fixture library with its types: (type, the one check that must fail).
+const BROKEN: &[(&str, &[(&str, &str)])] = &[
     (
         "spectrace-fixture-broken-materials",
-        "negative_eval",
-        "finite",
-    ),
-    (
-        "spectrace-fixture-broken-materials",
-        "uniform_sampler",
-        "chi2",
-    ),
-    (
-        "spectrace-fixture-broken-materials",
-        "record_pdf_doubled",
-        "sample_pdf",
-    ),
-    (
-        "spectrace-fixture-broken-materials",
-        "pdf_too_large",
-        "pdf_integral",
-    ),
-    (
-        "spectrace-fixture-broken-materials",
-        "creates_energy",
-        "energy",
-    ),
-    (
-        "spectrace-fixture-broken-materials",
-        "not_reciprocal",
-        "reciprocity",
-    ),
-    (
-        "spectrace-fixture-broken-materials",
-        "own_random_numbers",
-        "determinism",
-    ),
-    (
-        "spectrace-fixture-broken-materials",
-        "per_thread_cache",
-        "threads",
-    ),
-    (
-        "spectrace-fixture-broken-materials",
-        "state_forgets",
-        "state",
+        &[
+            ("negative_eval", "finite"),
+            ("uniform_sampler", "chi2"),
+            ("record_pdf_doubled", "sample_pdf"),
+            ("pdf_too_large", "pdf_integral"),
+            ("creates_energy", "energy"),
+            ("not_reciprocal", "reciprocity"),
+            ("own_random_numbers", "determinism"),
+            ("per_thread_cache", "threads"),
+            ("state_forgets", "state"),
+        ],
     ),
     (
         "spectrace-fixture-broken-lights",
-        "double_emission",
-        "power",
+        &[
+            ("double_emission", "power"),
+            ("heavy_beams", "beams_power"),
+            ("inverse_distance", "toward"),
+            ("cosine_emitter", "emission"),
+            ("flat_beams", "beams"),
+            ("state_forgets", "state"),
+        ],
     ),
-    (
-        "spectrace-fixture-broken-lights",
-        "heavy_beams",
-        "beams_power",
-    ),
-    (
-        "spectrace-fixture-broken-lights",
-        "inverse_distance",
-        "toward",
-    ),
-    (
-        "spectrace-fixture-broken-lights",
-        "cosine_emitter",
-        "emission",
-    ),
-    ("spectrace-fixture-broken-lights", "flat_beams", "beams"),
-    ("spectrace-fixture-broken-lights", "state_forgets", "state"),
     (
         "spectrace-fixture-broken-spds",
-        "not_normalised",
-        "integral",
-    ),
-    ("spectrace-fixture-broken-spds", "uniform_sampler", "chi2"),
-    ("spectrace-fixture-broken-spds", "hidden_line", "lines"),
-    ("spectrace-fixture-broken-spds", "state_forgets", "state"),
-    (
-        "spectrace-fixture-broken-observers",
-        "negative_lobe",
-        "finite",
+        &[
+            ("not_normalised", "integral"),
+            ("uniform_sampler", "chi2"),
+            ("hidden_line", "lines"),
+            ("state_forgets", "state"),
+        ],
     ),
     (
         "spectrace-fixture-broken-observers",
-        "range_too_short",
-        "range",
-    ),
-    (
-        "spectrace-fixture-broken-observers",
-        "state_forgets",
-        "state",
+        &[
+            ("negative_lobe", "finite"),
+            ("range_too_short", "range"),
+            ("state_forgets", "state"),
+        ],
     ),
 ];
 
 #[test]
 fn each_broken_fixture_is_caught_by_its_check_alone() {
-    for lib in [
-        "spectrace-fixture-broken-materials",
-        "spectrace-fixture-broken-lights",
-        "spectrace-fixture-broken-spds",
-        "spectrace-fixture-broken-observers",
-    ] {
+    for (lib, expected) in BROKEN {
         // Every type of the library at once, from its defaults: one report each.
         let (ok, reports) = check(lib, &[]);
         assert!(!ok, "{lib}: the exit status must say that checks failed");
-        let expected: Vec<_> = BROKEN.iter().filter(|b| b.0 == lib).collect();
         assert_eq!(reports.len(), expected.len(), "{lib}: one report per type");
-        for (_, ty, check_name) in expected {
+        for (ty, check_name) in *expected {
             let r = reports
                 .iter()
                 .find(|r| r["type_name"] == *ty)

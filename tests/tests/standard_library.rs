@@ -4,12 +4,12 @@
 //! with every type from the library, in PT, BDPT and LT; loaded next to the built-ins, the
 //! library is refused naming both providers; alone it renders the Cornell box.
 
-use spectrace::integrator::{IntegratorKind, RenderSettings, SampleBudget};
+use spectrace::integrator::IntegratorKind;
 use spectrace::plugin::adapter::PluginFaults;
 use spectrace::plugin::factory::RegistryFactory;
 use spectrace::plugin::{Kind, Registry};
 use spectrace::scene::{FactoryContext, ObjectFactory};
-use spectrace_tests::plugin_library;
+use spectrace_tests::{plugin_library, render_auto_xyz};
 use std::sync::Arc;
 
 fn library() -> std::path::PathBuf {
@@ -344,35 +344,10 @@ fn render_xyz(
     seed: u64,
 ) -> Vec<[f64; 3]> {
     let (scene, f) = build(desc, registry);
-    let settings = RenderSettings {
-        budget: SampleBudget::Spp(spp),
-        seed,
-        threads: Some(2),
-        ..RenderSettings::default()
-    };
     // `flat-path-colour` stays as `auto` decides: by their declared bits the library's types
     // declare spectral flatness and uniform emission shapes exactly where the built-ins do (see
     // `library_declares_flatness_where_the_builtins_do`), so both are estimated alike.
-    let plan = spectrace::integrator::RenderPlan::new(
-        &scene,
-        &spectrace::integrator::EffectsRequest {
-            mode: spectrace::integrator::EffectsMode::Auto,
-            forced: vec![],
-        },
-    );
-    let out = spectrace::integrator::select::render_planned(
-        &scene,
-        &plan,
-        &settings,
-        kind,
-        false,
-        &|_, _| {},
-        None,
-    )
-    .unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(f.faults().count(), 0, "{:?}", f.faults().report());
-    assert_eq!(f.faults().invalid_count(), 0, "{:?}", f.faults().report());
-    out.result.image.xyz
+    render_auto_xyz(&scene, &f, kind, spp, seed)
 }
 
 /// The first camera's resolution set to `w`×`h`.

@@ -56,24 +56,38 @@ pub struct AccuracyConfig {
 }
 
 /// The configurations the renderer really supports, for a scene whose default maximum depth is
-/// `max_depth`.
+/// `max_depth`: the three integrators, path tracing's path and wavelength settings, and the
+/// spectral representations.
 pub fn available_configs(max_depth: u32) -> Vec<AccuracyConfig> {
     let base = PathTracer {
         max_depth,
         ..PathTracer::default()
     };
-    let cfg = |name: &str, trade_off: &str, integrator, tracer| AccuracyConfig {
+    let mut out = integrator_configs(base);
+    out.extend(path_configs(base));
+    out.extend(representation_configs(base));
+    out
+}
+
+/// A configuration of `integrator` with `tracer` and the scene's spectra as written.
+fn config(
+    name: &str,
+    trade_off: &str,
+    integrator: IntegratorKind,
+    tracer: PathTracer,
+) -> AccuracyConfig {
+    AccuracyConfig {
         name: name.into(),
         trade_off: trade_off.into(),
         integrator,
         tracer,
         representation: RepresentationOptions::default(),
-    };
-    let repr = |name: &str, trade_off: &str, representation| AccuracyConfig {
-        representation,
-        ..cfg(name, trade_off, IntegratorKind::Pt, base)
-    };
-    let as_written = RepresentationOptions::default();
+    }
+}
+
+/// The three integrators with their default settings.
+fn integrator_configs(base: PathTracer) -> Vec<AccuracyConfig> {
+    let cfg = config;
     vec![
         cfg(
             "pt",
@@ -98,6 +112,14 @@ pub fn available_configs(max_depth: u32) -> Vec<AccuracyConfig> {
             IntegratorKind::Lt,
             base,
         ),
+    ]
+}
+
+/// Path tracing with one path or wavelength setting changed from `base`.
+fn path_configs(base: PathTracer) -> Vec<AccuracyConfig> {
+    let cfg = config;
+    let max_depth = base.max_depth;
+    vec![
         cfg(
             "pt-rr1",
             "Path tracing with Russian roulette from the first bounce: shorter paths and more \
@@ -183,6 +205,17 @@ pub fn available_configs(max_depth: u32) -> Vec<AccuracyConfig> {
                 ..base
             },
         ),
+    ]
+}
+
+/// Path tracing with the scene's spectra or observer represented otherwise.
+fn representation_configs(base: PathTracer) -> Vec<AccuracyConfig> {
+    let repr = |name: &str, trade_off: &str, representation| AccuracyConfig {
+        representation,
+        ..config(name, trade_off, IntegratorKind::Pt, base)
+    };
+    let as_written = RepresentationOptions::default();
+    vec![
         repr(
             "pt-spd-step",
             "Path tracing with every tabulated spectrum (reflectances, emission, CSV and bundled \

@@ -149,6 +149,31 @@ fn export_built(
     scene: &Scene,
     dir: &Path,
 ) -> Result<Value, String> {
+    check_exportable(scene_path, desc, scene)?;
+    let (camera, width, height) = export_camera(scene_path, desc, scene)?;
+    let grid = grid_nm();
+    let (materials, shapes) = export_objects(scene_path, desc, scene, dir, &grid)?;
+    Ok(json!({
+        "format": FORMAT,
+        "source": scene_path.display().to_string(),
+        "width": width,
+        "height": height,
+        "max_depth": scene.options.max_depth,
+        "camera": camera,
+        "wavelengths_nm": grid,
+        "materials": materials,
+        "shapes": shapes,
+        "units": "m; spectral radiance W/(m^2 sr nm); reflectance unitless",
+    }))
+}
+
+/// An error unless the scene's lights, observer and RGB space are what the anchors render:
+/// emissive objects only, CIE 1931 2°, linear sRGB.
+fn check_exportable(
+    scene_path: &Path,
+    desc: &SceneDescription,
+    scene: &Scene,
+) -> Result<(), String> {
     let err = |m: String| fail(scene_path, m);
     if !desc.lights.is_empty() {
         return Err(err(format!(
@@ -170,6 +195,16 @@ fn export_built(
             scene.options.rgb_space_name
         )));
     }
+    Ok(())
+}
+
+/// The first camera (perspective or pinhole, no lens, box filter) in metres, and the image size.
+fn export_camera(
+    scene_path: &Path,
+    desc: &SceneDescription,
+    scene: &Scene,
+) -> Result<(Value, u32, u32), String> {
+    let err = |m: String| fail(scene_path, m);
     let metres = scene.options.length_unit.metres();
     let cam_desc = desc
         .cameras
@@ -212,7 +247,19 @@ fn export_built(
         "fov_axis": cam.fov_axis.clone().unwrap_or_else(|| "x".into()),
     });
 
-    let grid = grid_nm();
+    Ok((camera, width, height))
+}
+
+/// Each object's material (spectra on `grid`, each material once) and shape (spheres inline,
+/// meshes and quads as PLY files in `dir`).
+fn export_objects(
+    scene_path: &Path,
+    desc: &SceneDescription,
+    scene: &Scene,
+    dir: &Path,
+    grid: &[f64],
+) -> Result<(serde_json::Map<String, Value>, Vec<Value>), String> {
+    let err = |m: String| fail(scene_path, m);
     let mut materials = serde_json::Map::new();
     let mut shapes = Vec::new();
     for (i, obj) in scene.objects.objects().iter().enumerate() {
@@ -227,7 +274,7 @@ fn export_built(
             .find(|m| m.name == od.material)
             .ok_or_else(|| err(format!("material '{}' not in the scene file", od.material)))?;
         if !materials.contains_key(&md.name) {
-            let m = export_material(md, obj.material.as_ref(), &grid)
+            let m = export_material(md, obj.material.as_ref(), grid)
                 .map_err(|e| err(format!("material '{}': {e}", md.name)))?;
             materials.insert(md.name.clone(), m);
         }
@@ -255,18 +302,7 @@ fn export_built(
         };
         shapes.push(entry);
     }
-    Ok(json!({
-        "format": FORMAT,
-        "source": scene_path.display().to_string(),
-        "width": width,
-        "height": height,
-        "max_depth": scene.options.max_depth,
-        "camera": camera,
-        "wavelengths_nm": grid,
-        "materials": materials,
-        "shapes": shapes,
-        "units": "m; spectral radiance W/(m^2 sr nm); reflectance unitless",
-    }))
+    Ok((materials, shapes))
 }
 
 fn export_material(

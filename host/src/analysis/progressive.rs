@@ -102,23 +102,7 @@ pub fn run_reference(
         .map(|c| c.camera.resolution())
         .map_err(AnalysisError::Render)?;
     let spath = state_path(output);
-    let key = settings.key();
-    let mut state = if spath.exists() {
-        let s = ReferenceState::load(&spath)?;
-        if s.key != key || (s.width, s.height) != (width, height) {
-            return Err(AnalysisError::Content {
-                path: spath,
-                message: format!(
-                    "was made by a different render ({}, {}×{}); this run is ({key}, \
-                     {width}×{height}); delete the file or choose another output name",
-                    s.key, s.width, s.height
-                ),
-            });
-        }
-        s
-    } else {
-        ReferenceState::new(width, height, settings.seed, settings.pass_spp, key)
-    };
+    let mut state = open_state(&spath, settings, width, height)?;
     let resumed = state.passes;
     let start = Instant::now();
     let mut samples = 0u64;
@@ -155,15 +139,7 @@ pub fn run_reference(
                     interrupted = true;
                     break;
                 }
-                let render_settings = RenderSettings {
-                    sampler: Default::default(),
-                    budget: SampleBudget::Spp(state.pass_spp),
-                    seed: pass_seed(state.base_seed, state.passes),
-                    threads: settings.threads,
-                    camera: None,
-                    tile_size: 16,
-                    tracer: settings.tracer,
-                };
+                let render_settings = pass_settings(&state, settings);
                 let pass_start = Instant::now();
                 let out = render_with(
                     scene,
@@ -182,14 +158,8 @@ pub fn run_reference(
                     }
                     break;
                 }
-                let n = state.pass_spp as f64;
-                for (s, m) in state.sums.iter_mut().zip(&out.result.image.xyz) {
-                    for c in 0..3 {
-                        s[c] += m[c] * n;
-                    }
-                }
-                state.passes += 1;
                 samples += out.result.samples;
+                add_pass(&mut state, &out.result.image.xyz);
                 state.save(&spath)?;
                 write_exr(output, &state.image(), &scene.options.rgb_space).map_err(|e| {
                     AnalysisError::Write {
@@ -213,4 +183,60 @@ pub fn run_reference(
         pass_dropped_at_time_limit: dropped_at_limit,
         state,
     })
+}
+
+/// The state file at `spath` when it exists (it must come from the same render settings and
+/// resolution), else a new state.
+fn open_state(
+    spath: &Path,
+    settings: &ReferenceSettings,
+    width: u32,
+    height: u32,
+) -> Result<ReferenceState, AnalysisError> {
+    let key = settings.key();
+    if !spath.exists() {
+        return Ok(ReferenceState::new(
+            width,
+            height,
+            settings.seed,
+            settings.pass_spp,
+            key,
+        ));
+    }
+    let s = ReferenceState::load(spath)?;
+    if s.key != key || (s.width, s.height) != (width, height) {
+        return Err(AnalysisError::Content {
+            path: spath.to_path_buf(),
+            message: format!(
+                "was made by a different render ({}, {}×{}); this run is ({key}, \
+                 {width}×{height}); delete the file or choose another output name",
+                s.key, s.width, s.height
+            ),
+        });
+    }
+    Ok(s)
+}
+
+/// The render settings of the state's next pass: its own seed, `pass_spp` samples.
+fn pass_settings(state: &ReferenceState, settings: &ReferenceSettings) -> RenderSettings {
+    RenderSettings {
+        sampler: Default::default(),
+        budget: SampleBudget::Spp(state.pass_spp),
+        seed: pass_seed(state.base_seed, state.passes),
+        threads: settings.threads,
+        camera: None,
+        tile_size: 16,
+        tracer: settings.tracer,
+    }
+}
+
+/// Add a finished pass's image (`xyz` per pixel, a mean over `pass_spp` samples) to the sums.
+fn add_pass(state: &mut ReferenceState, xyz: &[[f64; 3]]) {
+    let n = state.pass_spp as f64;
+    for (s, m) in state.sums.iter_mut().zip(xyz) {
+        for c in 0..3 {
+            s[c] += m[c] * n;
+        }
+    }
+    state.passes += 1;
 }

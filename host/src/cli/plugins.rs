@@ -1,7 +1,9 @@
 //! `spectrace plugins`: what can be built, and who provides it.
 
 use super::plugin_args::PluginArgs;
-use crate::plugin::reference::{builtins_text, params_text, scene_format_markdown};
+use crate::plugin::reference::{
+    builtins_text, params_text, scene_format_markdown, write_scene_format_pages,
+};
 use crate::scene_file::TypeDoc;
 
 /// Arguments of `spectrace plugins`.
@@ -16,9 +18,19 @@ pub struct PluginsArgs {
     /// Also list the built-in types with their parameter tables.
     #[arg(long)]
     pub builtins: bool,
-    /// Print the scene-format reference (docs/scene-format.md) as Markdown instead.
+    /// Print the scene-format reference (docs/scene-format.md and docs/scene-format/*.md, one
+    /// page after another) as Markdown instead.
     #[arg(long, requires = "builtins")]
     pub markdown: bool,
+    /// Write the scene-format reference pages into DIR (DIR/scene-format.md and
+    /// DIR/scene-format/KIND.md) instead: `--markdown-dir docs` regenerates the docs.
+    #[arg(
+        long,
+        value_name = "DIR",
+        requires = "builtins",
+        conflicts_with = "markdown"
+    )]
+    pub markdown_dir: Option<std::path::PathBuf>,
 }
 
 /// What `spectrace plugins` can do besides listing.
@@ -40,6 +52,12 @@ pub fn run(args: &PluginsArgs, verbose: bool) -> Result<(), String> {
     let registry = args.plugins.registry(verbose)?;
     if args.markdown {
         println!("{}", scene_format_markdown(&registry));
+        return Ok(());
+    }
+    if let Some(dir) = &args.markdown_dir {
+        for path in write_scene_format_pages(&registry, dir)? {
+            println!("wrote {}", path.display());
+        }
         return Ok(());
     }
     if registry.plugins().is_empty() {

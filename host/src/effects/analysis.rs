@@ -205,85 +205,9 @@ fn material_is_flat(m: &dyn Material) -> bool {
 
 /// The effects `scene` calls for.
 pub fn analyze(scene: &Scene) -> EffectSet {
-    use std::collections::BTreeMap;
-    let mut found: BTreeMap<Effect, Vec<(Caller, String)>> = BTreeMap::new();
-    let mut add = |e: Effect, c: Caller, d: String| found.entry(e).or_default().push((c, d));
-
-    let mut delta_bsdf_objects = Vec::new();
-    let mut flat = true;
-    for (i, obj) in scene.objects.objects().iter().enumerate() {
-        let m = obj.material.as_ref();
-        let flags = m.flags();
-        let caller = || Caller::Object(i, obj.name.clone());
-        if flags.contains(MaterialFlags::DISPERSIVE) {
-            add(Effect::Dispersion, caller(), String::new());
-        }
-        if flags.contains(MaterialFlags::FLUORESCENT) {
-            let detail = if m.reradiation().is_none() {
-                "no re-radiation data (plugin material): reflectance only".to_string()
-            } else {
-                String::new()
-            };
-            add(Effect::Fluorescence, caller(), detail);
-        }
-        if flags.contains(MaterialFlags::THIN_FILM) {
-            add(Effect::ThinFilm, caller(), String::new());
-        }
-        if flags.contains(MaterialFlags::SPECULAR) {
-            add(Effect::DeltaBsdfs, caller(), String::new());
-            delta_bsdf_objects.push(caller());
-        }
-        if !material_is_flat(m) {
-            flat = false;
-            add(Effect::SpectrallyVarying, caller(), "material".into());
-        }
-    }
-    let mut chain_lights = Vec::new();
-    for (i, l) in scene.lights.lights().iter().enumerate() {
-        let f = l.flags();
-        let caller = || Caller::Light(i, light_label(scene, i));
-        if f.contains(LightFlags::BEAMS_ONLY) {
-            add(Effect::BeamOnlyLights, caller(), String::new());
-        } else {
-            if f.is_delta() {
-                add(Effect::DeltaLights, caller(), String::new());
-            }
-            chain_lights.push((caller(), f.is_delta()));
-        }
-        if f.contains(LightFlags::BEAMS_ONLY) {
-            // Its beams carry their own wavelengths; its spectrum is not probed (a plugin light
-            // built against API 0.1.0 may not offer wavelength sampling at all, and every render
-            // runs this analysis through the render plan).
-            continue;
-        }
-        let spd = l.spd();
-        let lines = spd.delta_lines();
-        if !lines.is_empty() {
-            let nm: Vec<String> = lines.iter().map(|d| format!("{} nm", d.lambda)).collect();
-            add(
-                Effect::LineEmission,
-                caller(),
-                format!("line(s) at {}", nm.join(", ")),
-            );
-        } else if !f.contains(LightFlags::BEAMS_ONLY) {
-            let w = equivalent_width_nm(spd.as_ref());
-            if w < NARROWBAND_WIDTH_NM {
-                add(
-                    Effect::NarrowbandEmission,
-                    caller(),
-                    format!("equivalent width {w:.3} nm"),
-                );
-            }
-        }
-        if !spd_is_flat(spd.as_ref()) {
-            flat = false;
-            add(
-                Effect::SpectrallyVarying,
-                caller(),
-                "emission spectrum".into(),
-            );
-        }
-    }
+    let mut found = Found::default();
+    let (delta_bsdf_objects, materials_flat) = material_effects(scene, &mut found);
+    let (chain_lights, lights_flat) = light_effects(scene, &mut found);
     if !delta_bsdf_objects.is_empty() {
         for (c, delta) in &chain_lights {
             let how = if *delta {
@@ -291,15 +215,16 @@ pub fn analyze(scene: &Scene) -> EffectSet {
             } else {
                 "area: pt finds its caustics only by BSDF sampling onto it"
             };
-            add(Effect::SpecularChains, c.clone(), how.into());
+            found.add(Effect::SpecularChains, c.clone(), how.into());
         }
         if !chain_lights.is_empty() {
             for c in delta_bsdf_objects {
-                add(Effect::SpecularChains, c, String::new());
+                found.add(Effect::SpecularChains, c, String::new());
             }
         }
     }
-    if flat {
+    let mut found = found.0;
+    if materials_flat && lights_flat {
         let all: Vec<(Caller, String)> = scene
             .objects
             .objects()
@@ -324,6 +249,101 @@ pub fn analyze(scene: &Scene) -> EffectSet {
             })
             .collect(),
     }
+}
+
+/// Each effect found with who calls for it and a detail.
+#[derive(Default)]
+struct Found(std::collections::BTreeMap<Effect, Vec<(Caller, String)>>);
+
+impl Found {
+    fn add(&mut self, e: Effect, c: Caller, d: String) {
+        self.0.entry(e).or_default().push((c, d));
+    }
+}
+
+/// The effects the objects' materials call for. Returns the objects with delta BSDFs and
+/// whether every material is spectrally flat.
+fn material_effects(scene: &Scene, found: &mut Found) -> (Vec<Caller>, bool) {
+    let mut delta_bsdf_objects = Vec::new();
+    let mut flat = true;
+    for (i, obj) in scene.objects.objects().iter().enumerate() {
+        let m = obj.material.as_ref();
+        let flags = m.flags();
+        let caller = || Caller::Object(i, obj.name.clone());
+        if flags.contains(MaterialFlags::DISPERSIVE) {
+            found.add(Effect::Dispersion, caller(), String::new());
+        }
+        if flags.contains(MaterialFlags::FLUORESCENT) {
+            let detail = if m.reradiation().is_none() {
+                "no re-radiation data (plugin material): reflectance only".to_string()
+            } else {
+                String::new()
+            };
+            found.add(Effect::Fluorescence, caller(), detail);
+        }
+        if flags.contains(MaterialFlags::THIN_FILM) {
+            found.add(Effect::ThinFilm, caller(), String::new());
+        }
+        if flags.contains(MaterialFlags::SPECULAR) {
+            found.add(Effect::DeltaBsdfs, caller(), String::new());
+            delta_bsdf_objects.push(caller());
+        }
+        if !material_is_flat(m) {
+            flat = false;
+            found.add(Effect::SpectrallyVarying, caller(), "material".into());
+        }
+    }
+    (delta_bsdf_objects, flat)
+}
+
+/// The effects the lights call for. Returns the lights a specular chain can start from (with
+/// whether each is a delta light) and whether every probed emission spectrum is flat.
+fn light_effects(scene: &Scene, found: &mut Found) -> (Vec<(Caller, bool)>, bool) {
+    let mut chain_lights = Vec::new();
+    let mut flat = true;
+    for (i, l) in scene.lights.lights().iter().enumerate() {
+        let f = l.flags();
+        let caller = || Caller::Light(i, light_label(scene, i));
+        if f.contains(LightFlags::BEAMS_ONLY) {
+            found.add(Effect::BeamOnlyLights, caller(), String::new());
+            // Its beams carry their own wavelengths; its spectrum is not probed (a plugin light
+            // built against API 0.1.0 may not offer wavelength sampling at all, and every render
+            // runs this analysis through the render plan).
+            continue;
+        }
+        if f.is_delta() {
+            found.add(Effect::DeltaLights, caller(), String::new());
+        }
+        chain_lights.push((caller(), f.is_delta()));
+        let spd = l.spd();
+        let lines = spd.delta_lines();
+        if !lines.is_empty() {
+            let nm: Vec<String> = lines.iter().map(|d| format!("{} nm", d.lambda)).collect();
+            found.add(
+                Effect::LineEmission,
+                caller(),
+                format!("line(s) at {}", nm.join(", ")),
+            );
+        } else {
+            let w = equivalent_width_nm(spd.as_ref());
+            if w < NARROWBAND_WIDTH_NM {
+                found.add(
+                    Effect::NarrowbandEmission,
+                    caller(),
+                    format!("equivalent width {w:.3} nm"),
+                );
+            }
+        }
+        if !spd_is_flat(spd.as_ref()) {
+            flat = false;
+            found.add(
+                Effect::SpectrallyVarying,
+                caller(),
+                "emission spectrum".into(),
+            );
+        }
+    }
+    (chain_lights, flat)
 }
 
 #[cfg(test)]

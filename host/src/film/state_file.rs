@@ -254,87 +254,17 @@ impl RenderState {
         let Some((first_path, first)) = parts.first() else {
             return Err("no parts to merge".into());
         };
-        let name = |p: &Path| p.display().to_string();
         let mut seen: Vec<Option<&Path>> = vec![None; first.slice.count as usize];
         for (path, s) in parts {
-            let differs = |what: &str, a: String, b: String| {
-                Err(format!(
-                    "{} does not belong with {}: {what} {b} there, {a} here",
-                    name(path),
-                    name(first_path)
-                ))
-            };
-            if s.fingerprint != first.fingerprint || s.settings != first.settings {
-                return differs(
-                    "scene/settings",
-                    format!("{:016x} [{}]", s.fingerprint, s.settings),
-                    format!("{:016x} [{}]", first.fingerprint, first.settings),
-                );
-            }
-            if s.seed != first.seed {
-                return differs("seed", s.seed.to_string(), first.seed.to_string());
-            }
-            if s.spp_total != first.spp_total {
-                return differs("spp", s.spp_total.to_string(), first.spp_total.to_string());
-            }
-            if s.slice.count != first.slice.count {
-                return differs(
-                    "slice count",
-                    s.slice.count.to_string(),
-                    first.slice.count.to_string(),
-                );
-            }
-            if s.film.resolution() != first.film.resolution() {
-                return differs(
-                    "resolution",
-                    format!("{:?}", s.film.resolution()),
-                    format!("{:?}", first.film.resolution()),
-                );
-            }
-            match (&s.film.spectral, &first.film.spectral) {
-                (Some(a), Some(b)) => {
-                    if let Err(e) = b.compatible(a) {
-                        return Err(format!(
-                            "{} does not belong with {}: {e}",
-                            name(path),
-                            name(first_path)
-                        ));
-                    }
-                }
-                (None, None) => {}
-                (a, _) => {
-                    let has = |x: bool| if x { "carries" } else { "does not carry" };
-                    return Err(format!(
-                        "{} {} spectral sums and {} {}: render every slice with the same \
-                         --spectral-exr and --bins, or none",
-                        name(path),
-                        has(a.is_some()),
-                        name(first_path),
-                        has(a.is_none())
-                    ));
-                }
-            }
-            if !s.is_complete() {
-                let r = s.range();
-                return Err(format!(
-                    "{} is slice {} but holds only samples {}..{} of {}..{}: finish it with \
-                     `spectrace render --resume {}` (or render the slice again)",
-                    name(path),
-                    s.slice,
-                    r.start,
-                    s.done_until,
-                    r.start,
-                    r.end,
-                    name(path)
-                ));
-            }
+            s.belongs_with(path, first, first_path)?;
+            s.check_complete(path)?;
             let slot = &mut seen[s.slice.index as usize - 1];
             if let Some(other) = slot {
                 return Err(format!(
                     "slice {} is given twice: {} and {}",
                     s.slice,
-                    name(other),
-                    name(path)
+                    other.display(),
+                    path.display()
                 ));
             }
             *slot = Some(path);
@@ -355,8 +285,100 @@ impl RenderState {
                 first.slice.count
             ));
         }
-        // Merge in slice order (exact sums: the order does not change the bits, but the
-        // refused-sample lists read better this way).
+        Ok(first.merged(parts))
+    }
+
+    /// An error unless this slice (read from `path`) belongs to the same render as `first`
+    /// (read from `first_path`): scene and settings, seed, spp, slice count, resolution and
+    /// spectral sums.
+    fn belongs_with(
+        &self,
+        path: &Path,
+        first: &RenderState,
+        first_path: &Path,
+    ) -> Result<(), String> {
+        let s = self;
+        let differs = |what: &str, a: String, b: String| {
+            Err(format!(
+                "{} does not belong with {}: {what} {b} there, {a} here",
+                path.display(),
+                first_path.display()
+            ))
+        };
+        if s.fingerprint != first.fingerprint || s.settings != first.settings {
+            return differs(
+                "scene/settings",
+                format!("{:016x} [{}]", s.fingerprint, s.settings),
+                format!("{:016x} [{}]", first.fingerprint, first.settings),
+            );
+        }
+        if s.seed != first.seed {
+            return differs("seed", s.seed.to_string(), first.seed.to_string());
+        }
+        if s.spp_total != first.spp_total {
+            return differs("spp", s.spp_total.to_string(), first.spp_total.to_string());
+        }
+        if s.slice.count != first.slice.count {
+            return differs(
+                "slice count",
+                s.slice.count.to_string(),
+                first.slice.count.to_string(),
+            );
+        }
+        if s.film.resolution() != first.film.resolution() {
+            return differs(
+                "resolution",
+                format!("{:?}", s.film.resolution()),
+                format!("{:?}", first.film.resolution()),
+            );
+        }
+        match (&s.film.spectral, &first.film.spectral) {
+            (Some(a), Some(b)) => b.compatible(a).map_err(|e| {
+                format!(
+                    "{} does not belong with {}: {e}",
+                    path.display(),
+                    first_path.display()
+                )
+            }),
+            (None, None) => Ok(()),
+            (a, _) => {
+                let has = |x: bool| if x { "carries" } else { "does not carry" };
+                Err(format!(
+                    "{} {} spectral sums and {} {}: render every slice with the same \
+                     --spectral-exr and --bins, or none",
+                    path.display(),
+                    has(a.is_some()),
+                    first_path.display(),
+                    has(a.is_none())
+                ))
+            }
+        }
+    }
+
+    /// An error unless this slice (read from `path`) holds all its samples.
+    fn check_complete(&self, path: &Path) -> Result<(), String> {
+        if self.is_complete() {
+            return Ok(());
+        }
+        let r = self.range();
+        Err(format!(
+            "{} is slice {} but holds only samples {}..{} of {}..{}: finish it with \
+             `spectrace render --resume {}` (or render the slice again)",
+            path.display(),
+            self.slice,
+            r.start,
+            self.done_until,
+            r.start,
+            r.end,
+            path.display()
+        ))
+    }
+
+    /// The whole render from `parts`, checked to belong with this one (the first): their films
+    /// summed in slice order (exact sums: the order does not change the bits, but the
+    /// refused-sample lists read better this way).
+    fn merged(&self, parts: &[(PathBuf, RenderState)]) -> RenderState {
+        let first = self;
         let mut ordered: Vec<&RenderState> = parts.iter().map(|(_, s)| s).collect();
         ordered.sort_by_key(|s| s.slice.index);
         let (w, h) = first.film.resolution();
@@ -369,7 +391,7 @@ impl RenderState {
         for s in &ordered {
             film.merge(&s.film);
         }
-        Ok(RenderState {
+        RenderState {
             scene: first.scene.clone(),
             fingerprint: first.fingerprint,
             settings: first.settings.clone(),
@@ -381,7 +403,7 @@ impl RenderState {
             rgb_space: first.rgb_space.clone(),
             png_exposure: first.png_exposure,
             film,
-        })
+        }
     }
 }
 

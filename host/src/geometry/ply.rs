@@ -198,12 +198,80 @@ impl Source for BinarySource<'_> {
 
 /// Parses PLY bytes; `path` is only used in error messages.
 pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<TriangleMesh, GeometryError> {
-    let herr = |line: usize, message: String| GeometryError::ParseLine {
+    let header = read_header(bytes, path)?;
+    let (ascii, pos, line_no) = (header.ascii, header.body_start, header.lines);
+    let elements = &header.elements;
+    let body = &bytes[pos..];
+    let ascii_text = if ascii {
+        std::str::from_utf8(body).map_err(|e| GeometryError::ParseByte {
+            path: path.to_path_buf(),
+            offset: pos + e.valid_up_to(),
+            message: "ascii body is not UTF-8 text".into(),
+        })?
+    } else {
+        ""
+    };
+    check_counts(&header, body, ascii_text, path)?;
+
+    let vertex_count = elements
+        .iter()
+        .find(|e| e.name == "vertex")
+        .map_or(0, |e| e.count);
+    let mut mesh = TriangleMesh::default();
+    if ascii {
+        let mut src = AsciiSource {
+            path,
+            lines: ascii_text.lines().enumerate(),
+            line_offset: line_no,
+            line: line_no,
+            tokens: Vec::new(),
+            next: 0,
+        };
+        read_elements(elements, &mut src, vertex_count, &mut mesh)?;
+    } else {
+        let mut src = BinarySource {
+            path,
+            data: bytes,
+            pos,
+        };
+        read_elements(elements, &mut src, vertex_count, &mut mesh)?;
+    }
+    if mesh.indices.is_empty() {
+        return Err(GeometryError::File {
+            path: path.to_path_buf(),
+            message: "no faces (element `face` missing or empty)".into(),
+        });
+    }
+    mesh.validate().map_err(|e| GeometryError::File {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    })?;
+    Ok(mesh)
+}
+
+/// What the header says.
+struct Header {
+    /// `format ascii` (else binary little-endian).
+    ascii: bool,
+    elements: Vec<Element>,
+    /// Byte offset of the body (after the `end_header` line).
+    body_start: usize,
+    /// Number of header lines.
+    lines: usize,
+}
+
+/// An error in header line `line`.
+fn header_error(path: &Path, line: usize, message: String) -> GeometryError {
+    GeometryError::ParseLine {
         path: path.to_path_buf(),
         line,
         message,
-    };
-    // Header: text lines up to and including `end_header`.
+    }
+}
+
+/// The header: text lines up to and including `end_header`.
+fn read_header(bytes: &[u8], path: &Path) -> Result<Header, GeometryError> {
+    let herr = |line: usize, message: String| header_error(path, line, message);
     let mut pos = 0usize;
     let mut line_no = 0usize;
     let mut format: Option<bool> = None; // Some(true) = ascii
@@ -265,26 +333,7 @@ pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<TriangleMesh, GeometryErro
                 let el = elements
                     .last_mut()
                     .ok_or_else(|| herr(line_no, "`property` before any `element`".into()))?;
-                let t = w.next().unwrap_or("");
-                let prop = if t == "list" {
-                    let ct = w.next().and_then(Scalar::parse);
-                    let it = w.next().and_then(Scalar::parse);
-                    let name = w.next();
-                    match (ct, it, name) {
-                        (Some(c), Some(i), Some(n)) if c.is_integer() => {
-                            Property::List(n.into(), c, i)
-                        }
-                        _ => return Err(herr(line_no, format!("bad list property `{line}`"))),
-                    }
-                } else {
-                    let s = Scalar::parse(t)
-                        .ok_or_else(|| herr(line_no, format!("unknown property type `{t}`")))?;
-                    let name = w
-                        .next()
-                        .ok_or_else(|| herr(line_no, "property without a name".into()))?;
-                    Property::Scalar(name.into(), s)
-                };
-                el.props.push(prop);
+                el.props.push(parse_property(w, line, line_no, path)?);
             }
             "end_header" => break,
             "comment" | "obj_info" | "" => {}
@@ -292,25 +341,51 @@ pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<TriangleMesh, GeometryErro
         }
     }
     let ascii = format.ok_or_else(|| herr(line_no, "header has no `format` line".into()))?;
-    let body = &bytes[pos..];
+    Ok(Header {
+        ascii,
+        elements,
+        body_start: pos,
+        lines: line_no,
+    })
+}
 
-    // Untrusted counts: every record needs at least one line (ascii) or its minimum size in
-    // bytes (binary), so a count larger than that is a corrupt/truncated file.
-    let ascii_text;
-    let available_lines;
-    if ascii {
-        ascii_text = std::str::from_utf8(body).map_err(|e| GeometryError::ParseByte {
-            path: path.to_path_buf(),
-            offset: pos + e.valid_up_to(),
-            message: "ascii body is not UTF-8 text".into(),
-        })?;
-        available_lines = ascii_text.lines().filter(|l| !l.trim().is_empty()).count();
+/// A `property` line after its keyword (`w`): a scalar `TYPE NAME` or `list COUNT ITEM NAME`.
+fn parse_property<'a>(
+    mut w: impl Iterator<Item = &'a str>,
+    line: &str,
+    line_no: usize,
+    path: &Path,
+) -> Result<Property, GeometryError> {
+    let herr = |message: String| header_error(path, line_no, message);
+    let t = w.next().unwrap_or("");
+    if t == "list" {
+        let ct = w.next().and_then(Scalar::parse);
+        let it = w.next().and_then(Scalar::parse);
+        let name = w.next();
+        match (ct, it, name) {
+            (Some(c), Some(i), Some(n)) if c.is_integer() => Ok(Property::List(n.into(), c, i)),
+            _ => Err(herr(format!("bad list property `{line}`"))),
+        }
     } else {
-        ascii_text = "";
-        available_lines = 0;
+        let s = Scalar::parse(t).ok_or_else(|| herr(format!("unknown property type `{t}`")))?;
+        let name = w
+            .next()
+            .ok_or_else(|| herr("property without a name".into()))?;
+        Ok(Property::Scalar(name.into(), s))
     }
+}
+
+/// Untrusted counts: every record needs at least one line (ascii) or its minimum size in bytes
+/// (binary), so a count larger than that is a corrupt/truncated file.
+fn check_counts(
+    header: &Header,
+    body: &[u8],
+    ascii_text: &str,
+    path: &Path,
+) -> Result<(), GeometryError> {
+    let ascii = header.ascii;
     let mut needed: usize = 0;
-    for e in &elements {
+    for e in &header.elements {
         let unit = if ascii {
             1
         } else {
@@ -318,7 +393,11 @@ pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<TriangleMesh, GeometryErro
         };
         needed = needed.saturating_add(e.count.saturating_mul(unit));
     }
-    let available = if ascii { available_lines } else { body.len() };
+    let available = if ascii {
+        ascii_text.lines().filter(|l| !l.trim().is_empty()).count()
+    } else {
+        body.len()
+    };
     if needed > available {
         return Err(GeometryError::File {
             path: path.to_path_buf(),
@@ -328,41 +407,7 @@ pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<TriangleMesh, GeometryErro
             ),
         });
     }
-
-    let vertex_count = elements
-        .iter()
-        .find(|e| e.name == "vertex")
-        .map_or(0, |e| e.count);
-    let mut mesh = TriangleMesh::default();
-    if ascii {
-        let mut src = AsciiSource {
-            path,
-            lines: ascii_text.lines().enumerate(),
-            line_offset: line_no,
-            line: line_no,
-            tokens: Vec::new(),
-            next: 0,
-        };
-        read_elements(&elements, &mut src, vertex_count, &mut mesh)?;
-    } else {
-        let mut src = BinarySource {
-            path,
-            data: bytes,
-            pos,
-        };
-        read_elements(&elements, &mut src, vertex_count, &mut mesh)?;
-    }
-    if mesh.indices.is_empty() {
-        return Err(GeometryError::File {
-            path: path.to_path_buf(),
-            message: "no faces (element `face` missing or empty)".into(),
-        });
-    }
-    mesh.validate().map_err(|e| GeometryError::File {
-        path: path.to_path_buf(),
-        message: e.to_string(),
-    })?;
-    Ok(mesh)
+    Ok(())
 }
 
 /// Indices of the named properties in an element, or `None` if any is missing.

@@ -10,6 +10,7 @@ pub mod area;
 pub mod daylight;
 pub mod directional;
 pub mod distribution2d;
+pub mod emission_beam;
 pub mod environment;
 pub mod envmap;
 pub mod flags;

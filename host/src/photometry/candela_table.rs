@@ -56,6 +56,37 @@ pub struct CandelaTable {
     pub rated_lamp_lumens: Option<f64>,
 }
 
+impl TiltData {
+    /// The tilt table, checked.
+    fn to_tilt_table(&self) -> Result<TiltTable, String> {
+        let t = self;
+        if !(1..=3).contains(&t.geometry) {
+            return Err(format!(
+                "`tilt`: geometry {}; expected 1, 2 or 3",
+                t.geometry
+            ));
+        }
+        if t.angles_deg.is_empty() || t.angles_deg.len() != t.factors.len() {
+            return Err(format!(
+                "`tilt`: {} angles and {} factors (expected as many, at least one)",
+                t.angles_deg.len(),
+                t.factors.len()
+            ));
+        }
+        if !t.angles_deg.iter().chain(&t.factors).all(|x| x.is_finite())
+            || t.factors.iter().any(|f| *f < 0.0)
+        {
+            return Err("`tilt`: angles and factors must be finite, factors ≥ 0".into());
+        }
+        Ok(TiltTable {
+            geometry: t.geometry,
+            angles_deg: t.angles_deg.clone(),
+            factors: t.factors.clone(),
+            source: "table".into(),
+        })
+    }
+}
+
 const SYMMETRIES: [(Symmetry, &str); 6] = [
     (Symmetry::None, "none"),
     (Symmetry::Axial, "axial"),
@@ -101,6 +132,44 @@ impl CandelaTable {
     /// The luminaire this table describes, or what is wrong with it (the message names the
     /// field).
     pub fn to_luminaire(&self) -> Result<Luminaire, String> {
+        let (photometric_type, symmetry) = self.type_and_symmetry()?;
+        self.check_grid(symmetry)?;
+        let tilt = self
+            .tilt
+            .as_ref()
+            .map(TiltData::to_tilt_table)
+            .transpose()?;
+        if let Some(r) = self.rated_lamp_lumens {
+            if !(r.is_finite() && r > 0.0) {
+                return Err(format!(
+                    "`rated_lamp_lumens`: {r} is not a finite number > 0"
+                ));
+            }
+        }
+        Ok(Luminaire {
+            format: SourceFormat::Table,
+            photometric_type,
+            symmetry,
+            h_deg: self.h_deg.clone(),
+            v_deg: self.v_deg.clone(),
+            candela: self.candela.clone(),
+            lamps: Vec::new(),
+            multipliers: Vec::new(),
+            absolute: self.rated_lamp_lumens.is_none(),
+            rated_lamp_lumens: self.rated_lamp_lumens,
+            size_m: self.size_m,
+            tilt,
+            header: if self.source.is_empty() {
+                Vec::new()
+            } else {
+                vec![format!("SOURCE {}", self.source)]
+            },
+            warnings: Vec::new(),
+        })
+    }
+
+    /// The photometric type and the symmetry, which must suit each other.
+    fn type_and_symmetry(&self) -> Result<(PhotometricType, Symmetry), String> {
         let photometric_type = match self.photometric_type.trim().to_ascii_uppercase().as_str() {
             "A" => PhotometricType::A,
             "B" => PhotometricType::B,
@@ -139,6 +208,11 @@ impl CandelaTable {
         if symmetry == Symmetry::LateralH && photometric_type == PhotometricType::C {
             return Err("`symmetry`: `lateral_h` is for types A and B, the table is type C".into());
         }
+        Ok((photometric_type, symmetry))
+    }
+
+    /// The angles ascending, as many values as angles, each finite and ≥ 0, a finite size.
+    fn check_grid(&self, symmetry: Symmetry) -> Result<(), String> {
         ascending("h_deg", &self.h_deg)?;
         ascending("v_deg", &self.v_deg)?;
         if symmetry == Symmetry::Axial && self.h_deg.len() != 1 {
@@ -170,62 +244,7 @@ impl CandelaTable {
         if !self.size_m.iter().all(|s| s.is_finite()) {
             return Err(format!("`size_m`: {:?} is not finite", self.size_m));
         }
-        let tilt = match &self.tilt {
-            None => None,
-            Some(t) => {
-                if !(1..=3).contains(&t.geometry) {
-                    return Err(format!(
-                        "`tilt`: geometry {}; expected 1, 2 or 3",
-                        t.geometry
-                    ));
-                }
-                if t.angles_deg.is_empty() || t.angles_deg.len() != t.factors.len() {
-                    return Err(format!(
-                        "`tilt`: {} angles and {} factors (expected as many, at least one)",
-                        t.angles_deg.len(),
-                        t.factors.len()
-                    ));
-                }
-                if !t.angles_deg.iter().chain(&t.factors).all(|x| x.is_finite())
-                    || t.factors.iter().any(|f| *f < 0.0)
-                {
-                    return Err("`tilt`: angles and factors must be finite, factors ≥ 0".into());
-                }
-                Some(TiltTable {
-                    geometry: t.geometry,
-                    angles_deg: t.angles_deg.clone(),
-                    factors: t.factors.clone(),
-                    source: "table".into(),
-                })
-            }
-        };
-        if let Some(r) = self.rated_lamp_lumens {
-            if !(r.is_finite() && r > 0.0) {
-                return Err(format!(
-                    "`rated_lamp_lumens`: {r} is not a finite number > 0"
-                ));
-            }
-        }
-        Ok(Luminaire {
-            format: SourceFormat::Table,
-            photometric_type,
-            symmetry,
-            h_deg: self.h_deg.clone(),
-            v_deg: self.v_deg.clone(),
-            candela: self.candela.clone(),
-            lamps: Vec::new(),
-            multipliers: Vec::new(),
-            absolute: self.rated_lamp_lumens.is_none(),
-            rated_lamp_lumens: self.rated_lamp_lumens,
-            size_m: self.size_m,
-            tilt,
-            header: if self.source.is_empty() {
-                Vec::new()
-            } else {
-                vec![format!("SOURCE {}", self.source)]
-            },
-            warnings: Vec::new(),
-        })
+        Ok(())
     }
 }
 

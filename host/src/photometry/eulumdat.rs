@@ -27,7 +27,7 @@
 //! file that puts several on a line still loads.
 
 use super::error::PhotometryError;
-use super::ies::latin1;
+use super::ies::{latin1, lines_of};
 use super::luminaire::{LampSet, Luminaire, Multiplier, PhotometricType, SourceFormat, Symmetry};
 use std::path::Path;
 
@@ -89,7 +89,7 @@ fn parse_number(t: &str) -> Option<f64> {
 /// Parse the EULUMDAT file at `path` whose bytes are `bytes`.
 pub fn parse_eulumdat(bytes: &[u8], path: &Path) -> Result<Luminaire, PhotometryError> {
     let text = latin1(bytes);
-    let lines: Vec<&str> = text.split('\n').map(|l| l.trim_end_matches('\r')).collect();
+    let lines = lines_of(&text);
     let mut r = Lines {
         path,
         lines,
@@ -98,6 +98,78 @@ pub fn parse_eulumdat(bytes: &[u8], path: &Path) -> Result<Luminaire, Photometry
     let mut warnings = Vec::new();
     let mut header = Vec::new();
 
+    let counts = read_counts(&mut r, &mut header)?;
+    let [length, width, height] = read_dimensions(&mut r)?;
+    let conversion = read_factors(&mut r, &mut header)?;
+    let lamps = read_lamp_sets(&mut r, &mut header)?;
+    for k in 1..=10 {
+        r.number(&format!("direct ratio {k}"))?;
+    }
+    let planes = stored_planes(&counts, path)?;
+    let scale = lamps[0].lumens.unwrap_or(1000.0) / 1000.0 * conversion;
+    let Table { c_all, g, cd } = read_table(&r, &counts, &planes, scale)?;
+    let h: Vec<f64> = (0..planes.count).map(|p| c_all[planes.first + p]).collect();
+    check_increasing(&c_all, path, "C-angles")?;
+    check_increasing(&g, path, "gamma angles")?;
+    let expected_first = match counts.isym {
+        3 => 90.0,
+        _ => 0.0,
+    };
+    if (h[0] - expected_first).abs() > 1e-6 {
+        warnings.push(format!(
+            "Isym {}: the first stored C-plane is C{} where C{expected_first} was expected",
+            counts.isym, h[0]
+        ));
+    }
+    if !(conversion > 0.0) {
+        warnings.push(format!("conversion factor {conversion} is not positive"));
+    }
+    let absolute = lamps[0].count < 0;
+    let multipliers = vec![
+        Multiplier {
+            name: "lamp flux / 1000 lm (set 1)",
+            value: lamps[0].lumens.unwrap_or(1000.0) / 1000.0,
+            applied: true,
+        },
+        Multiplier {
+            name: "conversion factor",
+            value: conversion,
+            applied: true,
+        },
+    ];
+    let rated: f64 = lamps[0].lumens.unwrap_or(0.0);
+    Ok(Luminaire {
+        format: SourceFormat::Eulumdat,
+        photometric_type: PhotometricType::C,
+        symmetry: planes.symmetry,
+        h_deg: h,
+        v_deg: g,
+        candela: cd,
+        lamps,
+        multipliers,
+        absolute,
+        rated_lamp_lumens: (!absolute).then_some(rated),
+        size_m: [width / 1000.0, length / 1000.0, height / 1000.0],
+        tilt: None,
+        header,
+        warnings,
+    })
+}
+
+/// Lines 2–7: the type and symmetry indicators and the size of the table, each with its line
+/// (Mc and Ng are checked once the lamp sets are read, as the file's order has them).
+struct Counts {
+    isym: i64,
+    isym_line: usize,
+    mc: i64,
+    mc_line: usize,
+    ng: i64,
+    ng_line: usize,
+}
+
+/// Lines 1–12: company, Ityp, Isym, Mc, Dc, Ng, Dg and the identification lines (into `header`).
+fn read_counts(r: &mut Lines, header: &mut Vec<String>) -> Result<Counts, PhotometryError> {
+    let path = r.path;
     let (company, _) = r.text("company identification")?;
     header.push(format!("company: {company}"));
     let (ityp, ityp_line) = r.integer("Ityp")?;
@@ -134,6 +206,18 @@ pub fn parse_eulumdat(bytes: &[u8], path: &Path) -> Result<Luminaire, Photometry
             header.push(format!("{field}: {t}"));
         }
     }
+    Ok(Counts {
+        isym,
+        isym_line,
+        mc,
+        mc_line,
+        ng,
+        ng_line,
+    })
+}
+
+/// Lines 13–21: the luminaire's length, width and height (mm); the luminous area is skipped.
+fn read_dimensions(r: &mut Lines) -> Result<[f64; 3], PhotometryError> {
     let length = r.number("luminaire length")?;
     let width = r.number("luminaire width")?;
     let height = r.number("luminaire height")?;
@@ -147,6 +231,11 @@ pub fn parse_eulumdat(bytes: &[u8], path: &Path) -> Result<Luminaire, Photometry
     ] {
         r.number(field)?;
     }
+    Ok([length, width, height])
+}
+
+/// Lines 22–25 (into `header`); returns the conversion factor for intensities.
+fn read_factors(r: &mut Lines, header: &mut Vec<String>) -> Result<f64, PhotometryError> {
     let dff = r.number("downward flux fraction")?;
     let lorl = r.number("light output ratio")?;
     let conversion = r.number("conversion factor")?;
@@ -156,6 +245,15 @@ pub fn parse_eulumdat(bytes: &[u8], path: &Path) -> Result<Luminaire, Photometry
     if tilt != 0.0 {
         header.push(format!("tilt during measurement: {tilt} deg"));
     }
+    Ok(conversion)
+}
+
+/// Line 26 and the lamp sets 26a–f; the first set's flux must be positive.
+fn read_lamp_sets(
+    r: &mut Lines,
+    header: &mut Vec<String>,
+) -> Result<Vec<LampSet>, PhotometryError> {
+    let path = r.path;
     let (n_sets, n_sets_line) = r.integer("number of lamp sets")?;
     if !(1..=1000).contains(&n_sets) {
         return Err(PhotometryError::at(
@@ -194,28 +292,38 @@ pub fn parse_eulumdat(bytes: &[u8], path: &Path) -> Result<Luminaire, Photometry
             watts: (watts > 0.0).then_some(watts),
         });
     }
-    for k in 1..=10 {
-        r.number(&format!("direct ratio {k}"))?;
-    }
+    Ok(lamps)
+}
 
-    if !(1..=100_000).contains(&mc) {
+/// Which C-planes the file stores, by Isym.
+struct Planes {
+    symmetry: Symmetry,
+    /// Index in the C-angle list of the first stored plane.
+    first: usize,
+    /// Number of stored planes.
+    count: usize,
+}
+
+/// Check Mc and Ng and work out the stored C-planes from Isym.
+fn stored_planes(c: &Counts, path: &Path) -> Result<Planes, PhotometryError> {
+    if !(1..=100_000).contains(&c.mc) {
         return Err(PhotometryError::at(
             path,
-            mc_line,
+            c.mc_line,
             "Mc (number of C-planes)",
-            format!("{mc}; expected 1 or more"),
+            format!("{}; expected 1 or more", c.mc),
         ));
     }
-    if !(1..=100_000).contains(&ng) {
+    if !(1..=100_000).contains(&c.ng) {
         return Err(PhotometryError::at(
             path,
-            ng_line,
+            c.ng_line,
             "Ng (intensities per C-plane)",
-            format!("{ng}; expected 1 or more"),
+            format!("{}; expected 1 or more", c.ng),
         ));
     }
-    let (mc, ng) = (mc as usize, ng as usize);
-    let (symmetry, first_plane, n_planes) = match isym {
+    let (mc, isym) = (c.mc as usize, c.isym);
+    let (symmetry, first, count) = match isym {
         0 => (Symmetry::None, 0, mc),
         1 => (Symmetry::Axial, 0, 1),
         2 => (Symmetry::BilateralC0C180, 0, mc / 2 + 1),
@@ -224,7 +332,7 @@ pub fn parse_eulumdat(bytes: &[u8], path: &Path) -> Result<Luminaire, Photometry
         other => {
             return Err(PhotometryError::at(
                 path,
-                isym_line,
+                c.isym_line,
                 "Isym",
                 format!("{other}; expected 0 to 4"),
             ))
@@ -236,13 +344,35 @@ pub fn parse_eulumdat(bytes: &[u8], path: &Path) -> Result<Luminaire, Photometry
     {
         return Err(PhotometryError::at(
             path,
-            mc_line,
+            c.mc_line,
             "Mc (number of C-planes)",
             format!("{mc} C-planes cannot be split as Isym {isym} requires"),
         ));
     }
+    Ok(Planes {
+        symmetry,
+        first,
+        count,
+    })
+}
 
-    // Angles and intensities: a stream of numbers from here on.
+/// Lines 28–30: every C-angle, the γ-angles, and the stored intensities (cd).
+struct Table {
+    c_all: Vec<f64>,
+    g: Vec<f64>,
+    cd: Vec<f64>,
+}
+
+/// Lines 28–30 read as one stream of numbers: all C-angles, the γ-angles and the stored
+/// intensities times `scale` (cd).
+fn read_table(
+    r: &Lines,
+    c: &Counts,
+    planes: &Planes,
+    scale: f64,
+) -> Result<Table, PhotometryError> {
+    let path = r.path;
+    let (mc, ng) = (c.mc as usize, c.ng as usize);
     let start = r.next;
     let mut stream: Vec<(String, usize)> = Vec::new();
     for (i, line) in r.lines[start..].iter().enumerate() {
@@ -273,9 +403,8 @@ pub fn parse_eulumdat(bytes: &[u8], path: &Path) -> Result<Luminaire, Photometry
     for i in 0..ng {
         g.push(next(&format!("gamma angle {}", i + 1))?);
     }
-    let scale = lamps[0].lumens.unwrap_or(1000.0) / 1000.0 * conversion;
-    let mut cd = Vec::with_capacity(n_planes * ng);
-    for p in 0..n_planes {
+    let mut cd = Vec::with_capacity(planes.count * ng);
+    for p in 0..planes.count {
         for j in 0..ng {
             let v = next(&format!(
                 "intensity (stored C-plane {}, gamma angle {})",
@@ -285,66 +414,19 @@ pub fn parse_eulumdat(bytes: &[u8], path: &Path) -> Result<Luminaire, Photometry
             cd.push(v * scale);
         }
     }
-    let h: Vec<f64> = (0..n_planes).map(|p| c_all[first_plane + p]).collect();
-    for w in c_all.windows(2) {
+    Ok(Table { c_all, g, cd })
+}
+
+/// An error unless `xs` (the list named `what`) strictly increases.
+fn check_increasing(xs: &[f64], path: &Path, what: &str) -> Result<(), PhotometryError> {
+    for w in xs.windows(2) {
         if !(w[1] > w[0]) {
             return Err(PhotometryError::file(
                 path,
-                "C-angles",
-                format!("{} after {}: C-angles must increase", w[1], w[0]),
+                what,
+                format!("{} after {}: {what} must increase", w[1], w[0]),
             ));
         }
     }
-    for w in g.windows(2) {
-        if !(w[1] > w[0]) {
-            return Err(PhotometryError::file(
-                path,
-                "gamma angles",
-                format!("{} after {}: gamma angles must increase", w[1], w[0]),
-            ));
-        }
-    }
-    let expected_first = match isym {
-        3 => 90.0,
-        _ => 0.0,
-    };
-    if (h[0] - expected_first).abs() > 1e-6 {
-        warnings.push(format!(
-            "Isym {isym}: the first stored C-plane is C{} where C{expected_first} was expected",
-            h[0]
-        ));
-    }
-    if !(conversion > 0.0) {
-        warnings.push(format!("conversion factor {conversion} is not positive"));
-    }
-    let absolute = lamps[0].count < 0;
-    let multipliers = vec![
-        Multiplier {
-            name: "lamp flux / 1000 lm (set 1)",
-            value: lamps[0].lumens.unwrap_or(1000.0) / 1000.0,
-            applied: true,
-        },
-        Multiplier {
-            name: "conversion factor",
-            value: conversion,
-            applied: true,
-        },
-    ];
-    let rated: f64 = lamps[0].lumens.unwrap_or(0.0);
-    Ok(Luminaire {
-        format: SourceFormat::Eulumdat,
-        photometric_type: PhotometricType::C,
-        symmetry,
-        h_deg: h,
-        v_deg: g,
-        candela: cd,
-        lamps,
-        multipliers,
-        absolute,
-        rated_lamp_lumens: (!absolute).then_some(rated),
-        size_m: [width / 1000.0, length / 1000.0, height / 1000.0],
-        tilt: None,
-        header,
-        warnings,
-    })
+    Ok(())
 }

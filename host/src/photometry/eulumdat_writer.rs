@@ -19,6 +19,87 @@ pub fn write_eulumdat(lum: &Luminaire, source: &str) -> Result<String, String> {
     if lum.photometric_type != PhotometricType::C {
         return Err("EULUMDAT holds type C photometry only; this luminaire is type A or B".into());
     }
+    let planes = c_planes(lum)?;
+    let flux = lum.flux_lm();
+    let (set_flux, absolute) = match lum.rated_lamp_lumens {
+        Some(r) if !lum.absolute && r > 0.0 => (r, false),
+        _ => (flux, true),
+    };
+    if !(set_flux > 0.0) {
+        return Err("the luminaire emits nothing; EULUMDAT needs a positive flux".into());
+    }
+    let dff = if flux > 0.0 {
+        100.0 * downward_flux_lm(lum) / flux
+    } else {
+        0.0
+    };
+    let lorl = 100.0 * flux / set_flux;
+    let mm = lum.size_m.map(|m| m * 1000.0);
+    let mut s = Lines::default();
+    s.line(format!("exported by spectrace from {source}"));
+    s.line(planes.ityp);
+    s.line(planes.isym);
+    s.line(planes.all.len());
+    s.line(even_step(&planes.all));
+    s.line(lum.v_deg.len());
+    s.line(even_step(&lum.v_deg));
+    for _ in 0..5 {
+        s.line("");
+    }
+    s.line(mm[1]);
+    s.line(mm[0]);
+    s.line(mm[2]);
+    for _ in 0..6 {
+        s.line("0");
+    }
+    s.line(dff);
+    s.line(lorl);
+    s.line("1");
+    s.line("0");
+    write_lamp_sets(&mut s, lum, set_flux, absolute);
+    for _ in 0..10 {
+        s.line("0");
+    }
+    for c in &planes.all {
+        s.line(c);
+    }
+    for g in &lum.v_deg {
+        s.line(g);
+    }
+    let per_klm = 1000.0 / set_flux;
+    for ih in 0..planes.stored_n {
+        for iv in 0..lum.v_deg.len() {
+            s.line(lum.stored_cd(ih, iv) * per_klm);
+        }
+    }
+    Ok(s.0)
+}
+
+/// The file's text, one field a line (CRLF).
+#[derive(Default)]
+struct Lines(String);
+
+impl Lines {
+    fn line(&mut self, t: impl std::fmt::Display) {
+        use std::fmt::Write;
+        let _ = write!(self.0, "{t}\r\n");
+    }
+}
+
+/// The C-planes as EULUMDAT stores them.
+struct Planes {
+    /// Symmetry indicator Isym.
+    isym: u8,
+    /// Type indicator Ityp.
+    ityp: u8,
+    /// Every C-plane of the full circle (Mc of them).
+    all: Vec<f64>,
+    /// How many stored planes are written.
+    stored_n: usize,
+}
+
+/// Isym, Ityp and the C-planes of `lum`, which must be the regular set Isym implies.
+fn c_planes(lum: &Luminaire) -> Result<Planes, String> {
     let stored = &lum.h_deg;
     let n = stored.len();
     // The full list of C-planes, and where the stored ones sit in it.
@@ -56,26 +137,29 @@ pub fn write_eulumdat(lum: &Luminaire, source: &str) -> Result<String, String> {
             stored
         ));
     }
-    let flux = lum.flux_lm();
-    let (set_flux, absolute) = match lum.rated_lamp_lumens {
-        Some(r) if !lum.absolute && r > 0.0 => (r, false),
-        _ => (flux, true),
-    };
-    if !(set_flux > 0.0) {
-        return Err("the luminaire emits nothing; EULUMDAT needs a positive flux".into());
+    Ok(Planes {
+        isym,
+        ityp,
+        all,
+        stored_n,
+    })
+}
+
+/// The step of `xs` when it is even (Dc, Dg), else 0.
+fn even_step(xs: &[f64]) -> f64 {
+    if xs.len() < 2 {
+        return 0.0;
     }
-    let step = |xs: &[f64]| -> f64 {
-        if xs.len() < 2 {
-            return 0.0;
-        }
-        let d = xs[1] - xs[0];
-        if xs.windows(2).all(|w| ((w[1] - w[0]) - d).abs() < 1e-9) {
-            d
-        } else {
-            0.0
-        }
-    };
-    // Downward flux fraction: the table with everything above the horizontal cut.
+    let d = xs[1] - xs[0];
+    if xs.windows(2).all(|w| ((w[1] - w[0]) - d).abs() < 1e-9) {
+        d
+    } else {
+        0.0
+    }
+}
+
+/// The flux below the horizontal: the table with everything above it cut.
+fn downward_flux_lm(lum: &Luminaire) -> f64 {
     let mut lower = lum.clone();
     for (ih, _) in lum.h_deg.iter().enumerate() {
         for (iv, &v) in lum.v_deg.iter().enumerate() {
@@ -84,40 +168,12 @@ pub fn write_eulumdat(lum: &Luminaire, source: &str) -> Result<String, String> {
             }
         }
     }
-    let dff = if flux > 0.0 {
-        100.0 * lower.flux_lm() / flux
-    } else {
-        0.0
-    };
-    let lorl = 100.0 * flux / set_flux;
-    let mm = lum.size_m.map(|m| m * 1000.0);
-    let mut s = String::new();
-    let mut line = |t: String| {
-        s.push_str(&t);
-        s.push_str("\r\n");
-    };
-    line(format!("exported by spectrace from {source}"));
-    line(ityp.to_string());
-    line(isym.to_string());
-    line(mc.to_string());
-    line(format!("{}", step(&all)));
-    line(lum.v_deg.len().to_string());
-    line(format!("{}", step(&lum.v_deg)));
-    line(String::new());
-    line(String::new());
-    line(String::new());
-    line(String::new());
-    line(String::new());
-    line(format!("{}", mm[1]));
-    line(format!("{}", mm[0]));
-    line(format!("{}", mm[2]));
-    for _ in 0..6 {
-        line("0".into());
-    }
-    line(format!("{dff}"));
-    line(format!("{lorl}"));
-    line("1".into());
-    line("0".into());
+    lower.flux_lm()
+}
+
+/// Line 26 and the lamp sets; set 1 carries `set_flux`, the flux the table refers to (−1
+/// lamps for absolute photometry).
+fn write_lamp_sets(s: &mut Lines, lum: &Luminaire, set_flux: f64, absolute: bool) {
     // A table without lamp data (measured from a light, or written inline) gets one set.
     let unnamed = [super::luminaire::LampSet {
         count: 1,
@@ -130,7 +186,7 @@ pub fn write_eulumdat(lum: &Luminaire, source: &str) -> Result<String, String> {
     } else {
         &lum.lamps
     };
-    line(lamps.len().to_string());
+    s.line(lamps.len());
     for (i, l) in lamps.iter().enumerate() {
         let count = if absolute { -1 } else { l.count };
         let set_lm = if i == 0 {
@@ -139,27 +195,11 @@ pub fn write_eulumdat(lum: &Luminaire, source: &str) -> Result<String, String> {
             // Only EULUMDAT sources have more sets, and there `lumens` is the set's total.
             l.lumens.unwrap_or(0.0)
         };
-        line(count.to_string());
-        line(l.description.clone());
-        line(format!("{set_lm}"));
-        line(String::new());
-        line(String::new());
-        line(format!("{}", l.watts.unwrap_or(0.0)));
+        s.line(count);
+        s.line(&l.description);
+        s.line(set_lm);
+        s.line("");
+        s.line("");
+        s.line(l.watts.unwrap_or(0.0));
     }
-    for _ in 0..10 {
-        line("0".into());
-    }
-    for c in &all {
-        line(format!("{c}"));
-    }
-    for g in &lum.v_deg {
-        line(format!("{g}"));
-    }
-    let per_klm = 1000.0 / set_flux;
-    for ih in 0..stored_n {
-        for iv in 0..lum.v_deg.len() {
-            line(format!("{}", lum.stored_cd(ih, iv) * per_klm));
-        }
-    }
-    Ok(s)
 }

@@ -136,6 +136,36 @@ fn number(node: Option<roxmltree::Node>) -> Option<f64> {
         .filter(|v: &f64| v.is_finite())
 }
 
+/// File id → (content type, zip entry of a local file; `None` for a URL).
+type DeclaredFiles = HashMap<String, (String, Option<String>)>;
+
+/// The files `GeneralDefinitions` declares; a local name that leaves its folder is refused.
+fn declared_files(gd: roxmltree::Node, path: &Path) -> Result<DeclaredFiles, PhotometryError> {
+    let mut files = DeclaredFiles::new();
+    let Some(fs) = child(gd, "Files") else {
+        return Ok(files);
+    };
+    for f in fs.children().filter(|c| c.has_tag_name("File")) {
+        let id = f.attribute("id").unwrap_or("").to_string();
+        let ct = f.attribute("contentType").unwrap_or("").to_string();
+        let name = f.text().unwrap_or("").trim().to_string();
+        let local = f.attribute("type") == Some("localFileName");
+        let folder = ct.split('/').next().unwrap_or("");
+        let entry = local.then(|| format!("{folder}/{name}"));
+        if let Some(e) = &entry {
+            if !safe_name(e) || name.contains('/') {
+                return Err(err(
+                    path,
+                    "product.xml",
+                    format!("File `{id}`: name `{name}` leaves its folder; refused"),
+                ));
+            }
+        }
+        files.insert(id, (ct, entry));
+    }
+    Ok(files)
+}
+
 /// Parse a spectrum text file: `nm value` per line (blank or tab separated; `#` comments).
 pub fn parse_spectrum_text(text: &str) -> Result<Vec<(f64, f64)>, String> {
     let mut out = Vec::new();
@@ -280,139 +310,12 @@ impl Gldf {
             .to_string();
         let gd = child(root, "GeneralDefinitions")
             .ok_or_else(|| err(&path, "product.xml", "no GeneralDefinitions"))?;
-        // Files: id → zip entry name (local ones).
-        let mut files: HashMap<String, (String, Option<String>)> = HashMap::new();
-        if let Some(fs) = child(gd, "Files") {
-            for f in fs.children().filter(|c| c.has_tag_name("File")) {
-                let id = f.attribute("id").unwrap_or("").to_string();
-                let ct = f.attribute("contentType").unwrap_or("").to_string();
-                let name = f.text().unwrap_or("").trim().to_string();
-                let local = f.attribute("type") == Some("localFileName");
-                let folder = ct.split('/').next().unwrap_or("");
-                let entry = local.then(|| format!("{folder}/{name}"));
-                if let Some(e) = &entry {
-                    if !safe_name(e) || name.contains('/') {
-                        return Err(err(
-                            &path,
-                            "product.xml",
-                            format!("File `{id}`: name `{name}` leaves its folder; refused"),
-                        ));
-                    }
-                }
-                files.insert(id, (ct, entry));
-            }
-        }
-        let mut photometries: HashMap<String, String> = HashMap::new();
-        if let Some(ps) = child(gd, "Photometries") {
-            for p in ps.children().filter(|c| c.has_tag_name("Photometry")) {
-                let id = p.attribute("id").unwrap_or("").to_string();
-                if let Some(fid) =
-                    child(p, "PhotometryFileReference").and_then(|r| r.attribute("fileId"))
-                {
-                    match files.get(fid) {
-                        Some((_, Some(entry))) => {
-                            photometries.insert(id, entry.clone());
-                        }
-                        Some((_, None)) => self
-                            .warnings
-                            .push(format!("photometry `{id}`: its file is a URL, not fetched")),
-                        None => self
-                            .warnings
-                            .push(format!("photometry `{id}`: file `{fid}` is not declared")),
-                    }
-                }
-            }
-        }
-        let mut spectrum_files = Vec::new();
-        if let Some(ss) = child(gd, "Spectrums") {
-            for s in ss.children().filter(|c| c.has_tag_name("Spectrum")) {
-                let id = s.attribute("id").unwrap_or("").to_string();
-                let values: Vec<(f64, f64)> = s
-                    .children()
-                    .filter(|c| c.has_tag_name("Intensity"))
-                    .filter_map(|c| {
-                        Some((
-                            c.attribute("wavelength")?.trim().parse().ok()?,
-                            number(Some(c))?,
-                        ))
-                    })
-                    .collect();
-                if !values.is_empty() {
-                    check_spectrum(&values)
-                        .map_err(|m| err(&path, &format!("product.xml spectrum `{id}`"), m))?;
-                    self.spectra.insert(id, values);
-                } else if let Some(fid) =
-                    child(s, "SpectrumFileReference").and_then(|r| r.attribute("fileId"))
-                {
-                    match files.get(fid) {
-                        Some((_, Some(entry))) => spectrum_files.push((id, entry.clone())),
-                        _ => self.warnings.push(format!(
-                            "spectrum `{id}`: file `{fid}` is not in the container"
-                        )),
-                    }
-                }
-            }
-        }
-        if let Some(ls) = child(gd, "LightSources") {
-            for l in ls.children().filter(|c| {
-                c.has_tag_name("FixedLightSource") || c.has_tag_name("ChangeableLightSource")
-            }) {
-                let ci = child(l, "ColorInformation");
-                self.light_sources.push(LightSource {
-                    id: l.attribute("id").unwrap_or("").to_string(),
-                    name: locale(l, "Name"),
-                    spectrum: child(l, "SpectrumReference")
-                        .and_then(|r| r.attribute("spectrumId"))
-                        .map(str::to_string),
-                    cct_k: ci.and_then(|c| number(child(c, "CorrelatedColorTemperature"))),
-                    cri: ci.and_then(|c| number(child(c, "ColorRenderingIndex"))),
-                });
-            }
-        }
-        if let Some(es) = child(gd, "Emitters") {
-            for e in es.children().filter(|c| c.has_tag_name("Emitter")) {
-                let id = e.attribute("id").unwrap_or("").to_string();
-                let Some(le) = e.children().find(|c| {
-                    c.has_tag_name("FixedLightEmitter") || c.has_tag_name("ChangeableLightEmitter")
-                }) else {
-                    self.warnings.push(format!("emitter `{id}`: not a fixed or changeable light emitter (sensors are not lights)"));
-                    continue;
-                };
-                let photometry = child(le, "PhotometryReference")
-                    .and_then(|r| r.attribute("photometryId"))
-                    .and_then(|p| photometries.get(p).cloned());
-                let light_source = child(le, "LightSourceReference").and_then(|r| {
-                    r.attribute("fixedLightSourceId")
-                        .or(r.attribute("changeableLightSourceId"))
-                        .map(str::to_string)
-                });
-                self.emitters.push(Emitter {
-                    id,
-                    photometry,
-                    light_source,
-                    rated_flux_lm: number(child(le, "RatedLuminousFlux")),
-                });
-            }
-        }
-        if let Some(pd) = child(root, "ProductDefinitions") {
-            if let Some(m) = child(pd, "ProductMetaData") {
-                self.product = locale(m, "Name");
-            }
-            if let Some(vs) = child(pd, "Variants") {
-                for v in vs.children().filter(|c| c.has_tag_name("Variant")) {
-                    let emitters = v
-                        .descendants()
-                        .filter(|d| d.has_tag_name("EmitterReference"))
-                        .filter_map(|d| d.attribute("emitterId").map(str::to_string))
-                        .collect();
-                    self.variants.push(Variant {
-                        id: v.attribute("id").unwrap_or("").to_string(),
-                        name: locale(v, "Name"),
-                        emitters,
-                    });
-                }
-            }
-        }
+        let files = declared_files(gd, &path)?;
+        let photometries = self.read_photometries(gd, &files);
+        let spectrum_files = self.read_spectra(gd, &files)?;
+        self.read_light_sources(gd);
+        self.read_emitters(gd, &photometries);
+        self.read_variants(root);
         for (id, entry) in spectrum_files {
             let bytes = self.entry(&entry)?;
             let text = String::from_utf8_lossy(&bytes);
@@ -420,6 +323,154 @@ impl Gldf {
             self.spectra.insert(id, s);
         }
         Ok(())
+    }
+
+    /// Photometry id → its file's zip entry (a URL or an undeclared file is a warning).
+    fn read_photometries(
+        &mut self,
+        gd: roxmltree::Node,
+        files: &DeclaredFiles,
+    ) -> HashMap<String, String> {
+        let mut photometries: HashMap<String, String> = HashMap::new();
+        let Some(ps) = child(gd, "Photometries") else {
+            return photometries;
+        };
+        for p in ps.children().filter(|c| c.has_tag_name("Photometry")) {
+            let id = p.attribute("id").unwrap_or("").to_string();
+            if let Some(fid) =
+                child(p, "PhotometryFileReference").and_then(|r| r.attribute("fileId"))
+            {
+                match files.get(fid) {
+                    Some((_, Some(entry))) => {
+                        photometries.insert(id, entry.clone());
+                    }
+                    Some((_, None)) => self
+                        .warnings
+                        .push(format!("photometry `{id}`: its file is a URL, not fetched")),
+                    None => self
+                        .warnings
+                        .push(format!("photometry `{id}`: file `{fid}` is not declared")),
+                }
+            }
+        }
+        photometries
+    }
+
+    /// The spectra given inline (checked and kept); returns those given as files in the
+    /// container, (spectrum id, zip entry), read once the whole product is known.
+    fn read_spectra(
+        &mut self,
+        gd: roxmltree::Node,
+        files: &DeclaredFiles,
+    ) -> Result<Vec<(String, String)>, PhotometryError> {
+        let mut spectrum_files = Vec::new();
+        let Some(ss) = child(gd, "Spectrums") else {
+            return Ok(spectrum_files);
+        };
+        for s in ss.children().filter(|c| c.has_tag_name("Spectrum")) {
+            let id = s.attribute("id").unwrap_or("").to_string();
+            let values: Vec<(f64, f64)> = s
+                .children()
+                .filter(|c| c.has_tag_name("Intensity"))
+                .filter_map(|c| {
+                    Some((
+                        c.attribute("wavelength")?.trim().parse().ok()?,
+                        number(Some(c))?,
+                    ))
+                })
+                .collect();
+            if !values.is_empty() {
+                check_spectrum(&values)
+                    .map_err(|m| err(&self.path, &format!("product.xml spectrum `{id}`"), m))?;
+                self.spectra.insert(id, values);
+            } else if let Some(fid) =
+                child(s, "SpectrumFileReference").and_then(|r| r.attribute("fileId"))
+            {
+                match files.get(fid) {
+                    Some((_, Some(entry))) => spectrum_files.push((id, entry.clone())),
+                    _ => self.warnings.push(format!(
+                        "spectrum `{id}`: file `{fid}` is not in the container"
+                    )),
+                }
+            }
+        }
+        Ok(spectrum_files)
+    }
+
+    /// The fixed and changeable light sources.
+    fn read_light_sources(&mut self, gd: roxmltree::Node) {
+        let Some(ls) = child(gd, "LightSources") else {
+            return;
+        };
+        for l in ls.children().filter(|c| {
+            c.has_tag_name("FixedLightSource") || c.has_tag_name("ChangeableLightSource")
+        }) {
+            let ci = child(l, "ColorInformation");
+            self.light_sources.push(LightSource {
+                id: l.attribute("id").unwrap_or("").to_string(),
+                name: locale(l, "Name"),
+                spectrum: child(l, "SpectrumReference")
+                    .and_then(|r| r.attribute("spectrumId"))
+                    .map(str::to_string),
+                cct_k: ci.and_then(|c| number(child(c, "CorrelatedColorTemperature"))),
+                cri: ci.and_then(|c| number(child(c, "ColorRenderingIndex"))),
+            });
+        }
+    }
+
+    /// The light emitters, each with its photometry's zip entry and its light source; sensors
+    /// are left out with a warning.
+    fn read_emitters(&mut self, gd: roxmltree::Node, photometries: &HashMap<String, String>) {
+        let Some(es) = child(gd, "Emitters") else {
+            return;
+        };
+        for e in es.children().filter(|c| c.has_tag_name("Emitter")) {
+            let id = e.attribute("id").unwrap_or("").to_string();
+            let Some(le) = e.children().find(|c| {
+                c.has_tag_name("FixedLightEmitter") || c.has_tag_name("ChangeableLightEmitter")
+            }) else {
+                self.warnings.push(format!("emitter `{id}`: not a fixed or changeable light emitter (sensors are not lights)"));
+                continue;
+            };
+            let photometry = child(le, "PhotometryReference")
+                .and_then(|r| r.attribute("photometryId"))
+                .and_then(|p| photometries.get(p).cloned());
+            let light_source = child(le, "LightSourceReference").and_then(|r| {
+                r.attribute("fixedLightSourceId")
+                    .or(r.attribute("changeableLightSourceId"))
+                    .map(str::to_string)
+            });
+            self.emitters.push(Emitter {
+                id,
+                photometry,
+                light_source,
+                rated_flux_lm: number(child(le, "RatedLuminousFlux")),
+            });
+        }
+    }
+
+    /// The product's name and its variants with the emitters each uses.
+    fn read_variants(&mut self, root: roxmltree::Node) {
+        let Some(pd) = child(root, "ProductDefinitions") else {
+            return;
+        };
+        if let Some(m) = child(pd, "ProductMetaData") {
+            self.product = locale(m, "Name");
+        }
+        if let Some(vs) = child(pd, "Variants") {
+            for v in vs.children().filter(|c| c.has_tag_name("Variant")) {
+                let emitters = v
+                    .descendants()
+                    .filter(|d| d.has_tag_name("EmitterReference"))
+                    .filter_map(|d| d.attribute("emitterId").map(str::to_string))
+                    .collect();
+                self.variants.push(Variant {
+                    id: v.attribute("id").unwrap_or("").to_string(),
+                    name: locale(v, "Name"),
+                    emitters,
+                });
+            }
+        }
     }
 
     /// The emitter `id`.

@@ -32,16 +32,66 @@ const FOOT_M: f64 = 0.3048;
 /// Parse the LM-63 file at `path` whose bytes are `bytes`.
 pub fn parse_ies(bytes: &[u8], path: &Path) -> Result<Luminaire, PhotometryError> {
     let text = latin1(bytes);
-    let lines: Vec<&str> = text.split('\n').map(|l| l.trim_end_matches('\r')).collect();
+    let lines = lines_of(&text);
     let mut warnings = Vec::new();
 
-    // Version line (first line that is not empty).
+    let (version, header_start) = read_version(&lines, path, &mut warnings)?;
+    let head = read_header(&lines, header_start, path)?;
+    let mut nums = NumberStream::new(path, &lines[head.tilt_line + 1..], head.tilt_line + 2);
+    let tilt = read_tilt_of(&head, &mut nums, path)?;
+    let n = read_numbers(&mut nums, path, version)?;
+    let (multipliers, scale) = multipliers_of(&n, version, path, &mut warnings)?;
+    let mut table = read_table(&mut nums, n.nv, n.nh, scale, path)?;
+    warn_trailing(&nums, &mut warnings);
+    table.make_ascending(path)?;
+    let symmetry = symmetry_of(
+        n.ptype,
+        &table.h,
+        &table.v,
+        path,
+        &table.h_lines,
+        &table.v_lines,
+        &mut warnings,
+    )?;
+
+    let absolute = n.absolute();
+    let lamp = LampSet {
+        count: n.n_lamps,
+        lumens: (!absolute).then_some(n.lumens_per_lamp),
+        description: head.lamp_description,
+        watts: (n.watts > 0.0).then_some(n.watts),
+    };
+    Ok(Luminaire {
+        format: SourceFormat::Ies(version),
+        photometric_type: n.ptype,
+        symmetry,
+        h_deg: table.h,
+        v_deg: table.v,
+        candela: table.cd,
+        lamps: vec![lamp],
+        multipliers,
+        absolute,
+        rated_lamp_lumens: (!absolute).then_some(n.n_lamps as f64 * n.lumens_per_lamp),
+        size_m: n.size.map(|s| s * n.unit_m),
+        tilt,
+        header: head.header,
+        warnings,
+    })
+}
+
+/// The version from the first line that is not empty, and the index of the first header line
+/// (the version line itself for LM-63-1986, whose first line is free text).
+fn read_version(
+    lines: &[&str],
+    path: &Path,
+    warnings: &mut Vec<String>,
+) -> Result<(IesVersion, usize), PhotometryError> {
     let first = lines
         .iter()
         .position(|l| !l.trim().is_empty())
         .ok_or_else(|| PhotometryError::file(path, "file", "is empty"))?;
     let version_text = lines[first].trim().to_ascii_uppercase();
-    let (version, header_start) = match version_text.as_str() {
+    Ok(match version_text.as_str() {
         "IESNA:LM-63-1995" => (IesVersion::Lm63_1995, first + 1),
         "IESNA:LM-63-2002" => (IesVersion::Lm63_2002, first + 1),
         "IES:LM-63-2019" => (IesVersion::Lm63_2019, first + 1),
@@ -62,13 +112,27 @@ pub fn parse_ies(bytes: &[u8], path: &Path) -> Result<Luminaire, PhotometryError
             (IesVersion::Lm63_2002, first + 1)
         }
         _ => (IesVersion::Lm63_1986, first),
-    };
+    })
+}
 
-    // Header lines up to TILT=.
+/// The header lines up to `TILT=`.
+struct Header {
+    /// `[KEYWORD] value` lines (with `[MORE]` joined) and free text.
+    header: Vec<String>,
+    /// The first `[LAMP]` value.
+    lamp_description: String,
+    /// Index of the `TILT=` line.
+    tilt_line: usize,
+    /// What follows `TILT=`.
+    tilt_value: String,
+}
+
+/// Keyword and free-text lines from `start` up to the `TILT=` line.
+fn read_header(lines: &[&str], start: usize, path: &Path) -> Result<Header, PhotometryError> {
     let mut header: Vec<String> = Vec::new();
     let mut lamp_description = String::new();
     let mut tilt_line = None;
-    for (i, line) in lines.iter().enumerate().skip(header_start) {
+    for (i, line) in lines.iter().enumerate().skip(start) {
         let t = line.trim();
         if t.get(..5).is_some_and(|p| p.eq_ignore_ascii_case("TILT=")) {
             tilt_line = Some(i);
@@ -104,44 +168,91 @@ pub fn parse_ies(bytes: &[u8], path: &Path) -> Result<Luminaire, PhotometryError
         )
     })?;
     let tilt_value = lines[tilt_line].trim()[5..].trim().to_string();
+    Ok(Header {
+        header,
+        lamp_description,
+        tilt_line,
+        tilt_value,
+    })
+}
 
-    let rest = &lines[tilt_line + 1..];
-    let mut nums = NumberStream::new(path, rest, tilt_line + 2);
-    let tilt = match tilt_value.to_ascii_uppercase().as_str() {
-        "NONE" => None,
-        "INCLUDE" => Some(read_tilt(&mut nums, path, "INCLUDE".to_string())?),
-        "" => {
-            return Err(PhotometryError::at(
-                path,
-                tilt_line + 1,
-                "TILT=",
-                "no value; expected NONE, INCLUDE or a tilt file name",
-            ))
-        }
+/// The tilt table `TILT=` names: none, the data that follows in `nums`, or a file beside `path`.
+fn read_tilt_of(
+    head: &Header,
+    nums: &mut NumberStream,
+    path: &Path,
+) -> Result<Option<TiltTable>, PhotometryError> {
+    match head.tilt_value.to_ascii_uppercase().as_str() {
+        "NONE" => Ok(None),
+        "INCLUDE" => Ok(Some(read_tilt(nums, path, "INCLUDE".to_string())?)),
+        "" => Err(PhotometryError::at(
+            path,
+            head.tilt_line + 1,
+            "TILT=",
+            "no value; expected NONE, INCLUDE or a tilt file name",
+        )),
         _ => {
-            let tilt_path = path.parent().unwrap_or(Path::new(".")).join(&tilt_value);
+            let tilt_path = path
+                .parent()
+                .unwrap_or(Path::new("."))
+                .join(&head.tilt_value);
             let limit = crate::limits::LUMINAIRE_FILE_MAX_BYTES;
             let read = crate::limits::read_limited(&tilt_path, limit, "tilt file");
             let bytes = read.map_err(|e| {
                 PhotometryError::at(
                     path,
-                    tilt_line + 1,
+                    head.tilt_line + 1,
                     "TILT=",
                     format!("cannot read tilt file {}: {e}", tilt_path.display()),
                 )
             })?;
             let text = latin1(&bytes);
-            let tlines: Vec<&str> = text.split('\n').map(|l| l.trim_end_matches('\r')).collect();
+            let tlines = lines_of(&text);
             let mut tnums = NumberStream::new(&tilt_path, &tlines, 1);
-            Some(read_tilt(
+            Ok(Some(read_tilt(
                 &mut tnums,
                 &tilt_path,
                 tilt_path.display().to_string(),
-            )?)
+            )?))
         }
-    };
+    }
+}
 
-    // The 10 + 3 header numbers.
+/// The 10 + 3 numbers after the tilt data, checked.
+struct Numbers {
+    n_lamps: i64,
+    /// −1 for absolute photometry.
+    lumens_per_lamp: f64,
+    candela_multiplier: f64,
+    nv: usize,
+    nh: usize,
+    ptype: PhotometricType,
+    /// Metres per file unit.
+    unit_m: f64,
+    /// Luminous opening width, length, height in file units.
+    size: [f64; 3],
+    ballast_factor: f64,
+    /// Line of the ballast factor (and of the field after it).
+    bf_line: usize,
+    /// Name of the second of the three numbers, which depends on the version.
+    second_name: &'static str,
+    second: f64,
+    watts: f64,
+}
+
+impl Numbers {
+    /// Whether the file gives absolute photometry (lumens per lamp −1).
+    fn absolute(&self) -> bool {
+        self.lumens_per_lamp == -1.0
+    }
+}
+
+/// Read the 10 + 3 numbers, then check them.
+fn read_numbers(
+    nums: &mut NumberStream,
+    path: &Path,
+    version: IesVersion,
+) -> Result<Numbers, PhotometryError> {
     let lamps_line = nums.line_of_next();
     let n_lamps = nums.integer("number of lamps")?;
     let lumens_line = nums.line_of_next();
@@ -192,69 +303,72 @@ pub fn parse_ies(bytes: &[u8], path: &Path) -> Result<Luminaire, PhotometryError
     let second = nums.number(second_name)?;
     let watts = nums.number("input watts")?;
 
+    let out_of_range = |line: usize, field: &str, message: String| {
+        Err(PhotometryError::at(path, line, field, message))
+    };
     if n_lamps < 1 {
-        return Err(PhotometryError::at(
-            path,
-            lamps_line,
-            "number of lamps",
-            format!("{n_lamps}; at least 1 expected"),
-        ));
+        let message = format!("{n_lamps}; at least 1 expected");
+        return out_of_range(lamps_line, "number of lamps", message);
     }
-    let absolute = lumens_per_lamp == -1.0;
-    if !absolute && !(lumens_per_lamp > 0.0) {
-        return Err(PhotometryError::at(
-            path,
-            lumens_line,
-            "lumens per lamp",
-            format!("{lumens_per_lamp}; expected a positive number or -1 (absolute photometry)"),
-        ));
+    if lumens_per_lamp != -1.0 && !(lumens_per_lamp > 0.0) {
+        let message =
+            format!("{lumens_per_lamp}; expected a positive number or -1 (absolute photometry)");
+        return out_of_range(lumens_line, "lumens per lamp", message);
     }
     if !(candela_multiplier > 0.0) {
-        return Err(PhotometryError::at(
-            path,
-            mult_line,
-            "candela multiplier",
-            format!("{candela_multiplier}; must be positive"),
-        ));
+        let message = format!("{candela_multiplier}; must be positive");
+        return out_of_range(mult_line, "candela multiplier", message);
     }
     if !(ballast_factor > 0.0) {
-        return Err(PhotometryError::at(
-            path,
-            bf_line,
-            "ballast factor",
-            format!("{ballast_factor}; must be positive"),
-        ));
+        let message = format!("{ballast_factor}; must be positive");
+        return out_of_range(bf_line, "ballast factor", message);
     }
     if !(1..=100_000).contains(&nv) {
-        return Err(PhotometryError::at(
-            path,
-            nv_line,
-            "number of vertical angles",
-            format!("{nv}; expected 1 to 100000"),
-        ));
+        let message = format!("{nv}; expected 1 to 100000");
+        return out_of_range(nv_line, "number of vertical angles", message);
     }
     if !(1..=100_000).contains(&nh) {
-        return Err(PhotometryError::at(
-            path,
-            nh_line,
-            "number of horizontal angles",
-            format!("{nh}; expected 1 to 100000"),
-        ));
+        let message = format!("{nh}; expected 1 to 100000");
+        return out_of_range(nh_line, "number of horizontal angles", message);
     }
-    let (nv, nh) = (nv as usize, nh as usize);
+    Ok(Numbers {
+        n_lamps,
+        lumens_per_lamp,
+        candela_multiplier,
+        nv: nv as usize,
+        nh: nh as usize,
+        ptype,
+        unit_m,
+        size: [width, length, height],
+        ballast_factor,
+        bf_line,
+        second_name,
+        second,
+        watts,
+    })
+}
 
+/// The multipliers the file declares (which of them apply depends on the version) and the
+/// product of those applied.
+fn multipliers_of(
+    n: &Numbers,
+    version: IesVersion,
+    path: &Path,
+    warnings: &mut Vec<String>,
+) -> Result<(Vec<Multiplier>, f64), PhotometryError> {
     let mut multipliers = vec![
         Multiplier {
             name: "candela multiplier",
-            value: candela_multiplier,
+            value: n.candela_multiplier,
             applied: true,
         },
         Multiplier {
             name: "ballast factor",
-            value: ballast_factor,
+            value: n.ballast_factor,
             applied: true,
         },
     ];
+    let (second_name, second) = (n.second_name, n.second);
     let second_applied = matches!(version, IesVersion::Lm63_1986 | IesVersion::Lm63_1991);
     if !second_applied && second != 1.0 && version != IesVersion::Lm63_2019 {
         warnings.push(format!(
@@ -265,7 +379,7 @@ pub fn parse_ies(bytes: &[u8], path: &Path) -> Result<Luminaire, PhotometryError
     if !(second > 0.0) && second_applied {
         return Err(PhotometryError::at(
             path,
-            bf_line,
+            n.bf_line,
             second_name,
             format!("{second}; must be positive"),
         ));
@@ -280,19 +394,45 @@ pub fn parse_ies(bytes: &[u8], path: &Path) -> Result<Luminaire, PhotometryError
         .filter(|m| m.applied)
         .map(|m| m.value)
         .product();
+    Ok((multipliers, scale))
+}
 
-    // Angles.
-    let read_angles = |nums: &mut NumberStream, n: usize, what: &str| {
-        let mut out = Vec::with_capacity(n);
-        let mut lines_of = Vec::with_capacity(n);
-        for i in 0..n {
-            lines_of.push(nums.line_of_next());
-            out.push(nums.number(&format!("{what} angle {}", i + 1))?);
-        }
-        Ok::<_, PhotometryError>((out, lines_of))
-    };
-    let (mut v, v_lines) = read_angles(&mut nums, nv, "vertical")?;
-    let (mut h, h_lines) = read_angles(&mut nums, nh, "horizontal")?;
+/// The angles and the candela table, with the line each angle was read from.
+struct Table {
+    v: Vec<f64>,
+    v_lines: Vec<usize>,
+    h: Vec<f64>,
+    h_lines: Vec<usize>,
+    /// One block of `v.len()` values per horizontal angle, multipliers applied (cd).
+    cd: Vec<f64>,
+}
+
+/// `n` angles named `what` and the line of each.
+fn read_angles(
+    nums: &mut NumberStream,
+    n: usize,
+    what: &str,
+) -> Result<(Vec<f64>, Vec<usize>), PhotometryError> {
+    let mut out = Vec::with_capacity(n);
+    let mut line_numbers = Vec::with_capacity(n);
+    for i in 0..n {
+        line_numbers.push(nums.line_of_next());
+        out.push(nums.number(&format!("{what} angle {}", i + 1))?);
+    }
+    Ok((out, line_numbers))
+}
+
+/// Vertical angles, horizontal angles and the candela values (times `scale`), refusing negative
+/// candela.
+fn read_table(
+    nums: &mut NumberStream,
+    nv: usize,
+    nh: usize,
+    scale: f64,
+    path: &Path,
+) -> Result<Table, PhotometryError> {
+    let (v, v_lines) = read_angles(nums, nv, "vertical")?;
+    let (h, h_lines) = read_angles(nums, nh, "horizontal")?;
     let mut cd = Vec::with_capacity(nv * nh);
     for ih in 0..nh {
         for iv in 0..nv {
@@ -314,6 +454,40 @@ pub fn parse_ies(bytes: &[u8], path: &Path) -> Result<Luminaire, PhotometryError
             cd.push(value * scale);
         }
     }
+    Ok(Table {
+        v,
+        v_lines,
+        h,
+        h_lines,
+        cd,
+    })
+}
+
+impl Table {
+    /// Ascending angles: a descending list is reversed together with the table (its lines
+    /// stay in file order, as the checks that follow only report the ends).
+    fn make_ascending(&mut self, path: &Path) -> Result<(), PhotometryError> {
+        let v_desc = check_monotonic(&self.v, &self.v_lines, path, "vertical angle")?;
+        let h_desc = check_monotonic(&self.h, &self.h_lines, path, "horizontal angle")?;
+        let nv = self.v.len();
+        if v_desc {
+            self.v.reverse();
+            for row in self.cd.chunks_mut(nv) {
+                row.reverse();
+            }
+        }
+        if h_desc {
+            self.h.reverse();
+            let mut rows: Vec<Vec<f64>> = self.cd.chunks(nv).map(|c| c.to_vec()).collect();
+            rows.reverse();
+            self.cd = rows.concat();
+        }
+        Ok(())
+    }
+}
+
+/// A warning for anything after the candela table other than `END`.
+fn warn_trailing(nums: &NumberStream, warnings: &mut Vec<String>) {
     let (trailing, trailing_line) = nums.rest();
     let junk: Vec<&str> = trailing
         .iter()
@@ -327,51 +501,16 @@ pub fn parse_ies(bytes: &[u8], path: &Path) -> Result<Luminaire, PhotometryError
             junk[0]
         ));
     }
-
-    // Ascending angles: reverse a descending list together with the table.
-    let v_desc = check_monotonic(&v, &v_lines, path, "vertical angle")?;
-    let h_desc = check_monotonic(&h, &h_lines, path, "horizontal angle")?;
-    if v_desc {
-        v.reverse();
-        for ih in 0..nh {
-            cd[ih * nv..(ih + 1) * nv].reverse();
-        }
-    }
-    if h_desc {
-        h.reverse();
-        let mut rows: Vec<Vec<f64>> = cd.chunks(nv).map(|c| c.to_vec()).collect();
-        rows.reverse();
-        cd = rows.concat();
-    }
-    let symmetry = symmetry_of(ptype, &h, &v, path, &h_lines, &v_lines, &mut warnings)?;
-
-    let lamp = LampSet {
-        count: n_lamps,
-        lumens: (!absolute).then_some(lumens_per_lamp),
-        description: lamp_description,
-        watts: (watts > 0.0).then_some(watts),
-    };
-    Ok(Luminaire {
-        format: SourceFormat::Ies(version),
-        photometric_type: ptype,
-        symmetry,
-        h_deg: h,
-        v_deg: v,
-        candela: cd,
-        lamps: vec![lamp],
-        multipliers,
-        absolute,
-        rated_lamp_lumens: (!absolute).then_some(n_lamps as f64 * lumens_per_lamp),
-        size_m: [width * unit_m, length * unit_m, height * unit_m],
-        tilt,
-        header,
-        warnings,
-    })
 }
 
 /// Latin-1 decoding: every byte is the code point of the same value (never fails).
 pub(crate) fn latin1(bytes: &[u8]) -> String {
     bytes.iter().map(|&b| b as char).collect()
+}
+
+/// The lines of `text`, LF or CRLF ended.
+pub(crate) fn lines_of(text: &str) -> Vec<&str> {
+    text.split('\n').map(|l| l.trim_end_matches('\r')).collect()
 }
 
 /// Tilt data: geometry, number of pairs, angles, factors.

@@ -8,8 +8,9 @@ use super::adapter::{
     Origin, PluginFaults, PluginLight, PluginMaterial, PluginObserver, PluginSpd,
 };
 use super::blob::{Blob, BUILTIN_PLUGIN};
+use super::loader::LoadedPlugin;
 use super::registry::{Provider, Registry, RegistryError};
-use crate::builtin::Build;
+use crate::builtin::{Build, BuiltinType};
 use crate::camera::{Filter, PerspectiveCamera};
 use crate::geometry::Shape;
 use crate::light::Light;
@@ -146,35 +147,12 @@ impl PluginFactory {
         source: Source<'_>,
         ctx: &FactoryContext,
     ) -> Result<Built, FactoryError> {
-        let unknown = || FactoryError::UnknownType {
-            kind: kind.as_str(),
-            type_name: type_name.to_string(),
-        };
         let entry = self
             .registry
             .lookup(kind, type_name)
-            .map_err(|_| unknown())?;
+            .map_err(|_| unknown(kind, type_name))?;
         if let Some(ty) = entry.builtin {
-            let owned;
-            let params = match source {
-                Source::Params(v) => v,
-                Source::State { bytes, .. } => {
-                    let state = ty.state.ok_or_else(|| {
-                        FactoryError::Param(format!("a {kind} `{type_name}` cannot be a blob"))
-                    })?;
-                    let text = (state.load)(bytes)?;
-                    owned = ron::from_str::<ron::Value>(&text)
-                        .map_err(|e| FactoryError::Param(format!("bad saved state: {e}")))?;
-                    &owned
-                }
-            };
-            return Ok(match ty.build {
-                Build::Material(f) => Built::Material(f(params, ctx)?),
-                Build::Light(f) => Built::Light(f(params, ctx)?),
-                Build::Spd(f) => Built::Spd(f(params, ctx)?),
-                Build::Observer(f) => Built::Observer(f(params, ctx)?),
-                Build::Shape(_) | Build::Camera(_) => return Err(unknown()),
-            });
+            return builtin_from_source(ty, kind, type_name, source, ctx);
         }
         if type_name == BLOB_LIGHT && matches!(entry.provider, Provider::Builtin) {
             let Source::Params(params) = source else {
@@ -183,8 +161,20 @@ impl PluginFactory {
             return self.blob(kind, params, ctx);
         }
         let Provider::Plugin(plugin) = &entry.provider else {
-            return Err(unknown());
+            return Err(unknown(kind, type_name));
         };
+        self.build_plugin(plugin, kind, type_name, source, ctx)
+    }
+
+    /// Build `(kind, type_name)` with the plugin library that provides it.
+    fn build_plugin(
+        &self,
+        plugin: &LoadedPlugin,
+        kind: Kind,
+        type_name: &str,
+        source: Source<'_>,
+        ctx: &FactoryContext,
+    ) -> Result<Built, FactoryError> {
         let text;
         let object_source = match source {
             Source::Params(v) => {
@@ -259,7 +249,7 @@ impl PluginFactory {
                     ROption::RNone => Built::Observer(Arc::new(PluginObserver::new(o, origin))),
                 }
             }
-            _ => return Err(unknown()),
+            _ => return Err(unknown(kind, type_name)),
         })
     }
 
@@ -470,4 +460,40 @@ fn build_builtin(
             ))
         }
     })
+}
+
+/// The error of a type nobody provides.
+fn unknown(kind: Kind, type_name: &str) -> FactoryError {
+    FactoryError::UnknownType {
+        kind: kind.as_str(),
+        type_name: type_name.to_string(),
+    }
+}
+
+/// Build the built-in type `ty` from parameters or from its saved state (shapes and cameras
+/// are not built here: this factory does not know them).
+fn builtin_from_source(
+    ty: &BuiltinType,
+    kind: Kind,
+    type_name: &str,
+    source: Source<'_>,
+    ctx: &FactoryContext,
+) -> Result<Built, FactoryError> {
+    let owned;
+    let params = match source {
+        Source::Params(v) => v,
+        Source::State { bytes, .. } => {
+            let state = ty.state.ok_or_else(|| {
+                FactoryError::Param(format!("a {kind} `{type_name}` cannot be a blob"))
+            })?;
+            let text = (state.load)(bytes)?;
+            owned = ron::from_str::<ron::Value>(&text)
+                .map_err(|e| FactoryError::Param(format!("bad saved state: {e}")))?;
+            &owned
+        }
+    };
+    if matches!(ty.build, Build::Shape(_) | Build::Camera(_)) {
+        return Err(unknown(kind, type_name));
+    }
+    build_builtin(ty, params, ctx)
 }

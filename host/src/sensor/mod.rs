@@ -10,7 +10,7 @@
 //! - [`output`]: the CSV and the false-colour map with isolux contours (`--sensors-out`).
 //! - [`luminance`]: luminance in cd/m² per pixel of a rendered image (`--luminance-out`).
 //!
-//! See `docs/photometry.md` for the analytic cases they are checked against.
+//! See `docs/sensors.md` for the analytic cases they are checked against.
 
 pub mod daylight_factor;
 pub mod estimate;

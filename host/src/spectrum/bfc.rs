@@ -48,56 +48,92 @@ impl BfcFile {
 
     /// Parse the text of a `.BFC` file; `label` names it in errors.
     pub fn parse(text: &str, label: &str) -> Result<Self, SpectrumError> {
-        let err = |line: usize, what: String| SpectrumError::Parse {
-            file: label.to_string(),
+        let mut r = BfcLines {
+            label,
+            lines: text
+                .lines()
+                .enumerate()
+                .map(|(i, l)| (i + 1, l.trim_end_matches('\r').trim()))
+                .collect(),
+            next: 0,
+        };
+        r.skip_to_magic_line()?;
+        let comments = r.comments();
+        let sample = comments.get(1).cloned().unwrap_or_default();
+        let (header_line, emission_nm, excitation_nm) = r.grid()?;
+        r.column_header(header_line, &excitation_nm)?;
+        let values = r.rows(&emission_nm, &excitation_nm)?;
+        r.end_of_data()?;
+        Ok(Self {
+            label: label.to_string(),
+            sample,
+            emission_nm,
+            excitation_nm,
+            values,
+        })
+    }
+}
+
+/// The lines of a `.BFC` file (1-based number, trimmed text) with a cursor; each step of
+/// [`BfcFile::parse`] reads the part of the file it names.
+struct BfcLines<'a> {
+    label: &'a str,
+    lines: Vec<(usize, &'a str)>,
+    next: usize,
+}
+
+impl<'a> BfcLines<'a> {
+    fn err(&self, line: usize, what: String) -> SpectrumError {
+        SpectrumError::Parse {
+            file: self.label.to_string(),
             line,
             what,
-        };
-        let lines: Vec<(usize, &str)> = text
-            .lines()
-            .enumerate()
-            .map(|(i, l)| (i + 1, l.trim_end_matches('\r').trim()))
-            .collect();
-        let mut it = lines.iter().copied().peekable();
+        }
+    }
 
-        // Magic line, possibly after a short preamble.
-        let mut found = false;
+    /// The next line, if any.
+    fn take(&mut self) -> Option<(usize, &'a str)> {
+        let line = self.lines.get(self.next).copied();
+        if line.is_some() {
+            self.next += 1;
+        }
+        line
+    }
+
+    /// Past the `BFC-450 Matrix File` line, which may follow a short preamble.
+    fn skip_to_magic_line(&mut self) -> Result<(), SpectrumError> {
         for _ in 0..=MAX_PREAMBLE_LINES {
-            match it.next() {
-                Some((_, "BFC-450 Matrix File")) => {
-                    found = true;
-                    break;
-                }
+            match self.take() {
+                Some((_, "BFC-450 Matrix File")) => return Ok(()),
                 Some(_) => {}
                 None => break,
             }
         }
-        if !found {
-            return Err(err(
-                1,
-                format!(
-                    "not a BFC-450 matrix file: no `BFC-450 Matrix File` line within the first {} lines",
-                    MAX_PREAMBLE_LINES + 1
-                ),
-            ));
-        }
+        Err(self.err(
+            1,
+            format!(
+                "not a BFC-450 matrix file: no `BFC-450 Matrix File` line within the first {} lines",
+                MAX_PREAMBLE_LINES + 1
+            ),
+        ))
+    }
 
-        // Comments.
+    /// The `;` comment lines, without the `;`.
+    fn comments(&mut self) -> Vec<String> {
         let mut comments = Vec::new();
-        while let Some(&(_, l)) = it.peek() {
-            if let Some(c) = l.strip_prefix(';') {
-                comments.push(c.trim().to_string());
-                it.next();
-            } else {
-                break;
-            }
+        while let Some(&(_, l)) = self.lines.get(self.next) {
+            let Some(c) = l.strip_prefix(';') else { break };
+            comments.push(c.trim().to_string());
+            self.next += 1;
         }
-        let sample = comments.get(1).cloned().unwrap_or_default();
+        comments
+    }
 
-        // Grid header: six numbers.
-        let (hl, header) = it
-            .next()
-            .ok_or_else(|| err(lines.len(), "file ends before the grid header".into()))?;
+    /// The grid header's six numbers: its line, the emission and the excitation wavelengths.
+    fn grid(&mut self) -> Result<(usize, Vec<f64>, Vec<f64>), SpectrumError> {
+        let (hl, header) = self
+            .take()
+            .ok_or_else(|| self.err(self.lines.len(), "file ends before the grid header".into()))?;
         const NAMES: [&str; 6] = [
             "first emission wavelength",
             "last emission wavelength",
@@ -108,7 +144,7 @@ impl BfcFile {
         ];
         let fields: Vec<&str> = header.split_whitespace().collect();
         if fields.len() != 6 {
-            return Err(err(
+            return Err(self.err(
                 hl,
                 format!(
                     "grid header: expected 6 numbers ({}), found {} fields",
@@ -124,7 +160,7 @@ impl BfcFile {
                 .ok()
                 .filter(|v| v.is_finite() && *v > 0.0)
                 .ok_or_else(|| {
-                    err(
+                    self.err(
                         hl,
                         format!(
                             "grid header field {} ({}): `{f}` is not a positive number",
@@ -136,7 +172,7 @@ impl BfcFile {
         }
         let [e0, e1, estep, ncols, x0, xstep] = g;
         if e1 < e0 || ncols.fract() != 0.0 || ((e1 - e0) / estep).fract().abs() > 1e-9 {
-            return Err(err(
+            return Err(self.err(
                 hl,
                 format!("grid header: emission {e0}..{e1} nm in steps of {estep} nm with {ncols} excitation columns is not a regular grid"),
             ));
@@ -144,25 +180,29 @@ impl BfcFile {
         let nrows = ((e1 - e0) / estep).round() as usize + 1;
         let ncols = ncols as usize;
         if nrows > 10_000 || ncols > 10_000 {
-            return Err(err(
+            return Err(self.err(
                 hl,
                 format!("grid header: {nrows}×{ncols} is implausibly large"),
             ));
         }
         let emission_nm: Vec<f64> = (0..nrows).map(|k| e0 + k as f64 * estep).collect();
         let excitation_nm: Vec<f64> = (0..ncols).map(|k| x0 + k as f64 * xstep).collect();
+        Ok((hl, emission_nm, excitation_nm))
+    }
 
-        // Column header.
-        let (cl, cols) = it
-            .next()
-            .ok_or_else(|| err(hl, "file ends before the `r:c:` column header".into()))?;
+    /// The `r:c:` line, which must list `excitation_nm`; `hl` is the grid header's line.
+    fn column_header(&mut self, hl: usize, excitation_nm: &[f64]) -> Result<(), SpectrumError> {
+        let ncols = excitation_nm.len();
+        let (cl, cols) = self
+            .take()
+            .ok_or_else(|| self.err(hl, "file ends before the `r:c:` column header".into()))?;
         let mut cf = cols.split_whitespace();
         if cf.next() != Some("r:c:") {
-            return Err(err(cl, "column header must start with `r:c:`".into()));
+            return Err(self.err(cl, "column header must start with `r:c:`".into()));
         }
         let cols: Vec<&str> = cf.collect();
         if cols.len() != ncols {
-            return Err(err(
+            return Err(self.err(
                 cl,
                 format!(
                     "column header lists {} excitation wavelengths, the grid header says {ncols}",
@@ -170,11 +210,11 @@ impl BfcFile {
                 ),
             ));
         }
-        for (k, (f, want)) in cols.iter().zip(&excitation_nm).enumerate() {
+        for (k, (f, want)) in cols.iter().zip(excitation_nm).enumerate() {
             match f.parse::<f64>() {
                 Ok(v) if (v - want).abs() < 1e-6 => {}
                 _ => {
-                    return Err(err(
+                    return Err(self.err(
                         cl,
                         format!(
                         "column header field {} is `{f}`, expected excitation wavelength {want} nm",
@@ -184,19 +224,28 @@ impl BfcFile {
                 }
             }
         }
+        Ok(())
+    }
 
-        // Rows.
-        let mut values = Vec::with_capacity(nrows * ncols);
-        for want in &emission_nm {
-            let (rl, row) = it.next().ok_or_else(|| {
-                err(
-                    lines.len(),
+    /// One row per emission wavelength: the wavelength, then one finite value per excitation
+    /// column; the values row-major.
+    fn rows(
+        &mut self,
+        emission_nm: &[f64],
+        excitation_nm: &[f64],
+    ) -> Result<Vec<f64>, SpectrumError> {
+        let ncols = excitation_nm.len();
+        let mut values = Vec::with_capacity(emission_nm.len() * ncols);
+        for want in emission_nm {
+            let (rl, row) = self.take().ok_or_else(|| {
+                self.err(
+                    self.lines.len(),
                     format!("file ends before the row for emission {want} nm"),
                 )
             })?;
             let fields: Vec<&str> = row.split_whitespace().collect();
             if fields.len() != ncols + 1 {
-                return Err(err(
+                return Err(self.err(
                     rl,
                     format!("row for emission {want} nm: expected {} fields (wavelength + {ncols} values), found {}", ncols + 1, fields.len()),
                 ));
@@ -204,7 +253,7 @@ impl BfcFile {
             match fields[0].parse::<f64>() {
                 Ok(v) if (v - want).abs() < 1e-6 => {}
                 _ => {
-                    return Err(err(
+                    return Err(self.err(
                         rl,
                         format!(
                             "field 1 is `{}`, expected emission wavelength {want} nm",
@@ -215,7 +264,7 @@ impl BfcFile {
             }
             for (k, f) in fields[1..].iter().enumerate() {
                 let v = f.parse::<f64>().ok().filter(|v| v.is_finite()).ok_or_else(|| {
-                    err(
+                    self.err(
                         rl,
                         format!(
                             "field {} (emission {want} nm, excitation {} nm): `{f}` is not a finite number",
@@ -227,23 +276,19 @@ impl BfcFile {
                 values.push(v);
             }
         }
-        match it.next() {
-            Some((_, "EOD")) => {}
-            Some((l, other)) => {
-                return Err(err(
-                    l,
-                    format!("expected `EOD` after the last row, found `{other}`"),
-                ))
-            }
-            None => return Err(err(lines.len(), "missing `EOD` after the last row".into())),
+        Ok(values)
+    }
+
+    /// The `EOD` line after the last row.
+    fn end_of_data(&mut self) -> Result<(), SpectrumError> {
+        match self.take() {
+            Some((_, "EOD")) => Ok(()),
+            Some((l, other)) => Err(self.err(
+                l,
+                format!("expected `EOD` after the last row, found `{other}`"),
+            )),
+            None => Err(self.err(self.lines.len(), "missing `EOD` after the last row".into())),
         }
-        Ok(Self {
-            label: label.to_string(),
-            sample,
-            emission_nm,
-            excitation_nm,
-            values,
-        })
     }
 }
 

@@ -22,11 +22,10 @@ use spectrace::light::{
     ConstantEnvironment, EnvironmentLight, EnvironmentRadiance, Light as HostLight, LightFlags,
 };
 use spectrace::plugin::layout::{as_light_context, as_light_sample_mut, as_vec3a};
-use spectrace::spectrum::{LaneMask, SampledWavelengths};
 use spectrace_plugin_api::{
-    light_flags, Beam, EmissionPdf, EmittedRay, Flags, Host, Incident, LightSource, ParamDoc,
+    light_flags, EmissionPdf, EmittedRay, Flags, Host, Incident, LightSource, ParamDoc,
     PluginError, PluginResult, PluginType, RandomSample, Receiver, RepresentedBeam, SceneBounds,
-    Spd, Vec3, Vec4f, Wavelengths, LANES,
+    Spd, Vec4f, Wavelengths, LANES,
 };
 use std::sync::Arc;
 
@@ -117,49 +116,14 @@ fn emission_pdf<L: HostLight + ?Sized>(
 }
 
 /// The seed's `next_beam` for a built-in, which samples its emission (`sample_le`) but keeps no
-/// beams of its own: the wavelength drawn from the light's normalised spectrum with `u[4]`, the
-/// ray with `u[0..4]`, and the power one beam carries as an estimate of the whole light,
-/// `value · |cos θ| / (p_position · p_direction · p(λ))` W (delta densities count as 1).
+/// beams of its own: [`beam_from_emission`](spectrace::light::emission_beam::beam_from_emission).
 fn beam_from_emission<L: HostLight + ?Sized>(
     light: &L,
     sample: &RandomSample,
 ) -> PluginResult<RepresentedBeam> {
-    let drawn = light.spd().sample(sample.u[4]);
-    if !(drawn.pdf > 0.0) {
-        return Err(PluginError::unsupported(
-            "next_beam: the light's spectrum gives no wavelength for these numbers",
-        ));
-    }
-    let lambda = SampledWavelengths {
-        lambda: [drawn.lambda as f32; LANES],
-        pdf: [drawn.pdf as f32; LANES],
-        lanes: LaneMask::ALL,
-    };
-    let u1 = Vec2::new(sample.u[0] as f32, sample.u[1] as f32);
-    let u2 = Vec2::new(sample.u[2] as f32, sample.u[3] as f32);
-    let (origin, direction, power_w) = match light.sample_le(u1, u2, &lambda) {
-        Some(s) if s.pdf_pos > 0.0 && s.pdf_dir > 0.0 => {
-            let cos = if s.normal == Vec3A::ZERO {
-                1.0
-            } else {
-                s.normal.dot(s.ray.dir).abs() as f64
-            };
-            let power =
-                s.radiance.0[0] as f64 * cos / (s.pdf_pos as f64 * s.pdf_dir as f64 * drawn.pdf);
-            (s.ray.origin, s.ray.dir, power)
-        }
-        // No emission for these numbers: a beam that carries nothing.
-        _ => (Vec3A::ZERO, Vec3A::Y, 0.0),
-    };
-    let v = |a: Vec3A| Vec3::new(a.x as f64, a.y as f64, a.z as f64);
-    Ok(Beam {
-        origin: v(origin),
-        direction: v(direction),
-        wavelength_nm: drawn.lambda,
-        power_w,
-        source_id: 0,
-    }
-    .into())
+    spectrace::light::emission_beam::beam_from_emission(light, sample)
+        .map(Into::into)
+        .map_err(|e| PluginError::unsupported(format!("next_beam: {e}")))
 }
 
 macro_rules! light_type {

@@ -41,7 +41,7 @@ use crate::light::near_field::NearFieldLight;
 use crate::light::ray_file::{file_spectra, RayFileLight, RaySpectrum};
 use crate::light::{Light, LuminaireLight};
 use crate::photometry::efficacy::luminous_efficacy_lm_per_w;
-use crate::photometry::tm25::{RayFile, SpectralId};
+use crate::photometry::tm25::{RayFile, SpectralId, Tm25Header};
 use crate::scene_file::pin::sha256_hex;
 use crate::scene_file::type_doc::Param;
 use crate::scene_file::units::LengthUnit;
@@ -51,7 +51,7 @@ use base64::engine::general_purpose::STANDARD as BASE64;
 use base64::Engine as _;
 use glam::Vec3A;
 use serde::{Deserialize, Serialize};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 /// The type.
@@ -406,40 +406,8 @@ pub fn build(p: &RayFileParams, ctx: &FactoryContext) -> Result<Arc<dyn Light>, 
     } else {
         1.0
     };
-    let scale = match (p.flux_w, p.flux_lm) {
-        (Some(_), Some(_)) => {
-            return Err(param_err("flux_lm", "give `flux_w` or `flux_lm`, not both"))
-        }
-        (Some(w), None) => check::radiometric("flux_w", w, "W")? as f64 / rays_w,
-        (None, Some(lm)) => check::radiometric("flux_lm", lm, "lm")? as f64 / (rays_w * k),
-        (None, None) => 1.0,
-    };
-    // f32 as the file stores it (printed with its own shortest decimals).
-    let header_f32 = if h.flags.radiant {
-        h.radiant_flux_w
-    } else {
-        h.luminous_flux_lm
-    };
-    let header_total = header_f32 as f64;
-    let rays_total = rays_w / w_per_unit;
-    let unit_name = if h.flags.radiant { "W" } else { "lm" };
-    let header_text = if header_total.is_nan() {
-        "not given (NaN)".to_string()
-    } else {
-        format!("{header_f32} {unit_name}")
-    };
-    let used = match (p.flux_w, p.flux_lm) {
-        (None, None) => "the rays' sum",
-        _ => "the rays scaled to the given flux",
-    };
-    eprintln!(
-        "ray_file {}: flux: header {header_text}, rays' sum {rays_total:.6} {unit_name}; the light \
-         emits {used}",
-        path.display()
-    );
-    if let Some(w) = header_mismatch(header_f32, rays_total, unit_name) {
-        eprintln!("warning: {}: {w}", path.display());
-    }
+    let scale = flux_scale(p, rays_w, k)?;
+    report_flux(p, &file.header, &path, rays_w / w_per_unit);
     let light = RayFileLight::new(
         file.clone(),
         origin,
@@ -466,55 +434,112 @@ pub fn build(p: &RayFileParams, ctx: &FactoryContext) -> Result<Arc<dyn Light>, 
             );
             Ok(Arc::new(light))
         }
-        "near_field" => {
-            let step = p.table_step_deg.unwrap_or(5.0);
-            let m = measure(
-                &light,
-                &GoniometerSettings {
-                    step_deg: step,
-                    samples: 4_000_000,
-                    seed: 1,
-                },
-            )
-            .map_err(|e| param_err("table_step_deg", e))?;
-            let nm: Vec<f64> = m.spectrum.iter().map(|s| s.0).collect();
-            let v: Vec<f64> = m.spectrum.iter().map(|s| s.1).collect();
-            let mspd: Arc<dyn Spd> = Arc::new(
-                TabulatedSpd::new("ray file spectrum", &nm, &v, Interpolation::Linear)
-                    .map_err(|e| param_err("file", e))?,
-            );
-            let mk = luminous_efficacy_lm_per_w(mspd.as_ref());
-            let centre = Vec3A::new(m.centre[0] as f32, m.centre[1] as f32, m.centre[2] as f32);
-            let ident = [Vec3A::X, Vec3A::Y, Vec3A::Z];
-            eprintln!(
-                "ray_file {}: near-field model: {step}° far-field table binned from 4000000 draws \
-                 of the rays, emitted from their start points' box {:.4} × {:.4} × {:.4} m (x, z, y) \
-                 at ({:.4}, {:.4}, {:.4}); {:.6} W",
-                path.display(),
-                m.size[0], m.size[1], m.size[2], centre.x, centre.y, centre.z, m.flux_w
-            );
-            if NearFieldLight::has_opening(m.size) {
-                Ok(Arc::new(NearFieldLight::new(
-                    centre,
-                    ident,
-                    m.size,
-                    m.luminaire,
-                    mspd,
-                    mk,
-                )))
-            } else {
-                Ok(Arc::new(LuminaireLight::new(
-                    centre,
-                    ident,
-                    m.luminaire,
-                    mspd,
-                    mk,
-                )))
-            }
-        }
+        "near_field" => near_field_model(&light, p.table_step_deg.unwrap_or(5.0), &path),
         other => Err(param_err(
             "model",
             format!("`{other}`: expected \"beams\" or \"near_field\""),
         )),
+    }
+}
+
+/// The factor the rays' flux is multiplied by: 1, or the given `flux_w` / `flux_lm` over the
+/// rays' total `rays_w` (W; `k` lm/W converts lumens).
+fn flux_scale(p: &RayFileParams, rays_w: f64, k: f64) -> Result<f64, FactoryError> {
+    Ok(match (p.flux_w, p.flux_lm) {
+        (Some(_), Some(_)) => {
+            return Err(param_err("flux_lm", "give `flux_w` or `flux_lm`, not both"))
+        }
+        (Some(w), None) => check::radiometric("flux_w", w, "W")? as f64 / rays_w,
+        (None, Some(lm)) => check::radiometric("flux_lm", lm, "lm")? as f64 / (rays_w * k),
+        (None, None) => 1.0,
+    })
+}
+
+/// Print the header's total and the rays' sum (`rays_total`, in the file's flux unit) and which
+/// the light emits; warn when they disagree.
+fn report_flux(p: &RayFileParams, h: &Tm25Header, path: &Path, rays_total: f64) {
+    // f32 as the file stores it (printed with its own shortest decimals).
+    let header_f32 = if h.flags.radiant {
+        h.radiant_flux_w
+    } else {
+        h.luminous_flux_lm
+    };
+    let header_total = header_f32 as f64;
+    let unit_name = if h.flags.radiant { "W" } else { "lm" };
+    let header_text = if header_total.is_nan() {
+        "not given (NaN)".to_string()
+    } else {
+        format!("{header_f32} {unit_name}")
+    };
+    let used = match (p.flux_w, p.flux_lm) {
+        (None, None) => "the rays' sum",
+        _ => "the rays scaled to the given flux",
+    };
+    eprintln!(
+        "ray_file {}: flux: header {header_text}, rays' sum {rays_total:.6} {unit_name}; the light \
+         emits {used}",
+        path.display()
+    );
+    if let Some(w) = header_mismatch(header_f32, rays_total, unit_name) {
+        eprintln!("warning: {}: {w}", path.display());
+    }
+}
+
+/// The `near_field` model of a ray-file light: its far-field table binned from the rays
+/// (`step` degrees), emitted from the box of their start points (a point luminaire when the
+/// box has no face of non-zero area).
+fn near_field_model(
+    light: &RayFileLight,
+    step: f64,
+    path: &Path,
+) -> Result<Arc<dyn Light>, FactoryError> {
+    let m = measure(
+        light,
+        &GoniometerSettings {
+            step_deg: step,
+            samples: 4_000_000,
+            seed: 1,
+        },
+    )
+    .map_err(|e| param_err("table_step_deg", e))?;
+    let nm: Vec<f64> = m.spectrum.iter().map(|s| s.0).collect();
+    let v: Vec<f64> = m.spectrum.iter().map(|s| s.1).collect();
+    let mspd: Arc<dyn Spd> = Arc::new(
+        TabulatedSpd::new("ray file spectrum", &nm, &v, Interpolation::Linear)
+            .map_err(|e| param_err("file", e))?,
+    );
+    let mk = luminous_efficacy_lm_per_w(mspd.as_ref());
+    let centre = Vec3A::new(m.centre[0] as f32, m.centre[1] as f32, m.centre[2] as f32);
+    let ident = [Vec3A::X, Vec3A::Y, Vec3A::Z];
+    eprintln!(
+        "ray_file {}: near-field model: {step}° far-field table binned from 4000000 draws \
+         of the rays, emitted from their start points' box {:.4} × {:.4} × {:.4} m (x, z, y) \
+         at ({:.4}, {:.4}, {:.4}); {:.6} W",
+        path.display(),
+        m.size[0],
+        m.size[1],
+        m.size[2],
+        centre.x,
+        centre.y,
+        centre.z,
+        m.flux_w
+    );
+    if NearFieldLight::has_opening(m.size) {
+        Ok(Arc::new(NearFieldLight::new(
+            centre,
+            ident,
+            m.size,
+            m.luminaire,
+            mspd,
+            mk,
+        )))
+    } else {
+        Ok(Arc::new(LuminaireLight::new(
+            centre,
+            ident,
+            m.luminaire,
+            mspd,
+            mk,
+        )))
     }
 }

@@ -2,24 +2,27 @@
 //! as TM-25-13 in the world frame (file x, y, z = world x, y, z, start points in mm).
 //!
 //! - Lights that can be evaluated (point, spot, area, luminaire, connectable plugin lights):
-//!   `sample_le` gives an origin and a direction, the wavelength is drawn from the light's SPD
-//!   `S`, and the ray's radiant flux is the one-sample flux estimate divided by `n`,
-//!   `(L(λ)/S(λ)) · |cos θ| / (pdf_pos · pdf_dir) / n` W (|cos θ| = 1 without a surface), so the
-//!   rays sum to the light's power up to Monte Carlo noise and their directions and origins
-//!   follow its emission. The spectrum is written as one table (the SPD at 1 nm, identifier 3)
-//!   when the SPD has no delta lines, else as a wavelength per ray (identifier 2).
+//!   each ray is the beam [`beam_from_emission`] makes (what such a light answers to
+//!   `next_beam`): `sample_le` gives an origin and a direction, the wavelength is drawn from the
+//!   light's normalised SPD with density `p(λ)`, and the ray's radiant flux is the one-sample
+//!   flux estimate divided by `n`, `L(λ) · |cos θ| / (pdf_pos · pdf_dir · p(λ)) / n` W
+//!   (|cos θ| = 1 without a surface), so the rays sum to the light's power up to Monte Carlo
+//!   noise and their directions and origins follow its emission. The spectrum is written as one
+//!   table (the SPD at 1 nm, identifier 3) when the SPD has no delta lines, else as a wavelength
+//!   per ray (identifier 2).
 //! - Lights that only hand out beams: each beam is one ray (its power / `n`), a wavelength per
 //!   ray (identifier 2).
 //!
-//! Random numbers: the renderer's own generator per ray ([`SampleRng::for_sample`]), so the same
-//! seed gives the same file.
+//! Random numbers: eight per ray from the renderer's own generator
+//! ([`SampleRng::for_sample`]), as a [`RandomSample`] (`u[0..4]` origin and direction, `u[4]`
+//! wavelength), so the same seed gives the same file. A ray the light has nothing for (no
+//! sample, or one that carries nothing) is written with flux 0 and counted as empty.
 
+use crate::light::emission_beam::beam_from_emission;
 use crate::light::{Light, LightFlags};
 use crate::photometry::efficacy::luminous_efficacy_lm_per_w;
 use crate::photometry::tm25::writer::{write_tm25, Tm25Spectrum, WriteHeader, WriteRay};
 use crate::sampler::SampleRng;
-use crate::spectrum::spd::spd_at;
-use crate::spectrum::{LaneMask, SampledWavelengths, LANES};
 use spectrace_plugin_api::RandomSample;
 use std::io::Write;
 
@@ -28,7 +31,8 @@ use std::io::Write;
 pub struct ExportSummary {
     /// Rays written.
     pub rays: u64,
-    /// Rays the light declined (no sample): written with flux 0 so the count holds.
+    /// Rays the light had nothing for (no sample, or one that carries nothing): written with
+    /// flux 0 so the count holds.
     pub empty: u64,
     /// Their radiant flux, W.
     pub flux_w: f64,
@@ -40,55 +44,31 @@ pub struct ExportSummary {
     pub spectral_id: i32,
 }
 
-fn ray_from(light: &dyn Light, seed: u64, i: u64, n: u64, per_ray: bool) -> Option<WriteRay> {
+/// Ray `i` of `n`: a beam of the light from the renderer's own random numbers for that ray
+/// (the light's own beams, or [`beam_from_emission`]), its power divided by `n`. `None` when the
+/// light has nothing for these numbers (no beam, or one that carries nothing).
+fn ray_from(light: &dyn Light, seed: u64, i: u64, n: u64) -> Option<WriteRay> {
     let mut rng = SampleRng::for_sample(seed, i, 11);
-    let scale = 1.0 / n as f64;
-    if light.flags().contains(LightFlags::BEAMS_ONLY) {
-        let u = RandomSample {
-            u: std::array::from_fn(|_| rng.next_1d() as f64),
-        };
-        let b = light.next_beam(&u)?;
-        let f = |v: f64| v as f32;
-        return Some(WriteRay {
-            position_mm: [
-                f(b.origin.x * 1e3),
-                f(b.origin.y * 1e3),
-                f(b.origin.z * 1e3),
-            ],
-            direction: [f(b.direction.x), f(b.direction.y), f(b.direction.z)],
-            flux_w: (b.power_w * scale) as f32,
-            wavelength_nm: b.wavelength_nm as f32,
-        });
-    }
-    let spd = light.spd();
-    let l = spd.sample(rng.next_1d() as f64).lambda;
-    let lambda = SampledWavelengths {
-        lambda: [l as f32; LANES],
-        pdf: [1.0; LANES],
-        lanes: LaneMask::ALL,
+    let u = RandomSample {
+        u: std::array::from_fn(|_| rng.next_1d() as f64),
     };
-    let s = light.sample_le(rng.next_2d(), rng.next_2d(), &lambda)?;
-    let norm = spd_at(spd.as_ref(), &lambda)[0] as f64;
-    if !(norm > 0.0 && s.pdf_pos > 0.0 && s.pdf_dir > 0.0) {
-        return None;
-    }
-    let d = s.ray.dir.normalize();
-    let cos = if s.normal.length_squared() > 0.0 {
-        s.normal.normalize().dot(d).abs() as f64
+    let b = if light.flags().contains(LightFlags::BEAMS_ONLY) {
+        light.next_beam(&u)?
     } else {
-        1.0
+        beam_from_emission(light, &u)
+            .ok()
+            .filter(|b| b.power_w > 0.0)?
     };
-    let w = s.radiance[0] as f64 / norm * cos / (s.pdf_pos as f64 * s.pdf_dir as f64) * scale;
-    if !(w.is_finite() && w >= 0.0) {
-        return None;
-    }
-    let _ = per_ray;
-    let o = s.ray.origin * 1000.0;
+    let f = |v: f64| v as f32;
     Some(WriteRay {
-        position_mm: [o.x, o.y, o.z],
-        direction: [d.x, d.y, d.z],
-        flux_w: w as f32,
-        wavelength_nm: l as f32,
+        position_mm: [
+            f(b.origin.x * 1e3),
+            f(b.origin.y * 1e3),
+            f(b.origin.z * 1e3),
+        ],
+        direction: [f(b.direction.x), f(b.direction.y), f(b.direction.z)],
+        flux_w: (b.power_w * (1.0 / n as f64)) as f32,
+        wavelength_nm: b.wavelength_nm as f32,
     })
 }
 
@@ -128,7 +108,7 @@ pub fn export_light(
     let mut flux = 0.0f64;
     let mut empty = 0u64;
     for i in 0..n {
-        match ray_from(light, seed, i, n, per_ray) {
+        match ray_from(light, seed, i, n) {
             Some(r) => flux += r.flux_w as f64,
             None => empty += 1,
         }
@@ -146,7 +126,7 @@ pub fn export_light(
         spectrum: spectrum.clone(),
     };
     let rays = (0..n).map(|i| {
-        ray_from(light, seed, i, n, per_ray).unwrap_or(WriteRay {
+        ray_from(light, seed, i, n).unwrap_or(WriteRay {
             position_mm: [0.0; 3],
             direction: [0.0, 0.0, 1.0],
             flux_w: 0.0,

@@ -245,6 +245,10 @@ impl<'a> Cursor<'a> {
         a.copy_from_slice(b);
         Ok(u64::from_le_bytes(a))
     }
+    /// An error in `section` of this file.
+    fn error(&self, section: &str, message: impl Into<String>) -> PhotometryError {
+        PhotometryError::file(self.path, section, message)
+    }
     fn utf32(&mut self, n_bytes: usize, section: &str) -> Result<String, PhotometryError> {
         let b = self.take(n_bytes, section)?;
         let mut s = String::new();
@@ -284,18 +288,60 @@ fn flag(c: &mut Cursor, section: &str) -> Result<bool, PhotometryError> {
 /// record the header counts; `path` names it in errors. Rays are not read (see
 /// [`RayFile::check_rays`]).
 pub fn parse_header(bytes: &[u8], path: &Path) -> Result<(Tm25Header, RayLayout), PhotometryError> {
-    let err = |section: &str, msg: String| PhotometryError::file(path, section, msg);
     let mut c = Cursor { bytes, at: 0, path };
     let mut warnings = Vec::new();
+    let version = read_version(&mut c)?;
+    let source = read_source(&mut c, &mut warnings)?;
+    let counts = read_spectral_counts(&mut c)?;
+    let flags = read_flags(&mut c, counts.spectral_id, &mut warnings)?;
+    let mut texts: [String; 9] = Default::default();
+    for (i, t) in texts.iter_mut().enumerate() {
+        *t = c.utf32(4000, &format!("4.7.3.{} {}", i + 1, TEXT_FIELDS[i]))?;
+    }
+    debug_assert_eq!(c.at, FIXED_HEADER_BYTES);
+    let spectra = read_spectral_tables(&mut c, counts.n_spectra)?;
+    let column_names = read_column_labels(&mut c, counts.n_additional)?;
+    let additional_text = c.utf32(counts.text_size as usize, "4.7.6 additional text")?;
+    let layout = RayLayout::of(&flags, counts.n_additional as usize, c.at);
+    check_record_count(&c, &layout, source.n_rays)?;
+    if source.n_rays == 0 {
+        warnings.push("the file has no rays".into());
+    }
+    Ok((
+        Tm25Header {
+            version,
+            creation_method: source.creation_method,
+            luminous_flux_lm: source.luminous_flux_lm,
+            radiant_flux_w: source.radiant_flux_w,
+            n_rays: source.n_rays,
+            date: source.date,
+            start_position: source.start_position,
+            spectral_id: counts.spectral_id,
+            single_wavelength_nm: counts.single_wavelength_nm,
+            lambda_min_nm: counts.lambda_min_nm,
+            lambda_max_nm: counts.lambda_max_nm,
+            flags,
+            texts,
+            spectra,
+            column_names,
+            additional_text,
+            warnings,
+        },
+        layout,
+    ))
+}
+
+/// 4.7.1.1–2: the file type `TM25` and the version, which must be 2013.
+fn read_version(c: &mut Cursor) -> Result<i32, PhotometryError> {
     if c.take(4, "4.7.1.1 file type")? != b"TM25" {
-        return Err(err(
+        return Err(c.error(
             "4.7.1.1 file type",
-            "the file does not start with `TM25`: not a TM-25 ray file".into(),
+            "the file does not start with `TM25`: not a TM-25 ray file",
         ));
     }
     let version = c.i32("4.7.1.2 version")?;
     if version != 2013 {
-        return Err(err(
+        return Err(c.error(
             "4.7.1.2 version",
             match version {
                 2020 => {
@@ -308,6 +354,21 @@ pub fn parse_header(bytes: &[u8], path: &Path) -> Result<(Tm25Header, RayLayout)
             },
         ));
     }
+    Ok(version)
+}
+
+/// 4.7.1.3–8: how the file was made, its totals and its number of rays.
+struct Source {
+    creation_method: i32,
+    luminous_flux_lm: f32,
+    radiant_flux_w: f32,
+    n_rays: u64,
+    date: String,
+    start_position: i32,
+}
+
+/// Read 4.7.1.3–8; the fluxes must be ≥ 0 or NaN.
+fn read_source(c: &mut Cursor, warnings: &mut Vec<String>) -> Result<Source, PhotometryError> {
     let creation_method = c.i32("4.7.1.3 creation method")?;
     if !(creation_method == 0 || creation_method == 1) {
         warnings.push(format!(
@@ -321,7 +382,7 @@ pub fn parse_header(bytes: &[u8], path: &Path) -> Result<(Tm25Header, RayLayout)
         (radiant_flux_w, "4.7.1.5 radiant flux"),
     ] {
         if !(v.is_nan() || (v >= 0.0 && v.is_finite())) {
-            return Err(err(s, format!("{v}: must be ≥ 0 or NaN (unknown)")));
+            return Err(c.error(s, format!("{v}: must be ≥ 0 or NaN (unknown)")));
         }
     }
     let n_rays = c.u64("4.7.1.6 number of rays")?;
@@ -330,6 +391,33 @@ pub fn parse_header(bytes: &[u8], path: &Path) -> Result<(Tm25Header, RayLayout)
         .trim()
         .to_string();
     let start_position = c.i32("4.7.1.8 ray start position")?;
+    Ok(Source {
+        creation_method,
+        luminous_flux_lm,
+        radiant_flux_w,
+        n_rays,
+        date,
+        start_position,
+    })
+}
+
+/// 4.7.1.9–15: the spectral data identifier and what it needs, and the sizes of the parts
+/// after the fixed header.
+struct SpectralCounts {
+    spectral_id: SpectralId,
+    single_wavelength_nm: f32,
+    lambda_min_nm: f32,
+    lambda_max_nm: f32,
+    /// Number of spectral tables (≥ 0).
+    n_spectra: i32,
+    /// Number of additional ray data items (≥ 0).
+    n_additional: i32,
+    /// Size of the additional text block, bytes (a multiple of 32).
+    text_size: i32,
+}
+
+/// Read and check 4.7.1.9–15, then skip the reserved bytes (4.7.1.16).
+fn read_spectral_counts(c: &mut Cursor) -> Result<SpectralCounts, PhotometryError> {
     let id = c.i32("4.7.1.9 spectral data identifier")?;
     let spectral_id = match id {
         0 => SpectralId::None,
@@ -338,7 +426,7 @@ pub fn parse_header(bytes: &[u8], path: &Path) -> Result<(Tm25Header, RayLayout)
         3 => SpectralId::Table,
         4 => SpectralId::Indexed,
         v => {
-            return Err(err(
+            return Err(c.error(
                 "4.7.1.9 spectral data identifier",
                 format!("{v}: must be 0 to 4"),
             ))
@@ -348,7 +436,7 @@ pub fn parse_header(bytes: &[u8], path: &Path) -> Result<(Tm25Header, RayLayout)
     if spectral_id == SpectralId::Single
         && !(single_wavelength_nm > 0.0 && single_wavelength_nm.is_finite())
     {
-        return Err(err(
+        return Err(c.error(
             "4.7.1.10 single wavelength",
             format!("{single_wavelength_nm}: identifier 1 needs a wavelength > 0 nm"),
         ));
@@ -359,65 +447,86 @@ pub fn parse_header(bytes: &[u8], path: &Path) -> Result<(Tm25Header, RayLayout)
     let n_additional = c.i32("4.7.1.14 number of additional ray data items")?;
     let text_size = c.i32("4.7.1.15 size of the additional text block")?;
     if n_spectra < 0 {
-        return Err(err(
+        return Err(c.error(
             "4.7.1.13 number of spectral tables",
             format!("{n_spectra} < 0"),
         ));
     }
     if matches!(spectral_id, SpectralId::Table | SpectralId::Indexed) && n_spectra == 0 {
-        return Err(err(
+        return Err(c.error(
             "4.7.1.13 number of spectral tables",
             format!("spectral data identifier {id} needs spectral tables, the file has none"),
         ));
     }
     if n_additional < 0 {
-        return Err(err(
+        return Err(c.error(
             "4.7.1.14 number of additional ray data items",
             format!("{n_additional} < 0"),
         ));
     }
     if text_size < 0 || text_size % 32 != 0 {
-        return Err(err(
+        return Err(c.error(
             "4.7.1.15 size of the additional text block",
             format!("{text_size}: must be a multiple of 32 bytes, ≥ 0"),
         ));
     }
     c.take(168, "4.7.1.16 reserved")?;
+    Ok(SpectralCounts {
+        spectral_id,
+        single_wavelength_nm,
+        lambda_min_nm,
+        lambda_max_nm,
+        n_spectra,
+        n_additional,
+        text_size,
+    })
+}
+
+/// 4.7.2: the known-data flags, checked against the standard's rules and the identifier.
+fn read_flags(
+    c: &mut Cursor,
+    spectral_id: SpectralId,
+    warnings: &mut Vec<String>,
+) -> Result<KnownData, PhotometryError> {
     if c.i32("4.7.2.1 position flag")? != 1 {
-        return Err(err("4.7.2.1 position flag", "must be 1".into()));
+        return Err(c.error("4.7.2.1 position flag", "must be 1"));
     }
     if c.i32("4.7.2.2 direction flag")? != 1 {
-        return Err(err("4.7.2.2 direction flag", "must be 1".into()));
+        return Err(c.error("4.7.2.2 direction flag", "must be 1"));
     }
     let flags = KnownData {
-        radiant: flag(&mut c, "4.7.2.3 radiant flux flag")?,
-        wavelength: flag(&mut c, "4.7.2.4 wavelength flag")?,
-        luminous: flag(&mut c, "4.7.2.5 luminous flux flag")?,
-        stokes: flag(&mut c, "4.7.2.6 Stokes flag")?,
-        tristimulus: flag(&mut c, "4.7.2.7 tristimulus flag")?,
-        spectrum_index: flag(&mut c, "4.7.2.8 spectrum index flag")?,
+        radiant: flag(c, "4.7.2.3 radiant flux flag")?,
+        wavelength: flag(c, "4.7.2.4 wavelength flag")?,
+        luminous: flag(c, "4.7.2.5 luminous flux flag")?,
+        stokes: flag(c, "4.7.2.6 Stokes flag")?,
+        tristimulus: flag(c, "4.7.2.7 tristimulus flag")?,
+        spectrum_index: flag(c, "4.7.2.8 spectrum index flag")?,
     };
-    check_flags(&flags, spectral_id).map_err(|m| err("4.7.2 known data flags", m))?;
+    check_flags(&flags, spectral_id).map_err(|m| c.error("4.7.2 known data flags", m))?;
     if flags.wavelength && spectral_id != SpectralId::PerRay {
         warnings.push(format!(
-            "a wavelength column is present but the spectral data identifier is {id}, not 2; \
-             the column is used"
+            "a wavelength column is present but the spectral data identifier is {}, not 2; \
+             the column is used",
+            spectral_id.code()
         ));
     }
-    let mut texts: [String; 9] = Default::default();
-    for (i, t) in texts.iter_mut().enumerate() {
-        *t = c.utf32(4000, &format!("4.7.3.{} {}", i + 1, TEXT_FIELDS[i]))?;
-    }
-    debug_assert_eq!(c.at, FIXED_HEADER_BYTES);
-    // Spectral tables: each count is checked against the bytes left before anything is kept.
+    Ok(flags)
+}
+
+/// 4.7.4: `n_spectra` spectral tables and the padding to 32 bytes after them. Each count is
+/// checked against the bytes left before anything is kept.
+fn read_spectral_tables(
+    c: &mut Cursor,
+    n_spectra: i32,
+) -> Result<Vec<Vec<(f32, f32)>>, PhotometryError> {
     let mut spectra = Vec::new();
     let table_start = c.at;
     for t in 1..=n_spectra {
         let section = format!("4.7.4 spectral table {t}");
         let np = c.i32(&section)?;
-        let left = (bytes.len() - c.at) / 8;
+        let left = (c.bytes.len() - c.at) / 8;
         if np <= 0 || np as usize > left {
-            return Err(err(
+            return Err(c.error(
                 &section,
                 format!(
                     "{np} wavelength–weight pairs: must be > 0 and fit in the file ({left} would)"
@@ -430,7 +539,7 @@ pub fn parse_header(bytes: &[u8], path: &Path) -> Result<(Tm25Header, RayLayout)
             let l = f32::from_le_bytes([p[0], p[1], p[2], p[3]]);
             let w = f32::from_le_bytes([p[4], p[5], p[6], p[7]]);
             if !(l > 0.0 && l.is_finite() && w >= 0.0 && w.is_finite()) {
-                return Err(err(
+                return Err(c.error(
                     &section,
                     format!("pair ({l} nm, {w}): wavelengths must be > 0 and weights ≥ 0, finite"),
                 ));
@@ -438,10 +547,10 @@ pub fn parse_header(bytes: &[u8], path: &Path) -> Result<(Tm25Header, RayLayout)
             table.push((l, w));
         }
         if table.windows(2).any(|w| !(w[1].0 > w[0].0)) {
-            return Err(err(&section, "wavelengths must increase".into()));
+            return Err(c.error(&section, "wavelengths must increase"));
         }
         if !table.iter().any(|p| p.1 > 0.0) {
-            return Err(err(&section, "every weight is 0".into()));
+            return Err(c.error(&section, "every weight is 0"));
         }
         spectra.push(table);
     }
@@ -452,25 +561,32 @@ pub fn parse_header(bytes: &[u8], path: &Path) -> Result<(Tm25Header, RayLayout)
             "4.7.4 spectral tables (padding to 32 bytes)",
         )?;
     }
-    let mut column_names = Vec::new();
-    let left = (bytes.len() - c.at) / 512;
+    Ok(spectra)
+}
+
+/// 4.7.5: the labels of the `n_additional` additional columns, 512 bytes each.
+fn read_column_labels(c: &mut Cursor, n_additional: i32) -> Result<Vec<String>, PhotometryError> {
+    let left = (c.bytes.len() - c.at) / 512;
     if n_additional as usize > left {
-        return Err(err(
+        return Err(c.error(
             "4.7.5 additional column labels",
             format!("{n_additional} labels of 512 bytes do not fit in the file"),
         ));
     }
+    let mut column_names = Vec::new();
     for i in 0..n_additional {
         column_names.push(c.utf32(512, &format!("4.7.5 additional column label {}", i + 1))?);
     }
-    let additional_text = c.utf32(text_size as usize, "4.7.6 additional text")?;
-    let layout = RayLayout::of(&flags, n_additional as usize, c.at);
-    // Every counted record must be there; surplus bytes are refused too (the layout would be
-    // misread, or another format).
-    let have = (bytes.len() - c.at) as u128;
+    Ok(column_names)
+}
+
+/// Every counted record must be there after the cursor; surplus bytes are refused too (the
+/// layout would be misread, or another format).
+fn check_record_count(c: &Cursor, layout: &RayLayout, n_rays: u64) -> Result<(), PhotometryError> {
+    let have = (c.bytes.len() - c.at) as u128;
     let need = n_rays as u128 * layout.record_bytes() as u128;
     if have < need {
-        return Err(err(
+        return Err(c.error(
             "4.7.1.6 number of rays",
             format!(
                 "the header counts {n_rays} rays of {} bytes ({need} bytes from byte {}), the file \
@@ -482,7 +598,7 @@ pub fn parse_header(bytes: &[u8], path: &Path) -> Result<(Tm25Header, RayLayout)
         ));
     }
     if have > need {
-        return Err(err(
+        return Err(c.error(
             "4.7.7 ray data",
             format!(
                 "{} bytes after the {n_rays} records the header counts ({} bytes each): the \
@@ -492,31 +608,7 @@ pub fn parse_header(bytes: &[u8], path: &Path) -> Result<(Tm25Header, RayLayout)
             ),
         ));
     }
-    if n_rays == 0 {
-        warnings.push("the file has no rays".into());
-    }
-    Ok((
-        Tm25Header {
-            version,
-            creation_method,
-            luminous_flux_lm,
-            radiant_flux_w,
-            n_rays,
-            date,
-            start_position,
-            spectral_id,
-            single_wavelength_nm,
-            lambda_min_nm,
-            lambda_max_nm,
-            flags,
-            texts,
-            spectra,
-            column_names,
-            additional_text,
-            warnings,
-        },
-        layout,
-    ))
+    Ok(())
 }
 
 /// The standard's rules on flag combinations (module docs of [`super`]).

@@ -1124,100 +1124,84 @@ impl<'a> Converter<'a> {
             return Ok(());
         }
         if kind == "instance" {
-            let group = p
-                .nested("ref")
-                .first()
-                .map(|(i, r)| {
+            return self.instance(el, &p, &m, &base);
+        }
+        let Some((type_name, params)) = self.shape_geometry(el, &p, kind, &base)? else {
+            return Ok(());
+        };
+        let Some(material) = self.shape_material(&p, &base)? else {
+            self.finish(&p, &format!("shape {kind}"), &base);
+            return Ok(());
+        };
+        self.drop_media(el, &p, &base);
+        self.finish(&p, &format!("shape {kind}"), &base);
+        let name = self.unique(&base);
+        let transform = if m == DMat4::IDENTITY {
+            vec![]
+        } else {
+            vec![matrix_step(&m)]
+        };
+        self.desc.objects.push(ObjectDescription {
+            name,
+            type_name,
+            material,
+            params,
+            transform,
+        });
+        Ok(())
+    }
+
+    /// A shape instance: the shapegroup it refers to, flattened with the transform `m`.
+    fn instance(
+        &mut self,
+        el: &'a Element,
+        p: &Props<'a>,
+        m: &DMat4,
+        base: &str,
+    ) -> Result<(), SceneError> {
+        let group = p
+            .nested("ref")
+            .first()
+            .map(|(i, r)| {
+                p.mark(*i);
+                *r
+            })
+            .or_else(|| {
+                p.nested("shape").first().map(|(i, r)| {
                     p.mark(*i);
                     *r
                 })
-                .or_else(|| {
-                    p.nested("shape").first().map(|(i, r)| {
-                        p.mark(*i);
-                        *r
-                    })
-                })
-                .ok_or_else(|| el.error("an instance needs a <ref> to a shapegroup"))?;
-            let group = self.resolve(group)?;
-            if group.attr("type") != Some("shapegroup") {
-                return Err(el.error("an instance refers to a shapegroup"));
-            }
-            self.finish(&p, "shape instance", &base);
-            self.note(
-                "shape instance",
-                "flattened: each instance's shapes are copied with the instance's transform",
-                &base,
-            );
-            for c in group.children.iter().filter(|c| c.tag == "shape") {
-                self.shape(c, &m, &format!("{base}/"))?;
-            }
-            return Ok(());
+            })
+            .ok_or_else(|| el.error("an instance needs a <ref> to a shapegroup"))?;
+        let group = self.resolve(group)?;
+        if group.attr("type") != Some("shapegroup") {
+            return Err(el.error("an instance refers to a shapegroup"));
         }
+        self.finish(p, "shape instance", base);
+        self.note(
+            "shape instance",
+            "flattened: each instance's shapes are copied with the instance's transform",
+            base,
+        );
+        for c in group.children.iter().filter(|c| c.tag == "shape") {
+            self.shape(c, m, &format!("{base}/"))?;
+        }
+        Ok(())
+    }
+
+    /// The spectrace shape type and parameters of shape `kind`; `None` when spectrace has no
+    /// equivalent (noted and left out).
+    fn shape_geometry(
+        &mut self,
+        el: &'a Element,
+        p: &Props<'a>,
+        kind: &str,
+        base: &str,
+    ) -> Result<Option<(String, Value)>, SceneError> {
         let flip = p.bool("flip_normals")?.unwrap_or(false);
-        let mut mesh_flip_note = false;
-        let (type_name, params) = match kind {
-            "obj" | "ply" => {
-                let f = p
-                    .string("filename")
-                    .ok_or_else(|| el.error(format!("{kind} needs `filename`")))?;
-                let f = self.file(el, f)?;
-                if p.bool("face_normals")?.unwrap_or(false) {
-                    self.note("shape face_normals", "the file's vertex normals are used anyway (spectrace interpolates them when the file has them)", &base);
-                }
-                // Mitsuba's bitmap puts v = 0 at the image's top row and reads a file's uvs as
-                // stored, except OBJ's, which it flips (`flip_tex_coords`, default true);
-                // spectrace puts v = 0 at the bottom row. So a PLY, or an OBJ read unflipped,
-                // gets `flip_v`.
-                let flip_v = kind == "ply" || !p.bool("flip_tex_coords")?.unwrap_or(true);
-                mesh_flip_note = flip;
-                let mut entries = vec![("file", text(&f))];
-                if flip_v {
-                    entries.push(("flip_v", Value::Bool(true)));
-                }
-                (kind.to_string(), map(entries))
-            }
-            "serialized" => {
-                let f = p
-                    .string("filename")
-                    .ok_or_else(|| el.error("serialized needs `filename`"))?;
-                let rel = self.file(el, f)?;
-                let full = if Path::new(&rel).is_absolute() {
-                    PathBuf::from(&rel)
-                } else {
-                    self.dir.join(&rel)
-                };
-                let index = p.int("shape_index")?.unwrap_or(0);
-                if index < 0 {
-                    return Err(el.error("shape_index < 0"));
-                }
-                let max = crate::limits::mesh_file_max_bytes();
-                let bytes = crate::limits::read_limited(&full, max, "mesh file")
-                    .map_err(|e| el.error(format!("{}: {e}", full.display())))?;
-                let s = super::serialized::parse_serialized(&bytes, index as usize)
-                    .map_err(|e| el.error(format!("{}: {e}", full.display())))?;
-                let mut mesh = s.mesh;
-                // Mitsuba reads serialized uvs with v = 0 at the image's top row; spectrace's
-                // v = 0 is the bottom row.
-                if let Some(uvs) = &mut mesh.uvs {
-                    for t in uvs {
-                        t.y = 1.0 - t.y;
-                    }
-                }
-                if p.bool("face_normals")?.unwrap_or(false) {
-                    mesh.normals = None;
-                }
-                if flip {
-                    for t in &mut mesh.indices {
-                        t.swap(1, 2);
-                    }
-                    if let Some(n) = &mut mesh.normals {
-                        for v in n {
-                            *v = -*v;
-                        }
-                    }
-                }
-                ("mesh".into(), mesh_value(&mesh))
-            }
+        Ok(Some(match kind {
+            "obj" | "ply" => self.mesh_file(el, p, kind, flip, base)?,
+            "serialized" => self.serialized(el, p, flip)?,
             "rectangle" => {
                 let (e0, e1) = if flip {
                     (DVec3::Y * 2.0, DVec3::X * 2.0)
@@ -1244,7 +1228,7 @@ impl<'a> Converter<'a> {
                     self.note(
                         "shape sphere flip_normals",
                         "dropped: spectrace's sphere normals point outwards",
-                        &base,
+                        base,
                     );
                 }
                 (
@@ -1256,7 +1240,7 @@ impl<'a> Converter<'a> {
                 self.note(
                     "shape disk",
                     format!("tessellated into a {ROUND_SEGMENTS}-gon (area 2.5e-4 smaller)"),
-                    &base,
+                    base,
                 );
                 ("mesh".into(), mesh_value(&disk_mesh(flip)))
             }
@@ -1270,7 +1254,7 @@ impl<'a> Converter<'a> {
                 self.note(
                     "shape cylinder",
                     format!("tessellated into {ROUND_SEGMENTS} flat sides with smooth normals"),
-                    &base,
+                    base,
                 );
                 ("mesh".into(), mesh_value(&cylinder_mesh(p0, p1, r, flip)))
             }
@@ -1280,94 +1264,173 @@ impl<'a> Converter<'a> {
                         let _ = p.get(n);
                     }
                 }
-                self.note(&format!("shape {other}"), "not supported: left out", &base);
-                return Ok(());
+                self.note(&format!("shape {other}"), "not supported: left out", base);
+                return Ok(None);
             }
-        };
-        if mesh_flip_note {
+        }))
+    }
+
+    /// An `obj` or `ply` shape: the file, read by spectrace's own loader.
+    fn mesh_file(
+        &mut self,
+        el: &'a Element,
+        p: &Props<'a>,
+        kind: &str,
+        flip: bool,
+        base: &str,
+    ) -> Result<(String, Value), SceneError> {
+        let f = p
+            .string("filename")
+            .ok_or_else(|| el.error(format!("{kind} needs `filename`")))?;
+        let f = self.file(el, f)?;
+        if p.bool("face_normals")?.unwrap_or(false) {
+            self.note("shape face_normals", "the file's vertex normals are used anyway (spectrace interpolates them when the file has them)", base);
+        }
+        // Mitsuba's bitmap puts v = 0 at the image's top row and reads a file's uvs as
+        // stored, except OBJ's, which it flips (`flip_tex_coords`, default true);
+        // spectrace puts v = 0 at the bottom row. So a PLY, or an OBJ read unflipped,
+        // gets `flip_v`.
+        let flip_v = kind == "ply" || !p.bool("flip_tex_coords")?.unwrap_or(true);
+        if flip {
             self.note(
                 "shape flip_normals on obj/ply",
                 "dropped: the file's winding is kept (it matters for one-sided emitters)",
-                &base,
+                base,
             );
         }
-        // Material: an emitter wins (spectrace's emissive surfaces do not reflect).
-        let mut material = None;
+        let mut entries = vec![("file", text(&f))];
+        if flip_v {
+            entries.push(("flip_v", Value::Bool(true)));
+        }
+        Ok((kind.to_string(), map(entries)))
+    }
+
+    /// A `serialized` shape: the mesh is read here and written into the scene.
+    fn serialized(
+        &mut self,
+        el: &'a Element,
+        p: &Props<'a>,
+        flip: bool,
+    ) -> Result<(String, Value), SceneError> {
+        let f = p
+            .string("filename")
+            .ok_or_else(|| el.error("serialized needs `filename`"))?;
+        let rel = self.file(el, f)?;
+        let full = if Path::new(&rel).is_absolute() {
+            PathBuf::from(&rel)
+        } else {
+            self.dir.join(&rel)
+        };
+        let index = p.int("shape_index")?.unwrap_or(0);
+        if index < 0 {
+            return Err(el.error("shape_index < 0"));
+        }
+        let max = crate::limits::mesh_file_max_bytes();
+        let bytes = crate::limits::read_limited(&full, max, "mesh file")
+            .map_err(|e| el.error(format!("{}: {e}", full.display())))?;
+        let s = super::serialized::parse_serialized(&bytes, index as usize)
+            .map_err(|e| el.error(format!("{}: {e}", full.display())))?;
+        let mut mesh = s.mesh;
+        // Mitsuba reads serialized uvs with v = 0 at the image's top row; spectrace's
+        // v = 0 is the bottom row.
+        if let Some(uvs) = &mut mesh.uvs {
+            for t in uvs {
+                t.y = 1.0 - t.y;
+            }
+        }
+        if p.bool("face_normals")?.unwrap_or(false) {
+            mesh.normals = None;
+        }
+        if flip {
+            for t in &mut mesh.indices {
+                t.swap(1, 2);
+            }
+            if let Some(n) = &mut mesh.normals {
+                for v in n {
+                    *v = -*v;
+                }
+            }
+        }
+        Ok(("mesh".into(), mesh_value(&mesh)))
+    }
+
+    /// The shape's material: its area emitter if it has one (an emitter wins: spectrace's
+    /// emissive surfaces do not reflect), else its bsdf, else the default material. `None`
+    /// when its bsdf has no spectrace equivalent (the shape is then left out).
+    fn shape_material(&mut self, p: &Props<'a>, base: &str) -> Result<Option<String>, SceneError> {
         let mut bsdf_el = None;
         for (i, c) in p.nested("bsdf").into_iter().chain(p.nested("ref")) {
             let r = self.resolve(c)?;
-            match r.tag.as_str() {
-                "bsdf" => {
-                    p.mark(i);
-                    bsdf_el = Some(r);
-                }
-                "texture" | "shapegroup" => {}
-                other => {
-                    let _ = other;
-                }
+            if r.tag == "bsdf" {
+                p.mark(i);
+                bsdf_el = Some(r);
             }
         }
         let emitters = p.nested("emitter");
-        if let Some((i, em)) = emitters.first() {
+        let material = if let Some((i, em)) = emitters.first() {
             p.mark(*i);
-            if em.attr("type") != Some("area") {
-                return Err(em.error("only an `area` emitter can be attached to a shape"));
-            }
-            let ep = Props::new(em);
-            // A bitmap radiance becomes an emission texture (RGB by the illuminant method, as
-            // Mitsuba 3's spectral variants read it); anything else a uniform spectrum.
-            let textured = match ep.get("radiance") {
-                Some(c) => {
-                    let c = self.resolve(c)?;
-                    (c.tag == "texture" && c.attr("type") == Some("bitmap")).then_some(c)
-                }
-                None => None,
-            };
-            let radiance = match textured {
-                Some(c) => self.texture(c, &base)?,
-                None => table(&self.emission(&ep, "radiance", &base)?),
-            };
-            self.finish(&ep, "emitter area", &base);
-            let name = self.unique(&format!("{base}.emitter"));
-            self.desc.materials.push(ItemDescription {
-                name: name.clone(),
-                type_name: "emissive".into(),
-                params: map(vec![
-                    ("radiance", radiance),
-                    ("two_sided", Value::Bool(false)),
-                ]),
-            });
-            if bsdf_el.is_some() {
-                self.note(
-                    "bsdf of an emitting shape",
-                    "dropped: spectrace's emissive surfaces emit and do not reflect",
-                    &base,
-                );
-            }
-            material = Some(name);
+            Some(self.area_emitter(em, bsdf_el.is_some(), base)?)
         } else if let Some(b) = bsdf_el {
             match self.material(b, &format!("{base}.bsdf"))? {
-                Some(n) => material = Some(n),
-                None => {
-                    self.finish(&p, &format!("shape {kind}"), &base);
-                    return Ok(());
-                }
+                Some(n) => Some(n),
+                None => return Ok(None),
             }
-        }
-        let material = match material {
+        } else {
+            None
+        };
+        Ok(Some(match material {
             Some(m) => m,
             None => self.default_material(),
-        };
-        for tag in ["medium"] {
-            for (i, _) in p.nested(tag) {
-                p.mark(i);
-                self.note(
-                    "media",
-                    "participating media are not supported: dropped",
-                    &base,
-                );
-            }
+        }))
+    }
+
+    /// The emissive material of an `area` emitter attached to a shape (`has_bsdf`: the shape
+    /// also has a bsdf, which is dropped with a note).
+    fn area_emitter(
+        &mut self,
+        em: &'a Element,
+        has_bsdf: bool,
+        base: &str,
+    ) -> Result<String, SceneError> {
+        if em.attr("type") != Some("area") {
+            return Err(em.error("only an `area` emitter can be attached to a shape"));
         }
+        let ep = Props::new(em);
+        // A bitmap radiance becomes an emission texture (RGB by the illuminant method, as
+        // Mitsuba 3's spectral variants read it); anything else a uniform spectrum.
+        let textured = match ep.get("radiance") {
+            Some(c) => {
+                let c = self.resolve(c)?;
+                (c.tag == "texture" && c.attr("type") == Some("bitmap")).then_some(c)
+            }
+            None => None,
+        };
+        let radiance = match textured {
+            Some(c) => self.texture(c, base)?,
+            None => table(&self.emission(&ep, "radiance", base)?),
+        };
+        self.finish(&ep, "emitter area", base);
+        let name = self.unique(&format!("{base}.emitter"));
+        self.desc.materials.push(ItemDescription {
+            name: name.clone(),
+            type_name: "emissive".into(),
+            params: map(vec![
+                ("radiance", radiance),
+                ("two_sided", Value::Bool(false)),
+            ]),
+        });
+        if has_bsdf {
+            self.note(
+                "bsdf of an emitting shape",
+                "dropped: spectrace's emissive surfaces emit and do not reflect",
+                base,
+            );
+        }
+        Ok(name)
+    }
+
+    /// Participating media (nested, or `interior`/`exterior` refs) are dropped with a note.
+    fn drop_media(&mut self, el: &'a Element, p: &Props<'a>, base: &str) {
         for (i, c) in el.children.iter().enumerate() {
             if c.tag == "medium"
                 || (c.tag == "ref" && matches!(c.attr("name"), Some("interior") | Some("exterior")))
@@ -1376,25 +1439,10 @@ impl<'a> Converter<'a> {
                 self.note(
                     "media",
                     "participating media are not supported: dropped",
-                    &base,
+                    base,
                 );
             }
         }
-        self.finish(&p, &format!("shape {kind}"), &base);
-        let name = self.unique(&base);
-        let transform = if m == DMat4::IDENTITY {
-            vec![]
-        } else {
-            vec![matrix_step(&m)]
-        };
-        self.desc.objects.push(ObjectDescription {
-            name,
-            type_name,
-            material,
-            params,
-            transform,
-        });
-        Ok(())
     }
 
     // ------------------------------------------------------------ emitters
@@ -1541,171 +1589,11 @@ impl<'a> Converter<'a> {
             self.note(&format!("sensor {kind}"), "not supported: left out", &base);
             return Ok(());
         }
-        let m = match p.get("to_world") {
-            Some(t) => transform_of(t)?,
-            None => DMat4::IDENTITY,
-        };
-        let pos = m.transform_point3(DVec3::ZERO);
-        let fwd = m.transform_vector3(DVec3::Z).normalize();
-        let up = m.transform_vector3(DVec3::Y).normalize();
-        let left = m.transform_vector3(DVec3::X);
-        // Mitsuba's image x runs along −(local x); spectrace's image right is forward × up.
-        if fwd.cross(up).dot(-left) < 0.0 {
-            self.note(
-                "sensor mirrored to_world",
-                "the camera transform mirrors the image: spectrace renders it unmirrored",
-                &base,
-            );
-        }
+        let (pos, fwd, up) = self.sensor_frame(&p, &base)?;
         // Film first: the aspect ratio converts fov axes.
-        let (mut w, mut h) = (768i64, 576i64);
-        let mut filter = map(vec![
-            ("type", text("gaussian")),
-            ("sigma", num(0.5)),
-            ("radius", num(2.0)),
-        ]);
-        for (i, f) in p.nested("film") {
-            p.mark(i);
-            let fp = Props::new(f);
-            w = fp.int("width")?.unwrap_or(768);
-            h = fp.int("height")?.unwrap_or(576);
-            if !(1..=65536).contains(&w) || !(1..=65536).contains(&h) {
-                return Err(f.error(format!("film size {w}×{h}: each side must be 1..65536")));
-            }
-            if fp.has("crop_width")
-                || fp.has("crop_height")
-                || fp.has("crop_offset_x")
-                || fp.has("crop_offset_y")
-            {
-                for n in [
-                    "crop_width",
-                    "crop_height",
-                    "crop_offset_x",
-                    "crop_offset_y",
-                ] {
-                    let _ = fp.get(n);
-                }
-                self.note(
-                    "film crop",
-                    "not supported: the whole image is rendered",
-                    &base,
-                );
-            }
-            for n in [
-                "pixel_format",
-                "component_format",
-                "file_format",
-                "banner",
-                "high_quality_edges",
-                "sample_border",
-                "compensate",
-            ] {
-                if fp.get(n).is_some() {
-                    self.note("film output format", "ignored: spectrace writes an OpenEXR (linear, the scene's RGB space) and a PNG", &base);
-                }
-            }
-            for (j, r) in fp.nested("rfilter") {
-                fp.mark(j);
-                let rp = Props::new(r);
-                filter = match r.attr("type").unwrap_or("") {
-                    "box" => text("box"),
-                    "gaussian" => {
-                        let s = rp.float_or("stddev", 0.5)?;
-                        map(vec![
-                            ("type", text("gaussian")),
-                            ("sigma", num(s)),
-                            ("radius", num(4.0 * s)),
-                        ])
-                    }
-                    "tent" => {
-                        let r0 = rp.float_or("radius", 1.0)?;
-                        self.note(
-                            "rfilter tent",
-                            "a Gaussian of the same variance (σ = r/√6, radius r) stands in",
-                            &base,
-                        );
-                        map(vec![
-                            ("type", text("gaussian")),
-                            ("sigma", num(r0 / 6f64.sqrt())),
-                            ("radius", num(r0)),
-                        ])
-                    }
-                    other => {
-                        self.note(
-                            &format!("rfilter {other}"),
-                            "not supported: spectrace's Gaussian (σ 0.5) stands in",
-                            &base,
-                        );
-                        filter
-                    }
-                };
-                self.finish(&rp, "rfilter", &base);
-            }
-            self.finish(&fp, "film", &base);
-        }
-        for (i, s) in p.nested("sampler") {
-            p.mark(i);
-            let sp = Props::new(s);
-            if let Some(n) = sp.int("sample_count")? {
-                if !(1..=crate::limits::MAX_SPP as i64).contains(&n) {
-                    return Err(s.error(format!(
-                        "sample_count {n} outside 1..{}",
-                        crate::limits::MAX_SPP
-                    )));
-                }
-                self.desc.output.spp.get_or_insert(n as u32);
-            }
-            for n in ["seed", "jitter", "scramble_seed", "dimension"] {
-                let _ = sp.get(n);
-            }
-            self.note(
-                "sampler",
-                "only sample_count is kept: spectrace uses its own sample sequence",
-                &base,
-            );
-            self.finish(&sp, "sampler", &base);
-        }
-        let aspect = w as f64 / h as f64;
-        let (mut fov, mut axis) = match (p.float("fov")?, p.value_of("focal_length")) {
-            (Some(f), _) => (f, p.string("fov_axis").unwrap_or("x").to_string()),
-            (None, Some((c, v))) => {
-                let mm: f64 = v
-                    .trim()
-                    .trim_end_matches("mm")
-                    .parse()
-                    .map_err(|_| c.error(format!("focal_length `{v}`")))?;
-                // Mitsuba: a 35 mm film (36 × 24 mm), the focal length giving the diagonal fov.
-                let diag = 2.0 * (36f64.hypot(24.0) / (2.0 * mm)).atan().to_degrees();
-                (diag, "diagonal".to_string())
-            }
-            (None, None) => (
-                p.float_or("fov", 45.0)?,
-                p.string("fov_axis").unwrap_or("x").to_string(),
-            ),
-        };
-        if p.string("fov_axis").is_some() {
-            let _ = p.get("fov_axis");
-        }
-        let tan = (fov.to_radians() / 2.0).tan();
-        match axis.as_str() {
-            "x" | "y" => {}
-            "diagonal" => {
-                // tan of the x half-angle from the diagonal's.
-                let tx = tan * aspect / (1.0 + aspect * aspect).sqrt();
-                fov = 2.0 * tx.atan().to_degrees();
-                axis = "x".into();
-            }
-            "smaller" => axis = if w <= h { "x".into() } else { "y".into() },
-            "larger" => axis = if w >= h { "x".into() } else { "y".into() },
-            other => {
-                return Err(el.error(format!(
-                    "fov_axis `{other}` (x, y, diagonal, smaller, larger)"
-                )))
-            }
-        }
-        if !(fov > 0.0 && fov < 180.0) {
-            return Err(el.error(format!("fov {fov}° outside (0, 180)")));
-        }
+        let (w, h, filter) = self.film(&p, &base)?;
+        self.sampler(&p, &base)?;
+        let (fov, axis) = Self::field_of_view(el, &p, w, h)?;
         if let Some(n) = p.float("near_clip")? {
             if n > 1e-2 {
                 self.note("sensor near_clip", "not supported: spectrace has no clipping planes (geometry nearer than near_clip is rendered)", &base);
@@ -1750,6 +1638,204 @@ impl<'a> Converter<'a> {
             params: map(params),
         });
         Ok(())
+    }
+
+    /// The sensor's position, forward and up directions from its `to_world`; a mirroring
+    /// transform is noted (spectrace renders the image unmirrored).
+    fn sensor_frame(
+        &mut self,
+        p: &Props<'a>,
+        base: &str,
+    ) -> Result<(DVec3, DVec3, DVec3), SceneError> {
+        let m = match p.get("to_world") {
+            Some(t) => transform_of(t)?,
+            None => DMat4::IDENTITY,
+        };
+        let pos = m.transform_point3(DVec3::ZERO);
+        let fwd = m.transform_vector3(DVec3::Z).normalize();
+        let up = m.transform_vector3(DVec3::Y).normalize();
+        let left = m.transform_vector3(DVec3::X);
+        // Mitsuba's image x runs along −(local x); spectrace's image right is forward × up.
+        if fwd.cross(up).dot(-left) < 0.0 {
+            self.note(
+                "sensor mirrored to_world",
+                "the camera transform mirrors the image: spectrace renders it unmirrored",
+                base,
+            );
+        }
+        Ok((pos, fwd, up))
+    }
+
+    /// The sensor's film: width, height (Mitsuba's defaults 768 × 576) and pixel filter
+    /// (Mitsuba's default a Gaussian of σ 0.5); what spectrace has no equivalent for is noted.
+    fn film(&mut self, p: &Props<'a>, base: &str) -> Result<(i64, i64, Value), SceneError> {
+        let (mut w, mut h) = (768i64, 576i64);
+        let mut filter = map(vec![
+            ("type", text("gaussian")),
+            ("sigma", num(0.5)),
+            ("radius", num(2.0)),
+        ]);
+        for (i, f) in p.nested("film") {
+            p.mark(i);
+            let fp = Props::new(f);
+            w = fp.int("width")?.unwrap_or(768);
+            h = fp.int("height")?.unwrap_or(576);
+            if !(1..=65536).contains(&w) || !(1..=65536).contains(&h) {
+                return Err(f.error(format!("film size {w}×{h}: each side must be 1..65536")));
+            }
+            if fp.has("crop_width")
+                || fp.has("crop_height")
+                || fp.has("crop_offset_x")
+                || fp.has("crop_offset_y")
+            {
+                for n in [
+                    "crop_width",
+                    "crop_height",
+                    "crop_offset_x",
+                    "crop_offset_y",
+                ] {
+                    let _ = fp.get(n);
+                }
+                self.note(
+                    "film crop",
+                    "not supported: the whole image is rendered",
+                    base,
+                );
+            }
+            for n in [
+                "pixel_format",
+                "component_format",
+                "file_format",
+                "banner",
+                "high_quality_edges",
+                "sample_border",
+                "compensate",
+            ] {
+                if fp.get(n).is_some() {
+                    self.note("film output format", "ignored: spectrace writes an OpenEXR (linear, the scene's RGB space) and a PNG", base);
+                }
+            }
+            for (j, r) in fp.nested("rfilter") {
+                fp.mark(j);
+                filter = self.rfilter(r, filter, base)?;
+            }
+            self.finish(&fp, "film", base);
+        }
+        Ok((w, h, filter))
+    }
+
+    /// spectrace's pixel filter for the film's `rfilter` `r`; `current` stays when spectrace has
+    /// none like it.
+    fn rfilter(&mut self, r: &'a Element, current: Value, base: &str) -> Result<Value, SceneError> {
+        let rp = Props::new(r);
+        let filter = match r.attr("type").unwrap_or("") {
+            "box" => text("box"),
+            "gaussian" => {
+                let s = rp.float_or("stddev", 0.5)?;
+                map(vec![
+                    ("type", text("gaussian")),
+                    ("sigma", num(s)),
+                    ("radius", num(4.0 * s)),
+                ])
+            }
+            "tent" => {
+                let r0 = rp.float_or("radius", 1.0)?;
+                self.note(
+                    "rfilter tent",
+                    "a Gaussian of the same variance (σ = r/√6, radius r) stands in",
+                    base,
+                );
+                map(vec![
+                    ("type", text("gaussian")),
+                    ("sigma", num(r0 / 6f64.sqrt())),
+                    ("radius", num(r0)),
+                ])
+            }
+            other => {
+                self.note(
+                    &format!("rfilter {other}"),
+                    "not supported: spectrace's Gaussian (σ 0.5) stands in",
+                    base,
+                );
+                current
+            }
+        };
+        self.finish(&rp, "rfilter", base);
+        Ok(filter)
+    }
+
+    /// The sensor's sampler: only the sample count is kept (as the scene's spp unless set).
+    fn sampler(&mut self, p: &Props<'a>, base: &str) -> Result<(), SceneError> {
+        for (i, s) in p.nested("sampler") {
+            p.mark(i);
+            let sp = Props::new(s);
+            if let Some(n) = sp.int("sample_count")? {
+                if !(1..=crate::limits::MAX_SPP as i64).contains(&n) {
+                    return Err(s.error(format!(
+                        "sample_count {n} outside 1..{}",
+                        crate::limits::MAX_SPP
+                    )));
+                }
+                self.desc.output.spp.get_or_insert(n as u32);
+            }
+            for n in ["seed", "jitter", "scramble_seed", "dimension"] {
+                let _ = sp.get(n);
+            }
+            self.note(
+                "sampler",
+                "only sample_count is kept: spectrace uses its own sample sequence",
+                base,
+            );
+            self.finish(&sp, "sampler", base);
+        }
+        Ok(())
+    }
+
+    /// A sensor's field of view (degrees) and the image axis it spans (`x` or `y`), from `fov` and
+    /// `fov_axis` or a 35 mm `focal_length`, on a `w` × `h` film.
+    fn field_of_view(el: &Element, p: &Props, w: i64, h: i64) -> Result<(f64, String), SceneError> {
+        let aspect = w as f64 / h as f64;
+        let (mut fov, mut axis) = match (p.float("fov")?, p.value_of("focal_length")) {
+            (Some(f), _) => (f, p.string("fov_axis").unwrap_or("x").to_string()),
+            (None, Some((c, v))) => {
+                let mm: f64 = v
+                    .trim()
+                    .trim_end_matches("mm")
+                    .parse()
+                    .map_err(|_| c.error(format!("focal_length `{v}`")))?;
+                // Mitsuba: a 35 mm film (36 × 24 mm), the focal length giving the diagonal fov.
+                let diag = 2.0 * (36f64.hypot(24.0) / (2.0 * mm)).atan().to_degrees();
+                (diag, "diagonal".to_string())
+            }
+            (None, None) => (
+                p.float_or("fov", 45.0)?,
+                p.string("fov_axis").unwrap_or("x").to_string(),
+            ),
+        };
+        if p.string("fov_axis").is_some() {
+            let _ = p.get("fov_axis");
+        }
+        let tan = (fov.to_radians() / 2.0).tan();
+        match axis.as_str() {
+            "x" | "y" => {}
+            "diagonal" => {
+                // tan of the x half-angle from the diagonal's.
+                let tx = tan * aspect / (1.0 + aspect * aspect).sqrt();
+                fov = 2.0 * tx.atan().to_degrees();
+                axis = "x".into();
+            }
+            "smaller" => axis = if w <= h { "x".into() } else { "y".into() },
+            "larger" => axis = if w >= h { "x".into() } else { "y".into() },
+            other => {
+                return Err(el.error(format!(
+                    "fov_axis `{other}` (x, y, diagonal, smaller, larger)"
+                )))
+            }
+        }
+        if !(fov > 0.0 && fov < 180.0) {
+            return Err(el.error(format!("fov {fov}° outside (0, 180)")));
+        }
+        Ok((fov, axis))
     }
 
     fn integrator(&mut self, el: &'a Element) -> Result<(), SceneError> {

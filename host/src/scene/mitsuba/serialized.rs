@@ -102,40 +102,14 @@ pub fn parse_serialized(bytes: &[u8], index: usize) -> Result<SerializedMesh, St
             "serialized format version {version} (3 and 4 are read)"
         ));
     }
-    // The decompressed mesh cannot be larger than the triangle limit allows; a zlib stream
-    // claiming more is cut off there and reported as truncated.
-    let max_tris = crate::limits::max_triangles();
-    let mut z = flate2::read::ZlibDecoder::new(&bytes[off + 4..]);
-    let mut read = |n: usize| -> Result<Vec<u8>, String> {
-        let mut buf = vec![0u8; n];
-        z.read_exact(&mut buf)
-            .map_err(|e| format!("compressed mesh data ends early or is corrupt ({e})"))?;
-        Ok(buf)
+    let mut z = Compressed(flate2::read::ZlibDecoder::new(&bytes[off + 4..]));
+    let flags = u32::from_le_bytes(z.read(4)?.try_into().unwrap_or_default());
+    let name = if version >= 4 {
+        z.name()?
+    } else {
+        String::new()
     };
-    let flags = u32::from_le_bytes(read(4)?.try_into().unwrap_or_default());
-    let mut name = String::new();
-    if version >= 4 {
-        let mut raw = Vec::new();
-        loop {
-            let b = read(1)?[0];
-            if b == 0 {
-                break;
-            }
-            if raw.len() >= 4096 {
-                return Err("mesh name longer than 4096 bytes".into());
-            }
-            raw.push(b);
-        }
-        name = String::from_utf8_lossy(&raw).into_owned();
-    }
-    let head = read(16)?;
-    let nv = u64::from_le_bytes(head[0..8].try_into().unwrap_or_default());
-    let nt = u64::from_le_bytes(head[8..16].try_into().unwrap_or_default());
-    if nt > max_tris || nv > 3 * max_tris.max(1) {
-        return Err(format!(
-            "{nv} vertices and {nt} triangles: over the limit of {max_tris} triangles for this machine's memory"
-        ));
-    }
+    let (nv, nt) = z.counts()?;
     let double = if flags & DOUBLE != 0 {
         true
     } else if flags & SINGLE != 0 {
@@ -145,38 +119,14 @@ pub fn parse_serialized(bytes: &[u8], index: usize) -> Result<SerializedMesh, St
             "flags {flags:#x} name neither single (0x1000) nor double (0x2000) precision"
         ));
     };
-    let fsize = if double { 8 } else { 4 };
-    let nv = nv as usize;
-    let nt = nt as usize;
-    let mut floats = |count: usize| -> Result<Vec<f32>, String> {
-        let raw = read(count * fsize)?;
-        Ok(if double {
-            raw.chunks_exact(8)
-                .map(|c| f64::from_le_bytes(c.try_into().unwrap_or_default()) as f32)
-                .collect()
-        } else {
-            raw.chunks_exact(4)
-                .map(|c| f32::from_le_bytes(c.try_into().unwrap_or_default()))
-                .collect()
-        })
-    };
-    let p = floats(nv * 3)?;
-    let positions: Vec<Vec3A> = p
-        .chunks_exact(3)
-        .map(|c| Vec3A::new(c[0], c[1], c[2]))
-        .collect();
+    let positions = z.vec3s(nv, double)?;
     let normals = if flags & HAS_NORMALS != 0 {
-        let n = floats(nv * 3)?;
-        Some(
-            n.chunks_exact(3)
-                .map(|c| Vec3A::new(c[0], c[1], c[2]))
-                .collect::<Vec<_>>(),
-        )
+        Some(z.vec3s(nv, double)?)
     } else {
         None
     };
     let uvs = if flags & HAS_UVS != 0 {
-        let t = floats(nv * 2)?;
+        let t = z.floats(nv * 2, double)?;
         Some(
             t.chunks_exact(2)
                 .map(|c| Vec2::new(c[0], c[1]))
@@ -186,22 +136,9 @@ pub fn parse_serialized(bytes: &[u8], index: usize) -> Result<SerializedMesh, St
         None
     };
     if flags & HAS_COLORS != 0 {
-        floats(nv * 3)?;
+        z.floats(nv * 3, double)?;
     }
-    let wide = nv > u32::MAX as usize;
-    let raw = read(nt * 3 * if wide { 8 } else { 4 })?;
-    let mut idx = Vec::with_capacity(nt * 3);
-    if wide {
-        for c in raw.chunks_exact(8) {
-            let v = u64::from_le_bytes(c.try_into().unwrap_or_default());
-            idx.push(u32::try_from(v).map_err(|_| format!("vertex index {v} beyond u32"))?);
-        }
-    } else {
-        for c in raw.chunks_exact(4) {
-            idx.push(u32::from_le_bytes(c.try_into().unwrap_or_default()));
-        }
-    }
-    let indices: Vec<[u32; 3]> = idx.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+    let indices = z.indices(nv, nt)?;
     let mesh = TriangleMesh {
         positions,
         normals: if flags & FACE_NORMALS != 0 {
@@ -214,6 +151,91 @@ pub fn parse_serialized(bytes: &[u8], index: usize) -> Result<SerializedMesh, St
     };
     mesh.validate().map_err(|e| e.to_string())?;
     Ok(SerializedMesh { name, flags, mesh })
+}
+
+/// A mesh's zlib stream, read field by field.
+struct Compressed<'a>(flate2::read::ZlibDecoder<&'a [u8]>);
+
+impl Compressed<'_> {
+    /// The next `n` bytes.
+    fn read(&mut self, n: usize) -> Result<Vec<u8>, String> {
+        let mut buf = vec![0u8; n];
+        self.0
+            .read_exact(&mut buf)
+            .map_err(|e| format!("compressed mesh data ends early or is corrupt ({e})"))?;
+        Ok(buf)
+    }
+
+    /// The mesh's name (version 4): bytes up to a 0, at most 4096.
+    fn name(&mut self) -> Result<String, String> {
+        let mut raw = Vec::new();
+        loop {
+            let b = self.read(1)?[0];
+            if b == 0 {
+                break;
+            }
+            if raw.len() >= 4096 {
+                return Err("mesh name longer than 4096 bytes".into());
+            }
+            raw.push(b);
+        }
+        Ok(String::from_utf8_lossy(&raw).into_owned())
+    }
+
+    /// The vertex and triangle counts. The decompressed mesh cannot be larger than the triangle
+    /// limit allows; a zlib stream claiming more is cut off there and reported as truncated.
+    fn counts(&mut self) -> Result<(usize, usize), String> {
+        let max_tris = crate::limits::max_triangles();
+        let head = self.read(16)?;
+        let nv = u64::from_le_bytes(head[0..8].try_into().unwrap_or_default());
+        let nt = u64::from_le_bytes(head[8..16].try_into().unwrap_or_default());
+        if nt > max_tris || nv > 3 * max_tris.max(1) {
+            return Err(format!(
+                "{nv} vertices and {nt} triangles: over the limit of {max_tris} triangles for this machine's memory"
+            ));
+        }
+        Ok((nv as usize, nt as usize))
+    }
+
+    /// `count` floats stored in double or single precision.
+    fn floats(&mut self, count: usize, double: bool) -> Result<Vec<f32>, String> {
+        let raw = self.read(count * if double { 8 } else { 4 })?;
+        Ok(if double {
+            raw.chunks_exact(8)
+                .map(|c| f64::from_le_bytes(c.try_into().unwrap_or_default()) as f32)
+                .collect()
+        } else {
+            raw.chunks_exact(4)
+                .map(|c| f32::from_le_bytes(c.try_into().unwrap_or_default()))
+                .collect()
+        })
+    }
+
+    /// `n` 3-vectors (positions or normals).
+    fn vec3s(&mut self, n: usize, double: bool) -> Result<Vec<Vec3A>, String> {
+        let p = self.floats(n * 3, double)?;
+        Ok(p.chunks_exact(3)
+            .map(|c| Vec3A::new(c[0], c[1], c[2]))
+            .collect())
+    }
+
+    /// `nt` triangles' vertex indices (64-bit when `nv` needs it).
+    fn indices(&mut self, nv: usize, nt: usize) -> Result<Vec<[u32; 3]>, String> {
+        let wide = nv > u32::MAX as usize;
+        let raw = self.read(nt * 3 * if wide { 8 } else { 4 })?;
+        let mut idx = Vec::with_capacity(nt * 3);
+        if wide {
+            for c in raw.chunks_exact(8) {
+                let v = u64::from_le_bytes(c.try_into().unwrap_or_default());
+                idx.push(u32::try_from(v).map_err(|_| format!("vertex index {v} beyond u32"))?);
+            }
+        } else {
+            for c in raw.chunks_exact(4) {
+                idx.push(u32::from_le_bytes(c.try_into().unwrap_or_default()));
+            }
+        }
+        Ok(idx.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect())
+    }
 }
 
 /// Write one mesh in the serialized format (version 4, single precision): the inverse of

@@ -289,63 +289,11 @@ impl Reader {
                 return Ok(());
             }
             "path" => {
-                // Mitsuba 3's `<path value="…"/>`: a folder added to the file resolver, relative
-                // to the file that names it. Kept in the tree, made absolute, for the converter.
-                let Some(value) = here.attr("value") else {
-                    return Err(here.error("needs `value` (a folder)"));
-                };
-                let dir = file.parent().unwrap_or(Path::new(".")).join(value);
-                if !dir.is_dir() {
-                    return Err(here.error(format!("folder not found: {}", dir.display())));
-                }
-                let mut here = here;
-                let v = dir.to_string_lossy().into_owned();
-                here.attrs = vec![("value".into(), v)];
-                out.push(here);
+                out.push(path_folder(here, file)?);
                 return Ok(());
             }
             "include" => {
-                let Some(name) = here.attr("filename") else {
-                    return Err(here.error("needs `filename`"));
-                };
-                let dir = file.parent().unwrap_or(Path::new("."));
-                let mut target = dir.join(name);
-                if !target.exists() {
-                    let alt = self.main_dir.join(name);
-                    if alt.exists() {
-                        target = alt;
-                    }
-                }
-                let canon = std::fs::canonicalize(&target)
-                    .map_err(|e| here.error(format!("cannot open {}: {e}", target.display())))?;
-                if self.chain.contains(&canon) || canon.as_path() == file.as_path() {
-                    return Err(here.error(format!(
-                        "cyclic include: {} includes itself through {}",
-                        canon.display(),
-                        self.chain
-                            .iter()
-                            .map(|p| p.display().to_string())
-                            .collect::<Vec<_>>()
-                            .join(" → ")
-                    )));
-                }
-                if self.chain.len() >= MAX_INCLUDE_DEPTH {
-                    return Err(here.error(format!(
-                        "includes nested deeper than {MAX_INCLUDE_DEPTH} levels"
-                    )));
-                }
-                if let Ok(me) = std::fs::canonicalize(file.as_path()) {
-                    if me == canon {
-                        return Err(here.error("cyclic include: a file includes itself"));
-                    }
-                    if self.chain.is_empty() {
-                        self.chain.push(me);
-                    }
-                }
-                let text = read_text(&target)?;
-                self.chain.push(canon);
-                let root = self.read_root(&text, &target, Some(&here))?;
-                self.chain.pop();
+                let root = self.include(&here, file)?;
                 out.extend(root.children);
                 return Ok(());
             }
@@ -358,4 +306,67 @@ impl Reader {
         out.push(here);
         Ok(())
     }
+
+    /// The root element of the file an `<include filename="…"/>` names (relative to the including
+    /// file, else to the main scene's folder); cycles and deep nesting are refused.
+    fn include(&mut self, here: &Element, file: &Arc<PathBuf>) -> Result<Element, SceneError> {
+        let Some(name) = here.attr("filename") else {
+            return Err(here.error("needs `filename`"));
+        };
+        let dir = file.parent().unwrap_or(Path::new("."));
+        let mut target = dir.join(name);
+        if !target.exists() {
+            let alt = self.main_dir.join(name);
+            if alt.exists() {
+                target = alt;
+            }
+        }
+        let canon = std::fs::canonicalize(&target)
+            .map_err(|e| here.error(format!("cannot open {}: {e}", target.display())))?;
+        if self.chain.contains(&canon) || canon.as_path() == file.as_path() {
+            return Err(here.error(format!(
+                "cyclic include: {} includes itself through {}",
+                canon.display(),
+                self.chain
+                    .iter()
+                    .map(|p| p.display().to_string())
+                    .collect::<Vec<_>>()
+                    .join(" → ")
+            )));
+        }
+        if self.chain.len() >= MAX_INCLUDE_DEPTH {
+            return Err(here.error(format!(
+                "includes nested deeper than {MAX_INCLUDE_DEPTH} levels"
+            )));
+        }
+        if let Ok(me) = std::fs::canonicalize(file.as_path()) {
+            if me == canon {
+                return Err(here.error("cyclic include: a file includes itself"));
+            }
+            if self.chain.is_empty() {
+                self.chain.push(me);
+            }
+        }
+        let text = read_text(&target)?;
+        self.chain.push(canon);
+        let root = self.read_root(&text, &target, Some(here))?;
+        self.chain.pop();
+        Ok(root)
+    }
+}
+
+/// Mitsuba 3's `<path value="…"/>`: a folder added to the file resolver, relative to the file
+/// that names it. Kept in the tree, made absolute, for the converter.
+fn path_folder(here: Element, file: &Arc<PathBuf>) -> Result<Element, SceneError> {
+    let Some(value) = here.attr("value") else {
+        return Err(here.error("needs `value` (a folder)"));
+    };
+    let dir = file.parent().unwrap_or(Path::new(".")).join(value);
+    if !dir.is_dir() {
+        return Err(here.error(format!("folder not found: {}", dir.display())));
+    }
+    let mut here = here;
+    let v = dir.to_string_lossy().into_owned();
+    here.attrs = vec![("value".into(), v)];
+    Ok(here)
 }
