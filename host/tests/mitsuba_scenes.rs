@@ -51,9 +51,10 @@ fn exr_mean(path: &Path) -> [f64; 3] {
 /// mean is not measured here).
 /// A texture upside down on this object hardly moves the mean: that is checked per pixel by
 /// `mesh_uvs_follow_mitsubas_image_orientation` and in the docs' region RMSE.
-#[test]
-fn textured_env_lit_scene_matches_mitsuba_3() {
-    let file = scene_dir().join("bsdf_diffuse_textured-flatplane.xml");
+/// spectrace's render of the Mitsuba file `name` (in [`scene_dir`]) at 80 × 60, path tracer,
+/// `spp` samples, seed 1, 2 threads: the image's mean linear sRGB.
+fn render_mean(name: &str, spp: u32) -> [f64; 3] {
+    let file = scene_dir().join(name);
     let conv = spectrace::scene::mitsuba::convert_file(&file, &[]).unwrap();
     let mut desc = conv.desc;
     if let ron::Value::Map(m) = &mut desc.cameras[0].params {
@@ -65,15 +66,9 @@ fn textured_env_lit_scene_matches_mitsuba_3() {
             ]),
         );
     }
-    let scene = build_scene(
-        &desc,
-        &scene_dir(),
-        Path::new("textured"),
-        &[&BuiltinFactory],
-    )
-    .unwrap();
+    let scene = build_scene(&desc, &scene_dir(), Path::new(name), &[&BuiltinFactory]).unwrap();
     let settings = RenderSettings {
-        budget: SampleBudget::Spp(256),
+        budget: SampleBudget::Spp(spp),
         seed: 1,
         threads: Some(2),
         tracer: PathTracer {
@@ -84,7 +79,12 @@ fn textured_env_lit_scene_matches_mitsuba_3() {
     };
     let res = render(&scene, &settings, &|_, _| {}, None).unwrap();
     assert_eq!(res.image.non_finite_count(), 0);
-    let ours = SRGB.xyz_to_rgb(res.image.mean_xyz());
+    SRGB.xyz_to_rgb(res.image.mean_xyz())
+}
+
+#[test]
+fn textured_env_lit_scene_matches_mitsuba_3() {
+    let ours = render_mean("bsdf_diffuse_textured-flatplane.xml", 256);
     let want = exr_mean(&scene_dir().join("../../reference/textured_flatplane_80x60_mitsuba.exr"));
     for c in 0..3 {
         let ratio = ours[c] / want[c];

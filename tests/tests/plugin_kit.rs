@@ -70,6 +70,12 @@ const SHIPPED: &[(&str, &str, &str)] = &[
     ("spectrace-standard", "dielectric", "()"),
     ("spectrace-standard", "rough_dielectric", "()"),
     ("spectrace-standard", "conductor", "()"),
+    ("spectrace-standard", "plastic", "(diffuse_reflectance: 1)"),
+    (
+        "spectrace-standard",
+        "rough_plastic",
+        "(diffuse_reflectance: 1, alpha: 0.2)",
+    ),
     (
         "spectrace-standard",
         "emissive",
