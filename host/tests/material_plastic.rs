@@ -168,20 +168,33 @@ fn sampled_albedo(m: &Plastic, wo: Vec3A, n: usize) -> [(f64, f64); LANES] {
 /// the material's sampling, E[f·cos/pdf] over 4·10⁵ samples; (2) an independent numerical
 /// integration of `eval` over the hemisphere (800 × 800 cells in (cos θ, φ); for the smooth
 /// coating plus the delta lobe's F(μo), known in closed form). Tolerance: 4 standard errors of
-/// (1) plus 2e-3 for the quadrature of the α = 0.1 lobe (halving the grid moves it by < 5e-4).
-/// Also: the smooth coating's albedo is exactly 1 (F + (1 − F)·1: the reciprocity identity
-/// 1 − F_dr,int = (1 − F_dr,ext)/η²), checked to 1e-3; a rough coating's is ≤ 1 + 1e-3 (a
-/// white base must not add light; microfacet shadowing loses a little) and ≥ 0.9 (it loses
-/// only a little: Smith's single-scattering loss at these α is a few percent at most).
+/// (1) plus 2e-3 for the quadrature of the α = 0.1 lobe (the two agree to 1e-5 in practice).
+/// Then the albedo itself: the smooth coating's is exactly 1 (F + (1 − F)·1, by the
+/// reciprocity identity 1 − F_dr,int = (1 − F_dr,ext)/η²), checked to 1e-3; a rough coating's
+/// is at most 1.001 (a white base must not add light) and lies between Mitsuba 3.9.1's
+/// roughplastic albedo for the same parameters and 5% above it. Mitsuba's values (its own
+/// `sample`, scalar_rgb, 2·10⁵ samples, standard errors ≤ 4e-4; the script in
+/// `docs/mitsuba-import.md`, "plastic") are lower for a stated reason: its internal reflectance
+/// R_int is the mean of 64 equally spaced nodes including both ends, which is 63/64 of the
+/// integral (+ R(1)/64), so R_int comes out ~0.009 low and the diffuse part, which goes as
+/// 1/(1 − R_int), ~1.7% dark; at α = 0.3 its separable Smith G (ours height-correlated) loses
+/// up to 3% more at grazing. With Mitsuba's quadrature error put into ours by hand the
+/// GGX α = 0.1, μo = 0.9 albedo becomes 0.908 against its 0.9086.
 #[test]
 fn white_furnace_albedo_sampling_agrees_with_integrated_eval() {
+    // Mitsuba 3.9.1 roughplastic, int_ior 1.5, ext_ior 1, white base, at μo 0.9, 0.5, 0.2.
+    let mitsuba = |c: Coating| match c {
+        Coating::Ggx(a) if a == 0.1 => [0.9086, 0.9071, 0.8836],
+        Coating::Ggx(_) => [0.6888, 0.6701, 0.6417],
+        _ => [0.9302, 0.9264, 0.8930],
+    };
     for alpha in [
         Coating::Smooth,
         Coating::Ggx(0.1),
         Coating::Ggx(0.3),
         Coating::Beckmann(0.2),
     ] {
-        for mu_o in [0.9f64, 0.5, 0.2] {
+        for (k, mu_o) in [0.9f64, 0.5, 0.2].into_iter().enumerate() {
             let m = plastic(1.0, SpectralIor::Constant(1.5), 1.0, alpha);
             let wo = dir(mu_o, 0.7);
             let mut quad = integrate_eval(&m, wo, 800, 800);
@@ -192,6 +205,10 @@ fn white_furnace_albedo_sampling_agrees_with_integrated_eval() {
                 }
             }
             let mc = sampled_albedo(&m, wo, 400_000);
+            println!(
+                "{alpha:?} μo {mu_o}: integrated {:.5}, sampled {:.5} ± {:.1e}",
+                quad[0], mc[0].0, mc[0].1
+            );
             for l in 0..LANES {
                 let (mean, se) = mc[l];
                 assert!(
@@ -201,11 +218,14 @@ fn white_furnace_albedo_sampling_agrees_with_integrated_eval() {
                 );
                 match alpha {
                     Coating::Smooth => assert!((quad[l] - 1.0).abs() < 1e-3, "{}", quad[l]),
-                    _ => assert!(
-                        quad[l] <= 1.001 && quad[l] >= 0.9,
-                        "α {alpha:?} μo {mu_o}: albedo {}",
-                        quad[l]
-                    ),
+                    _ => {
+                        let mi = mitsuba(alpha)[k];
+                        assert!(
+                            quad[l] <= 1.001 && quad[l] >= mi - 1.2e-3 && quad[l] <= mi * 1.05,
+                            "α {alpha:?} μo {mu_o}: albedo {} (Mitsuba {mi})",
+                            quad[l]
+                        )
+                    }
                 }
             }
         }
@@ -252,4 +272,110 @@ fn nonlinear_divides_by_one_minus_rho_r_int() {
         let b = non.eval(wo, wi, &ctx, &lambda, TransportMode::Radiance)[0] as f64;
         assert!((b / a / want - 1.0).abs() < 1e-3, "{} vs {want}", b / a);
     }
+}
+
+/// Quantity: f(ωo, ωi) at five pairs of directions for four materials, against the values
+/// Mitsuba 3.9.1 itself returns for its `plastic` / `roughplastic` with the same parameters
+/// (`scripts/mitsuba_import/plastic_bsdf.py values`: scalar_spectral, 550 nm, ρ = 0.5;
+/// ωo at azimuth 0, ωi at the azimuth given; the (0.5, 0.5, π) and (0.7, 0.7, π) pairs are the
+/// mirror direction, where the rough coating's highlight peaks). Tolerances and why: the smooth
+/// coatings 0.5% (the two differ only in F_dr: Mitsuba fits it by a polynomial, spectrace
+/// integrates it); the rough ones 3% (Mitsuba's internal reflectance is its quadrature's, ~0.009
+/// low, which makes its diffuse part ~1.7% darker, and its Smith G is separable where ours is
+/// height-correlated, a few percent on the highlight; see the white-furnace test above).
+#[test]
+fn matches_mitsuba_3s_plastic_values() {
+    let half =
+        || -> Arc<dyn spectrace::material::SpectralTexture> { Arc::new(ConstantTexture(0.5)) };
+    let make = |eta: f32, coating: Coating, nonlinear: bool| {
+        Plastic::new(
+            half(),
+            None,
+            SpectralIor::Constant(eta),
+            SpectralIor::Constant(1.0),
+            coating,
+            nonlinear,
+        )
+    };
+    let pairs = [
+        (0.9, 0.3, 2.0),
+        (0.5, 0.5, PI),
+        (0.7, 0.7, PI),
+        (0.2, 0.95, 1.0),
+        (0.6, 0.6, PI + 0.2),
+    ];
+    let cases: [(&str, Plastic, f64, [f64; 5]); 4] = [
+        (
+            "plastic η 1.5",
+            make(1.5, Coating::Smooth, false),
+            5e-3,
+            [
+                1.333216e-01,
+                1.455418e-01,
+                1.580292e-01,
+                1.113243e-01,
+                1.535301e-01,
+            ],
+        ),
+        (
+            "plastic η 1.9 nonlinear",
+            make(1.9, Coating::Smooth, true),
+            5e-3,
+            [
+                4.764234e-02,
+                5.173732e-02,
+                5.663692e-02,
+                3.998803e-02,
+                5.480980e-02,
+            ],
+        ),
+        (
+            "roughplastic GGX α 0.2",
+            make(1.5, Coating::Ggx(0.2), false),
+            0.03,
+            [
+                1.114946e-01,
+                7.813399e-01,
+                3.236199e-01,
+                1.028324e-01,
+                2.859144e-01,
+            ],
+        ),
+        (
+            "roughplastic Beckmann α 0.3",
+            make(1.5, Coating::Beckmann(0.3), false),
+            0.03,
+            [
+                1.204525e-01,
+                4.376988e-01,
+                2.254349e-01,
+                1.129303e-01,
+                2.617841e-01,
+            ],
+        ),
+    ];
+    let ctx = ShadingContext::default();
+    let mut lambda = lambdas();
+    lambda.lambda = [550.0; LANES];
+    let mut worst = Vec::new();
+    for (name, m, tol, want) in &cases {
+        for (k, &(mo, mi, phi)) in pairs.iter().enumerate() {
+            let f = m.eval(
+                dir(mo, 0.0),
+                dir(mi, phi),
+                &ctx,
+                &lambda,
+                TransportMode::Radiance,
+            )[0] as f64;
+            let r = f / want[k];
+            println!(
+                "{name} pair {k}: spectrace {f:.6e}, Mitsuba {:.6e}, ratio {r:.4}",
+                want[k]
+            );
+            if (r - 1.0).abs() > *tol {
+                worst.push(format!("{name} pair {k}: ratio {r:.4}"));
+            }
+        }
+    }
+    assert!(worst.is_empty(), "{worst:?}");
 }
