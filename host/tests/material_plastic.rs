@@ -178,8 +178,8 @@ fn sampled_albedo(m: &Plastic, wo: Vec3A, n: usize) -> [(f64, f64); LANES] {
 /// R_int is the mean of 64 equally spaced nodes including both ends, which is 63/64 of the
 /// integral (+ R(1)/64), so R_int comes out ~0.009 low and the diffuse part, which goes as
 /// 1/(1 − R_int), ~1.7% dark; at α = 0.3 its separable Smith G (ours height-correlated) loses
-/// up to 3% more at grazing. With Mitsuba's quadrature error put into ours by hand the
-/// GGX α = 0.1, μo = 0.9 albedo becomes 0.908 against its 0.9086.
+/// up to 3% more at grazing. Putting Mitsuba's quadrature error into ours by hand (an
+/// estimate) turns the GGX α = 0.1, μo = 0.9 albedo into ≈ 0.908 against its 0.9086.
 #[test]
 fn white_furnace_albedo_sampling_agrees_with_integrated_eval() {
     // Mitsuba 3.9.1 roughplastic, int_ior 1.5, ext_ior 1, white base, at μo 0.9, 0.5, 0.2.
