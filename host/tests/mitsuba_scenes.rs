@@ -146,7 +146,8 @@ fn plastic_scene_matches_mitsuba_3() {
     assert_eq!((ours.len(), want.len(), mask.len()), (4800, 4800, 4800));
     let mask = &mask;
     let region = |k: f64| move |i: usize| mask[i][0] == k;
-    let checks: [(&str, Box<dyn Fn(usize) -> bool>, f64, f64); 3] = [
+    type Region<'a> = Box<dyn Fn(usize) -> bool + 'a>;
+    let checks: [(&str, Region, f64, f64); 3] = [
         ("whole image", Box::new(|_| true), -0.02, 0.02),
         (
             "smooth plastic interior",
