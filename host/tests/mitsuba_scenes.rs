@@ -134,8 +134,10 @@ fn textured_env_lit_scene_matches_mitsuba_3() {
 /// at 256 spp: ≤ 0.5% (object), ≤ 1% (interior, 433 pixels of a sharp reflection). So: whole
 /// image within 2%; the smooth interior within 2.5%; the rough object between −0.5% and +4%.
 /// Measured: whole 0.997, 1.005, 1.013; interior 0.997, 1.005, 1.019; object 1.014, 1.019, 1.026.
-/// What it catches: the plastic imported as a lambertian (the coating's darkening of the base
-/// and its white highlight lost), a wrong index, a lost texture or a lost `nonlinear` default.
+/// What it catches: the plastic imported as a lambertian, as before spectrace had plastic
+/// (measured with the two materials made lambertians of their `diffuse_reflectance`: whole
+/// 1.022, 1.019, 1.013; interior 0.947, 0.961, 0.708; object 1.144, 1.113, 1.106: all three
+/// fail), a wrong index, a lost texture.
 #[test]
 fn plastic_scene_matches_mitsuba_3() {
     let image = render_image("bsdf_plastic-flatplane.xml", 256);
