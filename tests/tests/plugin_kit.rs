@@ -79,6 +79,8 @@ const SHIPPED: &[(&str, &[(&str, &str)])] = &[
             ("dielectric", "()"),
             ("rough_dielectric", "()"),
             ("conductor", "()"),
+            ("plastic", "(diffuse_reflectance: 1)"),
+            ("rough_plastic", "(diffuse_reflectance: 1, alpha: 0.2)"),
             ("emissive", "(radiance: \"d65\", scale: 10)"),
             ("fluorescent", "(bfc: \"CIBA12\")"),
             ("spec", "(spec: \"d65\")"),

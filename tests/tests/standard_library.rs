@@ -28,6 +28,8 @@ fn library_registry() -> Registry {
         "dielectric",
         "rough_dielectric",
         "conductor",
+        "plastic",
+        "rough_plastic",
         "emissive",
         "fluorescent",
     ] {
@@ -144,6 +146,14 @@ fn library_materials_and_lights_sample_exactly_like_the_builtins() {
         ("dielectric", "(ior: \"N-BK7\")"),
         ("rough_dielectric", "(ior: 1.5, roughness: 0.4)"),
         ("conductor", "(metal: \"gold\", roughness: 0.3)"),
+        (
+            "plastic",
+            "(diffuse_reflectance: \"colorchecker:13\", int_ior: 1.6)",
+        ),
+        (
+            "rough_plastic",
+            "(diffuse_reflectance: 0.4, alpha: 0.2, distribution: \"beckmann\")",
+        ),
         ("emissive", "(radiance: \"d65\", scale: 400.0)"),
     ];
     for (ty, params) in materials {

@@ -9,12 +9,14 @@ pub fn types() -> &'static [BuiltinType] {
     &ALL
 }
 
-static ALL: [BuiltinType; 30] = [
+static ALL: [BuiltinType; 32] = [
     material::lambertian::TYPE,
     material::mirror::TYPE,
     material::dielectric::TYPE,
     material::rough_dielectric::TYPE,
     material::conductor::TYPE,
+    material::plastic::TYPE,
+    material::rough_plastic::TYPE,
     material::thin_film::TYPE,
     material::emissive::TYPE,
     material::fluorescent::TYPE,

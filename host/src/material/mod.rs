@@ -5,6 +5,7 @@
 //! Both are unit vectors. BSDF values are in 1/sr, pdfs in 1/sr (solid angle), emitted radiance
 //! in W/(m²·sr·nm).
 
+pub mod beckmann;
 pub mod complex;
 pub mod conductor;
 pub mod dielectric;
@@ -19,6 +20,7 @@ pub mod lambertian;
 pub mod metals;
 pub mod microfacet;
 pub mod mirror;
+pub mod plastic;
 pub mod rough_dielectric;
 pub mod thin_film;
 
@@ -30,6 +32,7 @@ pub use frame::Frame;
 pub use ior::SpectralIor;
 pub use lambertian::Lambertian;
 pub use mirror::Mirror;
+pub use plastic::Plastic;
 pub use rough_dielectric::RoughDielectric;
 
 pub use interface::{

@@ -1,5 +1,6 @@
 //! The standard set as a library: the host's built-in materials (`lambertian`, `mirror`,
-//! `dielectric`, `rough_dielectric`, `conductor`, `emissive`, `fluorescent`), lights (`point`, `spot`,
+//! `dielectric`, `rough_dielectric`, `conductor`, `plastic`, `rough_plastic`, `emissive`,
+//! `fluorescent`), lights (`point`, `spot`,
 //! `directional`, `environment`), SPD types (`spec`, `table`) and CIE observers (`cie1931-2`,
 //! `cie1964-10`, `cie2015-2`, `cie2015-10`) exported through the plugin API under their built-in
 //! names, built by the host's own constructors (see `Cargo.toml` for the trade-off). Since the
@@ -19,7 +20,8 @@ mod wrap;
 
 pub use light::{Directional, Environment, Point, Spot};
 pub use material::{
-    Conductor, Dielectric, Emissive, Fluorescent, Lambertian, Mirror, RoughDielectric,
+    Conductor, Dielectric, Emissive, Fluorescent, Lambertian, Mirror, Plastic, RoughDielectric,
+    RoughPlastic,
 };
 pub use observer::{Cie1931_2, Cie1964_10, Cie2015_10, Cie2015_2};
 pub use spd::{SpecSpd, TableSpd};
@@ -30,5 +32,5 @@ spectrace_plugin_api::export_plugin! {
     lights: [Point, Spot, Directional, Environment],
     spds: [SpecSpd, TableSpd],
     observers: [Cie1931_2, Cie1964_10, Cie2015_2, Cie2015_10],
-    materials: [Lambertian, Mirror, Dielectric, RoughDielectric, Conductor, Emissive, Fluorescent],
+    materials: [Lambertian, Mirror, Dielectric, RoughDielectric, Conductor, Plastic, RoughPlastic, Emissive, Fluorescent],
 }

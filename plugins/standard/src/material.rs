@@ -1,5 +1,6 @@
 //! The built-in materials (`host/src/builtin/material/`): `lambertian`, `mirror`, `dielectric`,
-//! `rough_dielectric`, `conductor`, `emissive`, `fluorescent`, same parameters, each built by the
+//! `rough_dielectric`, `conductor`, `plastic`, `rough_plastic`, `emissive`, `fluorescent`, same
+//! parameters, each built by the
 //! host's own constructor and called through the plugin interface (no physics here, only
 //! passing the host's records through).
 //!
@@ -9,7 +10,9 @@
 //! hands over its emission exactly (its own SPD and scale), so the host builds the same area
 //! light as for the built-in; a fluorescent material hands over its re-radiation, so the host
 //! shifts wavelengths with the very numbers of the built-in. Each declares exactly what the
-//! built-in declares (spectrally flat, one value for every direction, the cosine density).
+//! built-in declares (spectrally flat, one value for every direction, the cosine density);
+//! `plastic` and `rough_plastic`, which only reflect, also declare RECIPROCAL (f(ωo, ωi) =
+//! f(ωi, ωo)), which the conformance kit checks.
 //!
 //! Held as the host's concrete types where the host's constructor gives one (`build_concrete`:
 //! all but `emissive` and `fluorescent`), so that the interface's call reaches the host's code
@@ -19,7 +22,8 @@
 use crate::wrap::{context, params_doc, plugin_error, HostParams, HostSpd};
 use glam::{Vec2, Vec3A};
 use spectrace::builtin::material::{
-    conductor, dielectric, emissive, fluorescent, lambertian, mirror, rough_dielectric,
+    conductor, dielectric, emissive, fluorescent, lambertian, mirror, plastic, rough_dielectric,
+    rough_plastic,
 };
 use spectrace::material::{
     BsdfSample, Material as HostMaterial, MaterialFlags, TransportMode as HostMode,
@@ -225,7 +229,8 @@ held_concrete!(
     spectrace::material::Mirror,
     spectrace::material::SmoothDielectric,
     spectrace::material::RoughDielectric,
-    spectrace::material::RoughConductor
+    spectrace::material::RoughConductor,
+    spectrace::material::Plastic
 );
 
 /// The host's constructor of a material held behind `Arc<dyn Material>`.
@@ -287,6 +292,10 @@ impl Reradiation for HostReradiation {
 
 macro_rules! material_type {
     ($ty:ident, $module:ident, $params:ty, $held:ty, $build:expr) => {
+        material_type!($ty, $module, $params, $held, $build, Flags::NONE);
+    };
+    // `$extra`: interface flags declared besides the host material's (RECIPROCAL).
+    ($ty:ident, $module:ident, $params:ty, $held:ty, $build:expr, $extra:expr) => {
         /// The host's material of the same name.
         pub struct $ty {
             params: HostParams<$params>,
@@ -327,7 +336,7 @@ macro_rules! material_type {
             fn flags(&self) -> Flags {
                 // Declared exactly where the built-in declares it.
                 let m = self.material.get();
-                let mut f = bits(m.flags());
+                let mut f = bits(m.flags()) | $extra;
                 if m.spectrally_flat() {
                     f = f | material_flags::SPECTRALLY_FLAT;
                 }
@@ -455,6 +464,22 @@ material_type!(
     conductor::ConductorParams,
     spectrace::material::RoughConductor,
     conductor::build_concrete
+);
+material_type!(
+    Plastic,
+    plastic,
+    plastic::PlasticParams,
+    spectrace::material::Plastic,
+    plastic::build_concrete,
+    material_flags::RECIPROCAL
+);
+material_type!(
+    RoughPlastic,
+    rough_plastic,
+    rough_plastic::RoughPlasticParams,
+    spectrace::material::Plastic,
+    rough_plastic::build_concrete,
+    material_flags::RECIPROCAL
 );
 material_type!(
     Emissive,

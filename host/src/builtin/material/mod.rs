@@ -6,5 +6,7 @@ pub mod emissive;
 pub mod fluorescent;
 pub mod lambertian;
 pub mod mirror;
+pub mod plastic;
 pub mod rough_dielectric;
+pub mod rough_plastic;
 pub mod thin_film;

@@ -821,6 +821,16 @@ impl<'a> Converter<'a> {
                 item,
             );
         }
+        self.roughness_alpha(p, kind, item)
+    }
+
+    /// The isotropic α of a rough BSDF (`alpha`, or `alpha_u`, `alpha_v`; Mitsuba's default 0.1).
+    fn roughness_alpha(
+        &mut self,
+        p: &Props<'a>,
+        kind: &str,
+        item: &str,
+    ) -> Result<f64, SceneError> {
         let a = p.float("alpha")?;
         let au = p.float("alpha_u")?;
         let av = p.float("alpha_v")?;
@@ -1008,18 +1018,34 @@ impl<'a> Converter<'a> {
             }
             "plastic" | "roughplastic" => {
                 let r = self.reflectance(&p, "diffuse_reflectance", 0.5, item)?;
-                for s in [
-                    "int_ior",
-                    "ext_ior",
-                    "specular_reflectance",
-                    "nonlinear",
-                    "alpha",
-                    "distribution",
-                ] {
-                    let _ = p.get(s);
+                // Mitsuba's defaults: polypropylene in air.
+                let int = self.ior(&p, "int_ior", 1.49)?;
+                let ext = self.ior(&p, "ext_ior", 1.000277)?;
+                let mut e = vec![
+                    ("diffuse_reflectance", r),
+                    ("int_ior", num(int)),
+                    ("ext_ior", num(ext)),
+                ];
+                if p.has("specular_reflectance") {
+                    let s = self.reflectance(&p, "specular_reflectance", 1.0, item)?;
+                    e.push(("specular_reflectance", s));
                 }
-                self.note(kind, "no plastic in spectrace: its diffuse_reflectance as a lambertian; the dielectric coating (specular highlight, ≈4–10% of the light at most angles, and the coating's darkening of the base) is dropped", item);
-                ("lambertian".into(), map(vec![("reflectance", r)]))
+                if let Some(b) = p.bool("nonlinear")? {
+                    e.push(("nonlinear", Value::Bool(b)));
+                }
+                if kind == "plastic" {
+                    ("plastic".into(), map(e))
+                } else {
+                    // spectrace's rough_plastic has both of Mitsuba's distributions.
+                    let dist = match p.string("distribution").unwrap_or("beckmann") {
+                        "ggx" => "ggx",
+                        "beckmann" => "beckmann",
+                        other => return Err(el.error(format!("unknown distribution `{other}`"))),
+                    };
+                    e.push(("alpha", num(self.roughness_alpha(&p, kind, item)?)));
+                    e.push(("distribution", text(dist)));
+                    ("rough_plastic".into(), map(e))
+                }
             }
             "principled" | "principledthin" => {
                 let r = self.reflectance(&p, "base_color", 0.5, item)?;

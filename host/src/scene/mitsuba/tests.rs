@@ -308,27 +308,109 @@ fn bsdf_mapping() {
     );
     assert_eq!(m("mirror").type_name, "mirror");
     assert_eq!(f(get(&m("rough").params, "alpha")), 0.2);
-    assert_eq!(m("plastic").type_name, "lambertian");
+    assert_eq!(m("plastic").type_name, "plastic");
+    assert_eq!(
+        get(&m("plastic").params, "diffuse_reflectance"),
+        &Value::Map(
+            [(
+                Value::String("rgb".into()),
+                Value::Seq(vec![
+                    Value::Number(0.2.into()),
+                    Value::Number(0.4.into()),
+                    Value::Number(0.6.into())
+                ])
+            )]
+            .into_iter()
+            .collect()
+        )
+    );
+    // Mitsuba's defaults: polypropylene (1.49) in air (1.000277).
+    assert_eq!(f(get(&m("plastic").params, "int_ior")), 1.49);
+    assert_eq!(f(get(&m("plastic").params, "ext_ior")), 1.000277);
     assert_eq!(f(get(&m("two").params, "reflectance")), 0.3);
     assert_eq!(m("sheet").type_name, "thin_film");
     let notes = c.notes.join("\n");
     for want in [
-        "plastic: no plastic",
         "bsdf weird: not supported",
         "parameter `bogus` ignored",
         "thindielectric",
     ] {
         assert!(notes.contains(want), "missing `{want}` in\n{notes}");
     }
+    assert!(
+        !notes.contains("plastic"),
+        "plastic is no longer approximated:\n{notes}"
+    );
     // One note per kind, not one per element.
     let c = convert_text(r#"<scene version="3.0.0">
-<shape type="sphere"><bsdf type="plastic"/></shape><shape type="sphere"><bsdf type="plastic"/></shape></scene>"#).unwrap();
+<shape type="sphere"><bsdf type="principled"/></shape><shape type="sphere"><bsdf type="principled"/></shape></scene>"#).unwrap();
     assert_eq!(
-        c.notes.iter().filter(|n| n.starts_with("plastic")).count(),
+        c.notes
+            .iter()
+            .filter(|n| n.starts_with("principled"))
+            .count(),
         1,
         "{:?}",
         c.notes
     );
+}
+
+// plastic and roughplastic: every parameter carried over (a bitmap base as a texture, the
+// named IORs as numbers, nonlinear, specular_reflectance, α, the distribution), and the
+// converted materials build.
+#[test]
+fn plastic_mapping() {
+    let dir = temp_dir("plastic");
+    // Only its existence is checked on conversion.
+    std::fs::write(dir.join("base.png"), [0u8; 0]).unwrap();
+    let xml = r#"<scene version="3.0.0">
+<bsdf type="roughplastic" id="rough"><float name="alpha" value="0.3"/><string name="int_ior" value="acrylic glass"/>
+  <float name="ext_ior" value="1.0"/><boolean name="nonlinear" value="true"/><float name="specular_reflectance" value="0.5"/>
+  <rgb name="diffuse_reflectance" value="0.8, 0.1, 0.1"/></bsdf>
+<bsdf type="roughplastic" id="beck"><texture type="bitmap" name="diffuse_reflectance"><string name="filename" value="base.png"/></texture></bsdf>
+<bsdf type="twosided" id="two"><bsdf type="plastic"><float name="int_ior" value="1.9"/></bsdf></bsdf>
+<shape type="sphere"><ref id="rough"/></shape><shape type="sphere"><ref id="beck"/></shape><shape type="sphere"><ref id="two"/></shape>
+</scene>"#;
+    std::fs::write(dir.join("s.xml"), xml).unwrap();
+    let c = convert_file(&dir.join("s.xml"), &[]).unwrap_or_else(|e| panic!("{e}"));
+    let m = |n: &str| c.desc.materials.iter().find(|m| m.name == n).unwrap();
+    let rough = &m("rough").params;
+    assert_eq!(m("rough").type_name, "rough_plastic");
+    assert_eq!(f(get(rough, "alpha")), 0.3);
+    assert_eq!(f(get(rough, "int_ior")), 1.49, "acrylic glass");
+    assert_eq!(f(get(rough, "ext_ior")), 1.0);
+    assert_eq!(get(rough, "nonlinear"), &Value::Bool(true));
+    assert_eq!(f(get(rough, "specular_reflectance")), 0.5);
+    let beck = &m("beck").params;
+    assert_eq!(f(get(beck, "alpha")), 0.1, "Mitsuba's default α");
+    assert!(matches!(get(beck, "diffuse_reflectance"), Value::Map(_)));
+    let tex = get(get(beck, "diffuse_reflectance"), "texture");
+    assert!(matches!(get(tex, "file"), Value::String(s) if s.ends_with("base.png")));
+    assert_eq!(m("two").type_name, "plastic");
+    assert_eq!(f(get(&m("two").params, "int_ior")), 1.9);
+    // Mitsuba's default distribution is Beckmann, which spectrace's rough_plastic has.
+    assert_eq!(get(beck, "distribution"), &Value::String("beckmann".into()));
+    assert_eq!(
+        get(rough, "distribution"),
+        &Value::String("beckmann".into())
+    );
+    let notes = c.notes.join("\n");
+    assert!(!notes.contains("distribution"), "{notes}");
+    assert!(!notes.contains("ignored"), "{notes}");
+    // The untextured ones build as the built-ins.
+    use crate::scene::ObjectFactory;
+    for n in ["rough", "two"] {
+        let item = m(n);
+        let ctx = crate::scene::FactoryContext {
+            base_dir: dir.clone(),
+            item: n.into(),
+            representation: Default::default(),
+            spd_factories: Default::default(),
+        };
+        crate::scene::BuiltinFactory
+            .material(&item.type_name, &item.params, &ctx)
+            .unwrap_or_else(|e| panic!("{n}: {e}"));
+    }
 }
 
 // Emitters in Mitsuba's spectral units: an area light's rgb radiance becomes the illuminant-
