@@ -253,113 +253,30 @@ fn connect_in<const FLUORESCENT: bool>(
     stats: &mut PathStats,
 ) -> Option<Connection> {
     let mode = if FLUORESCENT { mode } else { None };
-    let mut sampled: Option<Vertex> = None;
-    let mut raster = None;
-    let mut l;
     let own = mode.is_some_and(|m| m.own);
-    // Lanes a fluorescent shift moved on either subpath cannot be joined by s ≥ 2, t ≥ 2
-    // when both subpaths start at the pair's wavelength (a shift only lengthens it): those
-    // lanes get nothing from this strategy (see `mis_weight_lanes`).
-    let moved = if s >= 2 && t >= 2 && !own {
-        camera_path[t - 1].moved.union(light_path[s - 1].moved)
-    } else {
-        LaneMask::NONE
-    };
-    if moved != LaneMask::NONE {
-        let live = camera_path[t - 1].lanes.intersect(light_path[s - 1].lanes);
-        if live.intersect(moved) == live {
-            return None;
-        }
-    }
-    if s == 0 {
-        // The camera path found an emitter by itself.
-        let pt = &camera_path[t - 1];
-        let li = pt.light_index(scene)?;
-        let lam = pt.wavelengths(lambda);
-        let mut le = pt.le(scene, &camera_path[t - 2], &lam);
-        scene
-            .lights
-            .keep_line_power_only(li as usize, &lam, &mut le);
-        l = le * pt.beta;
+    let moved = moved_lanes(light_path, camera_path, s, t, own)?;
+    let (mut l, sampled, raster) = if s == 0 {
+        (connect_s0(scene, camera_path, t, lambda)?, None, None)
     } else if t == 1 {
-        // Connect a light vertex to a freshly sampled lens point and splat.
         let start = mode.map_or(lambda, |m| &m.lambda);
         let (c, r, cam_v) =
             connect_to_camera(scene, camera, light_path, s, start, rng.next_2d(), stats)?;
-        l = c;
-        raster = Some(r);
-        sampled = Some(cam_v);
+        (c, Some(cam_v), Some(r))
     } else if s == 1 {
-        // Next-event estimation: a fresh light point as seen from the camera vertex.
-        let pt = &camera_path[t - 1];
-        if !pt.connectible() {
-            return None;
-        }
-        let (li, pmf) = scene.lights.sample(rng.next_1d())?;
-        let u = rng.next_2d();
-        let light = &scene.lights.lights()[li];
-        let ctx = LightSampleContext {
-            p: pt.p,
-            p_error: pt.p_error,
-            n: pt.ng,
-        };
-        let lambda = &pt.wavelengths(lambda);
-        let mut ls = light.sample_li(&ctx, u, lambda)?;
-        scene
-            .lights
-            .keep_line_power_only(li, lambda, &mut ls.radiance);
-        if !(ls.pdf > 0.0) || ls.radiance.is_black() {
-            return None;
-        }
-        let mut lv = Vertex::light(
-            li as u32,
-            ls.p_light,
-            ls.p_light_error,
-            ls.n_light,
-            ls.radiance / (pmf * ls.pdf),
-        );
-        lv.pdf_fwd = lv.pdf_light_origin(scene, pt);
-        let mut c = pt.beta * pt.f(scene, &lv, lambda, TransportMode::Radiance) * lv.beta;
-        if pt.on_surface() {
-            c *= ls.wi.dot(pt.ns).abs();
-        }
-        if c.is_black() {
-            return None;
-        }
-        stats.shadow_rays += 1;
-        if !unoccluded(scene, pt, &lv) {
-            return None;
-        }
-        l = c;
-        sampled = Some(lv);
+        let (c, lv) = connect_s1(scene, camera_path, t, lambda, rng, stats)?;
+        (c, Some(lv), None)
     } else if let (true, Some(m)) = (own, mode) {
         // Light wavelengths drawn on their own: a fluorescent endpoint evaluates the
         // re-radiation between the two subpaths' wavelengths.
-        l = connect_own(scene, light_path, camera_path, s, t, lambda, m, stats)?;
+        let c = connect_own(scene, light_path, camera_path, s, t, lambda, m, stats)?;
+        (c, None, None)
     } else {
-        // General case: join two surface vertices.
-        let qs = &light_path[s - 1];
-        let pt = &camera_path[t - 1];
-        if !qs.connectible() || !pt.connectible() {
-            return None;
-        }
-        let c = qs.beta
-            * qs.f(scene, pt, lambda, TransportMode::Importance)
-            * pt.f(scene, qs, lambda, TransportMode::Radiance)
-            * pt.beta;
-        if c.is_black() {
-            return None;
-        }
-        let g = geometry_term(qs, pt);
-        if !(g > 0.0) {
-            return None;
-        }
-        stats.shadow_rays += 1;
-        if !unoccluded(scene, qs, pt) {
-            return None;
-        }
-        l = c * g;
-    }
+        (
+            connect_surfaces(scene, light_path, camera_path, s, t, lambda, stats)?,
+            None,
+            None,
+        )
+    };
     if moved != LaneMask::NONE {
         for k in 0..LANES {
             if moved.contains(k) {
@@ -422,6 +339,137 @@ fn connect_in<const FLUORESCENT: bool>(
         lanes,
         emitter,
     })
+}
+
+/// The lanes a fluorescent shift moved on either subpath, which strategy (s ≥ 2, t ≥ 2) cannot
+/// join when both subpaths start at the pair's wavelength (a shift only lengthens it): those
+/// lanes get nothing from this strategy (see `mis_weight_lanes`). `None` when that leaves no
+/// live lane.
+#[inline]
+fn moved_lanes(
+    light_path: &[Vertex],
+    camera_path: &[Vertex],
+    s: usize,
+    t: usize,
+    own: bool,
+) -> Option<LaneMask> {
+    let moved = if s >= 2 && t >= 2 && !own {
+        camera_path[t - 1].moved.union(light_path[s - 1].moved)
+    } else {
+        LaneMask::NONE
+    };
+    if moved != LaneMask::NONE {
+        let live = camera_path[t - 1].lanes.intersect(light_path[s - 1].lanes);
+        if live.intersect(moved) == live {
+            return None;
+        }
+    }
+    Some(moved)
+}
+
+/// s = 0: the camera path found an emitter by itself.
+#[inline]
+fn connect_s0(
+    scene: &Scene,
+    camera_path: &[Vertex],
+    t: usize,
+    lambda: &SampledWavelengths,
+) -> Option<SampledSpectrum> {
+    let pt = &camera_path[t - 1];
+    let li = pt.light_index(scene)?;
+    let lam = pt.wavelengths(lambda);
+    let mut le = pt.le(scene, &camera_path[t - 2], &lam);
+    scene
+        .lights
+        .keep_line_power_only(li as usize, &lam, &mut le);
+    Some(le * pt.beta)
+}
+
+/// s = 1, t ≥ 2 (next-event estimation): a fresh light point as seen from the camera vertex;
+/// the contribution and the light vertex.
+#[inline]
+fn connect_s1(
+    scene: &Scene,
+    camera_path: &[Vertex],
+    t: usize,
+    lambda: &SampledWavelengths,
+    rng: &mut SampleRng,
+    stats: &mut PathStats,
+) -> Option<(SampledSpectrum, Vertex)> {
+    let pt = &camera_path[t - 1];
+    if !pt.connectible() {
+        return None;
+    }
+    let (li, pmf) = scene.lights.sample(rng.next_1d())?;
+    let u = rng.next_2d();
+    let light = &scene.lights.lights()[li];
+    let ctx = LightSampleContext {
+        p: pt.p,
+        p_error: pt.p_error,
+        n: pt.ng,
+    };
+    let lambda = &pt.wavelengths(lambda);
+    let mut ls = light.sample_li(&ctx, u, lambda)?;
+    scene
+        .lights
+        .keep_line_power_only(li, lambda, &mut ls.radiance);
+    if !(ls.pdf > 0.0) || ls.radiance.is_black() {
+        return None;
+    }
+    let mut lv = Vertex::light(
+        li as u32,
+        ls.p_light,
+        ls.p_light_error,
+        ls.n_light,
+        ls.radiance / (pmf * ls.pdf),
+    );
+    lv.pdf_fwd = lv.pdf_light_origin(scene, pt);
+    let mut c = pt.beta * pt.f(scene, &lv, lambda, TransportMode::Radiance) * lv.beta;
+    if pt.on_surface() {
+        c *= ls.wi.dot(pt.ns).abs();
+    }
+    if c.is_black() {
+        return None;
+    }
+    stats.shadow_rays += 1;
+    if !unoccluded(scene, pt, &lv) {
+        return None;
+    }
+    Some((c, lv))
+}
+
+/// s ≥ 2, t ≥ 2, the general case: join two surface vertices.
+#[inline]
+fn connect_surfaces(
+    scene: &Scene,
+    light_path: &[Vertex],
+    camera_path: &[Vertex],
+    s: usize,
+    t: usize,
+    lambda: &SampledWavelengths,
+    stats: &mut PathStats,
+) -> Option<SampledSpectrum> {
+    let qs = &light_path[s - 1];
+    let pt = &camera_path[t - 1];
+    if !qs.connectible() || !pt.connectible() {
+        return None;
+    }
+    let c = qs.beta
+        * qs.f(scene, pt, lambda, TransportMode::Importance)
+        * pt.f(scene, qs, lambda, TransportMode::Radiance)
+        * pt.beta;
+    if c.is_black() {
+        return None;
+    }
+    let g = geometry_term(qs, pt);
+    if !(g > 0.0) {
+        return None;
+    }
+    stats.shadow_rays += 1;
+    if !unoccluded(scene, qs, pt) {
+        return None;
+    }
+    Some(c * g)
 }
 
 /// Per-thread scratch and counters of the BDPT driver.

@@ -38,7 +38,7 @@
 //! event's, after which only the hero lane is left (`Vertex::lanes`), and a fluorescent
 //! surface samples the cosine lobe whatever the wavelength.
 
-use super::mis::{heuristic_scale, mis_weight_overrides};
+use super::mis::{heuristic_scale, mis_weight_overrides, Overrides};
 use crate::camera::Camera;
 use crate::integrator::fluorescence::events::{event_probability, Direction};
 use crate::integrator::fluorescence::join::{evaluated_event_possible, reradiation_at, LightMode};
@@ -46,7 +46,7 @@ use crate::integrator::subpath::vertex::{remap0, Vertex};
 use crate::integrator::wavelengths::mixture::WavelengthMixture;
 use crate::scene::Scene;
 use crate::spectrum::spd::is_line_lane;
-use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths, LANES};
+use crate::spectrum::{DeltaLine, LaneMask, SampledSpectrum, SampledWavelengths, LANES};
 
 #[cfg(test)]
 thread_local! {
@@ -75,259 +75,390 @@ pub fn mis_weight_lanes(
     need: LaneMask,
     light_paths: u32,
 ) -> SampledSpectrum {
-    let o = mis_weight_overrides(
-        scene,
-        camera,
+    let path = Joined {
+        o: mis_weight_overrides(
+            scene,
+            camera,
+            light_path,
+            camera_path,
+            sampled,
+            s,
+            t,
+            lambda,
+        ),
         light_path,
         camera_path,
-        sampled,
         s,
         t,
-        lambda,
-    );
+    };
     let n = s + t;
     let own_mode = mode.own && s >= 2 && t >= 2;
-    let base = &mode.lambda;
-    // Path vertex x_i, with the copies of the joined vertices.
-    let x = |i: usize| -> &Vertex {
-        if i < s {
-            match (&o.qs, i + 1 == s) {
-                (Some(q), true) => q,
-                _ => &light_path[i],
-            }
-        } else {
-            let j = n - 1 - i;
-            if j + 1 == t {
-                &o.pt
-            } else {
-                &camera_path[j]
-            }
-        }
-    };
-    // (pdf_fwd, pdf_rev, delta) of camera vertex i and light vertex i after the overrides.
-    let cam = |i: usize| -> (f32, f32, bool) {
-        if i + 1 == t {
-            (o.pt.pdf_fwd, o.pt_rev, false)
-        } else {
-            let v = &camera_path[i];
-            let rev = if i + 2 == t {
-                o.pt_minus_rev.unwrap_or(v.pdf_rev)
-            } else {
-                v.pdf_rev
-            };
-            (v.pdf_fwd, rev, v.delta)
-        }
-    };
-    let light = |i: usize| -> (f32, f32, bool) {
-        let v = x(i);
-        if i + 1 == s {
-            (v.pdf_fwd, o.qs_rev.unwrap_or(v.pdf_rev), false)
-        } else if i + 2 == s {
-            (v.pdf_fwd, o.qs_minus_rev.unwrap_or(v.pdf_rev), v.delta)
-        } else {
-            (v.pdf_fwd, v.pdf_rev, v.delta)
-        }
-    };
-    let sq = |x: f64| x * x;
     SCRATCH.with(|scratch| {
         let mut guard = scratch.borrow_mut();
-        let sc_ = &mut *guard;
-        sc_.reset(n);
-        let Scratch {
-            area,
-            fluorescent,
-            seg,
-            el,
-            ec,
-            pl,
-            sc,
-        } = sc_;
-        // Squared area-density ratio of the split with s' light vertices to this one's, and
-        // whether that split is a strategy at all (no delta vertex at its connection).
-        area[s] = (1.0, true);
-        let mut r = 1.0f64;
-        for i in (1..t).rev() {
-            let (fwd, rev, delta) = cam(i);
-            r *= sq(remap0(rev) as f64 / remap0(fwd) as f64);
-            area[n - i] = (r, !delta && !cam(i - 1).2);
-        }
-        r = 1.0;
-        for i in (0..s).rev() {
-            let (fwd, rev, delta) = light(i);
-            r *= sq(remap0(rev) as f64 / remap0(fwd) as f64);
-            let delta_before = if i > 0 {
-                light(i - 1).2
-            } else {
-                x(0).is_unhittable_light(scene)
-            };
-            area[i] = (r, !delta && !delta_before);
-        }
-        for (i, f) in fluorescent.iter_mut().enumerate() {
-            *f = i > 0 && i < n - 1 && reradiation_at(scene, x(i)).is_some();
-        }
-        // The lane wavelengths on each edge x_e — x_{e+1}: the light subpath's below the
-        // connection, the camera subpath's above it; on the connection edge the light side's
-        // for t = 1 and where the own mode evaluated the camera-side endpoint, else the
-        // camera side's.
-        for (e, w) in seg.iter_mut().enumerate() {
-            let light_side = e + 1 < s || (e + 1 == s && (t == 1 || (own_mode && fluorescent[s])));
-            *w = if light_side {
-                x(e).wavelengths(base).lambda
-            } else {
-                x(e + 1).wavelengths(lambda).lambda
-            };
-        }
+        let sc = &mut *guard;
+        sc.reset(n);
+        sc.area_ratios(scene, &path);
+        sc.lane_wavelengths(scene, &path, lambda, &mode.lambda, own_mode);
         let lines = scene.lights.delta_lines();
-        // The vertex whose event the own mode evaluates at split sp.
-        let evaluated = |sp: usize| -> Option<usize> {
-            if fluorescent[sp] {
-                Some(sp)
-            } else if fluorescent[sp - 1] {
-                Some(sp - 1)
-            } else {
-                None
-            }
-        };
-        let own_eval = if own_mode { evaluated(s) } else { None };
-        // Event probabilities of x_i made from the light side (el) and the camera side (ec).
-        for i in 1..n.saturating_sub(1) {
-            if !fluorescent[i] {
-                continue;
-            }
-            let v = x(i);
-            if own_eval == Some(i) {
-                if let Some(rri) = reradiation_at(scene, v) {
-                    for k in 0..LANES {
-                        let (a, b) = (seg[i - 1][k], seg[i][k]);
-                        el[i][k] = event_probability(rri, a, b, Direction::Light, lines);
-                        ec[i][k] = event_probability(rri, b, a, Direction::Camera, lines);
-                    }
-                }
-            } else {
-                for k in 0..LANES {
-                    let (own, other) = (v.choice[k] as f64, v.choice_rev[k] as f64);
-                    (el[i][k], ec[i][k]) = if i < s { (own, other) } else { (other, own) };
-                }
-            }
-        }
-        // Prefix products of the light side's, suffix products of the camera side's: the
-        // event part of split s' is pl[s']·sc[s'].
-        for j in 1..=n {
-            for k in 0..LANES {
-                pl[j][k] = pl[j - 1][k] * el[j - 1][k];
-            }
-        }
-        for j in (0..n).rev() {
-            for k in 0..LANES {
-                sc[j][k] = sc[j + 1][k] * ec[j][k];
-            }
-        }
-        let alpha = mode.alpha as f64;
-        let li = x(0).light_index(scene).unwrap_or(u32::MAX);
+        sc.event_products(scene, &path, own_mode, lines);
+        let li = path.x(0).light_index(scene).unwrap_or(u32::MAX);
         let mut out = SampledSpectrum::zero();
         let mut pair_light: Option<[f64; LANES]> = None;
         for k in 0..LANES {
             if !need.contains(k) {
                 continue;
             }
-            let (obs, emit) = (seg[n - 2][k], seg[0][k]);
-            // The end densities, from what the pair and the mode already hold where the
-            // wavelength is theirs.
-            let p_obs = if obs == lambda.lambda[k] {
-                lambda.pdf[k] as f64
-            } else if obs == base.lambda[k] {
-                mode.start_mix_pdf[k]
-            } else {
-                mixture.lane_density(obs)
-            };
-            let (p_emit, p_light) = if emit == base.lambda[k] && li == mode.start_light {
-                (mode.start_mix_pdf[k], mode.start_light_pdf[k])
-            } else if emit == lambda.lambda[k] && li != u32::MAX {
-                let p = *pair_light.get_or_insert_with(|| mode.pair_light_pdf(mixture, li, lambda));
-                (lambda.pdf[k] as f64, p[k])
-            } else {
-                (
-                    mixture.lane_density(emit),
-                    mixture.light_lane_density(li as usize, emit),
-                )
-            };
-            let p_t1 = alpha * p_emit + (1.0 - alpha) * p_light;
-            let p_own_ends = (1.0 - alpha) * p_obs * p_light;
-            // Density (without the area part) of split sp, shared (false) or own (true) mode.
-            let density = |sp: usize, own: bool| -> f64 {
-                let tp = n - sp;
-                let events = pl[sp][k] * sc[sp][k];
-                if tp == 1 {
-                    events * p_t1
-                } else if sp <= 1 {
-                    if own {
-                        0.0
-                    } else {
-                        events * p_obs
-                    }
-                } else if !own {
-                    if emit == obs {
-                        events * alpha * p_obs
-                    } else {
-                        0.0
-                    }
-                } else {
-                    match evaluated(sp) {
-                        Some(v) if evaluated_event_possible(seg[v - 1][k], seg[v][k], lines) => {
-                            let events = if v == sp {
-                                pl[sp][k] * sc[sp + 1][k]
-                            } else {
-                                pl[sp - 1][k] * sc[sp][k]
-                            };
-                            events * p_own_ends
-                        }
-                        Some(_) => 0.0,
-                        None if is_line_lane(lines, seg[sp - 1][k]) => events * p_own_ends,
-                        None => 0.0,
-                    }
-                }
-            };
-            #[allow(unused_mut)]
-            let mut own_density = density(s, own_mode);
-            #[cfg(test)]
-            {
-                let joined = s >= 2 && t >= 2;
-                own_density /= match DROP_FACTOR.with(|d| d.get()) {
-                    1 if joined && own_mode => 1.0 - alpha,
-                    1 if joined => alpha,
-                    2 if own_mode => p_light,
-                    2 if t == 1 => p_t1 / (alpha * p_emit),
-                    3 if own_mode => p_obs,
-                    _ => 1.0,
-                };
-            }
-            if !(own_density > 0.0) {
-                continue;
-            }
-            let mut sum = 0.0f64;
-            for (sp, &(ratio, ok)) in area.iter().enumerate() {
-                if !ok {
-                    continue;
-                }
-                let tp = n - sp;
-                let modes: &[bool] = if sp >= 2 && tp >= 2 {
-                    &[false, true]
-                } else {
-                    &[false]
-                };
-                for &m in modes {
-                    let d = density(sp, m);
-                    if d > 0.0 {
-                        sum +=
-                            ratio * sq(d / own_density) * heuristic_scale(tp, light_paths) as f64;
-                    }
-                }
-            }
-            let w = heuristic_scale(t, light_paths) as f64 / sum;
-            out[k] = if w.is_finite() { w as f32 } else { 0.0 };
+            let lane = Lane::new(sc, (mixture, mode, lambda, lines), k, li, &mut pair_light);
+            out[k] = lane.weight(s, own_mode, light_paths);
         }
         out
     })
+}
+
+/// The path of strategy (s, t) as the weights see it: its vertices x₀ … x_{n−1} (light to
+/// camera) with the copies of the joined vertices and the densities the connection gives them.
+struct Joined<'a> {
+    o: Overrides,
+    light_path: &'a [Vertex],
+    camera_path: &'a [Vertex],
+    s: usize,
+    t: usize,
+}
+
+impl Joined<'_> {
+    /// Path vertex x_i, with the copies of the joined vertices.
+    #[inline]
+    fn x(&self, i: usize) -> &Vertex {
+        let (s, n) = (self.s, self.s + self.t);
+        if i < s {
+            match (&self.o.qs, i + 1 == s) {
+                (Some(q), true) => q,
+                _ => &self.light_path[i],
+            }
+        } else {
+            let j = n - 1 - i;
+            if j + 1 == self.t {
+                &self.o.pt
+            } else {
+                &self.camera_path[j]
+            }
+        }
+    }
+
+    /// (pdf_fwd, pdf_rev, delta) of camera vertex i after the overrides.
+    #[inline]
+    fn cam(&self, i: usize) -> (f32, f32, bool) {
+        if i + 1 == self.t {
+            (self.o.pt.pdf_fwd, self.o.pt_rev, false)
+        } else {
+            let v = &self.camera_path[i];
+            let rev = if i + 2 == self.t {
+                self.o.pt_minus_rev.unwrap_or(v.pdf_rev)
+            } else {
+                v.pdf_rev
+            };
+            (v.pdf_fwd, rev, v.delta)
+        }
+    }
+
+    /// (pdf_fwd, pdf_rev, delta) of light vertex i after the overrides.
+    #[inline]
+    fn light(&self, i: usize) -> (f32, f32, bool) {
+        let v = self.x(i);
+        if i + 1 == self.s {
+            (v.pdf_fwd, self.o.qs_rev.unwrap_or(v.pdf_rev), false)
+        } else if i + 2 == self.s {
+            (v.pdf_fwd, self.o.qs_minus_rev.unwrap_or(v.pdf_rev), v.delta)
+        } else {
+            (v.pdf_fwd, v.pdf_rev, v.delta)
+        }
+    }
+}
+
+fn sq(x: f64) -> f64 {
+    x * x
+}
+
+impl Scratch {
+    /// Squared area-density ratio of the split with s' light vertices to this one's, and
+    /// whether that split is a strategy at all (no delta vertex at its connection).
+    #[inline]
+    fn area_ratios(&mut self, scene: &Scene, path: &Joined<'_>) {
+        let (s, t) = (path.s, path.t);
+        let n = s + t;
+        let area = &mut self.area;
+        area[s] = (1.0, true);
+        let mut r = 1.0f64;
+        for i in (1..t).rev() {
+            let (fwd, rev, delta) = path.cam(i);
+            r *= sq(remap0(rev) as f64 / remap0(fwd) as f64);
+            area[n - i] = (r, !delta && !path.cam(i - 1).2);
+        }
+        r = 1.0;
+        for i in (0..s).rev() {
+            let (fwd, rev, delta) = path.light(i);
+            r *= sq(remap0(rev) as f64 / remap0(fwd) as f64);
+            let delta_before = if i > 0 {
+                path.light(i - 1).2
+            } else {
+                path.x(0).is_unhittable_light(scene)
+            };
+            area[i] = (r, !delta && !delta_before);
+        }
+    }
+
+    /// Which vertices fluoresce, and the lane wavelengths on each edge x_e — x_{e+1}: the light
+    /// subpath's below the connection, the camera subpath's above it; on the connection edge
+    /// the light side's for t = 1 and where the own mode evaluated the camera-side endpoint,
+    /// else the camera side's.
+    #[inline]
+    fn lane_wavelengths(
+        &mut self,
+        scene: &Scene,
+        path: &Joined<'_>,
+        lambda: &SampledWavelengths,
+        base: &SampledWavelengths,
+        own_mode: bool,
+    ) {
+        let (s, t) = (path.s, path.t);
+        let n = s + t;
+        for (i, f) in self.fluorescent.iter_mut().enumerate() {
+            *f = i > 0 && i < n - 1 && reradiation_at(scene, path.x(i)).is_some();
+        }
+        let fluorescent = &self.fluorescent;
+        for (e, w) in self.seg.iter_mut().enumerate() {
+            let light_side = e + 1 < s || (e + 1 == s && (t == 1 || (own_mode && fluorescent[s])));
+            *w = if light_side {
+                path.x(e).wavelengths(base).lambda
+            } else {
+                path.x(e + 1).wavelengths(lambda).lambda
+            };
+        }
+    }
+
+    /// The vertex whose event the own mode evaluates at split sp.
+    #[inline]
+    fn evaluated(&self, sp: usize) -> Option<usize> {
+        if self.fluorescent[sp] {
+            Some(sp)
+        } else if self.fluorescent[sp - 1] {
+            Some(sp - 1)
+        } else {
+            None
+        }
+    }
+
+    /// Event probabilities of x_i made from the light side (el) and the camera side (ec), then
+    /// the prefix products of the light side's and the suffix products of the camera side's:
+    /// the event part of split s' is pl[s']·sc[s'].
+    #[inline]
+    fn event_products(
+        &mut self,
+        scene: &Scene,
+        path: &Joined<'_>,
+        own_mode: bool,
+        lines: &[DeltaLine],
+    ) {
+        let s = path.s;
+        let n = s + path.t;
+        let own_eval = if own_mode { self.evaluated(s) } else { None };
+        for i in 1..n.saturating_sub(1) {
+            if !self.fluorescent[i] {
+                continue;
+            }
+            let v = path.x(i);
+            if own_eval == Some(i) {
+                if let Some(rri) = reradiation_at(scene, v) {
+                    for k in 0..LANES {
+                        let (a, b) = (self.seg[i - 1][k], self.seg[i][k]);
+                        self.el[i][k] = event_probability(rri, a, b, Direction::Light, lines);
+                        self.ec[i][k] = event_probability(rri, b, a, Direction::Camera, lines);
+                    }
+                }
+            } else {
+                for k in 0..LANES {
+                    let (own, other) = (v.choice[k] as f64, v.choice_rev[k] as f64);
+                    (self.el[i][k], self.ec[i][k]) =
+                        if i < s { (own, other) } else { (other, own) };
+                }
+            }
+        }
+        for j in 1..=n {
+            for k in 0..LANES {
+                self.pl[j][k] = self.pl[j - 1][k] * self.el[j - 1][k];
+            }
+        }
+        for j in (0..n).rev() {
+            for k in 0..LANES {
+                self.sc[j][k] = self.sc[j + 1][k] * self.ec[j][k];
+            }
+        }
+    }
+}
+
+/// One lane's densities of every split, without the area parts (module docs).
+struct Lane<'a> {
+    sc: &'a Scratch,
+    lines: &'a [DeltaLine],
+    k: usize,
+    alpha: f64,
+    /// The observed and the emitted wavelength.
+    obs: f32,
+    emit: f32,
+    /// Density of the observed wavelength (the pair's mixture).
+    p_obs: f64,
+    /// Density of the emitted wavelength by light tracing, over both modes.
+    p_t1: f64,
+    /// The own mode's end densities.
+    p_own_ends: f64,
+    /// The light's own wavelength density at the emitted wavelength (tests only).
+    #[cfg_attr(not(test), allow(dead_code))]
+    p_light: f64,
+    /// The pair's mixture density at the emitted wavelength (tests only).
+    #[cfg_attr(not(test), allow(dead_code))]
+    p_emit: f64,
+}
+
+impl<'a> Lane<'a> {
+    /// The end densities of lane `k` of a path that starts on light `li`, from what the pair
+    /// and the mode already hold where the wavelength is theirs.
+    #[inline]
+    fn new(
+        sc: &'a Scratch,
+        (mixture, mode, lambda, lines): (
+            &WavelengthMixture,
+            &LightMode,
+            &SampledWavelengths,
+            &'a [DeltaLine],
+        ),
+        k: usize,
+        li: u32,
+        pair_light: &mut Option<[f64; LANES]>,
+    ) -> Self {
+        let n = sc.seg.len() + 1;
+        let base = &mode.lambda;
+        let (obs, emit) = (sc.seg[n - 2][k], sc.seg[0][k]);
+        let p_obs = if obs == lambda.lambda[k] {
+            lambda.pdf[k] as f64
+        } else if obs == base.lambda[k] {
+            mode.start_mix_pdf[k]
+        } else {
+            mixture.lane_density(obs)
+        };
+        let (p_emit, p_light) = if emit == base.lambda[k] && li == mode.start_light {
+            (mode.start_mix_pdf[k], mode.start_light_pdf[k])
+        } else if emit == lambda.lambda[k] && li != u32::MAX {
+            let p = *pair_light.get_or_insert_with(|| mode.pair_light_pdf(mixture, li, lambda));
+            (lambda.pdf[k] as f64, p[k])
+        } else {
+            (
+                mixture.lane_density(emit),
+                mixture.light_lane_density(li as usize, emit),
+            )
+        };
+        let alpha = mode.alpha as f64;
+        Lane {
+            sc,
+            lines,
+            k,
+            alpha,
+            obs,
+            emit,
+            p_obs,
+            p_t1: alpha * p_emit + (1.0 - alpha) * p_light,
+            p_own_ends: (1.0 - alpha) * p_obs * p_light,
+            p_light,
+            p_emit,
+        }
+    }
+
+    /// Density (without the area part) of split sp, shared (false) or own (true) mode.
+    #[inline]
+    fn density(&self, sp: usize, own: bool) -> f64 {
+        let (sc, k) = (self.sc, self.k);
+        let n = sc.seg.len() + 1;
+        let tp = n - sp;
+        let events = sc.pl[sp][k] * sc.sc[sp][k];
+        if tp == 1 {
+            events * self.p_t1
+        } else if sp <= 1 {
+            if own {
+                0.0
+            } else {
+                events * self.p_obs
+            }
+        } else if !own {
+            if self.emit == self.obs {
+                events * self.alpha * self.p_obs
+            } else {
+                0.0
+            }
+        } else {
+            match sc.evaluated(sp) {
+                Some(v) if evaluated_event_possible(sc.seg[v - 1][k], sc.seg[v][k], self.lines) => {
+                    let events = if v == sp {
+                        sc.pl[sp][k] * sc.sc[sp + 1][k]
+                    } else {
+                        sc.pl[sp - 1][k] * sc.sc[sp][k]
+                    };
+                    events * self.p_own_ends
+                }
+                Some(_) => 0.0,
+                None if is_line_lane(self.lines, sc.seg[sp - 1][k]) => events * self.p_own_ends,
+                None => 0.0,
+            }
+        }
+    }
+
+    /// The weight of split s (own mode or not) against every split and mode that can make
+    /// this lane path, with the area parts.
+    #[inline]
+    fn weight(&self, s: usize, own_mode: bool, light_paths: u32) -> f32 {
+        let n = self.sc.seg.len() + 1;
+        let t = n - s;
+        #[allow(unused_mut)]
+        let mut own_density = self.density(s, own_mode);
+        #[cfg(test)]
+        {
+            let alpha = self.alpha;
+            let joined = s >= 2 && t >= 2;
+            own_density /= match DROP_FACTOR.with(|d| d.get()) {
+                1 if joined && own_mode => 1.0 - alpha,
+                1 if joined => alpha,
+                2 if own_mode => self.p_light,
+                2 if t == 1 => self.p_t1 / (alpha * self.p_emit),
+                3 if own_mode => self.p_obs,
+                _ => 1.0,
+            };
+        }
+        if !(own_density > 0.0) {
+            return 0.0;
+        }
+        let mut sum = 0.0f64;
+        for (sp, &(ratio, ok)) in self.sc.area.iter().enumerate() {
+            if !ok {
+                continue;
+            }
+            let tp = n - sp;
+            let modes: &[bool] = if sp >= 2 && tp >= 2 {
+                &[false, true]
+            } else {
+                &[false]
+            };
+            for &m in modes {
+                let d = self.density(sp, m);
+                if d > 0.0 {
+                    sum += ratio * sq(d / own_density) * heuristic_scale(tp, light_paths) as f64;
+                }
+            }
+        }
+        let w = heuristic_scale(t, light_paths) as f64 / sum;
+        if w.is_finite() {
+            w as f32
+        } else {
+            0.0
+        }
+    }
 }
 
 /// Per-thread buffers of [`mis_weight_lanes`], sized to the path (no allocation per call once
@@ -480,16 +611,55 @@ mod tests {
         let desc = parse_scene_str(SCENE, file).unwrap();
         let scene = build_scene(&desc, Path::new("."), file, &[&BuiltinFactory]).unwrap();
         assert!(scene.objects.fluorescence());
-        let cam = scene.cameras.get(None).unwrap();
-        let camera = cam.camera.as_ref();
         let mixture = WavelengthMixture::new(&scene);
-        let lines = scene.lights.delta_lines();
-        assert_eq!(lines.len(), 1);
-        let (mut paths, mut shifted_lanes, mut line_lanes, mut worst) = (0, 0, 0, 0.0f64);
-        let (mut own_joins, mut own_shifted) = (0, 0);
+        assert_eq!(scene.lights.delta_lines().len(), 1);
+        let mut sums = Sums::default();
         let mut path = Vec::new();
         let mut stats = PathStats::default();
         for k in 0..count {
+            let Some(lp) = LampPath::trace(&scene, &mixture, k, &mut path, &mut stats) else {
+                continue;
+            };
+            sums.paths += 1;
+            if strict {
+                lp.check_records();
+            }
+            let sum = lp.sum_of_weights(&mut sums);
+            lp.tally(&sum, strict, &mut sums);
+        }
+        sums
+    }
+
+    /// A camera subpath traced up to the vertex where it hits a lamp, read from the lamp:
+    /// x₀ … x_{n−1}, with the lane wavelengths on each edge.
+    struct LampPath<'a> {
+        scene: &'a Scene,
+        mixture: &'a WavelengthMixture,
+        camera: &'a dyn crate::camera::Camera,
+        lines: &'a [crate::spectrum::DeltaLine],
+        lambda: SampledWavelengths,
+        /// x_i = path[j − i].
+        x: Vec<Vertex>,
+        /// seg[i] = the lane wavelengths between x_i and x_{i+1}.
+        seg: Vec<[f32; LANES]>,
+        /// The lanes the camera subpath still carries at the lamp.
+        live: [bool; LANES],
+        /// The lamp's light index and x₀ as a light vertex.
+        li: u32,
+        x0_light: Vertex,
+    }
+
+    impl<'a> LampPath<'a> {
+        /// Camera sample `k` of the test's 8×8 image, if its subpath reaches a lamp after two
+        /// or more bounces.
+        fn trace(
+            scene: &'a Scene,
+            mixture: &'a WavelengthMixture,
+            k: u64,
+            path: &mut Vec<Vertex>,
+            stats: &mut PathStats,
+        ) -> Option<Self> {
+            let camera = scene.cameras.get(None).unwrap().camera.as_ref();
             let mut rng = SampleRng::for_sample(11, k, 0);
             let lambda = mixture.sample(&mut rng);
             let u = rng.next_2d();
@@ -499,7 +669,7 @@ mod tests {
             };
             let cray = camera.generate_ray(&cs).unwrap();
             generate_camera_subpath(
-                &scene,
+                scene,
                 camera,
                 cray.ray,
                 cray.weight,
@@ -507,44 +677,62 @@ mod tests {
                 &mut rng,
                 6,
                 99,
-                &mut path,
-                &mut stats,
+                path,
+                stats,
             );
-            let Some(j) = (1..path.len()).find(|&m| path[m].light_index(&scene).is_some()) else {
-                continue;
-            };
+            let j = (1..path.len()).find(|&m| path[m].light_index(scene).is_some())?;
             if j < 2 {
-                continue;
+                return None;
             }
-            paths += 1;
             let n = j + 1;
-            // x_i = path[j − i]; seg[i] = the lane wavelengths between x_i and x_{i+1}.
             let x: Vec<Vertex> = (0..n).map(|i| path[j - i]).collect();
-            let seg: Vec<[f32; LANES]> = (0..n - 1)
+            let seg = (0..n - 1)
                 .map(|i| path[j - i - 1].wavelengths(&lambda).lambda)
                 .collect();
-            let live = |k: usize| path[j].beta[k] > 0.0;
-            // Both ends' probabilities of the event at x_i (1 where nothing fluoresces).
-            let events = |i: usize| -> ([f32; LANES], [f32; LANES]) {
-                let (mut l, mut c) = ([1.0; LANES], [1.0; LANES]);
-                if let VertexKind::Surface { object } = x[i].kind {
-                    if let Some(rr) = scene.objects.reradiation(object) {
-                        for k in 0..LANES {
-                            let (a, b) = (seg[i - 1][k], seg[i][k]);
-                            l[k] = event_probability(rr, a, b, Direction::Light, lines) as f32;
-                            c[k] = event_probability(rr, b, a, Direction::Camera, lines) as f32;
-                        }
+            let li = x[0].light_index(scene).unwrap();
+            let mut x0_light = Vertex::light(li, x[0].p, x[0].p_error, x[0].ng, x[0].beta);
+            x0_light.uv = x[0].uv;
+            Some(LampPath {
+                scene,
+                mixture,
+                camera,
+                lines: scene.lights.delta_lines(),
+                lambda,
+                live: std::array::from_fn(|k| path[j].beta[k] > 0.0),
+                x,
+                seg,
+                li,
+                x0_light,
+            })
+        }
+
+        fn n(&self) -> usize {
+            self.x.len()
+        }
+
+        /// Both ends' probabilities of the event at x_i (1 where nothing fluoresces).
+        fn events(&self, i: usize) -> ([f32; LANES], [f32; LANES]) {
+            let (mut l, mut c) = ([1.0; LANES], [1.0; LANES]);
+            if let VertexKind::Surface { object } = self.x[i].kind {
+                if let Some(rr) = self.scene.objects.reradiation(object) {
+                    for k in 0..LANES {
+                        let (a, b) = (self.seg[i - 1][k], self.seg[i][k]);
+                        l[k] = event_probability(rr, a, b, Direction::Light, self.lines) as f32;
+                        c[k] = event_probability(rr, b, a, Direction::Camera, self.lines) as f32;
                     }
                 }
-                (l, c)
-            };
-            // The walk's own record of each choice is the density evaluated afresh (the draw
-            // and `event_probability` agree), and so is its record of the light side's.
-            for i in (1..n - 1).filter(|_| strict) {
-                let (l, c) = events(i);
-                for k in (0..LANES).filter(|&k| live(k)) {
-                    let v = &path[j - i];
-                    let close = |a: f32, b: f32| (a - b).abs() <= 1e-4 * a.abs().max(b.abs());
+            }
+            (l, c)
+        }
+
+        /// The walk's own record of each choice is the density evaluated afresh (the draw
+        /// and `event_probability` agree), and so is its record of the light side's.
+        fn check_records(&self) {
+            let close = |a: f32, b: f32| (a - b).abs() <= 1e-4 * a.abs().max(b.abs());
+            for i in 1..self.n() - 1 {
+                let (l, c) = self.events(i);
+                for k in (0..LANES).filter(|&k| self.live[k]) {
+                    let v = &self.x[i];
                     assert!(close(v.choice[k], c[k]), "own {} vs {}", v.choice[k], c[k]);
                     assert!(
                         close(v.choice_rev[k], l[k]),
@@ -554,142 +742,229 @@ mod tests {
                     );
                 }
             }
-            let moved_at = |i: usize| -> LaneMask {
-                (0..LANES)
-                    .filter(|&k| seg[i - 1][k] != seg[i][k])
-                    .fold(LaneMask::NONE, |m, k| m.with(k))
-            };
-            let moved_all = (1..n - 1).fold(LaneMask::NONE, |m, i| m.union(moved_at(i)));
-            // Densities of each vertex from the light side and from the camera side.
-            let li = x[0].light_index(&scene).unwrap();
-            let mut x0_light = Vertex::light(li, x[0].p, x[0].p_error, x[0].ng, x[0].beta);
-            x0_light.uv = x[0].uv;
-            let from_light = |i: usize| -> f32 {
-                match i {
-                    0 => x0_light.pdf_light_origin(&scene, &x[1]),
-                    1 => x0_light.pdf_light(&scene, &x[1]),
-                    _ => x[i - 1].pdf(
-                        &scene,
-                        camera,
-                        Some(&x[i - 2]),
-                        &x[i],
-                        &lambda,
-                        TransportMode::Importance,
-                    ),
-                }
-            };
-            let from_camera = |i: usize| -> f32 {
-                if i == n - 1 {
-                    0.0
-                } else if i == n - 2 {
-                    x[n - 1].pdf(
-                        &scene,
-                        camera,
-                        None,
-                        &x[i],
-                        &lambda,
-                        TransportMode::Radiance,
-                    )
-                } else {
-                    x[i + 1].pdf(
-                        &scene,
-                        camera,
-                        Some(&x[i + 2]),
-                        &x[i],
-                        &lambda,
-                        TransportMode::Radiance,
-                    )
-                }
-            };
-            let pair_at = |l: [f32; LANES]| SampledWavelengths {
+        }
+
+        /// The lanes whose wavelength changes at x_i.
+        fn moved_at(&self, i: usize) -> LaneMask {
+            (0..LANES)
+                .filter(|&k| self.seg[i - 1][k] != self.seg[i][k])
+                .fold(LaneMask::NONE, |m, k| m.with(k))
+        }
+
+        fn moved_all(&self) -> LaneMask {
+            (1..self.n() - 1).fold(LaneMask::NONE, |m, i| m.union(self.moved_at(i)))
+        }
+
+        /// Density of x_i from the light side.
+        fn from_light(&self, i: usize) -> f32 {
+            let x = &self.x;
+            match i {
+                0 => self.x0_light.pdf_light_origin(self.scene, &x[1]),
+                1 => self.x0_light.pdf_light(self.scene, &x[1]),
+                _ => x[i - 1].pdf(
+                    self.scene,
+                    self.camera,
+                    Some(&x[i - 2]),
+                    &x[i],
+                    &self.lambda,
+                    TransportMode::Importance,
+                ),
+            }
+        }
+
+        /// Density of x_i from the camera side.
+        fn from_camera(&self, i: usize) -> f32 {
+            let (x, n) = (&self.x, self.n());
+            if i == n - 1 {
+                0.0
+            } else if i == n - 2 {
+                x[n - 1].pdf(
+                    self.scene,
+                    self.camera,
+                    None,
+                    &x[i],
+                    &self.lambda,
+                    TransportMode::Radiance,
+                )
+            } else {
+                x[i + 1].pdf(
+                    self.scene,
+                    self.camera,
+                    Some(&x[i + 2]),
+                    &x[i],
+                    &self.lambda,
+                    TransportMode::Radiance,
+                )
+            }
+        }
+
+        /// Wavelengths `l` as a pair drawn from the mixture.
+        fn pair_at(&self, l: [f32; LANES]) -> SampledWavelengths {
+            SampledWavelengths {
                 lambda: l,
-                pdf: std::array::from_fn(|k| mixture.lane_density(l[k]) as f32),
+                pdf: std::array::from_fn(|k| self.mixture.lane_density(l[k]) as f32),
                 lanes: LaneMask::ALL,
-            };
-            let (obs, emit) = (pair_at(seg[n - 2]), pair_at(seg[0]));
-            // The light subpath's own draw at the emitted wavelengths (the own mode).
-            let light_own = SampledWavelengths {
-                lambda: seg[0],
+            }
+        }
+
+        /// The light subpath's own draw at the emitted wavelengths (the own mode).
+        fn light_own(&self) -> SampledWavelengths {
+            SampledWavelengths {
+                lambda: self.seg[0],
                 pdf: std::array::from_fn(|k| {
-                    mixture.light_lane_density(li as usize, seg[0][k]) as f32
+                    self.mixture
+                        .light_lane_density(self.li as usize, self.seg[0][k])
+                        as f32
                 }),
                 lanes: LaneMask::ALL,
+            }
+        }
+
+        fn fluorescent(&self, i: usize) -> bool {
+            matches!(self.x[i].kind, VertexKind::Surface { object }
+                if self.scene.objects.reradiation(object).is_some())
+        }
+
+        fn is_line(&self, l: f32) -> bool {
+            self.lines.iter().any(|d| d.lambda as f32 == l)
+        }
+
+        /// The light subpath x_0 … x_{s−1} of split s, rebuilt from the vertices alone, for a
+        /// light subpath that started at `start`.
+        fn light_subpath(&self, s: usize, start: &SampledWavelengths) -> Vec<Vertex> {
+            (0..s)
+                .map(|i| {
+                    let mut v = if i == 0 { self.x0_light } else { self.x[i] };
+                    v.pdf_fwd = self.from_light(i);
+                    v.pdf_rev = self.from_camera(i);
+                    v.moved = (1..=i).fold(LaneMask::NONE, |m, a| m.union(self.moved_at(a)));
+                    if i > 0 {
+                        (v.choice, v.choice_rev) = self.events(i);
+                    }
+                    v.shifted = (self.seg[i] != start.lambda).then_some(self.seg[i]);
+                    v
+                })
+                .collect()
+        }
+
+        /// The camera subpath x_{n−1} … x_s of split s, for a pair at `pair`.
+        fn camera_subpath(&self, s: usize, pair: &SampledWavelengths) -> Vec<Vertex> {
+            let n = self.n();
+            (s..n)
+                .rev()
+                .map(|i| {
+                    let mut v = self.x[i];
+                    v.pdf_fwd = self.from_camera(i);
+                    v.pdf_rev = if i == 0 { 0.0 } else { self.from_light(i) };
+                    v.moved =
+                        (i.max(1)..n - 1).fold(LaneMask::NONE, |m, a| m.union(self.moved_at(a)));
+                    if i > 0 && i < n - 1 {
+                        (v.choice_rev, v.choice) = self.events(i);
+                    }
+                    let after = if i == 0 { self.seg[0] } else { self.seg[i - 1] };
+                    v.shifted = (after != pair.lambda).then_some(after);
+                    v
+                })
+                .collect()
+        }
+
+        /// The weights of split s in mode `own`, from the rebuilt subpaths.
+        fn weights(&self, s: usize, own: bool) -> SampledSpectrum {
+            let n = self.n();
+            let t = n - s;
+            let (obs, emit) = (self.pair_at(self.seg[n - 2]), self.pair_at(self.seg[0]));
+            // The pair: the observed wavelengths, except for t = 1 in the shared mode, whose
+            // light subpath started at the pair's (emitted) wavelengths.
+            let pair = if t == 1 && !own { emit } else { obs };
+            let start = if own { self.light_own() } else { pair };
+            let light_path = self.light_subpath(s, &start);
+            let camera_path = self.camera_subpath(s, &pair);
+            let mode = LightMode::new(own, start, ALPHA, self.scene, self.mixture, &light_path);
+            let sampled = match (s, t) {
+                (1, 2..) => {
+                    let mut v = self.x0_light;
+                    v.pdf_fwd = self.x0_light.pdf_light_origin(self.scene, &self.x[1]);
+                    Some(v)
+                }
+                (_, 1) => Some(self.x[n - 1]),
+                _ => None,
             };
-            let fluorescent = |i: usize| matches!(x[i].kind, VertexKind::Surface { object } if scene.objects.reradiation(object).is_some());
-            let is_line = |l: f32| lines.iter().any(|d| d.lambda as f32 == l);
+            mis_weight_lanes(
+                self.scene,
+                self.camera,
+                self.mixture,
+                (&light_path, &camera_path),
+                sampled.as_ref(),
+                (s, t),
+                &pair,
+                &mode,
+                LaneMask::ALL,
+                1,
+            )
+        }
+
+        /// Whether split s in mode `own` can make lane k's path (module docs); counts the own
+        /// mode's joins in `sums`.
+        fn possible(&self, s: usize, own: bool, k: usize, sums: &mut Sums) -> bool {
+            let n = self.n();
+            let t = n - s;
+            let obs = self.pair_at(self.seg[n - 2]);
+            let light_own = self.light_own();
+            let moved = self.moved_all().contains(k);
+            if t == 1 {
+                ALPHA as f64 * self.mixture.lane_density(self.seg[0][k])
+                    + (1.0 - ALPHA as f64) * light_own.pdf[k] as f64
+                    > 0.0
+            } else if s <= 1 {
+                obs.pdf[k] > 0.0
+            } else if !own {
+                !moved && obs.pdf[k] > 0.0
+            } else {
+                let ends = obs.pdf[k] > 0.0 && light_own.pdf[k] > 0.0;
+                let v = if self.fluorescent(s) {
+                    Some(s)
+                } else if self.fluorescent(s - 1) {
+                    Some(s - 1)
+                } else {
+                    None
+                };
+                let through = match v {
+                    Some(v) => {
+                        let (a, b) = (self.seg[v - 1][k], self.seg[v][k]);
+                        if a == b {
+                            self.is_line(a)
+                        } else {
+                            !self.is_line(b)
+                        }
+                    }
+                    None => self.is_line(self.seg[s - 1][k]),
+                };
+                if ends && through && self.live[k] {
+                    sums.own_joins += 1;
+                    sums.own_shifted += (v.is_some() && moved) as usize;
+                }
+                ends && through
+            }
+        }
+
+        /// Per lane, the sum of the weights of every split and mode that can make the path.
+        /// The t = 1 strategy is one over both modes: both must give the same weight.
+        fn sum_of_weights(&self, sums: &mut Sums) -> [f64; LANES] {
+            let n = self.n();
             let mut sum = [0.0f64; LANES];
             for s in 0..n {
                 let t = n - s;
-                let modes: &[bool] = if s >= 2 && t >= 2 {
-                    &[false, true]
-                } else if t == 1 {
-                    // One strategy over both modes: both must give the same weight.
+                let modes: &[bool] = if (s >= 2 && t >= 2) || t == 1 {
                     &[false, true]
                 } else {
                     &[false]
                 };
                 let mut t1_weight: Option<SampledSpectrum> = None;
                 for &own in modes {
-                    // The pair: the observed wavelengths, except for t = 1 in the shared
-                    // mode, whose light subpath started at the pair's (emitted) wavelengths.
-                    let pair = if t == 1 && !own { emit } else { obs };
-                    let start = if own { light_own } else { pair };
-                    // The light subpath x_0 … x_{s−1}.
-                    let light_path: Vec<Vertex> = (0..s)
-                        .map(|i| {
-                            let mut v = if i == 0 { x0_light } else { x[i] };
-                            v.pdf_fwd = from_light(i);
-                            v.pdf_rev = from_camera(i);
-                            v.moved = (1..=i).fold(LaneMask::NONE, |m, a| m.union(moved_at(a)));
-                            if i > 0 {
-                                (v.choice, v.choice_rev) = events(i);
-                            }
-                            v.shifted = (seg[i] != start.lambda).then_some(seg[i]);
-                            v
-                        })
-                        .collect();
-                    // The camera subpath x_{n−1} … x_s.
-                    let camera_path: Vec<Vertex> = (s..n)
-                        .rev()
-                        .map(|i| {
-                            let mut v = x[i];
-                            v.pdf_fwd = from_camera(i);
-                            v.pdf_rev = if i == 0 { 0.0 } else { from_light(i) };
-                            v.moved =
-                                (i.max(1)..n - 1).fold(LaneMask::NONE, |m, a| m.union(moved_at(a)));
-                            if i > 0 && i < n - 1 {
-                                (v.choice_rev, v.choice) = events(i);
-                            }
-                            let after = if i == 0 { seg[0] } else { seg[i - 1] };
-                            v.shifted = (after != pair.lambda).then_some(after);
-                            v
-                        })
-                        .collect();
-                    let mode = LightMode::new(own, start, ALPHA, &scene, &mixture, &light_path);
-                    let sampled = match (s, t) {
-                        (1, 2..) => {
-                            let mut v = x0_light;
-                            v.pdf_fwd = x0_light.pdf_light_origin(&scene, &x[1]);
-                            Some(v)
-                        }
-                        (_, 1) => Some(x[n - 1]),
-                        _ => None,
-                    };
-                    let w = mis_weight_lanes(
-                        &scene,
-                        camera,
-                        &mixture,
-                        (&light_path, &camera_path),
-                        sampled.as_ref(),
-                        (s, t),
-                        &pair,
-                        &mode,
-                        LaneMask::ALL,
-                        1,
-                    );
+                    let w = self.weights(s, own);
                     if t == 1 {
                         if let Some(w0) = t1_weight {
-                            for k in (0..LANES).filter(|&k| live(k)) {
+                            for k in (0..LANES).filter(|&k| self.live[k]) {
                                 let close = (w[k] - w0[k]).abs() <= 1e-5 * w0[k].max(1e-6);
                                 assert!(close, "t = 1 over both modes: {} vs {}", w[k], w0[k]);
                             }
@@ -698,70 +973,36 @@ mod tests {
                         t1_weight = Some(w);
                     }
                     for k in 0..LANES {
-                        let moved = moved_all.contains(k);
-                        // Which strategies can make this lane path (module docs).
-                        let possible = if t == 1 {
-                            ALPHA as f64 * mixture.lane_density(seg[0][k])
-                                + (1.0 - ALPHA as f64) * light_own.pdf[k] as f64
-                                > 0.0
-                        } else if s <= 1 {
-                            obs.pdf[k] > 0.0
-                        } else if !own {
-                            !moved && obs.pdf[k] > 0.0
-                        } else {
-                            let ends = obs.pdf[k] > 0.0 && light_own.pdf[k] > 0.0;
-                            let v = if fluorescent(s) {
-                                Some(s)
-                            } else if fluorescent(s - 1) {
-                                Some(s - 1)
-                            } else {
-                                None
-                            };
-                            let through = match v {
-                                Some(v) => {
-                                    let (a, b) = (seg[v - 1][k], seg[v][k]);
-                                    if a == b {
-                                        is_line(a)
-                                    } else {
-                                        !is_line(b)
-                                    }
-                                }
-                                None => is_line(seg[s - 1][k]),
-                            };
-                            if ends && through && live(k) {
-                                own_joins += 1;
-                                own_shifted += (v.is_some() && moved) as usize;
-                            }
-                            ends && through
-                        };
-                        if possible && live(k) {
+                        if self.possible(s, own, k, sums) && self.live[k] {
                             sum[k] += w[k] as f64;
                         }
                     }
                 }
             }
+            sum
+        }
+
+        /// Count the lanes and check each lane's sum (`strict`), keeping the worst.
+        fn tally(&self, sum: &[f64; LANES], strict: bool, sums: &mut Sums) {
+            let n = self.n();
+            let obs = self.pair_at(self.seg[n - 2]);
+            let moved_all = self.moved_all();
+            let line = self.lines[0].lambda as f32;
             for k in 0..LANES {
-                if !live(k) || obs.pdf[k] == 0.0 {
+                if !self.live[k] || obs.pdf[k] == 0.0 {
                     continue;
                 }
-                shifted_lanes += moved_all.contains(k) as usize;
-                line_lanes += (0..n - 1).any(|i| lines[0].lambda as f32 == seg[i][k]) as usize;
-                worst = worst.max((sum[k] - 1.0).abs());
+                sums.shifted_lanes += moved_all.contains(k) as usize;
+                sums.line_lanes += (0..n - 1).any(|i| line == self.seg[i][k]) as usize;
+                sums.worst = sums.worst.max((sum[k] - 1.0).abs());
                 assert!(
                     !strict || (sum[k] - 1.0).abs() < 2e-3,
-                    "path {paths}: lane {k} weights sum to {} (n = {n}, shifted {})",
+                    "path {}: lane {k} weights sum to {} (n = {n}, shifted {})",
+                    sums.paths,
                     sum[k],
                     moved_all.contains(k)
                 );
             }
-        }
-        Sums {
-            paths,
-            shifted_lanes,
-            line_lanes,
-            own_joins,
-            own_shifted,
-            worst,
         }
     }
 }
