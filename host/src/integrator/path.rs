@@ -309,13 +309,25 @@ impl PathTracer {
 
             // Next-event estimation: one light point (drawn for the hero), emission and BSDF per
             // group, one shadow ray.
-            let u_light = rng.next_1d();
+            // With one light the choice ignores its number: its dimension is consumed without
+            // computing it (`skip_1d`; every other number stays the same).
+            let u_light = if scene.lights.lights().len() > 1 {
+                rng.next_1d()
+            } else {
+                rng.skip_1d();
+                0.0
+            };
             let u_light2 = rng.next_2d();
             // The continuation's numbers and BSDF sample come before next-event estimation
             // (the same numbers in the same order: the light sample draws none), so that a
             // surface whose f is the same in every direction (`f_same_for_all_directions`)
             // lends the hero's f to the light sample instead of evaluating it again.
-            let u_lobe = rng.next_1d();
+            let u_lobe = if material.ignores_lobe_sample() {
+                rng.skip_1d();
+                0.0
+            } else {
+                rng.next_1d()
+            };
             let u_dir = rng.next_2d();
             let sampled = material.sample_into(
                 wo,
