@@ -155,7 +155,8 @@ pub struct PathStats {
 pub struct PathTracer {
     /// Maximum number of scattering events (bounces).
     pub max_depth: u32,
-    /// Bounce from which Russian roulette may end paths.
+    /// Bounce from which Russian roulette may end paths (path tracing replaces the default 3
+    /// by its own, [`super::path::PT_RR_DEPTH`]).
     pub rr_depth: u32,
     /// Only direct lighting (emission seen directly plus one bounce of NEE/BSDF sampling):
     /// used for analytic tests.

@@ -205,6 +205,14 @@ pub trait Material: Send + Sync + Debug {
         false
     }
 
+    /// True when [`sample_into`](Self::sample_into) and [`sample`](Self::sample) never read
+    /// their `u_lobe` argument (a material with a single lobe): the path tracer then does not
+    /// compute that number (it still consumes its sampler dimension, so no other number
+    /// changes). The default `false` is always safe.
+    fn ignores_lobe_sample(&self) -> bool {
+        false
+    }
+
     /// True when [`sample`](Self::sample) draws `wi` with the cosine-weighted density, so that
     /// [`pdf`](Self::pdf) is `|cos θi|/π` on `wo`'s side and 0 on the other (an ideal diffuse
     /// reflector): a plugin material that declares it has its density computed by the host

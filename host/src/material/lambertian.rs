@@ -34,6 +34,11 @@ impl Material for Lambertian {
         true
     }
 
+    /// One lobe: `sample_into` reads only `u`.
+    fn ignores_lobe_sample(&self) -> bool {
+        true
+    }
+
     /// `sample` draws the cosine-weighted hemisphere and `pdf` is `|cos θi|/π` on `wo`'s side.
     fn cosine_weighted_pdf(&self) -> bool {
         true
