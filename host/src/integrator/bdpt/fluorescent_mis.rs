@@ -38,7 +38,7 @@
 //! event's, after which only the hero lane is left (`Vertex::lanes`), and a fluorescent
 //! surface samples the cosine lobe whatever the wavelength.
 
-use super::mis::{heuristic_scale, mis_weight_overrides};
+use super::mis::{heuristic_scale, mis_weight_overrides, nee_correction};
 use crate::camera::Camera;
 use crate::integrator::fluorescence::events::{event_probability, Direction};
 use crate::integrator::fluorescence::join::{evaluated_event_possible, reradiation_at, LightMode};
@@ -161,6 +161,19 @@ pub fn mis_weight_lanes(
                 x(0).is_unhittable_light(scene)
             };
             area[i] = (r, !delta && !delta_before);
+        }
+        if n >= 3 {
+            // Split 1 (with t' ≥ 2) is next-event estimation, with its own density of x₀
+            // (`nee_correction`); relative to this strategy's, so for s = 1 every other split
+            // takes the inverse factor.
+            let origin = if s == 0 { o.pt_rev } else { x(0).pdf_fwd };
+            let nee = nee_correction(scene, x(0), x(1), origin) as f64;
+            if nee > 0.0 {
+                area[1].0 *= nee;
+                if s == 1 {
+                    area.iter_mut().for_each(|a| a.0 /= nee);
+                }
+            }
         }
         for (i, f) in fluorescent.iter_mut().enumerate() {
             *f = i > 0 && i < n - 1 && reradiation_at(scene, x(i)).is_some();
