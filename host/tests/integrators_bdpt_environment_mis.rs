@@ -137,3 +137,52 @@ fn bdpt_is_as_good_as_pt_on_an_environment_map() {
         "BDPT's pixel variance is {r:.3} ± {se_r:.3} × PT's"
     );
 }
+
+/// The same weights for a sphere lamp, which next-event estimation samples by its cone from
+/// outside and light subpaths start on uniformly by area (the other kind of light for which the
+/// two densities differ): BDPT agrees with PT per quadrant of a floor lit by a small sphere lamp
+/// just outside the view
+/// (16 × 16, mean of the per-pixel differences within 4 standard errors of 0, SE from their
+/// spread over the quadrant's 64 independent pixels, each SE below 2% of the level), and its
+/// pixel variance stays near PT's with the same independent numbers: measured 1.21 ± 0.23
+/// (16 spp, 8 seeds; a noisy estimate), limit 2.0 on the ratio plus two SE.
+#[test]
+fn bdpt_weights_a_sphere_lamp_by_its_cone() {
+    let file = Path::new("lamp.ron");
+    let text = r#"(
+        materials: [(name: "white", type: "lambertian", params: (reflectance: 0.8)),
+                    (name: "lamp", type: "emissive", params: (radiance: "d65", scale: 200.0))],
+        objects: [(name: "floor", type: "quad", material: "white",
+                   params: (corner: (-1, 0, 1), edge0: (2, 0, 0), edge1: (0, 0, -2))),
+                  (name: "lamp", type: "sphere", material: "lamp",
+                   params: (center: (0.9, 0.5, 0.2), radius: 0.05))],
+        cameras: [(name: "c", type: "pinhole",
+                   params: (position: (0, 3, 0.01), look_at: (0, 0, 0), fov: 30,
+                            resolution: (16, 16)))],
+    )"#;
+    let desc = parse_scene_str(text, file).unwrap();
+    let s = build_scene(&desc, Path::new("."), file, &[&BuiltinFactory]).unwrap();
+    let ind = SamplerKind::Independent;
+    let pt = render(&s, IntegratorKind::Pt, ind, 256, 3);
+    let bd = render(&s, IntegratorKind::Bdpt, ind, 256, 5);
+    for q in 0..4 {
+        let (qx, qy) = (q % 2, q / 2);
+        let idx: Vec<usize> = (0..16 * 16)
+            .filter(|k| (k % 16) / 8 == qx && (k / 16) / 8 == qy)
+            .collect();
+        let n = idx.len() as f64;
+        let d: Vec<f64> = idx.iter().map(|&k| bd[k] - pt[k]).collect();
+        let md = d.iter().sum::<f64>() / n;
+        let se = (d.iter().map(|v| (v - md).powi(2)).sum::<f64>() / (n - 1.0) / n).sqrt();
+        let level = idx.iter().map(|&k| pt[k]).sum::<f64>() / n;
+        eprintln!("quadrant {q}: PT {level:.5}, BDPT − PT = {md:+.5} ± {se:.5}");
+        assert!(se < 0.02 * level, "quadrant {q}: SE {se} too large");
+        assert!(md.abs() < 4.0 * se, "quadrant {q}: BDPT − PT = {md} ± {se}");
+    }
+    let (vp, sep, _) = pixel_variance(&s, IntegratorKind::Pt, ind, 16, 8);
+    let (vb, seb, _) = pixel_variance(&s, IntegratorKind::Bdpt, ind, 16, 8);
+    let r = vb / vp;
+    let se_r = r * ((seb / vb).powi(2) + (sep / vp).powi(2)).sqrt();
+    eprintln!("sphere lamp: pixel variance ratio BDPT/PT {r:.3} ± {se_r:.3}");
+    assert!(r + 2.0 * se_r < 2.0, "BDPT/PT {r:.3} ± {se_r:.3}");
+}
