@@ -40,8 +40,22 @@ pub mod light_flags {
     /// path from this light through spectrally flat surfaces the exact colour of `S`. Checked
     /// where it matters when the light is built.
     pub const UNIFORM_SPECTRAL_SHAPE: Flags = Flags(16);
+    /// ENVIRONMENT lights: `sample_emission` and `emission_pdf` are implemented on the host's
+    /// sphere, so the host starts the light's subpaths (light tracing, bidirectional path
+    /// tracing, light-tracing sensors) from them instead of uniformly. That sphere is the one
+    /// whose radiance rays see ([`SceneBounds::environment_sphere`](crate::SceneBounds::environment_sphere)
+    /// of the bounds given to `scene_bounds`): centre `c`, the centre of the view box, and
+    /// radius `R = 1.01 · max(½ |view_max − view_min|, 10⁻³)`.
+    /// An emitted ray starts on it and travels inwards; `pdf_position` is per area of the
+    /// sphere (1/m²), `pdf_direction` per solid angle (1/sr), and `emission_pdf` answers the
+    /// same densities for any inward ray from a point of the sphere. Only their product enters
+    /// a light path's weight; how it is split must agree between the two calls. The host drops
+    /// (and reports) emitted rays that do not start on its sphere or point outwards. Without
+    /// this bit an environment's subpaths start uniformly on the sphere, cosine-distributed
+    /// inwards. Defined in 0.2.z: older hosts ignore it.
+    pub const SPHERE_EMISSION: Flags = Flags(32);
     /// Every bit this version of the interface defines.
-    pub const ALL: Flags = Flags(31);
+    pub const ALL: Flags = Flags(63);
 }
 
 /// What a plugin author implements for a light source.

@@ -206,4 +206,12 @@ impl SceneBounds {
             (self.view_max - self.view_min).length() * 0.5,
         )
     }
+    /// Centre and radius (scene units) of the sphere on which the host places an environment
+    /// light: the view sphere's centre, 1.01 × its radius (at least 10⁻³). An environment
+    /// declaring [`SPHERE_EMISSION`](crate::light_flags::SPHERE_EMISSION) starts its emitted
+    /// rays on it.
+    pub fn environment_sphere(&self) -> (Vec3, f64) {
+        let (c, r) = self.view_sphere();
+        (c, 1.01 * r.max(1e-3))
+    }
 }

@@ -3,7 +3,7 @@
 //! for spheres, area sampling converted to solid angle otherwise; see `Geometry`).
 
 use super::{Light, LightFlags, LightLeSample, LightLiSample, LightSampleContext};
-use crate::geometry::{spawn_ray, Geometry, Ray};
+use crate::geometry::{spawn_ray, Geometry, Ray, WorldShape};
 use crate::material::{sample_cosine_hemisphere, EmissionProfile, Frame};
 use crate::spectrum::dense::DenseSpectrum;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spd};
@@ -95,6 +95,14 @@ impl Light for AreaLight {
     fn pdf_li(&self, ctx: &LightSampleContext, p_light: Vec3A, n_light: Vec3A) -> f32 {
         self.geometry
             .pdf_solid_angle(self.object, ctx.p, p_light, n_light)
+    }
+
+    // Spheres are sampled by their cone from outside; every other shape by area, as `sample_le`.
+    fn li_points_as_le(&self) -> bool {
+        !matches!(
+            self.geometry.shape(self.object),
+            Some(WorldShape::Sphere(_))
+        )
     }
 
     fn radiance(

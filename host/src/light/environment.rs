@@ -14,16 +14,24 @@
 //! source importance-samples) and reports that solid-angle density, which the BSDF-hit side of
 //! MIS asks again through [`Light::pdf_li`]. Light subpaths (light tracing, BDPT, the
 //! illuminance sensors) of a source that asks for it
-//! ([`EnvironmentRadiance::samples_emission`]: image maps do, so bright skies and suns start as
-//! many paths as they deserve) draw their direction from the same distribution, then a point uniform on the disc of radius `R` through the centre across that
+//! ([`EnvironmentRadiance::samples_emission`]: image maps and the CIE skies do, so bright
+//! skies and suns start as many paths as they deserve) draw their direction from the same
+//! distribution, then a point uniform on the disc of radius `R` through the centre across that
 //! direction, moved along it onto the sphere (pbrt's construction, kept on the sphere so that the
 //! start is an ordinary area-light vertex). Densities: position `1/(4πR²)`, direction
 //! `4 · cos θ · p(ω)` (`θ` from the inward normal, `p` the source's density of `ω`), whose
 //! product is the joint density `p(ω) · cos θ/(πR²)`; for a uniform source this is exactly an
 //! area light's uniform position and `cos θ/π` lobe, so no special case is needed in the
-//! connections. Other sources (the constant sky, the CIE skies, plugin environments) start
-//! uniformly on the sphere with cosine-distributed inward directions: those same densities,
-//! drawn directly.
+//! connections. Other sources (the constant sky, plugin environments that do not declare
+//! `SPHERE_EMISSION`) start uniformly on the sphere with cosine-distributed inward directions:
+//! those same densities, drawn directly. A plugin environment that declares it starts its
+//! subpaths from its own `sample_emission` on this sphere (`plugin::adapter`).
+//!
+//! BDPT weighs next-event estimation (its s = 1 strategy) with the density next-event
+//! estimation has, `p(ω)` converted to area on the sphere, not with the subpaths' start
+//! density (`integrator::bdpt::mis::nee_correction`): this light says so by leaving
+//! [`Light::li_points_as_le`] false.
+//!
 //! Power for light selection: `π R² · 4π · L̄`, the flux through the scene's bounding disc (as
 //! pbrt does), `L̄` the direction-averaged radiance integrated over wavelength.
 
@@ -125,7 +133,9 @@ impl EnvironmentLight {
         }
     }
 
-    fn sphere(&self) -> (Vec3A, f32) {
+    /// The emitting sphere (centre, radius): the view bounds' centre and 1.01 × half their
+    /// diagonal, once [`Light::preprocess_view`] has set it (the unit sphere before).
+    pub fn sphere(&self) -> (Vec3A, f32) {
         *self.sphere.get().unwrap_or(&(Vec3A::ZERO, 1.0))
     }
 

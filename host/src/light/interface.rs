@@ -101,6 +101,18 @@ pub trait Light: Send + Sync + Debug {
     /// `p_light` with normal `n_light`. Zero for delta lights.
     fn pdf_li(&self, ctx: &LightSampleContext, p_light: Vec3A, n_light: Vec3A) -> f32;
 
+    /// True when [`sample_li`](Self::sample_li) draws the light's points, from every receiver,
+    /// with the area density [`sample_le`](Self::sample_le) gives its rays' origins (the
+    /// positional density of [`pdf_le`](Self::pdf_le)): both uniform by area, as area lights
+    /// on flat shapes are. BDPT's MIS then takes a next-event light vertex's density (its
+    /// s = 1 strategy) to be the light subpath's start density. Otherwise (the default, always
+    /// right, at the cost of one [`pdf_li`](Self::pdf_li) per MIS weight) it asks `pdf_li`
+    /// for the density next-event estimation really had: an environment drawn by its map, a
+    /// sphere by its cone, a luminaire's faces by their area.
+    fn li_points_as_le(&self) -> bool {
+        false
+    }
+
     /// Radiance leaving the light's surface at `p` (normal `n`, texture coordinate `uv`) in
     /// direction `w` (away from the light). Zero except for area lights.
     fn radiance(

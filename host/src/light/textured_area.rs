@@ -311,6 +311,16 @@ impl Light for TexturedAreaLight {
         self.pdf_area_at(p_light) * d2 / cos
     }
 
+    // With a chart both draw from it; without one, spheres are sampled by their cone from
+    // outside and every other shape by area, as `sample_le`.
+    fn li_points_as_le(&self) -> bool {
+        self.chart.is_some()
+            || !matches!(
+                self.geometry.shape(self.object),
+                Some(WorldShape::Sphere(_))
+            )
+    }
+
     fn radiance(
         &self,
         p: Vec3A,

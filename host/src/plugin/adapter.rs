@@ -845,6 +845,9 @@ pub struct PluginLight {
     /// Sampled and asked for densities through the plugin's per-sample calls: CONNECTABLE and
     /// not an environment (which the host samples itself).
     connected: bool,
+    /// An environment whose light subpaths start from the plugin's own `sample_emission` and
+    /// `emission_pdf` on the host's sphere (declared SPHERE_EMISSION).
+    sphere_emission: bool,
 }
 
 impl PluginLight {
@@ -940,6 +943,7 @@ impl PluginLight {
             beams,
             uniform: false,
             connected: connectable && !is_environment,
+            sphere_emission: is_environment && caps.contains(light_flags::SPHERE_EMISSION),
         };
         if caps.contains(light_flags::UNIFORM_SPECTRAL_SHAPE) {
             if !l.flags.contains(LightFlags::BEAMS_ONLY) {
@@ -987,6 +991,78 @@ impl PluginLight {
             let _ = self.power_with_bounds.set(p);
         }
     }
+}
+
+impl PluginLight {
+    /// An environment's emitted ray from the plugin's `sample_emission` (declared
+    /// SPHERE_EMISSION), checked: finite, positive densities, a start on the host's sphere
+    /// `e` (within 10⁻³ of its radius) and a direction into it; the sphere's inward normal is
+    /// the ray's normal, whatever the plugin wrote there.
+    fn sphere_emission_sample(
+        &self,
+        e: &EnvironmentLight,
+        u1: Vec2,
+        u2: Vec2,
+        lambda: &SampledWavelengths,
+    ) -> Option<LightLeSample> {
+        let mut s = EmittedRay::default();
+        let u = [u1.x, u1.y, u2.x, u2.y];
+        let status =
+            (self.light).sample_emission(&u, super::layout::as_wavelengths(lambda), &mut s);
+        if status != status::WRITTEN {
+            return self.calls.not_written("sample_emission", status, None);
+        }
+        if let Err(reason) = checked::emission_f32(&s) {
+            self.calls.dropped("sample_emission", reason);
+            return None;
+        }
+        if !(s.pdf_position > 0.0 && s.pdf_direction > 0.0) {
+            return None;
+        }
+        let (origin, dir) = (host_v(s.origin), unit(host_v(s.direction)));
+        let Some(normal) = on_sphere(e, origin, dir) else {
+            self.calls.dropped(
+                "sample_emission",
+                "an environment's emitted ray (SPHERE_EMISSION) must start on the host's \
+                 sphere around the view bounds and point into it",
+            );
+            return None;
+        };
+        Some(LightLeSample {
+            ray: Ray::new(origin, dir),
+            radiance: SampledSpectrum(s.value),
+            pdf_pos: s.pdf_position,
+            pdf_dir: s.pdf_direction,
+            normal,
+        })
+    }
+
+    /// The densities of an environment's emitted ray from the plugin's `emission_pdf`
+    /// (declared SPHERE_EMISSION); `(0, 0)` off the sphere or for a ray pointing out of it.
+    fn sphere_emission_pdf(&self, e: &EnvironmentLight, ray: &Ray) -> (f32, f32) {
+        let dir = unit(ray.dir);
+        if on_sphere(e, ray.origin, dir).is_none() {
+            return (0.0, 0.0);
+        }
+        let p = (self.light).emission_pdf(
+            super::layout::as_vec4f(&ray.origin),
+            super::layout::as_vec4f(&dir),
+        );
+        match checked::density_f32(p.position).and(checked::density_f32(p.direction)) {
+            Ok(()) => (p.position, p.direction),
+            Err(reason) => self.calls.refused("emission_pdf", reason, (0.0, 0.0)),
+        }
+    }
+}
+
+/// The inward unit normal of environment `e`'s sphere at `origin`, if `origin` lies on it
+/// (within 10⁻³ of its radius) and `dir` points inwards.
+fn on_sphere(e: &EnvironmentLight, origin: Vec3A, dir: Vec3A) -> Option<Vec3A> {
+    let (c, r) = e.sphere();
+    let to_c = c - origin;
+    let d = to_c.length();
+    let n = to_c / d;
+    ((d / r - 1.0).abs() <= 1e-3 && n.dot(dir) > 0.0).then_some(n)
 }
 
 impl fmt::Debug for PluginLight {
@@ -1083,6 +1159,7 @@ impl Light for PluginLight {
     fn sample_le(&self, u1: Vec2, u2: Vec2, lambda: &SampledWavelengths) -> Option<LightLeSample> {
         if !self.connected {
             return match &self.environment {
+                Some(e) if self.sphere_emission => self.sphere_emission_sample(e, u1, u2, lambda),
                 Some(e) => e.sample_le(u1, u2, lambda),
                 None => None,
             };
@@ -1137,6 +1214,7 @@ impl Light for PluginLight {
     fn pdf_le(&self, ray: &Ray, n: Vec3A) -> (f32, f32) {
         if !self.connected {
             return match &self.environment {
+                Some(e) if self.sphere_emission => self.sphere_emission_pdf(e, ray),
                 Some(e) => e.pdf_le(ray, n),
                 None => (0.0, 0.0),
             };

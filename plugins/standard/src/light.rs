@@ -11,7 +11,8 @@
 //! nothing is converted.
 //!
 //! `environment` is an ENVIRONMENT light: the host places its own sky sphere around the same
-//! bounds and asks this one for radiance, incident-direction sampling and power.
+//! bounds and asks this one for radiance, incident-direction sampling, power and (declared
+//! SPHERE_EMISSION) its emitted rays, which start on that sphere.
 
 use crate::material::{host_v, v4f, va, wavelengths};
 use crate::wrap::{context, params_doc, plugin_error, HostParams, HostSpd};
@@ -268,7 +269,10 @@ impl PluginType for Environment {
 
 impl LightSource for Environment {
     fn flags(&self) -> Flags {
-        let mut out = light_flags::ENVIRONMENT | light_flags::CONNECTABLE;
+        // SPHERE_EMISSION: `sample_emission` is the built-in's own, on the sphere the host
+        // places around the same view bounds.
+        let mut out =
+            light_flags::ENVIRONMENT | light_flags::CONNECTABLE | light_flags::SPHERE_EMISSION;
         // Declared exactly where the built-in declares it.
         if self.light.uniform_spectral_shape() {
             out = out | light_flags::UNIFORM_SPECTRAL_SHAPE;

@@ -38,7 +38,7 @@
 //! event's, after which only the hero lane is left (`Vertex::lanes`), and a fluorescent
 //! surface samples the cosine lobe whatever the wavelength.
 
-use super::mis::{heuristic_scale, mis_weight_overrides, Overrides};
+use super::mis::{heuristic_scale, mis_weight_overrides, nee_correction, Overrides};
 use crate::camera::Camera;
 use crate::integrator::fluorescence::events::{event_probability, Direction};
 use crate::integrator::fluorescence::join::{evaluated_event_possible, reradiation_at, LightMode};
@@ -204,6 +204,23 @@ impl Scratch {
                 path.x(0).is_unhittable_light(scene)
             };
             area[i] = (r, !delta && !delta_before);
+        }
+        if n >= 3 {
+            // Split 1 (with t' ≥ 2) is next-event estimation, with its own density of x₀
+            // (`nee_correction`); relative to this strategy's, so for s = 1 every other split
+            // takes the inverse factor.
+            let origin = if s == 0 {
+                path.o.pt_rev
+            } else {
+                path.x(0).pdf_fwd
+            };
+            let nee = nee_correction(scene, path.x(0), path.x(1), origin) as f64;
+            if nee > 0.0 {
+                area[1].0 *= nee;
+                if s == 1 {
+                    area.iter_mut().for_each(|a| a.0 /= nee);
+                }
+            }
         }
     }
 

@@ -6,6 +6,7 @@
 
 use crate::camera::Camera;
 use crate::integrator::subpath::vertex::{remap0, Vertex};
+use crate::light::LightSampleContext;
 use crate::material::TransportMode;
 use crate::scene::Scene;
 use crate::spectrum::SampledWavelengths;
@@ -176,6 +177,18 @@ pub fn mis_weight(
         }
     };
     let sq = |x: f32| x * x;
+    // The s = 1 strategy's own density of the light vertex (next-event estimation), squared
+    // and relative to the light subpath's start density in the chain (see `nee_correction`).
+    let nee = if s + t >= 3 {
+        let (y0, y1, origin) = match s {
+            0 => (pt, &camera_path[t - 2], pt_rev),
+            1 => (light_v(0), pt, light_v(0).pdf_fwd),
+            _ => (light_v(0), light_v(1), light_v(0).pdf_fwd),
+        };
+        nee_correction(scene, y0, y1, origin)
+    } else {
+        1.0
+    };
     // Strategies' squared densities relative to this one's, each times its heuristic scale.
     let own_scale = heuristic_scale(t, light_paths);
     let mut sum = 0.0f32;
@@ -184,7 +197,9 @@ pub fn mis_weight(
         let (fwd, rev, delta) = cam(i);
         ri *= sq(remap0(rev) / remap0(fwd));
         if !delta && !cam(i - 1).2 {
-            sum += ri * heuristic_scale(i, light_paths) / own_scale;
+            // (i = t − 1 with s = 0 is the s = 1 strategy.)
+            let nee_here = if s == 0 && i + 1 == t { nee } else { 1.0 };
+            sum += ri * nee_here * heuristic_scale(i, light_paths) / own_scale;
         }
     }
     ri = 1.0;
@@ -198,14 +213,62 @@ pub fn mis_weight(
         };
         if !delta && !delta_before {
             // The alternative has t + (s − i) ≥ 2 camera vertices: scale 1.
-            sum += ri / own_scale;
+            let nee_here = if i == 1 { nee } else { 1.0 };
+            sum += ri * nee_here / own_scale;
         }
+    }
+    if s == 1 && t >= 2 && nee > 0.0 {
+        // This strategy is next-event estimation: its own density carries the factor.
+        sum /= nee;
     }
     let w = 1.0 / (1.0 + sum);
     if w.is_finite() {
         w
     } else {
         0.0
+    }
+}
+
+/// `(p_nee / p_origin)²` for light vertex `y0` of a path whose next vertex towards the camera
+/// is `y1`: the squared ratio of the area density (1/m²) with which next-event estimation from
+/// `y1` draws `y0` (light choice × [`Light::pdf_li`](crate::light::Light::pdf_li) converted to
+/// area at `y0`) to `origin`, the density of `y0` as a light subpath's start (light choice ×
+/// `pdf_le`'s positional density), which the vertices' densities in the MIS chain hold. 1 for
+/// lights rays cannot hit (delta lights, surfaceless plugin lights) and for lights whose two
+/// samplers draw points alike
+/// ([`Light::li_points_as_le`](crate::light::Light::li_points_as_le)).
+///
+/// Why: BDPT's s = 1 strategy with t ≥ 2 is next-event estimation, which draws `y0` with its
+/// own density, not the start density; weighing it with the start density keeps the weights
+/// summing to one (the estimate stays unbiased) but misjudges the strategy wherever the two
+/// differ. An environment map's next-event estimation follows its luminance while the start
+/// density is uniform over the sphere around the scene: the sun and bright windows, which next-
+/// event estimation samples well, were handed to the camera paths that happen to hit them
+/// (s = 0). The s = 1 term of the heuristic sum (or this strategy's own density, for s = 1) is
+/// multiplied by this factor; every other strategy's density stays as it is.
+pub fn nee_correction(scene: &Scene, y0: &Vertex, y1: &Vertex, origin: f32) -> f32 {
+    let Some(li) = y0.light_index(scene) else {
+        return 1.0;
+    };
+    let light = &scene.lights.lights()[li as usize];
+    // Only lights that rays can find answer `pdf_li` with next-event estimation's density
+    // (a plugin light without a surface answers 0): the others keep the start density.
+    let flags = light.flags();
+    if !flags.can_be_hit() || flags.is_delta() || light.li_points_as_le() || !(origin > 0.0) {
+        return 1.0;
+    }
+    let ctx = LightSampleContext {
+        p: y1.p,
+        p_error: y1.p_error,
+        n: y1.ng,
+    };
+    let pdf = light.pdf_li(&ctx, y0.p, y0.ng);
+    let nee = scene.lights.pmf(li as usize) * y1.convert_density(pdf, y0);
+    let k = nee / origin;
+    if k.is_finite() {
+        k * k
+    } else {
+        1.0
     }
 }
 

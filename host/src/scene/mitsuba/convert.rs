@@ -1159,6 +1159,15 @@ impl<'a> Converter<'a> {
             self.finish(&p, &format!("shape {kind}"), &base);
             return Ok(());
         };
+        let flip = p.bool("flip_normals")?.unwrap_or(false);
+        let own_material = !p.nested("emitter").is_empty();
+        let (type_name, params, material) = self.analytic_uvs(
+            (kind, flip),
+            (type_name, params),
+            material,
+            own_material,
+            &base,
+        )?;
         self.drop_media(el, &p, &base);
         self.finish(&p, &format!("shape {kind}"), &base);
         let name = self.unique(&base);
@@ -1229,16 +1238,18 @@ impl<'a> Converter<'a> {
             "obj" | "ply" => self.mesh_file(el, p, kind, flip, base)?,
             "serialized" => self.serialized(el, p, flip)?,
             "rectangle" => {
-                let (e0, e1) = if flip {
-                    (DVec3::Y * 2.0, DVec3::X * 2.0)
+                // (s, t) = ((x + 1)/2, (y + 1)/2) as Mitsuba's uv; flipped: (s, 1 − t), the
+                // normal −z (see `analytic_uvs`).
+                let (c, e1) = if flip {
+                    (DVec3::new(-1.0, 1.0, 0.0), DVec3::Y * -2.0)
                 } else {
-                    (DVec3::X * 2.0, DVec3::Y * 2.0)
+                    (DVec3::new(-1.0, -1.0, 0.0), DVec3::Y * 2.0)
                 };
                 (
                     "quad".into(),
                     map(vec![
-                        ("corner", v3(DVec3::new(-1.0, -1.0, 0.0))),
-                        ("edge0", v3(e0)),
+                        ("corner", v3(c)),
+                        ("edge0", v3(DVec3::X * 2.0)),
                         ("edge1", v3(e1)),
                     ]),
                 )
@@ -1265,7 +1276,9 @@ impl<'a> Converter<'a> {
             "disk" => {
                 self.note(
                     "shape disk",
-                    format!("tessellated into a {ROUND_SEGMENTS}-gon (area 2.5e-4 smaller)"),
+                    format!(
+                        "tessellated into a {ROUND_SEGMENTS}-gon of 16 rings (area 2.5e-4 smaller)"
+                    ),
                     base,
                 );
                 ("mesh".into(), mesh_value(&disk_mesh(flip)))
@@ -1468,6 +1481,80 @@ impl<'a> Converter<'a> {
                     base,
                 );
             }
+        }
+    }
+
+    /// Texture coordinates of Mitsuba's analytic shapes where a texture shows them
+    /// (docs/mitsuba-import.md, "Texture coordinates"): Mitsuba's `rectangle` has uv
+    /// `((x + 1)/2, (y + 1)/2)`, which the quad's `(s, t)` already is, but its bitmap reads v = 0
+    /// on the image's top row: the quad's textures get v flipped (`flip_texture_v`), in a copy
+    /// of a shared material (a rectangle with `flip_normals` runs its `t` the other way, which
+    /// is the flip already). Mitsuba's `sphere` has `u = φ/2π` (φ = atan2(y, x)) and `v = θ/π`
+    /// (θ from its local +z), which spectrace's sphere (pole +y) cannot carry: a sphere whose
+    /// material has a texture becomes a mesh with those uvs (`uv_sphere_mesh`). `cube` and
+    /// `disk` are meshes with Mitsuba's uvs already (`cube_mesh`, `disk_mesh`).
+    fn analytic_uvs(
+        &mut self,
+        (kind, flip): (&str, bool),
+        (type_name, params): (String, Value),
+        material: String,
+        own_material: bool,
+        item: &str,
+    ) -> Result<(String, Value, String), SceneError> {
+        let textured = self
+            .desc
+            .materials
+            .iter()
+            .any(|m| m.name == material && has_texture(&m.params));
+        if !textured {
+            return Ok((type_name, params, material));
+        }
+        match kind {
+            "rectangle" if !flip => {
+                let material = if own_material {
+                    if let Some(m) = self.desc.materials.iter_mut().find(|m| m.name == material) {
+                        flip_texture_v(&mut m.params);
+                    }
+                    material
+                } else {
+                    let name = format!("{material}.rectangle_uv");
+                    let exists = self.desc.materials.iter().any(|m| m.name == name);
+                    let original = self.desc.materials.iter().find(|m| m.name == material);
+                    if let (false, Some(original)) = (exists, original) {
+                        let mut copy = original.clone();
+                        copy.name = name.clone();
+                        flip_texture_v(&mut copy.params);
+                        self.desc.materials.push(copy);
+                    }
+                    name
+                };
+                Ok((type_name, params, material))
+            }
+            "sphere" => {
+                let centre: Option<DVec3> = match value_at(&params, "center") {
+                    Some(Value::Seq(c)) => {
+                        let x: Vec<f64> = c.iter().filter_map(number).collect();
+                        (x.len() == 3).then(|| DVec3::new(x[0], x[1], x[2]))
+                    }
+                    _ => Some(DVec3::ZERO),
+                };
+                let r = value_at(&params, "radius").and_then(number);
+                let (Some(centre), Some(r)) = (centre, r) else {
+                    return Ok((type_name, params, material));
+                };
+                self.note(
+                    "shape sphere with a texture",
+                    format!(
+                        "tessellated into {ROUND_SEGMENTS} × {} quads with Mitsuba's sphere uvs \
+                         and smooth normals (spectrace's sphere lays a texture out about +y)",
+                        ROUND_SEGMENTS / 2
+                    ),
+                    item,
+                );
+                let mesh = uv_sphere_mesh(centre, r);
+                Ok(("mesh".into(), mesh_value(&mesh), material))
+            }
+            _ => Ok((type_name, params, material)),
         }
     }
 
@@ -2023,6 +2110,124 @@ fn mesh_value(m: &crate::geometry::TriangleMesh) -> Value {
     map(e)
 }
 
+/// The value of key `k` in a RON map.
+fn value_at<'v>(v: &'v Value, k: &str) -> Option<&'v Value> {
+    match v {
+        Value::Map(m) => m
+            .iter()
+            .find(|(key, _)| matches!(key, Value::String(s) if s == k))
+            .map(|(_, v)| v),
+        _ => None,
+    }
+}
+
+fn number(v: &Value) -> Option<f64> {
+    match v {
+        Value::Number(x) => Some(x.into_f64()),
+        _ => None,
+    }
+}
+
+/// True when a material's parameters hold an image texture anywhere.
+fn has_texture(v: &Value) -> bool {
+    match v {
+        Value::Map(m) => m.iter().any(|(k, v)| {
+            (matches!(k, Value::String(s) if s == "texture") && matches!(v, Value::Map(_)))
+                || has_texture(v)
+        }),
+        Value::Seq(items) => items.iter().any(has_texture),
+        _ => false,
+    }
+}
+
+/// Every image texture in a material's parameters reads its image with v flipped
+/// (`v → 1 − v` before its `uv_scale` and `uv_offset`): `(s_v, o_v)` becomes
+/// `(−s_v, o_v + s_v)`. For a shape whose uvs are Mitsuba's unflipped (the rectangle).
+fn flip_texture_v(v: &mut Value) {
+    let pair = |t: &Value, k: &str, default: f64| -> [f64; 2] {
+        match value_at(t, k) {
+            Some(Value::Seq(p)) if p.len() == 2 => [
+                number(&p[0]).unwrap_or(default),
+                number(&p[1]).unwrap_or(default),
+            ],
+            _ => [default; 2],
+        }
+    };
+    match v {
+        Value::Map(m) => {
+            for (k, v) in m.iter_mut() {
+                let is_texture = matches!(k, Value::String(s) if s == "texture");
+                match v {
+                    Value::Map(t) if is_texture => {
+                        let tv = Value::Map(t.clone());
+                        let sc = pair(&tv, "uv_scale", 1.0);
+                        let of = pair(&tv, "uv_offset", 0.0);
+                        t.insert(text("uv_scale"), seq(vec![num(sc[0]), num(-sc[1])]));
+                        t.insert(text("uv_offset"), seq(vec![num(of[0]), num(of[1] + sc[1])]));
+                    }
+                    _ => flip_texture_v(v),
+                }
+            }
+        }
+        Value::Seq(items) => items.iter_mut().for_each(flip_texture_v),
+        _ => {}
+    }
+}
+
+/// A sphere of radius `r` at `centre` with Mitsuba's sphere uvs: `u = φ/2π` (φ = atan2(y, x)
+/// in [0, 2π)), `v = θ/π` (θ from +z), stored with v flipped (spectrace's v = 0 is an image's
+/// bottom row, Mitsuba's its top row). [`ROUND_SEGMENTS`] sectors × half as many rings; the
+/// seam's vertices are doubled (u = 0 and 1) and each pole has a vertex per sector (its u at
+/// the sector's middle), so no triangle interpolates across the seam. Smooth normals.
+pub fn uv_sphere_mesh(centre: DVec3, r: f64) -> crate::geometry::TriangleMesh {
+    use glam::{Vec2, Vec3A};
+    let (np, nt) = (ROUND_SEGMENTS, ROUND_SEGMENTS / 2);
+    let (mut positions, mut normals, mut uvs, mut indices) = (vec![], vec![], vec![], vec![]);
+    for k in 0..=nt {
+        let theta = std::f64::consts::PI * k as f64 / nt as f64;
+        for j in 0..=np {
+            // At the poles, u in the middle of the sector below (or above) the vertex.
+            let uj = if k == 0 || k == nt {
+                (j as f64 + 0.5) / np as f64
+            } else {
+                j as f64 / np as f64
+            };
+            let phi = std::f64::consts::TAU * j as f64 / np as f64;
+            let n = DVec3::new(
+                theta.sin() * phi.cos(),
+                theta.sin() * phi.sin(),
+                theta.cos(),
+            );
+            let p = centre + n * r;
+            positions.push(Vec3A::new(p.x as f32, p.y as f32, p.z as f32));
+            normals.push(Vec3A::new(n.x as f32, n.y as f32, n.z as f32));
+            uvs.push(Vec2::new(uj as f32, (1.0 - k as f64 / nt as f64) as f32));
+        }
+    }
+    let at = |k: usize, j: usize| (k * (np + 1) + j) as u32;
+    for k in 0..nt {
+        for j in 0..np {
+            let (a, b, c, d) = (at(k, j), at(k + 1, j), at(k + 1, j + 1), at(k, j + 1));
+            if k == 0 {
+                // a is the north pole's vertex of sector j.
+                indices.push([a, b, c]);
+            } else if k + 1 == nt {
+                // b is the south pole's vertex of sector j.
+                indices.push([a, b, d]);
+            } else {
+                indices.push([a, b, c]);
+                indices.push([a, c, d]);
+            }
+        }
+    }
+    crate::geometry::TriangleMesh {
+        positions,
+        normals: Some(normals),
+        uvs: Some(uvs),
+        indices,
+    }
+}
+
 fn flip_winding(m: &mut crate::geometry::TriangleMesh) {
     for t in &mut m.indices {
         t.swap(1, 2);
@@ -2034,7 +2239,24 @@ fn flip_winding(m: &mut crate::geometry::TriangleMesh) {
     }
 }
 
-/// Mitsuba's `cube`: [−1, 1]³, outward faces, four vertices per face.
+/// Mitsuba 3's uv on its `cube` at point `p` of the face whose outward normal is `s` along
+/// axis `a` (0, 1, 2 = x, y, z), as Mitsuba 3.9.1 reports it (`si.uv` of rays hitting each
+/// face, `scripts/mitsuba_import/uv_probe.py`): affine in the face's two other coordinates.
+fn mitsuba_cube_uv(a: usize, s: f32, p: glam::Vec3A) -> (f32, f32) {
+    let h = |x: f32| (x + 1.0) / 2.0;
+    let g = |x: f32| (1.0 - x) / 2.0;
+    match (a, s > 0.0) {
+        (0, false) => (h(p.y), h(p.z)),
+        (0, true) => (h(p.y), g(p.z)),
+        (1, false) => (h(p.z), h(p.x)),
+        (1, true) => (g(p.x), g(p.z)),
+        (2, false) => (g(p.y), h(p.x)),
+        _ => (h(p.y), h(p.x)),
+    }
+}
+
+/// Mitsuba's `cube`: [−1, 1]³, outward faces, four vertices per face, with Mitsuba's uvs
+/// (`mitsuba_cube_uv`) stored with v flipped (spectrace's v = 0 is an image's bottom row).
 pub fn cube_mesh(flip: bool) -> crate::geometry::TriangleMesh {
     use glam::{Vec2, Vec3A};
     let mut m = crate::geometry::TriangleMesh {
@@ -2051,9 +2273,11 @@ pub fn cube_mesh(flip: bool) -> crate::geometry::TriangleMesh {
             let v = n.cross(u);
             let k = m.positions.len() as u32;
             for (du, dv) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
-                m.positions.push(n + u * du + v * dv);
+                let p = n + u * du + v * dv;
+                m.positions.push(p);
                 if let Some(t) = &mut m.uvs {
-                    t.push(Vec2::new((du + 1.0) / 2.0, (dv + 1.0) / 2.0));
+                    let (mu, mv) = mitsuba_cube_uv(a, s, p);
+                    t.push(Vec2::new(mu, 1.0 - mv));
                 }
             }
             m.indices.push([k, k + 1, k + 2]);
@@ -2066,21 +2290,46 @@ pub fn cube_mesh(flip: bool) -> crate::geometry::TriangleMesh {
     m
 }
 
-/// Mitsuba's `disk`: the unit disk in z = 0, normal +z, as a triangle fan.
+/// Mitsuba's `disk`: the unit disk in z = 0, normal +z, with Mitsuba's polar uvs, `u = r`,
+/// `v = φ/2π` (φ = atan2(y, x) in [0, 2π)), stored with v flipped: [`ROUND_SEGMENTS`] sectors
+/// by 16 rings (a fan in the innermost), so that interpolating the uvs linearly inside each
+/// triangle stays within 10⁻³ of the polar coordinates except within 1/16 of the centre, where
+/// the fan's v may be off by up to half a sector (1/256). The seam's vertices are doubled (v = 0
+/// and 1) and the centre has a vertex per sector (v at the sector's middle), so no triangle
+/// interpolates across the seam.
 pub fn disk_mesh(flip: bool) -> crate::geometry::TriangleMesh {
     use glam::{Vec2, Vec3A};
+    const RINGS: usize = 16;
     let n = ROUND_SEGMENTS;
-    let mut positions = vec![Vec3A::ZERO];
-    let mut uvs = vec![Vec2::new(0.5, 0.5)];
+    let (mut positions, mut uvs, mut indices) = (vec![], vec![], vec![]);
     for i in 0..n {
-        let phi = std::f64::consts::TAU * i as f64 / n as f64;
-        let (s, c) = phi.sin_cos();
-        positions.push(Vec3A::new(c as f32, s as f32, 0.0));
-        uvs.push(Vec2::new((0.5 + 0.5 * c) as f32, (0.5 + 0.5 * s) as f32));
+        positions.push(Vec3A::ZERO);
+        uvs.push(Vec2::new(0.0, (1.0 - (i as f64 + 0.5) / n as f64) as f32));
     }
-    let indices = (0..n as u32)
-        .map(|i| [0, 1 + i, 1 + (i + 1) % n as u32])
-        .collect();
+    // Ring k (1…RINGS) at radius k/RINGS, vertex i at φ = 2πi/n (i = n doubles i = 0).
+    let ring = |k: usize, i: usize| (n + (k - 1) * (n + 1) + i) as u32;
+    for k in 1..=RINGS {
+        let r = k as f64 / RINGS as f64;
+        for i in 0..=n {
+            let phi = std::f64::consts::TAU * i as f64 / n as f64;
+            let (s, c) = phi.sin_cos();
+            positions.push(Vec3A::new((r * c) as f32, (r * s) as f32, 0.0));
+            uvs.push(Vec2::new(r as f32, (1.0 - i as f64 / n as f64) as f32));
+        }
+    }
+    for i in 0..n {
+        indices.push([i as u32, ring(1, i), ring(1, i + 1)]);
+        for k in 1..RINGS {
+            let (a, b, c, d) = (
+                ring(k, i),
+                ring(k + 1, i),
+                ring(k + 1, i + 1),
+                ring(k, i + 1),
+            );
+            indices.push([a, b, c]);
+            indices.push([a, c, d]);
+        }
+    }
     let mut m = crate::geometry::TriangleMesh {
         positions,
         normals: None,

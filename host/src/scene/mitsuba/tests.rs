@@ -648,7 +648,7 @@ fn textured_area_emitter_becomes_an_emission_texture() {
     );
 }
 
-// Shapes: rectangle → quad with normal +z (swapped edges when flipped), cube → 12 outward
+// Shapes: rectangle → quad with normal +z (−z when flipped), cube → 12 outward
 // triangles, disk → fan, serialized → inline mesh, instances → copies with composed transforms.
 #[test]
 fn shapes() {
@@ -889,6 +889,196 @@ fn cornell_box_mean_matches_mitsuba() {
             "channel {k}: {} vs Mitsuba {}",
             mean[k],
             want[k]
+        );
+    }
+}
+
+/// Where on its image a texture on each of Mitsuba's analytic shapes is looked up, against
+/// Mitsuba 3.9.1 itself. Quantity: at points on `rectangle` (also with `flip_normals`),
+/// `disk`, `sphere` and `cube`, Mitsuba's uv (`si.uv` of rays hitting them, its bitmap's row
+/// coordinate counted from the image's top; `scripts/mitsuba_import/uv_probe.py` printed these
+/// values) against the converted scene's: the hit's uv through the texture's `uv_scale` and
+/// `uv_offset`, the row coordinate being 1 − v (spectrace's v = 0 is the bottom row); both
+/// compared modulo 1 (the sphere's and the disk's seams). Tolerance 2e-3: the disk and the
+/// textured sphere are tessellated with 128 sectors (chords 3e-4 inside the arcs, the
+/// interpolated angles within 1e-3 of the true ones away from the disk's centre and the
+/// sphere's poles, where no point is probed); the rectangle and the cube are exact to f32.
+#[test]
+fn analytic_shapes_show_textures_as_mitsuba_does() {
+    // The textured sphere's mesh: outward triangles, area 5e-4 below the sphere's (16 128
+    // triangles of 128 sectors × 64 rings).
+    let sphere = convert::uv_sphere_mesh(DVec3::new(1.0, 2.0, 3.0), 2.0);
+    assert_eq!(sphere.indices.len(), 16_128);
+    let mut area = 0.0f64;
+    for t in &sphere.indices {
+        let [a, b, cc] = t.map(|i| sphere.positions[i as usize].as_dvec3());
+        let n = (b - a).cross(cc - a);
+        assert!(
+            n.dot((a + b + cc) / 3.0 - DVec3::new(1.0, 2.0, 3.0)) > 0.0,
+            "inward triangle"
+        );
+        area += 0.5 * n.length();
+    }
+    let rel = area / (4.0 * std::f64::consts::PI * 4.0) - 1.0;
+    assert!((-1e-3..0.0).contains(&rel), "sphere mesh area off by {rel}");
+    let dir = temp_dir("analytic_uvs");
+    image::RgbImage::from_fn(4, 4, |x, y| image::Rgb([40 * x as u8, 40 * y as u8, 100]))
+        .save(dir.join("t.png"))
+        .unwrap();
+    let bsdf = r#"<bsdf type="diffuse"><texture type="bitmap" name="reflectance">
+        <string name="filename" value="t.png"/></texture></bsdf>"#;
+    let at = |x: f64| format!(r#"<transform name="to_world"><translate x="{x}"/></transform>"#);
+    let xml = format!(
+        r#"<scene version="3.0.0">
+<shape type="rectangle" id="rect">{}{bsdf}</shape>
+<shape type="rectangle" id="rectf">{}<boolean name="flip_normals" value="true"/>{bsdf}</shape>
+<shape type="disk" id="disk">{}{bsdf}</shape>
+<shape type="sphere" id="sphere">{}{bsdf}</shape>
+<shape type="cube" id="cube">{}{bsdf}</shape>
+<sensor type="perspective"><transform name="to_world"><lookat origin="20, 0, 50" target="20, 0, 0" up="0, 1, 0"/></transform></sensor>
+</scene>"#,
+        at(0.0),
+        at(10.0),
+        at(20.0),
+        at(30.0),
+        at(40.0)
+    );
+    let file = dir.join("s.xml");
+    std::fs::write(&file, xml).unwrap();
+    let c = convert_file(&file, &[]).unwrap();
+    let scene =
+        crate::scene::build_scene(&c.desc, &dir, &file, &[&crate::scene::BuiltinFactory]).unwrap();
+    assert_eq!(scene.geometry.object_count(), c.desc.objects.len());
+    // (shape id, translation, local ray origin, direction, Mitsuba's uv).
+    type Probe = (&'static str, f64, [f64; 3], [f64; 3], [f64; 2]);
+    let down = [0.0, 0.0, -1.0];
+    let mut probes: Vec<Probe> = vec![
+        ("rect", 0.0, [-0.9, -0.9, 5.0], down, [0.05, 0.05]),
+        ("rect", 0.0, [0.9, -0.9, 5.0], down, [0.95, 0.05]),
+        ("rect", 0.0, [-0.9, 0.9, 5.0], down, [0.05, 0.95]),
+        ("rect", 0.0, [0.9, 0.9, 5.0], down, [0.95, 0.95]),
+        ("rectf", 10.0, [-0.9, -0.9, 5.0], down, [0.05, 0.05]),
+        ("rectf", 10.0, [0.9, -0.9, 5.0], down, [0.95, 0.05]),
+        ("rectf", 10.0, [-0.9, 0.9, 5.0], down, [0.05, 0.95]),
+        ("disk", 20.0, [0.5, 0.0, 5.0], down, [0.5, 0.0]),
+        ("disk", 20.0, [0.0, 0.5, 5.0], down, [0.5, 0.25]),
+        ("disk", 20.0, [-0.5, 0.0, 5.0], down, [0.5, 0.5]),
+        ("disk", 20.0, [0.0, -0.5, 5.0], down, [0.5, 0.75]),
+        ("disk", 20.0, [0.9, 0.1, 5.0], down, [0.9055, 0.0176]),
+        ("disk", 20.0, [0.1, 0.01, 5.0], down, [0.1005, 0.0159]),
+        (
+            "sphere",
+            30.0,
+            [5.0, 0.0, 0.0],
+            [-1.0, 0.0, 0.0],
+            [0.0, 0.5],
+        ),
+        (
+            "sphere",
+            30.0,
+            [0.0, 5.0, 0.0],
+            [0.0, -1.0, 0.0],
+            [0.25, 0.5],
+        ),
+        (
+            "sphere",
+            30.0,
+            [-5.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.5, 0.5],
+        ),
+        (
+            "sphere",
+            30.0,
+            [0.0, -5.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.75, 0.5],
+        ),
+        (
+            "sphere",
+            30.0,
+            [5.0, 0.01, 0.5],
+            [-1.0, 0.0, 0.0],
+            [0.0018, 0.3333],
+        ),
+        (
+            "sphere",
+            30.0,
+            [5.0, -0.01, 0.5],
+            [-1.0, 0.0, 0.0],
+            [0.9982, 0.3333],
+        ),
+        ("sphere", 30.0, [0.3, 0.4, 5.0], down, [0.1476, 0.1667]),
+    ];
+    // Mitsuba's cube: three points on each face (rays along the face's inward normal).
+    let cube: [([f64; 3], [f64; 2]); 18] = [
+        ([-1.0, -0.8, -0.8], [0.1, 0.1]),
+        ([-1.0, 0.8, -0.8], [0.9, 0.1]),
+        ([-1.0, -0.8, 0.8], [0.1, 0.9]),
+        ([1.0, -0.8, -0.8], [0.1, 0.9]),
+        ([1.0, 0.8, -0.8], [0.9, 0.9]),
+        ([1.0, -0.8, 0.8], [0.1, 0.1]),
+        ([-0.8, -1.0, -0.8], [0.1, 0.1]),
+        ([-0.8, -1.0, 0.8], [0.9, 0.1]),
+        ([0.8, -1.0, -0.8], [0.1, 0.9]),
+        ([-0.8, 1.0, -0.8], [0.9, 0.9]),
+        ([-0.8, 1.0, 0.8], [0.9, 0.1]),
+        ([0.8, 1.0, -0.8], [0.1, 0.9]),
+        ([-0.8, -0.8, -1.0], [0.9, 0.1]),
+        ([0.8, -0.8, -1.0], [0.9, 0.9]),
+        ([-0.8, 0.8, -1.0], [0.1, 0.1]),
+        ([-0.8, -0.8, 1.0], [0.1, 0.1]),
+        ([0.8, -0.8, 1.0], [0.1, 0.9]),
+        ([-0.8, 0.8, 1.0], [0.9, 0.1]),
+    ];
+    for (p, uv) in cube {
+        let a = (0..3).find(|&i| p[i].abs() == 1.0).unwrap();
+        let mut o = p;
+        o[a] *= 5.0;
+        let mut d = [0.0; 3];
+        d[a] = -p[a];
+        probes.push(("cube", 40.0, o, d, uv));
+    }
+    let pair = |t: &Value, k: &str, default: f64| -> [f64; 2] {
+        match t {
+            Value::Map(m) => match m.iter().find(|(key, _)| **key == Value::String(k.into())) {
+                Some((_, Value::Seq(p))) => [f(&p[0]), f(&p[1])],
+                _ => [default; 2],
+            },
+            _ => [default; 2],
+        }
+    };
+    for (id, dx, o, d, want) in probes {
+        let ray = crate::geometry::Ray::new(
+            glam::Vec3A::new((o[0] + dx) as f32, o[1] as f32, o[2] as f32),
+            glam::Vec3A::new(d[0] as f32, d[1] as f32, d[2] as f32),
+        );
+        let hit = scene.geometry.intersect(&ray, f32::INFINITY).unwrap();
+        let obj = &c.desc.objects[hit.object as usize];
+        assert!(obj.name.starts_with(id), "{id}: hit {}", obj.name);
+        let mat = c
+            .desc
+            .materials
+            .iter()
+            .find(|m| m.name == obj.material)
+            .unwrap();
+        let tex = get(get(&mat.params, "reflectance"), "texture");
+        let (sc, of) = (pair(tex, "uv_scale", 1.0), pair(tex, "uv_offset", 0.0));
+        let u = hit.uv.x as f64 * sc[0] + of[0];
+        let row = 1.0 - (hit.uv.y as f64 * sc[1] + of[1]);
+        // Modulo 1 (the sphere's u and the disk's v wrap around; the texture repeats).
+        let circular = |a: f64, b: f64| {
+            let d = (a - b).rem_euclid(1.0);
+            d.min(1.0 - d)
+        };
+        let (du, dv) = (circular(u, want[0]), circular(row, want[1]));
+        println!(
+            "{id} at {o:?}: Mitsuba {want:?}, spectrace ({:.4}, {row:.4})",
+            u.rem_euclid(1.0)
+        );
+        assert!(
+            du < 2e-3 && dv < 2e-3,
+            "{id} at {o:?}: Mitsuba's uv {want:?}, the converted scene's ({u}, {row})"
         );
     }
 }
