@@ -397,7 +397,7 @@ fn connect_s1(
     stats: &mut PathStats,
 ) -> Option<(SampledSpectrum, Vertex)> {
     let pt = &camera_path[t - 1];
-    if !pt.connectible() {
+    if !pt.connectible(scene) {
         return None;
     }
     let (li, pmf) = scene.lights.sample(rng.next_1d())?;
@@ -451,7 +451,7 @@ fn connect_surfaces(
 ) -> Option<SampledSpectrum> {
     let qs = &light_path[s - 1];
     let pt = &camera_path[t - 1];
-    if !qs.connectible() || !pt.connectible() {
+    if !qs.connectible(scene) || !pt.connectible(scene) {
         return None;
     }
     let c = qs.beta

@@ -567,7 +567,7 @@ fn deposit(
 ) {
     let weights = XyzWeights::new(&photo.sensor, lambda);
     for qs in path.iter().skip(1) {
-        if !qs.connectible() || !qs.on_surface() {
+        if !qs.connectible(scene) || !qs.on_surface() {
             continue;
         }
         for (x, o) in sp.iter().zip(out.iter_mut()) {

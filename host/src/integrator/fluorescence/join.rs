@@ -215,7 +215,7 @@ pub fn connect_own(
 ) -> Option<SampledSpectrum> {
     let qs = &light_path[s - 1];
     let pt = &camera_path[t - 1];
-    if !qs.connectible() || !pt.connectible() {
+    if !qs.connectible(scene) || !pt.connectible(scene) {
         return None;
     }
     let g = geometry_term(qs, pt);

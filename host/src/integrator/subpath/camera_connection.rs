@@ -27,7 +27,7 @@ pub fn connect_to_camera(
     stats: &mut PathStats,
 ) -> Option<(SampledSpectrum, Vec2, Vertex)> {
     let qs = &light_path[s - 1];
-    if !qs.connectible() {
+    if !qs.connectible(scene) {
         return None;
     }
     let cs = camera.sample_wi(qs.p, u)?;

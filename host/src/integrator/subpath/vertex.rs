@@ -276,11 +276,22 @@ impl Vertex {
         }
     }
 
-    /// True when a path can be connected here: not a delta-scattering vertex, and for lights
-    /// not a direction-only light reached from outside.
+    /// True when a path can be connected here: a surface whose material has a non-delta lobe
+    /// (whatever lobe its own subpath sampled next: a smooth plastic's vertex that continued by
+    /// its specular coating is still joined through its diffuse base, as the MIS weights of
+    /// the other strategies assume, with the endpoints taken as non-delta), any other vertex
+    /// unless it scattered by a delta lobe.
     #[inline]
-    pub fn connectible(&self) -> bool {
-        !self.delta
+    pub fn connectible(&self, scene: &Scene) -> bool {
+        if !self.delta {
+            return true;
+        }
+        match self.kind {
+            VertexKind::Surface { .. } => self
+                .material(scene)
+                .is_some_and(|m| m.flags().has_non_specular()),
+            _ => false,
+        }
     }
 
     fn material<'a>(&self, scene: &'a Scene) -> Option<&'a dyn Material> {
