@@ -16,7 +16,7 @@ use crate::camera::CameraSample;
 use crate::film::spectral::SpectralBins;
 use crate::film::spectral_film::LaneEnergies;
 use crate::film::{FilmState, Sensor};
-use crate::geometry::{spawn_ray, spawn_ray_to, Ray};
+use crate::geometry::{spawn_ray, spawn_ray_to, Hit, Ray};
 use crate::integrator::plan::RenderPlan;
 use crate::light::{LightFlags, LightSampleContext};
 use crate::material::{BsdfSample, Frame, Material, MaterialFlags, ShadingContext, TransportMode};
@@ -220,26 +220,20 @@ impl PathTracer {
             let cur = current(lambdas.groups(), shifted.as_ref(), &mut cur_buf);
             stats.rays += 1;
             let Some(hit) = scene.geometry.intersect(&ray, f32::INFINITY) else {
-                // The path leaves the scene: the environment's radiance, weighted against its
-                // next-event estimation like an area light found by the path.
-                if let Some(ei) = scene.lights.environment() {
-                    let light = &scene.lights.lights()[ei as usize];
-                    if let Some((p_env, n_env)) = light.escape_point(&ray) {
-                        let w = if depth == 0 || specular_bounce {
-                            1.0
-                        } else {
-                            let light_pdf = scene.lights.pmf(ei as usize)
-                                * light.pdf_li(&prev_ctx, p_env, n_env);
-                            power_heuristic(prev_bsdf_pdf, light_pdf)
-                        };
-                        let back = -ray.dir.normalize();
-                        for (g, lam) in cur.iter().enumerate().take(lambdas.active_groups()) {
-                            let mut le = light.radiance(p_env, n_env, glam::Vec2::ZERO, back, lam);
-                            scene.lights.keep_line_power_only(ei as usize, lam, &mut le);
-                            l[g] += beta[g] * le * w;
-                        }
-                    }
-                }
+                let seen = Seen {
+                    directly: depth == 0 || specular_bounce,
+                    prev_ctx: &prev_ctx,
+                    prev_bsdf_pdf,
+                };
+                add_escaped(
+                    scene,
+                    &ray,
+                    &seen,
+                    cur,
+                    lambdas.active_groups(),
+                    &beta,
+                    &mut l,
+                );
                 break;
             };
             let material = scene.objects.material(hit.object);
@@ -253,36 +247,18 @@ impl PathTracer {
 
             // Emission found by the path itself.
             if flags.contains(MaterialFlags::EMISSIVE) {
-                // Which side emits is a property of the surface (its geometric normal, as the
-                // area light sees it), not of an interpolated shading normal.
-                let wo_geo =
-                    Frame::from_normal(hit.geometric_normal).to_local(-ray.dir.normalize());
-                // One MIS weight for every group: both strategies sampled with the hero.
-                let mut weight: Option<f32> = None;
-                for g in 0..active {
-                    let mut le = material.emitted(wo_geo, &sctx, &cur[g]);
-                    if let Some(li) = scene.lights.light_of_object(hit.object) {
-                        scene
-                            .lights
-                            .keep_line_power_only(li as usize, &cur[g], &mut le);
-                    }
-                    if le.is_black() {
-                        continue;
-                    }
-                    if depth == 0 || specular_bounce {
-                        l[g] += beta[g] * le;
-                    } else if let Some(li) = scene.lights.light_of_object(hit.object) {
-                        let w = *weight.get_or_insert_with(|| {
-                            let light = &scene.lights.lights()[li as usize];
-                            let light_pdf = scene.lights.pmf(li as usize)
-                                * light.pdf_li(&prev_ctx, hit.point, hit.geometric_normal);
-                            power_heuristic(prev_bsdf_pdf, light_pdf)
-                        });
-                        l[g] += beta[g] * le * w;
-                    } else {
-                        l[g] += beta[g] * le;
-                    }
-                }
+                let seen = Seen {
+                    directly: depth == 0 || specular_bounce,
+                    prev_ctx: &prev_ctx,
+                    prev_bsdf_pdf,
+                };
+                let found = Found {
+                    hit: &hit,
+                    ray: &ray,
+                    material,
+                    sctx: &sctx,
+                };
+                add_emission(scene, &found, &seen, &cur[..active], &beta, &mut l);
             }
             if depth >= max_depth {
                 break;
@@ -368,83 +344,21 @@ impl PathTracer {
                 .filter(|_| material.f_same_for_all_directions())
                 .map(|bs| bs.f);
             if flags.has_non_specular() {
-                if let Some((li, pmf)) = scene.lights.sample(u_light) {
-                    let light = &scene.lights.lights()[li];
-                    if let Some(ls) = light.sample_li(&ctx, u_light2, &hero) {
-                        if ls.pdf > 0.0 {
-                            let wi = frame.to_local(ls.wi);
-                            // (f·|cos θ|, radiance) per group; zero where nothing arrives.
-                            let mut terms =
-                                [(SampledSpectrum::zero(), SampledSpectrum::zero()); MAX_GROUPS];
-                            let mut any = false;
-                            for (g, (term, lam)) in
-                                terms.iter_mut().zip(cur).take(active).enumerate()
-                            {
-                                let mut radiance = if g == 0 {
-                                    ls.radiance
-                                } else {
-                                    // The same light point for the group's wavelengths (light
-                                    // sampling is wavelength-independent for every built-in).
-                                    match light.sample_li(&ctx, u_light2, lam) {
-                                        Some(s) if s.p_light == ls.p_light => s.radiance,
-                                        _ => SampledSpectrum::zero(),
-                                    }
-                                };
-                                scene.lights.keep_line_power_only(li, lam, &mut radiance);
-                                if radiance.is_black() {
-                                    continue;
-                                }
-                                let f = match hero_f {
-                                    Some(f) if g == 0 => {
-                                        if crate::material::same_hemisphere(wo, wi) {
-                                            f
-                                        } else {
-                                            SampledSpectrum::zero()
-                                        }
-                                    }
-                                    _ => material.eval(wo, wi, &sctx, lam, TransportMode::Radiance),
-                                } * wi.z.abs();
-                                if !f.is_black() {
-                                    *term = (f, radiance);
-                                    any = true;
-                                }
-                            }
-                            if any {
-                                let (shadow, t_max) = spawn_ray_to(
-                                    hit.point,
-                                    hit.point_error,
-                                    hit.geometric_normal,
-                                    ls.p_light,
-                                    ls.p_light_error,
-                                    ls.n_light,
-                                );
-                                stats.shadow_rays += 1;
-                                if !scene.geometry.occluded(&shadow, t_max) {
-                                    let light_pdf = pmf * ls.pdf;
-                                    // No BSDF-hit term exists for a light rays cannot find.
-                                    let w = if !light.flags().can_be_hit() {
-                                        1.0
-                                    } else {
-                                        let bsdf_pdf = material.pdf(
-                                            wo,
-                                            wi,
-                                            &sctx,
-                                            &hero,
-                                            TransportMode::Radiance,
-                                        );
-                                        power_heuristic(light_pdf, bsdf_pdf)
-                                    };
-                                    for g in 0..active {
-                                        let (f, radiance) = terms[g];
-                                        if !f.is_black() {
-                                            l[g] += beta[g] * f * radiance * (w / light_pdf);
-                                        }
-                                    }
-                                }
-                            }
-                        }
-                    }
-                }
+                let found = Found {
+                    hit: &hit,
+                    ray: &ray,
+                    material,
+                    sctx: &sctx,
+                };
+                let event = NextEvent {
+                    frame: &frame,
+                    wo,
+                    ctx: &ctx,
+                    hero_f,
+                    u_light,
+                    u_light2,
+                };
+                add_next_event(scene, &found, &event, &cur[..active], &beta, &mut l, stats);
             }
 
             // Continue the path with the BSDF sample drawn with the hero group above.
@@ -455,35 +369,20 @@ impl PathTracer {
                 break;
             }
             // f(wo, wi) of every group for this event (for a delta lobe: its weight over |cos|).
-            let mut f_groups = [SampledSpectrum::zero(); MAX_GROUPS];
-            f_groups[0] = bs.f;
-            let mut wavelength_dependent = bs.flags.contains(MaterialFlags::DISPERSIVE);
-            if !wavelength_dependent {
-                for (f_g, lam) in f_groups.iter_mut().zip(cur).take(active).skip(1) {
-                    *f_g = if bs.flags.is_specular() {
-                        // A delta event cannot be evaluated: sample it again with the same
-                        // numbers and this group's wavelengths.
-                        let again = material.sample_into(
-                            wo,
-                            &sctx,
-                            lam,
-                            u_lobe,
-                            u_dir,
-                            TransportMode::Radiance,
-                            &mut again_record,
-                        );
-                        match again {
-                            Some(b) if same_delta_event(b, bs) => b.f,
-                            _ => {
-                                wavelength_dependent = true;
-                                break;
-                            }
-                        }
-                    } else {
-                        material.eval(wo, bs.wi, &sctx, lam, TransportMode::Radiance)
-                    };
-                }
-            }
+            let found = Found {
+                hit: &hit,
+                ray: &ray,
+                material,
+                sctx: &sctx,
+            };
+            let (f_groups, wavelength_dependent) = event_f_per_group(
+                &found,
+                wo,
+                &bs,
+                &cur[..active],
+                (u_lobe, u_dir),
+                &mut again_record,
+            );
             let keep = if wavelength_dependent { 1 } else { active };
             if f_groups[..keep].iter().all(|f| f.is_black()) {
                 break;
@@ -514,27 +413,273 @@ impl PathTracer {
             ray = spawn_ray(hit.point, hit.point_error, hit.geometric_normal, wi_world);
             depth += 1;
 
-            // Russian roulette on the throughput (the largest lane of all groups), with
-            // refraction's radiance scaling taken out.
-            if depth >= self.rr_depth {
-                let m = beta[..active]
-                    .iter()
-                    .map(|b| b.max_value())
-                    .fold(f32::MIN, f32::max)
-                    * eta_scale;
-                if m < 1.0 {
-                    let q = (1.0 - m).max(0.05);
-                    if rng.next_1d() < q {
-                        break;
-                    }
-                    for b in &mut beta[..active] {
-                        *b = *b / (1.0 - q);
-                    }
-                }
+            if depth >= self.rr_depth && !survives_roulette(&mut beta[..active], eta_scale, rng) {
+                break;
             }
         }
         l
     }
+}
+
+/// Russian roulette on the throughput (the largest lane of all groups), with refraction's
+/// radiance scaling `eta_scale` taken out: false when the path ends, else the survivors'
+/// throughput divided by the survival probability.
+#[inline]
+fn survives_roulette(beta: &mut [SampledSpectrum], eta_scale: f32, rng: &mut PixelSampler) -> bool {
+    let m = beta.iter().map(|b| b.max_value()).fold(f32::MIN, f32::max) * eta_scale;
+    if m < 1.0 {
+        let q = (1.0 - m).max(0.05);
+        if rng.next_1d() < q {
+            return false;
+        }
+        for b in beta.iter_mut() {
+            *b = *b / (1.0 - q);
+        }
+    }
+    true
+}
+
+/// How the path reached its current point: `directly` (camera ray or after a delta event: no
+/// next-event estimate competes), else from `prev_ctx` with BSDF density `prev_bsdf_pdf`.
+struct Seen<'a> {
+    directly: bool,
+    prev_ctx: &'a LightSampleContext,
+    prev_bsdf_pdf: f32,
+}
+
+impl Seen<'_> {
+    /// The MIS weight of emission found by the path on light `li` at `p` (normal `n`) against
+    /// that light's next-event estimation.
+    #[inline]
+    fn weight(&self, scene: &Scene, li: usize, p: glam::Vec3A, n: glam::Vec3A) -> f32 {
+        let light = &scene.lights.lights()[li];
+        let light_pdf = scene.lights.pmf(li) * light.pdf_li(self.prev_ctx, p, n);
+        power_heuristic(self.prev_bsdf_pdf, light_pdf)
+    }
+}
+
+/// The path leaves the scene: the environment's radiance, weighted against its next-event
+/// estimation like an area light found by the path.
+#[inline]
+fn add_escaped(
+    scene: &Scene,
+    ray: &Ray,
+    seen: &Seen<'_>,
+    cur: &[SampledWavelengths],
+    active: usize,
+    beta: &[SampledSpectrum; MAX_GROUPS],
+    l: &mut GroupRadiance,
+) {
+    let Some(ei) = scene.lights.environment() else {
+        return;
+    };
+    let light = &scene.lights.lights()[ei as usize];
+    let Some((p_env, n_env)) = light.escape_point(ray) else {
+        return;
+    };
+    let w = if seen.directly {
+        1.0
+    } else {
+        seen.weight(scene, ei as usize, p_env, n_env)
+    };
+    let back = -ray.dir.normalize();
+    for (g, lam) in cur.iter().enumerate().take(active) {
+        let mut le = light.radiance(p_env, n_env, glam::Vec2::ZERO, back, lam);
+        scene.lights.keep_line_power_only(ei as usize, lam, &mut le);
+        l[g] += beta[g] * le * w;
+    }
+}
+
+/// A surface the path found: the hit, the ray that found it, its material and shading context.
+struct Found<'a> {
+    hit: &'a Hit,
+    ray: &'a Ray,
+    material: &'a dyn Material,
+    sctx: &'a ShadingContext,
+}
+
+/// Emission found by the path itself on an emissive surface, each active group in `cur`,
+/// weighted against next-event estimation (one weight for every group: both strategies
+/// sampled with the hero).
+#[inline]
+fn add_emission(
+    scene: &Scene,
+    found: &Found<'_>,
+    seen: &Seen<'_>,
+    cur: &[SampledWavelengths],
+    beta: &[SampledSpectrum; MAX_GROUPS],
+    l: &mut GroupRadiance,
+) {
+    let hit = found.hit;
+    // Which side emits is a property of the surface (its geometric normal, as the area light
+    // sees it), not of an interpolated shading normal.
+    let wo_geo = Frame::from_normal(hit.geometric_normal).to_local(-found.ray.dir.normalize());
+    let mut weight: Option<f32> = None;
+    for (g, lam) in cur.iter().enumerate() {
+        let mut le = found.material.emitted(wo_geo, found.sctx, lam);
+        if let Some(li) = scene.lights.light_of_object(hit.object) {
+            scene.lights.keep_line_power_only(li as usize, lam, &mut le);
+        }
+        if le.is_black() {
+            continue;
+        }
+        if seen.directly {
+            l[g] += beta[g] * le;
+        } else if let Some(li) = scene.lights.light_of_object(hit.object) {
+            let w = *weight.get_or_insert_with(|| {
+                seen.weight(scene, li as usize, hit.point, hit.geometric_normal)
+            });
+            l[g] += beta[g] * le * w;
+        } else {
+            l[g] += beta[g] * le;
+        }
+    }
+}
+
+/// One next-event estimate's inputs at a surface: its frame, the outgoing direction (local),
+/// the light sampling context, the hero's f when it is the same in every direction, and the
+/// numbers of the light choice and the light point.
+struct NextEvent<'a> {
+    frame: &'a Frame,
+    wo: glam::Vec3A,
+    ctx: &'a LightSampleContext,
+    hero_f: Option<SampledSpectrum>,
+    u_light: f32,
+    u_light2: Vec2,
+}
+
+/// Next-event estimation: one light point (drawn for the hero), emission and BSDF per group
+/// of `cur`, one shadow ray, weighted against the path finding the light.
+#[inline]
+fn add_next_event(
+    scene: &Scene,
+    found: &Found<'_>,
+    event: &NextEvent<'_>,
+    cur: &[SampledWavelengths],
+    beta: &[SampledSpectrum; MAX_GROUPS],
+    l: &mut GroupRadiance,
+    stats: &mut PathStats,
+) {
+    let (hit, material, sctx, wo) = (found.hit, found.material, found.sctx, event.wo);
+    let hero = cur[0];
+    let Some((li, pmf)) = scene.lights.sample(event.u_light) else {
+        return;
+    };
+    let light = &scene.lights.lights()[li];
+    let Some(ls) = light.sample_li(event.ctx, event.u_light2, &hero) else {
+        return;
+    };
+    if !(ls.pdf > 0.0) {
+        return;
+    }
+    let wi = event.frame.to_local(ls.wi);
+    // (f·|cos θ|, radiance) per group; zero where nothing arrives.
+    let mut terms = [(SampledSpectrum::zero(), SampledSpectrum::zero()); MAX_GROUPS];
+    let mut any = false;
+    for (g, (term, lam)) in terms.iter_mut().zip(cur).enumerate() {
+        let mut radiance = if g == 0 {
+            ls.radiance
+        } else {
+            // The same light point for the group's wavelengths (light sampling is
+            // wavelength-independent for every built-in).
+            match light.sample_li(event.ctx, event.u_light2, lam) {
+                Some(s) if s.p_light == ls.p_light => s.radiance,
+                _ => SampledSpectrum::zero(),
+            }
+        };
+        scene.lights.keep_line_power_only(li, lam, &mut radiance);
+        if radiance.is_black() {
+            continue;
+        }
+        let f = match event.hero_f {
+            Some(f) if g == 0 => {
+                if crate::material::same_hemisphere(wo, wi) {
+                    f
+                } else {
+                    SampledSpectrum::zero()
+                }
+            }
+            _ => material.eval(wo, wi, sctx, lam, TransportMode::Radiance),
+        } * wi.z.abs();
+        if !f.is_black() {
+            *term = (f, radiance);
+            any = true;
+        }
+    }
+    if !any {
+        return;
+    }
+    let (shadow, t_max) = spawn_ray_to(
+        hit.point,
+        hit.point_error,
+        hit.geometric_normal,
+        ls.p_light,
+        ls.p_light_error,
+        ls.n_light,
+    );
+    stats.shadow_rays += 1;
+    if scene.geometry.occluded(&shadow, t_max) {
+        return;
+    }
+    let light_pdf = pmf * ls.pdf;
+    // No BSDF-hit term exists for a light rays cannot find.
+    let w = if !light.flags().can_be_hit() {
+        1.0
+    } else {
+        let bsdf_pdf = material.pdf(wo, wi, sctx, &hero, TransportMode::Radiance);
+        power_heuristic(light_pdf, bsdf_pdf)
+    };
+    for g in 0..cur.len() {
+        let (f, radiance) = terms[g];
+        if !f.is_black() {
+            l[g] += beta[g] * f * radiance * (w / light_pdf);
+        }
+    }
+}
+
+/// f(wo, wi) of every group of `cur` for the event `bs` sampled with the hero (for a delta
+/// lobe: its weight over |cos|, by sampling it again with the same numbers `u` and the group's
+/// wavelengths), and whether the event depends on wavelength (dispersive, or a delta event
+/// that chose another lobe for some group): then only the hero's entry is meaningful.
+#[inline]
+fn event_f_per_group(
+    found: &Found<'_>,
+    wo: glam::Vec3A,
+    bs: &BsdfSample,
+    cur: &[SampledWavelengths],
+    (u_lobe, u_dir): (f32, Vec2),
+    again_record: &mut BsdfSample,
+) -> ([SampledSpectrum; MAX_GROUPS], bool) {
+    let mut f_groups = [SampledSpectrum::zero(); MAX_GROUPS];
+    f_groups[0] = bs.f;
+    let mut wavelength_dependent = bs.flags.contains(MaterialFlags::DISPERSIVE);
+    if !wavelength_dependent {
+        for (f_g, lam) in f_groups.iter_mut().zip(cur).skip(1) {
+            *f_g = if bs.flags.is_specular() {
+                let again = found.material.sample_into(
+                    wo,
+                    found.sctx,
+                    lam,
+                    u_lobe,
+                    u_dir,
+                    TransportMode::Radiance,
+                    again_record,
+                );
+                match again {
+                    Some(b) if same_delta_event(b, bs) => b.f,
+                    _ => {
+                        wavelength_dependent = true;
+                        break;
+                    }
+                }
+            } else {
+                found
+                    .material
+                    .eval(wo, bs.wi, found.sctx, lam, TransportMode::Radiance)
+            };
+        }
+    }
+    (f_groups, wavelength_dependent)
 }
 
 /// The wavelengths the groups carry now: `groups` itself until a fluorescent event, then a copy
