@@ -378,7 +378,7 @@ impl PathTracer {
             let (f_groups, wavelength_dependent) = event_f_per_group(
                 &found,
                 wo,
-                &bs,
+                bs,
                 &cur[..active],
                 (u_lobe, u_dir),
                 &mut again_record,
