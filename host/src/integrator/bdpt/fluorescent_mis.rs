@@ -773,7 +773,7 @@ mod tests {
         }
 
         /// Density of x_i from the light side.
-        fn from_light(&self, i: usize) -> f32 {
+        fn density_from_light(&self, i: usize) -> f32 {
             let x = &self.x;
             match i {
                 0 => self.x0_light.pdf_light_origin(self.scene, &x[1]),
@@ -790,7 +790,7 @@ mod tests {
         }
 
         /// Density of x_i from the camera side.
-        fn from_camera(&self, i: usize) -> f32 {
+        fn density_from_camera(&self, i: usize) -> f32 {
             let (x, n) = (&self.x, self.n());
             if i == n - 1 {
                 0.0
@@ -852,8 +852,8 @@ mod tests {
             (0..s)
                 .map(|i| {
                     let mut v = if i == 0 { self.x0_light } else { self.x[i] };
-                    v.pdf_fwd = self.from_light(i);
-                    v.pdf_rev = self.from_camera(i);
+                    v.pdf_fwd = self.density_from_light(i);
+                    v.pdf_rev = self.density_from_camera(i);
                     v.moved = (1..=i).fold(LaneMask::NONE, |m, a| m.union(self.moved_at(a)));
                     if i > 0 {
                         (v.choice, v.choice_rev) = self.events(i);
@@ -871,8 +871,12 @@ mod tests {
                 .rev()
                 .map(|i| {
                     let mut v = self.x[i];
-                    v.pdf_fwd = self.from_camera(i);
-                    v.pdf_rev = if i == 0 { 0.0 } else { self.from_light(i) };
+                    v.pdf_fwd = self.density_from_camera(i);
+                    v.pdf_rev = if i == 0 {
+                        0.0
+                    } else {
+                        self.density_from_light(i)
+                    };
                     v.moved =
                         (i.max(1)..n - 1).fold(LaneMask::NONE, |m, a| m.union(self.moved_at(a)));
                     if i > 0 && i < n - 1 {
@@ -1000,6 +1004,8 @@ mod tests {
         }
 
         /// Count the lanes and check each lane's sum (`strict`), keeping the worst.
+        // `k` indexes five per-lane arrays at once: an index reads clearer than a zip of five.
+        #[allow(clippy::needless_range_loop)]
         fn tally(&self, sum: &[f64; LANES], strict: bool, sums: &mut Sums) {
             let n = self.n();
             let obs = self.pair_at(self.seg[n - 2]);
