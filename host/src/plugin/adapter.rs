@@ -1061,7 +1061,9 @@ fn on_sphere(e: &EnvironmentLight, origin: Vec3A, dir: Vec3A) -> Option<Vec3A> {
     let (c, r) = e.sphere();
     let to_c = c - origin;
     let d = to_c.length();
-    let n = to_c / d;
+    // The built-in environment's own inward normal (`normalize`, not a division: the two differ
+    // in the last bit, and a plugin environment must render bit-for-bit like the built-in).
+    let n = to_c.normalize_or_zero();
     ((d / r - 1.0).abs() <= 1e-3 && n.dot(dir) > 0.0).then_some(n)
 }
 
