@@ -22,6 +22,35 @@ use crate::texture::{ConstantTexture, SpectralTexture};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
+/// The parameters `plastic` and `rough_plastic` share (their documentation rows).
+pub(super) const DIFFUSE_REFLECTANCE: Param = Param::optional(
+    "diffuse_reflectance",
+    "",
+    "0.5",
+    "the base's spectral reflectance in [0, 1]: number, spec, (nm, value) list, (rgb: ..) or an image (texture: ..), see docs/textures.md",
+);
+/// See [`DIFFUSE_REFLECTANCE`].
+pub(super) const SPECULAR_REFLECTANCE: Param = Param::optional(
+    "specular_reflectance",
+    "",
+    "1",
+    "factor in [0, 1] on the coating's reflection (as diffuse_reflectance; 1 is physical)",
+);
+/// See [`DIFFUSE_REFLECTANCE`].
+pub(super) const EXT_IOR: Param = Param::optional(
+    "ext_ior",
+    "",
+    "1",
+    "the outside medium's index (as int_ior)",
+);
+/// See [`DIFFUSE_REFLECTANCE`].
+pub(super) const NONLINEAR: Param = Param::optional(
+    "nonlinear",
+    "",
+    "false",
+    "keep the colour shift of light bouncing inside the coating (ρ/(1 − ρR) instead of ρ/(1 − R))",
+);
+
 /// The type.
 pub const TYPE: BuiltinType = BuiltinType {
     name: "plastic",
@@ -29,26 +58,11 @@ pub const TYPE: BuiltinType = BuiltinType {
     version: 1,
     description: "diffuse base under a smooth dielectric coating (Mitsuba's plastic)",
     params: &[
-        Param::optional(
-            "diffuse_reflectance",
-            "",
-            "0.5",
-            "the base's spectral reflectance in [0, 1]: number, spec, (nm, value) list, (rgb: ..) or an image (texture: ..), see docs/textures.md",
-        ),
-        Param::optional(
-            "specular_reflectance",
-            "",
-            "1",
-            "factor in [0, 1] on the coating's reflection (as diffuse_reflectance; 1 is physical)",
-        ),
+        DIFFUSE_REFLECTANCE,
+        SPECULAR_REFLECTANCE,
         Param::optional("int_ior", "", "1.49", "the coating's index of refraction: number, glass name (N-BK7, N-SF11, F2, fused-silica), (cauchy: (a, b µm²)) or (sellmeier: (b: (..), c: (.. µm²)))"),
-        Param::optional("ext_ior", "", "1", "the outside medium's index (as int_ior)"),
-        Param::optional(
-            "nonlinear",
-            "",
-            "false",
-            "keep the colour shift of light bouncing inside the coating (ρ/(1 − ρR) instead of ρ/(1 − R))",
-        ),
+        EXT_IOR,
+        NONLINEAR,
     ],
     build: Build::Material(|v, ctx| build(&from_value(v)?, ctx)),
     state: Some(state_fns::<PlasticParams>()),

@@ -15,7 +15,9 @@
 //!
 //! α below 0.001 is the smooth coating (`plastic`).
 
-use crate::builtin::material::plastic::parts;
+use crate::builtin::material::plastic::{
+    parts, DIFFUSE_REFLECTANCE, EXT_IOR, NONLINEAR, SPECULAR_REFLECTANCE,
+};
 use crate::builtin::spectral::{alpha, Ior, Spectrum};
 use crate::builtin::{from_value, param_err, state_fns, Build, BuiltinType, Embed};
 use crate::material::plastic::Coating;
@@ -30,31 +32,32 @@ pub const TYPE: BuiltinType = BuiltinType {
     name: "rough_plastic",
     aliases: &["roughplastic"],
     version: 1,
-    description: "diffuse base under a rough (GGX or Beckmann) dielectric coating (Mitsuba's roughplastic)",
+    description:
+        "diffuse base under a rough (GGX or Beckmann) dielectric coating (Mitsuba's roughplastic)",
     params: &[
+        DIFFUSE_REFLECTANCE,
+        SPECULAR_REFLECTANCE,
         Param::optional(
-            "diffuse_reflectance",
+            "int_ior",
             "",
-            "0.5",
-            "the base's spectral reflectance in [0, 1]: number, spec, (nm, value) list, (rgb: ..) or an image (texture: ..), see docs/textures.md",
+            "1.49",
+            "the coating's index of refraction (as plastic's)",
         ),
-        Param::optional(
-            "specular_reflectance",
-            "",
-            "1",
-            "factor in [0, 1] on the coating's reflection (as diffuse_reflectance; 1 is physical)",
-        ),
-        Param::optional("int_ior", "", "1.49", "the coating's index of refraction (as plastic's)"),
-        Param::optional("ext_ior", "", "1", "the outside medium's index (as int_ior)"),
-        Param::optional(
-            "nonlinear",
-            "",
-            "false",
-            "keep the colour shift of light bouncing inside the coating (ρ/(1 − ρR) instead of ρ/(1 − R))",
-        ),
+        EXT_IOR,
+        NONLINEAR,
         Param::optional("roughness", "", "—", "perceptual roughness r ≥ 0; α = r²"),
-        Param::optional("alpha", "", "0.1", "the distribution's α directly (wins over `roughness`)"),
-        Param::optional("distribution", "", "\"ggx\"", "microfacet distribution: ggx or beckmann (α the RMS slope)"),
+        Param::optional(
+            "alpha",
+            "",
+            "0.1",
+            "the distribution's α directly (wins over `roughness`)",
+        ),
+        Param::optional(
+            "distribution",
+            "",
+            "\"ggx\"",
+            "microfacet distribution: ggx or beckmann (α the RMS slope)",
+        ),
     ],
     build: Build::Material(|v, ctx| build(&from_value(v)?, ctx)),
     state: Some(state_fns::<RoughPlasticParams>()),
