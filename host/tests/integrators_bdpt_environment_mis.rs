@@ -13,26 +13,11 @@ use spectrace::integrator::{
 use spectrace::scene::{build_scene, parse_scene_str, BuiltinFactory, Scene};
 use std::path::{Path, PathBuf};
 
-fn temp_dir(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("spectrace-bdptenv-{tag}-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
+mod common_sun_sky;
+use common_sun_sky::write_sun_sky;
 
-/// A 64 × 32 sky: white-blue above the horizon, dark ground below, and a "sun" of 2 × 2 nodes
-/// at 300× the sky, about 45° up (about half of the light on a horizontal plane).
-fn write_sun_sky(path: &Path) {
-    let (w, h) = (64usize, 32usize);
-    exr::prelude::write_rgb_file(path, w, h, |x, y| {
-        if (20..22).contains(&x) && (8..10).contains(&y) {
-            (300.0, 290.0, 270.0)
-        } else if y < h / 2 {
-            (0.6, 0.8, 1.0)
-        } else {
-            (0.1, 0.08, 0.06)
-        }
-    })
-    .unwrap();
+fn temp_dir(tag: &str) -> PathBuf {
+    common_sun_sky::temp_dir("bdptenv", tag)
 }
 
 /// A white floor with a grey sphere on it, seen from above, under the sun sky.
