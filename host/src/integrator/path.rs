@@ -340,16 +340,17 @@ impl PathTracer {
                 TransportMode::Radiance,
                 &mut record,
             );
+            // The scattering surface (the unit lobe in place of a fluorescent material).
+            let found = Found {
+                hit: &hit,
+                ray: &ray,
+                material,
+                sctx: &sctx,
+            };
             let hero_f = sampled
                 .filter(|_| material.f_same_for_all_directions())
                 .map(|bs| bs.f);
             if flags.has_non_specular() {
-                let found = Found {
-                    hit: &hit,
-                    ray: &ray,
-                    material,
-                    sctx: &sctx,
-                };
                 let event = NextEvent {
                     frame: &frame,
                     wo,
@@ -369,12 +370,6 @@ impl PathTracer {
                 break;
             }
             // f(wo, wi) of every group for this event (for a delta lobe: its weight over |cos|).
-            let found = Found {
-                hit: &hit,
-                ray: &ray,
-                material,
-                sctx: &sctx,
-            };
             let (f_groups, wavelength_dependent) = event_f_per_group(
                 &found,
                 wo,
