@@ -24,6 +24,13 @@
 //!
 //! A non-finite value in a render is an error ([`Regions::split`]): dropping such pixels would
 //! reward a renderer for its failures.
+//!
+//! **Means.** The fit's floor sees a bias only once it rises above the noise; [`mean_check`]
+//! tests the mean of each region directly: the renders' mean difference from the reference,
+//! pooled with inverse-variance weights, over its standard error (each render's per-pixel
+//! variance bounded by its MSE, the reference's own variance added once). |z| ≤
+//! [`MEAN_Z_LIMIT`] is "within 4 standard errors" (the target); pixels count as
+//! independent (each pixel's channels once, not three times, since they are correlated).
 
 use crate::analysis::RgbImage;
 use crate::camera::CameraSample;
@@ -151,6 +158,76 @@ pub struct RegionSplit {
     pub sse: [f64; 3],
     /// Number of values in each region.
     pub values: [usize; 3],
+    /// Σ (a − b) over the region's values: the render's mean offset, for [`mean_check`].
+    pub sum_diff: [f64; 3],
+    /// Σ b over the region's values (the reference), to state the offset relative to it.
+    pub sum_ref: [f64; 3],
+}
+
+/// A mean further than this many standard errors from the reference's is reported as off.
+pub const MEAN_Z_LIMIT: f64 = 4.0;
+
+/// Result of [`mean_check`]: how far the renders' mean is from the reference's.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MeanCheck {
+    /// (render − reference) / reference, pooled over the renders (0.01 = 1%).
+    pub relative: f64,
+    /// The pooled difference over its standard error.
+    pub z: f64,
+}
+
+impl MeanCheck {
+    /// True when the mean is within [`MEAN_Z_LIMIT`] standard errors of the reference's.
+    pub fn within(&self) -> bool {
+        self.z.abs() <= MEAN_Z_LIMIT
+    }
+}
+
+/// Pooled mean of a set of renders against the reference in `region` (`None`: every counted
+/// pixel), with `ref_var` the reference's own variance per value (see the module docs). `None`
+/// when the region is empty or no render has a usable variance.
+pub fn mean_check(
+    splits: &[&RegionSplit],
+    region: Option<usize>,
+    ref_var: f64,
+) -> Option<MeanCheck> {
+    let pick = |v: &[f64; 3]| match region {
+        Some(r) => v[r],
+        None => v.iter().sum(),
+    };
+    let (mut wsum, mut wd, mut reference, mut pixels) = (0.0, 0.0, 0.0, 0.0);
+    for s in splits {
+        let n = match region {
+            Some(r) => s.values[r],
+            None => s.values.iter().sum(),
+        } as f64;
+        if n == 0.0 {
+            continue;
+        }
+        let mse = pick(&s.sse) / n;
+        // Variance of the region's mean: the per-value variance (≤ MSE) over the pixel count.
+        let var = mse / (n / 3.0);
+        if !(var > 0.0) {
+            continue;
+        }
+        wsum += 1.0 / var;
+        wd += pick(&s.sum_diff) / n / var;
+        reference = pick(&s.sum_ref) / n;
+        pixels = n / 3.0;
+    }
+    if wsum == 0.0 {
+        return None;
+    }
+    let d = wd / wsum;
+    let se = (1.0 / wsum + ref_var / pixels).sqrt();
+    Some(MeanCheck {
+        relative: if reference != 0.0 {
+            d / reference
+        } else {
+            f64::NAN
+        },
+        z: d / se,
+    })
 }
 
 impl RegionSplit {
@@ -297,6 +374,8 @@ impl Regions {
         for ((r, t), f) in self.region.iter().zip(&test.rgb).zip(&reference.rgb) {
             let Some(r) = *r else { continue };
             out.sse[r] += (0..3).map(|c| (t[c] - f[c]) * (t[c] - f[c])).sum::<f64>();
+            out.sum_diff[r] += (0..3).map(|c| t[c] - f[c]).sum::<f64>();
+            out.sum_ref[r] += f.iter().sum::<f64>();
             out.values[r] += 3;
         }
         Ok(out)
@@ -434,6 +513,47 @@ mod tests {
         test.rgb[6][2] = f64::INFINITY;
         let e = r.split(&test, &reference).unwrap_err();
         assert!(e.contains("(2, 1)"), "{e}");
+    }
+
+    // The mean check on synthetic renders of 10⁴ pixels around a reference of 1.0 with Gaussian
+    // noise σ = 0.1 per value: unbiased renders give |z| ≲ 3 (z is a standard normal; a fixed
+    // seed, so the test is exact), a 1% offset is 0.01/(0.1/√10⁴ /√2 renders) ≈ 14 standard errors
+    // off, and the relative offset is reported as 1% within 0.2% (its standard error ~0.07%).
+    #[test]
+    fn mean_check_finds_an_offset_noise_hides() {
+        let n = 10_000usize;
+        let reference = RgbImage {
+            width: n as u32,
+            height: 1,
+            rgb: vec![[1.0; 3]; n],
+        };
+        let r = Regions::from_masks(&vec![false; n], &vec![false; n], &reference).unwrap();
+        let mut rng = crate::sampler::SampleRng::for_sample(5, 0, 0);
+        let mut gauss = || {
+            // Box–Muller.
+            let (u, v) = (rng.next_1d().max(1e-7) as f64, rng.next_1d() as f64);
+            (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
+        };
+        let mut render = |offset: f64| {
+            let mut t = reference.clone();
+            for p in &mut t.rgb {
+                let e = gauss();
+                *p = [1.0 + offset + 0.1 * e; 3];
+            }
+            r.split(&t, &reference).unwrap()
+        };
+        let fair = [render(0.0), render(0.0)];
+        let off = [render(0.01), render(0.01)];
+        let m = mean_check(&[&fair[0], &fair[1]], None, 0.0).unwrap();
+        assert!(m.within() && m.z.abs() < 3.0, "{m:?}");
+        let m = mean_check(&[&off[0], &off[1]], Some(2), 0.0).unwrap();
+        assert!(!m.within() && m.z > 10.0, "{m:?}");
+        assert!((m.relative - 0.01).abs() < 0.002, "{m:?}");
+        // A noisy reference widens the standard error: the same offset against a reference
+        // with σ = 1 per value (its mean ±0.01) is no longer significant.
+        let m = mean_check(&[&off[0], &off[1]], Some(2), 1.0).unwrap();
+        assert!(m.within(), "{m:?}");
+        assert_eq!(mean_check(&[&off[0]], Some(0), 0.0), None);
     }
 
     // Two halves differing by ±d per value: MSE between them 4d², so the full reference's

@@ -23,8 +23,8 @@
 //! repository layout: run it from the repository root.
 
 use crate::analysis::bench_fit::{
-    cpu_description, fit_inverse_time, reference_variance, view_masks, Fit, RegionSplit, Regions,
-    REGION_NAMES,
+    cpu_description, fit_inverse_time, mean_check, reference_variance, view_masks, Fit,
+    RegionSplit, Regions, MEAN_Z_LIMIT, REGION_NAMES,
 };
 use crate::analysis::bench_scene::export_scene;
 use crate::analysis::RgbImage;
@@ -824,12 +824,62 @@ fn report(
             "\nBest unbiased anchor: {}.\n",
             best_all.map_or("none".into(), |b| b.0)
         );
+        means_table(&mut s, &configs, &group, reference, pixels);
     }
     for n in notes {
         let _ = writeln!(s, "- {n}");
     }
     let _ = writeln!(s, "\n{estimate}");
     s
+}
+
+/// Per configuration and region, its renders' pooled mean against the reference's
+/// ([`mean_check`]): the relative offset and z; a mark where |z| exceeds [`MEAN_Z_LIMIT`].
+fn means_table<'p>(
+    s: &mut String,
+    configs: &[&str],
+    group: &dyn Fn(&str) -> Vec<&'p Point>,
+    reference: &Reference,
+    pixels: &[usize; 3],
+) {
+    let _ = writeln!(
+        s,
+        "Means: every render of a configuration pooled, (render − reference) / reference and z = \
+         that difference over its standard error (render noise and the reference's own); ✗ \
+         where |z| > {MEAN_Z_LIMIT}.\n\n| configuration | whole | {} |\n|---|---|---|---|---|",
+        REGION_NAMES.join(" | ")
+    );
+    let cell = |splits: &[&RegionSplit], region: Option<usize>, var: f64| -> String {
+        match mean_check(splits, region, var) {
+            Some(m) => format!(
+                "{:+.2}% (z {:+.1}){}",
+                100.0 * m.relative,
+                m.z,
+                if m.within() { "" } else { " ✗" }
+            ),
+            None => "–".into(),
+        }
+    };
+    for c in configs {
+        let g = group(c);
+        let splits: Vec<&RegionSplit> = g.iter().map(|p| &p.split).collect();
+        let regions: Vec<String> = (0..3)
+            .map(|r| {
+                if pixels[r] == 0 {
+                    "–".into()
+                } else {
+                    cell(&splits, Some(r), reference.var_region[r])
+                }
+            })
+            .collect();
+        let _ = writeln!(
+            s,
+            "| {c} | {} | {} |",
+            cell(&splits, None, reference.var_total),
+            regions.join(" | ")
+        );
+    }
+    let _ = writeln!(s);
 }
 
 /// How long the full run (default budgets and seeds, every configuration and scene) would take,
@@ -971,8 +1021,11 @@ mod tests {
             load_seconds: 0.0,
             jit_seconds: 0.0,
             split: RegionSplit {
-                sse: [0.0, 0.0, 3.0 * mse],
-                values: [0, 0, 3],
+                // 10⁴ pixels of reference value 1.
+                sse: [0.0, 0.0, 3e4 * mse],
+                values: [0, 0, 30_000],
+                sum_ref: [0.0, 0.0, 3e4],
+                ..Default::default()
             },
         }
     }
@@ -984,7 +1037,10 @@ mod tests {
     fn report_ranks_against_the_best_unbiased_anchor() {
         let mut pts = Vec::new();
         for t in [1.0, 2.0, 4.0, 8.0] {
-            pts.push(point("A", true, t, 1.0 / t + 0.2));
+            let mut a = point("A", true, t, 1.0 / t + 0.2);
+            // A's floor is an offset of its mean: √0.2 ≈ 0.45 on a reference of 1.
+            a.split.sum_diff = [0.0, 0.0, 3e4 * 0.2f64.sqrt()];
+            pts.push(a);
             pts.push(point("B", true, t, 2.0 / t));
             pts.push(point("spectrace-bdpt", false, t, 1.0 / t));
         }
@@ -1017,5 +1073,19 @@ mod tests {
         assert!(row("B").contains("1 (best"), "{md}");
         assert!(row("spectrace-bdpt").contains("| 2.00 |"), "{md}");
         assert!(md.contains("Best unbiased anchor: B"), "{md}");
+        // The means table: B and spectrace sit on the reference, A is 45% off, ~100 standard
+        // errors over 10⁴ pixels (marked).
+        let means = |c: &str| {
+            md.lines()
+                .filter(|l| l.starts_with(&format!("| {c} |")))
+                .nth(1)
+                .unwrap_or_else(|| panic!("{md}"))
+                .to_string()
+        };
+        assert!(means("B").contains("+0.00% (z +0.0)"), "{md}");
+        assert!(
+            means("A").contains("+44.72%") && means("A").contains('✗'),
+            "{md}"
+        );
     }
 }
