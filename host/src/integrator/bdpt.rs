@@ -423,7 +423,6 @@ fn connect_s1(
         ls.n_light,
         ls.radiance / (pmf * ls.pdf),
     );
-    lv.pdf_fwd = lv.pdf_light_origin(scene, pt);
     let mut c = pt.beta * pt.f(scene, &lv, lambda, TransportMode::Radiance) * lv.beta;
     if pt.on_surface() {
         c *= ls.wi.dot(pt.ns).abs();
@@ -435,6 +434,8 @@ fn connect_s1(
     if !unoccluded(scene, pt, &lv) {
         return None;
     }
+    // Only the MIS weight reads it: not asked for connections that give nothing.
+    lv.pdf_fwd = lv.pdf_light_origin(scene, pt);
     Some((c, lv))
 }
 
