@@ -28,6 +28,13 @@
 //! | `max_depth` | bounces  | 64      | longest full path (`s + t − 2`), `--max-depth`       |
 //! | `rr_depth`  | vertices | 3       | subpath length from which Russian roulette may stop  |
 //!
+//! Roulette from 3 vertices (path tracing waits 5 bounces): against 2, 4 and 5, BDPT's
+//! efficiency 1/(MSE·cost) relative to 3 (whole image; MSE at 32 spp, 160×120, 4 seeds,
+//! against the Mitsuba references minus their own noise; cost from callgrind instruction
+//! counts) is 0.98, 0.93, 0.84 on the Cornell box, 1.10, 0.86, 0.72 on
+//! `bench/window_room.ron` and 0.95, 1.00, 0.95 on `bench/glossy_metals.ron`: later roulette
+//! lowers the MSE (by 12%, 7%, 20% at 5) less than it adds cost (35%, 48%, 32%).
+//!
 //! Light subpaths: in a scene with delta surfaces (caustics), each camera sample traces
 //! [`LIGHT_PATHS`] of them ([`light_paths_for`]), otherwise one. The first is joined to every
 //! camera-subpath prefix; all of them are joined to the camera (t = 1), which the power
@@ -144,9 +151,27 @@ pub struct Bdpt {
 /// Why 4 (docs/performance.md, "BDPT and its own strategies": instruction counts and
 /// variances per region): it raises BDPT's efficiency in the caustic cores of the glass
 /// sphere and the spectral caustic 2.4× and 2.6×, and costs the lamp images seen in the
-/// glass 1.6–1.7×, where BDPT stays 3.5× or more ahead of path tracing. Other counts were
-/// not compared: the core's gain is bounded by the camera sample's own cost, which stays,
-/// and the other regions pay for every subpath.
+/// glass 1.6–1.7×, where BDPT stays 3.5× or more ahead of path tracing.
+///
+/// Counts 1, 2, 4 and 8 compared (efficiency 1/(MSE·cost) relative to 4: MSE at 32 spp,
+/// 160×120, against the Mitsuba references, 8–12 seeds, the references' own noise from their
+/// two halves subtracted; cost from callgrind instruction counts of the render at 40×30, 8 spp;
+/// "core" is the largest component of pixels brighter than 4× the median, the floor caustic):
+///
+/// | scene                            | region | 1    | 2    | 4 | 8    |
+/// |----------------------------------|--------|------|------|---|------|
+/// | `bench/glass_sphere_mesh.ron`    | core   | 0.47 | 0.72 | 1 | 1.27 |
+/// |                                  | rest   | 1.09 | 1.16 | 1 | 0.71 |
+/// |                                  | all    | 0.78 | 0.97 | 1 | 0.83 |
+/// | `bench/spectral_caustic.ron`     | core   | 1.51 | 1.34 | 1 | 0.66 |
+/// |                                  | rest   | 1.63 | 1.37 | 1 | 0.64 |
+///
+/// Cost per camera sample relative to one light subpath: 1.20, 1.59, 2.38 (glass sphere) and
+/// 1.25, 1.74, 2.73 (spectral caustic) for 2, 4, 8. On the glass sphere 4 is the best of the
+/// four over the whole image and its caustic wants more; on the spectral caustic the extra
+/// subpaths lower the core's variance by only 13% (luminance and colour alike: most of it does
+/// not come from the t = 1 strategy) and one subpath is best everywhere. No count is best on
+/// both: 4 stays.
 pub const LIGHT_PATHS: u32 = 4;
 
 /// Light subpaths per camera sample that `bdpt` traces in `scene`: `light_paths` when some
@@ -423,7 +448,6 @@ fn connect_s1(
         ls.n_light,
         ls.radiance / (pmf * ls.pdf),
     );
-    lv.pdf_fwd = lv.pdf_light_origin(scene, pt);
     let mut c = pt.beta * pt.f(scene, &lv, lambda, TransportMode::Radiance) * lv.beta;
     if pt.on_surface() {
         c *= ls.wi.dot(pt.ns).abs();
@@ -435,6 +459,8 @@ fn connect_s1(
     if !unoccluded(scene, pt, &lv) {
         return None;
     }
+    // Only the MIS weight reads it: not asked for connections that give nothing.
+    lv.pdf_fwd = lv.pdf_light_origin(scene, pt);
     Some((c, lv))
 }
 
