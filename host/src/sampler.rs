@@ -16,6 +16,48 @@
 
 use glam::Vec2;
 
+/// Where a random walk or a connection takes its uniform numbers: the pixel's stratified
+/// [`PixelSampler`] (BDPT, light tracing) or a plain [`SampleRng`] (estimators without a
+/// sample layout). Generic callers are monomorphised per source: no dynamic call per number.
+pub trait UniformSource {
+    /// One uniform number in [0, 1).
+    fn next_1d(&mut self) -> f32;
+    /// Two uniform numbers in [0, 1)².
+    fn next_2d(&mut self) -> Vec2;
+    /// Consume one 1D request without using it, so the requests after it keep their
+    /// dimensions whether or not this one was needed.
+    #[inline]
+    fn skip_1d(&mut self) {
+        self.next_1d();
+    }
+}
+
+impl UniformSource for SampleRng {
+    #[inline]
+    fn next_1d(&mut self) -> f32 {
+        SampleRng::next_1d(self)
+    }
+    #[inline]
+    fn next_2d(&mut self) -> Vec2 {
+        SampleRng::next_2d(self)
+    }
+}
+
+impl UniformSource for PixelSampler {
+    #[inline]
+    fn next_1d(&mut self) -> f32 {
+        PixelSampler::next_1d(self)
+    }
+    #[inline]
+    fn next_2d(&mut self) -> Vec2 {
+        PixelSampler::next_2d(self)
+    }
+    #[inline]
+    fn skip_1d(&mut self) {
+        PixelSampler::skip_1d(self)
+    }
+}
+
 /// SplitMix64 finaliser: a bijective 64-bit mix with full avalanche (Steele et al. 2014).
 #[inline]
 pub fn mix64(mut z: u64) -> u64 {
@@ -224,6 +266,11 @@ pub struct PixelSampler {
     /// That stream, opened at the first such request: most camera samples of a short path
     /// never reach it, and seeding it costs four hashes.
     rng: Option<SampleRng>,
+    /// Whether the first [`LD_DIMENSIONS`] requests are Sobol' points (kind `sobol`).
+    sobol: bool,
+    /// The block of dimensions being drawn ([`set_block`](Self::set_block)): its start keys
+    /// the PCG stream of its requests past `ld_end`; 0 before any block is set.
+    block: u32,
 }
 
 impl PixelSampler {
@@ -245,6 +292,8 @@ impl PixelSampler {
                 ld_end: LD_DIMENSIONS,
                 rng_key: (seed, pixel, sample as u64),
                 rng: None,
+                sobol: true,
+                block: 0,
             },
             SamplerKind::Independent => Self {
                 pixel_seed,
@@ -253,6 +302,8 @@ impl PixelSampler {
                 ld_end: 0,
                 rng_key: (mix64(seed ^ INDEPENDENT_SALT), pixel, sample as u64),
                 rng: None,
+                sobol: false,
+                block: 0,
             },
         }
     }
@@ -270,12 +321,33 @@ impl PixelSampler {
         )
     }
 
+    /// Continue at dimension `start`, with Sobol' points for the `len` requests from there
+    /// (independent numbers with kind `independent`) and a PCG stream of this block's own after
+    /// them. An integrator with several walks and connections per sample gives each a fixed
+    /// block, so that request `k` of a walk lands on the same dimension in every sample of the
+    /// pixel however long the other walks were (BDPT's layout: `integrator/bdpt/dimensions.rs`).
+    /// Blocks must not overlap; two blocks with different starts never share PCG numbers.
+    #[inline]
+    pub fn set_block(&mut self, start: u32, len: u32) {
+        self.dimension = start;
+        self.ld_end = if self.sobol {
+            start.saturating_add(len)
+        } else {
+            0
+        };
+        self.block = start;
+        self.rng = None;
+    }
+
     /// The PCG stream of the requests past `ld_end` (the same numbers whenever it is opened).
     #[inline]
     fn rng(&mut self) -> &mut SampleRng {
         let (seed, pixel, sample) = self.rng_key;
+        // Block 0 (no block set) keeps the plain per-sample stream; the sample index fits in
+        // 32 bits, so the block start in the upper bits gives every block its own stream.
+        let key = sample ^ ((self.block as u64) << 32);
         self.rng
-            .get_or_insert_with(|| SampleRng::for_sample(seed, pixel, sample))
+            .get_or_insert_with(|| SampleRng::for_sample(seed, pixel, key))
     }
 
     #[inline]
