@@ -260,8 +260,13 @@ fn connect_in<const FLUORESCENT: bool, S: UniformSource>(
         (connect_s0(scene, camera_path, t, lambda)?, None, None)
     } else if t == 1 {
         let start = mode.map_or(lambda, |m| &m.lambda);
-        let (c, r, cam_v) =
-            connect_to_camera(scene, camera, light_path, s, start, rng.next_2d(), stats)?;
+        // A pinhole's lens point needs no numbers (a Sobol' request costs ~80 instructions).
+        let u = if camera.pinhole() {
+            Vec2::ZERO
+        } else {
+            rng.next_2d()
+        };
+        let (c, r, cam_v) = connect_to_camera(scene, camera, light_path, s, start, u, stats)?;
         (c, Some(cam_v), Some(r))
     } else if s == 1 {
         let (c, lv) = connect_s1(scene, camera_path, t, lambda, rng, stats)?;

@@ -118,7 +118,7 @@ impl Integrator for LightTracer {
 /// Dimensions of a light path's sequence ([`PixelSampler::for_light_path`]): wavelengths
 /// (0–2) and the start (3–5) in order, then the walk, 3 requests a bounce (4 with
 /// fluorescence), from [`WALK`], and the t = 1 lens point of vertex `s` at `T1 + s − 1`
-/// (each its own block, see [`PixelSampler::set_block`]): so each request keeps its
+/// (each its own block, see [`PixelSampler::set_block`]; none for a pinhole): so each request keeps its
 /// dimension across light paths whatever the path's length. The first [`WALK`]`.1 / 3`
 /// bounces and [`T1_LD`] lens points are Sobol' points, the rest PCG.
 const WALK: (u32, u32) = (6, 16);
@@ -182,17 +182,24 @@ fn trace_light_path(
             // Spectrally flat so far (vertices 0..s), and the emitter (see `FlatColour`).
             let mut flat_so_far = flat.is_some();
             let emitter = path.first().and_then(|v| v.light_index(scene));
+            let pinhole = camera.pinhole();
             for s in 1..=path.len() {
                 if let Some(fc) = flat {
                     flat_so_far = flat_so_far && fc.vertex_is_flat(&path[s - 1]);
                 }
-                if s <= T1_LD {
-                    ld.set_block(T1 + s as u32 - 1, 1);
+                // A pinhole's lens point needs no numbers.
+                let u = if pinhole {
+                    Vec2::ZERO
                 } else {
-                    ld.set_block(FAR + s as u32, 0);
-                }
+                    if s <= T1_LD {
+                        ld.set_block(T1 + s as u32 - 1, 1);
+                    } else {
+                        ld.set_block(FAR + s as u32, 0);
+                    }
+                    ld.next_2d()
+                };
                 if let Some((c, raster, _)) =
-                    connect_to_camera(scene, camera, path, s, &lambda, ld.next_2d(), stats)
+                    connect_to_camera(scene, camera, path, s, &lambda, u, stats)
                 {
                     let v = &path[s - 1];
                     let exact = match (flat, emitter) {

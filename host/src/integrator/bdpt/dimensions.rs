@@ -14,7 +14,7 @@
 //! | 8–23 | camera subpath: 3 per bounce (lobe 1D, direction 2D, roulette 1D), 4 with fluorescence |
 //! | 24–31 | s = 1 at camera vertex t = 2…5: light (1D), point (2D) |
 //! | 32–47 | first light subpath's walk (after its fluorescence mode, 2 × 1D, if any) |
-//! | 48–51 | t = 1 lens point of light vertex s = 1…4 (2D) |
+//! | 48–51 | t = 1 lens point of light vertex s = 1…4 (2D; not drawn for a pinhole camera) |
 //! | 52, 53 | specular-chain connection (1D, 2D) |
 //! | 54–56 | camera-side chain connection (1D, 1D, 2D) |
 //! | 57 + 13 (j − 1) … | light subpath j ≥ 1 (scenes with delta surfaces): start (3), walk (8), t = 1 at s = 1, 2 |
