@@ -9,6 +9,11 @@
 //! | `sobol` (default) | shuffled, Owen-scrambled Sobol' points ([`PixelSampler`]) | PCG32 ([`SampleRng`]) |
 //! | `independent` | PCG32 | PCG32 |
 //!
+//! An integrator that draws several walks and connections per sample can instead give each a
+//! block of dimensions ([`PixelSampler::set_block`]: Sobol' points for the block's first
+//! requests, then its own PCG stream), so that each request keeps its dimension whatever the
+//! other walks drew (BDPT and light tracing do; the path tracer reads one sequence).
+//!
 //! The Sobol' part is written here rather than taken from the `sobol_burley` crate because it
 //! needs only the first two Sobol' dimensions (each 2D request gets its own shuffle and
 //! scramble, Burley's "padding"), about forty lines; the crate's 256-dimension tables and 4D
@@ -201,8 +206,9 @@ fn to_unit(x: u32) -> f32 {
     (x >> 8) as f32 * (1.0 / 16_777_216.0)
 }
 
-/// How many 1D/2D requests per camera sample get low-discrepancy values; later requests (deep
-/// bounces, where stratification no longer helps) come from [`SampleRng`].
+/// How many 1D/2D requests per camera sample get low-discrepancy values before any
+/// [`PixelSampler::set_block`]; later requests (deep bounces, where stratification no longer
+/// helps) come from [`SampleRng`].
 pub const LD_DIMENSIONS: u32 = 48;
 
 /// Which numbers a render's samples use (`render --sampler sobol|independent`).

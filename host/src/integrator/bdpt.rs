@@ -28,6 +28,10 @@
 //! | `max_depth` | bounces  | 64      | longest full path (`s + t − 2`), `--max-depth`       |
 //! | `rr_depth`  | vertices | 3       | subpath length from which Russian roulette may stop  |
 //!
+//! Numbers: every request of a camera sample comes from the pixel's sampler, each walk and
+//! connection in its own fixed block of dimensions ([`dimensions`]), so a pixel's samples are
+//! stratified in the first bounces and next-event estimates too.
+//!
 //! Light subpaths: in a scene with delta surfaces (caustics), each camera sample traces
 //! [`LIGHT_PATHS`] of them ([`light_paths_for`]), otherwise one. The first is joined to every
 //! camera-subpath prefix; all of them are joined to the camera (t = 1), which the power
