@@ -46,6 +46,10 @@ impl UniformSource for SampleRng {
     fn next_2d(&mut self) -> Vec2 {
         SampleRng::next_2d(self)
     }
+    /// Nothing: independent numbers have no dimensions to keep aligned, and the callers with
+    /// a plain stream (estimators, tests) keep the numbers they drew before skips existed.
+    #[inline]
+    fn skip_1d(&mut self) {}
 }
 
 impl UniformSource for PixelSampler {

@@ -244,7 +244,7 @@ impl Walk {
 /// same dimensions of a stratified source: in a scene that renders fluorescence, the
 /// wavelength-shift choice (1D, skipped at a non-fluorescent surface); then, when the walk
 /// goes on from the vertex, the lobe (1D), the direction (2D) and Russian roulette (1D,
-/// skipped where roulette does not play): [`requests_per_bounce`] in all.
+/// skipped where roulette does not play): 3 requests a bounce, 4 with fluorescence.
 #[allow(clippy::too_many_arguments)]
 pub fn random_walk<S: UniformSource>(
     scene: &Scene,
@@ -311,11 +311,6 @@ pub fn random_walk<S: UniformSource>(
             None => break,
         }
     }
-}
-
-/// The requests (1D or 2D) a [`random_walk`] in `scene` draws per bounce.
-pub fn requests_per_bounce(scene: &Scene) -> u32 {
-    3 + scene.objects.fluorescence() as u32
 }
 
 /// The camera subpath of one camera ray: the lens vertex plus up to `max_vertices − 1` more.
