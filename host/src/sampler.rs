@@ -9,12 +9,63 @@
 //! | `sobol` (default) | shuffled, Owen-scrambled Sobol' points ([`PixelSampler`]) | PCG32 ([`SampleRng`]) |
 //! | `independent` | PCG32 | PCG32 |
 //!
+//! An integrator that draws several walks and connections per sample can instead give each a
+//! block of dimensions ([`PixelSampler::set_block`]: Sobol' points for the block's first
+//! requests, then its own PCG stream), so that each request keeps its dimension whatever the
+//! other walks drew (BDPT and light tracing do; the path tracer reads one sequence).
+//!
 //! The Sobol' part is written here rather than taken from the `sobol_burley` crate because it
 //! needs only the first two Sobol' dimensions (each 2D request gets its own shuffle and
 //! scramble, Burley's "padding"), about forty lines; the crate's 256-dimension tables and 4D
 //! interface would not be used.
 
 use glam::Vec2;
+
+/// Where a random walk or a connection takes its uniform numbers: the pixel's stratified
+/// [`PixelSampler`] (BDPT, light tracing) or a plain [`SampleRng`] (estimators without a
+/// sample layout). Generic callers are monomorphised per source: no dynamic call per number.
+pub trait UniformSource {
+    /// One uniform number in [0, 1).
+    fn next_1d(&mut self) -> f32;
+    /// Two uniform numbers in [0, 1)².
+    fn next_2d(&mut self) -> Vec2;
+    /// Consume one 1D request without using it, so the requests after it keep their
+    /// dimensions whether or not this one was needed.
+    #[inline]
+    fn skip_1d(&mut self) {
+        self.next_1d();
+    }
+}
+
+impl UniformSource for SampleRng {
+    #[inline]
+    fn next_1d(&mut self) -> f32 {
+        SampleRng::next_1d(self)
+    }
+    #[inline]
+    fn next_2d(&mut self) -> Vec2 {
+        SampleRng::next_2d(self)
+    }
+    /// Nothing: independent numbers have no dimensions to keep aligned, and the callers with
+    /// a plain stream (estimators, tests) keep the numbers they drew before skips existed.
+    #[inline]
+    fn skip_1d(&mut self) {}
+}
+
+impl UniformSource for PixelSampler {
+    #[inline]
+    fn next_1d(&mut self) -> f32 {
+        PixelSampler::next_1d(self)
+    }
+    #[inline]
+    fn next_2d(&mut self) -> Vec2 {
+        PixelSampler::next_2d(self)
+    }
+    #[inline]
+    fn skip_1d(&mut self) {
+        PixelSampler::skip_1d(self)
+    }
+}
 
 /// SplitMix64 finaliser: a bijective 64-bit mix with full avalanche (Steele et al. 2014).
 #[inline]
@@ -159,8 +210,9 @@ fn to_unit(x: u32) -> f32 {
     (x >> 8) as f32 * (1.0 / 16_777_216.0)
 }
 
-/// How many 1D/2D requests per camera sample get low-discrepancy values; later requests (deep
-/// bounces, where stratification no longer helps) come from [`SampleRng`].
+/// How many 1D/2D requests per camera sample get low-discrepancy values before any
+/// [`PixelSampler::set_block`]; later requests (deep bounces, where stratification no longer
+/// helps) come from [`SampleRng`].
 pub const LD_DIMENSIONS: u32 = 48;
 
 /// Which numbers a render's samples use (`render --sampler sobol|independent`).
@@ -224,6 +276,11 @@ pub struct PixelSampler {
     /// That stream, opened at the first such request: most camera samples of a short path
     /// never reach it, and seeding it costs four hashes.
     rng: Option<SampleRng>,
+    /// Whether the first [`LD_DIMENSIONS`] requests are Sobol' points (kind `sobol`).
+    sobol: bool,
+    /// The block of dimensions being drawn ([`set_block`](Self::set_block)): its start keys
+    /// the PCG stream of its requests past `ld_end`; 0 before any block is set.
+    block: u32,
 }
 
 impl PixelSampler {
@@ -245,6 +302,8 @@ impl PixelSampler {
                 ld_end: LD_DIMENSIONS,
                 rng_key: (seed, pixel, sample as u64),
                 rng: None,
+                sobol: true,
+                block: 0,
             },
             SamplerKind::Independent => Self {
                 pixel_seed,
@@ -253,6 +312,8 @@ impl PixelSampler {
                 ld_end: 0,
                 rng_key: (mix64(seed ^ INDEPENDENT_SALT), pixel, sample as u64),
                 rng: None,
+                sobol: false,
+                block: 0,
             },
         }
     }
@@ -270,12 +331,33 @@ impl PixelSampler {
         )
     }
 
+    /// Continue at dimension `start`, with Sobol' points for the `len` requests from there
+    /// (independent numbers with kind `independent`) and a PCG stream of this block's own after
+    /// them. An integrator with several walks and connections per sample gives each a fixed
+    /// block, so that request `k` of a walk lands on the same dimension in every sample of the
+    /// pixel however long the other walks were (BDPT's layout: `integrator/bdpt/dimensions.rs`).
+    /// Blocks must not overlap; two blocks with different starts never share PCG numbers.
+    #[inline]
+    pub fn set_block(&mut self, start: u32, len: u32) {
+        self.dimension = start;
+        self.ld_end = if self.sobol {
+            start.saturating_add(len)
+        } else {
+            0
+        };
+        self.block = start;
+        self.rng = None;
+    }
+
     /// The PCG stream of the requests past `ld_end` (the same numbers whenever it is opened).
     #[inline]
     fn rng(&mut self) -> &mut SampleRng {
         let (seed, pixel, sample) = self.rng_key;
+        // Block 0 (no block set) keeps the plain per-sample stream; the sample index fits in
+        // 32 bits, so the block start in the upper bits gives every block its own stream.
+        let key = sample ^ ((self.block as u64) << 32);
         self.rng
-            .get_or_insert_with(|| SampleRng::for_sample(seed, pixel, sample))
+            .get_or_insert_with(|| SampleRng::for_sample(seed, pixel, key))
     }
 
     #[inline]
@@ -400,6 +482,52 @@ mod ld_tests {
                         );
                     }
                 }
+            }
+        }
+    }
+
+    /// Quantity: requests after [`PixelSampler::set_block`]. (1) A block's numbers do not
+    /// depend on what was drawn before it (alignment across samples of different path
+    /// lengths); (2) the first 16 samples of a pixel are stratified (one per 1/16) in a block's
+    /// Sobol' requests; (3) the requests past a block's Sobol' length, and every request of an
+    /// independent block, are PCG numbers that differ between blocks and from the unblocked
+    /// stream. Tolerance: bit equality for (1), exact counts for (2), all distinct for (3).
+    #[test]
+    fn blocks_are_aligned_stratified_and_distinct() {
+        for kind in [SamplerKind::Sobol, SamplerKind::Independent] {
+            let mut a = PixelSampler::with_kind(kind, 3, 77, 5);
+            let mut b = a.clone();
+            for _ in 0..7 {
+                b.next_2d();
+            }
+            a.set_block(30, 2);
+            b.set_block(30, 2);
+            for _ in 0..5 {
+                assert_eq!(a.next_2d(), b.next_2d(), "{kind}");
+            }
+        }
+        let mut strata = [0u8; 16];
+        for s in 0..16 {
+            let mut p = PixelSampler::new(3, 77, s);
+            p.next_1d();
+            p.set_block(100, 1);
+            strata[(p.next_1d() * 16.0) as usize] += 1;
+        }
+        assert!(strata.iter().all(|&c| c == 1), "{strata:?}");
+        for kind in [SamplerKind::Sobol, SamplerKind::Independent] {
+            let mut seen = Vec::new();
+            for start in [0u32, 1, 2, 1 << 24] {
+                let mut p = PixelSampler::with_kind(kind, 3, 77, 5);
+                if start > 0 {
+                    p.set_block(start, 0);
+                } else {
+                    for _ in 0..LD_DIMENSIONS {
+                        p.skip_1d();
+                    }
+                }
+                let v = (p.next_2d(), p.next_2d());
+                assert!(!seen.contains(&v), "{kind} block {start}");
+                seen.push(v);
             }
         }
     }

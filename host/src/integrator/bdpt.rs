@@ -35,11 +35,16 @@
 //! `bench/window_room.ron` and 0.95, 1.00, 0.95 on `bench/glossy_metals.ron`: later roulette
 //! lowers the MSE (by 12%, 7%, 20% at 5) less than it adds cost (35%, 48%, 32%).
 //!
+//! Numbers: every request of a camera sample comes from the pixel's sampler, each walk and
+//! connection in its own fixed block of dimensions ([`dimensions`]), so a pixel's samples are
+//! stratified in the first bounces and next-event estimates too.
+//!
 //! Light subpaths: in a scene with delta surfaces (caustics), each camera sample traces
 //! [`LIGHT_PATHS`] of them ([`light_paths_for`]), otherwise one. The first is joined to every
 //! camera-subpath prefix; all of them are joined to the camera (t = 1), which the power
 //! heuristic then counts as that many samples (see [`LIGHT_PATHS`]).
 
+pub mod dimensions;
 pub mod fluorescent_mis;
 pub mod mis;
 
@@ -62,7 +67,7 @@ use super::wavelengths::flat_colour::FlatColour;
 use super::wavelengths::mixture::WavelengthMixture;
 use super::wavelengths::pairs::PairWavelengths;
 use super::wavelengths::xyz_weights::XyzWeights;
-use super::{PathStats, PixelSampler, RenderError, RenderResult, RenderSettings, SampleRng};
+use super::{PathStats, PixelSampler, RenderError, RenderResult, RenderSettings, UniformSource};
 use crate::camera::{Camera, CameraSample};
 use crate::film::rejected::check_sample;
 use crate::film::spectral::SpectralBins;
@@ -218,7 +223,7 @@ pub struct Connection {
 /// subpath started in a scene that renders fluorescence (`None` elsewhere).
 #[allow(clippy::too_many_arguments)]
 #[inline]
-pub fn connect(
+pub fn connect<S: UniformSource>(
     scene: &Scene,
     camera: &dyn Camera,
     mixture: &WavelengthMixture,
@@ -229,13 +234,13 @@ pub fn connect(
     lambda: &SampledWavelengths,
     mode: Option<&LightMode>,
     light_paths: u32,
-    rng: &mut SampleRng,
+    rng: &mut S,
     stats: &mut PathStats,
 ) -> Option<Connection> {
     // Two instances, so that scenes without fluorescence run no test of the mode (measured:
     // one instance for both cost the Cornell box +0.4% of bdpt's instructions).
     if mode.is_some() {
-        connect_in::<true>(
+        connect_in::<true, S>(
             scene,
             camera,
             mixture,
@@ -248,7 +253,7 @@ pub fn connect(
             stats,
         )
     } else {
-        connect_in::<false>(
+        connect_in::<false, S>(
             scene,
             camera,
             mixture,
@@ -265,7 +270,7 @@ pub fn connect(
 
 /// [`connect`], with `FLUORESCENT` saying whether `mode` can be `Some`.
 #[allow(clippy::too_many_arguments)]
-fn connect_in<const FLUORESCENT: bool>(
+fn connect_in<const FLUORESCENT: bool, S: UniformSource>(
     scene: &Scene,
     camera: &dyn Camera,
     mixture: &WavelengthMixture,
@@ -274,7 +279,7 @@ fn connect_in<const FLUORESCENT: bool>(
     lambda: &SampledWavelengths,
     mode: Option<&LightMode>,
     light_paths: u32,
-    rng: &mut SampleRng,
+    rng: &mut S,
     stats: &mut PathStats,
 ) -> Option<Connection> {
     let mode = if FLUORESCENT { mode } else { None };
@@ -284,8 +289,13 @@ fn connect_in<const FLUORESCENT: bool>(
         (connect_s0(scene, camera_path, t, lambda)?, None, None)
     } else if t == 1 {
         let start = mode.map_or(lambda, |m| &m.lambda);
-        let (c, r, cam_v) =
-            connect_to_camera(scene, camera, light_path, s, start, rng.next_2d(), stats)?;
+        // A pinhole's lens point needs no numbers (a Sobol' request costs ~80 instructions).
+        let u = if camera.pinhole() {
+            Vec2::ZERO
+        } else {
+            rng.next_2d()
+        };
+        let (c, r, cam_v) = connect_to_camera(scene, camera, light_path, s, start, u, stats)?;
         (c, Some(cam_v), Some(r))
     } else if s == 1 {
         let (c, lv) = connect_s1(scene, camera_path, t, lambda, rng, stats)?;
@@ -413,12 +423,12 @@ fn connect_s0(
 /// s = 1, t ≥ 2 (next-event estimation): a fresh light point as seen from the camera vertex;
 /// the contribution and the light vertex.
 #[inline]
-fn connect_s1(
+fn connect_s1<S: UniformSource>(
     scene: &Scene,
     camera_path: &[Vertex],
     t: usize,
     lambda: &SampledWavelengths,
-    rng: &mut SampleRng,
+    rng: &mut S,
     stats: &mut PathStats,
 ) -> Option<(SampledSpectrum, Vertex)> {
     let pt = &camera_path[t - 1];
@@ -640,7 +650,6 @@ fn render_bdpt(
                 for x in buf.x0..buf.x0 + buf.w {
                     let pixel = y as u64 * width as u64 + x as u64;
                     for si in samples.clone() {
-                        let mut rng = SampleRng::for_sample(settings.seed, pixel, si as u64);
                         let mut ld =
                             PixelSampler::with_kind(settings.sampler, settings.seed, pixel, si);
                         let xyz = bdpt.sample(
@@ -650,7 +659,6 @@ fn render_bdpt(
                             (mixture, &pair),
                             (x, y),
                             &mut ld,
-                            &mut rng,
                             (splats, spectral),
                             &pixel_max,
                             strategies.as_ref(),
@@ -737,7 +745,6 @@ impl Bdpt {
         (mixture, pair): (&WavelengthMixture, &PairWavelengths<'_>),
         (x, y): (u32, u32),
         ld: &mut PixelSampler,
-        rng: &mut SampleRng,
         (splats, spectral): (&SplatFilm, Option<&SpectralFilm>),
         pixel_max: &PixelMaxY,
         strategies: Option<&StrategyFilms>,
@@ -750,9 +757,8 @@ impl Bdpt {
         worker: &mut Worker,
     ) -> [f64; 3] {
         let camera = cam.camera.as_ref();
-        // The first dimensions (wavelengths, film position, lens, light-subpath start) come from
-        // the pixel's stratified sampler: at equal spp the mean CIEDE2000 error of the caustic
-        // scene drops by ~25% (colour noise from the wavelengths), for ~5% more time per sample.
+        // Every number comes from the pixel's sampler, each walk and connection in its own
+        // block of dimensions (`dimensions.rs`), so a pixel's samples are stratified in each.
         let lambda = pair.sample(ld);
         let weights = XyzWeights::new(sensor, &lambda);
         let offset = cam.filter.sample(ld.next_2d());
@@ -766,31 +772,33 @@ impl Bdpt {
         let max_depth = self.max_depth as usize;
         let mut camera_path = std::mem::take(&mut worker.camera_path);
         let mut light_path = std::mem::take(&mut worker.light_path);
+        let u_start = Self::light_start(ld, 0);
+        block(ld, dimensions::CAMERA_WALK);
         generate_camera_subpath(
             scene,
             camera,
             cray.ray,
             cray.weight,
             &lambda,
-            rng,
+            ld,
             max_depth + 2,
             self.rr_depth,
             &mut camera_path,
             &mut worker.stats,
         );
-        let u_start = (ld.next_1d(), ld.next_2d(), ld.next_2d());
         let (start, mode) = self.light_subpath(
             scene,
             mixture,
             &lambda,
             u_start,
-            rng,
+            0,
+            ld,
             &mut light_path,
             &mut worker.stats,
         );
         // A beams-only light's subpath, one of `light_paths` of this camera sample: light
         // tracing alone, each splat weighted 1/light_paths.
-        let trace_beams = |index: usize, pmf: f32, rng: &mut _, stats: &mut _| {
+        let trace_beams = |index: usize, pmf: f32, j: u32, ld: &mut PixelSampler, stats: &mut _| {
             let inv = 1.0 / self.light_paths as f64;
             let mut splat = |raster: Vec2, xyz: [f64; 3], e: &dyn Fn() -> LaneEnergies| {
                 let xyz = xyz.map(|v| v * inv);
@@ -801,6 +809,7 @@ impl Bdpt {
                     sf.splat(raster.x, raster.y, &xyz, &e);
                 }
             };
+            block(ld, dimensions::beams(j));
             trace_beam(
                 scene,
                 camera,
@@ -809,13 +818,13 @@ impl Bdpt {
                 pmf,
                 self.max_depth,
                 self.rr_depth,
-                rng,
+                ld,
                 stats,
                 &mut splat,
             );
         };
         if let LightStart::Beams { index, pmf } = start {
-            trace_beams(index, pmf, rng, &mut worker.stats);
+            trace_beams(index, pmf, 0, ld, &mut worker.stats);
         }
         if let Some(fc) = flat {
             fc.prefix(&camera_path, &mut worker.camera_flat);
@@ -838,6 +847,12 @@ impl Bdpt {
                 {
                     continue;
                 }
+                // The strategies that draw numbers (a fresh lens or light point) read their own.
+                if t == 1 {
+                    block(ld, dimensions::t1(0, s));
+                } else if s == 1 {
+                    block(ld, dimensions::s1(t));
+                }
                 let Some(mut c) = connect(
                     scene,
                     camera,
@@ -849,7 +864,7 @@ impl Bdpt {
                     &lambda,
                     mode.as_ref(),
                     self.light_paths,
-                    rng,
+                    ld,
                     &mut worker.stats,
                 ) else {
                     continue;
@@ -948,7 +963,8 @@ impl Bdpt {
         }
         if let Some(j) = manifold.then(|| anchor(scene, &camera_path)).flatten() {
             // The specular-chain connection from the first non-specular camera vertex.
-            let u = (rng.next_1d(), rng.next_2d());
+            block(ld, dimensions::MANIFOLD);
+            let u = (ld.next_1d(), ld.next_2d());
             let mut seeds = Seeds {
                 shapes: reflection_shapes,
                 set: &mut worker.manifold_set,
@@ -1005,9 +1021,10 @@ impl Bdpt {
         }
         if let Some(cc) = camera_chain {
             // The camera-side chain connection, splatted like t = 1.
-            let u_run = rng.next_1d();
+            block(ld, dimensions::CAMERA_CHAIN);
+            let u_run = ld.next_1d();
             let u = if u_run < super::connect::camera_chain::CAMERA_CHAIN_RATE {
-                (u_run, rng.next_1d(), rng.next_2d())
+                (u_run, ld.next_1d(), ld.next_2d())
             } else {
                 (u_run, 0.0, Vec2::ZERO)
             };
@@ -1064,25 +1081,27 @@ impl Bdpt {
                 },
             );
         }
-        for _ in 1..self.light_paths {
+        for j in 1..self.light_paths {
             // The further light subpaths of this camera sample: light tracing only (t = 1).
-            let u_start = (ld.next_1d(), ld.next_2d(), ld.next_2d());
+            let u_start = Self::light_start(ld, j);
             let (start, mode) = self.light_subpath(
                 scene,
                 mixture,
                 &lambda,
                 u_start,
-                rng,
+                j,
+                ld,
                 &mut light_path,
                 &mut worker.stats,
             );
             if let LightStart::Beams { index, pmf } = start {
-                trace_beams(index, pmf, rng, &mut worker.stats);
+                trace_beams(index, pmf, j, ld, &mut worker.stats);
             }
             if let Some(fc) = flat {
                 fc.prefix(&light_path, &mut worker.light_flat);
             }
             for s in 1..=light_path.len().min(max_depth + 1) {
+                block(ld, dimensions::t1(j, s));
                 let Some(c) = connect(
                     scene,
                     camera,
@@ -1094,7 +1113,7 @@ impl Bdpt {
                     &lambda,
                     mode.as_ref(),
                     self.light_paths,
-                    rng,
+                    ld,
                     &mut worker.stats,
                 ) else {
                     continue;
@@ -1148,7 +1167,14 @@ impl Bdpt {
         total
     }
 
-    /// The light subpath of a pair, and in a fluorescent scene its mode (see
+    /// The start of light subpath `j` (light choice, `sample_le`'s two 2D numbers).
+    #[inline]
+    fn light_start(ld: &mut PixelSampler, j: u32) -> (f32, Vec2, Vec2) {
+        block(ld, dimensions::light_start(j));
+        (ld.next_1d(), ld.next_2d(), ld.next_2d())
+    }
+
+    /// Light subpath `j` of a pair, and in a fluorescent scene its mode (see
     /// `integrator/fluorescence/join.rs`): with probability α it starts at the pair's
     /// wavelengths, otherwise at its own draw from its light's spectrum. Scenes without
     /// fluorescence draw nothing more than before.
@@ -1160,11 +1186,13 @@ impl Bdpt {
         mixture: &WavelengthMixture,
         lambda: &SampledWavelengths,
         u_start: (f32, Vec2, Vec2),
-        rng: &mut SampleRng,
+        j: u32,
+        rng: &mut PixelSampler,
         light_path: &mut Vec<Vertex>,
         stats: &mut PathStats,
     ) -> (LightStart, Option<LightMode>) {
         let max = self.max_depth as usize + 1;
+        block(rng, dimensions::light_walk(j));
         if !scene.objects.fluorescence() {
             let start = generate_light_subpath_with(
                 scene,
@@ -1182,8 +1210,10 @@ impl Bdpt {
         let alpha = SHARED_MODE_PROBABILITY;
         let own = rng.next_1d() >= alpha;
         let mut start_lambda = *lambda;
+        // Both mode numbers are consumed in either mode, so the walk's requests keep theirs.
+        let u_own = rng.next_1d() as f64;
         let start = if own {
-            let u = rng.next_1d() as f64;
+            let u = u_own;
             generate_light_subpath_own(
                 scene,
                 mixture,
@@ -1230,6 +1260,12 @@ impl Bdpt {
             sf.film(s, t).splat(raster.x, raster.y, xyz);
         }
     }
+}
+
+/// Continue `ld` at `block` (see [`dimensions`]).
+#[inline]
+fn block(ld: &mut PixelSampler, (start, len): dimensions::Block) {
+    ld.set_block(start, len);
 }
 
 #[cfg(test)]

@@ -30,7 +30,7 @@ use super::subpath::vertex::Vertex;
 use super::wavelengths::flat_colour::FlatColour;
 use super::wavelengths::pairs::PairWavelengths;
 use super::wavelengths::xyz_weights::XyzWeights;
-use super::{PathStats, PixelSampler, RenderError, RenderResult, RenderSettings, SampleRng};
+use super::{PathStats, PixelSampler, RenderError, RenderResult, RenderSettings};
 use crate::camera::Camera;
 use crate::film::spectral::SpectralBins;
 use crate::film::spectral_film::{LaneEnergies, SpectralFilm, SpectralSums};
@@ -115,9 +115,17 @@ impl Integrator for LightTracer {
     }
 }
 
-/// The `sample` index of [`SampleRng::for_sample`] reserved for light paths (camera samples use
-/// small indices), so light path `k` and pixel `k`'s samples never share a stream.
-pub const LIGHT_PATH_STREAM: u64 = u64::MAX;
+/// Dimensions of a light path's sequence ([`PixelSampler::for_light_path`]): wavelengths
+/// (0–2) and the start (3–5) in order, then the walk, 3 requests a bounce (4 with
+/// fluorescence), from [`WALK`], and the t = 1 lens point of vertex `s` at `T1 + s − 1`
+/// (each its own block, see [`PixelSampler::set_block`]; none for a pinhole): so each request keeps its
+/// dimension across light paths whatever the path's length. The first [`WALK`]`.1 / 3`
+/// bounces and [`T1_LD`] lens points are Sobol' points, the rest PCG.
+const WALK: (u32, u32) = (6, 16);
+const T1: u32 = 22;
+const T1_LD: usize = 4;
+/// Start of the PCG-only blocks of deeper lens points and of a beam's walk.
+const FAR: u32 = 1 << 24;
 
 /// Light paths per parallel work unit.
 const CHUNK: u64 = 4096;
@@ -132,23 +140,22 @@ fn trace_light_path(
     pair: &PairWavelengths<'_>,
     lt: &LightTracer,
     ld: &mut PixelSampler,
-    rng: &mut SampleRng,
     path: &mut Vec<Vertex>,
     stats: &mut PathStats,
     splat: &mut SplatFn<'_>,
     flat: Option<&FlatColour>,
 ) {
-    // The first dimensions (wavelengths, light choice, emission point and direction) come from
-    // the light path's stratified sequence, the rest of the walk from `rng`.
+    // Every number comes from the light path's stratified sequence (layout: [`WALK`]).
     let lambda = pair.sample(ld);
     let max_depth = lt.max_depth;
     let rr = lt.rr_depth;
     let u_start = (ld.next_1d(), ld.next_2d(), ld.next_2d());
+    ld.set_block(WALK.0, WALK.1);
     match generate_light_subpath_with(
         scene,
         &lambda,
         u_start,
-        rng,
+        ld,
         max_depth as usize + 1,
         rr,
         path,
@@ -158,14 +165,16 @@ fn trace_light_path(
         LightStart::None => {}
         LightStart::Beams { index, pmf } => {
             // The beam's origin, direction and wavelength from the sequence too (2D pairs
-            // (u₀, u₁), (u₂, u₃), then single dimensions).
+            // (u₀, u₁), (u₂, u₃), then single dimensions) in the walk's block (a beams-only
+            // light made no walk); its walk and lens points PCG.
             let (a, b) = (ld.next_2d(), ld.next_2d());
             let mut u = [a.x, a.y, b.x, b.y, 0.0, 0.0, 0.0, 0.0].map(f64::from);
             for x in &mut u[4..] {
                 *x = ld.next_1d() as f64;
             }
+            ld.set_block(FAR, 0);
             trace_beam_with(
-                scene, camera, sensor, index, pmf, max_depth, rr, u, rng, stats, splat,
+                scene, camera, sensor, index, pmf, max_depth, rr, u, ld, stats, splat,
             );
         }
         LightStart::Path => {
@@ -173,12 +182,24 @@ fn trace_light_path(
             // Spectrally flat so far (vertices 0..s), and the emitter (see `FlatColour`).
             let mut flat_so_far = flat.is_some();
             let emitter = path.first().and_then(|v| v.light_index(scene));
+            let pinhole = camera.pinhole();
             for s in 1..=path.len() {
                 if let Some(fc) = flat {
                     flat_so_far = flat_so_far && fc.vertex_is_flat(&path[s - 1]);
                 }
+                // A pinhole's lens point needs no numbers.
+                let u = if pinhole {
+                    Vec2::ZERO
+                } else {
+                    if s <= T1_LD {
+                        ld.set_block(T1 + s as u32 - 1, 1);
+                    } else {
+                        ld.set_block(FAR + s as u32, 0);
+                    }
+                    ld.next_2d()
+                };
                 if let Some((c, raster, _)) =
-                    connect_to_camera(scene, camera, path, s, &lambda, rng.next_2d(), stats)
+                    connect_to_camera(scene, camera, path, s, &lambda, u, stats)
                 {
                     let v = &path[s - 1];
                     let exact = match (flat, emitter) {
@@ -270,7 +291,6 @@ fn render_light_tracing(
                     let lo = first + c * CHUNK;
                     let hi = (lo + CHUNK).min(first + count);
                     for k in lo..hi {
-                        let mut rng = SampleRng::for_sample(settings.seed, k, LIGHT_PATH_STREAM);
                         let mut ld =
                             PixelSampler::for_light_path(settings.sampler, settings.seed, k);
                         trace_light_path(
@@ -280,7 +300,6 @@ fn render_light_tracing(
                             &pair,
                             lt,
                             &mut ld,
-                            &mut rng,
                             &mut path,
                             &mut stats,
                             &mut splat,

@@ -34,7 +34,7 @@ mod test_support;
 pub mod tiled;
 pub mod wavelengths;
 
-pub use crate::sampler::{PixelSampler, SampleRng, SamplerKind};
+pub use crate::sampler::{PixelSampler, SampleRng, SamplerKind, UniformSource};
 pub use driver::{Integrator, IntegratorInfo, IntegratorOptions, IntegratorOutput, Registration};
 pub use path::render;
 pub use plan::{EffectsMode, EffectsRequest, RenderPlan, Switch};

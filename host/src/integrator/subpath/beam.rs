@@ -10,7 +10,7 @@ use crate::geometry::Ray;
 use crate::integrator::subpath::camera_connection::{connect_to_camera, SplatFn};
 use crate::integrator::subpath::random_walk::{random_walk, WalkShift};
 use crate::integrator::subpath::vertex::Vertex;
-use crate::integrator::{PathStats, SampleRng};
+use crate::integrator::{PathStats, UniformSource};
 use crate::material::TransportMode;
 use crate::scene::Scene;
 use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths, LANES};
@@ -20,7 +20,7 @@ use glam::Vec3A;
 /// camera connection of its path to `splat` as (raster position, XYZ, its lane for the
 /// spectral film on demand).
 #[allow(clippy::too_many_arguments)]
-pub fn trace_beam(
+pub fn trace_beam<S: UniformSource>(
     scene: &Scene,
     camera: &dyn Camera,
     sensor: &Sensor,
@@ -28,7 +28,7 @@ pub fn trace_beam(
     pmf: f32,
     max_depth: u32,
     rr_depth: u32,
-    rng: &mut SampleRng,
+    rng: &mut S,
     stats: &mut PathStats,
     splat: &mut SplatFn<'_>,
 ) {
@@ -41,7 +41,7 @@ pub fn trace_beam(
 /// [`trace_beam`] with the beam's eight uniforms `u` given (for callers with stratified
 /// samples); the walk after the beam leaves its source draws from `rng`.
 #[allow(clippy::too_many_arguments)]
-pub fn trace_beam_with(
+pub fn trace_beam_with<S: UniformSource>(
     scene: &Scene,
     camera: &dyn Camera,
     sensor: &Sensor,
@@ -50,7 +50,7 @@ pub fn trace_beam_with(
     max_depth: u32,
     rr_depth: u32,
     u: [f64; 8],
-    rng: &mut SampleRng,
+    rng: &mut S,
     stats: &mut PathStats,
     splat: &mut SplatFn<'_>,
 ) {

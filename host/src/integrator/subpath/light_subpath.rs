@@ -4,7 +4,7 @@
 use crate::integrator::subpath::random_walk::{random_walk, WalkShift};
 use crate::integrator::subpath::vertex::Vertex;
 use crate::integrator::wavelengths::mixture::WavelengthMixture;
-use crate::integrator::{PathStats, SampleRng};
+use crate::integrator::{PathStats, UniformSource};
 use crate::light::LightFlags;
 use crate::material::TransportMode;
 use crate::scene::Scene;
@@ -32,10 +32,10 @@ pub enum LightStart {
 /// walk in importance mode, up to `max_vertices` vertices; `shift` says what the walk does at
 /// fluorescent surfaces.
 #[allow(clippy::too_many_arguments)]
-pub fn generate_light_subpath(
+pub fn generate_light_subpath<S: UniformSource>(
     scene: &Scene,
     lambda: &SampledWavelengths,
-    rng: &mut SampleRng,
+    rng: &mut S,
     max_vertices: usize,
     rr_depth: u32,
     path: &mut Vec<Vertex>,
@@ -61,11 +61,11 @@ pub fn generate_light_subpath(
 /// [`generate_light_subpath`] with the start given: `u_light` picks the light, `u1` and `u2`
 /// go to its `sample_le` (for callers with stratified samples); `rng` drives the walk.
 #[allow(clippy::too_many_arguments)]
-pub fn generate_light_subpath_with(
+pub fn generate_light_subpath_with<S: UniformSource>(
     scene: &Scene,
     lambda: &SampledWavelengths,
     (u_light, u1, u2): (f32, Vec2, Vec2),
-    rng: &mut SampleRng,
+    rng: &mut S,
     max_vertices: usize,
     rr_depth: u32,
     path: &mut Vec<Vertex>,
@@ -105,12 +105,12 @@ pub fn generate_light_subpath_with(
 /// ([`WavelengthMixture::sample_light`]), and written to `own` (their pdfs are the draw's
 /// densities). The subpath's vertices carry wavelengths relative to `own`.
 #[allow(clippy::too_many_arguments)]
-pub fn generate_light_subpath_own(
+pub fn generate_light_subpath_own<S: UniformSource>(
     scene: &Scene,
     mixture: &WavelengthMixture,
     u_lambda: f64,
     (u_light, u1, u2): (f32, Vec2, Vec2),
-    rng: &mut SampleRng,
+    rng: &mut S,
     max_vertices: usize,
     rr_depth: u32,
     path: &mut Vec<Vertex>,
@@ -153,12 +153,12 @@ pub fn generate_light_subpath_own(
 /// known: the emitted ray from `sample_le` and the walk.
 #[allow(clippy::too_many_arguments)]
 #[inline]
-fn start_at_light(
+fn start_at_light<S: UniformSource>(
     scene: &Scene,
     (li, pmf): (usize, f32),
     lambda: &SampledWavelengths,
     (u1, u2): (Vec2, Vec2),
-    rng: &mut SampleRng,
+    rng: &mut S,
     max_vertices: usize,
     rr_depth: u32,
     path: &mut Vec<Vertex>,

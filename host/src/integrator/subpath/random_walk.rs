@@ -6,7 +6,7 @@ use crate::camera::Camera;
 use crate::geometry::{spawn_ray, Hit, Ray};
 use crate::integrator::fluorescence::events::{self as fluorescence, Direction, UNIT_LOBE};
 use crate::integrator::subpath::vertex::{SampledFor, Vertex, VertexKind, ZERO_LANES};
-use crate::integrator::{PathStats, SampleRng};
+use crate::integrator::{PathStats, UniformSource};
 use crate::material::{BsdfSample, Frame, Material, MaterialFlags, ShadingContext, TransportMode};
 use crate::scene::Scene;
 use crate::spectrum::reradiation::Reradiation;
@@ -113,12 +113,12 @@ impl Walk {
     /// A fluorescent surface: the wavelength choice is made on arrival, so connections from
     /// `v` and the continuation see the new wavelengths.
     #[inline]
-    fn fluoresce(
+    fn fluoresce<S: UniformSource>(
         &mut self,
         rr: &dyn Reradiation,
         shift: WalkShift,
         lines: &[DeltaLine],
-        rng: &mut SampleRng,
+        rng: &mut S,
         v: &mut Vertex,
     ) {
         self.cur.lanes = self.lanes;
@@ -150,13 +150,13 @@ impl Walk {
     /// densities, play Russian roulette: the next ray, or `None` where the walk ends.
     #[allow(clippy::too_many_arguments)]
     #[inline]
-    fn scatter_at(
+    fn scatter_at<S: UniformSource>(
         &mut self,
         scene: &Scene,
         hit: &Hit,
         mode: TransportMode,
         rr_depth: u32,
-        rng: &mut SampleRng,
+        rng: &mut S,
         record: &mut BsdfSample,
         path: &mut [Vertex],
     ) -> Option<Ray> {
@@ -223,6 +223,9 @@ impl Walk {
             }
             self.beta = self.beta / (1.0 - q);
             self.scatter /= 1.0 - q;
+        } else {
+            // Every bounce consumes the same requests (see `random_walk`).
+            rng.skip_1d();
         }
         Some(spawn_ray(
             hit.point,
@@ -236,12 +239,18 @@ impl Walk {
 /// Extend `path` by up to `max_new` surface vertices, starting with `ray` leaving the last
 /// vertex of `path` with solid-angle density `pdf_dir` (1/sr) and throughput `beta`. Sets each
 /// new vertex's `pdf_fwd` and its predecessor's `pdf_rev`.
+///
+/// Requests drawn from `rng`, the same at every vertex so that bounce `k` always reads the
+/// same dimensions of a stratified source: in a scene that renders fluorescence, the
+/// wavelength-shift choice (1D, skipped at a non-fluorescent surface); then, when the walk
+/// goes on from the vertex, the lobe (1D), the direction (2D) and Russian roulette (1D,
+/// skipped where roulette does not play): 3 requests a bounce, 4 with fluorescence.
 #[allow(clippy::too_many_arguments)]
-pub fn random_walk(
+pub fn random_walk<S: UniformSource>(
     scene: &Scene,
     mut ray: Ray,
     lambda: &SampledWavelengths,
-    rng: &mut SampleRng,
+    rng: &mut S,
     beta: SampledSpectrum,
     pdf_dir: f32,
     max_new: usize,
@@ -289,6 +298,8 @@ pub fn random_walk(
         };
         if let Some(rr) = rerad {
             walk.fluoresce(rr, shift, lines, rng, &mut v);
+        } else if shift != WalkShift::Off {
+            rng.skip_1d();
         }
         path.push(v);
         walk.added += 1;
@@ -304,13 +315,13 @@ pub fn random_walk(
 
 /// The camera subpath of one camera ray: the lens vertex plus up to `max_vertices − 1` more.
 #[allow(clippy::too_many_arguments)]
-pub fn generate_camera_subpath(
+pub fn generate_camera_subpath<S: UniformSource>(
     scene: &Scene,
     camera: &dyn Camera,
     ray: Ray,
     weight: f32,
     lambda: &SampledWavelengths,
-    rng: &mut SampleRng,
+    rng: &mut S,
     max_vertices: usize,
     rr_depth: u32,
     path: &mut Vec<Vertex>,
