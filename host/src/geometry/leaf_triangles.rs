@@ -221,6 +221,12 @@ impl LeafTriangles {
         (a, b.saturating_sub(a))
     }
 
+    /// Whether some slot has two lanes (the scene has quads; otherwise lane = slot).
+    #[inline(always)]
+    pub(super) fn has_quads(&self) -> bool {
+        !self.lane_slot.is_empty()
+    }
+
     /// The slot of `lane` and which of the slot's triangles it is (0, or 1 for a quad's
     /// second half).
     #[inline(always)]

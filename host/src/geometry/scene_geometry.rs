@@ -527,8 +527,11 @@ impl Geometry {
             Candidate::Slot { lane, first, n, b } => {
                 let (slot, half) = self.tris.slot_of_lane(lane);
                 let prim = self.prims[slot as usize];
-                if let WorldShape::Quad(_) = self.objects[prim.object as usize].shape {
-                    return self.make_hit(ray, t, Candidate::Quad { prim, half, b });
+                // Only a scene with quads has two-lane slots (meshes only: no shape read).
+                if self.tris.has_quads() {
+                    if let WorldShape::Quad(_) = self.objects[prim.object as usize].shape {
+                        return self.make_hit(ray, t, Candidate::Quad { prim, half, b });
+                    }
                 }
                 // The vertices from the leaf just tested (in cache; the mesh's index triple
                 // and positions are three more scattered reads in large scenes), the same
