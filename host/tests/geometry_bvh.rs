@@ -271,8 +271,9 @@ fn hit_fields_are_consistent() {
 // the winning quad half as the scalar path builds it (`Quad::triangle`, `Quad::uv`). Some
 // quads lie in the planes z = 2, 4, 6 and half the rays are axis-parallel or hit a quad's
 // diagonal exactly, where both halves meet the ray at one distance (the first half must win,
-// as in the scalar test). Tolerance: exact equality (same triangle tests on the same floats);
-// an exact tie between two different primitives is skipped for the object comparison.
+// as in the scalar test). Shadow queries must agree: not occluded up to the hit distance,
+// occluded just past it. Tolerance: exact equality (same triangle tests on the same floats);
+// an exact tie between two different objects is skipped for the object comparison.
 #[test]
 fn quad_lanes_match_the_scalar_quad_test() {
     use spectrace::geometry::{barycentric_point, Quad};
@@ -352,6 +353,10 @@ fn quad_lanes_match_the_scalar_quad_test() {
                 continue;
             };
             hits += 1;
+            // Shadow queries agree with the closest distance: nothing strictly nearer, and
+            // the hit itself once the segment reaches just past it.
+            assert!(!g.occluded(&ray, h.t), "seed {seed} ray {i}");
+            assert!(g.occluded(&ray, h.t * 1.001), "seed {seed} ray {i}");
             if objects_hit_at(&g, &ray, t) > 1 {
                 continue; // an exact tie between objects (coplanar quads): either may win
             }
