@@ -261,3 +261,153 @@ fn hit_fields_are_consistent() {
         .intersect(&Ray::new(Vec3A::ZERO, Vec3A::Z), f32::INFINITY)
         .is_none());
 }
+
+// Quantity: the full closest `Hit` (distance, point, normals, uv, object, primitive; compared
+// through `Debug`, which prints every float exactly) and the any-hit answer of 2000 random
+// rays against soups of quads and mesh triangles without spheres, so every leaf holding a
+// quad is tested as triangle lanes in four-lane passes (a quad's two halves, two lanes).
+// Reference: every primitive's scalar test in object order, quad halves in order, the search
+// shrinking to each hit (what the objects' own tests give); the expected `Hit` is built from
+// the winning quad half as the scalar path builds it (`Quad::triangle`, `Quad::uv`). Some
+// quads lie in the planes z = 2, 4, 6 and half the rays are axis-parallel or hit a quad's
+// diagonal exactly, where both halves meet the ray at one distance (the first half must win,
+// as in the scalar test). Shadow queries must agree: not occluded up to the hit distance,
+// occluded just past it. Tolerance: exact equality (same triangle tests on the same floats);
+// an exact tie between two different objects is skipped for the object comparison.
+#[test]
+fn quad_lanes_match_the_scalar_quad_test() {
+    use spectrace::geometry::{barycentric_point, Quad};
+    for seed in 1..=4u64 {
+        let mut rng = Rng(seed * 31);
+        let mut objects = Vec::new();
+        for k in 0..120 {
+            let (corner, edge0, edge1) = if k % 4 == 0 {
+                // Axis-aligned in a shared plane.
+                let z = 2.0 * (1 + k % 3) as f32;
+                let c = Vec3A::new(rng.f() * 10.0, rng.f() * 10.0, z);
+                (c, Vec3A::X * (0.5 + rng.f()), Vec3A::Y * (0.5 + rng.f()))
+            } else {
+                (rng.v() * 10.0, rng.v() * 2.0 - 1.0, rng.v() * 2.0 - 1.0)
+            };
+            objects.push(ShapeDesc {
+                shape: Shape::Quad {
+                    corner,
+                    edge0,
+                    edge1,
+                },
+                transform: Transform::IDENTITY,
+            });
+        }
+        let mut mesh = TriangleMesh::default();
+        for _ in 0..60 {
+            let c = rng.v() * 10.0;
+            let base = mesh.positions.len() as u32;
+            for _ in 0..3 {
+                mesh.positions.push(c + (rng.v() - 0.5) * 1.5);
+            }
+            mesh.indices.push([base, base + 1, base + 2]);
+        }
+        objects.push(ShapeDesc {
+            shape: Shape::Mesh(mesh),
+            transform: Transform::IDENTITY,
+        });
+        let g = Geometry::build(objects).unwrap();
+        let quads: Vec<(u32, Quad)> = (0..g.object_count() as u32)
+            .filter_map(|o| match g.shape(o) {
+                Some(WorldShape::Quad(q)) => Some((o, *q)),
+                _ => None,
+            })
+            .collect();
+        let mut hits = 0;
+        for i in 0..2000 {
+            let (origin, dir) = match i % 4 {
+                // Straight down the z axis onto the axis-aligned quads.
+                0 => (
+                    Vec3A::new(rng.f() * 10.0, rng.f() * 10.0, 12.0),
+                    Vec3A::NEG_Z,
+                ),
+                // Through a random quad's diagonal midpoint (both halves share the edge).
+                1 => {
+                    let (_, q) = quads[(rng.f() * quads.len() as f32) as usize % quads.len()];
+                    let target = (q.vertices[0] + q.vertices[2]) * 0.5;
+                    let origin = rng.v() * 16.0 - 3.0;
+                    (origin, (target - origin).normalize_or(Vec3A::X))
+                }
+                _ => (rng.v() * 16.0 - 3.0, (rng.v() - 0.5).normalize_or(Vec3A::X)),
+            };
+            let ray = Ray::new(origin, dir);
+            let t_max = if i % 5 == 0 {
+                2.0 + rng.f() * 5.0
+            } else {
+                f32::INFINITY
+            };
+            let got = g.intersect(&ray, t_max);
+            let expect = brute_force(&g, &ray, t_max);
+            assert_eq!(got.map(|h| h.t), expect.map(|e| e.0), "seed {seed} ray {i}");
+            assert_eq!(
+                g.occluded(&ray, t_max),
+                expect.is_some(),
+                "seed {seed} ray {i}"
+            );
+            let (Some(h), Some((t, o, _))) = (got, expect) else {
+                continue;
+            };
+            hits += 1;
+            // Shadow queries agree with the closest distance: nothing strictly nearer, and
+            // the hit itself once the segment reaches just past it.
+            assert!(!g.occluded(&ray, h.t), "seed {seed} ray {i}");
+            assert!(g.occluded(&ray, h.t * 1.001), "seed {seed} ray {i}");
+            if objects_hit_at(&g, &ray, t) > 1 {
+                continue; // an exact tie between objects (coplanar quads): either may win
+            }
+            assert_eq!(h.object, o, "seed {seed} ray {i}");
+            if let Some(WorldShape::Quad(q)) = g.shape(o) {
+                // The scalar quad test: half 0, then half 1 below the first's distance.
+                let wr = WatertightRay::new(&ray);
+                let mut best = None;
+                let mut t_lim = t_max;
+                for half in 0..2 {
+                    let [a, b, c] = q.triangle(half);
+                    if let Some(th) = intersect_triangle(&ray, &wr, t_lim, a, b, c) {
+                        t_lim = th.t;
+                        best = Some((half, th));
+                    }
+                }
+                let (half, th) = best.unwrap();
+                let [a, b, c] = q.triangle(half);
+                let (point, point_error) = barycentric_point(th.b0, th.b1, th.b2, a, b, c);
+                let want = spectrace::geometry::Hit {
+                    t: th.t,
+                    point,
+                    point_error,
+                    geometric_normal: q.normal,
+                    shading_normal: q.normal,
+                    uv: Quad::uv(half, th.b1, th.b2),
+                    object: o,
+                    primitive: 0,
+                };
+                assert_eq!(format!("{h:?}"), format!("{want:?}"), "seed {seed} ray {i}");
+            }
+        }
+        assert!(hits > 500 && hits < 1950, "seed {seed}: {hits} hits");
+    }
+}
+
+/// How many objects the ray meets at exactly distance `t` (by their scalar tests).
+fn objects_hit_at(g: &Geometry, ray: &Ray, t: f32) -> usize {
+    let wr = WatertightRay::new(ray);
+    let limit = f32::from_bits(t.to_bits() + 1);
+    (0..g.object_count() as u32)
+        .filter(|&o| match g.shape(o).unwrap() {
+            WorldShape::Mesh(m) => (0..m.indices.len()).any(|i| {
+                let [a, b, c] = m.triangle(i);
+                intersect_triangle(ray, &wr, limit, a, b, c).is_some_and(|h| h.t == t)
+            }),
+            WorldShape::Sphere(s) => s.intersect_t(ray, limit) == Some(t),
+            WorldShape::Quad(q) => (0..2).any(|half| {
+                let [a, b, c] = q.triangle(half);
+                intersect_triangle(ray, &wr, limit, a, b, c).is_some_and(|h| h.t == t)
+            }),
+        })
+        .count()
+}

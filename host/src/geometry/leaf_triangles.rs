@@ -1,8 +1,15 @@
-//! The mesh triangles of the BVH's leaves, stored leaf by leaf transposed, and the test of a
-//! leaf's triangles four at a time.
+//! The triangles of the BVH's leaves (mesh triangles, and quads as their two halves), stored
+//! leaf by leaf transposed, and the test of a leaf's triangles four at a time.
 //!
-//! Layout (36 bytes per triangle, as the one-record-per-triangle layout before it): slot `s`
-//! of the BVH's leaf order owns floats `9s..9s + 9`, so the leaf `first..first + n` owns
+//! Each leaf slot owns one triangle *lane*, or two for a quad (its halves in the order the
+//! scalar quad test tries them, so the lanes in order are that test's triangles in order;
+//! a quad's leaf then takes the four-lane pass instead of two scalar tests a quad, which
+//! cost the ten-quad window room about half its instructions). Where every slot has one lane
+//! (meshes only) lane `s` is slot `s`; otherwise a map gives each slot's first lane and
+//! each lane's slot ([`LeafTriangles::lanes`], [`LeafTriangles::slot_of_lane`]).
+//!
+//! Layout (36 bytes per lane, as the one-record-per-triangle layout before it): lane `s`
+//! owns floats `9s..9s + 9`, so the leaf `first..first + n` owns
 //! `9·first..9·(first + n)`; inside it coordinate `c` (0..9: x, y, z of p0, then of p1, of
 //! p2) of member `j` sits at `9·first + c·n + j`. One unaligned 16-byte load at
 //! `9·first + c·n` so gives coordinate `c` of the leaf's (up to) four triangles as four lanes;
@@ -45,10 +52,11 @@ const LANES: usize = 4;
 /// Floats after the last leaf, so that the last four-lane load stays inside the buffer.
 const PADDING: usize = 4;
 
-/// A triangle hit in a leaf: its slot in leaf order and the scalar test's result.
+/// A triangle hit in a leaf: its lane (the slot in leaf order where every slot has one lane,
+/// see [`LeafTriangles::slot_of_lane`]) and the scalar test's result.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) struct LeafHit {
-    pub(super) slot: u32,
+    pub(super) lane: u32,
     pub(super) hit: TriangleHit,
 }
 
@@ -60,43 +68,124 @@ enum Pass {
     Scalar,
 }
 
-/// The mesh triangles of every BVH leaf, transposed per leaf (see the module documentation).
+/// The triangles one leaf slot contributes to the four-lane test: a mesh triangle one lane, a
+/// quad its two halves (`Quad::triangle(0)`, then `(1)`: the order in which
+/// the scalar test of a quad tries them), a sphere none (its leaf is tested through the
+/// objects).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum SlotTriangles {
+    /// One triangle (a mesh's).
+    One([Vec3A; 3]),
+    /// Two triangles tried in this order (a quad's halves).
+    Two([Vec3A; 3], [Vec3A; 3]),
+    /// Not triangles: the whole leaf goes through the objects.
+    Other,
+}
+
+impl SlotTriangles {
+    fn lanes(&self) -> u32 {
+        match self {
+            SlotTriangles::Two(..) => 2,
+            _ => 1,
+        }
+    }
+}
+
+/// The triangles of every BVH leaf, transposed per leaf (see the module documentation), one
+/// lane per mesh triangle and two per quad.
 #[derive(Clone, Debug, Default)]
 pub(super) struct LeafTriangles {
     data: HugePageBuf<f32>,
+    /// Where some slot has two lanes (a quad): `lane_start[s]` is slot `s`'s first lane
+    /// (`slots + 1` entries, the last the lane count). Empty when every slot has one lane
+    /// (lane = slot: meshes only, the common case, which then reads no map).
+    lane_start: Vec<u32>,
+    /// With `lane_start`: the slot of every lane.
+    lane_slot: Vec<u32>,
 }
 
 impl LeafTriangles {
     /// Lays out `slots` leaf-order slots by `leaves` (`(first, count)`, sorted, partitioning
     /// `0..slots`, as [`super::Bvh::leaves`] gives them); `vertices(slot)` is the slot's
     /// triangle, `None` for a sphere or quad. In parallel, the same for any thread count.
+    #[cfg(test)]
     pub(super) fn build(
         slots: usize,
         leaves: &[(u32, u32)],
         vertices: impl Fn(u32) -> Option<[Vec3A; 3]> + Sync,
     ) -> LeafTriangles {
+        Self::build_lanes(slots, leaves, false, |s| {
+            vertices(s).map_or(SlotTriangles::Other, SlotTriangles::One)
+        })
+    }
+
+    /// [`LeafTriangles::build`] with slots of one or two triangle lanes (`triangles(slot)`);
+    /// `two_lanes` says whether any slot may have two (quads): only then is the lane map
+    /// made. A leaf with an [`SlotTriangles::Other`] slot stays NaN (tested through the
+    /// objects).
+    pub(super) fn build_lanes(
+        slots: usize,
+        leaves: &[(u32, u32)],
+        two_lanes: bool,
+        triangles: impl Fn(u32) -> SlotTriangles + Sync,
+    ) -> LeafTriangles {
+        let (lane_start, lane_slot) = if two_lanes {
+            let counts: Vec<u32> = (0..slots as u32)
+                .into_par_iter()
+                .map(|s| triangles(s).lanes())
+                .collect();
+            let mut start = Vec::with_capacity(slots + 1);
+            let mut at = 0u32;
+            let mut lane_slot = Vec::new();
+            for (s, &c) in counts.iter().enumerate() {
+                start.push(at);
+                at += c;
+                lane_slot.extend(std::iter::repeat_n(s as u32, c as usize));
+            }
+            start.push(at);
+            (start, lane_slot)
+        } else {
+            (Vec::new(), Vec::new())
+        };
+        let lanes = if two_lanes { lane_slot.len() } else { slots };
+        let lane_of = |s: usize| {
+            if two_lanes {
+                lane_start[s] as usize
+            } else {
+                s
+            }
+        };
         // On huge pages when large (the traversal's reads spread over all of it), filled in
         // parallel.
-        let mut data = HugePageBuf::from_fn_par(slots * COORDS + PADDING, |_| f32::NAN);
+        let mut data = HugePageBuf::from_fn_par(lanes * COORDS + PADDING, |_| f32::NAN);
         // Cut the buffer into the leaves' blocks (serial, one split per leaf), then fill them
         // in parallel.
         let mut blocks = Vec::with_capacity(leaves.len());
-        let mut rest = &mut data[..slots * COORDS];
+        let mut rest = &mut data[..lanes * COORDS];
         let mut at = 0usize;
         for &(first, count) in leaves {
             let (first, count) = (first as usize, count as usize);
-            debug_assert!(first >= at && first + count <= slots);
+            debug_assert!(first + count <= slots);
+            let (lf, le) = (lane_of(first), lane_of(first + count));
+            debug_assert!(lf >= at);
             let tail = std::mem::take(&mut rest);
-            let (_, tail) = tail.split_at_mut((first - at) * COORDS);
-            let (block, tail) = tail.split_at_mut(count * COORDS);
+            let (_, tail) = tail.split_at_mut((lf - at) * COORDS);
+            let (block, tail) = tail.split_at_mut((le - lf) * COORDS);
             rest = tail;
-            at = first + count;
-            blocks.push((first as u32, count, block));
+            at = le;
+            blocks.push((first as u32, count as u32, block));
         }
         blocks.into_par_iter().for_each(|(first, n, block)| {
-            let tris: Option<Vec<[Vec3A; 3]>> = (first..first + n as u32).map(&vertices).collect();
-            // A leaf with another kind of primitive stays NaN.
-            let Some(tris) = tris else { return };
+            let mut tris: Vec<[Vec3A; 3]> = Vec::with_capacity(block.len() / COORDS);
+            for s in first..first + n {
+                match triangles(s) {
+                    SlotTriangles::One(t) => tris.push(t),
+                    SlotTriangles::Two(a, b) => tris.extend([a, b]),
+                    // A leaf with another kind of primitive stays NaN.
+                    SlotTriangles::Other => return,
+                }
+            }
+            debug_assert_eq!(tris.len() * COORDS, block.len());
             // Blocks of four (the last one the rest), each transposed on its own.
             for (tris, block) in tris.chunks(LANES).zip(block.chunks_mut(LANES * COORDS)) {
                 let m = tris.len();
@@ -109,16 +198,55 @@ impl LeafTriangles {
                 }
             }
         });
-        LeafTriangles { data }
+        LeafTriangles {
+            data,
+            lane_start,
+            lane_slot,
+        }
+    }
+
+    /// The lanes `(first, count)` of the leaf of slots `first..first + count`.
+    #[inline(always)]
+    pub(super) fn lanes(&self, first: u32, count: u32) -> (u32, u32) {
+        if self.lane_start.is_empty() {
+            return (first, count);
+        }
+        let (a, b) = (
+            self.lane_start.get(first as usize).copied().unwrap_or(0),
+            self.lane_start
+                .get((first + count) as usize)
+                .copied()
+                .unwrap_or(0),
+        );
+        (a, b.saturating_sub(a))
+    }
+
+    /// Whether some slot has two lanes (the scene has quads; otherwise lane = slot).
+    #[inline(always)]
+    pub(super) fn has_quads(&self) -> bool {
+        !self.lane_slot.is_empty()
+    }
+
+    /// The slot of `lane` and which of the slot's triangles it is (0, or 1 for a quad's
+    /// second half).
+    #[inline(always)]
+    pub(super) fn slot_of_lane(&self, lane: u32) -> (u32, usize) {
+        if self.lane_slot.is_empty() {
+            return (lane, 0);
+        }
+        let slot = self.lane_slot[lane as usize];
+        (slot, (lane - self.lane_start[slot as usize]) as usize)
     }
 
     /// Bytes held.
     pub(super) fn memory_bytes(&self) -> usize {
         self.data.len() * std::mem::size_of::<f32>()
+            + (self.lane_start.len() + self.lane_slot.len()) * std::mem::size_of::<u32>()
     }
 
-    /// Whether the leaf starting at `first` holds something other than mesh triangles (it is
-    /// then tested primitive by primitive through its objects).
+    /// Whether the leaf starting at lane `first` (see [`LeafTriangles::lanes`]) holds
+    /// something other than triangles (it is then tested primitive by primitive through its
+    /// objects).
     #[inline(always)]
     pub(super) fn is_other(&self, first: u32) -> bool {
         self.data
@@ -158,8 +286,8 @@ impl LeafTriangles {
         ]
     }
 
-    /// The closest hit below `t_max` among the triangles of the leaf `first..first + n` (all
-    /// mesh triangles: `!is_other(first)`), or with `any_hit` the first in slot order: exactly
+    /// The closest hit below `t_max` among the triangles of the leaf's lanes `first..first + n`
+    /// ([`LeafTriangles::lanes`]; all triangles: `!is_other(first)`), or with `any_hit` the first in slot order: exactly
     /// what [`LeafTriangles::test_scalar`] gives. `KZ` is `wr.dominant_axis()`.
     #[inline(always)]
     pub(super) fn test<const KZ: usize>(
@@ -210,7 +338,7 @@ impl LeafTriangles {
             let [a, b, c] = self.record(first);
             let hit = intersect_triangle_axis::<KZ>(ray, wr, t_max, a, b, c)?;
             return Some(LeafHit {
-                slot: first as u32,
+                lane: first as u32,
                 hit,
             });
         }
@@ -218,7 +346,7 @@ impl LeafTriangles {
         let block = &self.data[first * COORDS..first * COORDS + n * COORDS + PADDING - 1];
         match pass4::<KZ>(ray, wr, block, n, t_max, any_hit) {
             Pass::Done(hit) => hit.map(|(lane, hit)| LeafHit {
-                slot: (first + lane) as u32,
+                lane: (first + lane) as u32,
                 hit,
             }),
             Pass::Scalar => self.scalar::<KZ>(ray, wr, first, n, t_max, any_hit),
@@ -258,7 +386,7 @@ impl LeafTriangles {
             if let Some(hit) = intersect_triangle_axis::<KZ>(ray, wr, t_max, a, b, c) {
                 t_max = hit.t;
                 best = Some(LeafHit {
-                    slot: (first + j) as u32,
+                    lane: (first + j) as u32,
                     hit,
                 });
                 if any_hit {
@@ -456,7 +584,7 @@ mod tests {
     fn bits(h: Option<LeafHit>) -> Option<(u32, [u32; 4])> {
         h.map(|h| {
             (
-                h.slot,
+                h.lane,
                 [h.hit.t, h.hit.b0, h.hit.b1, h.hit.b2].map(f32::to_bits),
             )
         })

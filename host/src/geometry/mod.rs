@@ -57,4 +57,4 @@ pub use scene_geometry::{Geometry, Hit, Shape, ShapeDesc, SurfaceSample, WorldSh
 pub use spawn::{offset_ray_origin, spawn_ray, spawn_ray_to, CONNECTION_T_MAX};
 pub use sphere::Sphere;
 pub use transform::Transform;
-pub use triangle::{intersect_triangle, TriangleHit, WatertightRay};
+pub use triangle::{barycentric_point, intersect_triangle, TriangleHit, WatertightRay};

@@ -13,7 +13,7 @@ use std::sync::OnceLock;
 
 use super::bvh::{Bvh, BvhStatistics, NodeLayout, TraversalKernel, VisitCounts};
 use super::huge_pages::HugePageBuf;
-use super::leaf_triangles::LeafTriangles;
+use super::leaf_triangles::{LeafTriangles, SlotTriangles};
 use super::prefetch::prefetch_line;
 use super::quad::Quad;
 use super::sphere::Sphere;
@@ -144,10 +144,11 @@ impl Primitive {
 /// The closest candidate found during traversal; surface data is computed only for the winner.
 #[derive(Clone, Copy)]
 enum Candidate {
-    /// A mesh triangle found through its leaf record: leaf slot and barycentrics.
+    /// A mesh triangle or quad half found through its leaf's lanes: its lane (see
+    /// [`LeafTriangles::slot_of_lane`]) and barycentrics.
     Slot {
-        slot: u32,
-        /// The leaf holding it, `first..first + n`, where its vertices are read again.
+        lane: u32,
+        /// The leaf's lanes, `first..first + n`, where its vertices are read again.
         first: u32,
         n: u32,
         b: [f32; 3],
@@ -258,10 +259,18 @@ impl Geometry {
         );
         let order = bvh.order_ref();
         let prims = HugePageBuf::from_fn_par(order.len(), |s| Primitive::of(&starts, order[s]));
-        let tris = LeafTriangles::build(prims.len(), &bvh.leaves(), |slot| {
-            match &built[prims[slot as usize].object as usize].shape {
-                WorldShape::Mesh(m) => Some(m.triangle(prims[slot as usize].index as usize)),
-                _ => None,
+        let has_quads = built.iter().any(|o| matches!(o.shape, WorldShape::Quad(_)));
+        let tris = LeafTriangles::build_lanes(prims.len(), &bvh.leaves(), has_quads, |slot| {
+            let prim = prims[slot as usize];
+            match &built[prim.object as usize].shape {
+                WorldShape::Mesh(m) => SlotTriangles::One(m.triangle(prim.index as usize)),
+                // The halves in the order `test_object` tries them.
+                // (A quad with a non-finite corner keeps the scalar test and its NaN rules.)
+                WorldShape::Quad(q) if q.vertices.iter().all(|v| v.is_finite()) => {
+                    SlotTriangles::Two(q.triangle(0), q.triangle(1))
+                }
+                WorldShape::Quad(_) => SlotTriangles::Other,
+                WorldShape::Sphere(_) => SlotTriangles::Other,
             }
         });
         Ok(Geometry {
@@ -378,10 +387,11 @@ impl Geometry {
             #[inline(always)]
             |first, count, t_max| {
                 let (t, cand) = self.test_leaf::<KZ>(ray, wr, first, count, t_max, false)?;
-                if let Candidate::Slot { slot, .. } = cand {
+                if let Candidate::Slot { lane: slot, .. } = cand {
                     // `make_hit` reads the slot's primitive once the search ends; in large
                     // scenes that entry is a cache miss, which now overlaps the rest of the
-                    // search.
+                    // search. (The lane is the slot in scenes of meshes only; with quads it
+                    // is a nearby index, and a prefetch is only a hint.)
                     prefetch_line(self.prims.as_ptr().wrapping_add(slot as usize));
                 }
                 best = Some(cand);
@@ -407,9 +417,9 @@ impl Geometry {
             .is_some()
     }
 
-    /// Tests the leaf `first..first + count` (leaf order): its triangles in four-lane passes
-    /// ([`LeafTriangles::test`], inlined into the traversal loop), a leaf with spheres or
-    /// quads primitive by primitive through a call. `KZ` is the ray's dominant axis (see
+    /// Tests the leaf `first..first + count` (leaf order): its mesh triangles and quad halves
+    /// in four-lane passes ([`LeafTriangles::test`], inlined into the traversal loop), a leaf
+    /// with a sphere primitive by primitive through a call. `KZ` is the ray's dominant axis (see
     /// [`intersect_triangle_axis`]). The closest hit below `t_max` (with `any_hit`, the first).
     #[inline(always)]
     fn test_leaf<const KZ: usize>(
@@ -421,18 +431,17 @@ impl Geometry {
         t_max: f32,
         any_hit: bool,
     ) -> Option<(f32, Candidate)> {
-        if self.tris.is_other(first) {
+        let (lane, lanes) = self.tris.lanes(first, count);
+        if self.tris.is_other(lane) {
             return self.test_objects::<KZ>(ray, wr, first, count, t_max, any_hit);
         }
-        let h = self
-            .tris
-            .test::<KZ>(ray, wr, first, count, t_max, any_hit)?;
+        let h = self.tris.test::<KZ>(ray, wr, lane, lanes, t_max, any_hit)?;
         Some((
             h.hit.t,
             Candidate::Slot {
-                slot: h.slot,
-                first,
-                n: count,
+                lane: h.lane,
+                first: lane,
+                n: lanes,
                 b: [h.hit.b0, h.hit.b1, h.hit.b2],
             },
         ))
@@ -515,14 +524,21 @@ impl Geometry {
 
     fn make_hit(&self, ray: &Ray, t: f32, cand: Candidate) -> Hit {
         match cand {
-            Candidate::Slot { slot, first, n, b } => {
+            Candidate::Slot { lane, first, n, b } => {
+                let (slot, half) = self.tris.slot_of_lane(lane);
+                let prim = self.prims[slot as usize];
+                // Only a scene with quads has two-lane slots (meshes only: no shape read).
+                if self.tris.has_quads() {
+                    if let WorldShape::Quad(_) = self.objects[prim.object as usize].shape {
+                        return self.make_hit(ray, t, Candidate::Quad { prim, half, b });
+                    }
+                }
                 // The vertices from the leaf just tested (in cache; the mesh's index triple
                 // and positions are three more scattered reads in large scenes), the same
                 // floats as the mesh's.
-                let prim = self.prims[slot as usize];
                 let p = self
                     .tris
-                    .vertices(first as usize, n as usize, (slot - first) as usize);
+                    .vertices(first as usize, n as usize, (lane - first) as usize);
                 self.mesh_hit(t, prim, p, b)
             }
             Candidate::Triangle { prim, b } => {

@@ -932,3 +932,37 @@ fn octant_planes_match_the_ordered_slab_test() {
         "no grazing ray met a box the ordered test missed"
     );
 }
+
+// The entry and exit planes per axis are the reciprocal's sign bit as `is_sign_negative`
+// reads it (entry `axis + 3` where set), for every sign case a direction component can have:
+// ±1, ±0 (reciprocal ±∞), subnormals (reciprocal ±∞ in f32), ±∞ (reciprocal ±0) and NaN of
+// either sign. Exact equality of indices.
+#[test]
+fn ray_octant_planes_follow_the_reciprocal_sign_bit() {
+    let values = [
+        1.0f32,
+        -1.0,
+        0.0,
+        -0.0,
+        1e-40,
+        -1e-40,
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+        f32::NAN,
+        -f32::NAN,
+    ];
+    for &x in &values {
+        for &y in &values {
+            for &z in &values {
+                let ray = Ray::new(Vec3A::ZERO, Vec3A::new(x, y, z));
+                let rb = RayBoxes::new(&ray);
+                for a in 0..3 {
+                    let neg = rb.inv_dir[a].is_sign_negative();
+                    let want_near = if neg { a + 3 } else { a };
+                    assert_eq!(rb.near[a], want_near, "({x}, {y}, {z}) axis {a}");
+                    assert_eq!(rb.far[a], if neg { a } else { a + 3 });
+                }
+            }
+        }
+    }
+}
