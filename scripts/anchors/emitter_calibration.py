@@ -1,0 +1,73 @@
+"""How each image converts a directly seen emitter's spectrum to linear sRGB, against the CIE
+integral of the same spectrum.
+
+The bench's references come from Mitsuba 3; a renderer whose spectrum-to-RGB conversion differs
+by a constant factor differs from them by that factor everywhere, which the means table
+(`spectrace bench speed`) reads as an offset. This measures the factor on the pixels where the
+camera sees an emitter fully (value within 3% of the emitter's expected RGB), independently of
+every renderer: the exported spectrum (`spectrace bench export`, every nm 360-830 nm) times the
+CIE 1931 2-degree colour-matching functions (host/data/cie/cie1931_2deg.csv), trapezoid rule,
+divided by the integral of y-bar, then the sRGB (D65) matrix of IEC 61966-2-1.
+
+    python scripts/anchors/emitter_calibration.py DIR/scene.json IMAGE.exr [IMAGE.exr ...]
+"""
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+
+XYZ_TO_SRGB = np.array([[3.2404542, -1.5371385, -0.4985314],
+                        [-0.9692660, 1.8760108, 0.0415560],
+                        [0.0556434, -0.2040259, 1.0572252]])
+
+
+def read_exr(path):
+    import Imath
+    import OpenEXR
+    f = OpenEXR.InputFile(str(path))
+    dw = f.header()["dataWindow"]
+    w, h = dw.max.x - dw.min.x + 1, dw.max.y - dw.min.y + 1
+    pt = Imath.PixelType(Imath.PixelType.FLOAT)
+    return np.stack([np.frombuffer(f.channel(c, pt), dtype=np.float32).reshape(h, w)
+                     for c in "RGB"], -1).astype(np.float64)
+
+
+def expected_rgb(scene_json):
+    """Linear sRGB of every emitter's radiance spectrum, by the CIE integral."""
+    sc = json.loads(Path(scene_json).read_text())
+    wl = np.asarray(sc["wavelengths_nm"], float)
+    cmf_file = Path(__file__).resolve().parents[2] / "host/data/cie/cie1931_2deg.csv"
+    d = np.genfromtxt(cmf_file, delimiter=",", comments="#", skip_header=2)
+    cmf = np.stack([np.interp(wl, d[:, 0], d[:, k]) for k in (1, 2, 3)], -1)
+    y_int = np.trapezoid(cmf[:, 1], wl)
+    out = {}
+    for name, m in sc["materials"].items():
+        if "radiance" in m:
+            le = np.asarray(m["radiance"], float)
+            xyz = np.trapezoid(le[:, None] * cmf, wl, axis=0) / y_int
+            out[name] = XYZ_TO_SRGB @ xyz
+    return out
+
+
+def main(argv):
+    if len(argv) < 3:
+        sys.exit(__doc__)
+    emitters = expected_rgb(argv[1])
+    images = [(p, read_exr(p)) for p in argv[2:]]
+    for name, rgb in emitters.items():
+        print(f"emitter {name}: expected linear sRGB {np.round(rgb, 5)}")
+        mask = None
+        for _, img in images:
+            m = np.abs(img / rgb - 1.0).max(-1) < 0.03
+            mask = m if mask is None else mask & m
+        if not mask.any():
+            print("  no pixel sees it fully in every image")
+            continue
+        for path, img in images:
+            ratio = img[mask].mean(0) / rgb
+            print(f"  {path}: {mask.sum()} px, image / CIE integral = {np.round(ratio, 5)}")
+
+
+if __name__ == "__main__":
+    main(sys.argv)
