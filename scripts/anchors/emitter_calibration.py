@@ -10,6 +10,13 @@ CIE 1931 2-degree colour-matching functions (host/data/cie/cie1931_2deg.csv), tr
 divided by the integral of y-bar, then the sRGB (D65) matrix of IEC 61966-2-1.
 
     python scripts/anchors/emitter_calibration.py DIR/scene.json IMAGE.exr [IMAGE.exr ...]
+
+With `--mitsuba` instead, Mitsuba 3 (`llvm_ad_spectral`, the bench's variant) renders an
+8 x 8-pixel view filling with an area emitter of an equal-energy and of a ramp spectrum
+(16,384 spp, box filter) and prints each image's mean against the same CIE integral: the
+factor of its spectrum-to-RGB conversion, whatever the scene.
+
+    python scripts/anchors/emitter_calibration.py --mitsuba
 """
 import json
 import sys
@@ -37,9 +44,7 @@ def expected_rgb(scene_json):
     """Linear sRGB of every emitter's radiance spectrum, by the CIE integral."""
     sc = json.loads(Path(scene_json).read_text())
     wl = np.asarray(sc["wavelengths_nm"], float)
-    cmf_file = Path(__file__).resolve().parents[2] / "host/data/cie/cie1931_2deg.csv"
-    d = np.genfromtxt(cmf_file, delimiter=",", comments="#", skip_header=2)
-    cmf = np.stack([np.interp(wl, d[:, 0], d[:, k]) for k in (1, 2, 3)], -1)
+    cmf = cmf_on(wl)
     y_int = np.trapezoid(cmf[:, 1], wl)
     out = {}
     for name, m in sc["materials"].items():
@@ -50,7 +55,42 @@ def expected_rgb(scene_json):
     return out
 
 
+def cmf_on(wl):
+    cmf_file = Path(__file__).resolve().parents[2] / "host/data/cie/cie1931_2deg.csv"
+    d = np.genfromtxt(cmf_file, delimiter=",", comments="#", skip_header=2)
+    return np.stack([np.interp(wl, d[:, 0], d[:, k]) for k in (1, 2, 3)], -1)
+
+
+def mitsuba_factor():
+    import mitsuba as mi
+    mi.set_variant("llvm_ad_spectral")
+    wl = np.arange(360, 831, 1.0)
+    cmf = cmf_on(wl)
+    y_int = np.trapezoid(cmf[:, 1], wl)
+    for name, values in [("equal energy", np.ones_like(wl)), ("ramp", (wl - 300.0) / 100.0)]:
+        spectrum = {"type": "regular", "wavelength_min": 360, "wavelength_max": 830,
+                    "values": ",".join(f"{v:.6f}" for v in values)}
+        scene = mi.load_dict({
+            "type": "scene",
+            "integrator": {"type": "path", "max_depth": 2},
+            "sensor": {"type": "perspective", "fov": 10,
+                       "to_world": mi.ScalarTransform4f.look_at(origin=[0, 0, 5], target=[0, 0, 0],
+                                                                up=[0, 1, 0]),
+                       "film": {"type": "hdrfilm", "width": 8, "height": 8,
+                                "rfilter": {"type": "box"}},
+                       "sampler": {"type": "independent", "sample_count": 16384}},
+            "light": {"type": "rectangle", "emitter": {"type": "area", "radiance": spectrum}},
+        })
+        got = np.array(mi.render(scene), dtype=np.float64).reshape(-1, 3).mean(0)
+        expected = XYZ_TO_SRGB @ (np.trapezoid(values[:, None] * cmf, wl, axis=0) / y_int)
+        print(f"mitsuba {mi.__version__} llvm_ad_spectral, {name}: image / CIE integral = "
+              f"{np.round(got / expected, 5)}")
+
+
 def main(argv):
+    if len(argv) == 2 and argv[1] == "--mitsuba":
+        mitsuba_factor()
+        return
     if len(argv) < 3:
         sys.exit(__doc__)
     emitters = expected_rgb(argv[1])
