@@ -21,11 +21,22 @@ fn scene() -> Scene {
 }
 
 fn render(scene: &Scene, sampler: SamplerKind, spp: u32, seed: u64) -> IntegratorOutput {
+    render_on(scene, sampler, spp, seed, None)
+}
+
+/// BDPT with its default light subpaths, on `threads` worker threads (`None`: all).
+fn render_on(
+    scene: &Scene,
+    sampler: SamplerKind,
+    spp: u32,
+    seed: u64,
+    threads: Option<usize>,
+) -> IntegratorOutput {
     let plan = RenderPlan::new(scene, &EffectsRequest::default());
     let settings = RenderSettings {
         budget: SampleBudget::Spp(spp),
         seed,
-        threads: None,
+        threads,
         camera: None,
         tile_size: 16,
         tracer: PathTracer {
@@ -127,29 +138,8 @@ fn stratified_bdpt_is_the_same_for_any_thread_count() {
     let desc = parse_scene_str(text, file).unwrap();
     let scene = build_scene(&desc, Path::new("."), file, &[&BuiltinFactory]).unwrap();
     for sampler in [SamplerKind::Sobol, SamplerKind::Independent] {
-        let plan = RenderPlan::new(&scene, &EffectsRequest::default());
         let run = |threads| {
-            let settings = RenderSettings {
-                budget: SampleBudget::Spp(2),
-                seed: 5,
-                threads: Some(threads),
-                camera: None,
-                tile_size: 16,
-                tracer: PathTracer {
-                    max_depth: scene.options.max_depth,
-                    ..PathTracer::default()
-                },
-                sampler,
-            };
-            let bdpt = Bdpt {
-                max_depth: settings.tracer.max_depth,
-                rr_depth: settings.tracer.rr_depth,
-                strategy_images: false,
-                spectral: None,
-                light_paths: LIGHT_PATHS,
-            };
-            bdpt.render(&scene, &plan, &settings, &|_, _| {}, None)
-                .unwrap()
+            render_on(&scene, sampler, 2, 5, Some(threads))
                 .result
                 .image
                 .xyz
