@@ -400,6 +400,19 @@ def cmd_reference(a):
                       "file": f"{a.out_prefix}.exr"}), flush=True)
 
 
+def cmd_colour_factor(a):
+    """Mitsuba's spectrum-to-RGB factor against the CIE integral (emitter_calibration.py): an
+    equal-energy emitter filling the view, `--passes` renders of 16,384 spp."""
+    import numpy as np
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    from emitter_calibration import mitsuba_colour_factor
+    mi, dr = import_mitsuba(a.threads)
+    factor = mitsuba_colour_factor(mi, np.ones(471), 16384, a.passes)
+    print(json.dumps({"renderer": f"mitsuba {mi.__version__} llvm_ad_spectral",
+                      "factor": [round(float(f), 6) for f in factor],
+                      "spp": 16384 * a.passes}), flush=True)
+
+
 def cmd_describe(a):
     """What the renderer got, for the export test: per shape its bounds and triangle count, the
     materials' spectra at 450, 550 and 650 nm as the renderer evaluates them, the camera."""
@@ -469,6 +482,10 @@ def main():
     f.add_argument("--spp", type=int, required=True)
     f.add_argument("--threads", type=int, default=2)
     f.add_argument("--out-prefix", required=True)
+    c = sub.add_parser("colour-factor",
+                       help="Mitsuba's spectrum-to-RGB conversion over the CIE integral")
+    c.add_argument("--threads", type=int, default=2)
+    c.add_argument("--passes", type=int, default=16)
     d = sub.add_parser("describe", help="what a renderer gets from the exported scene")
     d.add_argument("--scene-json", required=True)
     d.add_argument("--renderer", choices=["mitsuba", "luxcore"], required=True)
@@ -493,7 +510,8 @@ def main():
               file=sys.stderr)
         sys.stdout.flush(); sys.stderr.flush()
         os._exit(3)
-    {"render": cmd_render, "reference": cmd_reference, "describe": cmd_describe}[a.cmd](a)
+    {"render": cmd_render, "reference": cmd_reference, "describe": cmd_describe,
+     "colour-factor": cmd_colour_factor}[a.cmd](a)
 
 
 if __name__ == "__main__":

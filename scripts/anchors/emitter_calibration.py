@@ -61,30 +61,44 @@ def cmf_on(wl):
     return np.stack([np.interp(wl, d[:, 0], d[:, k]) for k in (1, 2, 3)], -1)
 
 
+def flat_emitter_dict(mi, values, spp, seed=0):
+    """An 8 x 8-pixel view filled by an area emitter of radiance `values` (every nm 360-830)."""
+    spectrum = {"type": "regular", "wavelength_min": 360, "wavelength_max": 830,
+                "values": ",".join(f"{v:.6f}" for v in values)}
+    return {
+        "type": "scene",
+        "integrator": {"type": "path", "max_depth": 2},
+        "sensor": {"type": "perspective", "fov": 10,
+                   "to_world": mi.ScalarTransform4f.look_at(origin=[0, 0, 5], target=[0, 0, 0],
+                                                            up=[0, 1, 0]),
+                   "film": {"type": "hdrfilm", "width": 8, "height": 8,
+                            "rfilter": {"type": "box"}},
+                   "sampler": {"type": "independent", "sample_count": spp, "seed": seed}},
+        "light": {"type": "rectangle", "emitter": {"type": "area", "radiance": spectrum}},
+    }
+
+
+def mitsuba_colour_factor(mi, values, spp=16384, passes=1):
+    """Mitsuba's image of the emitter over the CIE integral of `values`, per channel."""
+    wl = np.arange(360, 831, 1.0)
+    cmf = cmf_on(wl)
+    expected = XYZ_TO_SRGB @ (np.trapezoid(values[:, None] * cmf, wl, axis=0)
+                              / np.trapezoid(cmf[:, 1], wl))
+    got = np.zeros(3)
+    for p in range(passes):
+        scene = mi.load_dict(flat_emitter_dict(mi, values, spp, seed=p))
+        got += np.array(mi.render(scene), dtype=np.float64).reshape(-1, 3).mean(0)
+    return got / passes / expected
+
+
 def mitsuba_factor():
     import mitsuba as mi
     mi.set_variant("llvm_ad_spectral")
     wl = np.arange(360, 831, 1.0)
-    cmf = cmf_on(wl)
-    y_int = np.trapezoid(cmf[:, 1], wl)
     for name, values in [("equal energy", np.ones_like(wl)), ("ramp", (wl - 300.0) / 100.0)]:
-        spectrum = {"type": "regular", "wavelength_min": 360, "wavelength_max": 830,
-                    "values": ",".join(f"{v:.6f}" for v in values)}
-        scene = mi.load_dict({
-            "type": "scene",
-            "integrator": {"type": "path", "max_depth": 2},
-            "sensor": {"type": "perspective", "fov": 10,
-                       "to_world": mi.ScalarTransform4f.look_at(origin=[0, 0, 5], target=[0, 0, 0],
-                                                                up=[0, 1, 0]),
-                       "film": {"type": "hdrfilm", "width": 8, "height": 8,
-                                "rfilter": {"type": "box"}},
-                       "sampler": {"type": "independent", "sample_count": 16384}},
-            "light": {"type": "rectangle", "emitter": {"type": "area", "radiance": spectrum}},
-        })
-        got = np.array(mi.render(scene), dtype=np.float64).reshape(-1, 3).mean(0)
-        expected = XYZ_TO_SRGB @ (np.trapezoid(values[:, None] * cmf, wl, axis=0) / y_int)
+        factor = mitsuba_colour_factor(mi, values)
         print(f"mitsuba {mi.__version__} llvm_ad_spectral, {name}: image / CIE integral = "
-              f"{np.round(got / expected, 5)}")
+              f"{np.round(factor, 5)}")
 
 
 def main(argv):

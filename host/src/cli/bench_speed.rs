@@ -201,6 +201,27 @@ pub fn run_speed(args: &SpeedArgs) -> Result<(), String> {
         .map_err(|e| format!("cannot create {}: {e}", args.out.display()))?;
     let cpu = cpu_description();
     println!("CPU: {cpu}");
+    let (factor, calibration) = match colour_factor(args) {
+        Ok(f) => (
+            f,
+            format!(
+                "Reference colour factor: Mitsuba 3 renders an equal-energy emitter at {:.5} / \
+                 {:.5} / {:.5} (R, G, B) of the CIE integral of its spectrum (`anchor_render.py \
+                 colour-factor`); every reference is divided by it, so the means below are \
+                 against the CIE colorimetry every renderer is meant to follow.",
+                f[0], f[1], f[2]
+            ),
+        ),
+        Err(why) => (
+            [1.0; 3],
+            format!(
+                "Reference colour factor not measured ({why}): the references are used as \
+                 rendered, and a renderer that follows the CIE integral differs from them by \
+                 Mitsuba's factor (about +0.1%)."
+            ),
+        ),
+    };
+    println!("{calibration}");
     let started = Instant::now();
     let mut points: Vec<Point> = Vec::new();
     let mut notes: Vec<String> = Vec::new();
@@ -212,7 +233,7 @@ pub fn run_speed(args: &SpeedArgs) -> Result<(), String> {
             notes.push(note);
             continue;
         }
-        let setup = set_up_scene(args, name, path)?;
+        let setup = set_up_scene(args, name, path, factor)?;
         let mut failed: Vec<String> = Vec::new();
         for k in 0..u64::from(args.seeds()) {
             let seed = args.seed + k;
@@ -227,7 +248,14 @@ pub fn run_speed(args: &SpeedArgs) -> Result<(), String> {
     }
     let elapsed = started.elapsed().as_secs_f64();
     let estimate = full_run_estimate(&points, args, elapsed, plan.scenes.len());
-    let md = report(&points, &references, args, &cpu, &notes, &estimate);
+    let md = report(
+        &points,
+        &references,
+        args,
+        (&cpu, &calibration),
+        &notes,
+        &estimate,
+    );
     println!("\n{md}");
     write_results(args, &md, &points)
 }
@@ -322,7 +350,12 @@ fn suite_scenes(given: Option<&[String]>) -> Result<Vec<(String, PathBuf)>, Stri
 
 /// Export the scene to the anchors, load it (the render pipeline's scene step, timed), and
 /// find its reference and regions; prints the reference's noise and the regions' sizes.
-fn set_up_scene(args: &SpeedArgs, name: &str, path: &Path) -> Result<SceneSetup, String> {
+fn set_up_scene(
+    args: &SpeedArgs,
+    name: &str,
+    path: &Path,
+    factor: [f64; 3],
+) -> Result<SceneSetup, String> {
     let export_dir = args.out.join("scenes").join(name);
     let exported = export_scene(path, &export_dir)?;
     let t0 = Instant::now();
@@ -336,7 +369,10 @@ fn set_up_scene(args: &SpeedArgs, name: &str, path: &Path) -> Result<SceneSetup,
     .map_err(|e| format!("{name}: {e}"))?;
     let load_seconds = t0.elapsed().as_secs_f64();
     let (emitter, shiny, _, _) = view_masks(&scene)?;
-    let (image, half1, half2, spp) = reference(args, name, &exported.path)?;
+    let (mut image, mut half1, mut half2, spp) = reference(args, name, &exported.path)?;
+    for img in [&mut image, &mut half1, &mut half2] {
+        divide_channels(img, factor);
+    }
     let regions =
         Regions::from_masks(&emitter, &shiny, &image).map_err(|e| format!("{name}: {e}"))?;
     let counted = regions.counted();
@@ -536,6 +572,62 @@ fn reference(
     ))
 }
 
+/// Divides every pixel's R, G, B by `factor` (the reference's colour factor).
+fn divide_channels(img: &mut RgbImage, factor: [f64; 3]) {
+    for p in &mut img.rgb {
+        for c in 0..3 {
+            p[c] /= factor[c];
+        }
+    }
+}
+
+/// Mitsuba 3's spectrum-to-RGB conversion over the CIE integral, per channel, from the anchor
+/// script's `colour-factor` (an equal-energy emitter filling the view).
+fn colour_factor(args: &SpeedArgs) -> Result<[f64; 3], String> {
+    let out = std::process::Command::new(args.python())
+        .arg(&args.anchor_script)
+        .arg("colour-factor")
+        .arg("--threads")
+        .arg(args.threads.to_string())
+        .output()
+        .map_err(|e| format!("cannot run {}: {e}", args.python().display()))?;
+    if !out.status.success() {
+        let err = String::from_utf8_lossy(&out.stderr);
+        return Err(format!(
+            "{}: {}",
+            out.status,
+            err.lines().last().unwrap_or("")
+        ));
+    }
+    parse_colour_factor(&String::from_utf8_lossy(&out.stdout))
+}
+
+/// The `factor` of the script's JSON line: three finite values within 1% of 1.
+fn parse_colour_factor(stdout: &str) -> Result<[f64; 3], String> {
+    let line = stdout
+        .lines()
+        .rev()
+        .find(|l| l.trim_start().starts_with('{'))
+        .ok_or("the script printed no result line")?;
+    let v: serde_json::Value =
+        serde_json::from_str(line).map_err(|e| format!("its result line is not JSON: {e}"))?;
+    let f = v["factor"]
+        .as_array()
+        .filter(|a| a.len() == 3)
+        .ok_or("its result has no three-value `factor`")?;
+    let mut out = [0.0; 3];
+    for (o, x) in out.iter_mut().zip(f) {
+        *o = x.as_f64().ok_or("a factor is not a number")?;
+    }
+    if out.iter().all(|x| x.is_finite() && (x - 1.0).abs() < 0.01) {
+        Ok(out)
+    } else {
+        Err(format!(
+            "implausible factor {out:?} (expected within 1% of 1)"
+        ))
+    }
+}
+
 type AnchorLine = (String, PathBuf, f64, f64, f64, f64, f64);
 
 /// Runs one anchor configuration at every budget; its result lines or why it failed.
@@ -686,13 +778,13 @@ fn report(
     points: &[Point],
     references: &[(String, Reference, [usize; 3])],
     args: &SpeedArgs,
-    cpu: &str,
+    (cpu, calibration): (&str, &str),
     notes: &[String],
     estimate: &str,
 ) -> String {
     let mut s = String::new();
     let budgets = args.budgets();
-    let _ = writeln!(s, "CPU: {cpu}\n");
+    let _ = writeln!(s, "CPU: {cpu}\n\n{calibration}\n");
     let _ = writeln!(
         s,
         "Budgets {:?} s, {} seed(s), {} threads per renderer. Seconds = sampling start to image \
@@ -1030,6 +1122,28 @@ mod tests {
         }
     }
 
+    // The colour factor is read from the script's last JSON line; anything else, or a factor
+    // more than 1% from 1, is refused with the reason (the bench then uses the references as
+    // rendered and says so).
+    #[test]
+    fn colour_factor_is_parsed_and_checked() {
+        let ok =
+            "log line\n{\"renderer\": \"m\", \"factor\": [1.001, 1.00099, 1.0009], \"spp\": 1}\n";
+        assert_eq!(parse_colour_factor(ok).unwrap(), [1.001, 1.00099, 1.0009]);
+        let e = parse_colour_factor("{\"factor\": [1.2, 1.0, 1.0]}").unwrap_err();
+        assert!(e.contains("implausible"), "{e}");
+        let e = parse_colour_factor("{\"factor\": [1.0, 1.0]}").unwrap_err();
+        assert!(e.contains("three-value"), "{e}");
+        assert!(parse_colour_factor("no json").is_err());
+        let mut img = RgbImage {
+            width: 1,
+            height: 1,
+            rgb: vec![[2.002, 1.0, 3.0]],
+        };
+        divide_channels(&mut img, [1.001, 1.0, 1.5]);
+        assert!((img.rgb[0][0] - 2.0).abs() < 1e-12 && (img.rgb[0][2] - 2.0).abs() < 1e-12);
+    }
+
     // The report ranks against the best *unbiased* anchor: anchor A has a = 1 and a floor of
     // 0.2 (biased), anchor B a = 2 with no floor, spectrace a = 1 with no floor: spectrace is
     // 2.00× the best anchor (B), and A is listed as biased, not as the best.
@@ -1059,7 +1173,7 @@ mod tests {
             &pts,
             &[("s".into(), reference, [0, 0, 1])],
             &args,
-            "cpu",
+            ("cpu", "calibration"),
             &[],
             "",
         );
