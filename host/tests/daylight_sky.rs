@@ -23,6 +23,7 @@ use spectrace::spectrum::{parse_spd_spec, SampledWavelengths, Spd};
 
 use std::path::Path;
 
+mod common_quadrants;
 mod common_sky;
 use common_sky::{standard, standard_horizontal, TYPES};
 
@@ -341,26 +342,6 @@ fn light_paths_from_the_sky_agree_with_path_tracing() {
     let pt = render(IntegratorKind::Pt, 256, 3);
     for (kind, spp) in [(IntegratorKind::Lt, 4096), (IntegratorKind::Bdpt, 256)] {
         let img = render(kind, spp, 5);
-        for q in 0..4 {
-            let (qx, qy) = (q % 2, q / 2);
-            let idx: Vec<usize> = (0..16 * 16)
-                .filter(|k| (k % 16) / 8 == qx && (k / 16) / 8 == qy)
-                .collect();
-            let n = idx.len() as f64;
-            let d: Vec<f64> = idx.iter().map(|&k| img[k] - pt[k]).collect();
-            let md = d.iter().sum::<f64>() / n;
-            let var = d.iter().map(|v| (v - md).powi(2)).sum::<f64>() / (n - 1.0);
-            let se = (var / n).sqrt();
-            let level = idx.iter().map(|&k| pt[k]).sum::<f64>() / n;
-            println!(
-                "{kind} quadrant {q}: PT {level:.5}, {kind} − PT = {md:+.5} ± {se:.5} ({:+.2}%)",
-                100.0 * md / level
-            );
-            assert!(se < 0.02 * level, "{kind} quadrant {q}: SE {se} too large");
-            assert!(
-                md.abs() < 4.0 * se,
-                "{kind} quadrant {q}: {kind} − PT = {md} ± {se} (PT level {level})"
-            );
-        }
+        common_quadrants::assert_quadrants_agree(&kind.to_string(), &img, &pt);
     }
 }

@@ -13,6 +13,7 @@ use spectrace::integrator::{
 use spectrace::scene::{build_scene, parse_scene_str, BuiltinFactory, Scene};
 use std::path::{Path, PathBuf};
 
+mod common_quadrants;
 mod common_sun_sky;
 use common_sun_sky::write_sun_sky;
 
@@ -150,20 +151,7 @@ fn bdpt_weights_a_sphere_lamp_by_its_cone() {
     let ind = SamplerKind::Independent;
     let pt = render(&s, IntegratorKind::Pt, ind, 256, 3);
     let bd = render(&s, IntegratorKind::Bdpt, ind, 256, 5);
-    for q in 0..4 {
-        let (qx, qy) = (q % 2, q / 2);
-        let idx: Vec<usize> = (0..16 * 16)
-            .filter(|k| (k % 16) / 8 == qx && (k / 16) / 8 == qy)
-            .collect();
-        let n = idx.len() as f64;
-        let d: Vec<f64> = idx.iter().map(|&k| bd[k] - pt[k]).collect();
-        let md = d.iter().sum::<f64>() / n;
-        let se = (d.iter().map(|v| (v - md).powi(2)).sum::<f64>() / (n - 1.0) / n).sqrt();
-        let level = idx.iter().map(|&k| pt[k]).sum::<f64>() / n;
-        eprintln!("quadrant {q}: PT {level:.5}, BDPT − PT = {md:+.5} ± {se:.5}");
-        assert!(se < 0.02 * level, "quadrant {q}: SE {se} too large");
-        assert!(md.abs() < 4.0 * se, "quadrant {q}: BDPT − PT = {md} ± {se}");
-    }
+    common_quadrants::assert_quadrants_agree("BDPT", &bd, &pt);
     let (vp, sep, _) = pixel_variance(&s, IntegratorKind::Pt, ind, 16, 8);
     let (vb, seb, _) = pixel_variance(&s, IntegratorKind::Bdpt, ind, 16, 8);
     let r = vb / vp;

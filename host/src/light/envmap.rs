@@ -571,11 +571,7 @@ mod tests {
         let mut state = 0x9e37_79b9_7f4a_7c15u64;
         let mut rnd = || {
             state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
-            let mut z = state;
-            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-            z ^= z >> 31;
-            (z >> 40) as f32 / (1u64 << 24) as f32
+            (crate::sampler::mix64(state) >> 40) as f32 / (1u64 << 24) as f32
         };
         let mut mismatches = 0;
         for _ in 0..n {
@@ -681,11 +677,7 @@ mod tests {
         let mut state = 0x2545_f491_4f6c_dd1du64;
         let mut rnd = || {
             state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
-            let mut z = state;
-            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-            z ^= z >> 31;
-            (z >> 40) as f32 / (1u64 << 24) as f32
+            (crate::sampler::mix64(state) >> 40) as f32 / (1u64 << 24) as f32
         };
         let mut mismatches = 0;
         for _ in 0..n {
