@@ -14,6 +14,13 @@ use crate::geometry::Aabb;
 pub const BIN_COUNT: usize = 16;
 /// Leaves hold at most this many primitives.
 pub const MAX_LEAF_SIZE: usize = 4;
+/// Leaves of a tree that holds quads or spheres hold at most this many primitives: two quads
+/// are four triangle lanes, one four-lane pass (`leaf_triangles.rs`), where a third takes a
+/// second pass; a sphere's test costs several triangle tests. The SAH's leaf test counts one
+/// per primitive, which let the window room's floor, ceiling, back and front walls share a
+/// leaf whose box is the whole room: every ray inside it then tested eight triangles (two
+/// passes) before the wall it goes to (10.3% of the scene's path-tracing instructions).
+pub const MAX_LEAF_SIZE_OTHER: usize = 2;
 /// Cost of visiting a node relative to one primitive test, in the SAH.
 pub(super) const TRAVERSAL_COST: f32 = 1.0;
 /// Subtrees with more primitives than this are built in parallel.
@@ -266,10 +273,11 @@ pub(super) fn build_prims_owned(bounds: Vec<Aabb>) -> (Vec<BuildPrim>, NodeBound
 #[cfg(test)]
 pub(super) fn build_range(prims: &mut [BuildPrim], first: usize, depth: usize) -> Vec<Node> {
     let root = NodeBounds::of(prims);
-    build_tree(prims, first, depth, root)
+    build_tree(prims, first, depth, root, MAX_LEAF_SIZE)
 }
 
-/// [`build_range`] with the root's bounds known. Subtrees above [`PARALLEL_THRESHOLD`]
+/// [`build_range`] with the root's bounds known and leaves of at most `max_leaf` (at most
+/// [`MAX_LEAF_SIZE`]) primitives. Subtrees above [`PARALLEL_THRESHOLD`]
 /// primitives are built in parallel into separate parts whose interior offsets are distances
 /// (second child minus node), which do not change when a part moves; the parts are then
 /// copied once, in parallel, into their final places, turning distances into indices. (Each
@@ -280,6 +288,7 @@ pub(super) fn build_tree(
     first: usize,
     depth: usize,
     root: NodeBounds,
+    max_leaf: usize,
 ) -> Vec<Node> {
     // The top nodes partition from one buffer into the other and back (see `build_parts`);
     // the scratch buffer's pages are only touched by those partitions, in parallel.
@@ -294,6 +303,7 @@ pub(super) fn build_tree(
         first,
         depth,
         nb: root,
+        max_leaf: max_leaf.clamp(1, MAX_LEAF_SIZE),
     };
     let total = build_parts(prims, spare, true, node, &mut parts);
     // Freed beside the copying of the parts: giving back its pages is serial work in the
@@ -314,13 +324,14 @@ pub(super) fn build_tree(
     nodes
 }
 
-/// A subtree to build: its first primitive's place in the final order, its depth and its
-/// primitives' bounds.
+/// A subtree to build: its first primitive's place in the final order, its depth, its
+/// primitives' bounds and the largest leaf it may make.
 #[derive(Clone, Copy)]
 struct Subtree {
     first: usize,
     depth: usize,
     nb: NodeBounds,
+    max_leaf: usize,
 }
 
 /// Appends the parts of the subtree over `data` to `parts` in depth-first order; returns its
@@ -344,13 +355,18 @@ fn build_parts(
         let data = move_to(data, spare);
         return build_parts(data, &mut [], true, node, parts);
     }
-    let Subtree { first, depth, nb } = node;
+    let Subtree {
+        first,
+        depth,
+        nb,
+        max_leaf,
+    } = node;
     if n <= PARALLEL_THRESHOLD {
         // A binary tree over n primitives has at most 2n − 1 nodes; reserving them saves
         // the growing vector's copies, and giving back the unused tail (about half: leaves
         // hold several primitives) keeps it from raising the peak memory.
         let mut out = Vec::with_capacity(2 * n);
-        build_into(data, first, depth, nb, &mut out);
+        build_into(data, first, depth, nb, max_leaf, &mut out);
         out.shrink_to_fit();
         parts.push(out);
         return parts.last().map_or(0, Vec::len);
@@ -358,7 +374,7 @@ fn build_parts(
     let split = if n > PARALLEL_NODE_THRESHOLD {
         split_large(data, spare, &nb, depth)
     } else {
-        choose_split(data, &nb, depth).map(|s| (s, false))
+        choose_split(data, &nb, depth, max_leaf).map(|s| (s, false))
     };
     let Some((split, moved)) = split else {
         let data = if home { data } else { move_to(data, spare) };
@@ -380,11 +396,13 @@ fn build_parts(
         first,
         depth: depth + 1,
         nb: split.left,
+        max_leaf,
     };
     let right_node = Subtree {
         first: first + split.mid,
         depth: depth + 1,
         nb: split.right,
+        max_leaf,
     };
     let ((lparts, llen), (rparts, rlen)) = rayon::join(
         || {
@@ -492,13 +510,15 @@ impl Split {
     }
 }
 
-/// Chooses a split (and partitions `prims` in place for it) or `None` for a leaf. For nodes
+/// Chooses a split (and partitions `prims` in place for it) or `None` for a leaf of at most
+/// `max_leaf` primitives (at most [`MAX_LEAF_SIZE`]). For nodes
 /// of at most [`PARALLEL_NODE_THRESHOLD`] primitives; larger ones use [`split_large`], which
 /// gives the same split.
 pub(super) fn choose_split(
     prims: &mut [BuildPrim],
     nb: &NodeBounds,
     depth: usize,
+    max_leaf: usize,
 ) -> Option<Split> {
     let n = prims.len();
     if n <= 1 {
@@ -509,7 +529,7 @@ pub(super) fn choose_split(
     let extent = centroid_bounds.max - centroid_bounds.min;
     if extent[axis] <= 0.0 {
         // All centroids coincide: SAH cannot separate them; split by index if too many.
-        return (n > MAX_LEAF_SIZE).then(|| Split::at(prims, axis, n / 2));
+        return (n > max_leaf).then(|| Split::at(prims, axis, n / 2));
     }
     // Deep trees must not overflow the traversal stack: force median splits near the limit.
     if depth + 8 >= MAX_DEPTH {
@@ -523,13 +543,13 @@ pub(super) fn choose_split(
     let (cost, ax, boundary) = best_split(&bins, extent)?;
     let area = nb.bounds.surface_area();
     let split_cost = TRAVERSAL_COST + if area > 0.0 { cost / area } else { 0.0 };
-    if n <= MAX_LEAF_SIZE && n as f32 <= split_cost {
+    if n <= max_leaf && n as f32 <= split_cost {
         return None;
     }
     let (min, scale) = (centroid_bounds.min[ax], BIN_COUNT as f32 / extent[ax]);
     let (mid, lc, rc) = partition(prims, |p| bin_of(p.centroid_on(ax), min, scale) < boundary);
     if mid == 0 || mid == n {
-        return (n > MAX_LEAF_SIZE).then(|| Split::at(prims, ax, n / 2));
+        return (n > max_leaf).then(|| Split::at(prims, ax, n / 2));
     }
     Some(Split::from_bins(&bins, ax, boundary, mid, lc, rc))
 }
@@ -800,18 +820,26 @@ pub(super) fn build_into(
     first: usize,
     depth: usize,
     nb: NodeBounds,
+    max_leaf: usize,
     out: &mut Vec<Node>,
 ) {
-    let Some(split) = choose_split(prims, &nb, depth) else {
+    let Some(split) = choose_split(prims, &nb, depth, max_leaf) else {
         out.push(leaf(prims, nb.bounds, first));
         return;
     };
     let me = out.len();
     out.push(interior(&nb.bounds, split.axis));
     let (left, right) = prims.split_at_mut(split.mid);
-    build_into(left, first, depth + 1, split.left, out);
+    build_into(left, first, depth + 1, split.left, max_leaf, out);
     out[me].offset = (out.len() - me) as u32;
-    build_into(right, first + split.mid, depth + 1, split.right, out);
+    build_into(
+        right,
+        first + split.mid,
+        depth + 1,
+        split.right,
+        max_leaf,
+        out,
+    );
 }
 
 #[cfg(test)]

@@ -47,7 +47,7 @@ mod traverse;
 mod tree;
 mod wide_node;
 
-pub use build::{BIN_COUNT, MAX_LEAF_SIZE};
+pub use build::{BIN_COUNT, MAX_LEAF_SIZE, MAX_LEAF_SIZE_OTHER};
 pub use collapse::{MERGE_LEAF_PRIMITIVES, WIDE_MERGE_MIN_PRIMITIVES};
 pub use kernel::TraversalKernel;
 pub use stats::{BvhStatistics, VisitCounts};

@@ -332,7 +332,7 @@ fn wide_traversal_matches_brute_force() {
 
 // `Bvh::leaves` must partition the leaf order into the leaves the traversal hands over: sorted,
 // contiguous, covering every slot once, at most `MERGE_LEAF_PRIMITIVES` primitives each (two
-// passes of four triangle lanes; `MAX_LEAF_SIZE` without merging), for float, quantised and
+// passes of four triangle lanes; `MAX_LEAF_SIZE_OTHER` without merging), for float, quantised and
 // unmerged trees; and every
 // `(first, count)` that `traverse_leaves` gives for 300 random rays is one of them. Exact.
 #[test]
@@ -359,7 +359,7 @@ fn leaves_partition_the_leaf_order() {
         ),
         (
             Bvh::build_with_options(&boxes, NodeLayout::Float, false),
-            MAX_LEAF_SIZE,
+            MAX_LEAF_SIZE_OTHER,
         ),
     ] {
         let leaves = bvh.leaves();

@@ -1,6 +1,8 @@
 //! The BVH ([`Bvh`]): its node layouts, its build, and the queries built on the traversal.
 
-use super::build::{build_prims, build_prims_owned, build_tree};
+use super::build::{
+    build_prims, build_prims_owned, build_tree, MAX_LEAF_SIZE, MAX_LEAF_SIZE_OTHER,
+};
 use super::collapse::{collapse, collapse_float};
 use super::kernel::TraversalKernel;
 use super::wide_node::{QuantNode, WideNode};
@@ -61,8 +63,8 @@ impl Bvh {
     /// [`WIDE_MERGE_MIN_PRIMITIVES`], four below, where the surface area heuristic accepts it).
     /// Its cost model counts four-triangle passes (a leaf of triangles is tested four at a
     /// time), so callers whose primitives are not all triangles (analytic spheres, quads: tested
-    /// one by one, several triangle tests each) pass `false`. The closest hits are the same
-    /// either way.
+    /// one by one, several triangle tests each) pass `false`; their leaves then hold at most
+    /// [`MAX_LEAF_SIZE_OTHER`] primitives. The closest hits are the same either way.
     pub fn build_with_options(bounds: &[Aabb], layout: NodeLayout, merge_leaves: bool) -> Bvh {
         // In parallel and in order, with the root's bounds in the same pass.
         let (prims, root) = build_prims(bounds);
@@ -86,7 +88,13 @@ impl Bvh {
         if prims.is_empty() {
             return Bvh::default();
         }
-        let binary = build_tree(&mut prims, 0, 0, root);
+        // Quads and spheres (no merged leaves) in leaves of at most two.
+        let max_leaf = if merge_leaves {
+            MAX_LEAF_SIZE
+        } else {
+            MAX_LEAF_SIZE_OTHER
+        };
+        let binary = build_tree(&mut prims, 0, 0, root, max_leaf);
         let order: Vec<u32> = prims.par_iter().map(|p| p.index).collect();
         let root = &binary[0];
         let bounds = Some(Aabb {
