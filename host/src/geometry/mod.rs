@@ -53,7 +53,9 @@ pub use obj::{load_obj, parse_obj};
 pub use ply::{load_ply, parse_ply};
 pub use quad::Quad;
 pub use ray::Ray;
-pub use scene_geometry::{Geometry, Hit, Shape, ShapeDesc, SurfaceSample, WorldShape};
+pub use scene_geometry::{
+    Geometry, Hit, SampleTowards, Shape, ShapeDesc, SurfaceSample, WorldShape,
+};
 pub use spawn::{offset_ray_origin, spawn_ray, spawn_ray_to, CONNECTION_T_MAX};
 pub use sphere::Sphere;
 pub use transform::Transform;

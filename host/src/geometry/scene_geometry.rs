@@ -107,6 +107,17 @@ pub struct SurfaceSample {
     pub pdf: f32,
 }
 
+/// A point sampled by solid angle ([`Geometry::sample_towards`]) with the way to it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SampleTowards {
+    /// The sample, `pdf` per steradian.
+    pub sample: SurfaceSample,
+    /// `sample.point − reference` (scene units).
+    pub d: Vec3A,
+    /// `|d|`.
+    pub dist: f32,
+}
+
 /// Per-object data kept after the build.
 #[derive(Clone, Debug)]
 struct Object {
@@ -119,6 +130,10 @@ struct Object {
     /// BVH for meshes of at most [`CACHED_NORMALS_MAX_TRIANGLES`] (16 bytes a triangle), for a
     /// larger one at its first light sample if it emits; otherwise a hit computes it.
     normals: OnceLock<Vec<Vec3A>>,
+    /// Quads: the first half's share of the area, where [`Geometry::sample_area`] splits
+    /// `u.x` between the halves (made with the quad: an f64 cross product and square root a
+    /// light sample no longer repeats); 0 for other shapes.
+    quad_split: f32,
 }
 
 /// A BVH leaf entry: an object and a primitive inside it.
@@ -667,11 +682,7 @@ impl Geometry {
                 })
             }
             WorldShape::Quad(q) => {
-                let a0 = {
-                    let [a, b, c] = q.triangle(0);
-                    triangle_area(a, b, c)
-                };
-                let split = a0 / obj.area;
+                let split = obj.quad_split;
                 let (half, ux) = if u.x < split {
                     (0, u.x / split)
                 } else {
@@ -740,20 +751,48 @@ impl Geometry {
         reference: Vec3A,
         u: Vec2,
     ) -> Option<SurfaceSample> {
+        self.sample_towards(object, reference, u).map(|t| t.sample)
+    }
+
+    /// [`Self::sample_solid_angle`] with the vector from `reference` to the sampled point and
+    /// its length, which the density's conversion computes anyway (a light sample needs
+    /// both for its direction; the same floats as computing them again).
+    #[inline]
+    pub fn sample_towards(&self, object: u32, reference: Vec3A, u: Vec2) -> Option<SampleTowards> {
         if let Some(WorldShape::Sphere(s)) = self.shape(object) {
             if let Some(smp) = s.sample_solid_angle(reference, u) {
-                return Some(SurfaceSample {
-                    point: smp.surface.point,
-                    point_error: smp.surface.error,
-                    normal: smp.surface.normal,
-                    uv: smp.surface.uv,
-                    pdf: smp.pdf,
+                let d = smp.surface.point - reference;
+                return Some(SampleTowards {
+                    sample: SurfaceSample {
+                        point: smp.surface.point,
+                        point_error: smp.surface.error,
+                        normal: smp.surface.normal,
+                        uv: smp.surface.uv,
+                        pdf: smp.pdf,
+                    },
+                    d,
+                    dist: d.length(),
                 });
             }
         }
         let mut smp = self.sample_area(object, u)?;
-        smp.pdf = area_to_solid_angle(smp.pdf, reference, smp.point, smp.normal)?;
-        Some(smp)
+        // `area_to_solid_angle`'s operations, keeping `d` and `|d|`.
+        let d = smp.point - reference;
+        let dist2 = d.length_squared();
+        if !(dist2 > 0.0) || !(smp.pdf > 0.0) {
+            return None;
+        }
+        let dist = dist2.sqrt();
+        let cos = smp.normal.dot(d).abs() / dist;
+        if !(cos > 0.0) {
+            return None;
+        }
+        smp.pdf = smp.pdf * dist2 / cos;
+        Some(SampleTowards {
+            sample: smp,
+            d,
+            dist,
+        })
     }
 
     /// Density per steradian with which [`Self::sample_solid_angle`] would pick `point`
@@ -861,6 +900,7 @@ fn build_object(desc: ShapeDesc) -> Result<Object, String> {
                 area: 0.0,
                 cdf: Vec::new(),
                 normals: OnceLock::new(),
+                quad_split: 0.0,
             })
         }
         Shape::Sphere { center, radius } => {
@@ -886,6 +926,7 @@ fn build_object(desc: ShapeDesc) -> Result<Object, String> {
                 shape: WorldShape::Sphere(sphere),
                 cdf: Vec::new(),
                 normals: OnceLock::new(),
+                quad_split: 0.0,
             })
         }
         Shape::Quad {
@@ -899,8 +940,11 @@ fn build_object(desc: ShapeDesc) -> Result<Object, String> {
             let quad = Quad::new(c, e0, e1).ok_or_else(|| {
                 format!("degenerate quad: edges {edge0} and {edge1} are parallel or zero")
             })?;
+            let area = quad.area();
+            let [a, b, c] = quad.triangle(0);
             Ok(Object {
-                area: quad.area(),
+                area,
+                quad_split: triangle_area(a, b, c) / area,
                 shape: WorldShape::Quad(quad),
                 cdf: Vec::new(),
                 normals: OnceLock::new(),

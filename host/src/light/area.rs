@@ -69,12 +69,12 @@ impl Light for AreaLight {
         u: Vec2,
         lambda: &SampledWavelengths,
     ) -> Option<LightLiSample> {
-        let s = self.geometry.sample_solid_angle(self.object, ctx.p, u)?;
+        let t = self.geometry.sample_towards(self.object, ctx.p, u)?;
+        let s = t.sample;
         if !(s.pdf > 0.0) || !s.pdf.is_finite() {
             return None;
         }
-        let d = s.point - ctx.p;
-        let dist = d.length();
+        let (d, dist) = (t.d, t.dist);
         if !(dist > 0.0) {
             return None;
         }
