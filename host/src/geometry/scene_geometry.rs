@@ -544,8 +544,8 @@ impl Geometry {
                 let prim = self.prims[slot as usize];
                 // Only a scene with quads has two-lane slots (meshes only: no shape read).
                 if self.tris.has_quads() {
-                    if let WorldShape::Quad(_) = self.objects[prim.object as usize].shape {
-                        return self.make_hit(ray, t, Candidate::Quad { prim, half, b });
+                    if let WorldShape::Quad(q) = &self.objects[prim.object as usize].shape {
+                        return quad_hit(t, prim, q, half, b);
                     }
                 }
                 // The vertices from the leaf just tested (in cache; the mesh's index triple
@@ -566,18 +566,7 @@ impl Geometry {
                 let WorldShape::Quad(q) = &self.objects[prim.object as usize].shape else {
                     unreachable!("quad candidate always comes from a quad")
                 };
-                let [p0, p1, p2] = q.triangle(half);
-                let (point, point_error) = barycentric_point(b[0], b[1], b[2], p0, p1, p2);
-                Hit {
-                    t,
-                    point,
-                    point_error,
-                    geometric_normal: q.normal,
-                    shading_normal: q.normal,
-                    uv: Quad::uv(half, b[1], b[2]),
-                    object: prim.object,
-                    primitive: 0,
-                }
+                quad_hit(t, prim, q, half, b)
             }
             Candidate::Sphere { prim } => {
                 let WorldShape::Sphere(s) = &self.objects[prim.object as usize].shape else {
@@ -811,6 +800,23 @@ impl Geometry {
             }
         }
         area_to_solid_angle(self.pdf_area(object), reference, point, normal).unwrap_or(0.0)
+    }
+}
+
+/// The hit on half `half` of quad `q` (primitive `prim`) with barycentrics `b`.
+#[inline(always)]
+fn quad_hit(t: f32, prim: Primitive, q: &Quad, half: usize, b: [f32; 3]) -> Hit {
+    let [p0, p1, p2] = q.triangle(half);
+    let (point, point_error) = barycentric_point(b[0], b[1], b[2], p0, p1, p2);
+    Hit {
+        t,
+        point,
+        point_error,
+        geometric_normal: q.normal,
+        shading_normal: q.normal,
+        uv: Quad::uv(half, b[1], b[2]),
+        object: prim.object,
+        primitive: 0,
     }
 }
 
