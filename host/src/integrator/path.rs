@@ -809,12 +809,19 @@ pub fn render_film_spectral(
             let mut stats = PathStats::default();
             // One wavelength buffer per tile, overwritten by every sample's draw.
             let mut lambdas = PathWavelengths::default();
+            // One sampler per tile, restarted for every sample: it keeps a pixel's scramble
+            // seeds across the pixel's samples (the same numbers as a new sampler each time).
+            let mut rng = PixelSampler::memoised(
+                settings.sampler,
+                settings.seed,
+                buf.y0 as u64 * width as u64 + buf.x0 as u64,
+                0,
+            );
             for y in buf.y0..buf.y0 + buf.h {
                 for x in buf.x0..buf.x0 + buf.w {
                     let pixel = y as u64 * width as u64 + x as u64;
                     for s in samples.clone() {
-                        let mut rng =
-                            PixelSampler::with_kind(settings.sampler, settings.seed, pixel, s);
+                        rng.restart(pixel, s);
                         wavelength_sampler.sample_into(&mut rng, &mut lambdas);
                         let offset = cam.filter.sample(rng.next_2d());
                         let sample = CameraSample {
