@@ -289,19 +289,81 @@ pub fn sample_cosine_lobe(wo: Vec3A, u: Vec2) -> Option<(Vec3A, f32)> {
     (pdf != 0.0).then_some((wi, pdf))
 }
 
-/// Uniform point on the unit disk with low distortion (Shirley & Chiu 1997).
+/// Uniform point on the unit disk with low distortion (Shirley & Chiu 1997): the square's
+/// concentric squares go to circles of radius `r` (the larger coordinate of `2u - 1`), the
+/// smaller over the larger coordinate `t ∈ [-1, 1]` to the angle `π/4·t` from the axis of the
+/// larger one. Its cosine and sine come from [`quarter_pi_sin_cos`] (no libm call).
+#[inline]
 pub fn sample_concentric_disk(u: Vec2) -> Vec2 {
     let o = u * 2.0 - Vec2::ONE;
     if o.x == 0.0 && o.y == 0.0 {
         return Vec2::ZERO;
     }
-    let (r, theta) = if o.x.abs() > o.y.abs() {
-        (o.x, std::f32::consts::FRAC_PI_4 * (o.y / o.x))
+    if o.x.abs() > o.y.abs() {
+        let (s, c) = quarter_pi_sin_cos(o.y / o.x);
+        Vec2::new(o.x * c, o.x * s)
     } else {
-        (
-            o.y,
-            std::f32::consts::FRAC_PI_2 - std::f32::consts::FRAC_PI_4 * (o.x / o.y),
-        )
-    };
-    Vec2::new(r * theta.cos(), r * theta.sin())
+        // The angle π/2 - π/4·t: its cosine is sin(π/4·t), its sine cos(π/4·t).
+        let (s, c) = quarter_pi_sin_cos(o.x / o.y);
+        Vec2::new(o.y * s, o.y * c)
+    }
+}
+
+/// `(sin(π/4·t), cos(π/4·t))` for `t ∈ [-1, 1]` by polynomials in `t²` (sine odd, degree 7;
+/// cosine even, degree 6) fitted for minimax error on that interval: evaluated in f32 the
+/// error is at most 1.2e-7 in either (1 ulp of values near 1; the test checks 2.5e-7 on 2·10⁵
+/// points), as accurate as libm's `sinf`/`cosf` of the rounded angle, without their call and
+/// range reduction. The disk mapping needs nothing else: its angles never leave ±π/4 of an
+/// axis.
+#[inline]
+pub fn quarter_pi_sin_cos(t: f32) -> (f32, f32) {
+    let s2 = t * t;
+    let sin =
+        t * (7.853_981_6e-1 + s2 * (-8.074_543e-2 + s2 * (2.490_001_4e-3 + s2 * -3.595_075_6e-5)));
+    let cos = 9.999_999_7e-1 + s2 * (-3.084_242_6e-1 + s2 * (1.584_992e-2 + s2 * -3.188_839_5e-4));
+    (sin, cos)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Quantity: `quarter_pi_sin_cos(t)` against f64 `sin`/`cos` of `π/4·t` at 200 001 points
+    /// of [-1, 1] (ends included); tolerance 2.5e-7 absolute (the fit's f32 error is 1.2e-7,
+    /// doubled for rounding of the argument). And the concentric mapping against the same
+    /// mapping in f64 with libm's trigonometry, at 401² points of the square: within 5e-7, and
+    /// never outside the unit disk by more than 5e-7.
+    #[test]
+    fn disk_mapping_trigonometry_is_accurate() {
+        let n = 100_000;
+        for k in -n..=n {
+            let t = k as f32 / n as f32;
+            let (s, c) = quarter_pi_sin_cos(t);
+            let a = std::f64::consts::FRAC_PI_4 * t as f64;
+            assert!((s as f64 - a.sin()).abs() < 2.5e-7, "sin at t = {t}");
+            assert!((c as f64 - a.cos()).abs() < 2.5e-7, "cos at t = {t}");
+        }
+        let m = 400;
+        for i in 0..=m {
+            for j in 0..=m {
+                let u = Vec2::new(i as f32 / m as f32, j as f32 / m as f32);
+                let d = sample_concentric_disk(u);
+                let (ox, oy) = (2.0 * u.x as f64 - 1.0, 2.0 * u.y as f64 - 1.0);
+                let (ex, ey) = if ox == 0.0 && oy == 0.0 {
+                    (0.0, 0.0)
+                } else if ox.abs() > oy.abs() {
+                    let th = std::f64::consts::FRAC_PI_4 * (oy / ox);
+                    (ox * th.cos(), ox * th.sin())
+                } else {
+                    let th = std::f64::consts::FRAC_PI_2 - std::f64::consts::FRAC_PI_4 * (ox / oy);
+                    (oy * th.cos(), oy * th.sin())
+                };
+                assert!(
+                    (d.x as f64 - ex).abs() < 5e-7 && (d.y as f64 - ey).abs() < 5e-7,
+                    "u = {u}: {d} against ({ex}, {ey})"
+                );
+                assert!(d.length() <= 1.0 + 5e-7, "u = {u}: {d}");
+            }
+        }
+    }
 }
