@@ -299,14 +299,17 @@ pub fn sample_concentric_disk(u: Vec2) -> Vec2 {
     if o.x == 0.0 && o.y == 0.0 {
         return Vec2::ZERO;
     }
-    if o.x.abs() > o.y.abs() {
-        let (s, c) = quarter_pi_sin_cos(o.y / o.x);
-        Vec2::new(o.x * c, o.x * s)
-    } else {
-        // The angle π/2 - π/4·t: its cosine is sin(π/4·t), its sine cos(π/4·t).
-        let (s, c) = quarter_pi_sin_cos(o.x / o.y);
-        Vec2::new(o.y * s, o.y * c)
-    }
+    // Which coordinate is larger is a coin toss for every sample, so the two cases are
+    // blended by a bit mask rather than branched on (a branch mispredicted half the time cost
+    // more than the rest of the mapping). With `x` larger: r = o.x, t = o.y/o.x and the point
+    // (r·cos, r·sin); else r = o.y, t = o.x/o.y and the angle π/2 - π/4·t, whose cosine is
+    // sin(π/4·t): the point (r·sin, r·cos).
+    let x_major = 0u32.wrapping_sub((o.x.abs() > o.y.abs()) as u32);
+    let pick = |a: f32, b: f32| f32::from_bits((a.to_bits() & x_major) | (b.to_bits() & !x_major));
+    let r = pick(o.x, o.y);
+    let (s, c) = quarter_pi_sin_cos(pick(o.y, o.x) / r);
+    let (rc, rs) = (r * c, r * s);
+    Vec2::new(pick(rc, rs), pick(rs, rc))
 }
 
 /// `(sin(π/4·t), cos(π/4·t))` for `t ∈ [-1, 1]` by polynomials in `t²` (sine odd, degree 7;
