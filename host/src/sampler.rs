@@ -506,6 +506,21 @@ impl PixelSampler {
         }
     }
 
+    /// Consumes the next 2D request without computing it, as [`skip_1d`](Self::skip_1d)
+    /// does for a 1D one (for a caller that knows the numbers would not be used: the lens
+    /// sample of a pinhole camera); every later request gets the number it would have had.
+    #[inline]
+    pub fn skip_2d(&mut self) {
+        if self.dimension >= self.ld_end {
+            // The PCG stream advances by two draws, as `next_2d` past `ld_end` would.
+            let rng = self.rng();
+            rng.next_u32();
+            rng.next_u32();
+        } else {
+            self.dimension += 1;
+        }
+    }
+
     /// Two uniform numbers in [0, 1)², stratified jointly.
     #[inline]
     pub fn next_2d(&mut self) -> Vec2 {
@@ -563,9 +578,10 @@ mod ld_tests {
         }
     }
 
-    /// `skip_1d` leaves the sampler exactly where `next_1d` would: for both kinds, at every
-    /// position of a request sequence that crosses [`LD_DIMENSIONS`] (into the PCG stream),
-    /// the requests after a skip equal those after a draw, bit for bit.
+    /// `skip_1d` leaves the sampler exactly where `next_1d` would, and `skip_2d` where
+    /// `next_2d` would: for both kinds, at every position of a request sequence that crosses
+    /// [`LD_DIMENSIONS`] (into the PCG stream), the requests after a skip equal those after a
+    /// draw, bit for bit.
     #[test]
     fn skipping_a_request_matches_drawing_it() {
         for kind in [SamplerKind::Sobol, SamplerKind::Independent] {
@@ -583,6 +599,11 @@ mod ld_tests {
                     if k == skip_at {
                         drawn.next_1d();
                         skipped.skip_1d();
+                        continue;
+                    }
+                    if k == skip_at + 2 {
+                        drawn.next_2d();
+                        skipped.skip_2d();
                         continue;
                     }
                     if k % 2 == 0 {

@@ -798,6 +798,7 @@ pub fn render_film_spectral(
         ..settings.clone()
     };
     let rays = AtomicU64::new(0);
+    let reads_lens = cam.camera.reads_lens_sample();
     let outcome = render_tiles(
         (width, height),
         settings,
@@ -824,9 +825,17 @@ pub fn render_film_spectral(
                         rng.restart(pixel, s);
                         wavelength_sampler.sample_into(&mut rng, &mut lambdas);
                         let offset = cam.filter.sample(rng.next_2d());
+                        // A pinhole never reads the lens numbers: their request is skipped
+                        // (the same numbers for every later request).
+                        let p_lens = if reads_lens {
+                            rng.next_2d()
+                        } else {
+                            rng.skip_2d();
+                            Vec2::ZERO
+                        };
                         let sample = CameraSample {
                             p_film: Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset,
-                            p_lens: rng.next_2d(),
+                            p_lens,
                         };
                         let xyz = match cam.camera.generate_ray(&sample) {
                             Some(r) => {
