@@ -183,14 +183,36 @@ impl PathTracer {
     pub fn li_groups(
         &self,
         scene: &Scene,
-        mut ray: Ray,
+        ray: Ray,
         lambdas: &mut PathWavelengths,
         rng: &mut PixelSampler,
         stats: &mut PathStats,
     ) -> GroupRadiance {
+        if lambdas.len() == 1 {
+            // One group (the default, 4 wavelengths a path): the walk compiled for one, so the
+            // per-group loops and arrays of every bounce shrink to the hero's (same results).
+            let [l] = self.li_groups_n::<1>(scene, ray, lambdas, rng, stats);
+            let mut out = [SampledSpectrum::zero(); MAX_GROUPS];
+            out[0] = l;
+            out
+        } else {
+            self.li_groups_n::<MAX_GROUPS>(scene, ray, lambdas, rng, stats)
+        }
+    }
+
+    /// [`li_groups`](Self::li_groups) for at most `G` groups (`lambdas.len() <= G`).
+    fn li_groups_n<const G: usize>(
+        &self,
+        scene: &Scene,
+        mut ray: Ray,
+        lambdas: &mut PathWavelengths,
+        rng: &mut PixelSampler,
+        stats: &mut PathStats,
+    ) -> [SampledSpectrum; G] {
         let n = lambdas.len();
-        let mut l = [SampledSpectrum::zero(); MAX_GROUPS];
-        let mut beta = [SampledSpectrum::zero(); MAX_GROUPS];
+        debug_assert!(n <= G);
+        let mut l = [SampledSpectrum::zero(); G];
+        let mut beta = [SampledSpectrum::zero(); G];
         for b in beta.iter_mut().take(n) {
             *b = SampledSpectrum::splat(1.0);
         }
@@ -370,7 +392,7 @@ impl PathTracer {
                 break;
             }
             // f(wo, wi) of every group for this event (for a delta lobe: its weight over |cos|).
-            let (f_groups, wavelength_dependent) = event_f_per_group(
+            let (f_groups, wavelength_dependent) = event_f_per_group::<G>(
                 &found,
                 wo,
                 bs,
@@ -456,14 +478,14 @@ impl Seen<'_> {
 /// The path leaves the scene: the environment's radiance, weighted against its next-event
 /// estimation like an area light found by the path.
 #[inline]
-fn add_escaped(
+fn add_escaped<const G: usize>(
     scene: &Scene,
     ray: &Ray,
     seen: &Seen<'_>,
     cur: &[SampledWavelengths],
     active: usize,
-    beta: &[SampledSpectrum; MAX_GROUPS],
-    l: &mut GroupRadiance,
+    beta: &[SampledSpectrum; G],
+    l: &mut [SampledSpectrum; G],
 ) {
     let Some(ei) = scene.lights.environment() else {
         return;
@@ -497,13 +519,13 @@ struct Found<'a> {
 /// weighted against next-event estimation (one weight for every group: both strategies
 /// sampled with the hero).
 #[inline]
-fn add_emission(
+fn add_emission<const G: usize>(
     scene: &Scene,
     found: &Found<'_>,
     seen: &Seen<'_>,
     cur: &[SampledWavelengths],
-    beta: &[SampledSpectrum; MAX_GROUPS],
-    l: &mut GroupRadiance,
+    beta: &[SampledSpectrum; G],
+    l: &mut [SampledSpectrum; G],
 ) {
     let hit = found.hit;
     // Which side emits is a property of the surface (its geometric normal, as the area light
@@ -546,13 +568,13 @@ struct NextEvent<'a> {
 /// Next-event estimation: one light point (drawn for the hero), emission and BSDF per group
 /// of `cur`, one shadow ray, weighted against the path finding the light.
 #[inline]
-fn add_next_event(
+fn add_next_event<const G: usize>(
     scene: &Scene,
     found: &Found<'_>,
     event: &NextEvent<'_>,
     cur: &[SampledWavelengths],
-    beta: &[SampledSpectrum; MAX_GROUPS],
-    l: &mut GroupRadiance,
+    beta: &[SampledSpectrum; G],
+    l: &mut [SampledSpectrum; G],
     stats: &mut PathStats,
 ) {
     let (hit, material, sctx, wo) = (found.hit, found.material, found.sctx, event.wo);
@@ -569,7 +591,7 @@ fn add_next_event(
     }
     let wi = event.frame.to_local(ls.wi);
     // (f·|cos θ|, radiance) per group; zero where nothing arrives.
-    let mut terms = [(SampledSpectrum::zero(), SampledSpectrum::zero()); MAX_GROUPS];
+    let mut terms = [(SampledSpectrum::zero(), SampledSpectrum::zero()); G];
     let mut any = false;
     for (g, (term, lam)) in terms.iter_mut().zip(cur).enumerate() {
         let mut radiance = if g == 0 {
@@ -637,15 +659,15 @@ fn add_next_event(
 /// wavelengths), and whether the event depends on wavelength (dispersive, or a delta event
 /// that chose another lobe for some group): then only the hero's entry is meaningful.
 #[inline]
-fn event_f_per_group(
+fn event_f_per_group<const G: usize>(
     found: &Found<'_>,
     wo: glam::Vec3A,
     bs: &BsdfSample,
     cur: &[SampledWavelengths],
     (u_lobe, u_dir): (f32, Vec2),
     again_record: &mut BsdfSample,
-) -> ([SampledSpectrum; MAX_GROUPS], bool) {
-    let mut f_groups = [SampledSpectrum::zero(); MAX_GROUPS];
+) -> ([SampledSpectrum; G], bool) {
+    let mut f_groups = [SampledSpectrum::zero(); G];
     f_groups[0] = bs.f;
     let mut wavelength_dependent = bs.flags.contains(MaterialFlags::DISPERSIVE);
     if !wavelength_dependent {
