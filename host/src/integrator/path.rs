@@ -670,7 +670,9 @@ fn event_f_per_group<const G: usize>(
     let mut f_groups = [SampledSpectrum::zero(); G];
     f_groups[0] = bs.f;
     let mut wavelength_dependent = bs.flags.contains(MaterialFlags::DISPERSIVE);
-    if !wavelength_dependent {
+    // Only the groups after the hero's are evaluated again (none in a walk compiled for one
+    // group, where the iterator's `skip` cost more than the bounce's other bookkeeping).
+    if !wavelength_dependent && G > 1 && cur.len() > 1 {
         for (f_g, lam) in f_groups.iter_mut().zip(cur).skip(1) {
             *f_g = if bs.flags.is_specular() {
                 let again = found.material.sample_into(
