@@ -329,7 +329,7 @@ impl PathTracer {
                 None => material,
             };
             let cur = current(lambdas.groups(), shifted.as_ref(), &mut cur_buf);
-            let hero = cur[0];
+            let hero = &cur[0];
 
             // Next-event estimation: one light point (drawn for the hero), emission and BSDF per
             // group, one shadow ray.
@@ -356,7 +356,7 @@ impl PathTracer {
             let sampled = material.sample_into(
                 wo,
                 &sctx,
-                &hero,
+                hero,
                 u_lobe,
                 u_dir,
                 TransportMode::Radiance,
@@ -578,12 +578,12 @@ fn add_next_event<const G: usize>(
     stats: &mut PathStats,
 ) {
     let (hit, material, sctx, wo) = (found.hit, found.material, found.sctx, event.wo);
-    let hero = cur[0];
+    let hero = &cur[0];
     let Some((li, pmf)) = scene.lights.sample(event.u_light) else {
         return;
     };
     let light = &scene.lights.lights()[li];
-    let Some(ls) = light.sample_li(event.ctx, event.u_light2, &hero) else {
+    let Some(ls) = light.sample_li(event.ctx, event.u_light2, hero) else {
         return;
     };
     if !(ls.pdf > 0.0) {
@@ -643,7 +643,7 @@ fn add_next_event<const G: usize>(
     let w = if !light.flags().can_be_hit() {
         1.0
     } else {
-        let bsdf_pdf = material.pdf(wo, wi, sctx, &hero, TransportMode::Radiance);
+        let bsdf_pdf = material.pdf(wo, wi, sctx, hero, TransportMode::Radiance);
         power_heuristic(light_pdf, bsdf_pdf)
     };
     for g in 0..cur.len() {
