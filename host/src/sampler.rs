@@ -914,7 +914,7 @@ mod ld_tests {
                 memo.restart(pixel, sample);
                 let pattern = sample as usize + pixel as usize;
                 for r in 0..(LD_DIMENSIONS as usize + 10) {
-                    if r == 40 && pattern % 2 == 0 {
+                    if r == 40 && pattern.is_multiple_of(2) {
                         fresh.set_block(70, 4);
                         memo.set_block(70, 4);
                     }

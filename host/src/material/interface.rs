@@ -332,8 +332,9 @@ fn concentric_disk_and_radius2(u: Vec2) -> (Vec2, f32) {
 #[inline]
 pub fn quarter_pi_sin_cos(t: f32) -> (f32, f32) {
     let s2 = t * t;
-    let sin =
-        t * (7.853_981_6e-1 + s2 * (-8.074_543e-2 + s2 * (2.490_001_4e-3 + s2 * -3.595_075_6e-5)));
+    let sin = t
+        * (std::f32::consts::FRAC_PI_4
+            + s2 * (-8.074_543e-2 + s2 * (2.490_001_4e-3 + s2 * -3.595_075_6e-5)));
     let cos = 9.999_999_7e-1 + s2 * (-3.084_242_6e-1 + s2 * (1.584_992e-2 + s2 * -3.188_839_5e-4));
     (sin, cos)
 }
