@@ -502,8 +502,23 @@ fn add_escaped<const G: usize>(
     let back = -ray.dir.normalize();
     for (g, lam) in cur.iter().enumerate().take(active) {
         let mut le = light.radiance(p_env, n_env, glam::Vec2::ZERO, back, lam);
-        scene.lights.keep_line_power_only(ei as usize, lam, &mut le);
+        keep_line_power_only(scene, ei as usize, lam, &mut le);
         l[g] += beta[g] * le * w;
+    }
+}
+
+/// [`LightSourceManager::keep_line_power_only`](crate::light::LightSourceManager::keep_line_power_only) behind
+/// the scene's own test for line emission, so that a scene without lines (most) makes no call
+/// for every light term; the same result, since the manager returns at once there.
+#[inline]
+fn keep_line_power_only(
+    scene: &Scene,
+    light: usize,
+    lambda: &SampledWavelengths,
+    l: &mut SampledSpectrum,
+) {
+    if !scene.lights.delta_lines().is_empty() {
+        scene.lights.keep_line_power_only(light, lambda, l);
     }
 }
 
@@ -535,7 +550,7 @@ fn add_emission<const G: usize>(
     for (g, lam) in cur.iter().enumerate() {
         let mut le = found.material.emitted(wo_geo, found.sctx, lam);
         if let Some(li) = scene.lights.light_of_object(hit.object) {
-            scene.lights.keep_line_power_only(li as usize, lam, &mut le);
+            keep_line_power_only(scene, li as usize, lam, &mut le);
         }
         if le.is_black() {
             continue;
@@ -604,7 +619,7 @@ fn add_next_event<const G: usize>(
                 _ => SampledSpectrum::zero(),
             }
         };
-        scene.lights.keep_line_power_only(li, lam, &mut radiance);
+        keep_line_power_only(scene, li, lam, &mut radiance);
         if radiance.is_black() {
             continue;
         }
