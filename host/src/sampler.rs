@@ -164,10 +164,12 @@ fn laine_karras(mut v: u32, seed: u32) -> u32 {
 
 /// Direction numbers of the second Sobol' dimension (the first is the bit-reversed index):
 /// `v₀ = 2³¹`, `vₖ₊₁ = vₖ ⊕ (vₖ ≫ 1)`, folded into four byte tables for bit-reversed input and
-/// output: `T_b[x]` = XOR over the set bits `j` of byte `b` of `reverse(v₃₁₋₈ᵦ₋ⱼ)`, so that
-/// `sobol_dim1_reversed(reverse(i)) = reverse(sobol_dim1(i))` costs four lookups instead of 32
-/// steps and two bit reversals.
-const SOBOL1_REVERSED_TABLES: [[u32; 256]; 4] = {
+/// output: the high half of `T_b[x]` is the XOR over the set bits `j` of byte `b` of
+/// `reverse(v₃₁₋₈ᵦ₋ⱼ)`, so that `sobol_dim1_reversed(reverse(i)) = reverse(sobol_dim1(i))`
+/// costs four lookups instead of 32 steps and two bit reversals. The low half is byte `b`'s
+/// bits reversed into place: the same four lookups also give `reverse(j)`, which the first
+/// dimension needs (x86 has no bit-reversal instruction; a reversal costs about twenty).
+const REVERSE_AND_SOBOL1_TABLES: [[u64; 256]; 4] = {
     let mut v = [0u32; 32];
     v[0] = 1 << 31;
     let mut k = 1;
@@ -175,7 +177,7 @@ const SOBOL1_REVERSED_TABLES: [[u32; 256]; 4] = {
         v[k] = v[k - 1] ^ (v[k - 1] >> 1);
         k += 1;
     }
-    let mut t = [[0u32; 256]; 4];
+    let mut t = [[0u64; 256]; 4];
     let mut b = 0;
     while b < 4 {
         let mut x = 0;
@@ -188,7 +190,8 @@ const SOBOL1_REVERSED_TABLES: [[u32; 256]; 4] = {
                 }
                 j += 1;
             }
-            t[b][x] = r;
+            let reversed = ((x as u32) << (8 * b)).reverse_bits();
+            t[b][x] = (r as u64) << 32 | reversed as u64;
             x += 1;
         }
         b += 1;
@@ -196,13 +199,20 @@ const SOBOL1_REVERSED_TABLES: [[u32; 256]; 4] = {
     t
 };
 
-/// Second Sobol' dimension in bit-reversed form: `reverse(sobol_dim1(reverse(j)))`.
+/// `reverse(j)` in the low 32 bits and the second Sobol' dimension in bit-reversed form,
+/// `reverse(sobol_dim1(reverse(j)))`, in the high 32 bits.
 #[inline]
+fn reverse_and_sobol1(j: u32) -> u64 {
+    REVERSE_AND_SOBOL1_TABLES[0][(j & 0xFF) as usize]
+        ^ REVERSE_AND_SOBOL1_TABLES[1][((j >> 8) & 0xFF) as usize]
+        ^ REVERSE_AND_SOBOL1_TABLES[2][((j >> 16) & 0xFF) as usize]
+        ^ REVERSE_AND_SOBOL1_TABLES[3][(j >> 24) as usize]
+}
+
+/// Second Sobol' dimension in bit-reversed form: `reverse(sobol_dim1(reverse(j)))`.
+#[cfg(test)]
 fn sobol_dim1_reversed(j: u32) -> u32 {
-    SOBOL1_REVERSED_TABLES[0][(j & 0xFF) as usize]
-        ^ SOBOL1_REVERSED_TABLES[1][((j >> 8) & 0xFF) as usize]
-        ^ SOBOL1_REVERSED_TABLES[2][((j >> 16) & 0xFF) as usize]
-        ^ SOBOL1_REVERSED_TABLES[3][(j >> 24) as usize]
+    (reverse_and_sobol1(j) >> 32) as u32
 }
 
 #[inline]
@@ -265,6 +275,8 @@ const LIGHT_PATH_SALT: u64 = 0xA54F_F53A_5F1D_36F1;
 /// function of (seed, pixel, sample index, request number): deterministic in any thread order.
 #[derive(Clone, Debug)]
 pub struct PixelSampler {
+    /// The render's seed hashed once: `pixel_seed` is it hashed with the pixel.
+    seed_hash: u64,
     pixel_seed: u64,
     /// The sample index, bit-reversed (what the shuffle scrambles).
     index_reversed: u32,
@@ -281,6 +293,34 @@ pub struct PixelSampler {
     /// The block of dimensions being drawn ([`set_block`](Self::set_block)): its start keys
     /// the PCG stream of its requests past `ld_end`; 0 before any block is set.
     block: u32,
+    /// The pixel's scramble seeds kept across its samples ([`memoised`](Self::memoised));
+    /// `None`: every request hashes its seeds.
+    memo: Option<Box<SeedMemo>>,
+}
+
+/// Dimensions whose scramble seeds a `SeedMemo` keeps: every Sobol' request of a sample
+/// without blocks ([`LD_DIMENSIONS`]) and then some; later ones are hashed per request.
+const MEMO_DIMENSIONS: usize = 64;
+
+/// The Owen-scramble and shuffle seeds of one pixel's dimensions, filled as requests first need
+/// them. A seed depends on the pixel and the dimension, not on the sample, so the samples of a
+/// pixel after its first read them instead of hashing three SplitMix64 finalisers per 2D
+/// request (two per 1D): the same numbers, about a third of a request's instructions.
+#[derive(Clone, Debug)]
+struct SeedMemo {
+    /// Bit `d`: `one[d]` holds dimension `d`'s seeds of a 1D request.
+    known_one: u64,
+    /// Bit `d`: `two[d]` holds dimension `d`'s seeds of a 2D request.
+    known_two: u64,
+    one: [[u32; 2]; MEMO_DIMENSIONS],
+    two: [[u32; 3]; MEMO_DIMENSIONS],
+}
+
+/// The scramble seed of request `dimension` under `salt` (1, 2: a 1D request's shuffle and
+/// scramble; 3, 4, 5: a 2D request's shuffle and its two coordinates' scrambles).
+#[inline]
+fn dim_seed(pixel_seed: u64, dimension: u32, salt: u64) -> u32 {
+    mix64(pixel_seed ^ (dimension as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ salt) as u32
 }
 
 impl PixelSampler {
@@ -293,9 +333,11 @@ impl PixelSampler {
     /// The sampler of kind `kind` for sample `sample` of pixel `pixel` under `seed`.
     #[inline]
     pub fn with_kind(kind: SamplerKind, seed: u64, pixel: u64, sample: u32) -> Self {
-        let pixel_seed = mix64(mix64(seed ^ 0x5851_F42D_4C95_7F2D) ^ pixel);
+        let seed_hash = mix64(seed ^ 0x5851_F42D_4C95_7F2D);
+        let pixel_seed = mix64(seed_hash ^ pixel);
         match kind {
             SamplerKind::Sobol => Self {
+                seed_hash,
                 pixel_seed,
                 index_reversed: sample.reverse_bits(),
                 dimension: 0,
@@ -304,8 +346,10 @@ impl PixelSampler {
                 rng: None,
                 sobol: true,
                 block: 0,
+                memo: None,
             },
             SamplerKind::Independent => Self {
+                seed_hash,
                 pixel_seed,
                 index_reversed: sample.reverse_bits(),
                 dimension: 0,
@@ -314,8 +358,44 @@ impl PixelSampler {
                 rng: None,
                 sobol: false,
                 block: 0,
+                memo: None,
             },
         }
+    }
+
+    /// [`with_kind`](Self::with_kind) that keeps each dimension's scramble seeds once hashed,
+    /// for a caller that draws many samples of a pixel in a row and moves between them with
+    /// [`restart`](Self::restart): the same numbers, fewer hashes per request.
+    pub fn memoised(kind: SamplerKind, seed: u64, pixel: u64, sample: u32) -> Self {
+        let mut s = Self::with_kind(kind, seed, pixel, sample);
+        s.memo = Some(Box::new(SeedMemo {
+            known_one: 0,
+            known_two: 0,
+            one: [[0; 2]; MEMO_DIMENSIONS],
+            two: [[0; 3]; MEMO_DIMENSIONS],
+        }));
+        s
+    }
+
+    /// Become the sampler of sample `sample` of pixel `pixel` with this sampler's kind and
+    /// seed: exactly the numbers of `with_kind(kind, seed, pixel, sample)`. The memo of
+    /// scramble seeds ([`memoised`](Self::memoised)) is kept while the pixel stays the same.
+    #[inline]
+    pub fn restart(&mut self, pixel: u64, sample: u32) {
+        let (rng_seed, old_pixel, _) = self.rng_key;
+        if pixel != old_pixel {
+            self.pixel_seed = mix64(self.seed_hash ^ pixel);
+            if let Some(m) = self.memo.as_deref_mut() {
+                m.known_one = 0;
+                m.known_two = 0;
+            }
+        }
+        self.index_reversed = sample.reverse_bits();
+        self.dimension = 0;
+        self.ld_end = if self.sobol { LD_DIMENSIONS } else { 0 };
+        self.rng_key = (rng_seed, pixel, sample as u64);
+        self.rng = None;
+        self.block = 0;
     }
 
     /// The sampler of light path `k` of a light-tracing render under `seed`: all light paths
@@ -360,10 +440,40 @@ impl PixelSampler {
             .get_or_insert_with(|| SampleRng::for_sample(seed, pixel, key))
     }
 
+    /// The seeds (salts 1, 2) of the current dimension as a 1D request.
     #[inline]
-    fn dim_seed(&self, salt: u64) -> u32 {
-        mix64(self.pixel_seed ^ (self.dimension as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ salt)
-            as u32
+    fn seeds_1d(&mut self) -> [u32; 2] {
+        let (p, d) = (self.pixel_seed, self.dimension);
+        let hash = || [dim_seed(p, d, 1), dim_seed(p, d, 2)];
+        match self.memo.as_deref_mut() {
+            Some(m) if (d as usize) < MEMO_DIMENSIONS => {
+                let bit = 1u64 << d;
+                if m.known_one & bit == 0 {
+                    m.one[d as usize] = hash();
+                    m.known_one |= bit;
+                }
+                m.one[d as usize]
+            }
+            _ => hash(),
+        }
+    }
+
+    /// The seeds (salts 3, 4, 5) of the current dimension as a 2D request.
+    #[inline]
+    fn seeds_2d(&mut self) -> [u32; 3] {
+        let (p, d) = (self.pixel_seed, self.dimension);
+        let hash = || [dim_seed(p, d, 3), dim_seed(p, d, 4), dim_seed(p, d, 5)];
+        match self.memo.as_deref_mut() {
+            Some(m) if (d as usize) < MEMO_DIMENSIONS => {
+                let bit = 1u64 << d;
+                if m.known_two & bit == 0 {
+                    m.two[d as usize] = hash();
+                    m.known_two |= bit;
+                }
+                m.two[d as usize]
+            }
+            _ => hash(),
+        }
     }
 
     /// One uniform number in [0, 1).
@@ -374,8 +484,9 @@ impl PixelSampler {
         }
         // The shuffled index is `i = reverse(j)` (the index Owen-scrambled); its dimension-0
         // Sobol' point `reverse(i)`, reversed for scrambling, is `i` itself.
-        let j = laine_karras(self.index_reversed, self.dim_seed(1));
-        let x = laine_karras(j.reverse_bits(), self.dim_seed(2)).reverse_bits();
+        let [s1, s2] = self.seeds_1d();
+        let j = laine_karras(self.index_reversed, s1);
+        let x = laine_karras(reverse_and_sobol1(j) as u32, s2).reverse_bits();
         self.dimension += 1;
         to_unit(x)
     }
@@ -395,15 +506,32 @@ impl PixelSampler {
         }
     }
 
+    /// Consumes the next 2D request without computing it, as [`skip_1d`](Self::skip_1d)
+    /// does for a 1D one (for a caller that knows the numbers would not be used: the lens
+    /// sample of a pinhole camera); every later request gets the number it would have had.
+    #[inline]
+    pub fn skip_2d(&mut self) {
+        if self.dimension >= self.ld_end {
+            // The PCG stream advances by two draws, as `next_2d` past `ld_end` would.
+            let rng = self.rng();
+            rng.next_u32();
+            rng.next_u32();
+        } else {
+            self.dimension += 1;
+        }
+    }
+
     /// Two uniform numbers in [0, 1)², stratified jointly.
     #[inline]
     pub fn next_2d(&mut self) -> Vec2 {
         if self.dimension >= self.ld_end {
             return self.rng().next_2d();
         }
-        let j = laine_karras(self.index_reversed, self.dim_seed(3));
-        let x = laine_karras(j.reverse_bits(), self.dim_seed(4));
-        let y = laine_karras(sobol_dim1_reversed(j), self.dim_seed(5));
+        let [s3, s4, s5] = self.seeds_2d();
+        let j = laine_karras(self.index_reversed, s3);
+        let both = reverse_and_sobol1(j);
+        let x = laine_karras(both as u32, s4);
+        let y = laine_karras((both >> 32) as u32, s5);
         // Both coordinates reversed back by one 64-bit reversal (x86 has no bit-reverse
         // instruction; each reversal is about fifteen): reverse(y·2³² + x) = reverse(x)·2³² +
         // reverse(y).
@@ -450,9 +578,10 @@ mod ld_tests {
         }
     }
 
-    /// `skip_1d` leaves the sampler exactly where `next_1d` would: for both kinds, at every
-    /// position of a request sequence that crosses [`LD_DIMENSIONS`] (into the PCG stream),
-    /// the requests after a skip equal those after a draw, bit for bit.
+    /// `skip_1d` leaves the sampler exactly where `next_1d` would, and `skip_2d` where
+    /// `next_2d` would: for both kinds, at every position of a request sequence that crosses
+    /// [`LD_DIMENSIONS`] (into the PCG stream), the requests after a skip equal those after a
+    /// draw, bit for bit.
     #[test]
     fn skipping_a_request_matches_drawing_it() {
         for kind in [SamplerKind::Sobol, SamplerKind::Independent] {
@@ -470,6 +599,11 @@ mod ld_tests {
                     if k == skip_at {
                         drawn.next_1d();
                         skipped.skip_1d();
+                        continue;
+                    }
+                    if k == skip_at + 2 {
+                        drawn.next_2d();
+                        skipped.skip_2d();
                         continue;
                     }
                     if k % 2 == 0 {
@@ -533,7 +667,8 @@ mod ld_tests {
     }
 
     /// The byte tables reproduce the bit-serial definition of the second Sobol' dimension
-    /// (bit-reversed in and out); exact equality on 10⁴ scattered indices.
+    /// (bit-reversed in and out) and `u32::reverse_bits`; exact equality on 10⁴ scattered
+    /// indices.
     #[test]
     fn sobol_tables_match_definition() {
         let serial = |mut i: u32| {
@@ -553,6 +688,7 @@ mod ld_tests {
                 sobol_dim1_reversed(i.reverse_bits()),
                 serial(i).reverse_bits()
             );
+            assert_eq!(reverse_and_sobol1(i) as u32, i.reverse_bits());
         }
     }
 
@@ -749,6 +885,53 @@ mod ld_tests {
                             (b.x.to_bits(), b.y.to_bits()),
                             "{kind} seed {seed} pixel {pixel} sample {sample} request {r}"
                         );
+                    }
+                }
+            }
+        }
+    }
+
+    /// Quantity: every value of the requests of one memoised sampler restarted through the
+    /// samples of several pixels (back to an earlier pixel too, as a tile's rows do), against a
+    /// new [`PixelSampler::with_kind`] per sample; the requests mix 1D, 2D, skips, a block
+    /// past the memo's dimensions and the PCG tail past [`LD_DIMENSIONS`], in an order that
+    /// depends on the sample, so the memo is filled by one pattern and read by another.
+    /// Tolerance: bit equality (the memo stores the seeds the hashes give; images depend on it).
+    #[test]
+    fn memoised_restarts_equal_fresh_samplers() {
+        for kind in [SamplerKind::Sobol, SamplerKind::Independent] {
+            let mut memo = PixelSampler::memoised(kind, 13, 0, 0);
+            for (pixel, sample) in [
+                (5u64, 0u32),
+                (5, 1),
+                (5, 7),
+                (6, 0),
+                (6, 3),
+                (5, 2),
+                (9, 1 << 20),
+            ] {
+                let mut fresh = PixelSampler::with_kind(kind, 13, pixel, sample);
+                memo.restart(pixel, sample);
+                let pattern = sample as usize + pixel as usize;
+                for r in 0..(LD_DIMENSIONS as usize + 10) {
+                    if r == 40 && pattern.is_multiple_of(2) {
+                        fresh.set_block(70, 4);
+                        memo.set_block(70, 4);
+                    }
+                    match (r + pattern) % 4 {
+                        0 => assert_eq!(fresh.next_1d().to_bits(), memo.next_1d().to_bits()),
+                        1 => {
+                            fresh.skip_1d();
+                            memo.skip_1d();
+                        }
+                        _ => {
+                            let (a, b) = (fresh.next_2d(), memo.next_2d());
+                            assert_eq!(
+                                (a.x.to_bits(), a.y.to_bits()),
+                                (b.x.to_bits(), b.y.to_bits()),
+                                "{kind} pixel {pixel} sample {sample} request {r}"
+                            );
+                        }
                     }
                 }
             }

@@ -68,4 +68,10 @@ pub trait Camera: Send + Sync + Debug {
     fn pinhole(&self) -> bool {
         false
     }
+
+    /// False when [`generate_ray`](Self::generate_ray) never reads
+    /// [`CameraSample::p_lens`] (a pinhole): a caller may then skip computing those numbers.
+    fn reads_lens_sample(&self) -> bool {
+        true
+    }
 }

@@ -183,14 +183,36 @@ impl PathTracer {
     pub fn li_groups(
         &self,
         scene: &Scene,
-        mut ray: Ray,
+        ray: Ray,
         lambdas: &mut PathWavelengths,
         rng: &mut PixelSampler,
         stats: &mut PathStats,
     ) -> GroupRadiance {
+        if lambdas.len() == 1 {
+            // One group (the default, 4 wavelengths a path): the walk compiled for one, so the
+            // per-group loops and arrays of every bounce shrink to the hero's (same results).
+            let [l] = self.li_groups_n::<1>(scene, ray, lambdas, rng, stats);
+            let mut out = [SampledSpectrum::zero(); MAX_GROUPS];
+            out[0] = l;
+            out
+        } else {
+            self.li_groups_n::<MAX_GROUPS>(scene, ray, lambdas, rng, stats)
+        }
+    }
+
+    /// [`li_groups`](Self::li_groups) for at most `G` groups (`lambdas.len() <= G`).
+    fn li_groups_n<const G: usize>(
+        &self,
+        scene: &Scene,
+        mut ray: Ray,
+        lambdas: &mut PathWavelengths,
+        rng: &mut PixelSampler,
+        stats: &mut PathStats,
+    ) -> [SampledSpectrum; G] {
         let n = lambdas.len();
-        let mut l = [SampledSpectrum::zero(); MAX_GROUPS];
-        let mut beta = [SampledSpectrum::zero(); MAX_GROUPS];
+        debug_assert!(n <= G);
+        let mut l = [SampledSpectrum::zero(); G];
+        let mut beta = [SampledSpectrum::zero(); G];
         for b in beta.iter_mut().take(n) {
             *b = SampledSpectrum::splat(1.0);
         }
@@ -307,7 +329,7 @@ impl PathTracer {
                 None => material,
             };
             let cur = current(lambdas.groups(), shifted.as_ref(), &mut cur_buf);
-            let hero = cur[0];
+            let hero = &cur[0];
 
             // Next-event estimation: one light point (drawn for the hero), emission and BSDF per
             // group, one shadow ray.
@@ -334,7 +356,7 @@ impl PathTracer {
             let sampled = material.sample_into(
                 wo,
                 &sctx,
-                &hero,
+                hero,
                 u_lobe,
                 u_dir,
                 TransportMode::Radiance,
@@ -370,7 +392,7 @@ impl PathTracer {
                 break;
             }
             // f(wo, wi) of every group for this event (for a delta lobe: its weight over |cos|).
-            let (f_groups, wavelength_dependent) = event_f_per_group(
+            let (f_groups, wavelength_dependent) = event_f_per_group::<G>(
                 &found,
                 wo,
                 bs,
@@ -456,14 +478,14 @@ impl Seen<'_> {
 /// The path leaves the scene: the environment's radiance, weighted against its next-event
 /// estimation like an area light found by the path.
 #[inline]
-fn add_escaped(
+fn add_escaped<const G: usize>(
     scene: &Scene,
     ray: &Ray,
     seen: &Seen<'_>,
     cur: &[SampledWavelengths],
     active: usize,
-    beta: &[SampledSpectrum; MAX_GROUPS],
-    l: &mut GroupRadiance,
+    beta: &[SampledSpectrum; G],
+    l: &mut [SampledSpectrum; G],
 ) {
     let Some(ei) = scene.lights.environment() else {
         return;
@@ -480,8 +502,23 @@ fn add_escaped(
     let back = -ray.dir.normalize();
     for (g, lam) in cur.iter().enumerate().take(active) {
         let mut le = light.radiance(p_env, n_env, glam::Vec2::ZERO, back, lam);
-        scene.lights.keep_line_power_only(ei as usize, lam, &mut le);
+        keep_line_power_only(scene, ei as usize, lam, &mut le);
         l[g] += beta[g] * le * w;
+    }
+}
+
+/// [`LightSourceManager::keep_line_power_only`](crate::light::LightSourceManager::keep_line_power_only) behind
+/// the scene's own test for line emission, so that a scene without lines (most) makes no call
+/// for every light term; the same result, since the manager returns at once there.
+#[inline]
+fn keep_line_power_only(
+    scene: &Scene,
+    light: usize,
+    lambda: &SampledWavelengths,
+    l: &mut SampledSpectrum,
+) {
+    if !scene.lights.delta_lines().is_empty() {
+        scene.lights.keep_line_power_only(light, lambda, l);
     }
 }
 
@@ -497,13 +534,13 @@ struct Found<'a> {
 /// weighted against next-event estimation (one weight for every group: both strategies
 /// sampled with the hero).
 #[inline]
-fn add_emission(
+fn add_emission<const G: usize>(
     scene: &Scene,
     found: &Found<'_>,
     seen: &Seen<'_>,
     cur: &[SampledWavelengths],
-    beta: &[SampledSpectrum; MAX_GROUPS],
-    l: &mut GroupRadiance,
+    beta: &[SampledSpectrum; G],
+    l: &mut [SampledSpectrum; G],
 ) {
     let hit = found.hit;
     // Which side emits is a property of the surface (its geometric normal, as the area light
@@ -513,7 +550,7 @@ fn add_emission(
     for (g, lam) in cur.iter().enumerate() {
         let mut le = found.material.emitted(wo_geo, found.sctx, lam);
         if let Some(li) = scene.lights.light_of_object(hit.object) {
-            scene.lights.keep_line_power_only(li as usize, lam, &mut le);
+            keep_line_power_only(scene, li as usize, lam, &mut le);
         }
         if le.is_black() {
             continue;
@@ -546,22 +583,22 @@ struct NextEvent<'a> {
 /// Next-event estimation: one light point (drawn for the hero), emission and BSDF per group
 /// of `cur`, one shadow ray, weighted against the path finding the light.
 #[inline]
-fn add_next_event(
+fn add_next_event<const G: usize>(
     scene: &Scene,
     found: &Found<'_>,
     event: &NextEvent<'_>,
     cur: &[SampledWavelengths],
-    beta: &[SampledSpectrum; MAX_GROUPS],
-    l: &mut GroupRadiance,
+    beta: &[SampledSpectrum; G],
+    l: &mut [SampledSpectrum; G],
     stats: &mut PathStats,
 ) {
     let (hit, material, sctx, wo) = (found.hit, found.material, found.sctx, event.wo);
-    let hero = cur[0];
+    let hero = &cur[0];
     let Some((li, pmf)) = scene.lights.sample(event.u_light) else {
         return;
     };
     let light = &scene.lights.lights()[li];
-    let Some(ls) = light.sample_li(event.ctx, event.u_light2, &hero) else {
+    let Some(ls) = light.sample_li(event.ctx, event.u_light2, hero) else {
         return;
     };
     if !(ls.pdf > 0.0) {
@@ -569,7 +606,7 @@ fn add_next_event(
     }
     let wi = event.frame.to_local(ls.wi);
     // (f·|cos θ|, radiance) per group; zero where nothing arrives.
-    let mut terms = [(SampledSpectrum::zero(), SampledSpectrum::zero()); MAX_GROUPS];
+    let mut terms = [(SampledSpectrum::zero(), SampledSpectrum::zero()); G];
     let mut any = false;
     for (g, (term, lam)) in terms.iter_mut().zip(cur).enumerate() {
         let mut radiance = if g == 0 {
@@ -582,7 +619,7 @@ fn add_next_event(
                 _ => SampledSpectrum::zero(),
             }
         };
-        scene.lights.keep_line_power_only(li, lam, &mut radiance);
+        keep_line_power_only(scene, li, lam, &mut radiance);
         if radiance.is_black() {
             continue;
         }
@@ -621,7 +658,7 @@ fn add_next_event(
     let w = if !light.flags().can_be_hit() {
         1.0
     } else {
-        let bsdf_pdf = material.pdf(wo, wi, sctx, &hero, TransportMode::Radiance);
+        let bsdf_pdf = material.pdf(wo, wi, sctx, hero, TransportMode::Radiance);
         power_heuristic(light_pdf, bsdf_pdf)
     };
     for g in 0..cur.len() {
@@ -637,18 +674,20 @@ fn add_next_event(
 /// wavelengths), and whether the event depends on wavelength (dispersive, or a delta event
 /// that chose another lobe for some group): then only the hero's entry is meaningful.
 #[inline]
-fn event_f_per_group(
+fn event_f_per_group<const G: usize>(
     found: &Found<'_>,
     wo: glam::Vec3A,
     bs: &BsdfSample,
     cur: &[SampledWavelengths],
     (u_lobe, u_dir): (f32, Vec2),
     again_record: &mut BsdfSample,
-) -> ([SampledSpectrum; MAX_GROUPS], bool) {
-    let mut f_groups = [SampledSpectrum::zero(); MAX_GROUPS];
+) -> ([SampledSpectrum; G], bool) {
+    let mut f_groups = [SampledSpectrum::zero(); G];
     f_groups[0] = bs.f;
     let mut wavelength_dependent = bs.flags.contains(MaterialFlags::DISPERSIVE);
-    if !wavelength_dependent {
+    // Only the groups after the hero's are evaluated again (none in a walk compiled for one
+    // group, where the iterator's `skip` cost more than the bounce's other bookkeeping).
+    if !wavelength_dependent && G > 1 && cur.len() > 1 {
         for (f_g, lam) in f_groups.iter_mut().zip(cur).skip(1) {
             *f_g = if bs.flags.is_specular() {
                 let again = found.material.sample_into(
@@ -798,6 +837,7 @@ pub fn render_film_spectral(
         ..settings.clone()
     };
     let rays = AtomicU64::new(0);
+    let reads_lens = cam.camera.reads_lens_sample();
     let outcome = render_tiles(
         (width, height),
         settings,
@@ -809,17 +849,32 @@ pub fn render_film_spectral(
             let mut stats = PathStats::default();
             // One wavelength buffer per tile, overwritten by every sample's draw.
             let mut lambdas = PathWavelengths::default();
+            // One sampler per tile, restarted for every sample: it keeps a pixel's scramble
+            // seeds across the pixel's samples (the same numbers as a new sampler each time).
+            let mut rng = PixelSampler::memoised(
+                settings.sampler,
+                settings.seed,
+                buf.y0 as u64 * width as u64 + buf.x0 as u64,
+                0,
+            );
             for y in buf.y0..buf.y0 + buf.h {
                 for x in buf.x0..buf.x0 + buf.w {
                     let pixel = y as u64 * width as u64 + x as u64;
                     for s in samples.clone() {
-                        let mut rng =
-                            PixelSampler::with_kind(settings.sampler, settings.seed, pixel, s);
+                        rng.restart(pixel, s);
                         wavelength_sampler.sample_into(&mut rng, &mut lambdas);
                         let offset = cam.filter.sample(rng.next_2d());
+                        // A pinhole never reads the lens numbers: their request is skipped
+                        // (the same numbers for every later request).
+                        let p_lens = if reads_lens {
+                            rng.next_2d()
+                        } else {
+                            rng.skip_2d();
+                            Vec2::ZERO
+                        };
                         let sample = CameraSample {
                             p_film: Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset,
-                            p_lens: rng.next_2d(),
+                            p_lens,
                         };
                         let xyz = match cam.camera.generate_ray(&sample) {
                             Some(r) => {

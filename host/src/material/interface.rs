@@ -289,19 +289,89 @@ pub fn sample_cosine_lobe(wo: Vec3A, u: Vec2) -> Option<(Vec3A, f32)> {
     (pdf != 0.0).then_some((wi, pdf))
 }
 
-/// Uniform point on the unit disk with low distortion (Shirley & Chiu 1997).
+/// Uniform point on the unit disk with low distortion (Shirley & Chiu 1997): the square's
+/// concentric squares go to circles of radius `r` (the larger coordinate of `2u - 1`), the
+/// smaller over the larger coordinate `t ∈ [-1, 1]` to the angle `π/4·t` from the axis of the
+/// larger one. Its cosine and sine come from [`quarter_pi_sin_cos`] (no libm call).
+#[inline]
 pub fn sample_concentric_disk(u: Vec2) -> Vec2 {
     let o = u * 2.0 - Vec2::ONE;
     if o.x == 0.0 && o.y == 0.0 {
         return Vec2::ZERO;
     }
-    let (r, theta) = if o.x.abs() > o.y.abs() {
-        (o.x, std::f32::consts::FRAC_PI_4 * (o.y / o.x))
-    } else {
-        (
-            o.y,
-            std::f32::consts::FRAC_PI_2 - std::f32::consts::FRAC_PI_4 * (o.x / o.y),
-        )
-    };
-    Vec2::new(r * theta.cos(), r * theta.sin())
+    // Which coordinate is larger is a coin toss for every sample, so the two cases are
+    // blended by a bit mask rather than branched on (a branch mispredicted half the time cost
+    // more than the rest of the mapping). With `x` larger: r = o.x, t = o.y/o.x and the point
+    // (r·cos, r·sin); else r = o.y, t = o.x/o.y and the angle π/2 - π/4·t, whose cosine is
+    // sin(π/4·t): the point (r·sin, r·cos).
+    let x_major = 0u32.wrapping_sub((o.x.abs() > o.y.abs()) as u32);
+    let pick = |a: f32, b: f32| f32::from_bits((a.to_bits() & x_major) | (b.to_bits() & !x_major));
+    let r = pick(o.x, o.y);
+    let (s, c) = quarter_pi_sin_cos(pick(o.y, o.x) / r);
+    let (rc, rs) = (r * c, r * s);
+    Vec2::new(pick(rc, rs), pick(rs, rc))
+}
+
+/// `(sin(π/4·t), cos(π/4·t))` for `t ∈ [-1, 1]` by polynomials in `t²` (sine odd, degree 7;
+/// cosine even, degree 6) fitted for minimax error on that interval, then scaled by
+/// `1 - 2.4e-7` so that `sin² + cos² < 1` in f32 for every `t` (at most 0.99999964 on 4·10⁶
+/// points): a disk point never lands outside the unit disk, and `√(1 - |d|²)` stays positive
+/// even on the square's edge, where the cosine-weighted direction is grazing. The error is at
+/// most 3.3e-7 in either (a few ulp of values near 1; the test checks 4e-7 on 2·10⁵ points),
+/// without libm's call and range reduction. The disk mapping needs nothing else: its angles
+/// never leave ±π/4 of an axis.
+#[inline]
+pub fn quarter_pi_sin_cos(t: f32) -> (f32, f32) {
+    let s2 = t * t;
+    let sin = t
+        * (7.853_979_5e-1 + s2 * (-8.074_541_4e-2 + s2 * (2.490_000_8e-3 + s2 * -3.595_074_7e-5)));
+    let cos = 9.999_997e-1 + s2 * (-3.084_241_7e-1 + s2 * (1.584_991_6e-2 + s2 * -3.188_838_6e-4));
+    (sin, cos)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Quantity: `quarter_pi_sin_cos(t)` against f64 `sin`/`cos` of `π/4·t` at 200 001 points
+    /// of [-1, 1] (ends included); tolerance 4e-7 absolute (the scaled fit's f32 error is
+    /// 3.3e-7), and `sin² + cos² < 1` in f32 at every point. And the concentric mapping against
+    /// the same mapping in f64 with libm's trigonometry, at 401² points of the square (edges
+    /// included): within 6e-7, never outside the unit disk, and the cosine-weighted direction
+    /// on it has z > 0 (a grazing direction on the edge, not a zero density).
+    #[test]
+    fn disk_mapping_trigonometry_is_accurate() {
+        let n = 100_000;
+        for k in -n..=n {
+            let t = k as f32 / n as f32;
+            let (s, c) = quarter_pi_sin_cos(t);
+            let a = std::f64::consts::FRAC_PI_4 * t as f64;
+            assert!((s as f64 - a.sin()).abs() < 4e-7, "sin at t = {t}");
+            assert!((c as f64 - a.cos()).abs() < 4e-7, "cos at t = {t}");
+            assert!(s * s + c * c < 1.0, "sin² + cos² at t = {t}");
+        }
+        let m = 400;
+        for i in 0..=m {
+            for j in 0..=m {
+                let u = Vec2::new(i as f32 / m as f32, j as f32 / m as f32);
+                let d = sample_concentric_disk(u);
+                let (ox, oy) = (2.0 * u.x as f64 - 1.0, 2.0 * u.y as f64 - 1.0);
+                let (ex, ey) = if ox == 0.0 && oy == 0.0 {
+                    (0.0, 0.0)
+                } else if ox.abs() > oy.abs() {
+                    let th = std::f64::consts::FRAC_PI_4 * (oy / ox);
+                    (ox * th.cos(), ox * th.sin())
+                } else {
+                    let th = std::f64::consts::FRAC_PI_2 - std::f64::consts::FRAC_PI_4 * (ox / oy);
+                    (oy * th.cos(), oy * th.sin())
+                };
+                assert!(
+                    (d.x as f64 - ex).abs() < 6e-7 && (d.y as f64 - ey).abs() < 6e-7,
+                    "u = {u}: {d} against ({ex}, {ey})"
+                );
+                assert!(d.length_squared() < 1.0, "u = {u}: {d}");
+                assert!(sample_cosine_hemisphere(u).z > 0.0, "u = {u}");
+            }
+        }
+    }
 }

@@ -15,12 +15,24 @@ use std::sync::Arc;
 #[derive(Debug, Clone)]
 pub struct Lambertian {
     reflectance: Arc<dyn SpectralTexture>,
+    /// `reflectance.grey()`, asked once: a grey constant is used without a call per bounce.
+    grey: Option<f32>,
 }
 
 impl Lambertian {
     /// A Lambertian surface; `reflectance` should stay within [0, 1] to conserve energy.
     pub fn new(reflectance: Arc<dyn SpectralTexture>) -> Self {
-        Self { reflectance }
+        let grey = reflectance.grey();
+        Self { reflectance, grey }
+    }
+
+    /// `R/π` at `lambda` and `uv`.
+    #[inline]
+    fn f(&self, lambda: &SampledWavelengths, uv: Vec2) -> SampledSpectrum {
+        match self.grey {
+            Some(g) => SampledSpectrum::splat(g) * FRAC_1_PI,
+            None => self.reflectance.eval(lambda, uv) * FRAC_1_PI,
+        }
     }
 }
 
@@ -45,7 +57,7 @@ impl Material for Lambertian {
     }
 
     fn spectrally_flat(&self) -> bool {
-        self.reflectance.grey().is_some()
+        self.grey.is_some()
     }
 
     fn sample_into<'a>(
@@ -61,7 +73,7 @@ impl Material for Lambertian {
         let (wi, pdf) = sample_cosine_lobe(wo, u)?;
         Some(out.write(BsdfSample {
             wi,
-            f: self.reflectance.eval(lambda, ctx.uv) * FRAC_1_PI,
+            f: self.f(lambda, ctx.uv),
             pdf,
             flags: self.flags(),
             eta: 1.0,
@@ -79,7 +91,7 @@ impl Material for Lambertian {
         if !same_hemisphere(wo, wi) {
             return SampledSpectrum::zero();
         }
-        self.reflectance.eval(lambda, ctx.uv) * FRAC_1_PI
+        self.f(lambda, ctx.uv)
     }
 
     fn pdf(
