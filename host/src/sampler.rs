@@ -308,12 +308,36 @@ const MEMO_DIMENSIONS: usize = 64;
 /// request (two per 1D): the same numbers, about a third of a request's instructions.
 #[derive(Clone, Debug)]
 struct SeedMemo {
-    /// Bit `d`: `one[d]` holds dimension `d`'s seeds of a 1D request.
-    known_one: u64,
-    /// Bit `d`: `two[d]` holds dimension `d`'s seeds of a 2D request.
-    known_two: u64,
-    one: [[u32; 2]; MEMO_DIMENSIONS],
-    two: [[u32; 3]; MEMO_DIMENSIONS],
+    /// The seeds of 1D requests (salts 1, 2).
+    one: SeedTable<2>,
+    /// The seeds of 2D requests (salts 3, 4, 5).
+    two: SeedTable<3>,
+}
+
+/// `N` seeds per dimension for the first [`MEMO_DIMENSIONS`] dimensions, each hashed once.
+#[derive(Clone, Debug)]
+struct SeedTable<const N: usize> {
+    /// Bit `d`: `seeds[d]` holds dimension `d`'s seeds.
+    known: u64,
+    seeds: [[u32; N]; MEMO_DIMENSIONS],
+}
+
+impl<const N: usize> SeedTable<N> {
+    const EMPTY: Self = Self {
+        known: 0,
+        seeds: [[0; N]; MEMO_DIMENSIONS],
+    };
+
+    /// Dimension `d`'s seeds (`d < MEMO_DIMENSIONS`), from `hash` the first time.
+    #[inline]
+    fn get(&mut self, d: u32, hash: impl FnOnce() -> [u32; N]) -> [u32; N] {
+        let bit = 1u64 << d;
+        if self.known & bit == 0 {
+            self.seeds[d as usize] = hash();
+            self.known |= bit;
+        }
+        self.seeds[d as usize]
+    }
 }
 
 /// The scramble seed of request `dimension` under `salt` (1, 2: a 1D request's shuffle and
@@ -369,10 +393,8 @@ impl PixelSampler {
     pub fn memoised(kind: SamplerKind, seed: u64, pixel: u64, sample: u32) -> Self {
         let mut s = Self::with_kind(kind, seed, pixel, sample);
         s.memo = Some(Box::new(SeedMemo {
-            known_one: 0,
-            known_two: 0,
-            one: [[0; 2]; MEMO_DIMENSIONS],
-            two: [[0; 3]; MEMO_DIMENSIONS],
+            one: SeedTable::EMPTY,
+            two: SeedTable::EMPTY,
         }));
         s
     }
@@ -386,8 +408,8 @@ impl PixelSampler {
         if pixel != old_pixel {
             self.pixel_seed = mix64(self.seed_hash ^ pixel);
             if let Some(m) = self.memo.as_deref_mut() {
-                m.known_one = 0;
-                m.known_two = 0;
+                m.one.known = 0;
+                m.two.known = 0;
             }
         }
         self.index_reversed = sample.reverse_bits();
@@ -446,14 +468,7 @@ impl PixelSampler {
         let (p, d) = (self.pixel_seed, self.dimension);
         let hash = || [dim_seed(p, d, 1), dim_seed(p, d, 2)];
         match self.memo.as_deref_mut() {
-            Some(m) if (d as usize) < MEMO_DIMENSIONS => {
-                let bit = 1u64 << d;
-                if m.known_one & bit == 0 {
-                    m.one[d as usize] = hash();
-                    m.known_one |= bit;
-                }
-                m.one[d as usize]
-            }
+            Some(m) if (d as usize) < MEMO_DIMENSIONS => m.one.get(d, hash),
             _ => hash(),
         }
     }
@@ -464,14 +479,7 @@ impl PixelSampler {
         let (p, d) = (self.pixel_seed, self.dimension);
         let hash = || [dim_seed(p, d, 3), dim_seed(p, d, 4), dim_seed(p, d, 5)];
         match self.memo.as_deref_mut() {
-            Some(m) if (d as usize) < MEMO_DIMENSIONS => {
-                let bit = 1u64 << d;
-                if m.known_two & bit == 0 {
-                    m.two[d as usize] = hash();
-                    m.known_two |= bit;
-                }
-                m.two[d as usize]
-            }
+            Some(m) if (d as usize) < MEMO_DIMENSIONS => m.two.get(d, hash),
             _ => hash(),
         }
     }
