@@ -541,28 +541,27 @@ fn reference(
     let spp = args.reference_spp();
     println!("{name}: rendering a {spp}-spp Mitsuba 3 reference in two halves …");
     let prefix = dir.join(name);
-    let out = std::process::Command::new(args.python())
-        .arg(&args.anchor_script)
-        .arg("reference")
-        .arg("--scene-json")
-        .arg(scene_json)
-        .arg("--spp")
-        .arg(spp.to_string())
-        .arg("--threads")
-        .arg(args.threads.to_string())
-        .arg("--out-prefix")
-        .arg(&prefix)
-        .output()
-        .map_err(|e| format!("cannot run {}: {e}", args.python().display()))?;
-    if !out.status.success() {
-        let err = String::from_utf8_lossy(&out.stderr);
-        return Err(format!(
-            "{name}: no reference in {} and Mitsuba 3 could not render one ({}): {}",
-            args.references.display(),
-            out.status,
-            err.lines().last().unwrap_or("")
-        ));
-    }
+    run_anchor_script(
+        args,
+        "reference",
+        &[
+            "--scene-json".as_ref(),
+            scene_json.as_os_str(),
+            "--spp".as_ref(),
+            spp.to_string().as_ref(),
+            "--out-prefix".as_ref(),
+            prefix.as_os_str(),
+        ],
+    )
+    .map_err(|f| {
+        f.describe(|status, last| {
+            format!(
+                "{name}: no reference in {} and Mitsuba 3 could not render one ({status}): {}",
+                args.references.display(),
+                last.unwrap_or("")
+            )
+        })
+    })?;
     let (a, b, c) = read(&dir).ok_or_else(|| format!("{name}: the reference was not written"))?;
     Ok((
         a,
@@ -584,22 +583,55 @@ fn divide_channels(img: &mut RgbImage, factor: [f64; 3]) {
 /// Mitsuba 3's spectrum-to-RGB conversion over the CIE integral, per channel, from the anchor
 /// script's `colour-factor` (an equal-energy emitter filling the view).
 fn colour_factor(args: &SpeedArgs) -> Result<[f64; 3], String> {
+    let out = run_anchor_script(args, "colour-factor", &[])
+        .map_err(|f| f.describe(|status, last| format!("{status}: {}", last.unwrap_or(""))))?;
+    parse_colour_factor(&String::from_utf8_lossy(&out.stdout))
+}
+
+/// How a run of the anchor script failed: it could not start (the message), or it exited with
+/// a status, its stderr's last line (if any) saying why.
+enum ScriptFailure {
+    NotStarted(String),
+    Exited(std::process::ExitStatus, Option<String>),
+}
+
+impl ScriptFailure {
+    /// The message: a start failure as it is, an exit as `exited` words it for the caller.
+    fn describe(
+        self,
+        exited: impl FnOnce(std::process::ExitStatus, Option<&str>) -> String,
+    ) -> String {
+        match self {
+            Self::NotStarted(message) => message,
+            Self::Exited(status, last) => exited(status, last.as_deref()),
+        }
+    }
+}
+
+/// Runs `python anchor_script COMMAND ARGS… --threads N` (every command of the script takes
+/// the bench's thread count): its output when it exits successfully.
+fn run_anchor_script(
+    args: &SpeedArgs,
+    command: &str,
+    command_args: &[&std::ffi::OsStr],
+) -> Result<std::process::Output, ScriptFailure> {
     let out = std::process::Command::new(args.python())
         .arg(&args.anchor_script)
-        .arg("colour-factor")
+        .arg(command)
+        .args(command_args)
         .arg("--threads")
         .arg(args.threads.to_string())
         .output()
-        .map_err(|e| format!("cannot run {}: {e}", args.python().display()))?;
-    if !out.status.success() {
-        let err = String::from_utf8_lossy(&out.stderr);
-        return Err(format!(
-            "{}: {}",
-            out.status,
-            err.lines().last().unwrap_or("")
-        ));
+        .map_err(|e| {
+            ScriptFailure::NotStarted(format!("cannot run {}: {e}", args.python().display()))
+        })?;
+    if out.status.success() {
+        Ok(out)
+    } else {
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        let last = stderr.lines().last().map(str::to_string);
+        Err(ScriptFailure::Exited(out.status, last))
     }
-    parse_colour_factor(&String::from_utf8_lossy(&out.stdout))
 }
 
 /// The `factor` of the script's JSON line: three finite values within 1% of 1.
@@ -647,25 +679,25 @@ fn run_anchor(
     }
     let budget_list: Vec<String> = budgets.iter().map(|b| b.to_string()).collect();
     let prefix = args.out.join(format!("{scene}_{config}_s{seed}"));
-    let output = std::process::Command::new(args.python())
-        .arg(&args.anchor_script)
-        .arg("render")
-        .arg("--scene-json")
-        .arg(scene_json)
-        .args(["--config", config, "--budgets", &budget_list.join(",")])
-        .arg("--threads")
-        .arg(args.threads.to_string())
-        .arg("--seed")
-        .arg(seed.to_string())
-        .arg("--out-prefix")
-        .arg(&prefix)
-        .output()
-        .map_err(|e| format!("cannot run {}: {e}", args.python().display()))?;
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    if !output.status.success() {
-        let last = stderr.lines().last().unwrap_or("no message");
-        return Err(format!("{} ({last})", output.status));
-    }
+    let output = run_anchor_script(
+        args,
+        "render",
+        &[
+            "--scene-json".as_ref(),
+            scene_json.as_os_str(),
+            "--config".as_ref(),
+            config.as_ref(),
+            "--budgets".as_ref(),
+            budget_list.join(",").as_ref(),
+            "--seed".as_ref(),
+            seed.to_string().as_ref(),
+            "--out-prefix".as_ref(),
+            prefix.as_os_str(),
+        ],
+    )
+    .map_err(|f| {
+        f.describe(|status, last| format!("{status} ({})", last.unwrap_or("no message")))
+    })?;
     let stdout = String::from_utf8_lossy(&output.stdout);
     let mut out = Vec::new();
     // Mitsuba's log goes to stdout too, and may leave a colour escape before a result line.
