@@ -765,18 +765,8 @@ impl Geometry {
             }
         }
         let mut smp = self.sample_area(object, u)?;
-        // `area_to_solid_angle`'s operations, keeping `d` and `|d|`.
-        let d = smp.point - reference;
-        let dist2 = d.length_squared();
-        if !(dist2 > 0.0) || !(smp.pdf > 0.0) {
-            return None;
-        }
-        let dist = dist2.sqrt();
-        let cos = smp.normal.dot(d).abs() / dist;
-        if !(cos > 0.0) {
-            return None;
-        }
-        smp.pdf = smp.pdf * dist2 / cos;
+        let (pdf, d, dist) = area_to_solid_angle(smp.pdf, reference, smp.point, smp.normal)?;
+        smp.pdf = pdf;
         Some(SampleTowards {
             sample: smp,
             d,
@@ -799,7 +789,7 @@ impl Geometry {
                 return pdf;
             }
         }
-        area_to_solid_angle(self.pdf_area(object), reference, point, normal).unwrap_or(0.0)
+        area_to_solid_angle(self.pdf_area(object), reference, point, normal).map_or(0.0, |c| c.0)
     }
 }
 
@@ -835,23 +825,26 @@ fn triangle_normals(m: &TriangleMesh) -> Vec<Vec3A> {
         .collect()
 }
 
-/// `pdf_area · d² / |cos θ|` (1/sr), or `None` if the distance or the cosine is zero.
+/// `pdf_area · d² / |cos θ|` (1/sr) with `d = point − reference` and `|d|` (a light sample
+/// needs both for its direction), or `None` if the distance or the cosine is zero.
+#[inline]
 fn area_to_solid_angle(
     pdf_area: f32,
     reference: Vec3A,
     point: Vec3A,
     normal: Vec3A,
-) -> Option<f32> {
+) -> Option<(f32, Vec3A, f32)> {
     let d = point - reference;
     let dist2 = d.length_squared();
     if !(dist2 > 0.0) || !(pdf_area > 0.0) {
         return None;
     }
-    let cos = normal.dot(d).abs() / dist2.sqrt();
+    let dist = dist2.sqrt();
+    let cos = normal.dot(d).abs() / dist;
     if !(cos > 0.0) {
         return None;
     }
-    Some(pdf_area * dist2 / cos)
+    Some((pdf_area * dist2 / cos, d, dist))
 }
 
 /// A mesh's total area and its triangles' cumulative areas normalised to end at 1 (empty
