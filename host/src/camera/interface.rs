@@ -64,14 +64,9 @@ pub trait Camera: Send + Sync + Debug {
     fn forward(&self) -> Vec3A;
 
     /// True for a pinhole (every ray leaves [`position`](Self::position)): strategies that
-    /// solve a path from the lens point itself need it.
+    /// solve a path from the lens point itself need it, and callers skip the lens numbers
+    /// ([`CameraSample::p_lens`]), which a pinhole never reads.
     fn pinhole(&self) -> bool {
         false
-    }
-
-    /// False when [`generate_ray`](Self::generate_ray) never reads
-    /// [`CameraSample::p_lens`] (a pinhole): a caller may then skip computing those numbers.
-    fn reads_lens_sample(&self) -> bool {
-        true
     }
 }

@@ -234,11 +234,6 @@ impl Camera for PerspectiveCamera {
     fn pinhole(&self) -> bool {
         self.lens_radius == 0.0
     }
-
-    /// Only a thin lens reads the lens sample (`generate_ray`'s `lens_radius > 0` branch).
-    fn reads_lens_sample(&self) -> bool {
-        self.lens_radius > 0.0
-    }
 }
 
 #[cfg(test)]

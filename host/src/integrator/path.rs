@@ -837,7 +837,7 @@ pub fn render_film_spectral(
         ..settings.clone()
     };
     let rays = AtomicU64::new(0);
-    let reads_lens = cam.camera.reads_lens_sample();
+    let pinhole = cam.camera.pinhole();
     let outcome = render_tiles(
         (width, height),
         settings,
@@ -866,11 +866,11 @@ pub fn render_film_spectral(
                         let offset = cam.filter.sample(rng.next_2d());
                         // A pinhole never reads the lens numbers: their request is skipped
                         // (the same numbers for every later request).
-                        let p_lens = if reads_lens {
-                            rng.next_2d()
-                        } else {
+                        let p_lens = if pinhole {
                             rng.skip_2d();
                             Vec2::ZERO
+                        } else {
+                            rng.next_2d()
                         };
                         let sample = CameraSample {
                             p_film: Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset,
