@@ -7,7 +7,11 @@
 //! renderer's measured MSE gains `v_ref` as well, so the measured points follow
 //! `MSE(t) = a/t + b` with `b = v_ref + bias²`. [`fit_inverse_time`] fits `a` and `b` by least
 //! squares weighted by 1/MSE² (each point's MSE is known to a roughly constant *relative*
-//! error), with standard errors from the residuals. `a` (MSE·seconds) is the renderer's
+//! error), with standard errors from the residuals. Every term of `b` is non-negative, so
+//! `b ≥ v_ref`: where the free fit puts `b` below the reference's noise (error falling faster
+//! than 1/t over the budgets, as with quasi-Monte Carlo samplers, which the free fit books as a
+//! larger `a`), the fit is the constrained least-squares one, `b` held at `v_ref` and only `a`
+//! fitted ([`Fit::floor_held`]). `a` (MSE·seconds) is the renderer's
 //! inverse efficiency; a floor is *significant* when `b − v_ref` exceeds both twice its
 //! standard error and a tenth of the noise term at the longest budget ([`Fit::biased`]): such a
 //! renderer converges to a different image and is listed as biased instead of being ranked.
@@ -59,6 +63,9 @@ pub struct Fit {
     pub n: usize,
     /// Longest time among the points, seconds.
     pub t_max: f64,
+    /// True when the free fit's floor fell below the lowest possible one (the reference's own
+    /// variance) and `b` is held there, only `a` fitted.
+    pub floor_held: bool,
 }
 
 impl Fit {
@@ -75,9 +82,10 @@ impl Fit {
     }
 }
 
-/// Weighted least-squares fit of `MSE = a/t + b` to `(t, mse)` points (weights 1/mse²).
+/// Weighted least-squares fit of `MSE = a/t + b` to `(t, mse)` points (weights 1/mse²) with
+/// `b ≥ floor_min` (the reference's own variance per value; 0 against an exact reference).
 /// `None` with fewer than two distinct times or a non-positive or non-finite point.
-pub fn fit_inverse_time(points: &[(f64, f64)]) -> Option<Fit> {
+pub fn fit_inverse_time(points: &[(f64, f64)], floor_min: f64) -> Option<Fit> {
     if points
         .iter()
         .any(|&(t, m)| !(t.is_finite() && t > 0.0 && m.is_finite() && m > 0.0))
@@ -125,14 +133,61 @@ pub fn fit_inverse_time(points: &[(f64, f64)]) -> Option<Fit> {
     } else {
         f64::NAN
     };
+    let t_max = points.iter().map(|p| p.0).fold(0.0, f64::max);
+    if b < floor_min {
+        return Some(fit_with_floor(points, floor_min, t_max));
+    }
     Some(Fit {
         a,
         se_a: (s2 * inv_a).sqrt(),
         b,
         se_b: (s2 * inv_b).sqrt(),
         n,
-        t_max: points.iter().map(|p| p.0).fold(0.0, f64::max),
+        t_max,
+        floor_held: false,
     })
+}
+
+/// The constrained fit of [`fit_inverse_time`]: `b` held at `floor`, `a` by weighted least
+/// squares on `y − b = a·(1/t)` (the quadratic objective's minimum under `b ≥ floor` lies on
+/// the bound when the free minimum is below it), weighted as the free fit (measured values,
+/// then fitted ones), standard error from the residuals with n − 1 degrees of freedom.
+fn fit_with_floor(points: &[(f64, f64)], floor: f64, t_max: f64) -> Fit {
+    let fit_a = |w: &dyn Fn(usize) -> f64| -> (f64, f64) {
+        let (mut sxx, mut sxy) = (0.0, 0.0);
+        for (i, &(t, y)) in points.iter().enumerate() {
+            let x = 1.0 / t;
+            sxx += w(i) * x * x;
+            sxy += w(i) * x * (y - floor);
+        }
+        (sxy / sxx, 1.0 / sxx)
+    };
+    let (a0, _) = fit_a(&|i| 1.0 / (points[i].1 * points[i].1));
+    let pred = |i: usize| (a0 / points[i].0 + floor).max(0.1 * points[i].1);
+    let (a, inv_a) = fit_a(&|i| 1.0 / (pred(i) * pred(i)));
+    let n = points.len();
+    let s2 = if n > 1 {
+        points
+            .iter()
+            .enumerate()
+            .map(|(i, &(t, y))| {
+                let r = y - (a / t + floor);
+                r * r / (pred(i) * pred(i))
+            })
+            .sum::<f64>()
+            / (n - 1) as f64
+    } else {
+        f64::NAN
+    };
+    Fit {
+        a,
+        se_a: (s2 * inv_a).sqrt(),
+        b: floor,
+        se_b: f64::NAN,
+        n,
+        t_max,
+        floor_held: true,
+    }
 }
 
 /// The reference's own noise per value (variance of the full reference, both halves averaged):
@@ -434,7 +489,7 @@ mod tests {
             .iter()
             .map(|&t| (t, 2.0 / t + 0.01))
             .collect();
-        let f = fit_inverse_time(&pts).unwrap();
+        let f = fit_inverse_time(&pts, 0.0).unwrap();
         assert!((f.a - 2.0).abs() < 1e-9 * 2.0, "{f:?}");
         assert!((f.b - 0.01).abs() < 1e-9, "{f:?}");
         assert!(!f.biased(0.01));
@@ -457,20 +512,50 @@ mod tests {
                 biased.push((t, noise * (1.0 / t + 0.05)));
             }
         }
-        let f = fit_inverse_time(&unbiased).unwrap();
+        let f = fit_inverse_time(&unbiased, 0.0).unwrap();
         assert!((f.a - 1.0).abs() < 0.1, "{f:?}");
         assert!(!f.biased(0.0), "{f:?}");
-        let g = fit_inverse_time(&biased).unwrap();
+        let g = fit_inverse_time(&biased, 0.0).unwrap();
         assert!(g.biased(0.0), "{g:?}");
         assert!((g.b - 0.05).abs() < 0.02, "{g:?}");
+    }
+
+    // Error falling faster than 1/t (MSE = 1/t^1.5 at 1..16 s, as a quasi-Monte Carlo sampler
+    // can over a few budgets): the free fit's floor is negative, below the reference's noise
+    // 1e-3, which no renderer can reach; the fit holds b there and fits a alone. Quantities:
+    // the held b exactly, and a between the smallest and largest (MSE − b)·t of the points
+    // (a weighted mean of them, so it must lie in their range), below the free fit's a (the
+    // free fit books the fast fall as a larger a).
+    #[test]
+    fn floor_below_the_reference_noise_is_held_there() {
+        let pts: Vec<(f64, f64)> = [1.0, 2.0, 4.0, 8.0, 16.0]
+            .iter()
+            .map(|&t: &f64| (t, 1e-3 + t.powf(-1.5)))
+            .collect();
+        let free = fit_inverse_time(&pts, f64::NEG_INFINITY).unwrap();
+        assert!(free.b < 1e-3 && !free.floor_held, "{free:?}");
+        let f = fit_inverse_time(&pts, 1e-3).unwrap();
+        assert!(f.floor_held && f.b == 1e-3, "{f:?}");
+        let scaled: Vec<f64> = pts.iter().map(|&(t, y)| (y - 1e-3) * t).collect();
+        let (lo, hi) = scaled
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(l, h), &v| (l.min(v), h.max(v)));
+        assert!(
+            f.a >= lo && f.a <= hi && f.a < free.a,
+            "{f:?} {lo} {hi} {free:?}"
+        );
+        assert!(!f.biased(1e-3));
+        // A free floor above the bound is left free.
+        let g = fit_inverse_time(&pts, -1.0).unwrap();
+        assert!(!g.floor_held && g == free, "{g:?}");
     }
 
     // Degenerate input is refused: one distinct time, a zero or non-finite MSE.
     #[test]
     fn fit_refuses_degenerate_points() {
-        assert!(fit_inverse_time(&[(1.0, 1.0), (1.0, 2.0)]).is_none());
-        assert!(fit_inverse_time(&[(1.0, 0.0), (2.0, 1.0)]).is_none());
-        assert!(fit_inverse_time(&[(1.0, f64::NAN), (2.0, 1.0)]).is_none());
+        assert!(fit_inverse_time(&[(1.0, 1.0), (1.0, 2.0)], 0.0).is_none());
+        assert!(fit_inverse_time(&[(1.0, 0.0), (2.0, 1.0)], 0.0).is_none());
+        assert!(fit_inverse_time(&[(1.0, f64::NAN), (2.0, 1.0)], 0.0).is_none());
     }
 
     // Regions on a 4×2 image: pixel 0 sees an emitter (left out), pixels 1 and 2 are bright

@@ -770,7 +770,7 @@ fn points_csv(points: &[Point]) -> String {
 }
 
 /// The fit of one configuration on one scene: the whole image (`None` region) or a region.
-fn fit_of(points: &[&Point], region: Option<usize>) -> Option<Fit> {
+fn fit_of(points: &[&Point], region: Option<usize>, ref_var: f64) -> Option<Fit> {
     let pts: Vec<(f64, f64)> = points
         .iter()
         .map(|p| {
@@ -780,7 +780,7 @@ fn fit_of(points: &[&Point], region: Option<usize>) -> Option<Fit> {
             )
         })
         .collect();
-    fit_inverse_time(&pts)
+    fit_inverse_time(&pts, ref_var)
 }
 
 /// `value ± se` with two significant digits of the standard error (`–` without one).
@@ -799,7 +799,7 @@ struct Verdict {
 }
 
 fn verdict(points: &[&Point], region: Option<usize>, var: f64) -> Verdict {
-    let fit = fit_of(points, region);
+    let fit = fit_of(points, region, var);
     Verdict {
         biased: fit.is_some_and(|f| f.biased(var)),
         fit,
@@ -822,7 +822,9 @@ fn report(
         "Budgets {:?} s, {} seed(s), {} threads per renderer. Seconds = sampling start to image \
          in memory (load/BVH and JIT beside). Fit MSE = a/t + b per configuration over all its \
          renders (linear sRGB, directly seen emitters left out); a = MSE·s of the noise \
-         (efficiency 1/a), b = floor; \"biased\" = b minus the reference's own variance above \
+         (efficiency 1/a), b = floor, never below the reference's own variance (\"held\" there \
+         where the free fit put it lower, as when error falls faster than 1/t, and only a \
+         fitted); \"biased\" = b minus the reference's own variance above \
          2 standard errors and a tenth of a/t at the longest budget. Ratio = a of the best \
          unbiased anchor configuration / a of the row (> 1: more efficient than the best \
          anchor).\n",
@@ -916,6 +918,7 @@ fn report(
                 }
             };
             let (a, b) = match &v.fit {
+                Some(f) if f.floor_held => (pm(f.a, f.se_a), format!("{:.2e} (held)", f.b)),
                 Some(f) => (pm(f.a, f.se_a), pm(f.b, f.se_b)),
                 None => ("–".into(), "–".into()),
             };
