@@ -61,16 +61,17 @@ impl RayBoxes {
     /// bound only widens the interval, so the box is met wherever the ordered test met it,
     /// and sometimes where it missed it (a ray grazing a face): as conservative or more, the
     /// same closest hits (test `octant_planes_match_the_ordered_slab_test`).
+    ///
+    /// The planes are chosen by the sign of the direction rather than of its reciprocal: the
+    /// same bit (`1/x` keeps the sign of `x`, zeros and infinities included, and on x86 a NaN
+    /// passes through the division with its sign), but the choice, and so the addresses of
+    /// the first node's planes, no longer wait for the division: the loads overlap it instead
+    /// of following it on the chain from a ray's direction to its first box test.
     #[inline(always)]
     pub(super) fn new(ray: &Ray) -> RayBoxes {
         let inv_dir = (Vec3A::ONE / ray.dir).to_array();
-        let near = [0, 1, 2].map(|a| {
-            if inv_dir[a].is_sign_negative() {
-                a + 3
-            } else {
-                a
-            }
-        });
+        let dir = ray.dir.to_array();
+        let near = [0, 1, 2].map(|a| if dir[a].is_sign_negative() { a + 3 } else { a });
         RayBoxes {
             origin: ray.origin.to_array(),
             inv_dir,
