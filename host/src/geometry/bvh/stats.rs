@@ -113,7 +113,7 @@ impl Bvh {
     /// What [`Bvh::traverse_leaves`] does for this ray (`test` as there): the same box test
     /// and visiting order (closest hit: hit children by entry distance, ties in slot order, as
     /// test `hit_children_visit_in_stable_distance_order` checks against the real loop; any
-    /// hit: the first hit slot, then the others from the last), written plainly and counted
+    /// hit: the reverse of that order), written plainly and counted
     /// (test `visit_counts_match_the_traversal`). For statistics only: slower than the real traversal.
     pub fn count_visits(
         &self,
@@ -156,18 +156,15 @@ impl Bvh {
                 .filter(|&k| mask & (1 << k) != 0)
                 .map(|k| (n_child[k], u32::from(n_count[k]), d[k]))
                 .collect();
-            if any_hit {
-                // Unordered, as the loop: the first slot next, the others pushed in slot order.
-                if let Some((&first, rest)) = hits.split_first() {
-                    stack.extend(rest);
-                    stack.push(first);
-                }
-                continue;
-            }
             // Stable: ties stay in slot order (IEEE order, as the loop's comparisons; hit
             // lanes have no NaN distance).
             hits.sort_by(|a, b| a.2.partial_cmp(&b.2).unwrap_or(std::cmp::Ordering::Equal));
-            stack.extend(hits.iter().rev());
+            if any_hit {
+                // As the loop: farthest first (the later slot on a tie).
+                stack.extend(hits.iter());
+            } else {
+                stack.extend(hits.iter().rev());
+            }
         }
         c
     }

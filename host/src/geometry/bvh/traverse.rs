@@ -61,16 +61,17 @@ impl RayBoxes {
     /// bound only widens the interval, so the box is met wherever the ordered test met it,
     /// and sometimes where it missed it (a ray grazing a face): as conservative or more, the
     /// same closest hits (test `octant_planes_match_the_ordered_slab_test`).
+    ///
+    /// The planes are chosen by the sign of the direction rather than of its reciprocal: the
+    /// same bit (`1/x` keeps the sign of `x`, zeros and infinities included, and on x86 a NaN
+    /// passes through the division with its sign), but the choice, and so the addresses of
+    /// the first node's planes, no longer wait for the division: the loads overlap it instead
+    /// of following it on the chain from a ray's direction to its first box test.
     #[inline(always)]
     pub(super) fn new(ray: &Ray) -> RayBoxes {
         let inv_dir = (Vec3A::ONE / ray.dir).to_array();
-        let near = [0, 1, 2].map(|a| {
-            if inv_dir[a].is_sign_negative() {
-                a + 3
-            } else {
-                a
-            }
-        });
+        let dir = ray.dir.to_array();
+        let near = [0, 1, 2].map(|a| if dir[a].is_sign_negative() { a + 3 } else { a });
         RayBoxes {
             origin: ray.origin.to_array(),
             inv_dir,
@@ -85,7 +86,8 @@ impl Bvh {
     /// `test(slot, t_max)` gets the primitive's position in leaf order (primitive
     /// `order_ref()[slot]` of the build input; callers usually store their primitives in that
     /// order) and returns the hit distance if the primitive is hit closer than `t_max`;
-    /// the search then shrinks to that distance. With `any_hit` the walk stops at the first hit.
+    /// the search then shrinks to that distance. With `any_hit` the walk stops at the first hit
+    /// (and visits the boxes farthest first, which only changes how soon).
     /// Returns the closest distance found (or the first, for `any_hit`).
     #[inline]
     pub fn traverse<F: FnMut(u32, f32) -> Option<f32>>(
@@ -275,33 +277,22 @@ impl Bvh {
                             entry = at(first);
                             continue;
                         }
-                        if any_hit {
-                            // Any hit ends the search, so order does not matter: no sort;
-                            // the others go on the stack in slot order.
-                            let k = rest.count_ones() as usize;
-                            let mut m = rest;
-                            if sp + k <= N {
-                                while m != 0 {
-                                    // SAFETY: `sp < sp + k <= N` while `m` has bits left.
-                                    unsafe { stack.get_unchecked_mut(sp) }
-                                        .write(later(at(m.trailing_zeros())));
-                                    sp += 1;
-                                    m &= m - 1;
-                                }
-                            } else {
-                                while m != 0 {
-                                    push(&mut stack, &mut sp, &mut spill, at(m.trailing_zeros()));
-                                    m &= m - 1;
-                                }
-                            }
-                            entry = at(first);
-                            continue;
-                        }
                         let second = rest.trailing_zeros();
                         if rest & (rest - 1) == 0 {
-                            // Two boxes: visit the nearer (the first slot on a tie).
+                            // Two boxes: visit the nearer (the first slot on a tie); for any
+                            // hit the farther (the second slot on a tie), see below.
                             let (a, b) = (at(first), at(second));
-                            let (now, after) = if b.near < a.near { (b, a) } else { (a, b) };
+                            let (now, after) = if any_hit {
+                                if a.near > b.near {
+                                    (a, b)
+                                } else {
+                                    (b, a)
+                                }
+                            } else if b.near < a.near {
+                                (b, a)
+                            } else {
+                                (a, b)
+                            };
                             push(&mut stack, &mut sp, &mut spill, later(after));
                             entry = now;
                             continue;
@@ -313,12 +304,22 @@ impl Bvh {
                         // visited, the others pushed farthest first. Hit lanes have no NaN
                         // distance (the box test's `<=` is false on NaN), so the ranks are
                         // `0..k` once each.
+                        //
+                        // Any hit ends the search, so there the order changes no result, only
+                        // how soon the search ends: the boxes are visited in the reverse
+                        // order, farthest first. A shadow ray's box around its origin is
+                        // entered at 0 and rarely holds its blocker, while the boxes towards
+                        // the light do where the light is shielded (a window, a lamp's
+                        // housing): in the window room 9.5% fewer instructions per shadow
+                        // ray than visiting in slot order, in the Cornell box 2.2%.
                         let k = mask.count_ones() as usize;
                         let rank = |i: u32| (nearer::<AVX2>(&near, i) & mask).count_ones() as usize;
                         if sp + k <= N {
                             // Rank `r` goes to `top - r`: the farthest at `sp`, rank 1 the new
-                            // top of the stack, rank 0 just above it, read back as the entry.
+                            // top of the stack, rank 0 just above it, read back as the entry
+                            // (any hit: to `sp + r`, the farthest read back).
                             let top = sp + k - 1;
+                            let place = |r: usize| if any_hit { sp + r } else { top - r };
                             #[cfg(debug_assertions)]
                             let mut seen = 0u32;
                             let mut m = mask;
@@ -331,14 +332,14 @@ impl Bvh {
                                     seen |= 1 << r;
                                 }
                                 // SAFETY: `r < k` (the hits other than `i` are counted), so
-                                // `sp <= top - r <= top < N`.
-                                unsafe { stack.get_unchecked_mut(top - r) }.write(later(at(i)));
+                                // `sp <= place(r) <= top < N`.
+                                unsafe { stack.get_unchecked_mut(place(r)) }.write(later(at(i)));
                             }
                             #[cfg(debug_assertions)]
                             debug_assert_eq!(seen, (1 << k) - 1, "ranks are not a permutation");
                             sp = top;
-                            // SAFETY: slot `top` was written above (rank 0; the ranks are a
-                            // permutation of `0..k`).
+                            // SAFETY: slot `top` was written above (rank 0, any hit rank
+                            // `k - 1`; the ranks are a permutation of `0..k`).
                             entry = unsafe { stack.get_unchecked(top).assume_init() };
                             continue;
                         }
@@ -354,10 +355,17 @@ impl Bvh {
                             m &= m - 1;
                             hits[rank(i) & (WIDTH - 1)] = at(i);
                         }
-                        for h in hits[1..k].iter().rev() {
-                            push(&mut stack, &mut sp, &mut spill, *h);
+                        if any_hit {
+                            for h in &hits[..k - 1] {
+                                push(&mut stack, &mut sp, &mut spill, *h);
+                            }
+                            entry = hits[k - 1];
+                        } else {
+                            for h in hits[1..k].iter().rev() {
+                                push(&mut stack, &mut sp, &mut spill, *h);
+                            }
+                            entry = hits[0];
                         }
-                        entry = hits[0];
                         continue;
                     }
                 }
