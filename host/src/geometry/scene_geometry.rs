@@ -130,10 +130,6 @@ struct Object {
     /// BVH for meshes of at most [`CACHED_NORMALS_MAX_TRIANGLES`] (16 bytes a triangle), for a
     /// larger one at its first light sample if it emits; otherwise a hit computes it.
     normals: OnceLock<Vec<Vec3A>>,
-    /// Quads: the first half's share of the area, where [`Geometry::sample_area`] splits
-    /// `u.x` between the halves (made with the quad: an f64 cross product and square root a
-    /// light sample no longer repeats); 0 for other shapes.
-    quad_split: f32,
 }
 
 /// A BVH leaf entry: an object and a primitive inside it.
@@ -671,20 +667,18 @@ impl Geometry {
                 })
             }
             WorldShape::Quad(q) => {
-                let split = obj.quad_split;
-                let (half, ux) = if u.x < split {
-                    (0, u.x / split)
-                } else {
-                    (1, ((u.x - split) / (1.0 - split)).min(1.0))
-                };
+                // The parallelogram map corner + s·edge0 + t·edge1 with (s, t) = u, evaluated
+                // on the half that holds (s, t) (the triangles rays hit): uniform by area, and
+                // the same u for the same point from every receiver (`Self::sample_coords`).
+                let (s, t) = (u.x.clamp(0.0, 1.0), u.y.clamp(0.0, 1.0));
+                let (half, b1, b2) = if s >= t { (0, s - t, t) } else { (1, s, t - s) };
                 let [p0, p1, p2] = q.triangle(half);
-                let (b0, b1, b2) = sample_uniform_barycentrics(Vec2::new(ux, u.y));
-                let (point, point_error) = barycentric_point(b0, b1, b2, p0, p1, p2);
+                let (point, point_error) = barycentric_point(1.0 - b1 - b2, b1, b2, p0, p1, p2);
                 Some(SurfaceSample {
                     point,
                     point_error,
                     normal: q.normal,
-                    uv: Quad::uv(half, b1, b2),
+                    uv: Vec2::new(s, t),
                     pdf,
                 })
             }
@@ -717,6 +711,18 @@ impl Geometry {
                     pdf,
                 })
             }
+        }
+    }
+
+    /// The numbers `u ∈ [0, 1]²` from which [`Self::sample_area`] (and so
+    /// [`Self::sample_towards`], whatever the receiver) turns into the point `p` of `object`:
+    /// for quads, whose map is the parallelogram's own chart `(s, t)` (uniform by area);
+    /// `None` for other shapes (spheres are sampled by cone from outside, a mesh's map is not
+    /// inverted here).
+    pub fn sample_coords(&self, object: u32, p: Vec3A) -> Option<Vec2> {
+        match self.shape(object)? {
+            WorldShape::Quad(q) => Some(q.coords(p)),
+            _ => None,
         }
     }
 
@@ -899,7 +905,6 @@ fn build_object(desc: ShapeDesc) -> Result<Object, String> {
                 area: 0.0,
                 cdf: Vec::new(),
                 normals: OnceLock::new(),
-                quad_split: 0.0,
             })
         }
         Shape::Sphere { center, radius } => {
@@ -925,7 +930,6 @@ fn build_object(desc: ShapeDesc) -> Result<Object, String> {
                 shape: WorldShape::Sphere(sphere),
                 cdf: Vec::new(),
                 normals: OnceLock::new(),
-                quad_split: 0.0,
             })
         }
         Shape::Quad {
@@ -939,11 +943,8 @@ fn build_object(desc: ShapeDesc) -> Result<Object, String> {
             let quad = Quad::new(c, e0, e1).ok_or_else(|| {
                 format!("degenerate quad: edges {edge0} and {edge1} are parallel or zero")
             })?;
-            let area = quad.area();
-            let [a, b, c] = quad.triangle(0);
             Ok(Object {
-                area,
-                quad_split: triangle_area(a, b, c) / area,
+                area: quad.area(),
                 shape: WorldShape::Quad(quad),
                 cdf: Vec::new(),
                 normals: OnceLock::new(),

@@ -105,6 +105,12 @@ impl Light for AreaLight {
         )
     }
 
+    // Quads are sampled through their chart (s, t) = u from every receiver
+    // (`Geometry::sample_area`), so `u` is the point's chart position.
+    fn sample_coords(&self, p_light: Vec3A) -> Option<Vec2> {
+        self.geometry.sample_coords(self.object, p_light)
+    }
+
     fn radiance(
         &self,
         _p: Vec3A,
