@@ -667,13 +667,11 @@ impl Geometry {
                 })
             }
             WorldShape::Quad(q) => {
-                // The parallelogram map corner + s·edge0 + t·edge1 with (s, t) = u, evaluated
-                // on the half that holds (s, t) (the triangles rays hit): uniform by area, and
-                // the same u for the same point from every receiver (`Self::sample_coords`).
+                // The parallelogram's chart corner + s·edge0 + t·edge1 at (s, t) = u: uniform
+                // by area, and the same u for the same point from every receiver
+                // (`Self::sample_coords`).
                 let (s, t) = (u.x.clamp(0.0, 1.0), u.y.clamp(0.0, 1.0));
-                let (half, b1, b2) = if s >= t { (0, s - t, t) } else { (1, s, t - s) };
-                let [p0, p1, p2] = q.triangle(half);
-                let (point, point_error) = barycentric_point(1.0 - b1 - b2, b1, b2, p0, p1, p2);
+                let (point, point_error) = q.point(s, t);
                 Some(SurfaceSample {
                     point,
                     point_error,
