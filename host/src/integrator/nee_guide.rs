@@ -31,7 +31,7 @@
 //! | parameter               | value | meaning |
 //! |-------------------------|-------|---------|
 //! | [`CELLS`]               | 8     | cells per side of the light's `u`-square (64 cells) |
-//! | [`GRID`]                | 12    | voxels along the scene bounds' longest axis (the others in proportion, at least 1) |
+//! | [`GRID`]                | 10    | voxels along the scene bounds' longest axis (the others in proportion, at least 1) |
 //! | [`PREPASS_PATHS`]       | 2048  | camera paths of the pre-pass |
 //! | [`PREPASS_DEPTH`]       | 3     | non-specular vertices at most per pre-pass path |
 //! | [`MIN_VERTICES`]        | 4     | pre-pass vertices a key needs before its learned density is used (else uniform) |
@@ -59,7 +59,7 @@ pub const CELLS: usize = 8;
 /// Cells of a light's sample square.
 const N2: usize = CELLS * CELLS;
 /// Voxels along the longest axis of the scene bounds.
-pub const GRID: u32 = 12;
+pub const GRID: u32 = 10;
 /// Camera paths of the pre-pass.
 pub const PREPASS_PATHS: u32 = 2048;
 /// Non-specular vertices at most per pre-pass path.
