@@ -33,13 +33,15 @@
 //! | [`CELLS`]               | 8     | cells per side of the light's `u`-square (64 cells) |
 //! | [`GRID`]                | 10    | voxels along the scene bounds' longest axis (the others in proportion, at least 1) |
 //! | [`PREPASS_PATHS`]       | 2048  | camera paths of the pre-pass |
+//! | [`SCOUT_PATHS`]         | 512   | paths after which the pre-pass stops when every light is less than 15% occluded (half the threshold): the guide stays off at a quarter of the cost |
 //! | [`PREPASS_DEPTH`]       | 3     | non-specular vertices at most per pre-pass path |
 //! | [`MIN_VERTICES`]        | 4     | pre-pass vertices a key needs before its learned density is used (else uniform) |
 //! | [`UNIFORM_SHARE`]       | 0.2   | share of the uniform density in every learned one (defensive mixture: a cell's density is at least 0.2, so the estimate is at most 5× that of uniform sampling where the guide is wrong) |
 //! | [`OCCLUSION_THRESHOLD`] | 0.3   | occluded share of the pre-pass contribution from which a light is guided |
 //!
-//! Limits: lights without sample coordinates (spheres, meshes, environment and point-like
-//! lights) are sampled as before; the density ignores the BSDF (it is learned for the
+//! Limits: lights without sample coordinates (spheres, meshes of more than
+//! [`COORDS_MAX_TRIANGLES`](crate::geometry::COORDS_MAX_TRIANGLES) triangles, environment and
+//! point-like lights) are sampled as before; the density ignores the BSDF (it is learned for the
 //! receiver's cosine), so a glossy receiver gains only from visibility; a voxel is coarse
 //! where visibility changes fast (close to an opening), where the uniform share keeps the
 //! estimate sound.
@@ -70,6 +72,9 @@ pub const MIN_VERTICES: u32 = 4;
 pub const UNIFORM_SHARE: f32 = 0.2;
 /// Occluded share of the pre-pass contribution from which a light is guided.
 pub const OCCLUSION_THRESHOLD: f64 = 0.3;
+/// Pre-pass paths after which a pre-pass that finds every light at most half as occluded as
+/// [`OCCLUSION_THRESHOLD`] stops (the guide stays off).
+pub const SCOUT_PATHS: u32 = 512;
 /// Pre-pass paths per work unit (fixed, so the reduction order never depends on threads).
 const CHUNK: u32 = 64;
 /// Key of a point the guide knows nothing about (always uniform).
@@ -311,20 +316,39 @@ impl NeeGuide {
         }
         let grid = Grid::new(&scene.geometry.bounds())?;
         let pool = super::tiled::thread_pool(threads).ok()?;
-        let chunks: Vec<u32> = (0..PREPASS_PATHS.div_ceil(CHUNK)).collect();
-        let records: Vec<Vec<Record>> = pool.install(|| {
-            chunks
-                .par_iter()
-                .map(|&c| {
-                    let mut out = Vec::new();
-                    let end = ((c + 1) * CHUNK).min(PREPASS_PATHS);
-                    for i in c * CHUNK..end {
-                        trace_prepass_path(scene, camera, &grid, &eligible, seed, i, &mut out);
-                    }
-                    out
-                })
-                .collect()
-        });
+        let trace = |chunks: std::ops::Range<u32>| -> Vec<Vec<Record>> {
+            let chunks: Vec<u32> = chunks.collect();
+            pool.install(|| {
+                chunks
+                    .par_iter()
+                    .map(|&c| {
+                        let mut out = Vec::new();
+                        let end = ((c + 1) * CHUNK).min(PREPASS_PATHS);
+                        for i in c * CHUNK..end {
+                            trace_prepass_path(scene, camera, &grid, &eligible, seed, i, &mut out);
+                        }
+                        out
+                    })
+                    .collect()
+            })
+        };
+        // A first [`SCOUT_PATHS`] paths; where no light is half-way to the threshold (a light
+        // visible from nearly everywhere) the guide stays off at a quarter of the cost.
+        let scout = SCOUT_PATHS.div_ceil(CHUNK);
+        let mut records = trace(0..scout);
+        if force != Some(true) {
+            let (mut vis, mut all) = (vec![0.0f64; lights.len()], vec![0.0f64; lights.len()]);
+            for r in records.iter().flatten() {
+                vis[r.light as usize] += r.visible.iter().map(|&v| v as f64).sum::<f64>();
+                all[r.light as usize] += r.all;
+            }
+            let promising = (0..lights.len())
+                .any(|l| all[l] > 0.0 && 1.0 - vis[l] / all[l] >= 0.5 * OCCLUSION_THRESHOLD);
+            if !promising {
+                return None;
+            }
+        }
+        records.extend(trace(scout..PREPASS_PATHS.div_ceil(CHUNK)));
         let mut sums: Vec<LightSums> = (0..lights.len()).map(|_| LightSums::default()).collect();
         for r in records.iter().flatten() {
             let s = &mut sums[r.light as usize];

@@ -105,8 +105,9 @@ impl Light for AreaLight {
         )
     }
 
-    // Quads are sampled through their chart (s, t) = u from every receiver
-    // (`Geometry::sample_area`), so `u` is the point's chart position.
+    // Quads (through their chart) and meshes (area CDF, then barycentrics) map u to the same
+    // point from every receiver (`Geometry::sample_area`); `Geometry::sample_coords` inverts
+    // the map for quads and small meshes.
     fn sample_coords(&self, p_light: Vec3A) -> Option<Vec2> {
         self.geometry.sample_coords(self.object, p_light)
     }

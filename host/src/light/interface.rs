@@ -119,7 +119,8 @@ pub trait Light: Send + Sync + Debug {
     /// then a caller may draw `u` with any density `q(u)` on [0, 1]² and the point's density
     /// is `pdf_li · q(u)` (what the path tracer's visibility guide does,
     /// `integrator::nee_guide`). `None` (the default) for every other light; an area light on
-    /// a quad answers (its chart `(s, t)`).
+    /// a quad (its chart `(s, t)`) or on a mesh of at most
+    /// [`COORDS_MAX_TRIANGLES`](crate::geometry::COORDS_MAX_TRIANGLES) triangles answers.
     fn sample_coords(&self, _p_light: Vec3A) -> Option<Vec2> {
         None
     }
