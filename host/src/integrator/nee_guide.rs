@@ -715,18 +715,20 @@ mod tests {
     /// voxel; the normal is turned to the side the path arrives from.
     #[test]
     fn keys_follow_voxel_and_lit_side() {
+        let n = GRID as f32;
         let bounds = Aabb {
             min: Vec3A::ZERO,
-            max: Vec3A::new(12.0, 6.0, 1.0),
+            max: Vec3A::new(n, n / 2.0, 1.0),
         };
         let g = Grid::new(&bounds).unwrap();
-        assert_eq!(g.dims, [12, 6, 1]);
-        let k = g.key(Vec3A::new(0.5, 0.5, 0.5), Vec3A::Y);
-        assert_eq!(k, 2);
+        assert_eq!(g.dims, [GRID, GRID / 2, 1]);
+        assert_eq!(g.key(Vec3A::new(0.5, 0.5, 0.5), Vec3A::Y), 2);
         assert_eq!(g.key(Vec3A::new(-3.0, 0.5, 0.5), -Vec3A::Y), 3);
+        let far = Vec3A::new(n - 0.5, n / 2.0 - 0.5, 9.0);
+        assert_eq!(g.key(far, Vec3A::X), ((GRID / 2 - 1) * GRID + GRID - 1) * 6);
         assert_eq!(
-            g.key(Vec3A::new(11.5, 5.5, 9.0), Vec3A::X),
-            (5 * 12 + 11) * 6
+            g.key(far, -Vec3A::Z),
+            ((GRID / 2 - 1) * GRID + GRID - 1) * 6 + 5
         );
     }
 }
