@@ -393,6 +393,9 @@ impl NeeGuide {
                     }
                 }
             }
+            // A light with no region learned (too few pre-pass vertices anywhere, as among
+            // many lights) is sampled as before and holds no index.
+            let on = on && !g.tables.is_empty();
             reports.push(LightReport {
                 light: li,
                 occluded_share,
