@@ -121,6 +121,43 @@ fn area_sampling_is_uniform() {
     );
 }
 
+// Quantity: a quad's sample numbers are its chart: `sample_area(u)` is the point
+// `corner + u.x·edge0 + u.y·edge1` (to 1e-6 of the side, f32 rounding) on either half
+// (u.x ≥ u.y and below), and `sample_coords` of that point gives `u` back (to 1e-5), which is
+// what lets the path tracer's visibility guide draw `u` from a density of its own and weigh
+// a hit on the light with the same density. Uniform by area follows (the chart is linear).
+// A small mesh (the 8 × 4 grid: 64 triangles) inverts its own map (area CDF, then square-root
+// barycentrics) to 1e-4 in u (the square root's inverse squares the rounding near a vertex);
+// spheres offer no coordinates.
+#[test]
+fn quad_samples_through_its_chart_and_inverts_it() {
+    let g = lights(1.0, 0.5, 2.0);
+    let n = 37;
+    for i in 0..n {
+        for j in 0..n {
+            let u = Vec2::new((i as f32 + 0.3) / n as f32, (j as f32 + 0.6) / n as f32);
+            let s = g.sample_area(0, u).unwrap();
+            let chart = Vec3A::new(-1.0 + 2.0 * u.x, -0.5 + u.y, -2.0);
+            assert!(
+                (s.point - chart).length() < 1e-6,
+                "{u}: {} vs {chart}",
+                s.point
+            );
+            let back = g.sample_coords(0, s.point).unwrap();
+            assert!((back - u).length() < 1e-5, "{u} came back as {back}");
+        }
+    }
+    for i in 0..n {
+        for j in 0..n {
+            let u = Vec2::new((i as f32 + 0.3) / n as f32, (j as f32 + 0.6) / n as f32);
+            let s = g.sample_area(1, u).unwrap();
+            let back = g.sample_coords(1, s.point).unwrap();
+            assert!((back - u).length() < 1e-4, "mesh: {u} came back as {back}");
+        }
+    }
+    assert!(g.sample_coords(2, Vec3A::new(0.0, 0.0, 4.0)).is_none());
+}
+
 // Object rules: a sphere under non-uniform scale is rejected (it would no longer be a sphere);
 // under a uniform scale its radius and area scale; a mirrored icosphere keeps outward normals
 // (hit from outside, the normal faces the ray origin); bad objects name their index.

@@ -155,6 +155,7 @@ fn switchable_effects(auto_plan: &RenderPlan) -> Vec<Switch> {
             Switch::FlatPathColour => auto_plan.flat_path_colour(),
             Switch::Manifold => auto_plan.manifold(),
             Switch::CameraChain => auto_plan.camera_chain(),
+            Switch::VisibilityGuide => auto_plan.visibility_guide() != Some(false),
         })
         .collect()
 }

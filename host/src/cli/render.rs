@@ -111,6 +111,9 @@ fn finish(
         println!("{line}");
     }
     summary::print_totals(job, result);
+    for n in &output.notes {
+        println!("  {n}");
+    }
     summary::print_warnings(job, result, film);
     for w in written {
         println!("  wrote {}", w.display());

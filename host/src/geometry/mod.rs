@@ -54,7 +54,7 @@ pub use ply::{load_ply, parse_ply};
 pub use quad::Quad;
 pub use ray::Ray;
 pub use scene_geometry::{
-    Geometry, Hit, SampleTowards, Shape, ShapeDesc, SurfaceSample, WorldShape,
+    Geometry, Hit, SampleTowards, Shape, ShapeDesc, SurfaceSample, WorldShape, COORDS_MAX_TRIANGLES,
 };
 pub use spawn::{offset_ray_origin, spawn_ray, spawn_ray_to, CONNECTION_T_MAX};
 pub use sphere::Sphere;

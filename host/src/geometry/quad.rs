@@ -2,8 +2,9 @@
 //!
 //! A quad is intersected as the two triangles `(v0, v1, v2)` and `(v0, v2, v3)` with the
 //! watertight triangle test, so it is exactly as robust as a mesh and two quads sharing an edge
-//! (e.g. Cornell box walls) cannot leak. It is sampled by area the same way, which keeps sampled
-//! points on the very surface that rays hit.
+//! (e.g. Cornell box walls) cannot leak. It is sampled by area through its chart
+//! `(s, t) ↦ corner + s·edge0 + t·edge1` ([`Quad::point`], whose error bound covers the
+//! distance to the triangles rays hit), which [`Quad::coords`] inverts.
 
 use glam::{Vec2, Vec3A};
 
@@ -62,6 +63,32 @@ impl Quad {
     pub fn derivatives(&self) -> SurfaceDerivatives {
         let v = &self.vertices;
         SurfaceDerivatives::flat(v[1] - v[0], v[3] - v[0])
+    }
+
+    /// The point `corner + s·edge0 + t·edge1` (the edges as the rounded vertices give them)
+    /// and its error bound, which also covers the distance to the half-triangle rays hit (the
+    /// far vertex is rounded on its own, so the two halves may differ by its rounding). An
+    /// axis-aligned quad's points lie exactly in its plane.
+    #[inline]
+    pub fn point(&self, s: f32, t: f32) -> (Vec3A, Vec3A) {
+        let v = &self.vertices;
+        let (a, b) = ((v[1] - v[0]) * s, (v[3] - v[0]) * t);
+        let p = v[0] + a + b;
+        let err = (v[0].abs() + a.abs() + b.abs() + v[2].abs()) * super::float_error::gamma(7);
+        (p, err)
+    }
+
+    /// The chart parameters `(s, t)`, clamped to [0, 1]², of the point of the quad's plane
+    /// nearest `p` (`corner + s·edge0 + t·edge1`), by the dual basis of the two edges.
+    pub fn coords(&self, p: Vec3A) -> Vec2 {
+        let v = &self.vertices;
+        let (e0, e1) = (v[1] - v[0], v[3] - v[0]);
+        let n = e0.cross(e1);
+        let (d0, d1) = (e1.cross(n), n.cross(e0));
+        let r = p - v[0];
+        let s = r.dot(d0) / e0.dot(d0);
+        let t = r.dot(d1) / e1.dot(d1);
+        Vec2::new(s.clamp(0.0, 1.0), t.clamp(0.0, 1.0))
     }
 
     /// Area (scene units²) as the sum of the two triangles actually intersected.

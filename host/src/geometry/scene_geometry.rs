@@ -130,10 +130,6 @@ struct Object {
     /// BVH for meshes of at most [`CACHED_NORMALS_MAX_TRIANGLES`] (16 bytes a triangle), for a
     /// larger one at its first light sample if it emits; otherwise a hit computes it.
     normals: OnceLock<Vec<Vec3A>>,
-    /// Quads: the first half's share of the area, where [`Geometry::sample_area`] splits
-    /// `u.x` between the halves (made with the quad: an f64 cross product and square root a
-    /// light sample no longer repeats); 0 for other shapes.
-    quad_split: f32,
 }
 
 /// A BVH leaf entry: an object and a primitive inside it.
@@ -671,20 +667,16 @@ impl Geometry {
                 })
             }
             WorldShape::Quad(q) => {
-                let split = obj.quad_split;
-                let (half, ux) = if u.x < split {
-                    (0, u.x / split)
-                } else {
-                    (1, ((u.x - split) / (1.0 - split)).min(1.0))
-                };
-                let [p0, p1, p2] = q.triangle(half);
-                let (b0, b1, b2) = sample_uniform_barycentrics(Vec2::new(ux, u.y));
-                let (point, point_error) = barycentric_point(b0, b1, b2, p0, p1, p2);
+                // The parallelogram's chart corner + s·edge0 + t·edge1 at (s, t) = u: uniform
+                // by area, and the same u for the same point from every receiver
+                // (`Self::sample_coords`).
+                let (s, t) = (u.x.clamp(0.0, 1.0), u.y.clamp(0.0, 1.0));
+                let (point, point_error) = q.point(s, t);
                 Some(SurfaceSample {
                     point,
                     point_error,
                     normal: q.normal,
-                    uv: Quad::uv(half, b1, b2),
+                    uv: Vec2::new(s, t),
                     pdf,
                 })
             }
@@ -717,6 +709,34 @@ impl Geometry {
                     pdf,
                 })
             }
+        }
+    }
+
+    /// The numbers `u ∈ [0, 1]²` from which [`Self::sample_area`] (and so
+    /// [`Self::sample_towards`], whatever the receiver) turns into the point `p` of `object`:
+    /// for quads, the parallelogram's own chart `(s, t)`; for meshes of at most
+    /// [`COORDS_MAX_TRIANGLES`] triangles (a lamp's panel, a converted rectangle), the inverse
+    /// of the area-CDF choice and the square-root barycentric map, in the triangle nearest
+    /// `p` (a search over the triangles, which is why larger meshes answer `None`). `None`
+    /// for spheres (sampled by cone from outside).
+    pub fn sample_coords(&self, object: u32, p: Vec3A) -> Option<Vec2> {
+        let obj = self.objects.get(object as usize)?;
+        match &obj.shape {
+            WorldShape::Quad(q) => Some(q.coords(p)),
+            WorldShape::Mesh(m) if m.indices.len() <= COORDS_MAX_TRIANGLES => {
+                let (i, b0, b1) = nearest_triangle(m, p)?;
+                let lo = if i == 0 { 0.0 } else { obj.cdf[i - 1] };
+                let width = obj.cdf[i] - lo;
+                // sample_uniform_barycentrics: b0 = 1 − √x, b1 = y·√x.
+                let su = (1.0 - b0).clamp(0.0, 1.0);
+                let y = if su > 0.0 {
+                    (b1 / su).clamp(0.0, 1.0)
+                } else {
+                    0.5
+                };
+                Some(Vec2::new((lo + su * su * width).clamp(0.0, 1.0), y))
+            }
+            _ => None,
         }
     }
 
@@ -791,6 +811,37 @@ impl Geometry {
         }
         area_to_solid_angle(self.pdf_area(object), reference, point, normal).map_or(0.0, |c| c.0)
     }
+}
+
+/// Largest mesh whose points [`Geometry::sample_coords`] finds (by a search over its
+/// triangles).
+pub const COORDS_MAX_TRIANGLES: usize = 64;
+
+/// The triangle of `m` nearest `p` (in its plane, inside or nearest the edges) and the
+/// barycentrics `(b0, b1)` of `p` projected into it, clamped to the triangle.
+fn nearest_triangle(m: &super::TriangleMesh, p: Vec3A) -> Option<(usize, f32, f32)> {
+    let mut best: Option<(f32, usize, f32, f32)> = None;
+    for i in 0..m.indices.len() {
+        let [p0, p1, p2] = m.triangle(i);
+        let (e1, e2, r) = (p1 - p0, p2 - p0, p - p0);
+        let n = e1.cross(e2);
+        let nn = n.length_squared();
+        if !(nn > 0.0) || !nn.is_finite() {
+            continue;
+        }
+        let b1 = r.cross(e2).dot(n) / nn;
+        let b2 = e1.cross(r).dot(n) / nn;
+        let b0 = 1.0 - b1 - b2;
+        // Distance off the plane and outside the edges, relative to the triangle's size.
+        let outside = (-b0).max(-b1).max(-b2).max(0.0);
+        let score = r.dot(n).abs() / nn.sqrt() / (e1.length() + e2.length()) + outside;
+        if best.is_none_or(|b| score < b.0) {
+            let (b1, b2) = (b1.max(0.0), b2.max(0.0));
+            let sum = (b1 + b2).max(1.0);
+            best = Some((score, i, 1.0 - (b1 + b2) / sum, b1 / sum));
+        }
+    }
+    best.map(|(_, i, b0, b1)| (i, b0, b1))
 }
 
 /// The hit on half `half` of quad `q` (primitive `prim`) with barycentrics `b`.
@@ -899,7 +950,6 @@ fn build_object(desc: ShapeDesc) -> Result<Object, String> {
                 area: 0.0,
                 cdf: Vec::new(),
                 normals: OnceLock::new(),
-                quad_split: 0.0,
             })
         }
         Shape::Sphere { center, radius } => {
@@ -925,7 +975,6 @@ fn build_object(desc: ShapeDesc) -> Result<Object, String> {
                 shape: WorldShape::Sphere(sphere),
                 cdf: Vec::new(),
                 normals: OnceLock::new(),
-                quad_split: 0.0,
             })
         }
         Shape::Quad {
@@ -939,11 +988,8 @@ fn build_object(desc: ShapeDesc) -> Result<Object, String> {
             let quad = Quad::new(c, e0, e1).ok_or_else(|| {
                 format!("degenerate quad: edges {edge0} and {edge1} are parallel or zero")
             })?;
-            let area = quad.area();
-            let [a, b, c] = quad.triangle(0);
             Ok(Object {
-                area,
-                quad_split: triangle_area(a, b, c) / area,
+                area: quad.area(),
                 shape: WorldShape::Quad(quad),
                 cdf: Vec::new(),
                 normals: OnceLock::new(),

@@ -702,6 +702,7 @@ fn render_bdpt(
         non_finite: film.rejected.total(),
         // Non-negative f64 bit patterns order like the values.
         max_sample_y: pixel_max.values(),
+        notes: Vec::new(),
         film,
     })
 }

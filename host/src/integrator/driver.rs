@@ -62,6 +62,9 @@ pub struct IntegratorOutput {
     pub max_sample_y: Vec<f64>,
     /// The exact film the image was made from (whole passes only), for slices and checkpoints.
     pub film: crate::film::FilmState,
+    /// What the integrator decided while rendering, one line each for the render summary
+    /// (pt: the visibility guide of a light, when it is on).
+    pub notes: Vec<String>,
 }
 
 /// A light transport algorithm, configured from the render settings.

@@ -352,6 +352,7 @@ fn render_light_tracing(
         strategy_images: Vec::new(),
         non_finite: film.rejected.total(),
         max_sample_y: pixel_max.values(),
+        notes: Vec::new(),
         film,
     })
 }

@@ -4,7 +4,8 @@
 //!   its MIS weights in [`bdpt::mis`] and [`bdpt::fluorescent_mis`]) and light tracing
 //!   ([`light_tracer`]);
 //! - the blocks they build paths from: [`subpath`] (vertex, random walk, light subpath, camera
-//!   connection, beams), [`connect`] (specular chains, manifold and camera-chain connections),
+//!   connection, beams), [`nee_guide`] (the path tracer's visibility-aware light-point
+//!   sampling, learned by a pre-pass), [`connect`] (specular chains, manifold and camera-chain connections),
 //!   [`fluorescence`] (wavelength-shifting events and joins) and [`wavelengths`] (which
 //!   wavelengths a path carries and how they are weighed);
 //! - the shared frame: the render plan they read ([`plan`]: what the render does about each
@@ -23,6 +24,7 @@ pub mod driver;
 pub mod fluorescence;
 pub mod light_tracer;
 pub mod mis;
+pub mod nee_guide;
 pub mod path;
 pub mod pixel_max;
 pub mod plan;

@@ -7,6 +7,7 @@
 use super::driver::{Integrator, IntegratorInfo, IntegratorOutput, Registration};
 use super::fluorescence::events::{shift_lanes, Direction, UNIT_LOBE};
 use super::mis::power_heuristic;
+use super::nee_guide::{NeeGuide, NO_KEY};
 use super::render::ProgressFn;
 use super::render::{PathStats, PathTracer};
 use super::tiled::render_tiles;
@@ -108,10 +109,11 @@ impl Integrator for PathTracing {
             tracer: self.tracer,
             ..settings.clone()
         };
-        let (result, film) =
-            render_film_spectral(scene, plan, &settings, progress, cancel, self.spectral)?;
+        let (result, film, notes) =
+            render_guided(scene, plan, &settings, progress, cancel, self.spectral)?;
         Ok(IntegratorOutput {
             result,
+            notes,
             strategy_images: Vec::new(),
             non_finite: film.rejected.total(),
             max_sample_y: Vec::new(),
@@ -168,7 +170,7 @@ impl PathTracer {
         stats: &mut PathStats,
     ) -> SampledSpectrum {
         let mut groups = PathWavelengths::from_groups(&[*lambda]);
-        let l = self.li_groups(scene, ray, &mut groups, rng, stats);
+        let l = self.li_groups(scene, None, ray, &mut groups, rng, stats);
         *lambda = groups.groups()[0];
         l[0]
     }
@@ -180,9 +182,12 @@ impl PathTracer {
     /// non-dispersive events. A dispersive event (or a delta event that turns out to choose a
     /// different lobe for another group) keeps only the hero wavelength
     /// ([`PathWavelengths::terminate_secondary`]); the caller must use the returned pdfs.
+    /// `guide`, when given, draws next-event estimation's light points for the lights it
+    /// guides (and weighs the path's hits on them with the same density).
     pub fn li_groups(
         &self,
         scene: &Scene,
+        guide: Option<&NeeGuide>,
         ray: Ray,
         lambdas: &mut PathWavelengths,
         rng: &mut PixelSampler,
@@ -191,12 +196,12 @@ impl PathTracer {
         if lambdas.len() == 1 {
             // One group (the default, 4 wavelengths a path): the walk compiled for one, so the
             // per-group loops and arrays of every bounce shrink to the hero's (same results).
-            let [l] = self.li_groups_n::<1>(scene, ray, lambdas, rng, stats);
+            let [l] = self.li_groups_n::<1>(scene, guide, ray, lambdas, rng, stats);
             let mut out = [SampledSpectrum::zero(); MAX_GROUPS];
             out[0] = l;
             out
         } else {
-            self.li_groups_n::<MAX_GROUPS>(scene, ray, lambdas, rng, stats)
+            self.li_groups_n::<MAX_GROUPS>(scene, guide, ray, lambdas, rng, stats)
         }
     }
 
@@ -204,6 +209,7 @@ impl PathTracer {
     fn li_groups_n<const G: usize>(
         &self,
         scene: &Scene,
+        guide: Option<&NeeGuide>,
         mut ray: Ray,
         lambdas: &mut PathWavelengths,
         rng: &mut PixelSampler,
@@ -223,6 +229,8 @@ impl PathTracer {
             p_error: glam::Vec3A::ZERO,
             n: glam::Vec3A::ZERO,
         };
+        // The guide's key of the previous vertex (see `Seen::prev_key`).
+        let mut prev_key = NO_KEY;
         // Product of η² over the refractions so far: β carries refraction's 1/η² radiance
         // scaling, which leaving the medium undoes, so Russian roulette must not read it as a
         // loss (it would kill paths inside glass and return the survivors η² too bright).
@@ -246,6 +254,8 @@ impl PathTracer {
                     directly: depth == 0 || specular_bounce,
                     prev_ctx: &prev_ctx,
                     prev_bsdf_pdf,
+                    guide,
+                    prev_key,
                 };
                 add_escaped(
                     scene,
@@ -273,6 +283,8 @@ impl PathTracer {
                     directly: depth == 0 || specular_bounce,
                     prev_ctx: &prev_ctx,
                     prev_bsdf_pdf,
+                    guide,
+                    prev_key,
                 };
                 let found = Found {
                     hit: &hit,
@@ -372,6 +384,14 @@ impl PathTracer {
             let hero_f = sampled
                 .filter(|_| material.f_same_for_all_directions())
                 .map(|bs| bs.f);
+            // The guide's key here: next-event estimation draws with it, and the path's hit on
+            // a light from here is weighed with it.
+            let key = match guide {
+                Some(g) if flags.has_non_specular() => {
+                    g.key(hit.point, hit.geometric_normal, -ray.dir)
+                }
+                _ => NO_KEY,
+            };
             if flags.has_non_specular() {
                 let event = NextEvent {
                     frame: &frame,
@@ -380,6 +400,8 @@ impl PathTracer {
                     hero_f,
                     u_light,
                     u_light2,
+                    guide,
+                    key,
                 };
                 add_next_event(scene, &found, &event, &cur[..active], &beta, &mut l, stats);
             }
@@ -426,6 +448,7 @@ impl PathTracer {
             specular_bounce = bs.flags.is_specular();
             prev_bsdf_pdf = bs.pdf;
             prev_ctx = ctx;
+            prev_key = key;
             let wi_world = frame.to_world(bs.wi);
             ray = spawn_ray(hit.point, hit.point_error, hit.geometric_normal, wi_world);
             depth += 1;
@@ -462,6 +485,10 @@ struct Seen<'a> {
     directly: bool,
     prev_ctx: &'a LightSampleContext,
     prev_bsdf_pdf: f32,
+    /// The visibility guide, if any, and its key of the previous vertex: the light density
+    /// next-event estimation had there.
+    guide: Option<&'a NeeGuide>,
+    prev_key: u32,
 }
 
 impl Seen<'_> {
@@ -470,7 +497,10 @@ impl Seen<'_> {
     #[inline]
     fn weight(&self, scene: &Scene, li: usize, p: glam::Vec3A, n: glam::Vec3A) -> f32 {
         let light = &scene.lights.lights()[li];
-        let light_pdf = scene.lights.pmf(li) * light.pdf_li(self.prev_ctx, p, n);
+        let mut light_pdf = scene.lights.pmf(li) * light.pdf_li(self.prev_ctx, p, n);
+        if let Some(g) = self.guide {
+            light_pdf *= g.pdf_factor(li, self.prev_key, light.as_ref(), p);
+        }
         power_heuristic(self.prev_bsdf_pdf, light_pdf)
     }
 }
@@ -569,8 +599,9 @@ fn add_emission<const G: usize>(
 }
 
 /// One next-event estimate's inputs at a surface: its frame, the outgoing direction (local),
-/// the light sampling context, the hero's f when it is the same in every direction, and the
-/// numbers of the light choice and the light point.
+/// the light sampling context, the hero's f when it is the same in every direction, the
+/// numbers of the light choice and the light point, and the visibility guide with this
+/// point's key.
 struct NextEvent<'a> {
     frame: &'a Frame,
     wo: glam::Vec3A,
@@ -578,6 +609,8 @@ struct NextEvent<'a> {
     hero_f: Option<SampledSpectrum>,
     u_light: f32,
     u_light2: Vec2,
+    guide: Option<&'a NeeGuide>,
+    key: u32,
 }
 
 /// Next-event estimation: one light point (drawn for the hero), emission and BSDF per group
@@ -598,7 +631,13 @@ fn add_next_event<const G: usize>(
         return;
     };
     let light = &scene.lights.lights()[li];
-    let Some(ls) = light.sample_li(event.ctx, event.u_light2, hero) else {
+    // The light's numbers, from the guide's density for this point's key where it guides the
+    // light (the point's density is then pdf_li times `guided`), else as drawn.
+    let (u_light2, guided) = match event.guide {
+        Some(g) if g.guides(li) => g.sample(li, event.key, event.u_light2),
+        _ => (event.u_light2, 1.0),
+    };
+    let Some(ls) = light.sample_li(event.ctx, u_light2, hero) else {
         return;
     };
     if !(ls.pdf > 0.0) {
@@ -614,7 +653,7 @@ fn add_next_event<const G: usize>(
         } else {
             // The same light point for the group's wavelengths (light sampling is
             // wavelength-independent for every built-in).
-            match light.sample_li(event.ctx, event.u_light2, lam) {
+            match light.sample_li(event.ctx, u_light2, lam) {
                 Some(s) if s.p_light == ls.p_light => s.radiance,
                 _ => SampledSpectrum::zero(),
             }
@@ -653,7 +692,7 @@ fn add_next_event<const G: usize>(
     if scene.geometry.occluded(&shadow, t_max) {
         return;
     }
-    let light_pdf = pmf * ls.pdf;
+    let light_pdf = pmf * ls.pdf * guided;
     // No BSDF-hit term exists for a light rays cannot find.
     let w = if !light.flags().can_be_hit() {
         1.0
@@ -819,6 +858,20 @@ pub fn render_film_spectral(
     cancel: Option<&AtomicBool>,
     spectral: Option<SpectralBins>,
 ) -> Result<(RenderResult, FilmState), RenderError> {
+    render_guided(scene, plan, settings, progress, cancel, spectral).map(|(r, f, _)| (r, f))
+}
+
+/// [`render_film_spectral`], also returning the run-time notes (the visibility guide's, when
+/// it is on: see [`NeeGuide`]). The guide's pre-pass is part of the render: its time is in
+/// the result's `elapsed`.
+fn render_guided(
+    scene: &Scene,
+    plan: &RenderPlan,
+    settings: &RenderSettings,
+    progress: &ProgressFn<'_>,
+    cancel: Option<&AtomicBool>,
+    spectral: Option<SpectralBins>,
+) -> Result<(RenderResult, FilmState, Vec<String>), RenderError> {
     let cam = scene
         .cameras
         .get(settings.camera.as_deref())
@@ -836,6 +889,25 @@ pub fn render_film_spectral(
         tracer: settings.tracer.for_path_tracing(),
         ..settings.clone()
     };
+    let prepass = std::time::Instant::now();
+    let guide = NeeGuide::build(
+        scene,
+        cam.camera.as_ref(),
+        settings.seed,
+        plan.visibility_guide(),
+        settings.threads,
+    );
+    let prepass = prepass.elapsed();
+    let notes = guide.as_ref().map_or_else(Vec::new, |g| {
+        g.notes(|i| {
+            scene
+                .options
+                .light_items
+                .get(i)
+                .map_or_else(|| format!("light {i}"), |n| format!("light {i} ({n})"))
+        })
+    });
+    let guide = guide.as_ref();
     let rays = AtomicU64::new(0);
     let pinhole = cam.camera.pinhole();
     let outcome = render_tiles(
@@ -880,6 +952,7 @@ pub fn render_film_spectral(
                             Some(r) => {
                                 let l = settings.tracer.li_groups(
                                     scene,
+                                    guide,
                                     r.ray,
                                     &mut lambdas,
                                     &mut rng,
@@ -909,10 +982,11 @@ pub fn render_film_spectral(
             spp: outcome.spp,
             samples: film.camera.sample_count(),
             rays: rays.load(Ordering::Relaxed),
-            elapsed: outcome.elapsed,
+            elapsed: outcome.elapsed + prepass,
             dropped_pass: outcome.dropped_pass,
         },
         film,
+        notes,
     ))
 }
 

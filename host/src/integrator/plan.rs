@@ -16,6 +16,7 @@
 //! | `flat-path-colour`                     | bdpt and lt give a path whose every vertex is spectrally flat the exact colour of its emitter's spectrum ([`FlatColour`]; found when some light has one spectral shape everywhere) | every path's colour is estimated from its four wavelengths |
 //! | `manifold` (alias `mnee`)              | bdpt adds the specular-chain connection (`integrator::connect::manifold_connection`) for paths that only `s = 0` can make otherwise (found with specular chains) | those paths come from `s = 0` alone |
 //! | `camera-chain`                         | bdpt adds the camera-side specular-chain connection (`integrator::connect::camera_chain`): the lamp seen reflected in or refracted through smooth specular objects from a pinhole (found with specular chains; thin-lens cameras: not run) | those paths come from `s = 0` alone |
+//! | `visibility-guide` (alias `nee-guide`) | pt's next-event estimation draws points of area lights on quads and small meshes from a density learned by a short pre-pass where they are partly hidden (`integrator::nee_guide`; found with such lights, then switched on per light where the pre-pass finds at least 30% of their light occluded; forced on or `--effects all`: every such light) | uniform points by area (no pre-pass) |
 //!
 //! bdpt and lt draw the pair's wavelengths from the observer-plus-emission mixture
 //! ([`WavelengthMixture`]) unless `narrowband-emission` is forced off, except where the
@@ -75,11 +76,14 @@ pub enum Switch {
     Manifold,
     /// bdpt's camera-side specular-chain connection (a strategy, not an optical effect).
     CameraChain,
+    /// pt's visibility-guided light points (a strategy, not an optical effect: the image's
+    /// expectation is the same either way).
+    VisibilityGuide,
 }
 
 impl Switch {
     /// Every switch, in the order summaries print them.
-    pub const ALL: [Self; 7] = [
+    pub const ALL: [Self; 8] = [
         Self::Dispersion,
         Self::Fluorescence,
         Self::ThinFilm,
@@ -87,6 +91,7 @@ impl Switch {
         Self::FlatPathColour,
         Self::Manifold,
         Self::CameraChain,
+        Self::VisibilityGuide,
     ];
 
     /// Name on the command line and in summaries.
@@ -99,6 +104,7 @@ impl Switch {
             Self::FlatPathColour => "flat-path-colour",
             Self::Manifold => "manifold",
             Self::CameraChain => "camera-chain",
+            Self::VisibilityGuide => "visibility-guide",
         }
     }
 
@@ -110,7 +116,7 @@ impl Switch {
             Self::ThinFilm => &[Effect::ThinFilm],
             Self::NarrowbandEmission => &[Effect::NarrowbandEmission, Effect::LineEmission],
             // Decided from the lights themselves (see `RenderPlan::new`).
-            Self::FlatPathColour => &[],
+            Self::FlatPathColour | Self::VisibilityGuide => &[],
             Self::Manifold | Self::CameraChain => &[Effect::SpecularChains],
         }
     }
@@ -125,6 +131,7 @@ impl Switch {
             "flat-path-colour" | "flat-path-color" => Ok(Self::FlatPathColour),
             "manifold" | "mnee" | "manifold-next-event" => Ok(Self::Manifold),
             "camera-chain" => Ok(Self::CameraChain),
+            "visibility-guide" | "nee-guide" => Ok(Self::VisibilityGuide),
             _ => {
                 let fixed = Effect::ALL.iter().find(|e| e.name() == n);
                 let names: Vec<&str> = Self::ALL.iter().map(|s| s.name()).collect();
@@ -241,7 +248,7 @@ impl Decision {
 pub struct RenderPlan {
     effects: EffectSet,
     request: EffectsRequest,
-    decisions: [Decision; 7],
+    decisions: [Decision; 8],
     light_paths: Vec<String>,
     mixture: Arc<WavelengthMixture>,
     /// The observer × √emission table of `mixture`'s emission, built on first use and then
@@ -266,6 +273,11 @@ impl RenderPlan {
                 Switch::FlatPathColour => scene.lights.lights().iter().any(|l| {
                     l.uniform_spectral_shape() && !l.flags().contains(LightFlags::BEAMS_ONLY)
                 }),
+                Switch::VisibilityGuide => scene
+                    .lights
+                    .lights()
+                    .iter()
+                    .any(|l| super::nee_guide::NeeGuide::can_guide(l.as_ref())),
                 _ => s.effects().iter().any(|e| effects.contains(*e)),
             };
             match (request.mode, found) {
@@ -437,6 +449,17 @@ impl RenderPlan {
         self.decision(Switch::CameraChain).on
     }
 
+    /// pt's visibility guide (`integrator::nee_guide`): `None` when its pre-pass decides per
+    /// light (found, auto), `Some(true)` to guide every light it can (forced on or
+    /// `--effects all`), `Some(false)` for none (forced off, or no light it can guide).
+    pub fn visibility_guide(&self) -> Option<bool> {
+        let d = self.decision(Switch::VisibilityGuide);
+        match (d.on, d.reason) {
+            (true, Reason::Found) => None,
+            (on, _) => Some(on),
+        }
+    }
+
     /// The flat-path colour tables for `scene` under `observer`, for lanes drawn with the
     /// wavelength density `density` (1/nm), when the switch is on and some light qualifies (see
     /// [`FlatColour::new`]).
@@ -585,6 +608,12 @@ impl RenderPlan {
                      to a sampled light point (MIS with s = 0); thin-lens cameras: s = 0 alone"
                 }
                 (Switch::CameraChain, false) => "those paths come from s = 0 alone",
+                (Switch::VisibilityGuide, true) => {
+                    "pt: points of area lights on quads and small meshes drawn from a density learned by a short \
+                     pre-pass (where the light is visible from each region), for every light \
+                     whose pre-pass light is at least 30% occluded (forced on: every such light)"
+                }
+                (Switch::VisibilityGuide, false) => "light points uniform by area",
             };
             out.push_str(&format!("  {}: {} — {what}\n", s.name(), d.text()));
         }

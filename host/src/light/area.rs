@@ -105,6 +105,13 @@ impl Light for AreaLight {
         )
     }
 
+    // Quads (through their chart) and meshes (area CDF, then barycentrics) map u to the same
+    // point from every receiver (`Geometry::sample_area`); `Geometry::sample_coords` inverts
+    // the map for quads and small meshes.
+    fn sample_coords(&self, p_light: Vec3A) -> Option<Vec2> {
+        self.geometry.sample_coords(self.object, p_light)
+    }
+
     fn radiance(
         &self,
         _p: Vec3A,

@@ -113,6 +113,18 @@ pub trait Light: Send + Sync + Debug {
         false
     }
 
+    /// The numbers `u ∈ [0, 1]²` that [`sample_li`](Self::sample_li) turns into the light
+    /// point `p_light`, for a light whose map from `u` to its points is one-to-one and the same
+    /// from every receiver, with [`pdf_li`](Self::pdf_li) the density of `u` drawn uniformly:
+    /// then a caller may draw `u` with any density `q(u)` on [0, 1]² and the point's density
+    /// is `pdf_li · q(u)` (what the path tracer's visibility guide does,
+    /// `integrator::nee_guide`). `None` (the default) for every other light; an area light on
+    /// a quad (its chart `(s, t)`) or on a mesh of at most
+    /// [`COORDS_MAX_TRIANGLES`](crate::geometry::COORDS_MAX_TRIANGLES) triangles answers.
+    fn sample_coords(&self, _p_light: Vec3A) -> Option<Vec2> {
+        None
+    }
+
     /// Radiance leaving the light's surface at `p` (normal `n`, texture coordinate `uv`) in
     /// direction `w` (away from the light). Zero except for area lights.
     fn radiance(

@@ -75,7 +75,8 @@ pub struct RenderArgs {
     #[arg(long, value_enum, default_value = "auto")]
     pub effects: crate::integrator::EffectsMode,
     /// Force one effect on or off, NAME=on|off (repeatable): dispersion, fluorescence,
-    /// thin-film, narrowband-emission (alias line-emission), flat-path-colour.
+    /// thin-film, narrowband-emission (alias line-emission), flat-path-colour, manifold,
+    /// camera-chain, visibility-guide (pt's learned light points; see docs/effects.md).
     #[arg(long = "effect", value_name = "NAME=on|off")]
     pub effect: Vec<String>,
     /// Debug (bdpt): write each (s, t) strategy's weighted contribution as its own EXR here.
