@@ -9,7 +9,7 @@ use super::fluorescence::events::{shift_lanes, Direction, UNIT_LOBE};
 use super::mis::power_heuristic;
 use super::nee_guide::{NeeGuide, NO_KEY};
 use super::render::ProgressFn;
-use super::render::{PathStats, PathTracer};
+use super::render::{PathStats, PathTracer, SampleBudget};
 use super::tiled::render_tiles;
 use super::wavelengths::groups::{PathWavelengthSampler, PathWavelengths, MAX_GROUPS};
 use super::{PixelSampler, RenderError, RenderResult, RenderSettings};
@@ -898,6 +898,14 @@ fn render_guided(
         settings.threads,
     );
     let prepass = prepass.elapsed();
+    // The pre-pass is part of the render: a time budget counts it.
+    let settings = &RenderSettings {
+        budget: match &settings.budget {
+            SampleBudget::Time(d) => SampleBudget::Time(d.saturating_sub(prepass)),
+            other => *other,
+        },
+        ..settings.clone()
+    };
     let notes = guide.as_ref().map_or_else(Vec::new, |g| {
         g.notes(|i| {
             scene
