@@ -825,9 +825,9 @@ fn report(
          (efficiency 1/a), b = floor, never below the reference's own variance (\"held\" there \
          where the free fit put it lower, as when error falls faster than 1/t, and only a \
          fitted); \"biased\" = b minus the reference's own variance above \
-         Student's t (95%, the fit's degrees of freedom) standard errors and a tenth of a/t \
-         at the longest budget. Ratio = a of the best unbiased anchor configuration / a of the \
-         row (> 1: more efficient than the best anchor).\n",
+         2 standard errors and a tenth of a/t at the longest budget. Ratio = a of the best \
+         unbiased anchor configuration / a of the row (> 1: more efficient than the best \
+         anchor).\n",
         budgets,
         args.seeds(),
         args.threads
