@@ -36,7 +36,9 @@
 //! pbrt does), `L̄` the direction-averaged radiance integrated over wavelength.
 
 use super::LightSampleContext;
-use super::{sample_uniform_sphere, Light, LightFlags, LightLeSample, LightLiSample};
+use super::{
+    sample_uniform_sphere, uniform_sphere_coords, Light, LightFlags, LightLeSample, LightLiSample,
+};
 use crate::geometry::{Aabb, Ray};
 use crate::material::{sample_concentric_disk, sample_cosine_hemisphere, Frame};
 use crate::spectrum::dense::DenseSpectrum;
@@ -69,6 +71,15 @@ pub trait EnvironmentRadiance: Send + Sync + Debug {
     /// returns the unit direction `dir`.
     fn direction_pdf(&self, _p: Vec3A, _dir: Vec3A) -> f32 {
         1.0 / (4.0 * PI)
+    }
+
+    /// The numbers `u` with which [`sample_direction`](Self::sample_direction) from `p`
+    /// returns the unit direction `dir`, for a source whose map from `u` to directions is
+    /// one-to-one (what lets the path tracer's visibility guide draw `u` with a density of
+    /// its own, see [`Light::sample_coords`]). `None` (the default: a source that overrides
+    /// `sample_direction` must override this too to answer).
+    fn direction_coords(&self, _p: Vec3A, _dir: Vec3A) -> Option<Vec2> {
+        None
     }
 
     /// True when light subpaths should also draw their direction from
@@ -113,6 +124,11 @@ impl EnvironmentRadiance for ConstantEnvironment {
 
     fn mean_radiance(&self) -> f64 {
         self.scale as f64
+    }
+
+    // The default `sample_direction`: uniform over the sphere.
+    fn direction_coords(&self, _p: Vec3A, dir: Vec3A) -> Option<Vec2> {
+        Some(uniform_sphere_coords(dir))
     }
 }
 
@@ -205,6 +221,15 @@ impl Light for EnvironmentLight {
             return 0.0;
         }
         self.source.direction_pdf(ctx.p, d)
+    }
+
+    // The direction from the receiver to the point on the sphere, back to the source's numbers.
+    fn sample_coords(&self, receiver: Vec3A, p_light: Vec3A) -> Option<Vec2> {
+        let d = (p_light - receiver).normalize_or_zero();
+        if d == Vec3A::ZERO {
+            return None;
+        }
+        self.source.direction_coords(receiver, d)
     }
 
     fn radiance(
