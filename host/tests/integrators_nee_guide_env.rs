@@ -17,10 +17,9 @@ use spectrace::integrator::{
     EffectsMode, EffectsRequest, IntegratorKind, PathTracer, RenderPlan, RenderSettings,
     SampleBudget, Switch,
 };
-use spectrace::light::{Light, LightSampleContext};
+use spectrace::light::LightSampleContext;
 use spectrace::scene::{build_scene, parse_scene_str, BuiltinFactory, Scene};
 use spectrace::spectrum::SampledWavelengths;
-use std::path::Path;
 
 mod common_sun_sky;
 
