@@ -12,7 +12,11 @@
 //! sphere like any area light (no vertex at infinity). Next-event estimation draws the incident
 //! direction from the [`EnvironmentRadiance`] (uniform over the sphere of directions unless the
 //! source importance-samples) and reports that solid-angle density, which the BSDF-hit side of
-//! MIS asks again through [`Light::pdf_li`]. Light subpaths (light tracing, BDPT, the
+//! MIS asks again through [`Light::pdf_li`]. A source whose map from sample numbers to directions
+//! is one-to-one gives the numbers of a direction back ([`EnvironmentRadiance::direction_coords`]:
+//! the constant sky, image maps and the CIE skies do), so the path tracer's visibility guide
+//! (`integrator::nee_guide`) can draw them from a density learned per region, as for a sky
+//! seen through a window. Light subpaths (light tracing, BDPT, the
 //! illuminance sensors) of a source that asks for it
 //! ([`EnvironmentRadiance::samples_emission`]: image maps and the CIE skies do, so bright
 //! skies and suns start as many paths as they deserve) draw their direction from the same
