@@ -228,7 +228,7 @@ fn check_densities(scene: &Scene, guide: &NeeGuide, (w, h): (f32, f32)) {
             let Some(ls) = light.sample_li(&ctx, u, &lambda) else {
                 continue;
             };
-            let back = guide.pdf_factor(0, key, light, ls.p_light);
+            let back = guide.pdf_factor(0, key, light, ctx.p, ls.p_light);
             let near_edge = [u.x, u.y].iter().any(|c| {
                 let x = c * CELLS as f32;
                 (x - x.round()).abs() < 1e-3 * CELLS as f32

@@ -10,8 +10,9 @@
 //! turned to the side it is lit from), in proportion to the unoccluded contribution measured
 //! there before rendering, mixed with the uniform density so no cell is ever starved.
 //!
-//! Unbiasedness: a light that offers [`Light::sample_coords`] maps `u` to its points the same
-//! way from every receiver, with [`Light::pdf_li`] the density of uniform `u`. Drawing `u` with
+//! Unbiasedness: a light that offers [`Light::sample_coords`] maps `u` to its points
+//! one-to-one from every receiver (an area light's chart, an environment's directions), with
+//! [`Light::pdf_li`] the density of uniform `u`. Drawing `u` with
 //! density `q(u)` (`q ≥ UNIFORM_SHARE > 0` everywhere) gives the point the density
 //! `pdf_li · q(u)`, which next-event estimation divides by and which the MIS weight of a
 //! BSDF-sampled ray that hits the light evaluates at the hit's `u` and the previous vertex's
@@ -39,10 +40,14 @@
 //! | [`UNIFORM_SHARE`]       | 0.2   | share of the uniform density in every learned one (defensive mixture: a cell's density is at least 0.2, so the estimate is at most 5× that of uniform sampling where the guide is wrong) |
 //! | [`OCCLUSION_THRESHOLD`] | 0.3   | occluded share of the pre-pass contribution from which a light is guided |
 //!
+//! Environments (the constant sky, image maps, the CIE skies) are guided through their
+//! directions: a cell of `u` is a patch of sky, the same patch from every receiver, so a
+//! window's view of the sky is learned per region like a sky panel's.
+//!
 //! Limits: lights without sample coordinates (spheres, meshes of more than
-//! [`COORDS_MAX_TRIANGLES`](crate::geometry::COORDS_MAX_TRIANGLES) triangles, environment and
-//! point-like lights) are sampled as before; the density ignores the BSDF (it is learned for the
-//! receiver's cosine), so a glossy receiver gains only from visibility; a voxel is coarse
+//! [`COORDS_MAX_TRIANGLES`](crate::geometry::COORDS_MAX_TRIANGLES) triangles, plugin
+//! environments, point-like lights) are sampled as before; the density ignores the BSDF (it
+//! is learned for the receiver's cosine), so a glossy receiver gains only from visibility; a voxel is coarse
 //! where visibility changes fast (close to an opening), where the uniform share keeps the
 //! estimate sound.
 
@@ -414,14 +419,17 @@ impl NeeGuide {
         .filter(|g| g.lights.iter().any(Option::is_some))
     }
 
-    /// True when the guide can draw `light`'s points: an area light that offers sample
-    /// coordinates ([`Light::sample_coords`]; asked at its centre, where every light with a
-    /// chart has one).
+    /// True when the guide can draw `light`'s points: an area or environment light that
+    /// offers sample coordinates ([`Light::sample_coords`]; asked for the point where one of
+    /// its emitted rays starts, seen from a receiver along that ray, where every light with a
+    /// chart or a direction map has one).
     pub fn can_guide(light: &dyn Light) -> bool {
-        light.flags().contains(crate::light::LightFlags::AREA)
+        use crate::light::LightFlags;
+        let flags = light.flags();
+        (flags.contains(LightFlags::AREA) || flags.contains(LightFlags::ENVIRONMENT))
             && light
                 .sample_le(Vec2::splat(0.5), Vec2::splat(0.5), &probe_wavelengths())
-                .and_then(|s| light.sample_coords(s.ray.origin))
+                .and_then(|s| light.sample_coords(s.ray.origin + s.ray.dir, s.ray.origin))
                 .is_some()
     }
 
@@ -479,12 +487,22 @@ impl NeeGuide {
         }
     }
 
-    /// The density factor of the point `p_light` of light `light` from a receiver of key
-    /// `key`: the same as [`sample`](Self::sample) gives for the numbers that make it.
+    /// The density factor of the point `p_light` of light `light` from the receiver at
+    /// `receiver` of key `key`: the same as [`sample`](Self::sample) gives for the numbers
+    /// that make it.
     #[inline]
-    pub fn pdf_factor(&self, light: usize, key: u32, l: &dyn Light, p_light: Vec3A) -> f32 {
+    pub fn pdf_factor(
+        &self,
+        light: usize,
+        key: u32,
+        l: &dyn Light,
+        receiver: Vec3A,
+        p_light: Vec3A,
+    ) -> f32 {
         match self.table(light, key) {
-            Some(t) => l.sample_coords(p_light).map_or(1.0, |u| t.factor_at(u)),
+            Some(t) => l
+                .sample_coords(receiver, p_light)
+                .map_or(1.0, |u| t.factor_at(u)),
             None => 1.0,
         }
     }

@@ -499,7 +499,7 @@ impl Seen<'_> {
         let light = &scene.lights.lights()[li];
         let mut light_pdf = scene.lights.pmf(li) * light.pdf_li(self.prev_ctx, p, n);
         if let Some(g) = self.guide {
-            light_pdf *= g.pdf_factor(li, self.prev_key, light.as_ref(), p);
+            light_pdf *= g.pdf_factor(li, self.prev_key, light.as_ref(), self.prev_ctx.p, p);
         }
         power_heuristic(self.prev_bsdf_pdf, light_pdf)
     }

@@ -16,7 +16,7 @@
 //! | `flat-path-colour`                     | bdpt and lt give a path whose every vertex is spectrally flat the exact colour of its emitter's spectrum ([`FlatColour`]; found when some light has one spectral shape everywhere) | every path's colour is estimated from its four wavelengths |
 //! | `manifold` (alias `mnee`)              | bdpt adds the specular-chain connection (`integrator::connect::manifold_connection`) for paths that only `s = 0` can make otherwise (found with specular chains) | those paths come from `s = 0` alone |
 //! | `camera-chain`                         | bdpt adds the camera-side specular-chain connection (`integrator::connect::camera_chain`): the lamp seen reflected in or refracted through smooth specular objects from a pinhole (found with specular chains; thin-lens cameras: not run) | those paths come from `s = 0` alone |
-//! | `visibility-guide` (alias `nee-guide`) | pt's next-event estimation draws points of area lights on quads and small meshes from a density learned by a short pre-pass where they are partly hidden (`integrator::nee_guide`; found with such lights, then switched on per light where the pre-pass finds at least 30% of their light occluded; forced on or `--effects all`: every such light) | uniform points by area (no pre-pass) |
+//! | `visibility-guide` (alias `nee-guide`) | pt's next-event estimation draws points of area lights on quads and small meshes, and the directions of the constant, image-map and CIE environments, from a density learned by a short pre-pass where they are partly hidden (`integrator::nee_guide`; found with such lights, then switched on per light where the pre-pass finds at least 30% of their light occluded; forced on or `--effects all`: every such light) | uniform points by area (no pre-pass) |
 //!
 //! bdpt and lt draw the pair's wavelengths from the observer-plus-emission mixture
 //! ([`WavelengthMixture`]) unless `narrowband-emission` is forced off, except where the
@@ -609,11 +609,13 @@ impl RenderPlan {
                 }
                 (Switch::CameraChain, false) => "those paths come from s = 0 alone",
                 (Switch::VisibilityGuide, true) => {
-                    "pt: points of area lights on quads and small meshes drawn from a density learned by a short \
-                     pre-pass (where the light is visible from each region), for every light \
+                    "pt: points of area lights on quads and small meshes, and the environment's \
+                     directions, drawn from a density learned by a short pre-pass (where the light is visible from each region), for every light \
                      whose pre-pass light is at least 30% occluded (forced on: every such light)"
                 }
-                (Switch::VisibilityGuide, false) => "light points uniform by area",
+                (Switch::VisibilityGuide, false) => {
+                    "light points uniform by area, environment directions by its own sampling"
+                }
             };
             out.push_str(&format!("  {}: {} — {what}\n", s.name(), d.text()));
         }

@@ -108,7 +108,7 @@ impl Light for AreaLight {
     // Quads (through their chart) and meshes (area CDF, then barycentrics) map u to the same
     // point from every receiver (`Geometry::sample_area`); `Geometry::sample_coords` inverts
     // the map for quads and small meshes.
-    fn sample_coords(&self, p_light: Vec3A) -> Option<Vec2> {
+    fn sample_coords(&self, _receiver: Vec3A, p_light: Vec3A) -> Option<Vec2> {
         self.geometry.sample_coords(self.object, p_light)
     }
 

@@ -12,7 +12,11 @@
 //! sphere like any area light (no vertex at infinity). Next-event estimation draws the incident
 //! direction from the [`EnvironmentRadiance`] (uniform over the sphere of directions unless the
 //! source importance-samples) and reports that solid-angle density, which the BSDF-hit side of
-//! MIS asks again through [`Light::pdf_li`]. Light subpaths (light tracing, BDPT, the
+//! MIS asks again through [`Light::pdf_li`]. A source whose map from sample numbers to directions
+//! is one-to-one gives the numbers of a direction back ([`EnvironmentRadiance::direction_coords`]:
+//! the constant sky, image maps and the CIE skies do), so the path tracer's visibility guide
+//! (`integrator::nee_guide`) can draw them from a density learned per region, as for a sky
+//! seen through a window. Light subpaths (light tracing, BDPT, the
 //! illuminance sensors) of a source that asks for it
 //! ([`EnvironmentRadiance::samples_emission`]: image maps and the CIE skies do, so bright
 //! skies and suns start as many paths as they deserve) draw their direction from the same
@@ -36,7 +40,9 @@
 //! pbrt does), `L̄` the direction-averaged radiance integrated over wavelength.
 
 use super::LightSampleContext;
-use super::{sample_uniform_sphere, Light, LightFlags, LightLeSample, LightLiSample};
+use super::{
+    sample_uniform_sphere, uniform_sphere_coords, Light, LightFlags, LightLeSample, LightLiSample,
+};
 use crate::geometry::{Aabb, Ray};
 use crate::material::{sample_concentric_disk, sample_cosine_hemisphere, Frame};
 use crate::spectrum::dense::DenseSpectrum;
@@ -69,6 +75,15 @@ pub trait EnvironmentRadiance: Send + Sync + Debug {
     /// returns the unit direction `dir`.
     fn direction_pdf(&self, _p: Vec3A, _dir: Vec3A) -> f32 {
         1.0 / (4.0 * PI)
+    }
+
+    /// The numbers `u` with which [`sample_direction`](Self::sample_direction) from `p`
+    /// returns the unit direction `dir`, for a source whose map from `u` to directions is
+    /// one-to-one (what lets the path tracer's visibility guide draw `u` with a density of
+    /// its own, see [`Light::sample_coords`]). `None` (the default: a source that overrides
+    /// `sample_direction` must override this too to answer).
+    fn direction_coords(&self, _p: Vec3A, _dir: Vec3A) -> Option<Vec2> {
+        None
     }
 
     /// True when light subpaths should also draw their direction from
@@ -113,6 +128,11 @@ impl EnvironmentRadiance for ConstantEnvironment {
 
     fn mean_radiance(&self) -> f64 {
         self.scale as f64
+    }
+
+    // The default `sample_direction`: uniform over the sphere.
+    fn direction_coords(&self, _p: Vec3A, dir: Vec3A) -> Option<Vec2> {
+        Some(uniform_sphere_coords(dir))
     }
 }
 
@@ -205,6 +225,15 @@ impl Light for EnvironmentLight {
             return 0.0;
         }
         self.source.direction_pdf(ctx.p, d)
+    }
+
+    // The direction from the receiver to the point on the sphere, back to the source's numbers.
+    fn sample_coords(&self, receiver: Vec3A, p_light: Vec3A) -> Option<Vec2> {
+        let d = (p_light - receiver).normalize_or_zero();
+        if d == Vec3A::ZERO {
+            return None;
+        }
+        self.source.direction_coords(receiver, d)
     }
 
     fn radiance(

@@ -472,6 +472,39 @@ impl EnvironmentRadiance for EnvironmentMap {
         true
     }
 
+    // The inverse of `sample_direction`: the cell and the offset in it (uniform in `φ` along
+    // the row, in `cos θ` across it), then the distribution's inverse.
+    fn direction_coords(&self, _p: Vec3A, dir: Vec3A) -> Option<Vec2> {
+        let d = (self.to_local * dir).normalize_or_zero();
+        if d == Vec3A::ZERO {
+            return None;
+        }
+        let (u_img, _) = local_uv(d);
+        let w = self.width as f64;
+        // `sample_direction` puts column i's offset o at u = (i + o + ½)/W (wrapped).
+        let mut gx = (u_img * w - 0.5).rem_euclid(w);
+        if gx >= w {
+            gx = 0.0;
+        }
+        let i = (gx as usize).min(self.width - 1);
+        let c = (d.y as f64).clamp(-1.0, 1.0);
+        // The cell row whose cos θ range holds c (rows fall from 1 to −1).
+        let mut j = ((c.acos() / PI * (self.height - 1) as f64) as usize).min(self.height - 2);
+        while j > 0 && c > self.cos_rows[j] {
+            j -= 1;
+        }
+        while j + 2 < self.height && c < self.cos_rows[j + 1] {
+            j += 1;
+        }
+        let span = self.cos_rows[j + 1] - self.cos_rows[j];
+        let ov = if span != 0.0 {
+            (c - self.cos_rows[j]) / span
+        } else {
+            0.5
+        };
+        self.dist.invert((i, j), (gx - i as f64, ov))
+    }
+
     fn direction_pdf(&self, _p: Vec3A, dir: Vec3A) -> f32 {
         let d = (self.to_local * dir).normalize_or_zero();
         if d == Vec3A::ZERO {

@@ -113,15 +113,18 @@ pub trait Light: Send + Sync + Debug {
         false
     }
 
-    /// The numbers `u ∈ [0, 1]²` that [`sample_li`](Self::sample_li) turns into the light
-    /// point `p_light`, for a light whose map from `u` to its points is one-to-one and the same
-    /// from every receiver, with [`pdf_li`](Self::pdf_li) the density of `u` drawn uniformly:
-    /// then a caller may draw `u` with any density `q(u)` on [0, 1]² and the point's density
-    /// is `pdf_li · q(u)` (what the path tracer's visibility guide does,
-    /// `integrator::nee_guide`). `None` (the default) for every other light; an area light on
-    /// a quad (its chart `(s, t)`) or on a mesh of at most
-    /// [`COORDS_MAX_TRIANGLES`](crate::geometry::COORDS_MAX_TRIANGLES) triangles answers.
-    fn sample_coords(&self, _p_light: Vec3A) -> Option<Vec2> {
+    /// The numbers `u ∈ [0, 1]²` that [`sample_li`](Self::sample_li) from a receiver at
+    /// `receiver` turns into the light point `p_light`, for a light whose map from `u` to its
+    /// points is one-to-one from every receiver and the same kind of map from all (the same
+    /// chart of the light's surface, or the same directions), with [`pdf_li`](Self::pdf_li)
+    /// the density of `u` drawn uniformly: then a caller may draw `u` with any density `q(u)`
+    /// on [0, 1]² and the point's density is `pdf_li · q(u)` (what the path tracer's
+    /// visibility guide does, `integrator::nee_guide`). `None` (the default) for every other
+    /// light. Answering: an area light on a quad (its chart `(s, t)`, whatever the receiver)
+    /// or on a mesh of at most [`COORDS_MAX_TRIANGLES`](crate::geometry::COORDS_MAX_TRIANGLES)
+    /// triangles; an environment whose source draws directions by a fixed map (the constant
+    /// sky, image maps), from the direction `p_light − receiver`.
+    fn sample_coords(&self, _receiver: Vec3A, _p_light: Vec3A) -> Option<Vec2> {
         None
     }
 
@@ -199,6 +202,20 @@ pub fn sample_uniform_sphere(u: Vec2) -> Vec3A {
     let r = (1.0 - z * z).max(0.0).sqrt();
     let phi = 2.0 * std::f32::consts::PI * u.y;
     Vec3A::new(r * phi.cos(), r * phi.sin(), z)
+}
+
+/// The numbers `u` with which [`sample_uniform_sphere`] gives the unit direction `d`
+/// (`z = 1 − 2u.x`, `φ = 2π u.y`), in [0, 1)².
+pub fn uniform_sphere_coords(d: Vec3A) -> Vec2 {
+    let x = ((1.0 - d.z) * 0.5).clamp(0.0, 1.0 - f32::EPSILON / 2.0);
+    let mut y = d.y.atan2(d.x) / (2.0 * std::f32::consts::PI);
+    if y < 0.0 {
+        y += 1.0;
+    }
+    if y >= 1.0 {
+        y = 0.0;
+    }
+    Vec2::new(x, y)
 }
 
 /// Incident radiance at `ctx` from a point emitter at `position` whose intensity (W/(sr·nm) per

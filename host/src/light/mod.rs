@@ -39,5 +39,6 @@ pub use textured_area::TexturedAreaLight;
 
 pub(crate) use interface::{incident_from_point, incident_from_point_into};
 pub use interface::{
-    sample_uniform_sphere, Light, LightLeSample, LightLiSample, LightSampleContext,
+    sample_uniform_sphere, uniform_sphere_coords, Light, LightLeSample, LightLiSample,
+    LightSampleContext,
 };

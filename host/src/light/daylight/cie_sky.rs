@@ -175,6 +175,13 @@ impl EnvironmentRadiance for CieSky {
         self.sampler.pdf(mu, a) as f32
     }
 
+    fn direction_coords(&self, _p: Vec3A, dir: Vec3A) -> Option<Vec2> {
+        let (mu, a, _) = self.local(dir);
+        let (u0, u1) = self.sampler.coords(mu, a)?;
+        let below_one = |v: f64| (v as f32).min(1.0 - f32::EPSILON / 2.0);
+        Some(Vec2::new(below_one(u0), below_one(u1)))
+    }
+
     fn samples_emission(&self) -> bool {
         true
     }

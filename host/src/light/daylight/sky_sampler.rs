@@ -88,6 +88,26 @@ impl HemisphereSampler {
         (mu, a, self.pdf_cell(i, j))
     }
 
+    /// The numbers `(u0, u1)` with which [`sample`](Self::sample) draws (μ, α): the row's
+    /// cumulative probability plus the offset in the band times its probability, likewise for
+    /// the sector in the row. `None` below the horizon (μ ≤ 0, never drawn).
+    pub fn coords(&self, mu: f64, a: f64) -> Option<(f64, f64)> {
+        if !(mu > 0.0 && mu <= 1.0) {
+            return None;
+        }
+        let gi = mu * self.nu as f64;
+        let i = (gi as usize).min(self.nu - 1);
+        let ga = a.rem_euclid(2.0 * PI) / (2.0 * PI) * self.na as f64;
+        let j = (ga as usize).min(self.na - 1);
+        let along =
+            |cdf: &[f64], k: usize, t: f64| cdf[k] + t.clamp(0.0, 1.0) * (cdf[k + 1] - cdf[k]);
+        let col = &self.col_cdf[i * (self.na + 1)..(i + 1) * (self.na + 1)];
+        Some((
+            along(&self.row_cdf, i, gi - i as f64),
+            along(col, j, ga - j as f64),
+        ))
+    }
+
     fn pdf_cell(&self, i: usize, j: usize) -> f64 {
         self.prob[i * self.na + j] * (self.nu * self.na) as f64 / (2.0 * PI)
     }
