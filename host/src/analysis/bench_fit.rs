@@ -116,27 +116,12 @@ pub fn fit_inverse_time(points: &[(f64, f64)], floor_min: f64) -> Option<Fit> {
     let (a0, b0, _) = fit_with(&|i| 1.0 / (points[i].1 * points[i].1))?;
     let pred = |i: usize| (a0 / points[i].0 + b0).max(0.1 * points[i].1);
     let (a, b, [inv_a, inv_b, _]) = fit_with(&|i| 1.0 / (pred(i) * pred(i)))?;
-    let n = points.len();
-    let dof = n.saturating_sub(2);
-    // Residual variance of the weighted fit (unit weight variance); with no degrees of freedom
-    // the standard errors are unknown.
-    let s2 = if dof > 0 {
-        points
-            .iter()
-            .enumerate()
-            .map(|(i, &(t, y))| {
-                let r = y - (a / t + b);
-                r * r / (pred(i) * pred(i))
-            })
-            .sum::<f64>()
-            / dof as f64
-    } else {
-        f64::NAN
-    };
     let t_max = points.iter().map(|p| p.0).fold(0.0, f64::max);
     if b < floor_min {
         return Some(fit_with_floor(points, floor_min, t_max));
     }
+    let n = points.len();
+    let s2 = residual_variance(points, (a, b), &pred, n.saturating_sub(2));
     Some(Fit {
         a,
         se_a: (s2 * inv_a).sqrt(),
@@ -166,19 +151,7 @@ fn fit_with_floor(points: &[(f64, f64)], floor: f64, t_max: f64) -> Fit {
     let pred = |i: usize| (a0 / points[i].0 + floor).max(0.1 * points[i].1);
     let (a, inv_a) = fit_a(&|i| 1.0 / (pred(i) * pred(i)));
     let n = points.len();
-    let s2 = if n > 1 {
-        points
-            .iter()
-            .enumerate()
-            .map(|(i, &(t, y))| {
-                let r = y - (a / t + floor);
-                r * r / (pred(i) * pred(i))
-            })
-            .sum::<f64>()
-            / (n - 1) as f64
-    } else {
-        f64::NAN
-    };
+    let s2 = residual_variance(points, (a, floor), &pred, n.saturating_sub(1));
     Fit {
         a,
         se_a: (s2 * inv_a).sqrt(),
@@ -188,6 +161,29 @@ fn fit_with_floor(points: &[(f64, f64)], floor: f64, t_max: f64) -> Fit {
         t_max,
         floor_held: true,
     }
+}
+
+/// Residual variance of a weighted fit `a/t + b` (unit weight variance: squared residuals over
+/// `pred(i)²`, summed over `dof` degrees of freedom); NaN without degrees of freedom, where the
+/// standard errors are unknown.
+fn residual_variance(
+    points: &[(f64, f64)],
+    (a, b): (f64, f64),
+    pred: &dyn Fn(usize) -> f64,
+    dof: usize,
+) -> f64 {
+    if dof == 0 {
+        return f64::NAN;
+    }
+    points
+        .iter()
+        .enumerate()
+        .map(|(i, &(t, y))| {
+            let r = y - (a / t + b);
+            r * r / (pred(i) * pred(i))
+        })
+        .sum::<f64>()
+        / dof as f64
 }
 
 /// The reference's own noise per value (variance of the full reference, both halves averaged):
