@@ -9,19 +9,16 @@
 use glam::Vec2;
 use ron::Value;
 use spectrace::camera::CameraSample;
-use spectrace::film::XyzImage;
 use spectrace::integrator::nee_guide::{NeeGuide, CELLS, NO_KEY, UNIFORM_SHARE};
-use spectrace::integrator::select::render_planned;
-use spectrace::integrator::{
-    EffectsMode, EffectsRequest, IntegratorKind, PathTracer, RenderPlan, RenderSettings,
-    SampleBudget, Switch,
-};
 use spectrace::light::LightSampleContext;
 use spectrace::scene::{
     build_scene, cornell_box_description, parse_scene_str, BuiltinFactory, Scene,
 };
 use spectrace::spectrum::SampledWavelengths;
 use std::path::Path;
+
+mod common_nee_guide;
+use common_nee_guide::{assert_guided_mean_equals_uniform, per_pixel_variance, render};
 
 /// The window room at 40 × 30 pixels.
 fn window_room() -> Scene {
@@ -31,59 +28,6 @@ fn window_room() -> Scene {
     let text = text.replace("resolution: (160, 120)", "resolution: (40, 30)");
     let desc = parse_scene_str(&text, &path).unwrap();
     build_scene(&desc, path.parent().unwrap(), &path, &[&BuiltinFactory]).unwrap()
-}
-
-/// Render `scene` by path tracing with the guide forced on or off.
-fn render(
-    scene: &Scene,
-    guide: bool,
-    spp: u32,
-    seed: u64,
-    max_depth: u32,
-    threads: Option<usize>,
-) -> XyzImage {
-    let plan = RenderPlan::new(
-        scene,
-        &EffectsRequest {
-            mode: EffectsMode::Auto,
-            forced: vec![(Switch::VisibilityGuide, guide)],
-        },
-    );
-    let settings = RenderSettings {
-        sampler: Default::default(),
-        budget: SampleBudget::Spp(spp),
-        seed,
-        threads,
-        camera: None,
-        tile_size: 16,
-        tracer: PathTracer {
-            max_depth,
-            ..PathTracer::default()
-        },
-    };
-    let out = render_planned(
-        scene,
-        &plan,
-        &settings,
-        IntegratorKind::Pt,
-        false,
-        &|_, _| {},
-        None,
-    )
-    .unwrap();
-    assert_eq!(out.notes.len(), usize::from(guide), "{:?}", out.notes);
-    out.result.image
-}
-
-fn mean_y(img: &XyzImage) -> f64 {
-    img.xyz.iter().map(|p| p[1]).sum::<f64>() / img.xyz.len() as f64
-}
-
-fn mean_sd(v: &[f64]) -> (f64, f64) {
-    let n = v.len() as f64;
-    let m = v.iter().sum::<f64>() / n;
-    let var = v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (n - 1.0);
-    (m, var.sqrt())
 }
 
 /// Quantity: the image mean of Y over 16 seeds × 64 spp, guided and uniform (independent
@@ -102,25 +46,7 @@ fn guided_mean_equals_uniform_mean() {
         ("window room", &room, 1),
         ("Cornell box", &cornell, 64),
     ] {
-        let (mut on, mut off) = (Vec::new(), Vec::new());
-        for s in 0..16u64 {
-            on.push(mean_y(&render(scene, true, 64, 1000 + s, depth, None)));
-            off.push(mean_y(&render(scene, false, 64, 2000 + s, depth, None)));
-        }
-        let (m1, s1) = mean_sd(&on);
-        let (m0, s0) = mean_sd(&off);
-        let se = ((s1 * s1 + s0 * s0) / 16.0).sqrt();
-        eprintln!(
-            "{name}, depth {depth}: guided {m1:.6e} ± {:.1e}, uniform {m0:.6e} ± {:.1e}: {:.2} se",
-            s1 / 4.0,
-            s0 / 4.0,
-            (m1 - m0) / se
-        );
-        assert!(
-            (m1 - m0).abs() < 4.0 * se,
-            "{name}, depth {depth}: guided {m1:.6e} vs uniform {m0:.6e}, {:.2} standard errors",
-            (m1 - m0) / se
-        );
+        assert_guided_mean_equals_uniform(name, scene, 64, depth);
     }
 }
 
@@ -132,21 +58,7 @@ fn guided_mean_equals_uniform_mean() {
 #[test]
 fn guide_lowers_the_variance_of_direct_light() {
     let scene = window_room();
-    let var = |guide: bool| {
-        let imgs: Vec<XyzImage> = (0..8)
-            .map(|s| render(&scene, guide, 16, 300 + s, 1, None))
-            .collect();
-        let n = imgs[0].xyz.len();
-        (0..n)
-            .map(|i| {
-                mean_sd(&imgs.iter().map(|im| im.xyz[i][1]).collect::<Vec<_>>())
-                    .1
-                    .powi(2)
-            })
-            .sum::<f64>()
-            / n as f64
-    };
-    let ratio = var(false) / var(true);
+    let ratio = per_pixel_variance(&scene, false, 1).0 / per_pixel_variance(&scene, true, 1).0;
     eprintln!("direct light, per-pixel variance uniform/guided: {ratio:.3}");
     assert!(ratio > 1.5, "variance ratio uniform/guided {ratio:.3}");
 }

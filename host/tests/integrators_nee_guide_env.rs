@@ -9,19 +9,15 @@
 
 use glam::{Vec2, Vec3A};
 use spectrace::camera::CameraSample;
-use spectrace::film::XyzImage;
 use spectrace::geometry::spawn_ray;
 use spectrace::integrator::nee_guide::{NeeGuide, CELLS, NO_KEY};
-use spectrace::integrator::select::render_planned;
-use spectrace::integrator::{
-    EffectsMode, EffectsRequest, IntegratorKind, PathTracer, RenderPlan, RenderSettings,
-    SampleBudget, Switch,
-};
 use spectrace::light::LightSampleContext;
 use spectrace::scene::{build_scene, parse_scene_str, BuiltinFactory, Scene};
 use spectrace::spectrum::SampledWavelengths;
 
+mod common_nee_guide;
 mod common_sun_sky;
+use common_nee_guide::{assert_guided_mean_equals_uniform, per_pixel_variance};
 
 /// The window room (`scenes/bench/window_room.ron`: a closed 4 × 2.5 × 4 m room whose only
 /// opening is a 1.2 × 1.0 m window in its +x wall) at 40 × 30 pixels, lit by `light` (a scene
@@ -83,53 +79,6 @@ fn room(light: &str, tag: &str) -> Scene {
 /// The index of the scene's environment light.
 fn env_index(scene: &Scene) -> usize {
     scene.lights.environment().expect("an environment light") as usize
-}
-
-/// Render `scene` by path tracing with the guide forced on or off.
-fn render(scene: &Scene, guide: bool, spp: u32, seed: u64, max_depth: u32) -> XyzImage {
-    let plan = RenderPlan::new(
-        scene,
-        &EffectsRequest {
-            mode: EffectsMode::Auto,
-            forced: vec![(Switch::VisibilityGuide, guide)],
-        },
-    );
-    let settings = RenderSettings {
-        sampler: Default::default(),
-        budget: SampleBudget::Spp(spp),
-        seed,
-        threads: None,
-        camera: None,
-        tile_size: 16,
-        tracer: PathTracer {
-            max_depth,
-            ..PathTracer::default()
-        },
-    };
-    let out = render_planned(
-        scene,
-        &plan,
-        &settings,
-        IntegratorKind::Pt,
-        false,
-        &|_, _| {},
-        None,
-    )
-    .unwrap();
-    assert_eq!(out.notes.len(), usize::from(guide), "{:?}", out.notes);
-    assert_eq!(out.result.image.non_finite_count(), 0);
-    out.result.image
-}
-
-fn mean_y(img: &XyzImage) -> f64 {
-    img.xyz.iter().map(|p| p[1]).sum::<f64>() / img.xyz.len() as f64
-}
-
-fn mean_sd(v: &[f64]) -> (f64, f64) {
-    let n = v.len() as f64;
-    let m = v.iter().sum::<f64>() / n;
-    let var = v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (n - 1.0);
-    (m, var.sqrt())
 }
 
 /// Distance between two numbers of [0, 1) taken around the circle (an environment's numbers
@@ -287,25 +236,7 @@ fn mis_weight_of_escaped_paths_uses_the_sampled_density() {
 fn guided_mean_equals_uniform_mean() {
     for (name, light, depth) in [("constant", CONSTANT, 16), ("map", MAP, 1)] {
         let scene = room(light, &format!("mean-{name}"));
-        let (mut on, mut off) = (Vec::new(), Vec::new());
-        for s in 0..16u64 {
-            on.push(mean_y(&render(&scene, true, 32, 1000 + s, depth)));
-            off.push(mean_y(&render(&scene, false, 32, 2000 + s, depth)));
-        }
-        let (m1, s1) = mean_sd(&on);
-        let (m0, s0) = mean_sd(&off);
-        let se = ((s1 * s1 + s0 * s0) / 16.0).sqrt();
-        eprintln!(
-            "{name}, depth {depth}: guided {m1:.6e} ± {:.1e}, uniform {m0:.6e} ± {:.1e}: {:.2} se",
-            s1 / 4.0,
-            s0 / 4.0,
-            (m1 - m0) / se
-        );
-        assert!(
-            (m1 - m0).abs() < 4.0 * se,
-            "{name}, depth {depth}: guided {m1:.6e} vs uniform {m0:.6e}, {:.2} se",
-            (m1 - m0) / se
-        );
+        assert_guided_mean_equals_uniform(name, &scene, 32, depth);
     }
 }
 
@@ -320,25 +251,8 @@ fn guided_mean_equals_uniform_mean() {
 fn guide_lowers_the_variance_of_sky_light() {
     let scene = room(CONSTANT, "var");
     for depth in [1, 16] {
-        let run = |guide: bool| {
-            let t = std::time::Instant::now();
-            let imgs: Vec<XyzImage> = (0..8)
-                .map(|s| render(&scene, guide, 16, 300 + s, depth))
-                .collect();
-            let secs = t.elapsed().as_secs_f64();
-            let n = imgs[0].xyz.len();
-            let var = (0..n)
-                .map(|i| {
-                    mean_sd(&imgs.iter().map(|im| im.xyz[i][1]).collect::<Vec<_>>())
-                        .1
-                        .powi(2)
-                })
-                .sum::<f64>()
-                / n as f64;
-            (var, secs)
-        };
-        let (v0, t0) = run(false);
-        let (v1, t1) = run(true);
+        let (v0, t0) = per_pixel_variance(&scene, false, depth);
+        let (v1, t1) = per_pixel_variance(&scene, true, depth);
         eprintln!(
             "constant sky, depth {depth}: per-pixel variance uniform/guided {:.3}, time guided/uniform {:.3}, efficiency gain {:.2}",
             v0 / v1,
