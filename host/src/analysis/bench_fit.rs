@@ -12,9 +12,9 @@
 //! than 1/t over the budgets, as with quasi-Monte Carlo samplers, which the free fit books as a
 //! larger `a`), the fit is the constrained least-squares one, `b` held at `v_ref` and only `a`
 //! fitted ([`Fit::floor_held`]). `a` (MSE·seconds) is the renderer's
-//! inverse efficiency; a floor is *significant* when `b − v_ref` exceeds both twice its
-//! standard error and a tenth of the noise term at the longest budget ([`Fit::biased`]): such a
-//! renderer converges to a different image and is listed as biased instead of being ranked.
+//! inverse efficiency; a floor is *significant* when `b − v_ref` exceeds both Student's t
+//! (0.975, the fit's degrees of freedom) times its standard error and a tenth of the noise
+//! term at the longest budget ([`Fit::biased`]): such a renderer converges to a different image and is listed as biased instead of being ranked.
 //!
 //! **Regions.** [`Regions::new`] splits the pixels of the scene's default camera, from the
 //! scene's geometry and the reference image alone (never from a render being judged):
@@ -35,6 +35,11 @@
 //! variance bounded by its MSE, the reference's own variance added once). |z| ≤
 //! [`MEAN_Z_LIMIT`] is "within 4 standard errors" (the target); pixels count as
 //! independent (each pixel's channels once, not three times, since they are correlated).
+//!
+//! **Verdict.** A configuration is biased when its floor is significant ([`Fit::biased`]) or
+//! its mean is off ([`MeanCheck::within`]): with one seed and three budgets the floor's
+//! standard error has one degree of freedom and misses offsets the means show at once, such as
+//! an RGB renderer's projection of a spectral scene.
 
 use crate::analysis::RgbImage;
 use crate::camera::CameraSample;
@@ -74,12 +79,49 @@ impl Fit {
         1.0 / self.a
     }
     /// True when the floor left after the reference's own noise `ref_var` is significant: more
-    /// than twice its standard error and more than a tenth of the noise term at the longest
-    /// budget (a floor too small to matter over the measured times is not called a bias).
+    /// than [`student_t_975`] of the fit's degrees of freedom times its standard error (the
+    /// standard error comes from the residuals, so with few points it is itself uncertain: one
+    /// degree of freedom needs 12.7 of them, many about 2) and more than a tenth of the noise
+    /// term at the longest budget (a floor too small to matter over the measured times is not
+    /// called a bias).
     pub fn biased(&self, ref_var: f64) -> bool {
         let excess = self.b - ref_var;
-        self.n > 2 && excess > 2.0 * self.se_b && excess > 0.1 * self.a / self.t_max
+        self.n > 2
+            && excess > student_t_975(self.n - 2) * self.se_b
+            && excess > 0.1 * self.a / self.t_max
     }
+}
+
+/// Student's t quantile at 0.975 (two-sided 95%) for `dof` degrees of freedom, from the
+/// standard table (e.g. NIST/SEMATECH e-Handbook of Statistical Methods, table 1.3.6.7.2);
+/// between listed values the next smaller degrees of freedom's (larger, conservative) value.
+pub fn student_t_975(dof: usize) -> f64 {
+    const TABLE: [(usize, f64); 16] = [
+        (1, 12.706),
+        (2, 4.303),
+        (3, 3.182),
+        (4, 2.776),
+        (5, 2.571),
+        (6, 2.447),
+        (7, 2.365),
+        (8, 2.306),
+        (9, 2.262),
+        (10, 2.228),
+        (12, 2.179),
+        (15, 2.131),
+        (20, 2.086),
+        (30, 2.042),
+        (60, 2.000),
+        (120, 1.980),
+    ];
+    if dof == 0 {
+        return f64::INFINITY;
+    }
+    TABLE
+        .iter()
+        .rev()
+        .find(|&&(d, _)| d <= dof)
+        .map_or(f64::INFINITY, |&(_, t)| t)
 }
 
 /// Weighted least-squares fit of `MSE = a/t + b` to `(t, mse)` points (weights 1/mse²) with
@@ -234,13 +276,16 @@ impl MeanCheck {
     }
 }
 
-/// Pooled mean of a set of renders against the reference in `region` (`None`: every counted
-/// pixel), with `ref_var` the reference's own variance per value (see the module docs). `None`
-/// when the region is empty or no render has a usable variance.
+/// Pooled mean of a set of renders against the reference times `reference_scale` in `region`
+/// (`None`: every counted pixel), with `ref_var` the reference's own variance per value (see
+/// the module docs). The scale is 1 except for renders in the reference renderer's own colour
+/// convention (Mitsuba 3's, whose reference the bench divided by Mitsuba's colour factor).
+/// `None` when the region is empty or no render has a usable variance.
 pub fn mean_check(
     splits: &[&RegionSplit],
     region: Option<usize>,
     ref_var: f64,
+    reference_scale: f64,
 ) -> Option<MeanCheck> {
     let pick = |v: &[f64; 3]| match region {
         Some(r) => v[r],
@@ -269,8 +314,11 @@ pub fn mean_check(
     if wsum == 0.0 {
         return None;
     }
-    let d = wd / wsum;
-    let se = (1.0 / wsum + ref_var / pixels).sqrt();
+    // Against the reference times `reference_scale`: the difference moves by the scale's
+    // share of the reference's mean, and so does its own noise.
+    let d = wd / wsum - (reference_scale - 1.0) * reference;
+    let se = (1.0 / wsum + reference_scale * reference_scale * ref_var / pixels).sqrt();
+    let reference = reference_scale * reference;
     Some(MeanCheck {
         relative: if reference != 0.0 {
             d / reference
@@ -546,6 +594,30 @@ mod tests {
         assert!(!g.floor_held && g == free, "{g:?}");
     }
 
+    // The bias test's factor is Student's t at 0.975: 12.706 for one degree of freedom (three
+    // budgets, one seed), 2.365 for seven (three seeds), 1.98 for 120 and more (table values,
+    // exact); between listed values the smaller degrees of freedom's. A floor of 5 standard
+    // errors is significant with seven degrees of freedom, not with one.
+    #[test]
+    fn floor_significance_follows_the_degrees_of_freedom() {
+        assert_eq!(student_t_975(1), 12.706);
+        assert_eq!(student_t_975(7), 2.365);
+        assert_eq!(student_t_975(11), 2.228);
+        assert_eq!(student_t_975(1000), 1.980);
+        assert!(student_t_975(0).is_infinite());
+        let fit = |n: usize| Fit {
+            a: 1.0,
+            se_a: 0.1,
+            b: 0.5,
+            se_b: 0.1,
+            n,
+            t_max: 1.0,
+            floor_held: false,
+        };
+        assert!(!fit(3).biased(0.0));
+        assert!(fit(9).biased(0.0));
+    }
+
     // Degenerate input is refused: one distinct time, a zero or non-finite MSE.
     #[test]
     fn fit_refuses_degenerate_points() {
@@ -625,16 +697,23 @@ mod tests {
         };
         let fair = [render(0.0), render(0.0)];
         let off = [render(0.01), render(0.01)];
-        let m = mean_check(&[&fair[0], &fair[1]], None, 0.0).unwrap();
+        let m = mean_check(&[&fair[0], &fair[1]], None, 0.0, 1.0).unwrap();
         assert!(m.within() && m.z.abs() < 3.0, "{m:?}");
-        let m = mean_check(&[&off[0], &off[1]], Some(2), 0.0).unwrap();
+        let m = mean_check(&[&off[0], &off[1]], Some(2), 0.0, 1.0).unwrap();
         assert!(!m.within() && m.z > 10.0, "{m:?}");
         assert!((m.relative - 0.01).abs() < 0.002, "{m:?}");
         // A noisy reference widens the standard error: the same offset against a reference
         // with σ = 1 per value (its mean ±0.01) is no longer significant.
-        let m = mean_check(&[&off[0], &off[1]], Some(2), 1.0).unwrap();
+        let m = mean_check(&[&off[0], &off[1]], Some(2), 1.0, 1.0).unwrap();
         assert!(m.within(), "{m:?}");
-        assert_eq!(mean_check(&[&off[0]], Some(0), 0.0), None);
+        assert_eq!(mean_check(&[&off[0]], Some(0), 0.0, 1.0), None);
+        // Renders in the reference renderer's own colour convention: the 1% offset against a
+        // reference scaled by 1.01 is no offset (|z| as for the fair renders), and the fair
+        // renders are then 1% below it.
+        let m = mean_check(&[&off[0], &off[1]], Some(2), 0.0, 1.01).unwrap();
+        assert!(m.within() && m.z.abs() < 3.0, "{m:?}");
+        let m = mean_check(&[&fair[0], &fair[1]], None, 0.0, 1.01).unwrap();
+        assert!(!m.within() && (m.relative + 0.0099).abs() < 0.002, "{m:?}");
     }
 
     // Two halves differing by ±d per value: MSE between them 4d², so the full reference's
