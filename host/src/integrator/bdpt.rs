@@ -46,6 +46,7 @@
 
 pub mod dimensions;
 pub mod fluorescent_mis;
+pub mod light_fraction;
 pub mod mis;
 
 use super::connect::camera_chain::{CameraChain, ChainScratch};
@@ -80,7 +81,8 @@ use crate::scene::Scene;
 use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths, LANES};
 use fluorescent_mis::mis_weight_lanes;
 use glam::Vec2;
-use mis::mis_weight;
+use light_fraction::{AltWeights, Choice, LightSubpaths, PartCost, PilotSample, CANDIDATES};
+use mis::{mis_weight, SampleCounts};
 use spectrace_plugin_api::ParamDoc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
@@ -233,9 +235,10 @@ pub fn connect<S: UniformSource>(
     t: usize,
     lambda: &SampledWavelengths,
     mode: Option<&LightMode>,
-    light_paths: u32,
+    counts: SampleCounts,
     rng: &mut S,
     stats: &mut PathStats,
+    alt: Option<&mut AltWeights>,
 ) -> Option<Connection> {
     // Two instances, so that scenes without fluorescence run no test of the mode (measured:
     // one instance for both cost the Cornell box +0.4% of bdpt's instructions).
@@ -248,9 +251,10 @@ pub fn connect<S: UniformSource>(
             (s, t),
             lambda,
             mode,
-            light_paths,
+            counts,
             rng,
             stats,
+            alt,
         )
     } else {
         connect_in::<false, S>(
@@ -261,9 +265,10 @@ pub fn connect<S: UniformSource>(
             (s, t),
             lambda,
             None,
-            light_paths,
+            counts,
             rng,
             stats,
+            alt,
         )
     }
 }
@@ -278,9 +283,10 @@ fn connect_in<const FLUORESCENT: bool, S: UniformSource>(
     (s, t): (usize, usize),
     lambda: &SampledWavelengths,
     mode: Option<&LightMode>,
-    light_paths: u32,
+    counts: SampleCounts,
     rng: &mut S,
     stats: &mut PathStats,
+    alt: Option<&mut AltWeights>,
 ) -> Option<Connection> {
     let mode = if FLUORESCENT { mode } else { None };
     let own = mode.is_some_and(|m| m.own);
@@ -339,24 +345,38 @@ fn connect_in<const FLUORESCENT: bool, S: UniformSource>(
             (0..LANES)
                 .filter(|&k| l[k] != 0.0)
                 .fold(LaneMask::NONE, |acc, k| acc.with(k)),
-            light_paths,
+            counts,
         )
     } else {
-        SampledSpectrum::splat(mis_weight(
-            scene,
-            camera,
-            light_path,
-            camera_path,
-            sampled.as_ref(),
-            s,
-            t,
-            lambda,
-            light_paths,
-        ))
+        let weight = |counts| {
+            mis_weight(
+                scene,
+                camera,
+                light_path,
+                camera_path,
+                sampled.as_ref(),
+                s,
+                t,
+                lambda,
+                counts,
+            )
+        };
+        if let Some(alt) = alt {
+            // The pilot's weights under each candidate fraction (`light_fraction`).
+            for (a, &q) in alt.iter_mut().zip(CANDIDATES.iter()) {
+                *a = weight(SampleCounts {
+                    fraction: q,
+                    ..counts
+                });
+            }
+        }
+        SampledSpectrum::splat(weight(counts))
     };
-    if t == 1 && light_paths > 1 {
-        // One of `light_paths` samples of the light-tracing strategy.
-        l *= 1.0 / light_paths as f32;
+    let n = counts.count(s, t);
+    if n != 1.0 {
+        // One of `n` expected samples of this strategy per camera sample: `light_paths` for
+        // light tracing, times the fraction of camera samples that trace light subpaths.
+        l *= 1.0 / n;
     }
     let mut lanes = camera_path[t - 1].lanes;
     if s > 0 && s <= light_path.len() {
@@ -520,6 +540,26 @@ struct Worker {
     chain_scratch: ChainScratch,
     /// Solutions of the specular-chain connection.
     manifold_set: SolutionSet,
+    /// Light subpaths per camera sample and the fraction of camera samples tracing them.
+    counts: SampleCounts,
+    /// The light-fraction pilot's recorder (pilot renders only).
+    pilot: Option<PilotSample>,
+}
+
+impl Worker {
+    fn new(counts: SampleCounts, pilot: Option<PilotSample>) -> Self {
+        Self {
+            camera_path: Vec::with_capacity(16),
+            light_path: Vec::with_capacity(16),
+            stats: PathStats::default(),
+            camera_flat: Vec::with_capacity(16),
+            light_flat: Vec::with_capacity(16),
+            chain_scratch: ChainScratch::default(),
+            manifold_set: SolutionSet::default(),
+            counts,
+            pilot,
+        }
+    }
 }
 
 /// Film XYZ of connection `c` of strategy (s, t): the exact colour of its emitter when the
@@ -627,6 +667,80 @@ fn render_bdpt(
     let strategies = bdpt
         .strategy_images
         .then(|| StrategyFilms::new(width, height));
+    // The fraction of camera samples that trace light subpaths (`light_fraction`).
+    let beams_only = scene
+        .lights
+        .lights()
+        .iter()
+        .any(|l| l.flags().contains(LightFlags::BEAMS_ONLY));
+    let fluorescent = scene.objects.fluorescence();
+    let mut notes = Vec::new();
+    let pilot_start = std::time::Instant::now();
+    let q = match plan.light_subpaths() {
+        LightSubpaths::Fraction(q) if q >= 1.0 => 1.0,
+        _ if beams_only || fluorescent => {
+            notes.push(format!(
+                "bdpt light subpaths: q = 1 (every camera sample traces them: {})",
+                if beams_only {
+                    "the scene has beams-only lights, whose subpaths are light tracing alone"
+                } else {
+                    "fractions below 1 are not covered for fluorescence"
+                }
+            ));
+            1.0
+        }
+        LightSubpaths::Fraction(q) => q,
+        LightSubpaths::Auto => {
+            // The pilot: q = 1, its own seed, fixed chunks reduced in order.
+            let pool = super::tiled::thread_pool(settings.threads)?;
+            let seed = light_fraction::pilot_seed(settings.seed);
+            let splats = SplatFilm::new(width, height);
+            let pilot_max = PixelMaxY::new(width, height);
+            let sums = light_fraction::run_pilot(&pool, width, height, |pixels| {
+                let mut worker = Worker::new(
+                    light_fraction::counts(bdpt.light_paths, 1.0),
+                    Some(PilotSample::new(width, height)),
+                );
+                for &(x, y) in pixels {
+                    let pixel = y as u64 * width as u64 + x as u64;
+                    for si in 0..light_fraction::PILOT_SPP {
+                        let mut ld = PixelSampler::with_kind(settings.sampler, seed, pixel, si);
+                        bdpt.sample(
+                            scene,
+                            cam,
+                            &sensor,
+                            (mixture, &pair),
+                            (x, y),
+                            &mut ld,
+                            (&splats, None),
+                            &pilot_max,
+                            None,
+                            flat.as_ref(),
+                            (manifold, camera_chain.as_ref(), reflection_shapes),
+                            &mut worker,
+                        );
+                    }
+                    if let Some(p) = worker.pilot.as_mut() {
+                        p.finish_pixel();
+                    }
+                }
+                worker.pilot.map(|p| p.sums().clone()).unwrap_or_default()
+            });
+            let choice = Choice::from_sums(&sums);
+            notes.push(choice.note(pilot_start.elapsed().as_secs_f64()));
+            choice.q
+        }
+    };
+    let counts = light_fraction::counts(bdpt.light_paths, q);
+    // The pilot is part of the render: a time budget counts it.
+    let pilot_time = pilot_start.elapsed();
+    let settings = &RenderSettings {
+        budget: match &settings.budget {
+            super::SampleBudget::Time(d) => super::SampleBudget::Time(d.saturating_sub(pilot_time)),
+            other => *other,
+        },
+        ..settings.clone()
+    };
     let rays = AtomicU64::new(0);
     let pixel_max = PixelMaxY::new(width, height);
     let outcome = render_tiles(
@@ -637,15 +751,7 @@ fn render_bdpt(
         true,
         bdpt.spectral,
         |buf, samples, splats, spectral| {
-            let mut worker = Worker {
-                camera_path: Vec::with_capacity(16),
-                light_path: Vec::with_capacity(16),
-                stats: PathStats::default(),
-                camera_flat: Vec::with_capacity(16),
-                light_flat: Vec::with_capacity(16),
-                chain_scratch: ChainScratch::default(),
-                manifold_set: SolutionSet::default(),
-            };
+            let mut worker = Worker::new(counts, None);
             for y in buf.y0..buf.y0 + buf.h {
                 for x in buf.x0..buf.x0 + buf.w {
                     let pixel = y as u64 * width as u64 + x as u64;
@@ -702,7 +808,7 @@ fn render_bdpt(
         non_finite: film.rejected.total(),
         // Non-negative f64 bit patterns order like the values.
         max_sample_y: pixel_max.values(),
-        notes: Vec::new(),
+        notes,
         film,
     })
 }
@@ -773,7 +879,16 @@ impl Bdpt {
         let max_depth = self.max_depth as usize;
         let mut camera_path = std::mem::take(&mut worker.camera_path);
         let mut light_path = std::mem::take(&mut worker.light_path);
-        let u_start = Self::light_start(ld, 0);
+        let counts = worker.counts;
+        // Whether this camera sample traces its light subpaths (probability `q`, from a
+        // stratified dimension of its own: a pixel's samples trace ~q of them). With q = 1
+        // no number is drawn, so the image is the one every sample tracing them gives.
+        let trace_light = counts.fraction >= 1.0 || {
+            block(ld, dimensions::LIGHT_FRACTION);
+            ld.next_1d() < counts.fraction
+        };
+        let u_start = trace_light.then(|| Self::light_start(ld, 0));
+        let before = worker.stats;
         block(ld, dimensions::CAMERA_WALK);
         generate_camera_subpath(
             scene,
@@ -787,16 +902,29 @@ impl Bdpt {
             &mut camera_path,
             &mut worker.stats,
         );
-        let (start, mode) = self.light_subpath(
-            scene,
-            mixture,
-            &lambda,
-            u_start,
-            0,
-            ld,
-            &mut light_path,
-            &mut worker.stats,
-        );
+        let after_camera = worker.stats;
+        let (start, mode) = match u_start {
+            Some(u_start) => self.light_subpath(
+                scene,
+                mixture,
+                &lambda,
+                u_start,
+                0,
+                ld,
+                &mut light_path,
+                &mut worker.stats,
+            ),
+            None => {
+                light_path.clear();
+                (LightStart::None, None)
+            }
+        };
+        // The pilot's cost counts of the light part (the rest is the camera part).
+        let mut light_cost = PartCost {
+            rays: worker.stats.rays - after_camera.rays,
+            ..PartCost::default()
+        };
+        let mut camera_connections = 0u64;
         // A beams-only light's subpath, one of `light_paths` of this camera sample: light
         // tracing alone, each splat weighted 1/light_paths.
         let trace_beams = |index: usize, pmf: f32, j: u32, ld: &mut PixelSampler, stats: &mut _| {
@@ -854,7 +982,9 @@ impl Bdpt {
                 } else if s == 1 {
                     block(ld, dimensions::s1(t));
                 }
-                let Some(mut c) = connect(
+                let shadow_before = worker.stats.shadow_rays;
+                let mut alt = [0.0f32; CANDIDATES.len()];
+                let connected = connect(
                     scene,
                     camera,
                     mixture,
@@ -864,12 +994,24 @@ impl Bdpt {
                     t,
                     &lambda,
                     mode.as_ref(),
-                    self.light_paths,
+                    counts,
                     ld,
                     &mut worker.stats,
-                ) else {
+                    worker.pilot.is_some().then_some(&mut alt),
+                );
+                if SampleCounts::uses_light_subpath(s, t) {
+                    light_cost.shadow_rays += worker.stats.shadow_rays - shadow_before;
+                    light_cost.connections += connected.is_some() as u64;
+                } else {
+                    camera_connections += connected.is_some() as u64;
+                }
+                let Some(mut c) = connected else {
                     continue;
                 };
+                // The pilot's weight ratios, candidate over current (before the chain shares
+                // below, which no fraction changes).
+                let w = c.weight[0];
+                let ratios = alt.map(|a| if w > 0.0 { (a / w) as f64 } else { 0.0 });
                 if manifold && s == 0 {
                     // A path the specular-chain connection can make too: its share.
                     let mut seeds = Seeds {
@@ -935,6 +1077,19 @@ impl Bdpt {
                         kind,
                     });
                     continue;
+                }
+                if let Some(p) = worker.pilot.as_mut() {
+                    // Left out where the camera sees an emitter (as the bench leaves those
+                    // pixels out): s = 0 makes them without noise, while the power heuristic
+                    // gives light tracing a share there whose variance would decide q.
+                    let seen = match c.raster {
+                        Some(_) => light_path.get(s - 1),
+                        None => camera_path.get(1),
+                    };
+                    if !seen.is_some_and(|v| v.light_index(scene).is_some()) {
+                        let at = c.raster.unwrap_or(pixel_center);
+                        p.book(at, SampleCounts::uses_light_subpath(s, t), xyz[1], &ratios);
+                    }
                 }
                 match c.raster {
                     Some(r) => {
@@ -1006,6 +1161,9 @@ impl Bdpt {
                             kind,
                         });
                     } else {
+                        if let Some(p) = worker.pilot.as_mut() {
+                            p.book(pixel_center, false, xyz[1], &[1.0; CANDIDATES.len()]);
+                        }
                         for k in 0..3 {
                             total[k] += xyz[k];
                         }
@@ -1063,6 +1221,9 @@ impl Bdpt {
                         });
                         return;
                     }
+                    if let Some(p) = worker.pilot.as_mut() {
+                        p.book(m.raster, false, xyz[1], &[1.0; CANDIDATES.len()]);
+                    }
                     Self::record_splat(
                         splats,
                         strategies,
@@ -1082,9 +1243,10 @@ impl Bdpt {
                 },
             );
         }
-        for j in 1..self.light_paths {
+        for j in 1..self.light_paths * trace_light as u32 {
             // The further light subpaths of this camera sample: light tracing only (t = 1).
             let u_start = Self::light_start(ld, j);
+            let rays_before = worker.stats.rays;
             let (start, mode) = self.light_subpath(
                 scene,
                 mixture,
@@ -1098,12 +1260,15 @@ impl Bdpt {
             if let LightStart::Beams { index, pmf } = start {
                 trace_beams(index, pmf, j, ld, &mut worker.stats);
             }
+            light_cost.rays += worker.stats.rays - rays_before;
             if let Some(fc) = flat {
                 fc.prefix(&light_path, &mut worker.light_flat);
             }
             for s in 1..=light_path.len().min(max_depth + 1) {
                 block(ld, dimensions::t1(j, s));
-                let Some(c) = connect(
+                let shadow_before = worker.stats.shadow_rays;
+                let mut alt = [0.0f32; CANDIDATES.len()];
+                let connected = connect(
                     scene,
                     camera,
                     mixture,
@@ -1113,10 +1278,14 @@ impl Bdpt {
                     1,
                     &lambda,
                     mode.as_ref(),
-                    self.light_paths,
+                    counts,
                     ld,
                     &mut worker.stats,
-                ) else {
+                    worker.pilot.is_some().then_some(&mut alt),
+                );
+                light_cost.shadow_rays += worker.stats.shadow_rays - shadow_before;
+                light_cost.connections += connected.is_some() as u64;
+                let Some(c) = connected else {
                     continue;
                 };
                 let Some(r) = c.raster else { continue };
@@ -1146,11 +1315,27 @@ impl Bdpt {
                     });
                     continue;
                 }
+                if let Some(p) = worker.pilot.as_mut() {
+                    let cw = c.weight[0];
+                    let ratios = alt.map(|a| if cw > 0.0 { (a / cw) as f64 } else { 0.0 });
+                    // Left out where the camera sees an emitter, as above.
+                    if light_path[s - 1].light_index(scene).is_none() {
+                        p.book(r, true, xyz[1], &ratios);
+                    }
+                }
                 Self::record_splat(splats, strategies, pixel_max, r, xyz, Some((s, 1)));
                 if let Some(sf) = spectral {
                     sf.splat(r.x, r.y, &xyz, &w.energies(&(c.l * c.weight), c.lanes));
                 }
             }
+        }
+        if let Some(p) = worker.pilot.as_mut() {
+            let camera_cost = PartCost {
+                rays: worker.stats.rays - before.rays - light_cost.rays,
+                shadow_rays: worker.stats.shadow_rays - before.shadow_rays - light_cost.shadow_rays,
+                connections: camera_connections,
+            };
+            p.finish_sample(pixel_center, camera_cost, light_cost);
         }
         worker.camera_path = camera_path;
         worker.light_path = light_path;
