@@ -627,6 +627,121 @@ impl StrategyFilms {
     }
 }
 
+/// Why `scene` keeps every camera sample tracing light subpaths (`q = 1`), if it does.
+fn fraction_stays_one(scene: &Scene) -> Option<&'static str> {
+    if scene
+        .lights
+        .lights()
+        .iter()
+        .any(|l| l.flags().contains(LightFlags::BEAMS_ONLY))
+    {
+        Some("the scene has beams-only lights, whose subpaths are light tracing alone")
+    } else if scene.objects.fluorescence() {
+        Some("fractions below 1 are not covered for fluorescence")
+    } else {
+        None
+    }
+}
+
+/// What every camera sample of a render reads besides the scene (built once per render).
+struct Setup<'p> {
+    sensor: Sensor,
+    pair: PairWavelengths<'p>,
+    flat: Option<FlatColour>,
+    manifold: bool,
+    camera_chain: Option<CameraChain>,
+    shapes: SpecularShapes,
+}
+
+impl<'p> Setup<'p> {
+    fn new(
+        scene: &Scene,
+        plan: &'p RenderPlan,
+        settings: &RenderSettings,
+        camera: &dyn Camera,
+    ) -> Self {
+        let sensor = Sensor::new(scene.observer.clone());
+        let pair = PairWavelengths::new(plan, scene, settings.tracer.wavelengths);
+        // Not in a fluorescent scene: its per-lane MIS weights vary with the wavelength (the end
+        // densities of the two modes differ), which the flat path's exact colour cannot carry.
+        let flat = plan
+            .flat_colour(scene, sensor.observer().as_ref(), &|l| pair.pdf(l))
+            .filter(|_| !scene.objects.fluorescence());
+        // Not with fluorescence: the strategy does not follow wavelength shifts.
+        let manifold = plan.manifold() && !scene.objects.fluorescence();
+        // The camera-side chains: pinhole cameras only (`CameraChain::new`), no fluorescence.
+        let camera_chain = (plan.camera_chain() && !scene.objects.fluorescence())
+            .then(|| CameraChain::new(scene, camera))
+            .flatten();
+        // The specular objects whose reflections seed the specular-chain connection too.
+        let shapes = SpecularShapes::new(scene);
+        Self {
+            sensor,
+            pair,
+            flat,
+            manifold,
+            camera_chain,
+            shapes,
+        }
+    }
+
+    /// The specular objects whose reflections seed the specular-chain connection too.
+    fn reflection_shapes(&self) -> Option<&SpecularShapes> {
+        (self.manifold && !self.shapes.is_empty()).then_some(&self.shapes)
+    }
+}
+
+/// The light-fraction pilot (`light_fraction`): [`light_fraction::PILOT_SPP`] camera samples
+/// of each pilot pixel at `q = 1` under the pilot's own seed, fixed chunks reduced in order.
+fn pilot_sums(
+    bdpt: &Bdpt,
+    scene: &Scene,
+    plan: &RenderPlan,
+    settings: &RenderSettings,
+    cam: &crate::camera::manager::NamedCamera,
+    setup: &Setup<'_>,
+) -> Result<light_fraction::PilotSums, RenderError> {
+    let (width, height) = cam.camera.resolution();
+    let pool = super::tiled::thread_pool(settings.threads)?;
+    let seed = light_fraction::pilot_seed(settings.seed);
+    let splats = SplatFilm::new(width, height);
+    let pilot_max = PixelMaxY::new(width, height);
+    Ok(light_fraction::run_pilot(&pool, width, height, |pixels| {
+        let mut worker = Worker::new(
+            light_fraction::counts(bdpt.light_paths, 1.0),
+            Some(PilotSample::new(width, height)),
+        );
+        for &(x, y) in pixels {
+            let pixel = y as u64 * width as u64 + x as u64;
+            for si in 0..light_fraction::PILOT_SPP {
+                let mut ld = PixelSampler::with_kind(settings.sampler, seed, pixel, si);
+                bdpt.sample(
+                    scene,
+                    cam,
+                    &setup.sensor,
+                    (plan.mixture(), &setup.pair),
+                    (x, y),
+                    &mut ld,
+                    (&splats, None),
+                    &pilot_max,
+                    None,
+                    setup.flat.as_ref(),
+                    (
+                        setup.manifold,
+                        setup.camera_chain.as_ref(),
+                        setup.reflection_shapes(),
+                    ),
+                    &mut worker,
+                );
+            }
+            if let Some(p) = worker.pilot.as_mut() {
+                p.finish_pixel();
+            }
+        }
+        worker.pilot.map(|p| p.sums().clone()).unwrap_or_default()
+    }))
+}
+
 /// Render `scene` by BDPT with the tiles, passes and seeding of the path tracer's driver;
 /// t = 1 contributions (and beams-only lights) are splatted and scaled by 1/spp.
 fn render_bdpt(
@@ -647,85 +762,27 @@ fn render_bdpt(
         light_paths: light_paths_for(scene, bdpt.light_paths),
         ..*bdpt
     };
-    let sensor = Sensor::new(scene.observer.clone());
-    let mixture = plan.mixture();
-    let pair = PairWavelengths::new(plan, scene, settings.tracer.wavelengths);
-    // Not in a fluorescent scene: its per-lane MIS weights vary with the wavelength (the end
-    // densities of the two modes differ), which the flat path's exact colour cannot carry.
-    let flat = plan
-        .flat_colour(scene, sensor.observer().as_ref(), &|l| pair.pdf(l))
-        .filter(|_| !scene.objects.fluorescence());
-    // Not with fluorescence: the strategy does not follow wavelength shifts.
-    let manifold = plan.manifold() && !scene.objects.fluorescence();
-    // The camera-side chains: pinhole cameras only (`CameraChain::new`), no fluorescence.
-    let camera_chain = (plan.camera_chain() && !scene.objects.fluorescence())
-        .then(|| CameraChain::new(scene, camera))
-        .flatten();
-    // The specular objects whose reflections seed the specular-chain connection too.
-    let shapes = SpecularShapes::new(scene);
-    let reflection_shapes = (manifold && !shapes.is_empty()).then_some(&shapes);
+    let setup = Setup::new(scene, plan, settings, camera);
+    let (sensor, mixture, pair, flat) = (&setup.sensor, plan.mixture(), &setup.pair, &setup.flat);
+    let (manifold, camera_chain) = (setup.manifold, &setup.camera_chain);
+    let reflection_shapes = setup.reflection_shapes();
     let strategies = bdpt
         .strategy_images
         .then(|| StrategyFilms::new(width, height));
     // The fraction of camera samples that trace light subpaths (`light_fraction`).
-    let beams_only = scene
-        .lights
-        .lights()
-        .iter()
-        .any(|l| l.flags().contains(LightFlags::BEAMS_ONLY));
-    let fluorescent = scene.objects.fluorescence();
     let mut notes = Vec::new();
     let pilot_start = std::time::Instant::now();
-    let q = match plan.light_subpaths() {
-        LightSubpaths::Fraction(q) if q >= 1.0 => 1.0,
-        _ if beams_only || fluorescent => {
+    let q = match (plan.light_subpaths(), fraction_stays_one(scene)) {
+        (LightSubpaths::Fraction(q), _) if q >= 1.0 => 1.0,
+        (_, Some(why)) => {
             notes.push(format!(
-                "bdpt light subpaths: q = 1 (every camera sample traces them: {})",
-                if beams_only {
-                    "the scene has beams-only lights, whose subpaths are light tracing alone"
-                } else {
-                    "fractions below 1 are not covered for fluorescence"
-                }
+                "bdpt light subpaths: q = 1 (every camera sample traces them: {why})"
             ));
             1.0
         }
-        LightSubpaths::Fraction(q) => q,
-        LightSubpaths::Auto => {
-            // The pilot: q = 1, its own seed, fixed chunks reduced in order.
-            let pool = super::tiled::thread_pool(settings.threads)?;
-            let seed = light_fraction::pilot_seed(settings.seed);
-            let splats = SplatFilm::new(width, height);
-            let pilot_max = PixelMaxY::new(width, height);
-            let sums = light_fraction::run_pilot(&pool, width, height, |pixels| {
-                let mut worker = Worker::new(
-                    light_fraction::counts(bdpt.light_paths, 1.0),
-                    Some(PilotSample::new(width, height)),
-                );
-                for &(x, y) in pixels {
-                    let pixel = y as u64 * width as u64 + x as u64;
-                    for si in 0..light_fraction::PILOT_SPP {
-                        let mut ld = PixelSampler::with_kind(settings.sampler, seed, pixel, si);
-                        bdpt.sample(
-                            scene,
-                            cam,
-                            &sensor,
-                            (mixture, &pair),
-                            (x, y),
-                            &mut ld,
-                            (&splats, None),
-                            &pilot_max,
-                            None,
-                            flat.as_ref(),
-                            (manifold, camera_chain.as_ref(), reflection_shapes),
-                            &mut worker,
-                        );
-                    }
-                    if let Some(p) = worker.pilot.as_mut() {
-                        p.finish_pixel();
-                    }
-                }
-                worker.pilot.map(|p| p.sums().clone()).unwrap_or_default()
-            });
+        (LightSubpaths::Fraction(q), None) => q,
+        (LightSubpaths::Auto, None) => {
+            let sums = pilot_sums(bdpt, scene, plan, settings, cam, &setup)?;
             let choice = Choice::from_sums(&sums);
             notes.push(choice.note(pilot_start.elapsed().as_secs_f64()));
             choice.q
@@ -761,8 +818,8 @@ fn render_bdpt(
                         let xyz = bdpt.sample(
                             scene,
                             cam,
-                            &sensor,
-                            (mixture, &pair),
+                            sensor,
+                            (mixture, pair),
                             (x, y),
                             &mut ld,
                             (splats, spectral),
@@ -841,6 +898,31 @@ impl Integrator for Bdpt {
 }
 
 impl Bdpt {
+    /// The light-fraction pilot's decision for `scene` (what `--effect light-subpaths=auto`
+    /// renders with), run as the render would run it; `None` where the fraction stays 1 without
+    /// a pilot (beams-only lights, fluorescence).
+    pub fn light_fraction_pilot(
+        &self,
+        scene: &Scene,
+        plan: &RenderPlan,
+        settings: &RenderSettings,
+    ) -> Result<Option<Choice>, RenderError> {
+        if fraction_stays_one(scene).is_some() {
+            return Ok(None);
+        }
+        let cam = scene
+            .cameras
+            .get(settings.camera.as_deref())
+            .map_err(RenderError::Setup)?;
+        let bdpt = &Bdpt {
+            light_paths: light_paths_for(scene, self.light_paths),
+            ..*self
+        };
+        let setup = Setup::new(scene, plan, settings, cam.camera.as_ref());
+        let sums = pilot_sums(bdpt, scene, plan, settings, cam, &setup)?;
+        Ok(Some(Choice::from_sums(&sums)))
+    }
+
     /// One camera sample of pixel `(x, y)`: returns the XYZ of all t ≥ 2 strategies for the
     /// pixel film and splats the t = 1 strategies (and beams) into `splats`.
     #[allow(clippy::too_many_arguments)]
@@ -1086,7 +1168,7 @@ impl Bdpt {
                         Some(_) => light_path.get(s - 1),
                         None => camera_path.get(1),
                     };
-                    if !seen.is_some_and(|v| v.light_index(scene).is_some()) {
+                    if seen.is_none_or(|v| v.light_index(scene).is_none()) {
                         let at = c.raster.unwrap_or(pixel_center);
                         p.book(at, SampleCounts::uses_light_subpath(s, t), xyz[1], &ratios);
                     }
