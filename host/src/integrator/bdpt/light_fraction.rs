@@ -370,9 +370,6 @@ impl Choice {
     /// [`MIN_GAIN`] (and `q = 1` when the estimates are degenerate: no light, no variance).
     pub fn from_sums(sums: &PilotSums) -> Self {
         let estimates = sums.estimates(&COST_WEIGHTS);
-        if std::env::var_os("SPECTRACE_PILOT_DEBUG").is_some() {
-            eprintln!("{sums:?}\n{estimates:#?}");
-        }
         let base = estimates[0].efficiency;
         let mut q = 1.0;
         if base.is_finite() && base > 0.0 {
