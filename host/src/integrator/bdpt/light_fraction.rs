@@ -39,6 +39,21 @@
 //! | `PILOT_SPP`     | 8                       | camera samples per pilot pixel                 |
 //! | `MIN_GAIN`      | 1.05                    | estimated efficiency gain needed to leave q = 1 |
 //!
+//! Measured (docs/performance.md, "BDPT and its own strategies": instructions per camera
+//! sample from callgrind, per-pixel variance from six seeds; efficiency 1/(MSE·instructions)
+//! over the pixels that do not see an emitter, relative to `q = 1`):
+//!
+//! | scene                     | auto's `q` | q = ¼ | q = 1/16 | `pt`  |
+//! |---------------------------|------------|-------|----------|-------|
+//! | `cornell_box.ron` (128²)  | 1          | 0.85  | 0.81     | 1.31  |
+//! | `bench/window_room.ron`   | 1/16 (predicted 1.30) | 1.28 | 1.34 | 4.29 |
+//! | `bench/glossy_metals.ron` | 1          | 0.72  | 0.39     | 0.28  |
+//! | `bench/glass_sphere_mesh.ron` | 1      | 0.67  | 0.19     | 0.13  |
+//!
+//! The pilot picks the best fraction on all four; where `pt` stays ahead (the Cornell box, the
+//! window room) BDPT's camera part costs more per sample than `pt`'s whole sample, and `pt`
+//! has the visibility guide.
+//!
 //! Kept at `q = 1` (said at run time): scenes with beams-only lights (their subpaths are light
 //! tracing alone) and scenes that render fluorescence (its two light-subpath modes are not
 //! covered by the pilot and untested with `q < 1`).
