@@ -43,6 +43,11 @@
 //! [`LIGHT_PATHS`] of them ([`light_paths_for`]), otherwise one. The first is joined to every
 //! camera-subpath prefix; all of them are joined to the camera (t = 1), which the power
 //! heuristic then counts as that many samples (see [`LIGHT_PATHS`]).
+//!
+//! Light-subpath fraction: a camera sample traces its light subpaths only with probability `q`
+//! (`--effect light-subpaths=auto|Q`; `auto` chooses `q` per scene by a short pilot); the
+//! strategies that use them are divided by their expected count and weighted by it
+//! ([`mis::SampleCounts`], [`light_fraction`]). `q = 1` renders exactly as before.
 
 pub mod dimensions;
 pub mod fluorescent_mis;

@@ -10,7 +10,7 @@
 //! traced, every strategy that uses the light subpath (s ≥ 2 with t ≥ 2, and t = 1) is divided
 //! by its expected count; s = 0 and s = 1 (next-event estimation) run in every camera sample.
 //! The power heuristic weighs each strategy by its expected count
-//! ([`SampleCounts`](super::mis::SampleCounts)), so the estimate stays unbiased (Wald's
+//! ([`SampleCounts`]), so the estimate stays unbiased (Wald's
 //! identity). The specular-chain and camera-chain connections compete with s = 0 only (no other
 //! strategy makes their paths), so their weights do not involve `q`.
 //!
