@@ -28,6 +28,7 @@ fn render(scene: &Scene, kind: IntegratorKind, flat: bool, spp: u32, seed: u64) 
         &EffectsRequest {
             mode: EffectsMode::Auto,
             forced: vec![(Switch::FlatPathColour, flat)],
+            ..Default::default()
         },
     );
     assert_eq!(plan.flat_path_colour(), flat);

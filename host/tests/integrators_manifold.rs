@@ -41,6 +41,7 @@ fn render_forced(scene: &Scene, (switch, on): (Switch, bool), spp: u32, seed: u6
         &EffectsRequest {
             mode: EffectsMode::Auto,
             forced: vec![(switch, on)],
+            ..Default::default()
         },
     );
     let decided = match switch {

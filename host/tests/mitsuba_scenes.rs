@@ -112,6 +112,7 @@ fn render_image_with(
         &spectrace::integrator::EffectsRequest {
             mode: spectrace::integrator::EffectsMode::Auto,
             forced: vec![],
+            ..Default::default()
         },
     );
     let image = if kind == spectrace::integrator::select::IntegratorKind::Pt {

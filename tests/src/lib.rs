@@ -58,6 +58,7 @@ pub fn render_auto_xyz(
         &spectrace::integrator::EffectsRequest {
             mode: spectrace::integrator::EffectsMode::Auto,
             forced: vec![],
+            ..Default::default()
         },
     );
     let out = spectrace::integrator::select::render_planned(

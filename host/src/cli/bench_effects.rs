@@ -170,6 +170,7 @@ fn requests(found: &[Switch]) -> Vec<(String, EffectsRequest)> {
             EffectsRequest {
                 mode: EffectsMode::All,
                 forced: Vec::new(),
+                ..Default::default()
             },
         ),
     ];
@@ -179,6 +180,7 @@ fn requests(found: &[Switch]) -> Vec<(String, EffectsRequest)> {
             EffectsRequest {
                 mode: EffectsMode::Auto,
                 forced: vec![(*s, false)],
+                ..Default::default()
             },
         ));
     }

@@ -43,9 +43,15 @@
 //! [`LIGHT_PATHS`] of them ([`light_paths_for`]), otherwise one. The first is joined to every
 //! camera-subpath prefix; all of them are joined to the camera (t = 1), which the power
 //! heuristic then counts as that many samples (see [`LIGHT_PATHS`]).
+//!
+//! Light-subpath fraction: a camera sample traces its light subpaths only with probability `q`
+//! (`--effect light-subpaths=auto|Q`; `auto` chooses `q` per scene by a short pilot); the
+//! strategies that use them are divided by their expected count and weighted by it
+//! ([`mis::SampleCounts`], [`light_fraction`]). `q = 1` renders exactly as before.
 
 pub mod dimensions;
 pub mod fluorescent_mis;
+pub mod light_fraction;
 pub mod mis;
 
 use super::connect::camera_chain::{CameraChain, ChainScratch};
@@ -80,7 +86,8 @@ use crate::scene::Scene;
 use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths, LANES};
 use fluorescent_mis::mis_weight_lanes;
 use glam::Vec2;
-use mis::mis_weight;
+use light_fraction::{AltWeights, Choice, LightSubpaths, PartCost, PilotSample, CANDIDATES};
+use mis::{mis_weight, SampleCounts};
 use spectrace_plugin_api::ParamDoc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
@@ -233,9 +240,10 @@ pub fn connect<S: UniformSource>(
     t: usize,
     lambda: &SampledWavelengths,
     mode: Option<&LightMode>,
-    light_paths: u32,
+    counts: SampleCounts,
     rng: &mut S,
     stats: &mut PathStats,
+    alt: Option<&mut AltWeights>,
 ) -> Option<Connection> {
     // Two instances, so that scenes without fluorescence run no test of the mode (measured:
     // one instance for both cost the Cornell box +0.4% of bdpt's instructions).
@@ -248,9 +256,10 @@ pub fn connect<S: UniformSource>(
             (s, t),
             lambda,
             mode,
-            light_paths,
+            counts,
             rng,
             stats,
+            alt,
         )
     } else {
         connect_in::<false, S>(
@@ -261,9 +270,10 @@ pub fn connect<S: UniformSource>(
             (s, t),
             lambda,
             None,
-            light_paths,
+            counts,
             rng,
             stats,
+            alt,
         )
     }
 }
@@ -278,9 +288,10 @@ fn connect_in<const FLUORESCENT: bool, S: UniformSource>(
     (s, t): (usize, usize),
     lambda: &SampledWavelengths,
     mode: Option<&LightMode>,
-    light_paths: u32,
+    counts: SampleCounts,
     rng: &mut S,
     stats: &mut PathStats,
+    alt: Option<&mut AltWeights>,
 ) -> Option<Connection> {
     let mode = if FLUORESCENT { mode } else { None };
     let own = mode.is_some_and(|m| m.own);
@@ -339,24 +350,38 @@ fn connect_in<const FLUORESCENT: bool, S: UniformSource>(
             (0..LANES)
                 .filter(|&k| l[k] != 0.0)
                 .fold(LaneMask::NONE, |acc, k| acc.with(k)),
-            light_paths,
+            counts,
         )
     } else {
-        SampledSpectrum::splat(mis_weight(
-            scene,
-            camera,
-            light_path,
-            camera_path,
-            sampled.as_ref(),
-            s,
-            t,
-            lambda,
-            light_paths,
-        ))
+        let weight = |counts| {
+            mis_weight(
+                scene,
+                camera,
+                light_path,
+                camera_path,
+                sampled.as_ref(),
+                s,
+                t,
+                lambda,
+                counts,
+            )
+        };
+        if let Some(alt) = alt {
+            // The pilot's weights under each candidate fraction (`light_fraction`).
+            for (a, &q) in alt.iter_mut().zip(CANDIDATES.iter()) {
+                *a = weight(SampleCounts {
+                    fraction: q,
+                    ..counts
+                });
+            }
+        }
+        SampledSpectrum::splat(weight(counts))
     };
-    if t == 1 && light_paths > 1 {
-        // One of `light_paths` samples of the light-tracing strategy.
-        l *= 1.0 / light_paths as f32;
+    let n = counts.count(s, t);
+    if n != 1.0 {
+        // One of `n` expected samples of this strategy per camera sample: `light_paths` for
+        // light tracing, times the fraction of camera samples that trace light subpaths.
+        l *= 1.0 / n;
     }
     let mut lanes = camera_path[t - 1].lanes;
     if s > 0 && s <= light_path.len() {
@@ -520,6 +545,26 @@ struct Worker {
     chain_scratch: ChainScratch,
     /// Solutions of the specular-chain connection.
     manifold_set: SolutionSet,
+    /// Light subpaths per camera sample and the fraction of camera samples tracing them.
+    counts: SampleCounts,
+    /// The light-fraction pilot's recorder (pilot renders only).
+    pilot: Option<PilotSample>,
+}
+
+impl Worker {
+    fn new(counts: SampleCounts, pilot: Option<PilotSample>) -> Self {
+        Self {
+            camera_path: Vec::with_capacity(16),
+            light_path: Vec::with_capacity(16),
+            stats: PathStats::default(),
+            camera_flat: Vec::with_capacity(16),
+            light_flat: Vec::with_capacity(16),
+            chain_scratch: ChainScratch::default(),
+            manifold_set: SolutionSet::default(),
+            counts,
+            pilot,
+        }
+    }
 }
 
 /// Film XYZ of connection `c` of strategy (s, t): the exact colour of its emitter when the
@@ -587,6 +632,121 @@ impl StrategyFilms {
     }
 }
 
+/// Why `scene` keeps every camera sample tracing light subpaths (`q = 1`), if it does.
+fn fraction_stays_one(scene: &Scene) -> Option<&'static str> {
+    if scene
+        .lights
+        .lights()
+        .iter()
+        .any(|l| l.flags().contains(LightFlags::BEAMS_ONLY))
+    {
+        Some("the scene has beams-only lights, whose subpaths are light tracing alone")
+    } else if scene.objects.fluorescence() {
+        Some("fractions below 1 are not covered for fluorescence")
+    } else {
+        None
+    }
+}
+
+/// What every camera sample of a render reads besides the scene (built once per render).
+struct Setup<'p> {
+    sensor: Sensor,
+    pair: PairWavelengths<'p>,
+    flat: Option<FlatColour>,
+    manifold: bool,
+    camera_chain: Option<CameraChain>,
+    shapes: SpecularShapes,
+}
+
+impl<'p> Setup<'p> {
+    fn new(
+        scene: &Scene,
+        plan: &'p RenderPlan,
+        settings: &RenderSettings,
+        camera: &dyn Camera,
+    ) -> Self {
+        let sensor = Sensor::new(scene.observer.clone());
+        let pair = PairWavelengths::new(plan, scene, settings.tracer.wavelengths);
+        // Not in a fluorescent scene: its per-lane MIS weights vary with the wavelength (the end
+        // densities of the two modes differ), which the flat path's exact colour cannot carry.
+        let flat = plan
+            .flat_colour(scene, sensor.observer().as_ref(), &|l| pair.pdf(l))
+            .filter(|_| !scene.objects.fluorescence());
+        // Not with fluorescence: the strategy does not follow wavelength shifts.
+        let manifold = plan.manifold() && !scene.objects.fluorescence();
+        // The camera-side chains: pinhole cameras only (`CameraChain::new`), no fluorescence.
+        let camera_chain = (plan.camera_chain() && !scene.objects.fluorescence())
+            .then(|| CameraChain::new(scene, camera))
+            .flatten();
+        // The specular objects whose reflections seed the specular-chain connection too.
+        let shapes = SpecularShapes::new(scene);
+        Self {
+            sensor,
+            pair,
+            flat,
+            manifold,
+            camera_chain,
+            shapes,
+        }
+    }
+
+    /// The specular objects whose reflections seed the specular-chain connection too.
+    fn reflection_shapes(&self) -> Option<&SpecularShapes> {
+        (self.manifold && !self.shapes.is_empty()).then_some(&self.shapes)
+    }
+}
+
+/// The light-fraction pilot (`light_fraction`): [`light_fraction::PILOT_SPP`] camera samples
+/// of each pilot pixel at `q = 1` under the pilot's own seed, fixed chunks reduced in order.
+fn pilot_sums(
+    bdpt: &Bdpt,
+    scene: &Scene,
+    plan: &RenderPlan,
+    settings: &RenderSettings,
+    cam: &crate::camera::manager::NamedCamera,
+    setup: &Setup<'_>,
+) -> Result<light_fraction::PilotSums, RenderError> {
+    let (width, height) = cam.camera.resolution();
+    let pool = super::tiled::thread_pool(settings.threads)?;
+    let seed = light_fraction::pilot_seed(settings.seed);
+    let splats = SplatFilm::new(width, height);
+    let pilot_max = PixelMaxY::new(width, height);
+    Ok(light_fraction::run_pilot(&pool, width, height, |pixels| {
+        let mut worker = Worker::new(
+            light_fraction::counts(bdpt.light_paths, 1.0),
+            Some(PilotSample::new(width, height)),
+        );
+        for &(x, y) in pixels {
+            let pixel = y as u64 * width as u64 + x as u64;
+            for si in 0..light_fraction::PILOT_SPP {
+                let mut ld = PixelSampler::with_kind(settings.sampler, seed, pixel, si);
+                bdpt.sample(
+                    scene,
+                    cam,
+                    &setup.sensor,
+                    (plan.mixture(), &setup.pair),
+                    (x, y),
+                    &mut ld,
+                    (&splats, None),
+                    &pilot_max,
+                    None,
+                    setup.flat.as_ref(),
+                    (
+                        setup.manifold,
+                        setup.camera_chain.as_ref(),
+                        setup.reflection_shapes(),
+                    ),
+                    &mut worker,
+                );
+            }
+            if let Some(p) = worker.pilot.as_mut() {
+                p.finish_pixel();
+            }
+        }
+        worker.pilot.map(|p| p.sums().clone()).unwrap_or_default()
+    }))
+}
+
 /// Render `scene` by BDPT with the tiles, passes and seeding of the path tracer's driver;
 /// t = 1 contributions (and beams-only lights) are splatted and scaled by 1/spp.
 fn render_bdpt(
@@ -607,26 +767,42 @@ fn render_bdpt(
         light_paths: light_paths_for(scene, bdpt.light_paths),
         ..*bdpt
     };
-    let sensor = Sensor::new(scene.observer.clone());
-    let mixture = plan.mixture();
-    let pair = PairWavelengths::new(plan, scene, settings.tracer.wavelengths);
-    // Not in a fluorescent scene: its per-lane MIS weights vary with the wavelength (the end
-    // densities of the two modes differ), which the flat path's exact colour cannot carry.
-    let flat = plan
-        .flat_colour(scene, sensor.observer().as_ref(), &|l| pair.pdf(l))
-        .filter(|_| !scene.objects.fluorescence());
-    // Not with fluorescence: the strategy does not follow wavelength shifts.
-    let manifold = plan.manifold() && !scene.objects.fluorescence();
-    // The camera-side chains: pinhole cameras only (`CameraChain::new`), no fluorescence.
-    let camera_chain = (plan.camera_chain() && !scene.objects.fluorescence())
-        .then(|| CameraChain::new(scene, camera))
-        .flatten();
-    // The specular objects whose reflections seed the specular-chain connection too.
-    let shapes = SpecularShapes::new(scene);
-    let reflection_shapes = (manifold && !shapes.is_empty()).then_some(&shapes);
+    let setup = Setup::new(scene, plan, settings, camera);
+    let (sensor, mixture, pair, flat) = (&setup.sensor, plan.mixture(), &setup.pair, &setup.flat);
+    let (manifold, camera_chain) = (setup.manifold, &setup.camera_chain);
+    let reflection_shapes = setup.reflection_shapes();
     let strategies = bdpt
         .strategy_images
         .then(|| StrategyFilms::new(width, height));
+    // The fraction of camera samples that trace light subpaths (`light_fraction`).
+    let mut notes = Vec::new();
+    let pilot_start = std::time::Instant::now();
+    let q = match (plan.light_subpaths(), fraction_stays_one(scene)) {
+        (LightSubpaths::Fraction(q), _) if q >= 1.0 => 1.0,
+        (_, Some(why)) => {
+            notes.push(format!(
+                "bdpt light subpaths: q = 1 (every camera sample traces them: {why})"
+            ));
+            1.0
+        }
+        (LightSubpaths::Fraction(q), None) => q,
+        (LightSubpaths::Auto, None) => {
+            let sums = pilot_sums(bdpt, scene, plan, settings, cam, &setup)?;
+            let choice = Choice::from_sums(&sums);
+            notes.push(choice.note(pilot_start.elapsed().as_secs_f64()));
+            choice.q
+        }
+    };
+    let counts = light_fraction::counts(bdpt.light_paths, q);
+    // The pilot is part of the render: a time budget counts it.
+    let pilot_time = pilot_start.elapsed();
+    let settings = &RenderSettings {
+        budget: match &settings.budget {
+            super::SampleBudget::Time(d) => super::SampleBudget::Time(d.saturating_sub(pilot_time)),
+            other => *other,
+        },
+        ..settings.clone()
+    };
     let rays = AtomicU64::new(0);
     let pixel_max = PixelMaxY::new(width, height);
     let outcome = render_tiles(
@@ -637,15 +813,7 @@ fn render_bdpt(
         true,
         bdpt.spectral,
         |buf, samples, splats, spectral| {
-            let mut worker = Worker {
-                camera_path: Vec::with_capacity(16),
-                light_path: Vec::with_capacity(16),
-                stats: PathStats::default(),
-                camera_flat: Vec::with_capacity(16),
-                light_flat: Vec::with_capacity(16),
-                chain_scratch: ChainScratch::default(),
-                manifold_set: SolutionSet::default(),
-            };
+            let mut worker = Worker::new(counts, None);
             for y in buf.y0..buf.y0 + buf.h {
                 for x in buf.x0..buf.x0 + buf.w {
                     let pixel = y as u64 * width as u64 + x as u64;
@@ -655,8 +823,8 @@ fn render_bdpt(
                         let xyz = bdpt.sample(
                             scene,
                             cam,
-                            &sensor,
-                            (mixture, &pair),
+                            sensor,
+                            (mixture, pair),
                             (x, y),
                             &mut ld,
                             (splats, spectral),
@@ -702,7 +870,7 @@ fn render_bdpt(
         non_finite: film.rejected.total(),
         // Non-negative f64 bit patterns order like the values.
         max_sample_y: pixel_max.values(),
-        notes: Vec::new(),
+        notes,
         film,
     })
 }
@@ -735,6 +903,31 @@ impl Integrator for Bdpt {
 }
 
 impl Bdpt {
+    /// The light-fraction pilot's decision for `scene` (what `--effect light-subpaths=auto`
+    /// renders with), run as the render would run it; `None` where the fraction stays 1 without
+    /// a pilot (beams-only lights, fluorescence).
+    pub fn light_fraction_pilot(
+        &self,
+        scene: &Scene,
+        plan: &RenderPlan,
+        settings: &RenderSettings,
+    ) -> Result<Option<Choice>, RenderError> {
+        if fraction_stays_one(scene).is_some() {
+            return Ok(None);
+        }
+        let cam = scene
+            .cameras
+            .get(settings.camera.as_deref())
+            .map_err(RenderError::Setup)?;
+        let bdpt = &Bdpt {
+            light_paths: light_paths_for(scene, self.light_paths),
+            ..*self
+        };
+        let setup = Setup::new(scene, plan, settings, cam.camera.as_ref());
+        let sums = pilot_sums(bdpt, scene, plan, settings, cam, &setup)?;
+        Ok(Some(Choice::from_sums(&sums)))
+    }
+
     /// One camera sample of pixel `(x, y)`: returns the XYZ of all t ≥ 2 strategies for the
     /// pixel film and splats the t = 1 strategies (and beams) into `splats`.
     #[allow(clippy::too_many_arguments)]
@@ -773,7 +966,16 @@ impl Bdpt {
         let max_depth = self.max_depth as usize;
         let mut camera_path = std::mem::take(&mut worker.camera_path);
         let mut light_path = std::mem::take(&mut worker.light_path);
-        let u_start = Self::light_start(ld, 0);
+        let counts = worker.counts;
+        // Whether this camera sample traces its light subpaths (probability `q`, from a
+        // stratified dimension of its own: a pixel's samples trace ~q of them). With q = 1
+        // no number is drawn, so the image is the one every sample tracing them gives.
+        let trace_light = counts.fraction >= 1.0 || {
+            block(ld, dimensions::LIGHT_FRACTION);
+            ld.next_1d() < counts.fraction
+        };
+        let u_start = trace_light.then(|| Self::light_start(ld, 0));
+        let before = worker.stats;
         block(ld, dimensions::CAMERA_WALK);
         generate_camera_subpath(
             scene,
@@ -787,16 +989,29 @@ impl Bdpt {
             &mut camera_path,
             &mut worker.stats,
         );
-        let (start, mode) = self.light_subpath(
-            scene,
-            mixture,
-            &lambda,
-            u_start,
-            0,
-            ld,
-            &mut light_path,
-            &mut worker.stats,
-        );
+        let after_camera = worker.stats;
+        let (start, mode) = match u_start {
+            Some(u_start) => self.light_subpath(
+                scene,
+                mixture,
+                &lambda,
+                u_start,
+                0,
+                ld,
+                &mut light_path,
+                &mut worker.stats,
+            ),
+            None => {
+                light_path.clear();
+                (LightStart::None, None)
+            }
+        };
+        // The pilot's cost counts of the light part (the rest is the camera part).
+        let mut light_cost = PartCost {
+            rays: worker.stats.rays - after_camera.rays,
+            ..PartCost::default()
+        };
+        let mut camera_connections = 0u64;
         // A beams-only light's subpath, one of `light_paths` of this camera sample: light
         // tracing alone, each splat weighted 1/light_paths.
         let trace_beams = |index: usize, pmf: f32, j: u32, ld: &mut PixelSampler, stats: &mut _| {
@@ -854,7 +1069,9 @@ impl Bdpt {
                 } else if s == 1 {
                     block(ld, dimensions::s1(t));
                 }
-                let Some(mut c) = connect(
+                let shadow_before = worker.stats.shadow_rays;
+                let mut alt = [0.0f32; CANDIDATES.len()];
+                let connected = connect(
                     scene,
                     camera,
                     mixture,
@@ -864,12 +1081,25 @@ impl Bdpt {
                     t,
                     &lambda,
                     mode.as_ref(),
-                    self.light_paths,
+                    counts,
                     ld,
                     &mut worker.stats,
-                ) else {
+                    worker.pilot.is_some().then_some(&mut alt),
+                );
+                if worker.pilot.is_none() {
+                    // (The cost counts below are the pilot's.)
+                } else if SampleCounts::uses_light_subpath(s, t) {
+                    light_cost.shadow_rays += worker.stats.shadow_rays - shadow_before;
+                    light_cost.connections += connected.is_some() as u64;
+                } else {
+                    camera_connections += connected.is_some() as u64;
+                }
+                let Some(mut c) = connected else {
                     continue;
                 };
+                // The weight before the chain shares below (which no fraction changes), for
+                // the pilot's ratios.
+                let w_mis = c.weight[0];
                 if manifold && s == 0 {
                     // A path the specular-chain connection can make too: its share.
                     let mut seeds = Seeds {
@@ -935,6 +1165,22 @@ impl Bdpt {
                         kind,
                     });
                     continue;
+                }
+                if let Some(p) = worker.pilot.as_mut() {
+                    // Left out where the camera sees an emitter (as the bench leaves those
+                    // pixels out): s = 0 makes them without noise, while the power heuristic
+                    // gives light tracing a share there whose variance would decide q.
+                    let seen = match c.raster {
+                        Some(_) => light_path.get(s - 1),
+                        None => camera_path.get(1),
+                    };
+                    if seen.is_none_or(|v| v.light_index(scene).is_none()) {
+                        // Candidate weights over the current one.
+                        let ratios =
+                            alt.map(|a| if w_mis > 0.0 { (a / w_mis) as f64 } else { 0.0 });
+                        let at = c.raster.unwrap_or(pixel_center);
+                        p.book(at, SampleCounts::uses_light_subpath(s, t), xyz[1], &ratios);
+                    }
                 }
                 match c.raster {
                     Some(r) => {
@@ -1006,6 +1252,9 @@ impl Bdpt {
                             kind,
                         });
                     } else {
+                        if let Some(p) = worker.pilot.as_mut() {
+                            p.book(pixel_center, false, xyz[1], &[1.0; CANDIDATES.len()]);
+                        }
                         for k in 0..3 {
                             total[k] += xyz[k];
                         }
@@ -1063,6 +1312,9 @@ impl Bdpt {
                         });
                         return;
                     }
+                    if let Some(p) = worker.pilot.as_mut() {
+                        p.book(m.raster, false, xyz[1], &[1.0; CANDIDATES.len()]);
+                    }
                     Self::record_splat(
                         splats,
                         strategies,
@@ -1082,9 +1334,10 @@ impl Bdpt {
                 },
             );
         }
-        for j in 1..self.light_paths {
+        for j in 1..self.light_paths * trace_light as u32 {
             // The further light subpaths of this camera sample: light tracing only (t = 1).
             let u_start = Self::light_start(ld, j);
+            let rays_before = worker.stats.rays;
             let (start, mode) = self.light_subpath(
                 scene,
                 mixture,
@@ -1098,12 +1351,15 @@ impl Bdpt {
             if let LightStart::Beams { index, pmf } = start {
                 trace_beams(index, pmf, j, ld, &mut worker.stats);
             }
+            light_cost.rays += worker.stats.rays - rays_before;
             if let Some(fc) = flat {
                 fc.prefix(&light_path, &mut worker.light_flat);
             }
             for s in 1..=light_path.len().min(max_depth + 1) {
                 block(ld, dimensions::t1(j, s));
-                let Some(c) = connect(
+                let shadow_before = worker.stats.shadow_rays;
+                let mut alt = [0.0f32; CANDIDATES.len()];
+                let connected = connect(
                     scene,
                     camera,
                     mixture,
@@ -1113,10 +1369,14 @@ impl Bdpt {
                     1,
                     &lambda,
                     mode.as_ref(),
-                    self.light_paths,
+                    counts,
                     ld,
                     &mut worker.stats,
-                ) else {
+                    worker.pilot.is_some().then_some(&mut alt),
+                );
+                light_cost.shadow_rays += worker.stats.shadow_rays - shadow_before;
+                light_cost.connections += connected.is_some() as u64;
+                let Some(c) = connected else {
                     continue;
                 };
                 let Some(r) = c.raster else { continue };
@@ -1146,11 +1406,27 @@ impl Bdpt {
                     });
                     continue;
                 }
+                if let Some(p) = worker.pilot.as_mut() {
+                    let cw = c.weight[0];
+                    let ratios = alt.map(|a| if cw > 0.0 { (a / cw) as f64 } else { 0.0 });
+                    // Left out where the camera sees an emitter, as above.
+                    if light_path[s - 1].light_index(scene).is_none() {
+                        p.book(r, true, xyz[1], &ratios);
+                    }
+                }
                 Self::record_splat(splats, strategies, pixel_max, r, xyz, Some((s, 1)));
                 if let Some(sf) = spectral {
                     sf.splat(r.x, r.y, &xyz, &w.energies(&(c.l * c.weight), c.lanes));
                 }
             }
+        }
+        if let Some(p) = worker.pilot.as_mut() {
+            let camera_cost = PartCost {
+                rays: worker.stats.rays - before.rays - light_cost.rays,
+                shadow_rays: worker.stats.shadow_rays - before.shadow_rays - light_cost.shadow_rays,
+                connections: camera_connections,
+            };
+            p.finish_sample(pixel_center, camera_cost, light_cost);
         }
         worker.camera_path = camera_path;
         worker.light_path = light_path;

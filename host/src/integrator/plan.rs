@@ -16,6 +16,7 @@
 //! | `flat-path-colour`                     | bdpt and lt give a path whose every vertex is spectrally flat the exact colour of its emitter's spectrum ([`FlatColour`]; found when some light has one spectral shape everywhere) | every path's colour is estimated from its four wavelengths |
 //! | `manifold` (alias `mnee`)              | bdpt adds the specular-chain connection (`integrator::connect::manifold_connection`) for paths that only `s = 0` can make otherwise (found with specular chains) | those paths come from `s = 0` alone |
 //! | `camera-chain`                         | bdpt adds the camera-side specular-chain connection (`integrator::connect::camera_chain`): the lamp seen reflected in or refracted through smooth specular objects from a pinhole (found with specular chains; thin-lens cameras: not run) | those paths come from `s = 0` alone |
+//! | `light-subpaths=auto\|Q` (not on/off) | auto (the default): bdpt chooses the fraction `q` of camera samples that trace light subpaths by a short pilot (`integrator::bdpt::light_fraction`); `Q` forces it: `1` (every camera sample), `0.5`, `1/8`, any value in (0, 1] | – |
 //! | `visibility-guide` (alias `nee-guide`) | pt's next-event estimation draws points of area lights on quads and small meshes, and the directions of the constant, image-map and CIE environments, from a density learned by a short pre-pass where they are partly hidden (`integrator::nee_guide`; found with such lights, then switched on per light where the pre-pass finds at least 30% of their light occluded; forced on or `--effects all`: every such light) | uniform points by area (no pre-pass) |
 //!
 //! bdpt and lt draw the pair's wavelengths from the observer-plus-emission mixture
@@ -154,6 +155,46 @@ impl Switch {
     }
 }
 
+/// bdpt's fraction of camera samples that trace light subpaths (`--effect
+/// light-subpaths=auto|Q`, see `integrator::bdpt::light_fraction`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum LightSubpaths {
+    /// Chosen per scene by a short pilot (the default).
+    #[default]
+    Auto,
+    /// Forced: every camera sample traces them with this probability, in (0, 1].
+    Fraction(f32),
+}
+
+// The fractions are finite (`LightSubpaths::parse`), so equality is an equivalence.
+impl Eq for LightSubpaths {}
+
+impl LightSubpaths {
+    /// The value of `--effect light-subpaths=VALUE`: `auto`, or a fraction in (0, 1] as a
+    /// decimal or `1/N`.
+    pub fn parse(value: &str) -> Result<Self, String> {
+        let v = value.trim().to_ascii_lowercase();
+        if v == "auto" {
+            return Ok(Self::Auto);
+        }
+        let q = match v.split_once('/') {
+            Some((a, b)) => match (a.trim().parse::<f64>(), b.trim().parse::<f64>()) {
+                (Ok(a), Ok(b)) if b != 0.0 => Some(a / b),
+                _ => None,
+            },
+            None => v.parse::<f64>().ok(),
+        };
+        match q {
+            Some(q) if q > 0.0 && q <= 1.0 => Ok(Self::Fraction(q as f32)),
+            _ => Err(format!(
+                "--effect light-subpaths={value}: expected auto or a fraction in (0, 1] of \
+                 the camera samples that trace light subpaths (1, 0.5, 1/8, …; 0 would lose \
+                 the light that only light subpaths find)"
+            )),
+        }
+    }
+}
+
 /// What the command line asks for: a mode and single effects forced on or off.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct EffectsRequest {
@@ -161,6 +202,8 @@ pub struct EffectsRequest {
     pub mode: EffectsMode,
     /// `--effect NAME=on|off`, in command-line order (a later one wins).
     pub forced: Vec<(Switch, bool)>,
+    /// `--effect light-subpaths=auto|Q` (the last one given).
+    pub light_subpaths: LightSubpaths,
 }
 
 impl EffectsRequest {
@@ -169,6 +212,7 @@ impl EffectsRequest {
         let mut out = Self {
             mode,
             forced: Vec::new(),
+            light_subpaths: LightSubpaths::Auto,
         };
         for arg in forced {
             let Some((name, value)) = arg.split_once('=') else {
@@ -176,6 +220,11 @@ impl EffectsRequest {
                     "--effect {arg}: expected NAME=on or NAME=off (for example dispersion=off)"
                 ));
             };
+            let n = name.trim().to_ascii_lowercase().replace('_', "-");
+            if n == "light-subpaths" || n == "light-fraction" {
+                out.light_subpaths = LightSubpaths::parse(value)?;
+                continue;
+            }
             let switch = Switch::parse(name)?;
             let on = match value.trim().to_ascii_lowercase().as_str() {
                 "on" | "true" | "yes" | "1" => true,
@@ -203,7 +252,16 @@ impl EffectsRequest {
             .iter()
             .map(|(s, on)| format!("{}={}", s.name(), if *on { "on" } else { "off" }))
             .collect();
-        format!("{:?}[{}]", self.mode, forced.join(","))
+        match self.light_subpaths {
+            // The key of every request before the setting existed.
+            LightSubpaths::Auto => format!("{:?}[{}]", self.mode, forced.join(",")),
+            LightSubpaths::Fraction(q) => format!(
+                "{:?}[{}]light-subpaths={}",
+                self.mode,
+                forced.join(","),
+                q.to_bits()
+            ),
+        }
     }
 }
 
@@ -449,6 +507,12 @@ impl RenderPlan {
         self.decision(Switch::CameraChain).on
     }
 
+    /// bdpt's fraction of camera samples that trace light subpaths (`--effect
+    /// light-subpaths`; `integrator::bdpt::light_fraction`).
+    pub fn light_subpaths(&self) -> LightSubpaths {
+        self.request.light_subpaths
+    }
+
     /// pt's visibility guide (`integrator::nee_guide`): `None` when its pre-pass decides per
     /// light (found, auto), `Some(true)` to guide every light it can (forced on or
     /// `--effects all`), `Some(false)` for none (forced off, or no light it can guide).
@@ -552,8 +616,14 @@ impl RenderPlan {
         } else {
             "wavelengths by the wavelength sampling (default observer × √emission; pt, bdpt, lt)"
         };
+        let ls = match self.request.light_subpaths {
+            LightSubpaths::Auto => String::new(),
+            LightSubpaths::Fraction(q) => {
+                format!("; bdpt light subpaths in {q} of camera samples (forced)")
+            }
+        };
         format!(
-            "plan (--effects {}): {}; {wl}; {lp}",
+            "plan (--effects {}): {}; {wl}; {lp}{ls}",
             match self.request.mode {
                 EffectsMode::Auto => "auto",
                 EffectsMode::All => "all",
@@ -619,6 +689,26 @@ impl RenderPlan {
             };
             out.push_str(&format!("  {}: {} — {what}\n", s.name(), d.text()));
         }
+        out.push_str(&format!(
+            "  light-subpaths: {} — bdpt: {}\n",
+            match self.request.light_subpaths {
+                LightSubpaths::Auto => "auto".to_string(),
+                LightSubpaths::Fraction(q) => format!("{q} (forced)"),
+            },
+            match self.request.light_subpaths {
+                LightSubpaths::Auto => {
+                    "a short pilot chooses the fraction q of camera samples that trace light \
+                     subpaths (1, 1/2, …, 1/16) by estimated variance × cost; the light-subpath \
+                     strategies are weighted by their expected counts (q = 1 with beams-only \
+                     lights or fluorescence)"
+                }
+                LightSubpaths::Fraction(_) => {
+                    "this fraction of camera samples trace light subpaths, the strategies that \
+                     use them weighted by their expected counts (q = 1 with beams-only lights \
+                     or fluorescence)"
+                }
+            }
+        ));
         for n in &self.notes {
             out.push_str(&format!("  note: {n}\n"));
         }
@@ -686,6 +776,7 @@ mod tests {
             &EffectsRequest {
                 mode: EffectsMode::All,
                 forced: vec![(Switch::ThinFilm, false)],
+                ..Default::default()
             },
         );
         assert!(all.dispersion() && all.fluorescence() && all.emission_wavelengths());
@@ -696,6 +787,7 @@ mod tests {
             &EffectsRequest {
                 mode: EffectsMode::Auto,
                 forced: vec![(Switch::NarrowbandEmission, false)],
+                ..Default::default()
             },
         );
         assert!(!off.mixture().has_emission());

@@ -27,6 +27,7 @@ pub fn render(
         &EffectsRequest {
             mode: EffectsMode::Auto,
             forced: vec![(Switch::VisibilityGuide, guide)],
+            ..Default::default()
         },
     );
     let settings = RenderSettings {

@@ -18,6 +18,7 @@
 //! | 52, 53 | specular-chain connection (1D, 2D) |
 //! | 54–56 | camera-side chain connection (1D, 1D, 2D) |
 //! | 57 + 13 (j − 1) … | light subpath j ≥ 1 (scenes with delta surfaces): start (3), walk (8), t = 1 at s = 1, 2 |
+//! | 96 | whether the camera sample traces light subpaths (1D; only drawn when q < 1, `light_fraction`) |
 //!
 //! Beyond these (deeper vertices, beams of beams-only lights), each block's requests are
 //! independent PCG numbers. With `--sampler independent` every block is PCG from its start.
@@ -46,6 +47,9 @@ const EXTRA_STRIDE: u32 = 13;
 /// Further light subpaths with Sobol' points; later ones are PCG throughout.
 const EXTRA_LD_PATHS: u32 = 3;
 const EXTRA_T1_LD_VERTICES: usize = 2;
+
+/// Whether a camera sample traces its light subpaths (drawn only when the fraction q < 1).
+pub const LIGHT_FRACTION: Block = (EXTRA + EXTRA_STRIDE * EXTRA_LD_PATHS, 1);
 
 /// Blocks that are PCG from their start live apart from every Sobol' block, one 2²⁴ range per
 /// kind, so no two blocks share a start (hence a stream).
@@ -107,7 +111,13 @@ mod tests {
     /// no two blocks may share a start (they would share a PCG stream).
     #[test]
     fn blocks_do_not_overlap() {
-        let mut blocks = vec![(0, LIGHT_START_0), CAMERA_WALK, MANIFOLD, CAMERA_CHAIN];
+        let mut blocks = vec![
+            (0, LIGHT_START_0),
+            CAMERA_WALK,
+            MANIFOLD,
+            CAMERA_CHAIN,
+            LIGHT_FRACTION,
+        ];
         for j in 0..64 {
             blocks.push(light_start(j));
             blocks.push(light_walk(j));

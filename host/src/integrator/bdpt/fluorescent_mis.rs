@@ -38,7 +38,7 @@
 //! event's, after which only the hero lane is left (`Vertex::lanes`), and a fluorescent
 //! surface samples the cosine lobe whatever the wavelength.
 
-use super::mis::{heuristic_scale, mis_weight_overrides, nee_correction, Overrides};
+use super::mis::{heuristic_scale, mis_weight_overrides, nee_correction, Overrides, SampleCounts};
 use crate::camera::Camera;
 use crate::integrator::fluorescence::events::{event_probability, Direction};
 use crate::integrator::fluorescence::join::{evaluated_event_possible, reradiation_at, LightMode};
@@ -73,7 +73,7 @@ pub fn mis_weight_lanes(
     lambda: &SampledWavelengths,
     mode: &LightMode,
     need: LaneMask,
-    light_paths: u32,
+    counts: SampleCounts,
 ) -> SampledSpectrum {
     let path = Joined {
         o: mis_weight_overrides(
@@ -109,7 +109,7 @@ pub fn mis_weight_lanes(
                 continue;
             }
             let lane = Lane::new(sc, (mixture, mode, lambda, lines), k, li, &mut pair_light);
-            out[k] = lane.weight(s, own_mode, light_paths);
+            out[k] = lane.weight(s, own_mode, counts);
         }
         out
     })
@@ -430,7 +430,7 @@ impl<'a> Lane<'a> {
     /// The weight of split s (own mode or not) against every split and mode that can make
     /// this lane path, with the area parts.
     #[inline]
-    fn weight(&self, s: usize, own_mode: bool, light_paths: u32) -> f32 {
+    fn weight(&self, s: usize, own_mode: bool, counts: SampleCounts) -> f32 {
         let n = self.sc.seg.len() + 1;
         let t = n - s;
         #[allow(unused_mut)]
@@ -465,11 +465,11 @@ impl<'a> Lane<'a> {
             for &m in modes {
                 let d = self.density(sp, m);
                 if d > 0.0 {
-                    sum += ratio * sq(d / own_density) * heuristic_scale(tp, light_paths) as f64;
+                    sum += ratio * sq(d / own_density) * heuristic_scale(sp, tp, counts) as f64;
                 }
             }
         }
-        let w = heuristic_scale(t, light_paths) as f64 / sum;
+        let w = heuristic_scale(s, t, counts) as f64 / sum;
         if w.is_finite() {
             w as f32
         } else {
@@ -920,7 +920,7 @@ mod tests {
                 &pair,
                 &mode,
                 LaneMask::ALL,
-                1,
+                SampleCounts::every_sample(1),
             )
         }
 

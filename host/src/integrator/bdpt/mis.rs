@@ -104,7 +104,47 @@ pub fn mis_weight(
     s: usize,
     t: usize,
     lambda: &SampledWavelengths,
-    light_paths: u32,
+    counts: impl Into<SampleCounts>,
+) -> f32 {
+    let counts = counts.into();
+    // Two instances: with every camera sample tracing light subpaths (q = 1) the joins' scale
+    // is 1 and drops out, as before the fraction existed (one instance for both cost bdpt
+    // +0.6% of its instructions on the Cornell box at q = 1).
+    let args = (
+        scene,
+        camera,
+        light_path,
+        camera_path,
+        sampled,
+        s,
+        t,
+        lambda,
+        counts,
+    );
+    if counts.fraction >= 1.0 {
+        mis_weight_in::<false>(args)
+    } else {
+        mis_weight_in::<true>(args)
+    }
+}
+
+/// The arguments of [`mis_weight`], passed on as one.
+type WeightArgs<'a> = (
+    &'a Scene,
+    &'a dyn Camera,
+    &'a [Vertex],
+    &'a [Vertex],
+    Option<&'a Vertex>,
+    usize,
+    usize,
+    &'a SampledWavelengths,
+    SampleCounts,
+);
+
+/// [`mis_weight`], with `FRACTION` saying whether `counts.fraction` can be below 1.
+#[inline(always)]
+fn mis_weight_in<const FRACTION: bool>(
+    (scene, camera, light_path, camera_path, sampled, s, t, lambda, counts): WeightArgs<'_>,
 ) -> f32 {
     // The same overrides as [`mis_weight_overrides`], written out here on purpose: calling it
     // (even `#[inline(always)]`, moving the `Overrides` with its two vertex copies) costs
@@ -190,7 +230,14 @@ pub fn mis_weight(
         1.0
     };
     // Strategies' squared densities relative to this one's, each times its heuristic scale.
-    let own_scale = heuristic_scale(t, light_paths);
+    let own_scale = heuristic_scale(s, t, counts);
+    // The scales of light tracing (t = 1) and of the joins (s ≥ 2, t ≥ 2); 1 for s = 0, 1.
+    let t1_scale = heuristic_scale(1, 1, counts);
+    let join_scale = if FRACTION {
+        counts.fraction * counts.fraction
+    } else {
+        1.0
+    };
     let mut sum = 0.0f32;
     let mut ri = 1.0f32;
     for i in (1..t).rev() {
@@ -199,7 +246,15 @@ pub fn mis_weight(
         if !delta && !cam(i - 1).2 {
             // (i = t − 1 with s = 0 is the s = 1 strategy.)
             let nee_here = if s == 0 && i + 1 == t { nee } else { 1.0 };
-            sum += ri * nee_here * heuristic_scale(i, light_paths) / own_scale;
+            // The alternative (s + t − i, i).
+            let scale = if i == 1 {
+                t1_scale
+            } else if FRACTION && s + t - i >= 2 {
+                join_scale
+            } else {
+                1.0
+            };
+            sum += ri * nee_here * scale / own_scale;
         }
     }
     ri = 1.0;
@@ -212,9 +267,13 @@ pub fn mis_weight(
             light_v(0).is_unhittable_light(scene)
         };
         if !delta && !delta_before {
-            // The alternative has t + (s − i) ≥ 2 camera vertices: scale 1.
+            // The alternative (i, t + s − i) has t + (s − i) ≥ 2 camera vertices.
             let nee_here = if i == 1 { nee } else { 1.0 };
-            sum += ri * nee_here / own_scale;
+            if FRACTION && i >= 2 {
+                sum += ri * nee_here * join_scale / own_scale;
+            } else {
+                sum += ri * nee_here / own_scale;
+            }
         }
     }
     if s == 1 && t >= 2 && nee > 0.0 {
@@ -296,15 +355,72 @@ pub fn nee_correction(scene: &Scene, y0: &Vertex, y1: &Vertex, origin: f32) -> f
 /// caustics of large lights, where the camera paths that hit the light are less rare.
 pub const LIGHT_TRACING_MIS_SCALE: f32 = 0.25;
 
-/// The factor of a strategy's squared density in the power heuristic, by its camera vertex
-/// count `t`, when each camera sample traces `light_paths` light subpaths for the light-tracing
-/// strategy (t = 1): the square of its sample count (Veach 1997, §9.2.1: the power heuristic
-/// over `n_i p_i`) times that of [`LIGHT_TRACING_MIS_SCALE`]. The other strategies take one
-/// sample per camera sample.
-pub fn heuristic_scale(t: usize, light_paths: u32) -> f32 {
+/// How many samples one camera sample of BDPT takes of each strategy, on average: what the
+/// power heuristic weighs the strategies' densities by (Veach 1997, §9.2.1: the heuristic
+/// over `nᵢ·pᵢ`).
+///
+/// Each camera sample traces its light subpaths with probability `fraction` (`q`, see
+/// `bdpt::light_fraction`), and then `light_paths` of them for the light-tracing strategy
+/// (t = 1). The expected counts: `1` for s = 0 (the camera path hits a light) and s = 1 with
+/// t ≥ 2 (a fresh light point, next-event estimation), which every camera sample runs; `q` for
+/// the joins s ≥ 2, t ≥ 2; `q · light_paths` for t = 1. A traced strategy's contribution is
+/// divided by its count (`bdpt::connect`), so each strategy's estimate stays unbiased (Wald's
+/// identity: a random number of samples with that expectation) and the weights of the
+/// strategies that can make a path still sum to one.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SampleCounts {
+    /// Light subpaths joined to the camera (t = 1) when a camera sample traces them.
+    pub light_paths: u32,
+    /// Probability `q ∈ (0, 1]` that a camera sample traces its light subpaths.
+    pub fraction: f32,
+}
+
+impl SampleCounts {
+    /// `light_paths` light subpaths in every camera sample (`q` = 1).
+    pub const fn every_sample(light_paths: u32) -> Self {
+        Self {
+            light_paths,
+            fraction: 1.0,
+        }
+    }
+
+    /// Whether strategy (s, t) uses the light subpath (s ≥ 2 with t ≥ 2, or t = 1), whose
+    /// count then includes [`fraction`](Self::fraction).
+    #[inline]
+    pub fn uses_light_subpath(s: usize, t: usize) -> bool {
+        t == 1 || s >= 2
+    }
+
+    /// The expected number of samples of strategy (s, t) per camera sample.
+    #[inline]
+    pub fn count(&self, s: usize, t: usize) -> f32 {
+        if t == 1 {
+            self.fraction * self.light_paths.max(1) as f32
+        } else if s >= 2 {
+            self.fraction
+        } else {
+            1.0
+        }
+    }
+}
+
+impl From<u32> for SampleCounts {
+    /// `light_paths` light subpaths in every camera sample.
+    fn from(light_paths: u32) -> Self {
+        Self::every_sample(light_paths)
+    }
+}
+
+/// The factor of strategy (s, t)'s squared density in the power heuristic: the square of its
+/// expected sample count per camera sample ([`SampleCounts::count`]), for t = 1 times
+/// [`LIGHT_TRACING_MIS_SCALE`].
+#[inline]
+pub fn heuristic_scale(s: usize, t: usize, counts: SampleCounts) -> f32 {
     if t == 1 {
-        let c = LIGHT_TRACING_MIS_SCALE * light_paths.max(1) as f32;
+        let c = LIGHT_TRACING_MIS_SCALE * counts.light_paths.max(1) as f32 * counts.fraction;
         c * c
+    } else if s >= 2 {
+        counts.fraction * counts.fraction
     } else {
         1.0
     }

@@ -1,0 +1,493 @@
+//! The fraction `q` of BDPT's camera samples that trace light subpaths, and the pilot that
+//! chooses it per scene (after Grittmann, Pérard-Gayot, Slusallek, Křivánek 2022,
+//! "Efficiency-aware multiple importance sampling for bidirectional rendering algorithms":
+//! choose the sample counts of the techniques by a variance-times-cost estimate from a short
+//! pilot, and weigh the techniques by those counts).
+//!
+//! **The mechanism** (`bdpt.rs`): each camera sample traces its light subpath(s) with
+//! probability `q`, decided by a stratified dimension of the pixel's sampler
+//! ([`super::dimensions::LIGHT_FRACTION`]): a pixel's samples trace about `q` of them. When
+//! traced, every strategy that uses the light subpath (s ≥ 2 with t ≥ 2, and t = 1) is divided
+//! by its expected count; s = 0 and s = 1 (next-event estimation) run in every camera sample.
+//! The power heuristic weighs each strategy by its expected count
+//! ([`SampleCounts`]), so the estimate stays unbiased (Wald's
+//! identity). The specular-chain and camera-chain connections compete with s = 0 only (no other
+//! strategy makes their paths), so their weights do not involve `q`.
+//!
+//! **The choice** ([`LightSubpaths::Auto`], the default): a deterministic pilot of
+//! [`PILOT_PIXELS`] pixels on a regular grid × [`PILOT_SPP`] samples (its own seed derived from
+//! the render's, fixed chunks reduced in order: the same choice at any thread count) renders
+//! with `q = 1` and, per camera sample and for each candidate `q` in [`CANDIDATES`], splits the
+//! sample's weighted luminance `Y` under that candidate's weights into `A_q` (s = 0, s = 1 and
+//! the chain connections: count 1) and `C_q` (the light-subpath strategies; t = 1 splats booked
+//! at the pixel they land in). The candidate's estimator is `A_q + (B/q)·C_q`, `B ~
+//! Bernoulli(q)`, so per pixel `E[X_q²] = E[A_q²] + 2E[A_q·C_q] + E[C_q²]/q`; its variance is
+//! that minus the square of the pixel's own-part mean `E[A_q + C_q]` (the candidates move
+//! weight between the pixel's own strategies and the t = 1 splats it receives; the splats'
+//! mean per camera sample is negligible), summed over the pilot's pixels (luminance `Y`),
+//! leaving out the paths whose first camera-side vertex is an emitter (as the bench leaves
+//! those pixels out: s = 0 makes them without noise, while the power heuristic gives light
+//! tracing a share there). The cost per camera sample is `cost_A + q·cost_C` from deterministic
+//! counts ([`CostWeights`]), never a clock. The pilot picks the `q` maximising
+//! `1/(variance·cost)`, keeping `q = 1` unless another candidate is estimated at least
+//! [`MIN_GAIN`] better. The render says what it chose and why.
+//!
+//! | constant        | value                   | meaning                                        |
+//! |-----------------|-------------------------|------------------------------------------------|
+//! | `CANDIDATES`    | 1, ½, ¼, ⅛, 1/16        | fractions the pilot compares                   |
+//! | `PILOT_PIXELS`  | 1024                    | pixels of the pilot (a grid over the image)    |
+//! | `PILOT_SPP`     | 8                       | camera samples per pilot pixel                 |
+//! | `MIN_GAIN`      | 1.05                    | estimated efficiency gain needed to leave q = 1 |
+//!
+//! Measured (docs/performance.md, "BDPT and its own strategies": instructions per camera
+//! sample from callgrind, per-pixel variance from six seeds; efficiency 1/(MSE·instructions)
+//! over the pixels that do not see an emitter, relative to `q = 1`):
+//!
+//! | scene                     | auto's `q` | q = ¼ | q = 1/16 | `pt`  |
+//! |---------------------------|------------|-------|----------|-------|
+//! | `cornell_box.ron` (128²)  | 1          | 0.84  | 0.80     | 1.29  |
+//! | `bench/window_room.ron`   | 1/16 (predicted 1.30) | 1.28 | 1.33 | 4.25 |
+//! | `bench/glossy_metals.ron` | 1          | 0.71  | 0.39     | 0.28  |
+//! | `bench/glass_sphere_mesh.ron` | 1      | 0.67  | 0.19     | 0.13  |
+//! | `bench/spectral_caustic.ron` | ½ (most seeds; predicted 1.2) | 1.66 | – (½: 1.40) | – |
+//!
+//! The pilot picks the best fraction on all four; where `pt` stays ahead (the Cornell box, the
+//! window room) BDPT's camera part costs more per sample than `pt`'s whole sample, and `pt`
+//! has the visibility guide.
+//!
+//! Kept at `q = 1` (said at run time): scenes with beams-only lights (their subpaths are light
+//! tracing alone) and scenes that render fluorescence (its two light-subpath modes are not
+//! covered by the pilot and untested with `q < 1`).
+
+use super::mis::SampleCounts;
+use glam::Vec2;
+use rayon::prelude::*;
+
+pub use crate::integrator::plan::LightSubpaths;
+
+/// The fractions the pilot compares, `q = 1` first.
+pub const CANDIDATES: [f32; 5] = [1.0, 0.5, 0.25, 0.125, 0.0625];
+
+/// The weights of one connection under each candidate of [`CANDIDATES`].
+pub type AltWeights = [f32; CANDIDATES.len()];
+
+/// Pilot pixels (a regular grid over the image; fewer when the image is smaller).
+pub const PILOT_PIXELS: u32 = 1024;
+
+/// Camera samples per pilot pixel (its within-pixel variance needs several).
+pub const PILOT_SPP: u32 = 8;
+
+/// Pilot pixels per work unit (fixed, so the reduction order never depends on threads).
+const CHUNK: usize = 32;
+
+/// Estimated efficiency gain over `q = 1` below which `q = 1` stays (the pilot's estimate
+/// scatters by a few percent between seeds).
+pub const MIN_GAIN: f64 = 1.05;
+
+/// Salt of the pilot's seed, so its numbers are not the render's.
+const PILOT_SALT: u64 = 0x6C62_272E_07BB_0142;
+
+/// Deterministic work counts of one part of a camera sample.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PartCost {
+    /// Closest-hit rays (random-walk steps).
+    pub rays: u64,
+    /// Shadow rays (connections tested for visibility).
+    pub shadow_rays: u64,
+    /// Connections that reached their MIS weight (BSDF evaluations and the weight's chain).
+    pub connections: u64,
+}
+
+impl PartCost {
+    fn add(&mut self, o: &PartCost) {
+        self.rays += o.rays;
+        self.shadow_rays += o.shadow_rays;
+        self.connections += o.connections;
+    }
+}
+
+/// Relative costs of the counted events, in instructions (callgrind, see [`COST_WEIGHTS`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CostWeights {
+    /// Per closest-hit ray and its vertex (BSDF sampling, densities).
+    pub ray: f64,
+    /// Per shadow ray.
+    pub shadow_ray: f64,
+    /// Per connection that reached its weight.
+    pub connection: f64,
+    /// Per camera sample, whatever it traces (wavelengths, camera ray, sampler).
+    pub sample: f64,
+}
+
+/// The cost model's weights (instructions), fitted (least squares on relative error) to
+/// callgrind instruction counts of BDPT per camera sample at `q = 1` and `q = 1/16` (each the
+/// difference of a 3-spp and a 1-spp render at 64×48, `--threads 1`, seed 3), split into the
+/// camera part `I_A` and the light part `I_C` (`I(q) = I_A + q·I_C`), against the pilot's
+/// counts per camera sample of the same scenes:
+///
+/// | scene                     | `I_A` | `I_C` | camera rays, shadow rays, connections | light rays, shadow rays, connections | model `I_A`, `I_C` |
+/// |---------------------------|-------|-------|------|------|------|
+/// | `cornell_box.ron`         | 14.8 k | 25.3 k | 3.10, 1.94, 1.74 | 2.93, 7.19, 5.95 | 1.17×, 0.98× |
+/// | `bench/window_room.ron`   | 14.9 k | 6.9 k  | 3.26, 2.92, 0.69 | 1.68, 0.91, 0.91 | 1.04×, 0.93× |
+/// | `bench/glass_sphere_mesh.ron` | 18.0 k | 17.9 k | 2.77, 1.17, 0.57 | 7.68, 1.02, 0.40 | 0.74×, 1.03× |
+///
+/// The glass sphere's camera part is underestimated by a quarter: its specular-chain solves
+/// are not counted (they add to the camera part, so the model errs towards q = 1 there).
+pub const COST_WEIGHTS: CostWeights = CostWeights {
+    ray: 2200.0,
+    shadow_ray: 430.0,
+    connection: 2500.0,
+    sample: 5200.0,
+};
+
+impl CostWeights {
+    /// The instructions `part` stands for.
+    pub fn of(&self, part: &PartCost) -> f64 {
+        self.ray * part.rays as f64
+            + self.shadow_ray * part.shadow_rays as f64
+            + self.connection * part.connections as f64
+    }
+}
+
+/// One pixel's bookings within the current camera sample.
+#[derive(Clone, Copy, Debug)]
+struct Entry {
+    pixel: u64,
+    a: [f64; CANDIDATES.len()],
+    c: [f64; CANDIDATES.len()],
+}
+
+/// The pilot's sums (additive over camera samples, reduced in a fixed order).
+#[derive(Clone, Debug, Default)]
+pub struct PilotSums {
+    /// Per candidate: Σ A², Σ A·C, Σ C² over the camera samples' own pixels.
+    own: [[f64; 3]; CANDIDATES.len()],
+    /// The same for the pixels other than the sample's own (t = 1 and camera-chain splats).
+    splat: [[f64; 3]; CANDIDATES.len()],
+    /// Per candidate: Σ over pilot pixels of the squared mean of their own-pixel estimate
+    /// (`A_q + C_q`: the candidates move weight between the pixel's own strategies and the
+    /// t = 1 splats, so its own part's mean depends on `q`).
+    mean_sq: [f64; CANDIDATES.len()],
+    /// Camera samples and pixels.
+    samples: u64,
+    pixels: u64,
+    /// Work counts of the camera part and the light part.
+    camera: PartCost,
+    light: PartCost,
+}
+
+impl PilotSums {
+    fn add(&mut self, o: &PilotSums) {
+        for k in 0..CANDIDATES.len() {
+            for m in 0..3 {
+                self.own[k][m] += o.own[k][m];
+                self.splat[k][m] += o.splat[k][m];
+            }
+        }
+        for (m, o) in self.mean_sq.iter_mut().zip(&o.mean_sq) {
+            *m += o;
+        }
+        self.samples += o.samples;
+        self.pixels += o.pixels;
+        self.camera.add(&o.camera);
+        self.light.add(&o.light);
+    }
+
+    /// Per candidate: (q, variance, cost per camera sample, efficiency 1/(variance·cost)).
+    /// The variance is the sum over the pilot's pixels of one camera sample's variance of
+    /// the pixel's `Y` (within-pixel sample variance for the own-pixel part, with `n − 1`;
+    /// the splats' second moment, whose mean per camera sample is negligible, over `n`).
+    pub fn estimates(&self, weights: &CostWeights) -> Vec<Estimate> {
+        let n = (self.samples as f64 / self.pixels.max(1) as f64).max(2.0);
+        let per_sample = 1.0 / self.samples.max(1) as f64;
+        let cost_a = weights.sample + weights.of(&self.camera) * per_sample;
+        let cost_c = weights.of(&self.light) * per_sample;
+        CANDIDATES
+            .iter()
+            .enumerate()
+            .map(|(k, &q)| {
+                let q64 = q as f64;
+                let m2 = |s: &[f64; 3]| s[0] + 2.0 * s[1] + s[2] / q64;
+                let variance =
+                    (m2(&self.own[k]) - n * self.mean_sq[k]) / (n - 1.0) + m2(&self.splat[k]) / n;
+                let cost = cost_a + q64 * cost_c;
+                let efficiency = 1.0 / (variance * cost);
+                Estimate {
+                    q,
+                    variance,
+                    cost,
+                    efficiency,
+                }
+            })
+            .collect()
+    }
+}
+
+/// The pilot's estimate for one candidate `q`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Estimate {
+    /// The fraction.
+    pub q: f32,
+    /// Summed per-pixel variance of one camera sample's luminance (the pilot's pixels).
+    pub variance: f64,
+    /// Cost per camera sample (instructions, [`COST_WEIGHTS`]).
+    pub cost: f64,
+    /// `1 / (variance · cost)`.
+    pub efficiency: f64,
+}
+
+/// The pilot's recorder inside a BDPT worker: the current camera sample's bookings and the
+/// sums so far.
+#[derive(Clone, Debug)]
+pub struct PilotSample {
+    width: u32,
+    height: u32,
+    entries: Vec<Entry>,
+    /// Σ of the current pixel's own-pixel estimates per candidate, and its sample count.
+    pixel_sum: [f64; CANDIDATES.len()],
+    pixel_samples: u64,
+    sums: PilotSums,
+}
+
+impl PilotSample {
+    /// An empty recorder for an image of `width × height` pixels.
+    pub fn new(width: u32, height: u32) -> Self {
+        Self {
+            width,
+            height,
+            entries: Vec::with_capacity(16),
+            pixel_sum: [0.0; CANDIDATES.len()],
+            pixel_samples: 0,
+            sums: PilotSums::default(),
+        }
+    }
+
+    fn pixel(&self, at: Vec2) -> u64 {
+        let x = (at.x.max(0.0) as u32).min(self.width - 1);
+        let y = (at.y.max(0.0) as u32).min(self.height - 1);
+        y as u64 * self.width as u64 + x as u64
+    }
+
+    /// Books weighted luminance `y` (under the current weights, `q = 1`) of a connection
+    /// landing at raster position `at`, of the light-subpath class (`light`) or not, with the
+    /// candidates' weights over the current one (`ratios`).
+    pub fn book(&mut self, at: Vec2, light: bool, y: f64, ratios: &[f64; CANDIDATES.len()]) {
+        let pixel = self.pixel(at);
+        let i = match self.entries.iter().position(|e| e.pixel == pixel) {
+            Some(i) => i,
+            None => {
+                self.entries.push(Entry {
+                    pixel,
+                    a: [0.0; CANDIDATES.len()],
+                    c: [0.0; CANDIDATES.len()],
+                });
+                self.entries.len() - 1
+            }
+        };
+        let e = &mut self.entries[i];
+        let part = if light { &mut e.c } else { &mut e.a };
+        for (p, r) in part.iter_mut().zip(ratios) {
+            *p += y * r;
+        }
+    }
+
+    /// Ends a camera sample of the pixel whose centre is `center`, with its work counts.
+    pub fn finish_sample(&mut self, center: Vec2, camera: PartCost, light: PartCost) {
+        let own = self.pixel(center);
+        for e in &self.entries {
+            let sums = if e.pixel == own {
+                for (k, p) in self.pixel_sum.iter_mut().enumerate() {
+                    *p += e.a[k] + e.c[k];
+                }
+                &mut self.sums.own
+            } else {
+                &mut self.sums.splat
+            };
+            for (k, sk) in sums.iter_mut().enumerate() {
+                sk[0] += e.a[k] * e.a[k];
+                sk[1] += e.a[k] * e.c[k];
+                sk[2] += e.c[k] * e.c[k];
+            }
+        }
+        self.entries.clear();
+        self.pixel_samples += 1;
+        self.sums.samples += 1;
+        self.sums.camera.add(&camera);
+        self.sums.light.add(&light);
+    }
+
+    /// Ends a pilot pixel (all its samples done).
+    pub fn finish_pixel(&mut self) {
+        if self.pixel_samples > 0 {
+            for (acc, sum) in self.sums.mean_sq.iter_mut().zip(&self.pixel_sum) {
+                let m = sum / self.pixel_samples as f64;
+                *acc += m * m;
+            }
+            self.sums.pixels += 1;
+        }
+        self.pixel_sum = [0.0; CANDIDATES.len()];
+        self.pixel_samples = 0;
+    }
+
+    /// The sums recorded.
+    pub fn sums(&self) -> &PilotSums {
+        &self.sums
+    }
+}
+
+/// The pilot's pixels: a regular grid of at most about [`PILOT_PIXELS`] over the image.
+pub fn pilot_pixels(width: u32, height: u32) -> Vec<(u32, u32)> {
+    let area = width as f64 * height as f64;
+    let stride = ((area / PILOT_PIXELS as f64).sqrt().ceil() as u32).max(1);
+    let mut out = Vec::new();
+    let mut y = stride / 2;
+    while y < height {
+        let mut x = stride / 2;
+        while x < width {
+            out.push((x, y));
+            x += stride;
+        }
+        y += stride;
+    }
+    out
+}
+
+/// The pilot's seed for render seed `seed`.
+pub fn pilot_seed(seed: u64) -> u64 {
+    seed ^ PILOT_SALT
+}
+
+/// Runs `chunk` (which renders its pilot pixels with `q = 1` and returns its sums) over fixed
+/// chunks of [`pilot_pixels`] on `pool`, and reduces the sums in chunk order.
+pub fn run_pilot<F>(pool: &rayon::ThreadPool, width: u32, height: u32, chunk: F) -> PilotSums
+where
+    F: Fn(&[(u32, u32)]) -> PilotSums + Sync,
+{
+    let pixels = pilot_pixels(width, height);
+    let parts: Vec<PilotSums> = pool.install(|| pixels.par_chunks(CHUNK).map(&chunk).collect());
+    let mut sums = PilotSums::default();
+    for p in &parts {
+        sums.add(p);
+    }
+    sums
+}
+
+/// The pilot's decision: the chosen fraction and every candidate's estimate.
+#[derive(Clone, Debug)]
+pub struct Choice {
+    /// The chosen fraction.
+    pub q: f32,
+    /// The candidates' estimates, [`CANDIDATES`] order.
+    pub estimates: Vec<Estimate>,
+}
+
+impl Choice {
+    /// The candidate of greatest estimated efficiency, `q = 1` unless another beats it by
+    /// [`MIN_GAIN`] (and `q = 1` when the estimates are degenerate: no light, no variance).
+    pub fn from_sums(sums: &PilotSums) -> Self {
+        let estimates = sums.estimates(&COST_WEIGHTS);
+        let base = estimates[0].efficiency;
+        let mut q = 1.0;
+        if base.is_finite() && base > 0.0 {
+            let best = estimates
+                .iter()
+                .filter(|e| e.efficiency.is_finite() && e.variance > 0.0)
+                .max_by(|a, b| a.efficiency.total_cmp(&b.efficiency));
+            if let Some(b) = best {
+                if b.efficiency >= MIN_GAIN * base {
+                    q = b.q;
+                }
+            }
+        }
+        Self { q, estimates }
+    }
+
+    /// The estimate of fraction `q`, if it is a candidate.
+    pub fn estimate(&self, q: f32) -> Option<&Estimate> {
+        self.estimates.iter().find(|e| e.q == q)
+    }
+
+    /// The run-time line: what was chosen and why.
+    pub fn note(&self, seconds: f64) -> String {
+        let base = self.estimates[0].efficiency;
+        let gain = self.estimate(self.q).map_or(1.0, |e| e.efficiency / base);
+        let all: Vec<String> = self
+            .estimates
+            .iter()
+            .map(|e| format!("{}: {:.2}", fraction_text(e.q), e.efficiency / base))
+            .collect();
+        format!(
+            "bdpt light subpaths: q = {} (estimated efficiency {:.2}x q = 1; candidates {}), \
+             pilot {seconds:.2} s",
+            fraction_text(self.q),
+            if gain.is_finite() { gain } else { 1.0 },
+            all.join(", ")
+        )
+    }
+}
+
+/// `q` as text: `1`, `1/2`, … for the reciprocals of integers, else the decimal.
+pub fn fraction_text(q: f32) -> String {
+    let r = 1.0 / q;
+    if q >= 1.0 {
+        "1".into()
+    } else if (r - r.round()).abs() < 1e-4 {
+        format!("1/{}", r.round() as u32)
+    } else {
+        format!("{q}")
+    }
+}
+
+/// The counts of a render at fraction `q` with `light_paths` light subpaths.
+pub fn counts(light_paths: u32, q: f32) -> SampleCounts {
+    SampleCounts {
+        light_paths,
+        fraction: q,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Quantity: the pilot's variance estimate from sums built by hand for one pixel whose
+    /// camera samples give A = 1 always and C = 2 or 0 (mean 1): under q, E[X²] = 1 + 2·1 +
+    /// E[C²]/q = 3 + 2/q, mean 2, so the variance is E[X²] − 4 = 2/q − 1 (exact; tolerance
+    /// rounding). Checks the assembly of `A² + 2AC + C²/q` and the `n − 1` of the own part.
+    #[test]
+    fn variance_of_a_bernoulli_split_is_exact() {
+        let mut p = PilotSample::new(4, 4);
+        let c = Vec2::new(1.5, 1.5);
+        let ones = [1.0; CANDIDATES.len()];
+        for i in 0..4 {
+            p.book(c, false, 1.0, &ones);
+            p.book(c, true, if i % 2 == 0 { 2.0 } else { 0.0 }, &ones);
+            p.finish_sample(c, PartCost::default(), PartCost::default());
+        }
+        p.finish_pixel();
+        let est = p.sums().estimates(&COST_WEIGHTS);
+        for e in est {
+            let q = e.q as f64;
+            // Sample variance with n − 1 of four samples {3, 1, 3, 1} at q = 1 is 4/3, and the
+            // formula's second moment (3 + 2/q) with the same n − 1 correction.
+            let expect = (4.0 * (3.0 + 2.0 / q) - 4.0 * 4.0) / 3.0;
+            assert!((e.variance - expect).abs() < 1e-9, "{e:?} vs {expect}");
+        }
+    }
+
+    /// Quantity: the pilot grid. At most about `PILOT_PIXELS` pixels, all inside the image,
+    /// none repeated (tolerance: none).
+    #[test]
+    fn pilot_grid_covers_the_image() {
+        for (w, h) in [(1, 1), (64, 64), (160, 120), (1920, 1080)] {
+            let p = pilot_pixels(w, h);
+            assert!(!p.is_empty());
+            assert!(p.len() <= PILOT_PIXELS as usize + (w + h) as usize);
+            assert!(p.iter().all(|&(x, y)| x < w && y < h));
+            let mut q = p.clone();
+            q.sort_unstable();
+            q.dedup();
+            assert_eq!(q.len(), p.len());
+        }
+    }
+}
