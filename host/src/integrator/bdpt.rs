@@ -54,6 +54,7 @@ use super::connect::manifold_connection::{anchor, connect_manifold, s0_weight, S
 use super::connect::specular_seeds::{SolutionSet, SpecularShapes};
 use super::driver::{Integrator, IntegratorInfo, IntegratorOutput, Registration};
 use super::fluorescence::join::{connect_own, t1_wavelengths, LightMode, SHARED_MODE_PROBABILITY};
+use super::nee_guide::NeeGuide;
 use super::pixel_max::PixelMaxY;
 use super::render::ProgressFn;
 use super::subpath::beam::trace_beam;
@@ -83,7 +84,6 @@ use fluorescent_mis::mis_weight_lanes;
 use glam::Vec2;
 use light_fraction::{AltWeights, Choice, LightSubpaths, PartCost, PilotSample, CANDIDATES};
 use mis::{mis_weight_guided, s1_guide_key, SampleCounts};
-use super::nee_guide::NeeGuide;
 use spectrace_plugin_api::ParamDoc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 

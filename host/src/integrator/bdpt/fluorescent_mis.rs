@@ -41,10 +41,10 @@
 use super::mis::{
     heuristic_scale, mis_weight_overrides, nee_correction, s1_guide_factor, Overrides, SampleCounts,
 };
-use crate::integrator::nee_guide::NeeGuide;
 use crate::camera::Camera;
 use crate::integrator::fluorescence::events::{event_probability, Direction};
 use crate::integrator::fluorescence::join::{evaluated_event_possible, reradiation_at, LightMode};
+use crate::integrator::nee_guide::NeeGuide;
 use crate::integrator::subpath::vertex::{remap0, Vertex};
 use crate::integrator::wavelengths::mixture::WavelengthMixture;
 use crate::scene::Scene;

@@ -337,7 +337,13 @@ pub fn s1_guide_key(guide: &NeeGuide, x1: &Vertex, x2: &Vertex) -> u32 {
 /// key [`s1_guide_key`]. 1 where `x0` is on no light, the light is not guided, the key has no
 /// table or the light gives no numbers for the point (as the path tracer's weights do).
 #[inline]
-pub fn s1_guide_factor(guide: &NeeGuide, scene: &Scene, x0: &Vertex, x1: &Vertex, x2: &Vertex) -> f32 {
+pub fn s1_guide_factor(
+    guide: &NeeGuide,
+    scene: &Scene,
+    x0: &Vertex,
+    x1: &Vertex,
+    x2: &Vertex,
+) -> f32 {
     let Some(li) = x0.light_index(scene) else {
         return 1.0;
     };
