@@ -2,7 +2,7 @@
 //! each camera sample a camera subpath and a light subpath are traced
 //! ([`generate_camera_subpath`], [`generate_light_subpath`], both by [`random_walk`]), and every
 //! prefix pair is joined by [`connect`] into a full path of `s` light and `t` camera vertices.
-//! Each such (s, t) strategy is weighted by the power heuristic ([`mis_weight`]), computed from
+//! Each such (s, t) strategy is weighted by the power heuristic ([`mis_weight`](mis::mis_weight)), computed from
 //! per-vertex forward/reverse area densities, the light-tracing strategy's (t = 1) scaled by
 //! [`LIGHT_TRACING_MIS_SCALE`]; the vertices touched by a connection get their reverse
 //! densities as overrides instead of being patched in place.
@@ -43,6 +43,20 @@
 //! [`LIGHT_PATHS`] of them ([`light_paths_for`]), otherwise one. The first is joined to every
 //! camera-subpath prefix; all of them are joined to the camera (t = 1), which the power
 //! heuristic then counts as that many samples (see [`LIGHT_PATHS`]).
+//!
+//! Visibility guide: where the plan turns on the path tracer's guide (`super::nee_guide`: the
+//! same pre-pass, built once per render in `Setup` under the render's seed, the same per-light
+//! decision and run-time note, its time in the render's), the s = 1 strategy draws its light
+//! point's numbers from the guide's density for the camera vertex's key ([`connect_s1`]), so
+//! that strategy's density of the light vertex x₀ is `pdf_li · g(u(x₀), key(x₁))`. The MIS
+//! weights ([`mis::mis_weight_guided`], [`mis_weight_lanes`]) multiply by `g` exactly that
+//! density wherever it enters the power heuristic: the s = 1 term of every other strategy's
+//! sum, and the s = 1 strategy's own density; the light subpath's start density (s ≥ 2, t = 1)
+//! and s = 0 keep theirs. For paths made by other strategies `g` is evaluated at x₀'s numbers
+//! from x₁ ([`Light::sample_coords`](crate::light::Light::sample_coords); none: 1, as in the
+//! path tracer). The specular-chain and camera-chain connections weigh themselves against
+//! s = 0 only and never read the s = 1 density. Measured on `bench/window_room.ron`
+//! (docs/performance.md, "BDPT and its own strategies"): GUIDE_FIGURES.
 
 pub mod dimensions;
 pub mod fluorescent_mis;
