@@ -1138,7 +1138,9 @@ impl Bdpt {
                     &mut worker.stats,
                     worker.pilot.is_some().then_some(&mut alt),
                 );
-                if SampleCounts::uses_light_subpath(s, t) {
+                if worker.pilot.is_none() {
+                    // (The cost counts below are the pilot's.)
+                } else if SampleCounts::uses_light_subpath(s, t) {
                     light_cost.shadow_rays += worker.stats.shadow_rays - shadow_before;
                     light_cost.connections += connected.is_some() as u64;
                 } else {
@@ -1147,10 +1149,9 @@ impl Bdpt {
                 let Some(mut c) = connected else {
                     continue;
                 };
-                // The pilot's weight ratios, candidate over current (before the chain shares
-                // below, which no fraction changes).
-                let w = c.weight[0];
-                let ratios = alt.map(|a| if w > 0.0 { (a / w) as f64 } else { 0.0 });
+                // The weight before the chain shares below (which no fraction changes), for
+                // the pilot's ratios.
+                let w_mis = c.weight[0];
                 if manifold && s == 0 {
                     // A path the specular-chain connection can make too: its share.
                     let mut seeds = Seeds {
@@ -1226,6 +1227,9 @@ impl Bdpt {
                         None => camera_path.get(1),
                     };
                     if seen.is_none_or(|v| v.light_index(scene).is_none()) {
+                        // Candidate weights over the current one.
+                        let ratios =
+                            alt.map(|a| if w_mis > 0.0 { (a / w_mis) as f64 } else { 0.0 });
                         let at = c.raster.unwrap_or(pixel_center);
                         p.book(at, SampleCounts::uses_light_subpath(s, t), xyz[1], &ratios);
                     }

@@ -45,9 +45,9 @@
 //!
 //! | scene                     | auto's `q` | q = ¼ | q = 1/16 | `pt`  |
 //! |---------------------------|------------|-------|----------|-------|
-//! | `cornell_box.ron` (128²)  | 1          | 0.85  | 0.81     | 1.31  |
-//! | `bench/window_room.ron`   | 1/16 (predicted 1.30) | 1.28 | 1.34 | 4.29 |
-//! | `bench/glossy_metals.ron` | 1          | 0.72  | 0.39     | 0.28  |
+//! | `cornell_box.ron` (128²)  | 1          | 0.84  | 0.80     | 1.29  |
+//! | `bench/window_room.ron`   | 1/16 (predicted 1.30) | 1.28 | 1.33 | 4.25 |
+//! | `bench/glossy_metals.ron` | 1          | 0.71  | 0.39     | 0.28  |
 //! | `bench/glass_sphere_mesh.ron` | 1      | 0.67  | 0.19     | 0.13  |
 //!
 //! The pilot picks the best fraction on all four; where `pt` stays ahead (the Cornell box, the
