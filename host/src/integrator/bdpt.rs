@@ -56,7 +56,11 @@
 //! from x₁ ([`Light::sample_coords`](crate::light::Light::sample_coords); none: 1, as in the
 //! path tracer). The specular-chain and camera-chain connections weigh themselves against
 //! s = 0 only and never read the s = 1 density. Measured on `bench/window_room.ron`
-//! (docs/performance.md, "BDPT and its own strategies"): GUIDE_FIGURES.
+//! (docs/performance.md, "BDPT and its own strategies"; 6 seeds × 16 spp, callgrind instructions
+//! per camera sample), at the auto fraction (q = 1/16 either way): per-sample variance 2.29×
+//! lower for 21% more instructions (more light points pass their shadow rays, so more
+//! connections are weighed), 1.89× the efficiency (1.99× at q = 1); `pt` stays 1.70× ahead
+//! (3.2× without the guide in BDPT).
 
 pub mod dimensions;
 pub mod fluorescent_mis;
