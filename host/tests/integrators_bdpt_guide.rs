@@ -266,7 +266,9 @@ fn guided_fluorescent_bdpt_mean_equals_uniform_mean() {
 /// Quantity: as [`guided_bdpt_mean_equals_uniform_mean`], for the window room lit by the
 /// constant environment through its window (the guide on by itself: the light vertex of a
 /// path that escapes through the window, or of a light subpath from the sky, gives the guide
-/// its direction). Tolerance: 3 standard errors of the difference. MEASURED_ENV.
+/// its direction). Tolerance: 3 standard errors of the difference. Measured z = 0.9; with
+/// the factor left out of the other strategies' sums (kept in the s = 1 strategy's own density)
+/// 74% high, z = +63.
 #[test]
 fn guided_bdpt_mean_equals_uniform_mean_under_an_environment() {
     let scene = window_room_environment();
