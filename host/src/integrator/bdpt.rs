@@ -59,7 +59,7 @@
 //! (docs/performance.md, "BDPT and its own strategies"; 6 seeds × 16 spp, callgrind instructions
 //! per camera sample), at the auto fraction (q = 1/16 either way): per-sample variance 2.29×
 //! lower for 21% more instructions (more light points pass their shadow rays, so more
-//! connections are weighed), 1.89× the efficiency (1.99× at q = 1); `pt` stays 1.70× ahead
+//! connections are weighed), 1.90× the efficiency (2.00× at q = 1); `pt` stays 1.69× ahead
 //! (3.2× without the guide in BDPT).
 
 pub mod dimensions;
