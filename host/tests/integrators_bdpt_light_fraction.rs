@@ -281,7 +281,10 @@ fn pilot(scene: &Scene, sampler: SamplerKind) -> Choice {
 /// glass-sphere caustic (its core made by light tracing) keeps `q = 1`, and so does the
 /// Cornell box (measured: its light-subpath strategies carry the indirect light so well that
 /// without them BDPT's camera strategies have 3× the variance, for 0.4× the instructions).
-/// Tolerance: none on the choice; the estimates behind it are printed.
+/// Tolerance: none on the choice at this seed (the pilot is deterministic); the estimates behind
+/// it are printed. Other seeds move the caustic's estimates by several percent (at 160 × 120,
+/// seed 6 of 1–8 picks ½ at an estimated 1.06×), never the window room's or the Cornell box's
+/// choice (seeds 1–8).
 #[test]
 fn the_pilot_keeps_light_subpaths_where_they_pay() {
     let room = pilot(&window_room(), SamplerKind::Sobol);

@@ -44,6 +44,11 @@
 //! camera-subpath prefix; all of them are joined to the camera (t = 1), which the power
 //! heuristic then counts as that many samples (see [`LIGHT_PATHS`]).
 //!
+//! Light-subpath fraction: a camera sample traces its light subpaths only with probability `q`
+//! (`--effect light-subpaths=auto|Q`; `auto` chooses `q` per scene by a short pilot); the
+//! strategies that use them are divided by their expected count and weighted by it
+//! ([`mis::SampleCounts`], [`light_fraction`]). `q = 1` renders exactly as before.
+//!
 //! Visibility guide: where the plan turns on the path tracer's guide (`super::nee_guide`: the
 //! same pre-pass, built once per render in `Setup` under the render's seed, the same per-light
 //! decision and run-time note, its time in the render's), the s = 1 strategy draws its light
