@@ -2,7 +2,7 @@
 //! each camera sample a camera subpath and a light subpath are traced
 //! ([`generate_camera_subpath`], [`generate_light_subpath`], both by [`random_walk`]), and every
 //! prefix pair is joined by [`connect`] into a full path of `s` light and `t` camera vertices.
-//! Each such (s, t) strategy is weighted by the power heuristic ([`mis_weight`]), computed from
+//! Each such (s, t) strategy is weighted by the power heuristic ([`mis_weight`](mis::mis_weight)), computed from
 //! per-vertex forward/reverse area densities, the light-tracing strategy's (t = 1) scaled by
 //! [`LIGHT_TRACING_MIS_SCALE`]; the vertices touched by a connection get their reverse
 //! densities as overrides instead of being patched in place.
@@ -48,6 +48,24 @@
 //! (`--effect light-subpaths=auto|Q`; `auto` chooses `q` per scene by a short pilot); the
 //! strategies that use them are divided by their expected count and weighted by it
 //! ([`mis::SampleCounts`], [`light_fraction`]). `q = 1` renders exactly as before.
+//!
+//! Visibility guide: where the plan turns on the path tracer's guide (`super::nee_guide`: the
+//! same pre-pass, built once per render in `Setup` under the render's seed, the same per-light
+//! decision and run-time note, its time in the render's), the s = 1 strategy draws its light
+//! point's numbers from the guide's density for the camera vertex's key ([`connect_s1`]), so
+//! that strategy's density of the light vertex x₀ is `pdf_li · g(u(x₀), key(x₁))`. The MIS
+//! weights ([`mis::mis_weight_guided`], [`mis_weight_lanes`]) multiply by `g` exactly that
+//! density wherever it enters the power heuristic: the s = 1 term of every other strategy's
+//! sum, and the s = 1 strategy's own density; the light subpath's start density (s ≥ 2, t = 1)
+//! and s = 0 keep theirs. For paths made by other strategies `g` is evaluated at x₀'s numbers
+//! from x₁ ([`Light::sample_coords`](crate::light::Light::sample_coords); none: 1, as in the
+//! path tracer). The specular-chain and camera-chain connections weigh themselves against
+//! s = 0 only and never read the s = 1 density. Measured on `bench/window_room.ron`
+//! (docs/performance.md, "BDPT and its own strategies"; 6 seeds × 16 spp, callgrind instructions
+//! per camera sample), at the auto fraction (q = 1/16 either way): per-sample variance 2.29×
+//! lower for 21% more instructions (more light points pass their shadow rays, so more
+//! connections are weighed), 1.90× the efficiency (2.00× at q = 1); `pt` stays 1.69× ahead
+//! (3.2× without the guide in BDPT).
 
 pub mod dimensions;
 pub mod fluorescent_mis;
@@ -59,6 +77,7 @@ use super::connect::manifold_connection::{anchor, connect_manifold, s0_weight, S
 use super::connect::specular_seeds::{SolutionSet, SpecularShapes};
 use super::driver::{Integrator, IntegratorInfo, IntegratorOutput, Registration};
 use super::fluorescence::join::{connect_own, t1_wavelengths, LightMode, SHARED_MODE_PROBABILITY};
+use super::nee_guide::NeeGuide;
 use super::pixel_max::PixelMaxY;
 use super::render::ProgressFn;
 use super::subpath::beam::trace_beam;
@@ -87,7 +106,7 @@ use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths, LANES};
 use fluorescent_mis::mis_weight_lanes;
 use glam::Vec2;
 use light_fraction::{AltWeights, Choice, LightSubpaths, PartCost, PilotSample, CANDIDATES};
-use mis::{mis_weight, SampleCounts};
+use mis::{mis_weight_guided, s1_guide_key, SampleCounts};
 use spectrace_plugin_api::ParamDoc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
@@ -241,6 +260,7 @@ pub fn connect<S: UniformSource>(
     lambda: &SampledWavelengths,
     mode: Option<&LightMode>,
     counts: SampleCounts,
+    guide: Option<&NeeGuide>,
     rng: &mut S,
     stats: &mut PathStats,
     alt: Option<&mut AltWeights>,
@@ -257,6 +277,7 @@ pub fn connect<S: UniformSource>(
             lambda,
             mode,
             counts,
+            guide,
             rng,
             stats,
             alt,
@@ -271,6 +292,7 @@ pub fn connect<S: UniformSource>(
             lambda,
             None,
             counts,
+            guide,
             rng,
             stats,
             alt,
@@ -289,6 +311,7 @@ fn connect_in<const FLUORESCENT: bool, S: UniformSource>(
     lambda: &SampledWavelengths,
     mode: Option<&LightMode>,
     counts: SampleCounts,
+    guide: Option<&NeeGuide>,
     rng: &mut S,
     stats: &mut PathStats,
     alt: Option<&mut AltWeights>,
@@ -309,7 +332,7 @@ fn connect_in<const FLUORESCENT: bool, S: UniformSource>(
         let (c, r, cam_v) = connect_to_camera(scene, camera, light_path, s, start, u, stats)?;
         (c, Some(cam_v), Some(r))
     } else if s == 1 {
-        let (c, lv) = connect_s1(scene, camera_path, t, lambda, rng, stats)?;
+        let (c, lv) = connect_s1(scene, camera_path, t, lambda, guide, rng, stats)?;
         (c, Some(lv), None)
     } else if let (true, Some(m)) = (own, mode) {
         // Light wavelengths drawn on their own: a fluorescent endpoint evaluates the
@@ -351,19 +374,20 @@ fn connect_in<const FLUORESCENT: bool, S: UniformSource>(
                 .filter(|&k| l[k] != 0.0)
                 .fold(LaneMask::NONE, |acc, k| acc.with(k)),
             counts,
+            guide,
         )
     } else {
         let weight = |counts| {
-            mis_weight(
+            mis_weight_guided(
                 scene,
                 camera,
                 light_path,
                 camera_path,
                 sampled.as_ref(),
-                s,
-                t,
+                (s, t),
                 lambda,
                 counts,
+                guide,
             )
         };
         if let Some(alt) = alt {
@@ -446,13 +470,17 @@ fn connect_s0(
 }
 
 /// s = 1, t ≥ 2 (next-event estimation): a fresh light point as seen from the camera vertex;
-/// the contribution and the light vertex.
+/// the contribution and the light vertex. Where `guide` guides the chosen light, the light's
+/// numbers are drawn from its density for the camera vertex's key (`mis::s1_guide_key`) and
+/// the point's density is `pdf_li` times its factor, which the MIS weights evaluate at the
+/// point (`mis::s1_guide_factor`).
 #[inline]
 fn connect_s1<S: UniformSource>(
     scene: &Scene,
     camera_path: &[Vertex],
     t: usize,
     lambda: &SampledWavelengths,
+    guide: Option<&NeeGuide>,
     rng: &mut S,
     stats: &mut PathStats,
 ) -> Option<(SampledSpectrum, Vertex)> {
@@ -462,6 +490,10 @@ fn connect_s1<S: UniformSource>(
     }
     let (li, pmf) = scene.lights.sample(rng.next_1d())?;
     let u = rng.next_2d();
+    let (u, guided) = match guide {
+        Some(g) if g.guides(li) => g.sample(li, s1_guide_key(g, pt, &camera_path[t - 2]), u),
+        _ => (u, 1.0),
+    };
     let light = &scene.lights.lights()[li];
     let ctx = LightSampleContext {
         p: pt.p,
@@ -481,7 +513,7 @@ fn connect_s1<S: UniformSource>(
         ls.p_light,
         ls.p_light_error,
         ls.n_light,
-        ls.radiance / (pmf * ls.pdf),
+        ls.radiance / (pmf * ls.pdf * guided),
     );
     let mut c = pt.beta * pt.f(scene, &lv, lambda, TransportMode::Radiance) * lv.beta;
     if pt.on_surface() {
@@ -656,6 +688,9 @@ struct Setup<'p> {
     manifold: bool,
     camera_chain: Option<CameraChain>,
     shapes: SpecularShapes,
+    /// The visibility guide of the s = 1 strategy's light points (`nee_guide`), when the plan
+    /// and its pre-pass turn it on for some light.
+    guide: Option<NeeGuide>,
 }
 
 impl<'p> Setup<'p> {
@@ -680,6 +715,15 @@ impl<'p> Setup<'p> {
             .flatten();
         // The specular objects whose reflections seed the specular-chain connection too.
         let shapes = SpecularShapes::new(scene);
+        // The path tracer's visibility guide, the same pre-pass and per-light decision (its
+        // own seed from the render's: the same guide whatever the thread count).
+        let guide = NeeGuide::build(
+            scene,
+            camera,
+            settings.seed,
+            plan.visibility_guide(),
+            settings.threads,
+        );
         Self {
             sensor,
             pair,
@@ -687,6 +731,7 @@ impl<'p> Setup<'p> {
             manifold,
             camera_chain,
             shapes,
+            guide,
         }
     }
 
@@ -736,6 +781,7 @@ fn pilot_sums(
                         setup.camera_chain.as_ref(),
                         setup.reflection_shapes(),
                     ),
+                    setup.guide.as_ref(),
                     &mut worker,
                 );
             }
@@ -774,8 +820,18 @@ fn render_bdpt(
     let strategies = bdpt
         .strategy_images
         .then(|| StrategyFilms::new(width, height));
+    let guide = setup.guide.as_ref();
+    let mut notes = guide.map_or_else(Vec::new, |g| {
+        g.notes(|i| {
+            let name = scene
+                .options
+                .light_items
+                .get(i)
+                .map_or_else(|| format!("light {i}"), |n| format!("light {i} ({n})"));
+            format!("{name} (bdpt's s = 1 strategy)")
+        })
+    });
     // The fraction of camera samples that trace light subpaths (`light_fraction`).
-    let mut notes = Vec::new();
     let pilot_start = std::time::Instant::now();
     let q = match (plan.light_subpaths(), fraction_stays_one(scene)) {
         (LightSubpaths::Fraction(q), _) if q >= 1.0 => 1.0,
@@ -794,8 +850,9 @@ fn render_bdpt(
         }
     };
     let counts = light_fraction::counts(bdpt.light_paths, q);
-    // The pilot is part of the render: a time budget counts it.
-    let pilot_time = pilot_start.elapsed();
+    // The pilot and the guide's pre-pass are part of the render: a time budget counts them.
+    let prepass_time = std::time::Duration::from_secs_f64(guide.map_or(0.0, NeeGuide::seconds));
+    let pilot_time = pilot_start.elapsed() + prepass_time;
     let settings = &RenderSettings {
         budget: match &settings.budget {
             super::SampleBudget::Time(d) => super::SampleBudget::Time(d.saturating_sub(pilot_time)),
@@ -832,6 +889,7 @@ fn render_bdpt(
                             strategies.as_ref(),
                             flat.as_ref(),
                             (manifold, camera_chain.as_ref(), reflection_shapes),
+                            guide,
                             &mut worker,
                         );
                         buf.add(x, y, xyz, "bdpt camera film (t ≥ 2)");
@@ -845,7 +903,8 @@ fn render_bdpt(
         },
     )?;
     let (film, spp_done, dropped_pass) = (outcome.film, outcome.spp, outcome.dropped_pass);
-    let elapsed = outcome.elapsed;
+    // The guide's pre-pass is in the render's time, as the path tracer counts it.
+    let elapsed = outcome.elapsed + prepass_time;
     let scale = 1.0 / spp_done.max(1) as f64;
     // Pixel means plus splat sums / spp, from the exact film.
     let image = film.image();
@@ -948,6 +1007,7 @@ impl Bdpt {
             Option<&CameraChain>,
             Option<&SpecularShapes>,
         ),
+        guide: Option<&NeeGuide>,
         worker: &mut Worker,
     ) -> [f64; 3] {
         let camera = cam.camera.as_ref();
@@ -1082,6 +1142,7 @@ impl Bdpt {
                     &lambda,
                     mode.as_ref(),
                     counts,
+                    guide,
                     ld,
                     &mut worker.stats,
                     worker.pilot.is_some().then_some(&mut alt),
@@ -1370,6 +1431,7 @@ impl Bdpt {
                     &lambda,
                     mode.as_ref(),
                     counts,
+                    guide,
                     ld,
                     &mut worker.stats,
                     worker.pilot.is_some().then_some(&mut alt),

@@ -18,6 +18,11 @@
 //! BSDF-sampled ray that hits the light evaluates at the hit's `u` and the previous vertex's
 //! key ([`NeeGuide::pdf_factor`]): both strategies see one density.
 //!
+//! BDPT's s = 1 strategy (a fresh light point joined to camera vertex t, next-event estimation
+//! from that vertex) draws its light points with the same guide, keyed by the camera vertex
+//! and the side its camera subpath arrives from; its MIS weights carry the factor wherever that
+//! strategy's density enters the power heuristic (`bdpt::mis::s1_guide_factor`).
+//!
 //! The pre-pass ([`NeeGuide::build`]) is deterministic: a fixed number of camera paths from a
 //! Sobol' sequence under the render's seed, in fixed chunks reduced in order (the same guide
 //! whatever the thread count). At each non-specular vertex (BSDF-sampled paths, up to

@@ -76,7 +76,7 @@ pub struct RenderArgs {
     pub effects: crate::integrator::EffectsMode,
     /// Force one effect on or off, NAME=on|off (repeatable): dispersion, fluorescence,
     /// thin-film, narrowband-emission (alias line-emission), flat-path-colour, manifold,
-    /// camera-chain, visibility-guide (pt's learned light points; see docs/effects.md). Also
+    /// camera-chain, visibility-guide (pt's and bdpt's s = 1 learned light points; see docs/effects.md). Also
     /// light-subpaths=auto|Q: the fraction of bdpt's camera samples that trace light subpaths,
     /// auto (chosen by a short pilot, the default) or Q in (0, 1] (1, 0.5, 1/8, …).
     #[arg(long = "effect", value_name = "NAME=on|off")]

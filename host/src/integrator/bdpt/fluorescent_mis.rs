@@ -38,10 +38,13 @@
 //! event's, after which only the hero lane is left (`Vertex::lanes`), and a fluorescent
 //! surface samples the cosine lobe whatever the wavelength.
 
-use super::mis::{heuristic_scale, mis_weight_overrides, nee_correction, Overrides, SampleCounts};
+use super::mis::{
+    heuristic_scale, mis_weight_overrides, nee_correction, s1_guide_factor, Overrides, SampleCounts,
+};
 use crate::camera::Camera;
 use crate::integrator::fluorescence::events::{event_probability, Direction};
 use crate::integrator::fluorescence::join::{evaluated_event_possible, reradiation_at, LightMode};
+use crate::integrator::nee_guide::NeeGuide;
 use crate::integrator::subpath::vertex::{remap0, Vertex};
 use crate::integrator::wavelengths::mixture::WavelengthMixture;
 use crate::scene::Scene;
@@ -74,6 +77,7 @@ pub fn mis_weight_lanes(
     mode: &LightMode,
     need: LaneMask,
     counts: SampleCounts,
+    guide: Option<&NeeGuide>,
 ) -> SampledSpectrum {
     let path = Joined {
         o: mis_weight_overrides(
@@ -90,6 +94,7 @@ pub fn mis_weight_lanes(
         camera_path,
         s,
         t,
+        guide,
     };
     let n = s + t;
     let own_mode = mode.own && s >= 2 && t >= 2;
@@ -123,6 +128,8 @@ struct Joined<'a> {
     camera_path: &'a [Vertex],
     s: usize,
     t: usize,
+    /// The visibility guide of the s = 1 strategy's light points, if any.
+    guide: Option<&'a NeeGuide>,
 }
 
 impl Joined<'_> {
@@ -214,7 +221,12 @@ impl Scratch {
             } else {
                 path.x(0).pdf_fwd
             };
-            let nee = nee_correction(scene, path.x(0), path.x(1), origin) as f64;
+            let mut nee = nee_correction(scene, path.x(0), path.x(1), origin) as f64;
+            if let Some(g) = path.guide {
+                // The guide's factor of x₀ drawn from x₁ (`mis::s1_guide_factor`).
+                let f = s1_guide_factor(g, scene, path.x(0), path.x(1), path.x(2)) as f64;
+                nee *= f * f;
+            }
             if nee > 0.0 {
                 area[1].0 *= nee;
                 if s == 1 {
@@ -921,6 +933,7 @@ mod tests {
                 &mode,
                 LaneMask::ALL,
                 SampleCounts::every_sample(1),
+                None,
             )
         }
 

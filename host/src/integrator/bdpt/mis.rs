@@ -5,6 +5,7 @@
 //! weights of fluorescent connections from the same parts.
 
 use crate::camera::Camera;
+use crate::integrator::nee_guide::{NeeGuide, NO_KEY};
 use crate::integrator::subpath::vertex::{remap0, Vertex};
 use crate::light::LightSampleContext;
 use crate::material::TransportMode;
@@ -95,6 +96,7 @@ pub fn mis_weight_overrides(
 /// scaled by [`LIGHT_TRACING_MIS_SCALE`]. `sampled` is the
 /// freshly sampled lens vertex (t = 1) or light vertex (s = 1, t ≥ 2).
 #[allow(clippy::too_many_arguments)]
+#[inline]
 pub fn mis_weight(
     scene: &Scene,
     camera: &dyn Camera,
@@ -106,7 +108,35 @@ pub fn mis_weight(
     lambda: &SampledWavelengths,
     counts: impl Into<SampleCounts>,
 ) -> f32 {
-    let counts = counts.into();
+    mis_weight_guided(
+        scene,
+        camera,
+        light_path,
+        camera_path,
+        sampled,
+        (s, t),
+        lambda,
+        counts.into(),
+        None,
+    )
+}
+
+/// [`mis_weight`] where the s = 1 strategy (t ≥ 2) draws its light point with the visibility
+/// guide `guide` ([`s1_guide_factor`]): that strategy's density of x₀ carries the guide's
+/// factor wherever it enters the sum (its own density when s = 1, its term otherwise).
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub fn mis_weight_guided(
+    scene: &Scene,
+    camera: &dyn Camera,
+    light_path: &[Vertex],
+    camera_path: &[Vertex],
+    sampled: Option<&Vertex>,
+    (s, t): (usize, usize),
+    lambda: &SampledWavelengths,
+    counts: SampleCounts,
+    guide: Option<&NeeGuide>,
+) -> f32 {
     // Two instances: with every camera sample tracing light subpaths (q = 1) the joins' scale
     // is 1 and drops out, as before the fraction existed (one instance for both cost bdpt
     // +0.6% of its instructions on the Cornell box at q = 1).
@@ -120,15 +150,19 @@ pub fn mis_weight(
         t,
         lambda,
         counts,
+        guide,
     );
-    if counts.fraction >= 1.0 {
-        mis_weight_in::<false>(args)
-    } else {
-        mis_weight_in::<true>(args)
+    // And two more with the guide: unguided renders keep the weights' code as it was (one
+    // instance for both cost the Cornell box +1.0% of bdpt's instructions, the guide off).
+    match (counts.fraction >= 1.0, guide.is_some()) {
+        (true, false) => mis_weight_in::<false, false>(args),
+        (false, false) => mis_weight_in::<true, false>(args),
+        (true, true) => mis_weight_in::<false, true>(args),
+        (false, true) => mis_weight_in::<true, true>(args),
     }
 }
 
-/// The arguments of [`mis_weight`], passed on as one.
+/// The arguments of [`mis_weight_guided`], passed on as one.
 type WeightArgs<'a> = (
     &'a Scene,
     &'a dyn Camera,
@@ -139,12 +173,14 @@ type WeightArgs<'a> = (
     usize,
     &'a SampledWavelengths,
     SampleCounts,
+    Option<&'a NeeGuide>,
 );
 
-/// [`mis_weight`], with `FRACTION` saying whether `counts.fraction` can be below 1.
+/// [`mis_weight_guided`], with `FRACTION` saying whether `counts.fraction` can be below 1 and
+/// `GUIDED` whether `guide` can be `Some`.
 #[inline(always)]
-fn mis_weight_in<const FRACTION: bool>(
-    (scene, camera, light_path, camera_path, sampled, s, t, lambda, counts): WeightArgs<'_>,
+fn mis_weight_in<const FRACTION: bool, const GUIDED: bool>(
+    (scene, camera, light_path, camera_path, sampled, s, t, lambda, counts, guide): WeightArgs<'_>,
 ) -> f32 {
     // The same overrides as [`mis_weight_overrides`], written out here on purpose: calling it
     // (even `#[inline(always)]`, moving the `Overrides` with its two vertex copies) costs
@@ -219,13 +255,28 @@ fn mis_weight_in<const FRACTION: bool>(
     let sq = |x: f32| x * x;
     // The s = 1 strategy's own density of the light vertex (next-event estimation), squared
     // and relative to the light subpath's start density in the chain (see `nee_correction`).
+    // With the visibility guide, also times the guide's squared factor g(u(x₀), key(x₁)).
     let nee = if s + t >= 3 {
+        // x₀, x₁ and x₂ of the path (light to camera), and x₀'s start density.
         let (y0, y1, origin) = match s {
             0 => (pt, &camera_path[t - 2], pt_rev),
             1 => (light_v(0), pt, light_v(0).pdf_fwd),
             _ => (light_v(0), light_v(1), light_v(0).pdf_fwd),
         };
-        nee_correction(scene, y0, y1, origin)
+        let k = nee_correction(scene, y0, y1, origin);
+        match guide {
+            Some(g) if GUIDED => {
+                let y2 = match s {
+                    0 => &camera_path[t - 3],
+                    1 => &camera_path[t - 2],
+                    2 => pt,
+                    _ => light_v(2),
+                };
+                let f = s1_guide_factor(g, scene, y0, y1, y2);
+                k * f * f
+            }
+            _ => k,
+        }
     } else {
         1.0
     };
@@ -329,6 +380,45 @@ pub fn nee_correction(scene: &Scene, y0: &Vertex, y1: &Vertex, origin: f32) -> f
     } else {
         1.0
     }
+}
+
+/// The visibility guide's key of camera vertex `x1` as the receiver of the s = 1 strategy
+/// (next-event estimation from `x1`), lit from the side of `x2`, the vertex before it on the
+/// camera subpath: what [`NeeGuide::key`] gives the path tracer's receiver.
+/// [`NO_KEY`] (uniform) away from surfaces.
+#[inline]
+pub fn s1_guide_key(guide: &NeeGuide, x1: &Vertex, x2: &Vertex) -> u32 {
+    if x1.on_surface() {
+        guide.key(x1.p, x1.ng, x2.p - x1.p)
+    } else {
+        NO_KEY
+    }
+}
+
+/// The factor `g` by which the visibility guide multiplies the s = 1 strategy's density of
+/// light vertex `x0` drawn from camera vertex `x1` (whose own predecessor on the camera
+/// subpath is `x2`): the guide's density of `u(x0)`, the light's sample numbers of `x0` seen
+/// from `x1` ([`Light::sample_coords`](crate::light::Light::sample_coords)), in the table of
+/// key [`s1_guide_key`]. 1 where `x0` is on no light, the light is not guided, the key has no
+/// table or the light gives no numbers for the point (as the path tracer's weights do).
+#[inline]
+pub fn s1_guide_factor(
+    guide: &NeeGuide,
+    scene: &Scene,
+    x0: &Vertex,
+    x1: &Vertex,
+    x2: &Vertex,
+) -> f32 {
+    let Some(li) = x0.light_index(scene) else {
+        return 1.0;
+    };
+    let li = li as usize;
+    if !guide.guides(li) {
+        return 1.0;
+    }
+    let light = &scene.lights.lights()[li];
+    let key = s1_guide_key(guide, x1, x2);
+    guide.pdf_factor(li, key, light.as_ref(), x1.p, x0.p)
 }
 
 /// The light-tracing strategy's (t = 1) density in the power heuristic is counted as
