@@ -903,8 +903,9 @@ fn render_bdpt(
         },
     )?;
     let (film, spp_done, dropped_pass) = (outcome.film, outcome.spp, outcome.dropped_pass);
-    // The guide's pre-pass is in the render's time, as the path tracer counts it.
-    let elapsed = outcome.elapsed + prepass_time;
+    // The guide's pre-pass and the light-fraction pilot are in the render's time (the path
+    // tracer counts its pre-pass the same way), so a timed comparison pays for them.
+    let elapsed = outcome.elapsed + pilot_time;
     let scale = 1.0 / spp_done.max(1) as f64;
     // Pixel means plus splat sums / spp, from the exact film.
     let image = film.image();
