@@ -679,9 +679,11 @@ impl RenderPlan {
                 }
                 (Switch::CameraChain, false) => "those paths come from s = 0 alone",
                 (Switch::VisibilityGuide, true) => {
-                    "pt: points of area lights on quads and small meshes, and the environment's \
-                     directions, drawn from a density learned by a short pre-pass (where the light is visible from each region), for every light \
-                     whose pre-pass light is at least 30% occluded (forced on: every such light)"
+                    "pt's next-event estimation and bdpt's s = 1 strategy: points of area lights \
+                     on quads and small meshes, and the environment's directions, drawn from a \
+                     density learned by a short pre-pass (where the light is visible from each \
+                     region), for every light whose pre-pass light is at least 30% occluded \
+                     (forced on: every such light)"
                 }
                 (Switch::VisibilityGuide, false) => {
                     "light points uniform by area, environment directions by its own sampling"
