@@ -387,7 +387,8 @@ def cmd_reference(a):
         done, p = 0, 0
         while done < half:
             n = min(1024, half - done)
-            img += n * np.array(mi.render(scene, spp=n, seed=1_000_003 * (k + 1) + p), dtype=np.float64)
+            seed = 1_000_003 * (k + 1) + p + 4_000_037 * a.seed
+            img += n * np.array(mi.render(scene, spp=n, seed=seed), dtype=np.float64)
             done += n
             p += 1
         img /= half
@@ -482,6 +483,8 @@ def main():
     f.add_argument("--spp", type=int, required=True)
     f.add_argument("--threads", type=int, default=2)
     f.add_argument("--out-prefix", required=True)
+    f.add_argument("--seed", type=int, default=0,
+                   help="another seed gives another independent reference (0: the bench's)")
     c = sub.add_parser("colour-factor",
                        help="Mitsuba's spectrum-to-RGB conversion over the CIE integral")
     c.add_argument("--threads", type=int, default=2)
