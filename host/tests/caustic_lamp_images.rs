@@ -15,6 +15,7 @@
 //! Run: `cargo test --release -p spectrace --test caustic_lamp_images`.
 
 use glam::DVec3;
+use spectrace::film::XyzImage;
 use spectrace::integrator::select::render_planned;
 use spectrace::integrator::{EffectsRequest, RenderPlan};
 use spectrace::integrator::{IntegratorKind, PathTracer, RenderSettings, SampleBudget};
@@ -224,6 +225,35 @@ fn lamp_luminance(scene: &Scene, spec: &str, scale: f64) -> f64 {
     scale * num / den
 }
 
+/// `scene` rendered by `kind` under `plan`, `spp` samples per pixel at `seed`, all threads, the
+/// scene's own depth.
+fn render(scene: &Scene, plan: &RenderPlan, kind: IntegratorKind, spp: u32, seed: u64) -> XyzImage {
+    let settings = RenderSettings {
+        budget: SampleBudget::Spp(spp),
+        seed,
+        threads: None,
+        camera: None,
+        tile_size: 16,
+        tracer: PathTracer {
+            max_depth: scene.options.max_depth,
+            ..PathTracer::default()
+        },
+        sampler: Default::default(),
+    };
+    render_planned(scene, plan, &settings, kind, false, &|_, _| {}, None)
+        .unwrap()
+        .result
+        .image
+}
+
+/// Mean and standard error of the mean of per-seed values.
+fn mean_se(values: &[f64]) -> (f64, f64) {
+    let n = values.len() as f64;
+    let mean = values.iter().sum::<f64>() / n;
+    let var = values.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0);
+    (mean, (var / n).sqrt())
+}
+
 /// Quantity: the luminance Y of the two pixel pairs where the lamp appears in the ball
 /// (rows 31 and 26, columns 79–80: the reflection at the top with a T R R T image in the same
 /// pixels, and the grazing T R R T image), BDPT with its camera-side specular chains, 8
@@ -253,29 +283,7 @@ fn lamp_images_match_the_geometric_integral() {
     let seeds = 8;
     let mut pairs = vec![[0.0f64; 2]; seeds];
     for (s, pair) in pairs.iter_mut().enumerate() {
-        let settings = RenderSettings {
-            budget: SampleBudget::Spp(64),
-            seed: s as u64 + 1,
-            threads: None,
-            camera: None,
-            tile_size: 16,
-            tracer: PathTracer {
-                max_depth: scene.options.max_depth,
-                ..PathTracer::default()
-            },
-            sampler: Default::default(),
-        };
-        let out = render_planned(
-            &scene,
-            &plan,
-            &settings,
-            IntegratorKind::Bdpt,
-            false,
-            &|_, _| {},
-            None,
-        )
-        .unwrap();
-        let img = &out.result.image;
+        let img = &render(&scene, &plan, IntegratorKind::Bdpt, 64, s as u64 + 1);
         let y_at = |(x, y): (u32, u32)| img.xyz[(y * img.width + x) as usize][1];
         *pair = [
             y_at(pixels[0]) + y_at(pixels[1]),
@@ -288,10 +296,7 @@ fn lamp_images_match_the_geometric_integral() {
     {
         let want = expected[2 * k] + expected[2 * k + 1];
         let xs: Vec<f64> = pairs.iter().map(|p| p[k]).collect();
-        let n = xs.len() as f64;
-        let mean = xs.iter().sum::<f64>() / n;
-        let var = xs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0);
-        let se = (var / n).sqrt();
+        let (mean, se) = mean_se(&xs);
         eprintln!(
             "{what}: BDPT {mean:.4} ± {se:.4} (8 seeds × 64 spp), geometric integral {want:.4}, \
              {:+.2}%",
@@ -460,34 +465,18 @@ fn bench_sphere_grazing_image_matches_the_geometric_integral() {
         let seeds = 16;
         let images: Vec<Vec<f64>> = (0..seeds)
             .map(|s| {
-                let settings = RenderSettings {
-                    budget: SampleBudget::Spp(SPP),
-                    seed: s as u64 + 1,
-                    threads: None,
-                    camera: None,
-                    tile_size: 16,
-                    tracer: PathTracer {
-                        max_depth: scene.options.max_depth,
-                        ..PathTracer::default()
-                    },
-                    sampler: Default::default(),
-                };
-                let out = render_planned(&scene, &plan, &settings, kind, false, &|_, _| {}, None)
-                    .unwrap();
-                out.result.image.xyz.iter().map(|p| p[1]).collect()
+                render(&scene, &plan, kind, SPP, s as u64 + 1)
+                    .xyz
+                    .iter()
+                    .map(|p| p[1])
+                    .collect()
             })
             .collect();
-        let stats = |values: &[f64]| {
-            let n = values.len() as f64;
-            let mean = values.iter().sum::<f64>() / n;
-            let var = values.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0);
-            (mean, (var / n).sqrt())
-        };
         // z of each pixel against the exact integral and against the offset one; the
         // integral's own grid error (0.5% of the value) is added to the standard error.
         let (mut z2, mut z2_offset, mut worst) = (0.0, 0.0, 0.0f64);
         for (&i, m) in checked.iter().zip(&moved) {
-            let (mean, se) = stats(&images.iter().map(|im| im[i]).collect::<Vec<_>>());
+            let (mean, se) = mean_se(&images.iter().map(|im| im[i]).collect::<Vec<_>>());
             let sd = se.hypot(0.005 * exact[i]);
             let z = (mean - exact[i]) / sd;
             assert!(
@@ -514,7 +503,7 @@ fn bench_sphere_grazing_image_matches_the_geometric_integral() {
             "{kind:?}: cannot tell the offsets apart ({z2_offset})"
         );
         let sums: Vec<f64> = images.iter().map(|im| im.iter().sum()).collect();
-        let (sum, se) = stats(&sums);
+        let (sum, se) = mean_se(&sums);
         let want: f64 = exact.iter().sum();
         eprintln!(
             "{kind:?}: image sum {sum:.2} ± {se:.2} against {want:.2} ({:+.2}%)",

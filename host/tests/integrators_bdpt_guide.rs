@@ -7,6 +7,9 @@
 //!
 //! Run: `cargo test --release -p spectrace --test integrators_bdpt_guide`
 
+mod common_nee_guide;
+
+use common_nee_guide::mean_sd;
 use spectrace::integrator::bdpt::{Bdpt, LIGHT_PATHS};
 use spectrace::integrator::driver::{Integrator, IntegratorOutput};
 use spectrace::integrator::{EffectsRequest, LightSubpaths, RenderPlan, SamplerKind, Switch};
@@ -111,16 +114,41 @@ fn render(
 
 /// Image mean of Y.
 fn mean_y(o: &IntegratorOutput) -> f64 {
-    let px = &o.result.image.xyz;
-    px.iter().map(|p| p[1]).sum::<f64>() / px.len() as f64
+    common_nee_guide::mean_y(&o.result.image)
 }
 
 /// Mean and standard error of per-seed values.
 fn mean_se(v: &[f64]) -> (f64, f64) {
-    let n = v.len() as f64;
-    let m = v.iter().sum::<f64>() / n;
-    let var = v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (n - 1.0);
-    (m, (var / n).sqrt())
+    let (m, sd) = mean_sd(v);
+    (m, sd / (v.len() as f64).sqrt())
+}
+
+/// Asserts that `scene`'s guide is on with `guide` (None: the plan's own decision) and that
+/// the image mean of Y over 16 seeds × 16 spp, guided (seeds 100…) and forced uniform (seeds
+/// 200…), agree within 3 standard errors of their difference, each side's error from its 16
+/// seed means; prints both and z under `what`.
+fn assert_guided_mean_equals_uniform(what: &str, scene: &Scene, guide: Option<bool>) {
+    let on = render(scene, guide, 1, 1, Some(2));
+    assert!(
+        on.notes.iter().any(|n| n.contains("visibility-guide on")),
+        "{what}: the guide should be on: notes {:?}",
+        on.notes
+    );
+    let (mut guided, mut uniform) = (Vec::new(), Vec::new());
+    for seed in 0..16 {
+        guided.push(mean_y(&render(scene, guide, 16, 100 + seed, None)));
+        uniform.push(mean_y(&render(scene, Some(false), 16, 200 + seed, None)));
+    }
+    let (mg, sg) = mean_se(&guided);
+    let (mu, su) = mean_se(&uniform);
+    let z = (mg - mu) / (sg * sg + su * su).sqrt();
+    eprintln!(
+        "{what} bdpt mean Y: guided {mg:.6} ± {sg:.6}, uniform {mu:.6} ± {su:.6}, z = {z:.2}"
+    );
+    assert!(
+        z.abs() < 3.0,
+        "{what}: guided {mg} vs uniform {mu}: z = {z:.2}"
+    );
 }
 
 /// Quantity: the whole image's mean Y of BDPT on the window room, guided (the plan's own
@@ -135,24 +163,7 @@ fn mean_se(v: &[f64]) -> (f64, f64) {
 #[test]
 fn guided_bdpt_mean_equals_uniform_mean() {
     let scene = window_room();
-    let on = render(&scene, None, 1, 1, Some(2));
-    assert!(
-        on.notes.iter().any(|n| n.contains("visibility-guide on")),
-        "the guide should switch itself on in the window room: notes {:?}",
-        on.notes
-    );
-    let (mut guided, mut uniform) = (Vec::new(), Vec::new());
-    for seed in 0..16 {
-        guided.push(mean_y(&render(&scene, None, 16, 100 + seed, None)));
-        uniform.push(mean_y(&render(&scene, Some(false), 16, 200 + seed, None)));
-    }
-    let (mg, sg) = mean_se(&guided);
-    let (mu, su) = mean_se(&uniform);
-    let z = (mg - mu) / (sg * sg + su * su).sqrt();
-    eprintln!(
-        "window room bdpt mean Y: guided {mg:.6} ± {sg:.6}, uniform {mu:.6} ± {su:.6}, z = {z:.2}"
-    );
-    assert!(z.abs() < 3.0, "guided {mg} vs uniform {mu}: z = {z:.2}");
+    assert_guided_mean_equals_uniform("window room", &scene, None);
 }
 
 /// Quantity: the guided BDPT image at 1 and at 2 threads, bit for bit (the pre-pass runs fixed
@@ -243,24 +254,7 @@ fn guided_fluorescent_bdpt_mean_equals_uniform_mean() {
         "resolution: (160, 96)",
         "resolution: (40, 24)",
     );
-    let on = render(&scene, Some(true), 1, 1, Some(2));
-    assert!(
-        on.notes.iter().any(|n| n.contains("visibility-guide on")),
-        "notes {:?}",
-        on.notes
-    );
-    let (mut guided, mut uniform) = (Vec::new(), Vec::new());
-    for seed in 0..16 {
-        guided.push(mean_y(&render(&scene, Some(true), 16, 100 + seed, None)));
-        uniform.push(mean_y(&render(&scene, Some(false), 16, 200 + seed, None)));
-    }
-    let (mg, sg) = mean_se(&guided);
-    let (mu, su) = mean_se(&uniform);
-    let z = (mg - mu) / (sg * sg + su * su).sqrt();
-    eprintln!(
-        "fluorescence bdpt mean Y: guided {mg:.6} ± {sg:.6}, uniform {mu:.6} ± {su:.6}, z = {z:.2}"
-    );
-    assert!(z.abs() < 3.0, "guided {mg} vs uniform {mu}: z = {z:.2}");
+    assert_guided_mean_equals_uniform("fluorescence", &scene, Some(true));
 }
 
 /// Quantity: as [`guided_bdpt_mean_equals_uniform_mean`], for the window room lit by the
@@ -272,22 +266,5 @@ fn guided_fluorescent_bdpt_mean_equals_uniform_mean() {
 #[test]
 fn guided_bdpt_mean_equals_uniform_mean_under_an_environment() {
     let scene = window_room_environment();
-    let on = render(&scene, None, 1, 1, Some(2));
-    assert!(
-        on.notes.iter().any(|n| n.contains("visibility-guide on")),
-        "notes {:?}",
-        on.notes
-    );
-    let (mut guided, mut uniform) = (Vec::new(), Vec::new());
-    for seed in 0..16 {
-        guided.push(mean_y(&render(&scene, None, 16, 100 + seed, None)));
-        uniform.push(mean_y(&render(&scene, Some(false), 16, 200 + seed, None)));
-    }
-    let (mg, sg) = mean_se(&guided);
-    let (mu, su) = mean_se(&uniform);
-    let z = (mg - mu) / (sg * sg + su * su).sqrt();
-    eprintln!(
-        "environment room bdpt mean Y: guided {mg:.6} ± {sg:.6}, uniform {mu:.6} ± {su:.6}, z = {z:.2}"
-    );
-    assert!(z.abs() < 3.0, "guided {mg} vs uniform {mu}: z = {z:.2}");
+    assert_guided_mean_equals_uniform("environment room", &scene, None);
 }

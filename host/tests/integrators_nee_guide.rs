@@ -9,7 +9,7 @@
 use glam::Vec2;
 use ron::Value;
 use spectrace::camera::CameraSample;
-use spectrace::integrator::nee_guide::{NeeGuide, CELLS, NO_KEY, UNIFORM_SHARE};
+use spectrace::integrator::nee_guide::{NeeGuide, NO_KEY, UNIFORM_SHARE};
 use spectrace::light::LightSampleContext;
 use spectrace::scene::{
     build_scene, cornell_box_description, parse_scene_str, BuiltinFactory, Scene,
@@ -141,10 +141,7 @@ fn check_densities(scene: &Scene, guide: &NeeGuide, (w, h): (f32, f32)) {
                 continue;
             };
             let back = guide.pdf_factor(0, key, light, ctx.p, ls.p_light);
-            let near_edge = [u.x, u.y].iter().any(|c| {
-                let x = c * CELLS as f32;
-                (x - x.round()).abs() < 1e-3 * CELLS as f32
-            });
+            let near_edge = common_nee_guide::near_cell_edge(u);
             if near_edge {
                 edge += 1;
             } else {

@@ -10,7 +10,7 @@
 use glam::{Vec2, Vec3A};
 use spectrace::camera::CameraSample;
 use spectrace::geometry::spawn_ray;
-use spectrace::integrator::nee_guide::{NeeGuide, CELLS, NO_KEY};
+use spectrace::integrator::nee_guide::{NeeGuide, NO_KEY};
 use spectrace::light::LightSampleContext;
 use spectrace::scene::{build_scene, parse_scene_str, BuiltinFactory, Scene};
 use spectrace::spectrum::SampledWavelengths;
@@ -198,10 +198,7 @@ fn mis_weight_of_escaped_paths_uses_the_sampled_density() {
                 let out = spawn_ray(hit.point, hit.point_error, hit.geometric_normal, ls.wi);
                 let (p_env, _) = light.escape_point(&out).unwrap();
                 let back = guide.pdf_factor(li, key, light, ctx.p, p_env);
-                let near_edge = [u.x, u.y].iter().any(|c| {
-                    let x = c * CELLS as f32;
-                    (x - x.round()).abs() < 1e-3 * CELLS as f32
-                });
+                let near_edge = common_nee_guide::near_cell_edge(u);
                 if near_edge {
                     edge += 1;
                 } else {

@@ -19,19 +19,12 @@ Needs numpy and OpenEXR (the anchors' Python environment).
 """
 import argparse
 import sys
+from pathlib import Path
 
 import numpy as np
-import OpenEXR
-import Imath
 
-
-def load(path):
-    f = OpenEXR.InputFile(path)
-    dw = f.header()["dataWindow"]
-    w, h = dw.max.x - dw.min.x + 1, dw.max.y - dw.min.y + 1
-    pt = Imath.PixelType(Imath.PixelType.FLOAT)
-    return np.stack([np.frombuffer(f.channel(c, pt), dtype=np.float32).reshape(h, w)
-                     for c in "RGB"], -1).astype(np.float64)
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "anchors"))
+from emitter_calibration import read_exr as load  # noqa: E402  (R, G, B as float64)
 
 
 def seeds(paths):

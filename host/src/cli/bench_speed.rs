@@ -1217,6 +1217,39 @@ mod tests {
         assert!((img.rgb[0][0] - 2.0).abs() < 1e-12 && (img.rgb[0][2] - 2.0).abs() < 1e-12);
     }
 
+    /// The report of `pts` (budgets 1, 2, 4, 8 s) on one scene "s" with an exact one-pixel
+    /// reference in the rest region, divided by the colour factor `own_scale`.
+    fn test_report(pts: &[Point], own_scale: f64) -> String {
+        let reference = Reference {
+            image: RgbImage {
+                width: 1,
+                height: 1,
+                rgb: vec![[0.0; 3]],
+            },
+            spp: "test".into(),
+            var_total: 0.0,
+            var_region: [0.0; 3],
+            own_scale,
+        };
+        let args = parse(&["--budgets", "1,2,4,8"]);
+        report(
+            pts,
+            &[("s".into(), reference, [0, 0, 1])],
+            &args,
+            ("cpu", "calibration"),
+            &[],
+            "",
+        )
+    }
+
+    /// The first table row of configuration `c` in `md`.
+    fn table_row(md: &str, c: &str) -> String {
+        md.lines()
+            .find(|l| l.starts_with(&format!("| {c} |")))
+            .unwrap_or_else(|| panic!("{md}"))
+            .to_string()
+    }
+
     // The report ranks against the best *unbiased* anchor: anchor A has a = 1 and a floor of
     // 0.2 (biased), anchor B a = 2 with no floor, spectrace a = 1 with no floor: spectrace is
     // 2.00× the best anchor (B), and A is listed as biased, not as the best.
@@ -1231,32 +1264,8 @@ mod tests {
             pts.push(point("B", true, t, 2.0 / t));
             pts.push(point("spectrace-bdpt", false, t, 1.0 / t));
         }
-        let reference = Reference {
-            image: RgbImage {
-                width: 1,
-                height: 1,
-                rgb: vec![[0.0; 3]],
-            },
-            spp: "test".into(),
-            var_total: 0.0,
-            var_region: [0.0; 3],
-            own_scale: 1.0,
-        };
-        let args = parse(&["--budgets", "1,2,4,8"]);
-        let md = report(
-            &pts,
-            &[("s".into(), reference, [0, 0, 1])],
-            &args,
-            ("cpu", "calibration"),
-            &[],
-            "",
-        );
-        let row = |c: &str| {
-            md.lines()
-                .find(|l| l.starts_with(&format!("| {c} |")))
-                .unwrap_or_else(|| panic!("{md}"))
-                .to_string()
-        };
+        let md = test_report(&pts, 1.0);
+        let row = |c: &str| table_row(&md, c);
         assert!(row("A").contains("biased (floor, mean)"), "{md}");
         assert!(row("B").contains("1 (best"), "{md}");
         assert!(row("spectrace-bdpt").contains("| 2.00 |"), "{md}");
@@ -1295,32 +1304,8 @@ mod tests {
             pts.push(point("B", true, t, 2.0 / t));
             pts.push(point("spectrace-bdpt", false, t, 1.0 / t));
         }
-        let reference = Reference {
-            image: RgbImage {
-                width: 1,
-                height: 1,
-                rgb: vec![[0.0; 3]],
-            },
-            spp: "test".into(),
-            var_total: 0.0,
-            var_region: [0.0; 3],
-            own_scale: 1.01,
-        };
-        let args = parse(&["--budgets", "1,2,4,8"]);
-        let md = report(
-            &pts,
-            &[("s".into(), reference, [0, 0, 1])],
-            &args,
-            ("cpu", "calibration"),
-            &[],
-            "",
-        );
-        let row = |c: &str| {
-            md.lines()
-                .find(|l| l.starts_with(&format!("| {c} |")))
-                .unwrap_or_else(|| panic!("{md}"))
-                .to_string()
-        };
+        let md = test_report(&pts, 1.01);
+        let row = |c: &str| table_row(&md, c);
         assert!(row("luxcore-c").contains("biased (mean)"), "{md}");
         assert!(row("mitsuba-d").contains("| unbiased | 1 (best"), "{md}");
         assert!(row("spectrace-bdpt").contains("| 0.50 |"), "{md}");

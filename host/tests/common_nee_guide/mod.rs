@@ -3,13 +3,25 @@
 //! or off, and the two statistical comparisons of guided and uniform renders.
 #![allow(dead_code)] // each test file uses a part
 
+use glam::Vec2;
 use spectrace::film::XyzImage;
+use spectrace::integrator::nee_guide::CELLS;
 use spectrace::integrator::select::render_planned;
 use spectrace::integrator::{
     EffectsMode, EffectsRequest, IntegratorKind, PathTracer, RenderPlan, RenderSettings,
     SampleBudget, Switch,
 };
 use spectrace::scene::Scene;
+
+/// Whether light sample coordinates `u` lie near a cell boundary of the guide's grid (within
+/// 10⁻³ × `CELLS` cells of it), where the density recomputed from the light point may fall in
+/// the neighbouring cell by rounding (such points are counted, not compared).
+pub fn near_cell_edge(u: Vec2) -> bool {
+    [u.x, u.y].iter().any(|c| {
+        let x = c * CELLS as f32;
+        (x - x.round()).abs() < 1e-3 * CELLS as f32
+    })
+}
 
 /// Render `scene` by path tracing (`max_depth`, `spp` at `seed`, on `threads` or all) with the
 /// guide forced on or off. The render must say that the guide is on exactly when forced on,
