@@ -219,6 +219,15 @@ fn anchors_load_what_spectrace_renders() {
         let Some(m) = describe(&py, &e.path, "mitsuba") else {
             return;
         };
+        // The anchors' frame: centred on the specular objects and scaled up where there are
+        // some (the spectral caustic's glass), the scene's own frame otherwise; the bounds
+        // below are reported back in the scene's frame, so they check the transform too.
+        let scale = m["frame"]["scale"].as_f64().unwrap();
+        let has_specular =
+            j["materials"].as_object().unwrap().values().any(|m| {
+                m["type"] == "dielectric" || (m["type"] == "conductor" && m["alpha"] == 0.0)
+            });
+        assert_eq!(scale > 1.0, has_specular, "{name}: frame {}", m["frame"]);
         for (i, s) in j["shapes"].as_array().unwrap().iter().enumerate() {
             let name = s["name"].as_str().unwrap();
             let got = &m["shapes"][name];
