@@ -9,7 +9,7 @@ scene itself. Used by `spectrace bench speed`; runs on its own too:
     python scripts/anchors/anchor_render.py render --scene-json DIR/scene.json \
         --config mitsuba-multijitter --budgets 1,2,4 --threads 2 --seed 0 --out-prefix /tmp/x
     python scripts/anchors/anchor_render.py reference --scene-json DIR/scene.json --spp 4096 \
-        --out-prefix /tmp/ref      # two independent halves and their mean (Mitsuba 3)
+        --out-prefix /tmp/ref      # eight independent parts and their mean (Mitsuba 3)
     python scripts/anchors/anchor_render.py describe --scene-json DIR/scene.json --renderer mitsuba
 
 Every renderer gets the scene in one frame, translated and uniformly scaled (`anchor_frame`):
@@ -469,30 +469,36 @@ def cmd_render(a):
 
 
 def cmd_reference(a):
-    """Two independent Mitsuba renders (seeds differ) of --spp/2 each and their mean."""
+    """--parts independent Mitsuba renders (seeds differ) of --spp/parts each and their mean.
+    The parts give the reference's own noise: eight give seven degrees of freedom per value
+    where two halves give one, which matters for a path-traced caustic, whose per-pixel
+    estimates are heavy-tailed (two halves typically underestimate its variance)."""
     import numpy as np
     sc = load_scene(a.scene_json)
+    if a.parts < 2:
+        raise SystemExit(f"--parts {a.parts}: at least two parts are needed for the noise")
     mi, dr = import_mitsuba(a.threads)
     scene = mi.load_dict(mitsuba_dict(sc, "independent", False, mi))
-    half = max(1, a.spp // 2)
-    imgs, t0 = [], time.perf_counter()
-    for k in range(2):
+    part_spp = max(1, a.spp // a.parts)
+    total, t0 = np.zeros((sc["height"], sc["width"], 3)), time.perf_counter()
+    for k in range(a.parts):
         img = np.zeros((sc["height"], sc["width"], 3))
         # In passes of at most 1024 spp (memory), each pass with its own seed.
         done, p = 0, 0
-        while done < half:
-            n = min(1024, half - done)
+        while done < part_spp:
+            n = min(1024, part_spp - done)
             seed = 1_000_003 * (k + 1) + p + 4_000_037 * a.seed
             img += n * np.array(mi.render(scene, spp=n, seed=seed), dtype=np.float64)
             done += n
             p += 1
-        img /= half
-        check_finite(img, f"reference half {k + 1}")
-        imgs.append(img)
-        write_exr(f"{a.out_prefix}_half{k + 1}.exr", img)
-    write_exr(f"{a.out_prefix}.exr", 0.5 * (imgs[0] + imgs[1]))
+        img /= part_spp
+        check_finite(img, f"reference part {k + 1}")
+        total += img
+        write_exr(f"{a.out_prefix}_part{k + 1}.exr", img)
+    write_exr(f"{a.out_prefix}.exr", total / a.parts)
     print(json.dumps({"renderer": f"mitsuba {mi.__version__} llvm_ad_spectral path independent",
-                      "spp": 2 * half, "seconds": round(time.perf_counter() - t0, 3),
+                      "spp": a.parts * part_spp, "parts": a.parts,
+                      "seconds": round(time.perf_counter() - t0, 3),
                       "file": f"{a.out_prefix}.exr"}), flush=True)
 
 
@@ -576,11 +582,13 @@ def main():
     r.add_argument("--threads", type=int, default=2)
     r.add_argument("--seed", type=int, default=0)
     r.add_argument("--out-prefix", required=True)
-    f = sub.add_parser("reference", help="long Mitsuba render in two independent halves")
+    f = sub.add_parser("reference", help="long Mitsuba render in independent parts")
     f.add_argument("--scene-json", required=True)
     f.add_argument("--spp", type=int, required=True)
     f.add_argument("--threads", type=int, default=2)
     f.add_argument("--out-prefix", required=True)
+    f.add_argument("--parts", type=int, default=8,
+                   help="independent parts (PREFIX_partK.exr), for the reference's own noise")
     f.add_argument("--seed", type=int, default=0,
                    help="another seed gives another independent reference (0: the bench's)")
     c = sub.add_parser("colour-factor",

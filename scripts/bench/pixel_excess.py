@@ -3,8 +3,8 @@
 the glass spheres").
 
 An estimate is either several renders with different seeds (their mean, and the variance of that
-mean from their spread) or a reference with its two independent halves (variance of the mean =
-((h1 - h2) / 2)^2 per value). For two unbiased estimates of the same image, the mean squared
+mean from their spread) or a reference with its K independent parts of equal spp (variance of
+the mean = their sample variance / K per value; for two halves ((h1 - h2) / 2)^2). For two unbiased estimates of the same image, the mean squared
 difference per value equals the sum of their variances; the excess (MSD minus both variances)
 estimates the squared bias between them, and is printed for the whole image, for the bright
 pixels (reference luminance above 4x the median, as the bench's bright regions) and, with
@@ -12,7 +12,7 @@ pixels (reference luminance above 4x the median, as the bench's bright regions) 
 by --through are below a fifth of B, or of --bright-from: light tracing cannot see those) and
 the others.
 
-  pixel_excess.py --a bdpt_s*.exr --b-reference REF.exr --b-halves H1.exr H2.exr [--through lt_s*.exr]
+  pixel_excess.py --a bdpt_s*.exr --b-reference REF.exr --b-parts REF_part*.exr [--through lt_s*.exr]
   pixel_excess.py --a bdpt_s*.exr --b lt_s*.exr --bright-from REF.exr --through lt_s*.exr
 
 Needs numpy and OpenEXR (the anchors' Python environment).
@@ -39,19 +39,18 @@ def main():
     ap.add_argument("--a", nargs="+", required=True, help="renders of estimate A (one per seed)")
     ap.add_argument("--b", nargs="+", help="renders of estimate B (one per seed)")
     ap.add_argument("--b-reference", help="estimate B as a reference image ...")
-    ap.add_argument("--b-halves", nargs=2, help="... with its two independent halves")
+    ap.add_argument("--b-parts", nargs="+", help="... with its independent parts (two or more)")
     ap.add_argument("--through", nargs="+", help="light-tracing renders: marks pixels seen through glass")
     ap.add_argument("--bright-from", help="image whose luminance defines the bright pixels (default: B)")
     args = ap.parse_args()
     a, va = seeds(args.a)
     if args.b:
         b, vb = seeds(args.b)
-    elif args.b_reference and args.b_halves:
+    elif args.b_reference and args.b_parts:
         b = load(args.b_reference)
-        h1, h2 = (load(p) for p in args.b_halves)
-        vb = ((h1 - h2) / 2) ** 2
+        _, vb = seeds(args.b_parts)
     else:
-        sys.exit("give --b, or --b-reference with --b-halves")
+        sys.exit("give --b, or --b-reference with --b-parts")
     base = load(args.bright_from) if args.bright_from else b
     y = base @ np.array([0.2126, 0.7152, 0.0722])
     bright = y > 4 * np.median(y)

@@ -228,20 +228,30 @@ fn residual_variance(
         / dof as f64
 }
 
-/// The reference's own noise per value (variance of the full reference, both halves averaged):
-/// the MSE between two independent halves over 4 (each half has twice the full image's
-/// variance; their difference four times it), over the counted pixels (`mask` true).
-pub fn reference_variance(half1: &RgbImage, half2: &RgbImage, counted: &[bool]) -> f64 {
+/// The reference's own noise per value (variance of the full reference, the mean of its `K`
+/// independent parts of equal spp): per value `Σₖ (partₖ − mean)² / (K (K − 1))`, averaged over
+/// the counted pixels (`counted` true) and channels. For two halves that is the MSE between
+/// them over 4. `K` ≥ 2; fewer parts give 0.
+pub fn reference_variance(parts: &[RgbImage], counted: &[bool]) -> f64 {
+    let k = parts.len();
+    if k < 2 {
+        return 0.0;
+    }
     let (mut s, mut n) = (0.0, 0usize);
-    for ((a, b), &c) in half1.rgb.iter().zip(&half2.rgb).zip(counted) {
-        if c {
-            for k in 0..3 {
-                s += (a[k] - b[k]) * (a[k] - b[k]);
-                n += 1;
-            }
+    for (i, &c) in counted.iter().enumerate() {
+        if !c {
+            continue;
+        }
+        for ch in 0..3 {
+            let mean = parts.iter().map(|p| p.rgb[i][ch]).sum::<f64>() / k as f64;
+            s += parts
+                .iter()
+                .map(|p| (p.rgb[i][ch] - mean).powi(2))
+                .sum::<f64>();
+            n += 1;
         }
     }
-    s / n.max(1) as f64 / 4.0
+    s / (k * (k - 1)) as f64 / n.max(1) as f64
 }
 
 /// Squared error of one render summed per region, with the number of values (pixels × 3).
@@ -717,7 +727,8 @@ mod tests {
     }
 
     // Two halves differing by ±d per value: MSE between them 4d², so the full reference's
-    // variance is d² (exact).
+    // variance is d² (exact); four parts alternating between the same two values: the
+    // variance of a mean of four.
     #[test]
     fn reference_variance_from_halves() {
         let a = RgbImage {
@@ -730,8 +741,12 @@ mod tests {
             height: 1,
             rgb: vec![[1.2; 3], [1.8; 3]],
         };
-        let v = reference_variance(&a, &b, &[true, true]);
+        let v = reference_variance(&[a.clone(), b.clone()], &[true, true]);
         assert!((v - 0.01).abs() < 1e-12, "{v}");
+        // Four parts 1, 1.2, 1 and 1.2 (mean 1.1): Σ (x − m)² = 4·0.01, over K(K − 1) = 12,
+        // so 1/300 per value; the second pixel's 2, 1.8, 2, 1.8 the same (exact).
+        let v = reference_variance(&[a.clone(), b.clone(), a, b], &[true, true]);
+        assert!((v - 0.04 / 12.0).abs() < 1e-12, "{v}");
     }
 
     // The CPU line names the model and the vector extensions present, not those absent.

@@ -101,11 +101,12 @@ pub struct SpeedArgs {
     /// Render spectrace only (against existing references).
     #[arg(long)]
     pub no_anchors: bool,
-    /// Directory of references: NAME.exr, NAME_half1.exr, NAME_half2.exr (Mitsuba 3). Missing
-    /// ones are rendered into OUT/references with --reference-spp.
+    /// Directory of references: NAME.exr and its independent parts NAME_part1.exr, … (or
+    /// NAME_half1.exr, NAME_half2.exr) (Mitsuba 3). Missing ones are rendered into
+    /// OUT/references with --reference-spp.
     #[arg(long, default_value = "scenes/bench/references")]
     pub references: PathBuf,
-    /// Samples per pixel of a reference rendered here (both halves together). Default 16384;
+    /// Samples per pixel of a reference rendered here (all its parts together). Default 16384;
     /// 256 with --quick.
     #[arg(long)]
     pub reference_spp: Option<u32>,
@@ -373,21 +374,22 @@ fn set_up_scene(
     .map_err(|e| format!("{name}: {e}"))?;
     let load_seconds = t0.elapsed().as_secs_f64();
     let (emitter, shiny, _, _) = view_masks(&scene)?;
-    let (mut image, mut half1, mut half2, spp) = reference(args, name, &exported.path)?;
-    for img in [&mut image, &mut half1, &mut half2] {
+    let (mut image, mut parts, spp) = reference(args, name, &exported.path)?;
+    for img in std::iter::once(&mut image).chain(parts.iter_mut()) {
         divide_channels(img, factor);
     }
     let regions =
         Regions::from_masks(&emitter, &shiny, &image).map_err(|e| format!("{name}: {e}"))?;
     let counted = regions.counted();
-    let var_total = reference_variance(&half1, &half2, &counted);
+    let var_total = reference_variance(&parts, &counted);
     let mut var_region = [0.0; 3];
     for (r, v) in var_region.iter_mut().enumerate() {
         let mask: Vec<bool> = regions.region.iter().map(|x| *x == Some(r)).collect();
-        *v = reference_variance(&half1, &half2, &mask);
+        *v = reference_variance(&parts, &mask);
     }
     println!(
-        "{name}: reference {spp} (RMSE of its own noise {:.5}); regions: {}",
+        "{name}: reference {spp}, {} parts (RMSE of its own noise {:.5}); regions: {}",
+        parts.len(),
         var_total.sqrt(),
         REGION_NAMES
             .iter()
@@ -523,28 +525,34 @@ fn write_results(args: &SpeedArgs, md: &str, points: &[Point]) -> Result<(), Str
     Ok(())
 }
 
-/// The scene's reference (mean, half 1, half 2, description): from --references, else rendered
-/// with Mitsuba 3 into OUT/references.
+/// The scene's reference (mean, its independent parts, description): from --references, else
+/// rendered with Mitsuba 3 into OUT/references. The parts are NAME_part1.exr, NAME_part2.exr, …
+/// (or, from older runs, NAME_half1.exr and NAME_half2.exr).
 fn reference(
     args: &SpeedArgs,
     name: &str,
     scene_json: &Path,
-) -> Result<(RgbImage, RgbImage, RgbImage, String), String> {
-    let read = |dir: &Path| -> Option<(RgbImage, RgbImage, RgbImage)> {
+) -> Result<(RgbImage, Vec<RgbImage>, String), String> {
+    let read = |dir: &Path| -> Option<(RgbImage, Vec<RgbImage>)> {
         let f = |s: &str| RgbImage::read_exr(&dir.join(format!("{name}{s}.exr"))).ok();
-        Some((f("")?, f("_half1")?, f("_half2")?))
+        let mean = f("")?;
+        let mut parts: Vec<RgbImage> = (1..).map_while(|k| f(&format!("_part{k}"))).collect();
+        if parts.len() < 2 {
+            parts = vec![f("_half1")?, f("_half2")?];
+        }
+        Some((mean, parts))
     };
-    if let Some((a, b, c)) = read(&args.references) {
+    if let Some((a, parts)) = read(&args.references) {
         let desc = format!(
             "from {}",
             args.references.join(format!("{name}.exr")).display()
         );
-        return Ok((a, b, c, desc));
+        return Ok((a, parts, desc));
     }
     let dir = args.out.join("references");
     std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
     let spp = args.reference_spp();
-    println!("{name}: rendering a {spp}-spp Mitsuba 3 reference in two halves …");
+    println!("{name}: rendering a {spp}-spp Mitsuba 3 reference in eight parts …");
     let prefix = dir.join(name);
     run_anchor_script(
         args,
@@ -567,11 +575,10 @@ fn reference(
             )
         })
     })?;
-    let (a, b, c) = read(&dir).ok_or_else(|| format!("{name}: the reference was not written"))?;
+    let (a, parts) = read(&dir).ok_or_else(|| format!("{name}: the reference was not written"))?;
     Ok((
         a,
-        b,
-        c,
+        parts,
         format!("Mitsuba 3 independent, {spp} spp, rendered here"),
     ))
 }
