@@ -100,7 +100,7 @@ def load_scene(path):
 # (1 + max|p_i|)·1500·2^-24 scene units off the surface, an absolute 1e-4 m for a scene in
 # metres near the origin. In a chain of specular vertices on a 0.1-m glass ball that is 0.1% of
 # the radius and moves the lamp's images seen through the ball's grazing edge by up to 35%
-# against the exact integral (docs/performance.md, "The glass spheres' floor"). Centred on the
+# against the exact integral (docs/performance.md, "The glass spheres' reference"). Centred on the
 # specular objects and scaled to FRAME_SIZE units, the offset falls to about 1e-4 of their size
 # relative, and the same pixels agree with the exact integral within their noise.
 FRAME_SIZE = 100.0
