@@ -18,8 +18,8 @@ use super::prefetch::prefetch_line;
 use super::quad::Quad;
 use super::sphere::Sphere;
 use super::triangle::{
-    barycentric_point, geometric_normal, intersect_triangle_axis, sample_uniform_barycentrics,
-    triangle_area, WatertightRay,
+    barycentric_point, dominant_axis, geometric_normal, intersect_triangle_axis,
+    sample_uniform_barycentrics, triangle_area, WatertightRay,
 };
 use super::{Aabb, GeometryError, Ray, Transform, TriangleMesh};
 
@@ -364,22 +364,21 @@ impl Geometry {
 
     /// Closest hit with `0 < t < t_max`, or `None`.
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
-        let wr = WatertightRay::new(ray);
-        // One dispatch on the ray's dominant axis, then every triangle test has it fixed.
-        match wr.dominant_axis() {
-            0 => self.intersect_axis::<0>(ray, &wr, t_max),
-            1 => self.intersect_axis::<1>(ray, &wr, t_max),
-            _ => self.intersect_axis::<2>(ray, &wr, t_max),
+        // One dispatch on the ray's dominant axis, then the shear and every triangle test
+        // have it fixed.
+        match dominant_axis(ray.dir) {
+            0 => self.intersect_axis::<0>(ray, &WatertightRay::for_axis::<0>(ray), t_max),
+            1 => self.intersect_axis::<1>(ray, &WatertightRay::for_axis::<1>(ray), t_max),
+            _ => self.intersect_axis::<2>(ray, &WatertightRay::for_axis::<2>(ray), t_max),
         }
     }
 
     /// Whether anything is hit with `0 < t < t_max` (any-hit traversal; for shadow rays).
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
-        let wr = WatertightRay::new(ray);
-        match wr.dominant_axis() {
-            0 => self.occluded_axis::<0>(ray, &wr, t_max),
-            1 => self.occluded_axis::<1>(ray, &wr, t_max),
-            _ => self.occluded_axis::<2>(ray, &wr, t_max),
+        match dominant_axis(ray.dir) {
+            0 => self.occluded_axis::<0>(ray, &WatertightRay::for_axis::<0>(ray), t_max),
+            1 => self.occluded_axis::<1>(ray, &WatertightRay::for_axis::<1>(ray), t_max),
+            _ => self.occluded_axis::<2>(ray, &WatertightRay::for_axis::<2>(ray), t_max),
         }
     }
 

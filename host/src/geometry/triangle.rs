@@ -28,25 +28,23 @@ impl WatertightRay {
     /// Precomputes the shear for `ray`. The direction must be non-zero.
     #[inline]
     pub fn new(ray: &Ray) -> Self {
-        let a = ray.dir.abs();
-        let kz = if a.x > a.y {
-            if a.x > a.z {
-                0
-            } else {
-                2
-            }
-        } else if a.y > a.z {
-            1
-        } else {
-            2
-        };
-        let kx = (kz + 1) % 3;
-        let ky = (kx + 1) % 3;
-        let dz = ray.dir[kz];
+        match dominant_axis(ray.dir) {
+            0 => Self::for_axis::<0>(ray),
+            1 => Self::for_axis::<1>(ray),
+            _ => Self::for_axis::<2>(ray),
+        }
+    }
+
+    /// [`WatertightRay::new`] for a ray whose dominant axis ([`dominant_axis`]) is `KZ`: the
+    /// permuted components are read at constant indices, where `new` alone would index the
+    /// direction by a run-time axis (through memory); the same divisions, the same shear.
+    #[inline(always)]
+    pub fn for_axis<const KZ: usize>(ray: &Ray) -> Self {
+        let dz = ray.dir[KZ];
         Self {
-            kz,
-            sx: -ray.dir[kx] / dz,
-            sy: -ray.dir[ky] / dz,
+            kz: KZ,
+            sx: -ray.dir[(KZ + 1) % 3] / dz,
+            sy: -ray.dir[(KZ + 2) % 3] / dz,
             sz: 1.0 / dz,
         }
     }
@@ -63,6 +61,24 @@ impl WatertightRay {
     #[inline]
     pub fn dominant_axis(&self) -> usize {
         self.kz
+    }
+}
+
+/// The axis (0, 1, 2 for x, y, z) of the largest component of `dir` in magnitude, ties to the
+/// later axis: the `KZ` of [`WatertightRay::for_axis`] and [`intersect_triangle_axis`].
+#[inline(always)]
+pub fn dominant_axis(dir: Vec3A) -> usize {
+    let a = dir.abs();
+    if a.x > a.y {
+        if a.x > a.z {
+            0
+        } else {
+            2
+        }
+    } else if a.y > a.z {
+        1
+    } else {
+        2
     }
 }
 

@@ -71,12 +71,16 @@ impl RayBoxes {
     pub(super) fn new(ray: &Ray) -> RayBoxes {
         let inv_dir = (Vec3A::ONE / ray.dir).to_array();
         let dir = ray.dir.to_array();
-        let near = [0, 1, 2].map(|a| if dir[a].is_sign_negative() { a + 3 } else { a });
+        // Three times each component's sign bit: the entry plane is `axis + 3·sign`, the exit
+        // plane `axis + 3 − 3·sign`. Integer arithmetic on the sign bit (what
+        // `is_sign_negative` reads) instead of a select per axis and a second select for the
+        // exit planes: about half the instructions per ray, the same indices.
+        let s = dir.map(|c| 3 * (c.to_bits() >> 31) as usize);
         RayBoxes {
             origin: ray.origin.to_array(),
             inv_dir,
-            near,
-            far: near.map(|p| if p < 3 { p + 3 } else { p - 3 }),
+            near: [s[0], 1 + s[1], 2 + s[2]],
+            far: [3 - s[0], 4 - s[1], 5 - s[2]],
         }
     }
 }
