@@ -416,8 +416,7 @@ fn a_point_light_and_glass_keep_light_subpaths() {
         None,
     );
     let err = forced
-        .err()
-        .expect("light-subpaths=0 must fail here")
+        .expect_err("light-subpaths=0 must fail here")
         .to_string();
     println!("{err}");
     assert!(

@@ -47,7 +47,10 @@
 //! Light-subpath fraction: a camera sample traces its light subpaths only with probability `q`
 //! (`--effect light-subpaths=auto|Q`; `auto` chooses `q` per scene by a short pilot); the
 //! strategies that use them are divided by their expected count and weighted by it
-//! ([`mis::SampleCounts`], [`light_fraction`]). `q = 1` renders exactly as before.
+//! ([`mis::SampleCounts`], [`light_fraction`]). `q = 1` renders exactly as before. `q = 0`
+//! (chosen by the pilot, or forced, where path tracing samples every path BDPT does) traces no
+//! light subpaths and hands the render to the path tracer ([`path_traced`]), whose estimator is
+//! BDPT's s = 0 and s = 1 at less cost per camera sample.
 //!
 //! Visibility guide: where the plan turns on the path tracer's guide (`super::nee_guide`: the
 //! same pre-pass, built once per render in `Setup` under the render's seed, the same per-light
@@ -1043,8 +1046,9 @@ impl Integrator for Bdpt {
 
 impl Bdpt {
     /// The light-fraction pilot's decision for `scene` (what `--effect light-subpaths=auto`
-    /// renders with), run as the render would run it; `None` where the fraction stays 1 without
-    /// a pilot (beams-only lights, fluorescence).
+    /// renders with, `q = 0` among the candidates where [`path_traced::refusal`] allows it),
+    /// run as the render would run it; `None` where the fraction stays 1 without a pilot
+    /// (beams-only lights, fluorescence).
     pub fn light_fraction_pilot(
         &self,
         scene: &Scene,

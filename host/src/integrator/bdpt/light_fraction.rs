@@ -1,8 +1,13 @@
 //! The fraction `q` of BDPT's camera samples that trace light subpaths, and the pilot that
-//! chooses it per scene (after Grittmann, Pérard-Gayot, Slusallek, Křivánek 2022,
-//! "Efficiency-aware multiple importance sampling for bidirectional rendering algorithms":
+//! chooses it per scene (after Grittmann, Yazici, Georgiev, Slusallek 2022, "Efficiency-aware
+//! multiple importance sampling for bidirectional rendering algorithms", ACM TOG 41(4) 80:
 //! choose the sample counts of the techniques by a variance-times-cost estimate from a short
-//! pilot, and weigh the techniques by those counts).
+//! pilot, and weigh the techniques by those counts). Their candidates include no light paths
+//! at all: their renderer starts with unidirectional path tracing and enables bidirectional
+//! techniques where the estimate says they pay, computing the efficiency of other
+//! combinations from one combination's samples. Here the limit `q = 0` is that candidate
+//! (`super::path_traced`: the path tracer renders the image), where path tracing samples every
+//! path BDPT does.
 //!
 //! **The mechanism** (`bdpt.rs`): each camera sample traces its light subpath(s) with
 //! probability `q`, decided by a stratified dimension of the pixel's sampler
@@ -32,28 +37,44 @@
 //! `1/(variance·cost)`, keeping `q = 1` unless another candidate is estimated at least
 //! [`MIN_GAIN`] better. The render says what it chose and why.
 //!
+//! **`q = 0`** (no light subpaths; the camera samples are path traced, `super::path_traced`):
+//! offered where path tracing samples every path BDPT does (`path_traced::refusal`), chosen
+//! where its estimate beats every `q > 0` by [`MIN_GAIN`]. Its variance, in the same definition,
+//! is the larger of two estimates ([`PtPilotSums::estimate`]): the path tracer's own samples on
+//! the same pilot pixels, samples and seed, and its second moment estimated from BDPT's pilot
+//! samples, each weighed by the path tracer's densities of its path relative to the sampling
+//! strategy's ([`PilotSample::book_pt`]), minus the pixels' squared means per path length.
+//! The second sees the paths the path tracer finds rarely and light tracing finds (a caustic
+//! core): on the spectral caustic at 64×48 the first gives 4.4 and the second 641 (BDPT at
+//! q = 1: 25). Where both see everything they agree: 3.50 and 3.55 on the Cornell box, 5.2e-4
+//! and 5.3e-4 in the window room (full size, seed 3). Its cost is [`PT_COST_WEIGHTS`] of the
+//! path tracer's counted rays and shadow rays.
+//!
 //! | constant        | value                   | meaning                                        |
 //! |-----------------|-------------------------|------------------------------------------------|
-//! | `CANDIDATES`    | 1, ½, ¼, ⅛, 1/16        | fractions the pilot compares                   |
+//! | `CANDIDATES`    | 1, ½, ¼, ⅛, 1/16        | BDPT's fractions the pilot compares            |
+//! | (q = 0)         | path traced             | compared where eligible (`path_traced`)        |
 //! | `PILOT_PIXELS`  | 1024                    | pixels of the pilot (a grid over the image)    |
 //! | `PILOT_SPP`     | 8                       | camera samples per pilot pixel                 |
-//! | `MIN_GAIN`      | 1.05                    | estimated efficiency gain needed to leave q = 1 |
+//! | `MIN_GAIN`      | 1.05                    | estimated efficiency gain needed to leave q = 1, and for q = 0 over every q > 0 |
 //!
 //! Measured (docs/performance.md, "BDPT and its own strategies": instructions per camera
 //! sample from callgrind, per-pixel variance from six seeds; efficiency 1/(MSE·instructions)
 //! over the pixels that do not see an emitter, relative to `q = 1`):
 //!
-//! | scene                     | auto's `q` | q = ¼ | q = 1/16 | `pt`  |
+//! | scene                     | auto's `q` | q = ¼ | q = 1/16 | `pt` = q = 0 |
 //! |---------------------------|------------|-------|----------|-------|
-//! | `cornell_box.ron` (128²)  | 1          | 0.84  | 0.80     | 1.29  |
-//! | `bench/window_room.ron`   | 1/16 (predicted 1.30) | 1.28 | 1.33 | 4.25 |
+//! | `cornell_box.ron` (128²)  | 0 (predicted 1.44–1.76) | 0.84  | 0.80     | 1.29  |
+//! | `bench/window_room.ron`   | 0 (predicted 1.8–2.5) | 1.28 | 1.33 (guided: 2.5) | 4.25 (guided BDPT at 1/16: 1.69× it) |
 //! | `bench/glossy_metals.ron` | 1          | 0.71  | 0.39     | 0.28  |
 //! | `bench/glass_sphere_mesh.ron` | 1      | 0.67  | 0.19     | 0.13  |
 //! | `bench/spectral_caustic.ron` | ½ (most seeds; predicted 1.2) | 1.66 | – (½: 1.40) | – |
 //!
-//! The pilot picks the best fraction on all four; where `pt` stays ahead (the Cornell box, the
-//! window room) BDPT's camera part costs more per sample than `pt`'s whole sample, and `pt`
-//! has the visibility guide.
+//! The pilot picks the best candidate on all five: where `pt` is ahead (the Cornell box, the
+//! window room) BDPT's camera part costs more per sample than `pt`'s whole sample, so no
+//! `q > 0` reaches it, and `q = 0` renders `pt`'s image. The pilot's predicted variance ratio
+//! of `q = 0` to `q = 1` against renders: 2.03 predicted, 1.92 measured on the Cornell box
+//! (64×48), 0.79 and 0.87 in the window room (80×60; `integrators_bdpt_light_fraction`).
 //!
 //! Kept at `q = 1` (said at run time): scenes with beams-only lights (their subpaths are light
 //! tracing alone) and scenes that render fluorescence (its two light-subpath modes are not
