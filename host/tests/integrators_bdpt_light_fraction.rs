@@ -330,11 +330,11 @@ fn bench_scene(name: &str, text: &str) -> Scene {
 /// "BDPT and its own strategies"; the pilot estimates 1.4–1.9× against ≤ 1.23× for any q > 0);
 /// not chosen on the glass sphere, the rough metals and the spectral caustic (80 × 60), where
 /// it is measured 0.13×, 0.28× and 0.18× of BDPT's efficiency. The spectral caustic is the
-/// case the reweighted estimate exists for: at this size the path tracer's own pilot samples
-/// miss its caustic core (their variance estimate is 4.4 at 64 × 48, seed 3), while BDPT's
-/// light-tracing samples weighed by the path tracer's densities give 641, and the direct one
-/// alone would pick `q = 0` at an estimated 6.4×. Tolerance: none on the choices (deterministic;
-/// the margins are printed: at least 1.3× either way on these seeds).
+/// case the reweighted estimate exists for: on small images the path tracer's own pilot
+/// samples miss its caustic core (at 64 × 48, seed 3, their variance estimate is 4.4, BDPT's
+/// light-tracing samples weighed by the path tracer's densities give 641, and the first alone
+/// picked `q = 0` at an estimated 6.4×). Tolerance: none on the choices (deterministic; the
+/// margins are printed: at least 1.46× either way on these seeds).
 /// Fails without the feature: `q = 0` is never a candidate.
 #[test]
 fn the_pilot_path_traces_where_path_tracing_pays() {

@@ -7,7 +7,7 @@
 
 use spectrace::integrator::bdpt::{Bdpt, LIGHT_PATHS};
 use spectrace::integrator::driver::{Integrator, IntegratorOutput};
-use spectrace::integrator::{EffectsRequest, RenderPlan, SamplerKind};
+use spectrace::integrator::{EffectsRequest, LightSubpaths, RenderPlan, SamplerKind};
 use spectrace::integrator::{PathTracer, RenderSettings, SampleBudget};
 use spectrace::scene::{build_scene, parse_scene_str, BuiltinFactory, Scene};
 use std::path::Path;
@@ -32,7 +32,12 @@ fn render_on(
     seed: u64,
     threads: Option<usize>,
 ) -> IntegratorOutput {
-    let plan = RenderPlan::new(scene, &EffectsRequest::default());
+    // Every camera sample traces its light subpaths (auto could path trace them all).
+    let request = EffectsRequest {
+        light_subpaths: LightSubpaths::Fraction(1.0),
+        ..Default::default()
+    };
+    let plan = RenderPlan::new(scene, &request);
     let settings = RenderSettings {
         budget: SampleBudget::Spp(spp),
         seed,
