@@ -722,6 +722,30 @@ mod tests {
         }
     }
 
+    /// Quantity: the path tracer's second moment reweighted from BDPT's samples
+    /// (`book_pt`), against values worked by hand. A path made by s = 0 alone (`(p₀/p)² = 1`,
+    /// p₁ = 0, weight 1, one sample a camera sample) adds `y²`: the path tracer samples it as
+    /// BDPT did. A light-tracing path (weight ½ of its luminance 2, so `y = 1`; one of 4 light
+    /// subpaths, `n = 4`) that s = 0 makes with a tenth of its density (`(p₀/p)² = 0.01`) and
+    /// s = 1 not at all adds `y²·n/w·(r₀³/r₀⁴) = 1·4/0.5·10 = 80`: its unweighted value
+    /// `f/p = y·n/w = 8`, `∫ f²/p₀` per sample of it `8²·(p/p₀)/n·w`. Where both make it equally
+    /// (`(p₀/p)² = (p₁/p)² = 1`), each path-tracer sample weighs ½: `2·(½)²/1 = ½`, so `y²/2`.
+    /// A path neither makes is counted as missed. Tolerance: rounding.
+    #[test]
+    fn path_tracer_second_moment_by_reweighting() {
+        let mut p = PilotSample::new(4, 4);
+        p.book_pt(2.0, 1.0, 1.0, &[1.0, 0.0], Some(1));
+        assert!((p.sums().pt_m2 - 4.0).abs() < 1e-9);
+        let mut p = PilotSample::new(4, 4);
+        p.book_pt(1.0, 0.5, 4.0, &[0.01, 0.0], None);
+        assert!((p.sums().pt_m2 - 80.0).abs() < 1e-4, "{}", p.sums().pt_m2);
+        let mut p = PilotSample::new(4, 4);
+        p.book_pt(3.0, 1.0, 1.0, &[1.0, 1.0], Some(1));
+        assert!((p.sums().pt_m2 - 4.5).abs() < 1e-9);
+        p.book_pt(3.0, 1.0, 1.0, &[0.0, 0.0], Some(1));
+        assert_eq!(p.sums().pt_missed, 1);
+    }
+
     /// Quantity: the pilot grid. At most about `PILOT_PIXELS` pixels, all inside the image,
     /// none repeated (tolerance: none).
     #[test]
