@@ -333,8 +333,9 @@ fn bench_scene(name: &str, text: &str) -> Scene {
 /// case the reweighted estimate exists for: on small images the path tracer's own pilot
 /// samples miss its caustic core (at 64 × 48, seed 3, their variance estimate is 4.4, BDPT's
 /// light-tracing samples weighed by the path tracer's densities give 641, and the first alone
-/// picked `q = 0` at an estimated 6.4×). Tolerance: none on the choices (deterministic; the
-/// margins are printed: at least 1.46× either way on these seeds).
+/// picked `q = 0` at an estimated 6.4×); with the first alone this test fails on the rough
+/// metals (seed 3 path traced). Tolerance: none on the choices (deterministic; the margins
+/// are printed: at least 1.46× either way on these seeds).
 /// Fails without the feature: `q = 0` is never a candidate.
 #[test]
 fn the_pilot_path_traces_where_path_tracing_pays() {
