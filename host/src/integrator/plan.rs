@@ -714,7 +714,7 @@ impl RenderPlan {
                 LightSubpaths::Fraction(q) if q <= 0.0 => {
                     "no light subpaths: the camera samples are path traced (pt's estimator and \
                      visibility guide); an error with beams-only lights, fluorescence, \
-                     --strategy-images, or a light rays cannot hit with a specular surface"
+                     --strategy-images, or a light that rays cannot hit with a specular surface"
                 }
                 LightSubpaths::Fraction(_) => {
                     "this fraction of camera samples trace light subpaths, the strategies that \

@@ -7,7 +7,7 @@
 //!
 //! **When it may stand for BDPT** ([`refusal`]): only where path tracing samples every path
 //! BDPT samples, so that `q = 0` never loses light. Not with
-//! - a light rays cannot hit (delta in position or direction: point, spot, photometric,
+//! - a light that rays cannot hit (delta in position or direction: point, spot, photometric,
 //!   directional; or a light without a surface) together with any surface with a delta lobe:
 //!   paths light → specular → diffuse → camera then come from light subpaths alone (next-event
 //!   estimation cannot pass the delta vertex, BSDF sampling cannot find the light);
@@ -19,6 +19,11 @@
 //! The specular-chain and camera-chain connections compete with s = 0 only, so the path
 //! tracer's s = 0 makes their paths too; lens cameras, dispersion, thin films and the spectral
 //! image are the path tracer's as well.
+//!
+//! Limits: the path tracer has no flat-path colour (`wavelengths::flat_colour`): at `q = 0` a
+//! spectrally flat scene's colours carry the wavelengths' noise, which the pilot (luminance
+//! only) does not weigh. Its wavelengths are the path tracer's own draws (observer × emission,
+//! or with `narrowband-emission` half from the lights' spectra), not BDPT's pair.
 //!
 //! **The pilot's estimate** ([`pilot`]): the path tracer on the same pilot pixels, samples and
 //! seed as BDPT's pilot (fixed chunks reduced in order: the same at any thread count); per
@@ -60,7 +65,7 @@ pub fn refusal(bdpt: &Bdpt, scene: &Scene, plan: &RenderPlan) -> Option<&'static
         .any(|o| scene.objects.material(o).flags().is_specular());
     if unreachable_light && delta_surface {
         return Some(
-            "a light rays cannot hit (point, spot, photometric, directional) and a surface \
+            "a light that rays cannot hit (point, spot, photometric, directional) and a surface \
              with a delta (specular) lobe: paths light → specular → diffuse come from light \
              subpaths alone",
         );
