@@ -136,10 +136,19 @@ fn effects_all_renders_what_auto_renders_without_effects() {
     // `all` also forces the visibility guide on, which draws bdpt's s = 1 light points from
     // its learned density (an unbiased change, tested in `integrators_bdpt_guide.rs`): off
     // here, so every other switch is compared bit for bit.
-    let all_unguided = RenderPlan::new(&s, &request(EffectsMode::All, &["visibility-guide=off"]));
+    // And bdpt's light subpaths in every camera sample: auto's pilot may path trace them all
+    // (q = 0), and the path tracer's wavelengths differ under `all`.
+    let all_unguided = RenderPlan::new(
+        &s,
+        &request(
+            EffectsMode::All,
+            &["visibility-guide=off", "light-subpaths=1"],
+        ),
+    );
+    let auto_q1 = RenderPlan::new(&s, &request(EffectsMode::Auto, &["light-subpaths=1"]));
     for kind in [IntegratorKind::Bdpt, IntegratorKind::Lt] {
         assert!(
-            render(&s, &auto, kind, 4, 2) == render(&s, &all_unguided, kind, 4, 2),
+            render(&s, &auto_q1, kind, 4, 2) == render(&s, &all_unguided, kind, 4, 2),
             "{kind}: all differs from auto"
         );
     }

@@ -28,8 +28,10 @@
 //! comparisons that involve that estimator, and the test asserts PT's deficit where it exists.
 
 use spectrace::film::XyzImage;
+use spectrace::integrator::select::render_planned;
 use spectrace::integrator::{
-    render_with, IntegratorKind, PathTracer, RenderSettings, SampleBudget,
+    EffectsRequest, IntegratorKind, LightSubpaths, PathTracer, RenderPlan, RenderSettings,
+    SampleBudget,
 };
 use spectrace::scene::{build_scene, parse_scene_str, BuiltinFactory, Scene};
 use std::path::Path;
@@ -61,7 +63,16 @@ fn render_seeds(scene: &Scene, kind: IntegratorKind, spp: u32, k: u64) -> Vec<Xy
                     ..PathTracer::default()
                 },
             };
-            let out = render_with(scene, &settings, kind, false, &|_, _| {}, None).unwrap();
+            // BDPT with every camera sample tracing light subpaths: the auto fraction may
+            // path trace every camera sample (q = 0), and its agreement with pt would then be
+            // pt's with itself.
+            let request = EffectsRequest {
+                light_subpaths: LightSubpaths::Fraction(1.0),
+                ..Default::default()
+            };
+            let plan = RenderPlan::new(scene, &request);
+            let out =
+                render_planned(scene, &plan, &settings, kind, false, &|_, _| {}, None).unwrap();
             assert_eq!(
                 out.result.image.non_finite_count(),
                 0,

@@ -7,8 +7,10 @@
 //! (`integrator::bdpt::mis::nee_correction`). The map is written as OpenEXR into a temporary
 //! directory.
 
+use spectrace::integrator::select::render_planned;
 use spectrace::integrator::{
-    render_with, IntegratorKind, PathTracer, RenderSettings, SampleBudget, SamplerKind,
+    EffectsRequest, IntegratorKind, LightSubpaths, PathTracer, RenderPlan, RenderSettings,
+    SampleBudget, SamplerKind,
 };
 use spectrace::scene::{build_scene, parse_scene_str, BuiltinFactory, Scene};
 use std::path::{Path, PathBuf};
@@ -59,7 +61,14 @@ fn render(
         },
         ..RenderSettings::default()
     };
-    let out = render_with(scene, &settings, kind, false, &|_, _| {}, None).unwrap();
+    // BDPT with every camera sample tracing light subpaths: its weights are the subject, and
+    // the auto fraction could path trace every camera sample (q = 0).
+    let request = EffectsRequest {
+        light_subpaths: LightSubpaths::Fraction(1.0),
+        ..Default::default()
+    };
+    let plan = RenderPlan::new(scene, &request);
+    let out = render_planned(scene, &plan, &settings, kind, false, &|_, _| {}, None).unwrap();
     assert_eq!(out.result.image.non_finite_count(), 0);
     out.result.image.xyz.iter().map(|p| p[1]).collect()
 }

@@ -12,7 +12,7 @@
 
 use spectrace::integrator::bdpt::{light_paths_for, Bdpt, LIGHT_PATHS};
 use spectrace::integrator::driver::{Integrator, IntegratorOutput};
-use spectrace::integrator::{EffectsRequest, RenderPlan};
+use spectrace::integrator::{EffectsRequest, LightSubpaths, RenderPlan};
 use spectrace::integrator::{PathTracer, RenderSettings, SampleBudget};
 use spectrace::scene::{build_scene, parse_scene_str, BuiltinFactory, Scene};
 use std::path::Path;
@@ -31,7 +31,12 @@ fn core_pixels() -> impl Iterator<Item = usize> {
 }
 
 fn render(scene: &Scene, light_paths: u32, spp: u32, seed: u64) -> IntegratorOutput {
-    let plan = RenderPlan::new(scene, &EffectsRequest::default());
+    // Every camera sample traces its light subpaths (auto could path trace them all).
+    let request = EffectsRequest {
+        light_subpaths: LightSubpaths::Fraction(1.0),
+        ..Default::default()
+    };
+    let plan = RenderPlan::new(scene, &request);
     let settings = RenderSettings {
         budget: SampleBudget::Spp(spp),
         seed,

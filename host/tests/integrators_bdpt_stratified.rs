@@ -7,7 +7,7 @@
 
 use spectrace::integrator::bdpt::{Bdpt, LIGHT_PATHS};
 use spectrace::integrator::driver::{Integrator, IntegratorOutput};
-use spectrace::integrator::{EffectsRequest, RenderPlan, SamplerKind};
+use spectrace::integrator::{EffectsRequest, LightSubpaths, RenderPlan, SamplerKind};
 use spectrace::integrator::{PathTracer, RenderSettings, SampleBudget};
 use spectrace::scene::{build_scene, parse_scene_str, BuiltinFactory, Scene};
 use std::path::Path;
@@ -24,7 +24,8 @@ fn render(scene: &Scene, sampler: SamplerKind, spp: u32, seed: u64) -> Integrato
     render_on(scene, sampler, spp, seed, None)
 }
 
-/// BDPT with its default light subpaths, on `threads` worker threads (`None`: all).
+/// BDPT with its light subpaths in 1/16 of the camera samples, on `threads` worker threads
+/// (`None`: all).
 fn render_on(
     scene: &Scene,
     sampler: SamplerKind,
@@ -32,7 +33,13 @@ fn render_on(
     seed: u64,
     threads: Option<usize>,
 ) -> IntegratorOutput {
-    let plan = RenderPlan::new(scene, &EffectsRequest::default());
+    // Light subpaths in 1/16 of the camera samples, what auto chose here before it could
+    // path trace them all (q = 0).
+    let request = EffectsRequest {
+        light_subpaths: LightSubpaths::Fraction(0.0625),
+        ..Default::default()
+    };
+    let plan = RenderPlan::new(scene, &request);
     let settings = RenderSettings {
         budget: SampleBudget::Spp(spp),
         seed,

@@ -47,7 +47,10 @@
 //! Light-subpath fraction: a camera sample traces its light subpaths only with probability `q`
 //! (`--effect light-subpaths=auto|Q`; `auto` chooses `q` per scene by a short pilot); the
 //! strategies that use them are divided by their expected count and weighted by it
-//! ([`mis::SampleCounts`], [`light_fraction`]). `q = 1` renders exactly as before.
+//! ([`mis::SampleCounts`], [`light_fraction`]). `q = 1` renders exactly as before. `q = 0`
+//! (chosen by the pilot, or forced, where path tracing samples every path BDPT does) traces no
+//! light subpaths and hands the render to the path tracer ([`path_traced`]), whose estimator is
+//! BDPT's s = 0 and s = 1 at less cost per camera sample.
 //!
 //! Visibility guide: where the plan turns on the path tracer's guide (`super::nee_guide`: the
 //! same pre-pass, built once per render in `Setup` under the render's seed, the same per-light
@@ -71,6 +74,7 @@ pub mod dimensions;
 pub mod fluorescent_mis;
 pub mod light_fraction;
 pub mod mis;
+pub mod path_traced;
 
 use super::connect::camera_chain::{CameraChain, ChainScratch};
 use super::connect::manifold_connection::{anchor, connect_manifold, s0_weight, Seeds};
@@ -392,12 +396,24 @@ fn connect_in<const FLUORESCENT: bool, S: UniformSource>(
         };
         if let Some(alt) = alt {
             // The pilot's weights under each candidate fraction (`light_fraction`).
-            for (a, &q) in alt.iter_mut().zip(CANDIDATES.iter()) {
+            for (a, &q) in alt.weights.iter_mut().zip(CANDIDATES.iter()) {
                 *a = weight(SampleCounts {
                     fraction: q,
                     ..counts
                 });
             }
+            // And the path tracer's densities of this path (the candidate q = 0).
+            alt.pt_ratios = mis::path_tracing_ratios(
+                scene,
+                camera,
+                light_path,
+                camera_path,
+                sampled.as_ref(),
+                (s, t),
+                lambda,
+                counts,
+                guide,
+            );
         }
         SampledSpectrum::splat(weight(counts))
     };
@@ -793,6 +809,90 @@ fn pilot_sums(
     }))
 }
 
+/// The visibility guide's run-time notes as BDPT words them (it guides the s = 1 strategy).
+fn guide_notes(scene: &Scene, guide: Option<&NeeGuide>) -> Vec<String> {
+    guide.map_or_else(Vec::new, |g| {
+        g.notes(|i| {
+            let name = scene
+                .options
+                .light_items
+                .get(i)
+                .map_or_else(|| format!("light {i}"), |n| format!("light {i} ({n})"));
+            format!("{name} (bdpt's s = 1 strategy)")
+        })
+    })
+}
+
+/// The fraction `q` of camera samples that trace light subpaths (`light_fraction`; 0: the
+/// camera samples are path traced, `path_traced`) and its run-time note: forced, kept at 1
+/// (`fraction_stays_one`), or the pilot's choice. A forced 0 where the path tracer cannot
+/// stand for BDPT is an error naming why.
+#[allow(clippy::too_many_arguments)]
+fn choose_fraction(
+    bdpt: &Bdpt,
+    scene: &Scene,
+    plan: &RenderPlan,
+    settings: &RenderSettings,
+    cam: &crate::camera::manager::NamedCamera,
+    setup: &Setup<'_>,
+    start: std::time::Instant,
+) -> Result<(f32, Option<String>), RenderError> {
+    let stays_one = fraction_stays_one(scene);
+    Ok(match (plan.light_subpaths(), stays_one) {
+        (LightSubpaths::Fraction(q), _) if q >= 1.0 => (1.0, None),
+        (LightSubpaths::Fraction(q), _) if q <= 0.0 => {
+            if let Some(why) = stays_one.or_else(|| path_traced::refusal(bdpt, scene, plan)) {
+                return Err(RenderError::Setup(format!(
+                    "--effect light-subpaths=0: bdpt cannot path trace every camera sample in \
+                     this scene ({why}); use auto or a fraction in (0, 1]"
+                )));
+            }
+            let note = "bdpt light subpaths: q = 0 (forced), the camera samples are path traced";
+            (0.0, Some(note.to_string()))
+        }
+        (_, Some(why)) => (
+            1.0,
+            Some(format!(
+                "bdpt light subpaths: q = 1 (every camera sample traces them: {why})"
+            )),
+        ),
+        (LightSubpaths::Fraction(q), None) => (q, None),
+        (LightSubpaths::Auto, None) => {
+            let choice = pilot_choice(bdpt, scene, plan, settings, cam, setup)?;
+            (choice.q, Some(choice.note(start.elapsed().as_secs_f64())))
+        }
+    })
+}
+
+/// The pilots' decision (BDPT's and, where it may stand for BDPT, the path tracer's).
+fn pilot_choice(
+    bdpt: &Bdpt,
+    scene: &Scene,
+    plan: &RenderPlan,
+    settings: &RenderSettings,
+    cam: &crate::camera::manager::NamedCamera,
+    setup: &Setup<'_>,
+) -> Result<Choice, RenderError> {
+    let sums = pilot_sums(bdpt, scene, plan, settings, cam, setup)?;
+    let refused = path_traced::refusal(bdpt, scene, plan);
+    let pt = match refused {
+        None => Some(path_traced::pilot(
+            bdpt,
+            scene,
+            plan,
+            settings,
+            cam,
+            setup.guide.as_ref(),
+            &sums,
+        )?),
+        Some(_) => None,
+    };
+    let mut choice = Choice::from_sums(&sums, pt.map(|(e, _)| e));
+    choice.path_traced_refused = refused;
+    choice.path_traced_work = pt.map(|(_, w)| w);
+    Ok(choice)
+}
+
 /// Render `scene` by BDPT with the tiles, passes and seeding of the path tracer's driver;
 /// t = 1 contributions (and beams-only lights) are splatted and scaled by 1/spp.
 fn render_bdpt(
@@ -821,38 +921,20 @@ fn render_bdpt(
         .strategy_images
         .then(|| StrategyFilms::new(width, height));
     let guide = setup.guide.as_ref();
-    let mut notes = guide.map_or_else(Vec::new, |g| {
-        g.notes(|i| {
-            let name = scene
-                .options
-                .light_items
-                .get(i)
-                .map_or_else(|| format!("light {i}"), |n| format!("light {i} ({n})"));
-            format!("{name} (bdpt's s = 1 strategy)")
-        })
-    });
     // The fraction of camera samples that trace light subpaths (`light_fraction`).
     let pilot_start = std::time::Instant::now();
-    let q = match (plan.light_subpaths(), fraction_stays_one(scene)) {
-        (LightSubpaths::Fraction(q), _) if q >= 1.0 => 1.0,
-        (_, Some(why)) => {
-            notes.push(format!(
-                "bdpt light subpaths: q = 1 (every camera sample traces them: {why})"
-            ));
-            1.0
-        }
-        (LightSubpaths::Fraction(q), None) => q,
-        (LightSubpaths::Auto, None) => {
-            let sums = pilot_sums(bdpt, scene, plan, settings, cam, &setup)?;
-            let choice = Choice::from_sums(&sums);
-            notes.push(choice.note(pilot_start.elapsed().as_secs_f64()));
-            choice.q
-        }
-    };
-    let counts = light_fraction::counts(bdpt.light_paths, q);
+    let (q, note) = choose_fraction(bdpt, scene, plan, settings, cam, &setup, pilot_start)?;
     // The pilot and the guide's pre-pass are part of the render: a time budget counts them.
     let prepass_time = std::time::Duration::from_secs_f64(guide.map_or(0.0, NeeGuide::seconds));
     let pilot_time = pilot_start.elapsed() + prepass_time;
+    if q == 0.0 {
+        let run = (progress, cancel);
+        let notes = note.into_iter().collect();
+        return path_traced::render(bdpt, scene, plan, settings, run, guide, pilot_time, notes);
+    }
+    let mut notes = guide_notes(scene, guide);
+    notes.extend(note);
+    let counts = light_fraction::counts(bdpt.light_paths, q);
     let settings = &RenderSettings {
         budget: match &settings.budget {
             super::SampleBudget::Time(d) => super::SampleBudget::Time(d.saturating_sub(pilot_time)),
@@ -964,8 +1046,9 @@ impl Integrator for Bdpt {
 
 impl Bdpt {
     /// The light-fraction pilot's decision for `scene` (what `--effect light-subpaths=auto`
-    /// renders with), run as the render would run it; `None` where the fraction stays 1 without
-    /// a pilot (beams-only lights, fluorescence).
+    /// renders with, `q = 0` among the candidates where [`path_traced::refusal`] allows it),
+    /// run as the render would run it; `None` where the fraction stays 1 without a pilot
+    /// (beams-only lights, fluorescence).
     pub fn light_fraction_pilot(
         &self,
         scene: &Scene,
@@ -984,8 +1067,7 @@ impl Bdpt {
             ..*self
         };
         let setup = Setup::new(scene, plan, settings, cam.camera.as_ref());
-        let sums = pilot_sums(bdpt, scene, plan, settings, cam, &setup)?;
-        Ok(Some(Choice::from_sums(&sums)))
+        pilot_choice(bdpt, scene, plan, settings, cam, &setup).map(Some)
     }
 
     /// One camera sample of pixel `(x, y)`: returns the XYZ of all t ≥ 2 strategies for the
@@ -1131,7 +1213,7 @@ impl Bdpt {
                     block(ld, dimensions::s1(t));
                 }
                 let shadow_before = worker.stats.shadow_rays;
-                let mut alt = [0.0f32; CANDIDATES.len()];
+                let mut alt = AltWeights::default();
                 let connected = connect(
                     scene,
                     camera,
@@ -1239,9 +1321,13 @@ impl Bdpt {
                     if seen.is_none_or(|v| v.light_index(scene).is_none()) {
                         // Candidate weights over the current one.
                         let ratios =
-                            alt.map(|a| if w_mis > 0.0 { (a / w_mis) as f64 } else { 0.0 });
+                            alt.weights
+                                .map(|a| if w_mis > 0.0 { (a / w_mis) as f64 } else { 0.0 });
                         let at = c.raster.unwrap_or(pixel_center);
                         p.book(at, SampleCounts::uses_light_subpath(s, t), xyz[1], &ratios);
+                        let n = counts.count(s, t);
+                        let own = c.raster.is_none().then_some(s + t - 2);
+                        p.book_pt(xyz[1], c.weight[0], n, &alt.pt_ratios, own);
                     }
                 }
                 match c.raster {
@@ -1420,7 +1506,7 @@ impl Bdpt {
             for s in 1..=light_path.len().min(max_depth + 1) {
                 block(ld, dimensions::t1(j, s));
                 let shadow_before = worker.stats.shadow_rays;
-                let mut alt = [0.0f32; CANDIDATES.len()];
+                let mut alt = AltWeights::default();
                 let connected = connect(
                     scene,
                     camera,
@@ -1471,10 +1557,13 @@ impl Bdpt {
                 }
                 if let Some(p) = worker.pilot.as_mut() {
                     let cw = c.weight[0];
-                    let ratios = alt.map(|a| if cw > 0.0 { (a / cw) as f64 } else { 0.0 });
+                    let ratios = alt
+                        .weights
+                        .map(|a| if cw > 0.0 { (a / cw) as f64 } else { 0.0 });
                     // Left out where the camera sees an emitter, as above.
                     if light_path[s - 1].light_index(scene).is_none() {
                         p.book(r, true, xyz[1], &ratios);
+                        p.book_pt(xyz[1], cw, counts.count(s, 1), &alt.pt_ratios, None);
                     }
                 }
                 Self::record_splat(splats, strategies, pixel_max, r, xyz, Some((s, 1)));

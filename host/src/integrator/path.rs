@@ -8,6 +8,7 @@ use super::driver::{Integrator, IntegratorInfo, IntegratorOutput, Registration};
 use super::fluorescence::events::{shift_lanes, Direction, UNIT_LOBE};
 use super::mis::power_heuristic;
 use super::nee_guide::{NeeGuide, NO_KEY};
+use super::pixel_max::PixelMaxY;
 use super::render::ProgressFn;
 use super::render::{PathStats, PathTracer, SampleBudget};
 use super::tiled::render_tiles;
@@ -777,7 +778,7 @@ fn current<'a>(
 
 /// A camera sample's XYZ: the mean over wavelength groups of each group's sensor response to
 /// its radiance `l` (scaled by the camera weight). One group gives exactly `Sensor::to_xyz`.
-fn film_xyz(
+pub(crate) fn film_xyz(
     sensor: &Sensor,
     l: &GroupRadiance,
     lambdas: &PathWavelengths,
@@ -876,6 +877,62 @@ fn render_guided(
         .cameras
         .get(settings.camera.as_deref())
         .map_err(RenderError::Setup)?;
+    let prepass = std::time::Instant::now();
+    let guide = NeeGuide::build(
+        scene,
+        cam.camera.as_ref(),
+        settings.seed,
+        plan.visibility_guide(),
+        settings.threads,
+    );
+    let notes = guide_notes(scene, guide.as_ref());
+    let prepared = Prepared {
+        guide: guide.as_ref(),
+        prepass: prepass.elapsed(),
+        pixel_max: None,
+    };
+    let (result, film) =
+        render_prepared(scene, plan, settings, progress, cancel, spectral, prepared)?;
+    Ok((result, film, notes))
+}
+
+/// The visibility guide's run-time notes as the path tracer words them (none without a guide).
+pub(crate) fn guide_notes(scene: &Scene, guide: Option<&NeeGuide>) -> Vec<String> {
+    guide.map_or_else(Vec::new, |g| {
+        g.notes(|i| {
+            scene
+                .options
+                .light_items
+                .get(i)
+                .map_or_else(|| format!("light {i}"), |n| format!("light {i} ({n})"))
+        })
+    })
+}
+
+/// What a caller hands [`render_prepared`]: the visibility guide it built (the pre-pass that
+/// [`render_guided`] would run, the same arguments), the time spent before sampling (counted in
+/// the render's, and taken from a time budget), and where to record each pixel's largest
+/// sample luminance.
+pub(crate) struct Prepared<'a> {
+    pub guide: Option<&'a NeeGuide>,
+    pub prepass: std::time::Duration,
+    pub pixel_max: Option<&'a PixelMaxY>,
+}
+
+/// [`render_guided`]'s sampling, with the guide and pre-pass time given (`prepared`).
+pub(crate) fn render_prepared(
+    scene: &Scene,
+    plan: &RenderPlan,
+    settings: &RenderSettings,
+    progress: &ProgressFn<'_>,
+    cancel: Option<&AtomicBool>,
+    spectral: Option<SpectralBins>,
+    prepared: Prepared<'_>,
+) -> Result<(RenderResult, FilmState), RenderError> {
+    let cam = scene
+        .cameras
+        .get(settings.camera.as_deref())
+        .map_err(RenderError::Setup)?;
     let (width, height) = cam.camera.resolution();
     let wavelength_sampler = PathWavelengthSampler::new(
         plan,
@@ -885,37 +942,20 @@ fn render_guided(
     )
     .map_err(RenderError::Setup)?;
     let sensor = Sensor::new(scene.observer.clone());
-    let settings = &RenderSettings {
-        tracer: settings.tracer.for_path_tracing(),
-        ..settings.clone()
-    };
-    let prepass = std::time::Instant::now();
-    let guide = NeeGuide::build(
-        scene,
-        cam.camera.as_ref(),
-        settings.seed,
-        plan.visibility_guide(),
-        settings.threads,
-    );
-    let prepass = prepass.elapsed();
+    let Prepared {
+        guide,
+        prepass,
+        pixel_max,
+    } = prepared;
     // The pre-pass is part of the render: a time budget counts it.
     let settings = &RenderSettings {
+        tracer: settings.tracer.for_path_tracing(),
         budget: match &settings.budget {
             SampleBudget::Time(d) => SampleBudget::Time(d.saturating_sub(prepass)),
             other => *other,
         },
         ..settings.clone()
     };
-    let notes = guide.as_ref().map_or_else(Vec::new, |g| {
-        g.notes(|i| {
-            scene
-                .options
-                .light_items
-                .get(i)
-                .map_or_else(|| format!("light {i}"), |n| format!("light {i} ({n})"))
-        })
-    });
-    let guide = guide.as_ref();
     let rays = AtomicU64::new(0);
     let pinhole = cam.camera.pinhole();
     let outcome = render_tiles(
@@ -975,6 +1015,9 @@ fn render_guided(
                             }
                             None => [0.0; 3],
                         };
+                        if let Some(m) = pixel_max {
+                            m.record(x as f32 + 0.5, y as f32 + 0.5, xyz[1]);
+                        }
                         // The film's guard keeps NaN/Inf/negative samples out and counts them.
                         buf.add(x, y, xyz, "pt camera path");
                     }
@@ -994,7 +1037,6 @@ fn render_guided(
             dropped_pass: outcome.dropped_pass,
         },
         film,
-        notes,
     ))
 }
 

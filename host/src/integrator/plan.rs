@@ -16,7 +16,7 @@
 //! | `flat-path-colour`                     | bdpt and lt give a path whose every vertex is spectrally flat the exact colour of its emitter's spectrum ([`FlatColour`]; found when some light has one spectral shape everywhere) | every path's colour is estimated from its four wavelengths |
 //! | `manifold` (alias `mnee`)              | bdpt adds the specular-chain connection (`integrator::connect::manifold_connection`) for paths that only `s = 0` can make otherwise (found with specular chains) | those paths come from `s = 0` alone |
 //! | `camera-chain`                         | bdpt adds the camera-side specular-chain connection (`integrator::connect::camera_chain`): the lamp seen reflected in or refracted through smooth specular objects from a pinhole (found with specular chains; thin-lens cameras: not run) | those paths come from `s = 0` alone |
-//! | `light-subpaths=auto\|Q` (not on/off) | auto (the default): bdpt chooses the fraction `q` of camera samples that trace light subpaths by a short pilot (`integrator::bdpt::light_fraction`); `Q` forces it: `1` (every camera sample), `0.5`, `1/8`, any value in (0, 1] | – |
+//! | `light-subpaths=auto\|Q` (not on/off) | auto (the default): bdpt chooses the fraction `q` of camera samples that trace light subpaths by a short pilot (`integrator::bdpt::light_fraction`), `0` (path trace every camera sample, `integrator::bdpt::path_traced`) among the candidates where path tracing samples every path bdpt does; `Q` forces it: `1` (every camera sample), `0.5`, `1/8`, any value in [0, 1] (0 is an error where path tracing would lose light) | – |
 //! | `visibility-guide` (alias `nee-guide`) | pt's next-event estimation and bdpt's s = 1 strategy draw points of area lights on quads and small meshes, and the directions of the constant, image-map and CIE environments, from a density learned by a short pre-pass where they are partly hidden (`integrator::nee_guide`; found with such lights, then switched on per light where the pre-pass finds at least 30% of their light occluded; forced on or `--effects all`: every such light) | uniform points by area (no pre-pass) |
 //!
 //! bdpt and lt draw the pair's wavelengths from the observer-plus-emission mixture
@@ -162,7 +162,8 @@ pub enum LightSubpaths {
     /// Chosen per scene by a short pilot (the default).
     #[default]
     Auto,
-    /// Forced: every camera sample traces them with this probability, in (0, 1].
+    /// Forced: every camera sample traces them with this probability, in [0, 1] (0: the
+    /// camera samples are path traced, `integrator::bdpt::path_traced`).
     Fraction(f32),
 }
 
@@ -170,8 +171,9 @@ pub enum LightSubpaths {
 impl Eq for LightSubpaths {}
 
 impl LightSubpaths {
-    /// The value of `--effect light-subpaths=VALUE`: `auto`, or a fraction in (0, 1] as a
-    /// decimal or `1/N`.
+    /// The value of `--effect light-subpaths=VALUE`: `auto`, or a fraction in [0, 1] as a
+    /// decimal or `1/N` (0: bdpt path traces every camera sample, where that loses no light;
+    /// the render checks).
     pub fn parse(value: &str) -> Result<Self, String> {
         let v = value.trim().to_ascii_lowercase();
         if v == "auto" {
@@ -185,11 +187,11 @@ impl LightSubpaths {
             None => v.parse::<f64>().ok(),
         };
         match q {
-            Some(q) if q > 0.0 && q <= 1.0 => Ok(Self::Fraction(q as f32)),
+            Some(q) if (0.0..=1.0).contains(&q) => Ok(Self::Fraction(q as f32)),
             _ => Err(format!(
-                "--effect light-subpaths={value}: expected auto or a fraction in (0, 1] of \
-                 the camera samples that trace light subpaths (1, 0.5, 1/8, …; 0 would lose \
-                 the light that only light subpaths find)"
+                "--effect light-subpaths={value}: expected auto or a fraction in [0, 1] of \
+                 the camera samples that trace light subpaths (1, 0.5, 1/8, …; 0: path trace \
+                 every camera sample)"
             )),
         }
     }
@@ -618,6 +620,10 @@ impl RenderPlan {
         };
         let ls = match self.request.light_subpaths {
             LightSubpaths::Auto => String::new(),
+            LightSubpaths::Fraction(q) if q <= 0.0 => {
+                "; bdpt light subpaths in none of the camera samples: path traced (forced)"
+                    .to_string()
+            }
             LightSubpaths::Fraction(q) => {
                 format!("; bdpt light subpaths in {q} of camera samples (forced)")
             }
@@ -700,9 +706,15 @@ impl RenderPlan {
             match self.request.light_subpaths {
                 LightSubpaths::Auto => {
                     "a short pilot chooses the fraction q of camera samples that trace light \
-                     subpaths (1, 1/2, …, 1/16) by estimated variance × cost; the light-subpath \
-                     strategies are weighted by their expected counts (q = 1 with beams-only \
-                     lights or fluorescence)"
+                     subpaths (1, 1/2, …, 1/16, and 0: every camera sample path traced, where \
+                     path tracing samples every path bdpt does) by estimated variance × cost; \
+                     the light-subpath strategies are weighted by their expected counts (q = 1 \
+                     with beams-only lights or fluorescence)"
+                }
+                LightSubpaths::Fraction(q) if q <= 0.0 => {
+                    "no light subpaths: the camera samples are path traced (pt's estimator and \
+                     visibility guide); an error with beams-only lights, fluorescence, \
+                     --strategy-images, or a light that rays cannot hit with a specular surface"
                 }
                 LightSubpaths::Fraction(_) => {
                     "this fraction of camera samples trace light subpaths, the strategies that \

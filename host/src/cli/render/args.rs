@@ -78,7 +78,8 @@ pub struct RenderArgs {
     /// thin-film, narrowband-emission (alias line-emission), flat-path-colour, manifold,
     /// camera-chain, visibility-guide (pt's and bdpt's s = 1 learned light points; see docs/effects.md). Also
     /// light-subpaths=auto|Q: the fraction of bdpt's camera samples that trace light subpaths,
-    /// auto (chosen by a short pilot, the default) or Q in (0, 1] (1, 0.5, 1/8, …).
+    /// auto (chosen by a short pilot, the default) or Q in [0, 1] (1, 0.5, 1/8, …; 0: every
+    /// camera sample path traced, an error where that would lose light).
     #[arg(long = "effect", value_name = "NAME=on|off")]
     pub effect: Vec<String>,
     /// Debug (bdpt): write each (s, t) strategy's weighted contribution as its own EXR here.

@@ -1,8 +1,13 @@
 //! The fraction `q` of BDPT's camera samples that trace light subpaths, and the pilot that
-//! chooses it per scene (after Grittmann, Pérard-Gayot, Slusallek, Křivánek 2022,
-//! "Efficiency-aware multiple importance sampling for bidirectional rendering algorithms":
+//! chooses it per scene (after Grittmann, Yazici, Georgiev, Slusallek 2022, "Efficiency-aware
+//! multiple importance sampling for bidirectional rendering algorithms", ACM TOG 41(4) 80:
 //! choose the sample counts of the techniques by a variance-times-cost estimate from a short
-//! pilot, and weigh the techniques by those counts).
+//! pilot, and weigh the techniques by those counts). Their candidates include no light paths
+//! at all: their renderer starts with unidirectional path tracing and enables bidirectional
+//! techniques where the estimate says they pay, computing the efficiency of other
+//! combinations from one combination's samples. Here the limit `q = 0` is that candidate
+//! (`super::path_traced`: the path tracer renders the image), where path tracing samples every
+//! path BDPT does.
 //!
 //! **The mechanism** (`bdpt.rs`): each camera sample traces its light subpath(s) with
 //! probability `q`, decided by a stratified dimension of the pixel's sampler
@@ -32,28 +37,44 @@
 //! `1/(variance·cost)`, keeping `q = 1` unless another candidate is estimated at least
 //! [`MIN_GAIN`] better. The render says what it chose and why.
 //!
+//! **`q = 0`** (no light subpaths; the camera samples are path traced, `super::path_traced`):
+//! offered where path tracing samples every path BDPT does (`path_traced::refusal`), chosen
+//! where its estimate beats every `q > 0` by [`MIN_GAIN`]. Its variance, in the same definition,
+//! is the larger of two estimates ([`PtPilotSums::estimate`]): the path tracer's own samples on
+//! the same pilot pixels, samples and seed, and its second moment estimated from BDPT's pilot
+//! samples, each weighed by the path tracer's densities of its path relative to the sampling
+//! strategy's ([`PilotSample::book_pt`]), minus the pixels' squared means per path length.
+//! The second sees the paths the path tracer finds rarely and light tracing finds (a caustic
+//! core): on the spectral caustic at 64×48 the first gives 4.4 and the second 641 (BDPT at
+//! q = 1: 25). Where both see everything they agree: 3.50 and 3.55 on the Cornell box, 5.2e-4
+//! and 5.3e-4 in the window room (full size, seed 3). Its cost is [`PT_COST_WEIGHTS`] of the
+//! path tracer's counted rays and shadow rays.
+//!
 //! | constant        | value                   | meaning                                        |
 //! |-----------------|-------------------------|------------------------------------------------|
-//! | `CANDIDATES`    | 1, ½, ¼, ⅛, 1/16        | fractions the pilot compares                   |
+//! | `CANDIDATES`    | 1, ½, ¼, ⅛, 1/16        | BDPT's fractions the pilot compares            |
+//! | (q = 0)         | path traced             | compared where eligible (`path_traced`)        |
 //! | `PILOT_PIXELS`  | 1024                    | pixels of the pilot (a grid over the image)    |
 //! | `PILOT_SPP`     | 8                       | camera samples per pilot pixel                 |
-//! | `MIN_GAIN`      | 1.05                    | estimated efficiency gain needed to leave q = 1 |
+//! | `MIN_GAIN`      | 1.05                    | estimated efficiency gain needed to leave q = 1, and for q = 0 over every q > 0 |
 //!
 //! Measured (docs/performance.md, "BDPT and its own strategies": instructions per camera
 //! sample from callgrind, per-pixel variance from six seeds; efficiency 1/(MSE·instructions)
 //! over the pixels that do not see an emitter, relative to `q = 1`):
 //!
-//! | scene                     | auto's `q` | q = ¼ | q = 1/16 | `pt`  |
+//! | scene                     | auto's `q` | q = ¼ | q = 1/16 | `pt` = q = 0 |
 //! |---------------------------|------------|-------|----------|-------|
-//! | `cornell_box.ron` (128²)  | 1          | 0.84  | 0.80     | 1.29  |
-//! | `bench/window_room.ron`   | 1/16 (predicted 1.30) | 1.28 | 1.33 | 4.25 |
+//! | `cornell_box.ron` (128²)  | 0 (predicted 1.44–1.76) | 0.84  | 0.80     | 1.29  |
+//! | `bench/window_room.ron`   | 0 (predicted 1.8–2.5) | 1.28 | 1.33 (guided: 2.5) | 4.25 (guided BDPT at 1/16: 1.69× it) |
 //! | `bench/glossy_metals.ron` | 1          | 0.71  | 0.39     | 0.28  |
 //! | `bench/glass_sphere_mesh.ron` | 1      | 0.67  | 0.19     | 0.13  |
 //! | `bench/spectral_caustic.ron` | ½ (most seeds; predicted 1.2) | 1.66 | – (½: 1.40) | – |
 //!
-//! The pilot picks the best fraction on all four; where `pt` stays ahead (the Cornell box, the
-//! window room) BDPT's camera part costs more per sample than `pt`'s whole sample, and `pt`
-//! has the visibility guide.
+//! The pilot picks the best candidate on all five: where `pt` is ahead (the Cornell box, the
+//! window room) BDPT's camera part costs more per sample than `pt`'s whole sample, so no
+//! `q > 0` reaches it, and `q = 0` renders `pt`'s image. The pilot's predicted variance ratio
+//! of `q = 0` to `q = 1` against renders: 2.03 predicted, 1.92 measured on the Cornell box
+//! (64×48), 0.79 and 0.87 in the window room (80×60; `integrators_bdpt_light_fraction`).
 //!
 //! Kept at `q = 1` (said at run time): scenes with beams-only lights (their subpaths are light
 //! tracing alone) and scenes that render fluorescence (its two light-subpath modes are not
@@ -68,8 +89,16 @@ pub use crate::integrator::plan::LightSubpaths;
 /// The fractions the pilot compares, `q = 1` first.
 pub const CANDIDATES: [f32; 5] = [1.0, 0.5, 0.25, 0.125, 0.0625];
 
-/// The weights of one connection under each candidate of [`CANDIDATES`].
-pub type AltWeights = [f32; CANDIDATES.len()];
+/// What the pilot learns of one connection besides its weight: its weights under each
+/// candidate of [`CANDIDATES`], and the squared densities of the path tracer's strategies
+/// (s = 0, s = 1) for its path relative to its own ([`super::mis::path_tracing_ratios`]).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct AltWeights {
+    /// The weights under each candidate.
+    pub weights: [f32; CANDIDATES.len()],
+    /// `(p₀/p)²`, `(p₁/p)²`.
+    pub pt_ratios: [f32; 2],
+}
 
 /// Pilot pixels (a regular grid over the image; fewer when the image is smaller).
 pub const PILOT_PIXELS: u32 = 1024;
@@ -140,6 +169,27 @@ pub const COST_WEIGHTS: CostWeights = CostWeights {
     sample: 5200.0,
 };
 
+/// The path tracer's cost model (the candidate `q = 0`, [`PtPilotSums`]): instructions per
+/// camera sample of `--integrator pt` (the difference of a 3-spp and a 1-spp render at 64×48,
+/// `--threads 1`, seed 3, over 2·64·48 samples), fitted by non-negative least squares on
+/// relative error to the path-tracing pilot's counts per camera sample of the same scenes at
+/// 64×48 (seed 3). The free fit (sample −4100, ray 4200, shadow ray −600) is within 2.5% but
+/// not physical; the non-negative one puts the sample's own work into its camera ray:
+///
+/// | scene                         | instructions | rays, shadow rays | model |
+/// |-------------------------------|--------------|-------------------|-------|
+/// | `cornell_box.ron`             | 10.89 k      | 3.92, 2.43        | 0.98× |
+/// | `bench/window_room.ron`       | 14.51 k      | 4.98, 4.46        | 1.00× |
+/// | `bench/glass_sphere_mesh.ron` | 7.40 k       | 2.83, 0.86        | 0.96× |
+/// | `bench/glossy_metals.ron`     | 12.90 k      | 4.51, 3.12        | 0.97× |
+/// | `bench/spectral_caustic.ron`  | 6.96 k       | 2.84, 1.39        | 1.07× |
+pub const PT_COST_WEIGHTS: CostWeights = CostWeights {
+    ray: 2300.0,
+    shadow_ray: 680.0,
+    connection: 0.0,
+    sample: 0.0,
+};
+
 impl CostWeights {
     /// The instructions `part` stands for.
     pub fn of(&self, part: &PartCost) -> f64 {
@@ -174,6 +224,14 @@ pub struct PilotSums {
     /// Work counts of the camera part and the light part.
     camera: PartCost,
     light: PartCost,
+    /// The path tracer's second moment of `Y` per camera sample, summed over the pilot's
+    /// pixels, estimated from these BDPT samples ([`PilotSample::book_pt`]).
+    pt_m2: f64,
+    /// Connections whose path neither s = 0 nor s = 1 makes (the path tracer would miss it).
+    pt_missed: u64,
+    /// Σ over pilot pixels and path lengths of the squared mean of the pixel's own-pixel `Y`
+    /// of that length (the splats' means left out).
+    pt_mean_sq: f64,
 }
 
 impl PilotSums {
@@ -191,6 +249,9 @@ impl PilotSums {
         self.pixels += o.pixels;
         self.camera.add(&o.camera);
         self.light.add(&o.light);
+        self.pt_m2 += o.pt_m2;
+        self.pt_missed += o.pt_missed;
+        self.pt_mean_sq += o.pt_mean_sq;
     }
 
     /// Per candidate: (q, variance, cost per camera sample, efficiency 1/(variance·cost)).
@@ -246,8 +307,13 @@ pub struct PilotSample {
     /// Σ of the current pixel's own-pixel estimates per candidate, and its sample count.
     pixel_sum: [f64; CANDIDATES.len()],
     pixel_samples: u64,
+    /// Σ of the current pixel's own-pixel `Y` per path length (bounces; the last entry: longer).
+    depth_sum: [f64; DEPTHS],
     sums: PilotSums,
 }
+
+/// Path lengths the pilot's per-length means tell apart ([`PilotSample::book_pt`]).
+const DEPTHS: usize = 24;
 
 impl PilotSample {
     /// An empty recorder for an image of `width × height` pixels.
@@ -258,6 +324,7 @@ impl PilotSample {
             entries: Vec::with_capacity(16),
             pixel_sum: [0.0; CANDIDATES.len()],
             pixel_samples: 0,
+            depth_sum: [0.0; DEPTHS],
             sums: PilotSums::default(),
         }
     }
@@ -288,6 +355,38 @@ impl PilotSample {
         let part = if light { &mut e.c } else { &mut e.a };
         for (p, r) in part.iter_mut().zip(ratios) {
             *p += y * r;
+        }
+    }
+
+    /// Books one connection's share of the path tracer's second moment (the candidate
+    /// `q = 0`): the connection of weighted luminance `y`, weight `w`, `n` expected samples of
+    /// its strategy per camera sample and the path tracer's relative squared densities
+    /// `ratios` = `(p₀/p)², (p₁/p)²` ([`AltWeights::pt_ratios`]). Its path, `x`, made with
+    /// density `p` by this strategy, is one sample of BDPT's combination estimating
+    /// `∫ f²·(w₀²/p₀ + w₁²/p₁)` (the path tracer's second moment, its power-heuristic weights
+    /// `wᵢ = pᵢ²/(p₀² + p₁²)`): `w·h(x)/(n·p)` with `f/p = y·n/w` is
+    /// `y²·n/w · (r₀³ + r₁³)/(r₀² + r₁²)²`, `rᵢ = pᵢ/p`. So the path tracer's variance where it
+    /// samples a path rarely (a caustic: light tracing finds it) is seen although no path
+    /// tracer sample of the pilot found it.
+    pub fn book_pt(&mut self, y: f64, w: f32, n: f32, ratios: &[f32; 2], own_depth: Option<usize>) {
+        if !(w > 0.0) || y == 0.0 {
+            return;
+        }
+        if let Some(d) = own_depth {
+            self.depth_sum[d.min(DEPTHS - 1)] += y;
+        }
+        let (big0, big1) = (ratios[0] as f64, ratios[1] as f64);
+        let sum = big0 + big1;
+        if !(sum > 0.0) {
+            self.sums.pt_missed += 1;
+            return;
+        }
+        let g = (big0 * big0.sqrt() + big1 * big1.sqrt()) / (sum * sum);
+        let term = y * y * n as f64 / w as f64 * g;
+        if term.is_finite() {
+            self.sums.pt_m2 += term;
+        } else {
+            self.sums.pt_missed += 1;
         }
     }
 
@@ -323,8 +422,13 @@ impl PilotSample {
                 let m = sum / self.pixel_samples as f64;
                 *acc += m * m;
             }
+            for sum in &self.depth_sum {
+                let m = sum / self.pixel_samples as f64;
+                self.sums.pt_mean_sq += m * m;
+            }
             self.sums.pixels += 1;
         }
+        self.depth_sum = [0.0; DEPTHS];
         self.pixel_sum = [0.0; CANDIDATES.len()];
         self.pixel_samples = 0;
     }
@@ -357,53 +461,185 @@ pub fn pilot_seed(seed: u64) -> u64 {
     seed ^ PILOT_SALT
 }
 
-/// Runs `chunk` (which renders its pilot pixels with `q = 1` and returns its sums) over fixed
-/// chunks of [`pilot_pixels`] on `pool`, and reduces the sums in chunk order.
-pub fn run_pilot<F>(pool: &rayon::ThreadPool, width: u32, height: u32, chunk: F) -> PilotSums
+/// Sums a pilot reduces over its chunks (in chunk order).
+pub trait Sums: Default + Send {
+    /// Adds `o` to these sums.
+    fn add_sums(&mut self, o: &Self);
+}
+
+impl Sums for PilotSums {
+    fn add_sums(&mut self, o: &Self) {
+        self.add(o);
+    }
+}
+
+/// Runs `chunk` (which renders its pilot pixels, BDPT with `q = 1` or the path tracer, and
+/// returns its sums) over fixed chunks of [`pilot_pixels`] on `pool`, and reduces the sums in
+/// chunk order.
+pub fn run_pilot<T, F>(pool: &rayon::ThreadPool, width: u32, height: u32, chunk: F) -> T
 where
-    F: Fn(&[(u32, u32)]) -> PilotSums + Sync,
+    T: Sums,
+    F: Fn(&[(u32, u32)]) -> T + Sync,
 {
     let pixels = pilot_pixels(width, height);
-    let parts: Vec<PilotSums> = pool.install(|| pixels.par_chunks(CHUNK).map(&chunk).collect());
-    let mut sums = PilotSums::default();
+    let parts: Vec<T> = pool.install(|| pixels.par_chunks(CHUNK).map(&chunk).collect());
+    let mut sums = T::default();
     for p in &parts {
-        sums.add(p);
+        sums.add_sums(p);
     }
     sums
+}
+
+/// The path tracer's pilot sums (the candidate `q = 0`): one camera sample's luminance `Y`
+/// per pilot pixel and sample, under the same pixels, samples and seed as BDPT's pilot, with
+/// the camera samples whose first hit is an emitter booked as 0 (as BDPT's pilot leaves out
+/// the paths whose first camera-side vertex is one), and the work counts.
+#[derive(Clone, Debug, Default)]
+pub struct PtPilotSums {
+    /// Σ Y² over the camera samples.
+    y2: f64,
+    /// Σ over pilot pixels of the squared mean of their `Y`.
+    mean_sq: f64,
+    samples: u64,
+    pixels: u64,
+    /// The current pixel's Σ Y and sample count.
+    pixel_sum: f64,
+    pixel_samples: u64,
+    /// Rays and shadow rays (no connections: the path tracer weighs inline).
+    cost: PartCost,
+}
+
+impl Sums for PtPilotSums {
+    fn add_sums(&mut self, o: &Self) {
+        self.y2 += o.y2;
+        self.mean_sq += o.mean_sq;
+        self.samples += o.samples;
+        self.pixels += o.pixels;
+        self.cost.add(&o.cost);
+    }
+}
+
+impl PtPilotSums {
+    /// Books one camera sample of the current pixel: its luminance `y` (0 where left out)
+    /// and its work counts.
+    pub fn add_sample(&mut self, y: f64, cost: PartCost) {
+        let y = if y.is_finite() { y } else { 0.0 };
+        self.y2 += y * y;
+        self.pixel_sum += y;
+        self.pixel_samples += 1;
+        self.samples += 1;
+        self.cost.add(&cost);
+    }
+
+    /// Ends a pilot pixel (all its samples done).
+    pub fn finish_pixel(&mut self) {
+        if self.pixel_samples > 0 {
+            let m = self.pixel_sum / self.pixel_samples as f64;
+            self.mean_sq += m * m;
+            self.pixels += 1;
+        }
+        self.pixel_sum = 0.0;
+        self.pixel_samples = 0;
+    }
+
+    /// The estimate of `q = 0` in the definition of [`PilotSums::estimates`]: the sum over the
+    /// pilot's pixels of one camera sample's variance of `Y`, and the cost per camera sample
+    /// from `weights` ([`PT_COST_WEIGHTS`]). The variance is the larger of two estimates, each
+    /// blind to a part: these path-traced samples' own (within-pixel, `n − 1`), which misses
+    /// the paths the path tracer finds rarely (a caustic core: a few hits of great value
+    /// carry its variance), and the second moment from BDPT's pilot samples (`bdpt`,
+    /// [`PilotSample::book_pt`]: light tracing finds those paths) minus these samples' squared
+    /// pixel means, which misses the correlation between a camera sample's path lengths.
+    /// Infinite where BDPT's pilot made a path neither s = 0 nor s = 1 makes.
+    pub fn estimate(&self, weights: &CostWeights, bdpt: &PilotSums) -> Estimate {
+        let n = (self.samples as f64 / self.pixels.max(1) as f64).max(2.0);
+        let direct = (self.y2 - n * self.mean_sq) / (n - 1.0);
+        let n_bdpt = (bdpt.samples as f64 / bdpt.pixels.max(1) as f64).max(1.0);
+        let reweighted = bdpt.pt_m2 / n_bdpt - bdpt.pt_mean_sq;
+        let variance = if bdpt.pt_missed > 0 {
+            f64::INFINITY
+        } else {
+            direct.max(reweighted)
+        };
+        let cost = weights.sample + weights.of(&self.cost) / self.samples.max(1) as f64;
+        Estimate {
+            q: 0.0,
+            variance,
+            cost,
+            efficiency: 1.0 / (variance * cost),
+        }
+    }
+
+    /// The two variance estimates of [`estimate`](Self::estimate) (direct, from BDPT's samples).
+    pub fn variances(&self, bdpt: &PilotSums) -> (f64, f64) {
+        let n = (self.samples as f64 / self.pixels.max(1) as f64).max(2.0);
+        let direct = (self.y2 - n * self.mean_sq) / (n - 1.0);
+        let n_bdpt = (bdpt.samples as f64 / bdpt.pixels.max(1) as f64).max(1.0);
+        (direct, bdpt.pt_m2 / n_bdpt - bdpt.pt_mean_sq)
+    }
+
+    /// Rays and shadow rays per camera sample (for the cost fit's table).
+    pub fn counts_per_sample(&self) -> (f64, f64) {
+        let n = self.samples.max(1) as f64;
+        (self.cost.rays as f64 / n, self.cost.shadow_rays as f64 / n)
+    }
 }
 
 /// The pilot's decision: the chosen fraction and every candidate's estimate.
 #[derive(Clone, Debug)]
 pub struct Choice {
-    /// The chosen fraction.
+    /// The chosen fraction; 0: no light subpaths, the camera samples are path traced.
     pub q: f32,
     /// The candidates' estimates, [`CANDIDATES`] order.
     pub estimates: Vec<Estimate>,
+    /// The path tracer's estimate (`q = 0`), where the scene lets it stand for BDPT.
+    pub path_traced: Option<Estimate>,
+    /// Why `q = 0` was not offered, where it was not.
+    pub path_traced_refused: Option<&'static str>,
+    /// The path tracer's rays and shadow rays per camera sample in its pilot (the inputs of
+    /// [`PT_COST_WEIGHTS`]), where it ran.
+    pub path_traced_work: Option<(f64, f64)>,
 }
 
 impl Choice {
     /// The candidate of greatest estimated efficiency, `q = 1` unless another beats it by
-    /// [`MIN_GAIN`] (and `q = 1` when the estimates are degenerate: no light, no variance).
-    pub fn from_sums(sums: &PilotSums) -> Self {
+    /// [`MIN_GAIN`] (and `q = 1` when the estimates are degenerate: no light, no variance);
+    /// `q = 0` (`path_traced`, its estimate) only where it beats every `q > 0` by [`MIN_GAIN`].
+    pub fn from_sums(sums: &PilotSums, path_traced: Option<Estimate>) -> Self {
         let estimates = sums.estimates(&COST_WEIGHTS);
         let base = estimates[0].efficiency;
         let mut q = 1.0;
+        let best = estimates
+            .iter()
+            .filter(|e| e.efficiency.is_finite() && e.efficiency > 0.0 && e.variance > 0.0)
+            .max_by(|a, b| a.efficiency.total_cmp(&b.efficiency));
         if base.is_finite() && base > 0.0 {
-            let best = estimates
-                .iter()
-                .filter(|e| e.efficiency.is_finite() && e.variance > 0.0)
-                .max_by(|a, b| a.efficiency.total_cmp(&b.efficiency));
             if let Some(b) = best {
                 if b.efficiency >= MIN_GAIN * base {
                     q = b.q;
                 }
             }
         }
-        Self { q, estimates }
+        if let (Some(p), Some(b)) = (&path_traced, best) {
+            let usable = p.efficiency.is_finite() && p.variance > 0.0 && p.cost > 0.0;
+            if usable && p.efficiency >= MIN_GAIN * b.efficiency {
+                q = 0.0;
+            }
+        }
+        Self {
+            q,
+            estimates,
+            path_traced,
+            path_traced_refused: None,
+            path_traced_work: None,
+        }
     }
 
-    /// The estimate of fraction `q`, if it is a candidate.
+    /// The estimate of fraction `q`, if it is a candidate (0: the path tracer's).
     pub fn estimate(&self, q: f32) -> Option<&Estimate> {
+        if q == 0.0 {
+            return self.path_traced.as_ref();
+        }
         self.estimates.iter().find(|e| e.q == q)
     }
 
@@ -412,13 +648,22 @@ impl Choice {
         let base = self.estimates[0].efficiency;
         let gain = self.estimate(self.q).map_or(1.0, |e| e.efficiency / base);
         let all: Vec<String> = self
-            .estimates
+            .path_traced
             .iter()
+            .chain(&self.estimates)
             .map(|e| format!("{}: {:.2}", fraction_text(e.q), e.efficiency / base))
             .collect();
+        let what = if self.q == 0.0 {
+            ", the camera samples are path traced"
+        } else {
+            ""
+        };
+        let refused = self
+            .path_traced_refused
+            .map_or_else(String::new, |why| format!("; q = 0 not offered: {why}"));
         format!(
-            "bdpt light subpaths: q = {} (estimated efficiency {:.2}x q = 1; candidates {}), \
-             pilot {seconds:.2} s",
+            "bdpt light subpaths: q = {}{what} (estimated efficiency {:.2}x q = 1; candidates \
+             {}{refused}), pilot {seconds:.2} s",
             fraction_text(self.q),
             if gain.is_finite() { gain } else { 1.0 },
             all.join(", ")
@@ -429,7 +674,9 @@ impl Choice {
 /// `q` as text: `1`, `1/2`, … for the reciprocals of integers, else the decimal.
 pub fn fraction_text(q: f32) -> String {
     let r = 1.0 / q;
-    if q >= 1.0 {
+    if q <= 0.0 {
+        "0".into()
+    } else if q >= 1.0 {
         "1".into()
     } else if (r - r.round()).abs() < 1e-4 {
         format!("1/{}", r.round() as u32)
@@ -473,6 +720,30 @@ mod tests {
             let expect = (4.0 * (3.0 + 2.0 / q) - 4.0 * 4.0) / 3.0;
             assert!((e.variance - expect).abs() < 1e-9, "{e:?} vs {expect}");
         }
+    }
+
+    /// Quantity: the path tracer's second moment reweighted from BDPT's samples
+    /// (`book_pt`), against values worked by hand. A path made by s = 0 alone (`(p₀/p)² = 1`,
+    /// p₁ = 0, weight 1, one sample a camera sample) adds `y²`: the path tracer samples it as
+    /// BDPT did. A light-tracing path (weight ½ of its luminance 2, so `y = 1`; one of 4 light
+    /// subpaths, `n = 4`) that s = 0 makes with a tenth of its density (`(p₀/p)² = 0.01`) and
+    /// s = 1 not at all adds `y²·n/w·(r₀³/r₀⁴) = 1·4/0.5·10 = 80`: its unweighted value
+    /// `f/p = y·n/w = 8`, `∫ f²/p₀` per sample of it `8²·(p/p₀)/n·w`. Where both make it equally
+    /// (`(p₀/p)² = (p₁/p)² = 1`), each path-tracer sample weighs ½: `2·(½)²/1 = ½`, so `y²/2`.
+    /// A path neither makes is counted as missed. Tolerance: rounding.
+    #[test]
+    fn path_tracer_second_moment_by_reweighting() {
+        let mut p = PilotSample::new(4, 4);
+        p.book_pt(2.0, 1.0, 1.0, &[1.0, 0.0], Some(1));
+        assert!((p.sums().pt_m2 - 4.0).abs() < 1e-9);
+        let mut p = PilotSample::new(4, 4);
+        p.book_pt(1.0, 0.5, 4.0, &[0.01, 0.0], None);
+        assert!((p.sums().pt_m2 - 80.0).abs() < 1e-4, "{}", p.sums().pt_m2);
+        let mut p = PilotSample::new(4, 4);
+        p.book_pt(3.0, 1.0, 1.0, &[1.0, 1.0], Some(1));
+        assert!((p.sums().pt_m2 - 4.5).abs() < 1e-9);
+        p.book_pt(3.0, 1.0, 1.0, &[0.0, 0.0], Some(1));
+        assert_eq!(p.sums().pt_missed, 1);
     }
 
     /// Quantity: the pilot grid. At most about `PILOT_PIXELS` pixels, all inside the image,

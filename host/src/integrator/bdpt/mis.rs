@@ -155,11 +155,45 @@ pub fn mis_weight_guided(
     // And two more with the guide: unguided renders keep the weights' code as it was (one
     // instance for both cost the Cornell box +1.0% of bdpt's instructions, the guide off).
     match (counts.fraction >= 1.0, guide.is_some()) {
-        (true, false) => mis_weight_in::<false, false>(args),
-        (false, false) => mis_weight_in::<true, false>(args),
-        (true, true) => mis_weight_in::<false, true>(args),
-        (false, true) => mis_weight_in::<true, true>(args),
+        (true, false) => mis_weight_in::<false, false>(args, None),
+        (false, false) => mis_weight_in::<true, false>(args, None),
+        (true, true) => mis_weight_in::<false, true>(args, None),
+        (false, true) => mis_weight_in::<true, true>(args, None),
     }
+}
+
+/// For the light-fraction pilot's path-tracing candidate (`light_fraction::PtPilotSums`): the
+/// squared densities `(p₀/p, p₁/p)²` with which the strategies s = 0 and s = 1 (the path
+/// tracer's two) make the path of strategy (s, t), relative to that strategy's own density `p`
+/// (the chain [`mis_weight_guided`] sums, with the same next-event correction and guide
+/// factor); 0 where the strategy cannot make the path (a delta vertex or an unhittable light).
+#[allow(clippy::too_many_arguments)]
+pub fn path_tracing_ratios(
+    scene: &Scene,
+    camera: &dyn Camera,
+    light_path: &[Vertex],
+    camera_path: &[Vertex],
+    sampled: Option<&Vertex>,
+    (s, t): (usize, usize),
+    lambda: &SampledWavelengths,
+    counts: SampleCounts,
+    guide: Option<&NeeGuide>,
+) -> [f32; 2] {
+    let mut out = [0.0f32; 2];
+    let args = (
+        scene,
+        camera,
+        light_path,
+        camera_path,
+        sampled,
+        s,
+        t,
+        lambda,
+        counts,
+        guide,
+    );
+    mis_weight_in::<true, true>(args, Some(&mut out));
+    out
 }
 
 /// The arguments of [`mis_weight_guided`], passed on as one.
@@ -181,6 +215,7 @@ type WeightArgs<'a> = (
 #[inline(always)]
 fn mis_weight_in<const FRACTION: bool, const GUIDED: bool>(
     (scene, camera, light_path, camera_path, sampled, s, t, lambda, counts, guide): WeightArgs<'_>,
+    mut pt_ratios: Option<&mut [f32; 2]>,
 ) -> f32 {
     // The same overrides as [`mis_weight_overrides`], written out here on purpose: calling it
     // (even `#[inline(always)]`, moving the `Overrides` with its two vertex copies) costs
@@ -306,6 +341,9 @@ fn mis_weight_in<const FRACTION: bool, const GUIDED: bool>(
                 1.0
             };
             sum += ri * nee_here * scale / own_scale;
+            if let Some(r) = pt_ratios.as_deref_mut().filter(|_| s + t - i <= 1) {
+                r[s + t - i] = ri * nee_here;
+            }
         }
     }
     ri = 1.0;
@@ -320,6 +358,9 @@ fn mis_weight_in<const FRACTION: bool, const GUIDED: bool>(
         if !delta && !delta_before {
             // The alternative (i, t + s − i) has t + (s − i) ≥ 2 camera vertices.
             let nee_here = if i == 1 { nee } else { 1.0 };
+            if let Some(r) = pt_ratios.as_deref_mut().filter(|_| i <= 1) {
+                r[i] = ri * nee_here;
+            }
             if FRACTION && i >= 2 {
                 sum += ri * nee_here * join_scale / own_scale;
             } else {
@@ -330,6 +371,12 @@ fn mis_weight_in<const FRACTION: bool, const GUIDED: bool>(
     if s == 1 && t >= 2 && nee > 0.0 {
         // This strategy is next-event estimation: its own density carries the factor.
         sum /= nee;
+        if let Some(r) = pt_ratios.as_deref_mut() {
+            r[0] /= nee;
+        }
+    }
+    if let Some(r) = pt_ratios.filter(|_| s <= 1 && t >= 2) {
+        r[s] = 1.0;
     }
     let w = 1.0 / (1.0 + sum);
     if w.is_finite() {
