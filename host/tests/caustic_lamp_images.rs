@@ -14,10 +14,11 @@
 //! integral by its ray-origin offsets.
 //! Run: `cargo test --release -p spectrace --test caustic_lamp_images`.
 
+mod common_bdpt;
 use glam::DVec3;
 use spectrace::film::XyzImage;
 use spectrace::integrator::select::render_planned;
-use spectrace::integrator::{EffectsRequest, RenderPlan};
+use spectrace::integrator::RenderPlan;
 use spectrace::integrator::{IntegratorKind, PathTracer, RenderSettings, SampleBudget};
 use spectrace::scene::{build_scene, parse_scene_str, BuiltinFactory, Scene};
 use spectrace::spectrum::spd::Spd;
@@ -283,7 +284,7 @@ fn lamp_images_match_the_geometric_integral() {
         .iter()
         .map(|&(x, y)| y_lamp * pixel_lamp_weight(&CAUSTIC, x, y, 300, 700))
         .collect();
-    let plan = RenderPlan::new(&scene, &EffectsRequest::default());
+    let plan = RenderPlan::new(&scene, &common_bdpt::every_light_subpath());
     assert!(
         plan.camera_chain(),
         "the plan must render the lamp images by chains"
@@ -501,7 +502,7 @@ fn bench_sphere_grazing_image_matches_the_geometric_integral() {
             100.0 * (framed / exact - 1.0)
         );
     }
-    let plan = RenderPlan::new(&scene, &EffectsRequest::default());
+    let plan = RenderPlan::new(&scene, &common_bdpt::every_light_subpath());
     const SPP: u32 = 256;
     for kind in [IntegratorKind::Pt, IntegratorKind::Bdpt] {
         let seeds = 16;

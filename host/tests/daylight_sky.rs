@@ -14,6 +14,7 @@
 //! - bad input: sky types outside 1–15, latitudes outside ±90°, impossible dates; a sun
 //!   below the horizon is a warning.
 
+mod common_bdpt;
 use spectrace::color::{CieObserverKind, Observer};
 use spectrace::integrator::{IntegratorKind, PathTracer};
 use spectrace::light::daylight::solar_position::{sun_position, LocalTime};
@@ -308,7 +309,7 @@ fn bad_input_is_refused_or_warned() {
 /// that a wrong emission density (which scales or skews the light paths' share) shows.
 #[test]
 fn light_paths_from_the_sky_agree_with_path_tracing() {
-    use spectrace::integrator::{render_with, RenderSettings, SampleBudget};
+    use spectrace::integrator::{RenderSettings, SampleBudget};
     let s = scene(
         r#"(
         materials: [(name: "white", type: "lambertian", params: (reflectance: 0.8)),
@@ -335,7 +336,7 @@ fn light_paths_from_the_sky_agree_with_path_tracing() {
             },
             ..RenderSettings::default()
         };
-        let out = render_with(&s, &settings, kind, false, &|_, _| {}, None).unwrap();
+        let out = common_bdpt::render(&s, &settings, kind).unwrap();
         assert_eq!(out.result.image.non_finite_count(), 0);
         out.result.image.xyz.iter().map(|p| p[1]).collect()
     };

@@ -1,6 +1,7 @@
 //! Hard cases: inputs at the edge of what the numerics allow. Each case says what could go
 //! wrong, checks that it does not, and prints its measured figure (run with `--nocapture`).
 
+mod common_bdpt;
 use glam::{Vec2, Vec3A};
 use spectrace::material::metals::ComplexIorTable;
 use spectrace::material::{
@@ -399,9 +400,7 @@ fn tile_means(images: &[spectrace::film::XyzImage]) -> Vec<Vec<[f64; 3]>> {
 /// against was hundreds of standard errors). Printed: the largest |z| of the means and tiles.
 #[test]
 fn scaled_and_translated_cornell_box_matches_unit_scale() {
-    use spectrace::integrator::{
-        render_with, IntegratorKind, PathTracer, RenderSettings, SampleBudget,
-    };
+    use spectrace::integrator::{IntegratorKind, PathTracer, RenderSettings, SampleBudget};
     const K: u64 = 4;
     let render_seeds = |scene: &spectrace::scene::Scene, kind: IntegratorKind| {
         (0..K)
@@ -418,7 +417,7 @@ fn scaled_and_translated_cornell_box_matches_unit_scale() {
                         ..PathTracer::default()
                     },
                 };
-                let out = render_with(scene, &settings, kind, false, &|_, _| {}, None).unwrap();
+                let out = common_bdpt::render(scene, &settings, kind).unwrap();
                 assert_eq!(out.result.image.non_finite_count(), 0, "{kind}");
                 out.result.image
             })
@@ -578,7 +577,7 @@ fn render_image(
     seed: u64,
     direct_only: bool,
 ) -> spectrace::film::XyzImage {
-    use spectrace::integrator::{render_with, PathTracer, RenderSettings, SampleBudget};
+    use spectrace::integrator::{PathTracer, RenderSettings, SampleBudget};
     let settings = RenderSettings {
         budget: SampleBudget::Spp(spp),
         seed,
@@ -590,7 +589,7 @@ fn render_image(
         },
         ..RenderSettings::default()
     };
-    let out = render_with(scene, &settings, kind, false, &|_, _| {}, None).unwrap();
+    let out = common_bdpt::render(scene, &settings, kind).unwrap();
     assert_eq!(
         out.result.image.non_finite_count(),
         0,

@@ -3,6 +3,7 @@
 //! independent estimators of the same image.
 //! Run: `cargo test --release -p spectrace --test integrators_manifold` (a few seconds).
 
+mod common_bdpt;
 use spectrace::film::XyzImage;
 use spectrace::integrator::select::render_planned;
 use spectrace::integrator::{EffectsMode, EffectsRequest, RenderPlan, Switch};
@@ -41,7 +42,7 @@ fn render_forced(scene: &Scene, (switch, on): (Switch, bool), spp: u32, seed: u6
         &EffectsRequest {
             mode: EffectsMode::Auto,
             forced: vec![(switch, on)],
-            ..Default::default()
+            ..common_bdpt::every_light_subpath()
         },
     );
     let decided = match switch {

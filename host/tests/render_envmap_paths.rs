@@ -5,10 +5,9 @@
 //! sensors read the map's illuminance, and light tracing's variance is far below what uniform
 //! emission gives on the same map. The maps are written as OpenEXR into a temporary directory.
 
+mod common_bdpt;
 use glam::{Vec2, Vec3A};
-use spectrace::integrator::{
-    render_with, IntegratorKind, PathTracer, RenderSettings, SampleBudget,
-};
+use spectrace::integrator::{IntegratorKind, PathTracer, RenderSettings, SampleBudget};
 use spectrace::light::{
     EnvironmentLight, EnvironmentMap, EnvironmentRadiance, Light, LightSourceManager,
 };
@@ -61,7 +60,7 @@ fn render(scene: &Scene, kind: IntegratorKind, spp: u32, seed: u64) -> Vec<f64> 
         },
         ..RenderSettings::default()
     };
-    let out = render_with(scene, &settings, kind, false, &|_, _| {}, None).unwrap();
+    let out = common_bdpt::render(scene, &settings, kind).unwrap();
     assert_eq!(out.result.image.non_finite_count(), 0);
     out.result.image.xyz.iter().map(|p| p[1]).collect()
 }

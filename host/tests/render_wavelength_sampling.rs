@@ -3,9 +3,9 @@
 //! estimate the same image: each lane divides by the density it was drawn with, so only the
 //! noise may differ.
 
+mod common_bdpt;
 use spectrace::integrator::{
-    render, render_with, IntegratorKind, PathTracer, RenderSettings, SampleBudget,
-    WavelengthSampling,
+    render, IntegratorKind, PathTracer, RenderSettings, SampleBudget, WavelengthSampling,
 };
 use spectrace::scene::{build_scene, default_scene, parse_scene_str, BuiltinFactory, Scene};
 use std::path::Path;
@@ -108,7 +108,7 @@ fn mean_xyz_per_seed_with(kind: IntegratorKind, spp: u32, w: WavelengthSampling)
                 },
                 ..RenderSettings::default()
             };
-            let img = render_with(&scene, &settings, kind, false, &|_, _| {}, None)
+            let img = common_bdpt::render(&scene, &settings, kind)
                 .unwrap()
                 .result
                 .image;

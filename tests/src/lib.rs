@@ -58,7 +58,7 @@ pub fn render_auto_xyz(
         &spectrace::integrator::EffectsRequest {
             mode: spectrace::integrator::EffectsMode::Auto,
             forced: vec![],
-            ..Default::default()
+            ..every_light_subpath()
         },
     );
     let out = spectrace::integrator::select::render_planned(
@@ -75,4 +75,34 @@ pub fn render_auto_xyz(
     assert_eq!(faults.count(), 0, "{:?}", faults.report());
     assert_eq!(faults.invalid_count(), 0, "{:?}", faults.report());
     out.result.image.xyz
+}
+
+/// The effects request of `--effect light-subpaths=1`, everything else automatic. BDPT's pilot
+/// may hand every camera sample to the path tracer where light subpaths do not pay (q = 0); the
+/// tests that compare integrators or plugin objects under BDPT keep BDPT's own estimator (its
+/// adjoint evaluations, light subpaths and connections) by tracing light subpaths in every
+/// camera sample. For pt and lt it changes nothing.
+pub fn every_light_subpath() -> spectrace::integrator::EffectsRequest {
+    spectrace::integrator::EffectsRequest {
+        light_subpaths: spectrace::integrator::LightSubpaths::Fraction(1.0),
+        ..Default::default()
+    }
+}
+
+/// `render_with(scene, settings, kind, false, …)` under [`every_light_subpath`].
+pub fn render_every_light_subpath(
+    scene: &Scene,
+    settings: &RenderSettings,
+    kind: IntegratorKind,
+) -> Result<spectrace::integrator::IntegratorOutput, spectrace::integrator::RenderError> {
+    let plan = spectrace::integrator::RenderPlan::new(scene, &every_light_subpath());
+    spectrace::integrator::select::render_planned(
+        scene,
+        &plan,
+        settings,
+        kind,
+        false,
+        &|_, _| {},
+        None,
+    )
 }

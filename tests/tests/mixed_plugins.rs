@@ -6,9 +6,7 @@
 
 mod support;
 
-use spectrace::integrator::{
-    render_with, IntegratorKind, PathTracer, RenderSettings, SampleBudget,
-};
+use spectrace::integrator::{IntegratorKind, PathTracer, RenderSettings, SampleBudget};
 use spectrace::plugin::adapter::PluginFaults;
 use spectrace::plugin::factory::PluginFactory;
 use spectrace::scene::{load_scene_file, BuiltinFactory, ObjectFactory};
@@ -90,15 +88,8 @@ fn the_mixed_plugins_scene_renders() {
         },
         ..RenderSettings::default()
     };
-    let out = render_with(
-        &scene,
-        &settings,
-        IntegratorKind::Bdpt,
-        false,
-        &|_, _| {},
-        None,
-    )
-    .unwrap_or_else(|e| panic!("{e}"));
+    let out = spectrace_tests::render_every_light_subpath(&scene, &settings, IntegratorKind::Bdpt)
+        .unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(out.result.image.non_finite_count(), 0);
     assert!(out.result.image.mean_xyz()[1] > 0.0);
     assert_eq!(

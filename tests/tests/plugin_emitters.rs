@@ -10,7 +10,7 @@
 //! and not noise (the sample counts were chosen so that it is; see `within_half_a_percent`).
 
 use spectrace::film::XyzImage;
-use spectrace::integrator::{render_with, IntegratorKind, RenderSettings, SampleBudget};
+use spectrace::integrator::{IntegratorKind, RenderSettings, SampleBudget};
 use spectrace::material::{Material as _, ShadingContext, TransportMode};
 use spectrace::plugin::adapter::{Origin, PluginFaults, PluginMaterial};
 use spectrace::plugin::factory::PluginFactory;
@@ -57,7 +57,7 @@ fn renders(
                 threads: Some(2),
                 ..RenderSettings::default()
             };
-            let out = render_with(scene, &settings, kind, false, &|_, _| {}, None).unwrap();
+            let out = spectrace_tests::render_every_light_subpath(scene, &settings, kind).unwrap();
             let img = &out.result.image;
             let (mut sum, mut n) = (0.0, 0usize);
             for (i, p) in img.xyz.iter().enumerate() {

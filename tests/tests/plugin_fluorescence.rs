@@ -6,7 +6,7 @@
 //! re-emits it uniformly over 500–600 nm). That a fluorescent plugin material renders exactly
 //! like the built-in one is `standard_library`'s bit-for-bit test on `scenes/fluorescence.ron`.
 
-use spectrace::integrator::{render_with, IntegratorKind, RenderSettings, SampleBudget};
+use spectrace::integrator::{IntegratorKind, RenderSettings, SampleBudget};
 use spectrace::plugin::adapter::PluginFaults;
 use spectrace::plugin::factory::RegistryFactory;
 use spectrace::scene::{build_scene, parse_scene_str, ObjectFactory, Scene};
@@ -60,7 +60,7 @@ fn render_y(scene: &Scene, kind: IntegratorKind) -> f64 {
         threads: Some(2),
         ..RenderSettings::default()
     };
-    let out = render_with(scene, &settings, kind, false, &|_, _| {}, None)
+    let out = spectrace_tests::render_every_light_subpath(scene, &settings, kind)
         .unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(out.result.image.non_finite_count(), 0);
     out.result.image.mean_xyz()[1]

@@ -1,0 +1,33 @@
+//! BDPT's own estimator in the integration tests. BDPT's pilot may hand every camera sample to
+//! the path tracer where light subpaths do not pay (`--effect light-subpaths`, q = 0,
+//! `host/src/integrator/bdpt/path_traced.rs`); a test about BDPT's estimator (its agreement
+//! with pt or lt, its handling of a feature) would then compare the path tracer with itself.
+//! So such tests render with light subpaths in every camera sample (`light-subpaths=1`); for
+//! pt and lt the setting changes nothing.
+#![allow(dead_code)] // each test file uses a part
+
+use spectrace::integrator::select::render_planned;
+use spectrace::integrator::{
+    EffectsRequest, IntegratorKind, IntegratorOutput, LightSubpaths, RenderError, RenderPlan,
+    RenderSettings,
+};
+use spectrace::scene::Scene;
+
+/// The effects request of `--effect light-subpaths=1`, everything else automatic.
+pub fn every_light_subpath() -> EffectsRequest {
+    EffectsRequest {
+        light_subpaths: LightSubpaths::Fraction(1.0),
+        ..Default::default()
+    }
+}
+
+/// `render_with(scene, settings, kind, false, …)` with BDPT tracing light subpaths in every
+/// camera sample.
+pub fn render(
+    scene: &Scene,
+    settings: &RenderSettings,
+    kind: IntegratorKind,
+) -> Result<IntegratorOutput, RenderError> {
+    let plan = RenderPlan::new(scene, &every_light_subpath());
+    render_planned(scene, &plan, settings, kind, false, &|_, _| {}, None)
+}
