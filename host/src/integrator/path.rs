@@ -800,6 +800,28 @@ pub(crate) fn film_xyz(
     }
     xyz
 }
+/// The camera sample of pixel `(x, y)` from `rng`, after the wavelengths: the filter's offset
+/// and the lens point. A pinhole never reads the lens numbers: their request is skipped (the
+/// same numbers for every later request). BDPT's path-tracing pilot draws the same sample.
+#[inline]
+pub(crate) fn camera_sample(
+    cam: &crate::camera::manager::NamedCamera,
+    pinhole: bool,
+    rng: &mut PixelSampler,
+    (x, y): (u32, u32),
+) -> CameraSample {
+    let offset = cam.filter.sample(rng.next_2d());
+    let p_lens = if pinhole {
+        rng.skip_2d();
+        Vec2::ZERO
+    } else {
+        rng.next_2d()
+    };
+    CameraSample {
+        p_film: Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset,
+        p_lens,
+    }
+}
 
 /// Render `scene` by path tracing with `settings` (the tracer's settings from
 /// `settings.tracer`). `progress` may be called from several threads.
@@ -983,19 +1005,7 @@ pub(crate) fn render_prepared(
                     for s in samples.clone() {
                         rng.restart(pixel, s);
                         wavelength_sampler.sample_into(&mut rng, &mut lambdas);
-                        let offset = cam.filter.sample(rng.next_2d());
-                        // A pinhole never reads the lens numbers: their request is skipped
-                        // (the same numbers for every later request).
-                        let p_lens = if pinhole {
-                            rng.skip_2d();
-                            Vec2::ZERO
-                        } else {
-                            rng.next_2d()
-                        };
-                        let sample = CameraSample {
-                            p_film: Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset,
-                            p_lens,
-                        };
+                        let sample = camera_sample(cam, pinhole, &mut rng, (x, y));
                         let xyz = match cam.camera.generate_ray(&sample) {
                             Some(r) => {
                                 let l = settings.tracer.li_groups(

@@ -32,7 +32,7 @@
 //! [`PT_COST_WEIGHTS`](super::light_fraction::PT_COST_WEIGHTS).
 
 use super::super::nee_guide::NeeGuide;
-use super::super::path::{film_xyz, guide_notes, render_prepared, Prepared};
+use super::super::path::{camera_sample, film_xyz, guide_notes, render_prepared, Prepared};
 use super::super::pixel_max::PixelMaxY;
 use super::super::render::{PathTracer, ProgressFn};
 use super::super::wavelengths::groups::{PathWavelengthSampler, PathWavelengths};
@@ -40,13 +40,11 @@ use super::super::{PathStats, PixelSampler, RenderError, RenderSettings};
 use super::light_fraction::{self, PartCost, PtPilotSums, PT_COST_WEIGHTS};
 use super::Bdpt;
 use crate::camera::manager::NamedCamera;
-use crate::camera::CameraSample;
 use crate::film::Sensor;
 use crate::geometry::Ray;
 use crate::integrator::driver::IntegratorOutput;
 use crate::integrator::plan::RenderPlan;
 use crate::scene::Scene;
-use glam::Vec2;
 use std::sync::atomic::AtomicBool;
 use std::time::Duration;
 
@@ -131,17 +129,7 @@ pub fn pilot_sums(
                 // The path tracer's camera sample (`path::render_prepared`'s order of numbers).
                 let mut rng = PixelSampler::with_kind(settings.sampler, seed, pixel, si);
                 wavelengths.sample_into(&mut rng, &mut lambdas);
-                let offset = cam.filter.sample(rng.next_2d());
-                let p_lens = if pinhole {
-                    rng.skip_2d();
-                    Vec2::ZERO
-                } else {
-                    rng.next_2d()
-                };
-                let sample = CameraSample {
-                    p_film: Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset,
-                    p_lens,
-                };
+                let sample = camera_sample(cam, pinhole, &mut rng, (x, y));
                 let before = stats;
                 let lum = cam.camera.generate_ray(&sample).map_or(0.0, |r| {
                     let l =
