@@ -841,7 +841,9 @@ fn choose_fraction(
     Ok(match (plan.light_subpaths(), stays_one) {
         (LightSubpaths::Fraction(q), _) if q >= 1.0 => (1.0, None),
         (LightSubpaths::Fraction(q), _) if q <= 0.0 => {
-            if let Some(why) = stays_one.or_else(|| path_traced::refusal(bdpt, scene, plan)) {
+            if let Some(why) =
+                stays_one.or_else(|| path_traced::refusal(&bdpt.path_traced(), scene, plan))
+            {
                 return Err(RenderError::Setup(format!(
                     "--effect light-subpaths=0: bdpt cannot path trace every camera sample in \
                      this scene ({why}); use auto or a fraction in (0, 1]"
@@ -874,10 +876,10 @@ fn pilot_choice(
     setup: &Setup<'_>,
 ) -> Result<Choice, RenderError> {
     let sums = pilot_sums(bdpt, scene, plan, settings, cam, setup)?;
-    let refused = path_traced::refusal(bdpt, scene, plan);
+    let refused = path_traced::refusal(&bdpt.path_traced(), scene, plan);
     let pt = match refused {
         None => Some(path_traced::pilot(
-            bdpt,
+            &bdpt.path_traced(),
             scene,
             plan,
             settings,
@@ -930,7 +932,10 @@ fn render_bdpt(
     if q == 0.0 {
         let run = (progress, cancel);
         let notes = note.into_iter().collect();
-        return path_traced::render(bdpt, scene, plan, settings, run, guide, pilot_time, notes);
+        let stand_in = bdpt.path_traced();
+        return path_traced::render(
+            &stand_in, scene, plan, settings, run, guide, pilot_time, notes,
+        );
     }
     let mut notes = guide_notes(scene, guide);
     notes.extend(note);
@@ -1045,6 +1050,15 @@ impl Integrator for Bdpt {
 }
 
 impl Bdpt {
+    /// What the path tracer standing for BDPT at `q = 0` reads of these settings.
+    fn path_traced(&self) -> path_traced::BdptSettings {
+        path_traced::BdptSettings {
+            max_depth: self.max_depth,
+            strategy_images: self.strategy_images,
+            spectral: self.spectral,
+        }
+    }
+
     /// The light-fraction pilot's decision for `scene` (what `--effect light-subpaths=auto`
     /// renders with, `q = 0` among the candidates where [`path_traced::refusal`] allows it),
     /// run as the render would run it; `None` where the fraction stays 1 without a pilot

@@ -38,8 +38,8 @@ use super::super::render::{PathTracer, ProgressFn};
 use super::super::wavelengths::groups::{PathWavelengthSampler, PathWavelengths};
 use super::super::{PathStats, PixelSampler, RenderError, RenderSettings};
 use super::light_fraction::{self, PartCost, PtPilotSums, PT_COST_WEIGHTS};
-use super::Bdpt;
 use crate::camera::manager::NamedCamera;
+use crate::film::spectral::SpectralBins;
 use crate::film::Sensor;
 use crate::geometry::Ray;
 use crate::integrator::driver::IntegratorOutput;
@@ -48,9 +48,21 @@ use crate::scene::Scene;
 use std::sync::atomic::AtomicBool;
 use std::time::Duration;
 
+/// What of BDPT's settings the path tracer standing for it reads (BDPT hands them over, so
+/// this module does not import its parent).
+#[derive(Clone, Copy, Debug)]
+pub struct BdptSettings {
+    /// Maximum number of bounces of a full path.
+    pub max_depth: u32,
+    /// BDPT's per-strategy images were asked for.
+    pub strategy_images: bool,
+    /// The spectral image's nodes, if one is accumulated.
+    pub spectral: Option<SpectralBins>,
+}
+
 /// Why the path tracer cannot stand for BDPT in `scene` (see the module docs), if it cannot.
 /// `fraction_stays_one`'s reasons are checked by the caller first.
-pub fn refusal(bdpt: &Bdpt, scene: &Scene, plan: &RenderPlan) -> Option<&'static str> {
+pub fn refusal(bdpt: &BdptSettings, scene: &Scene, plan: &RenderPlan) -> Option<&'static str> {
     if bdpt.strategy_images {
         return Some("--strategy-images asks for bdpt's per-strategy images");
     }
@@ -79,7 +91,7 @@ pub fn refusal(bdpt: &Bdpt, scene: &Scene, plan: &RenderPlan) -> Option<&'static
 
 /// The path tracer's settings standing for `bdpt`: BDPT's depth, full transport (BDPT has no
 /// direct-only mode), everything else as given (roulette as the path tracer reads it).
-fn tracer(bdpt: &Bdpt, settings: &RenderSettings) -> PathTracer {
+fn tracer(bdpt: &BdptSettings, settings: &RenderSettings) -> PathTracer {
     PathTracer {
         max_depth: bdpt.max_depth,
         direct_only: false,
@@ -99,7 +111,7 @@ fn sees_emitter(scene: &Scene, ray: &Ray) -> bool {
 
 /// The path tracer's pilot sums (see the module docs) under the render's `guide`.
 pub fn pilot_sums(
-    bdpt: &Bdpt,
+    bdpt: &BdptSettings,
     scene: &Scene,
     plan: &RenderPlan,
     settings: &RenderSettings,
@@ -157,7 +169,7 @@ pub fn pilot_sums(
 /// path tracer's rays and shadow rays per camera sample.
 #[allow(clippy::too_many_arguments)]
 pub fn pilot(
-    bdpt: &Bdpt,
+    bdpt: &BdptSettings,
     scene: &Scene,
     plan: &RenderPlan,
     settings: &RenderSettings,
@@ -178,7 +190,7 @@ pub fn pilot(
 /// after the guide's.
 #[allow(clippy::too_many_arguments)]
 pub fn render(
-    bdpt: &Bdpt,
+    bdpt: &BdptSettings,
     scene: &Scene,
     plan: &RenderPlan,
     settings: &RenderSettings,
