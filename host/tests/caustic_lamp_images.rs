@@ -14,12 +14,12 @@
 //! integral by its ray-origin offsets.
 //! Run: `cargo test --release -p spectrace --test caustic_lamp_images`.
 
-mod common_bdpt;
+mod common_render;
 use glam::DVec3;
 use spectrace::film::XyzImage;
 use spectrace::integrator::select::render_planned;
+use spectrace::integrator::IntegratorKind;
 use spectrace::integrator::RenderPlan;
-use spectrace::integrator::{IntegratorKind, PathTracer, RenderSettings, SampleBudget};
 use spectrace::scene::{build_scene, parse_scene_str, BuiltinFactory, Scene};
 use spectrace::spectrum::spd::Spd;
 use std::path::Path;
@@ -237,18 +237,7 @@ fn lamp_luminance(scene: &Scene, spec: &str, scale: f64) -> f64 {
 /// `scene` rendered by `kind` under `plan`, `spp` samples per pixel at `seed`, all threads, the
 /// scene's own depth.
 fn render(scene: &Scene, plan: &RenderPlan, kind: IntegratorKind, spp: u32, seed: u64) -> XyzImage {
-    let settings = RenderSettings {
-        budget: SampleBudget::Spp(spp),
-        seed,
-        threads: None,
-        camera: None,
-        tile_size: 16,
-        tracer: PathTracer {
-            max_depth: scene.options.max_depth,
-            ..PathTracer::default()
-        },
-        sampler: Default::default(),
-    };
+    let settings = common_render::spp_settings(scene, spp, seed);
     render_planned(scene, plan, &settings, kind, false, &|_, _| {}, None)
         .unwrap()
         .result
@@ -284,7 +273,7 @@ fn lamp_images_match_the_geometric_integral() {
         .iter()
         .map(|&(x, y)| y_lamp * pixel_lamp_weight(&CAUSTIC, x, y, 300, 700))
         .collect();
-    let plan = RenderPlan::new(&scene, &common_bdpt::every_light_subpath());
+    let plan = RenderPlan::new(&scene, &common_render::every_light_subpath());
     assert!(
         plan.camera_chain(),
         "the plan must render the lamp images by chains"
@@ -502,7 +491,7 @@ fn bench_sphere_grazing_image_matches_the_geometric_integral() {
             100.0 * (framed / exact - 1.0)
         );
     }
-    let plan = RenderPlan::new(&scene, &common_bdpt::every_light_subpath());
+    let plan = RenderPlan::new(&scene, &common_render::every_light_subpath());
     const SPP: u32 = 256;
     for kind in [IntegratorKind::Pt, IntegratorKind::Bdpt] {
         let seeds = 16;

@@ -14,7 +14,7 @@
 //! - bad input: sky types outside 1–15, latitudes outside ±90°, impossible dates; a sun
 //!   below the horizon is a warning.
 
-mod common_bdpt;
+mod common_render;
 use spectrace::color::{CieObserverKind, Observer};
 use spectrace::integrator::{IntegratorKind, PathTracer};
 use spectrace::light::daylight::solar_position::{sun_position, LocalTime};
@@ -336,7 +336,7 @@ fn light_paths_from_the_sky_agree_with_path_tracing() {
             },
             ..RenderSettings::default()
         };
-        let out = common_bdpt::render(&s, &settings, kind).unwrap();
+        let out = common_render::render(&s, &settings, kind).unwrap();
         assert_eq!(out.result.image.non_finite_count(), 0);
         out.result.image.xyz.iter().map(|p| p[1]).collect()
     };

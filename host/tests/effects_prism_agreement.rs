@@ -25,7 +25,7 @@
 //! [`bdpt_and_lt_agree_with_pt_through_the_prism_within_half_a_percent`] (the 0.5% with
 //! 3σ < 0.5%, a few minutes) and [`bundled_prism_scene_long_run`] (scenes/prism.ron itself).
 
-mod common_bdpt;
+mod common_render;
 use spectrace::integrator::{IntegratorKind, PathTracer, RenderSettings, SampleBudget};
 use spectrace::scene::{build_scene, parse_scene_str, BuiltinFactory, Scene};
 use std::path::Path;
@@ -88,7 +88,7 @@ fn render(scene: &Scene, kind: IntegratorKind, spp: u32, seed: u64) -> [f64; 5] 
             ..PathTracer::default()
         },
     };
-    let out = common_bdpt::render(scene, &settings, kind).unwrap();
+    let out = common_render::render(scene, &settings, kind).unwrap();
     let img = &out.result.image;
     assert_eq!(img.non_finite_count(), 0, "{kind}: non-finite");
     let (w, h) = (img.width as usize, img.height as usize);

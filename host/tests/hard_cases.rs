@@ -1,7 +1,7 @@
 //! Hard cases: inputs at the edge of what the numerics allow. Each case says what could go
 //! wrong, checks that it does not, and prints its measured figure (run with `--nocapture`).
 
-mod common_bdpt;
+mod common_render;
 use glam::{Vec2, Vec3A};
 use spectrace::material::metals::ComplexIorTable;
 use spectrace::material::{
@@ -417,7 +417,7 @@ fn scaled_and_translated_cornell_box_matches_unit_scale() {
                         ..PathTracer::default()
                     },
                 };
-                let out = common_bdpt::render(scene, &settings, kind).unwrap();
+                let out = common_render::render(scene, &settings, kind).unwrap();
                 assert_eq!(out.result.image.non_finite_count(), 0, "{kind}");
                 out.result.image
             })
@@ -589,7 +589,7 @@ fn render_image(
         },
         ..RenderSettings::default()
     };
-    let out = common_bdpt::render(scene, &settings, kind).unwrap();
+    let out = common_render::render(scene, &settings, kind).unwrap();
     assert_eq!(
         out.result.image.non_finite_count(),
         0,

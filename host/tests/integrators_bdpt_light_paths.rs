@@ -10,10 +10,10 @@
 //!
 //! Run: `cargo test --release -p spectrace --test integrators_bdpt_light_paths` (about 10 s).
 
+mod common_render;
 use spectrace::integrator::bdpt::{light_paths_for, Bdpt, LIGHT_PATHS};
 use spectrace::integrator::driver::{Integrator, IntegratorOutput};
 use spectrace::integrator::{EffectsRequest, LightSubpaths, RenderPlan};
-use spectrace::integrator::{PathTracer, RenderSettings, SampleBudget};
 use spectrace::scene::{build_scene, parse_scene_str, BuiltinFactory, Scene};
 use std::path::Path;
 
@@ -37,18 +37,7 @@ fn render(scene: &Scene, light_paths: u32, spp: u32, seed: u64) -> IntegratorOut
         ..Default::default()
     };
     let plan = RenderPlan::new(scene, &request);
-    let settings = RenderSettings {
-        budget: SampleBudget::Spp(spp),
-        seed,
-        threads: None,
-        camera: None,
-        tile_size: 16,
-        tracer: PathTracer {
-            max_depth: scene.options.max_depth,
-            ..PathTracer::default()
-        },
-        sampler: Default::default(),
-    };
+    let settings = common_render::spp_settings(scene, spp, seed);
     let bdpt = Bdpt {
         max_depth: settings.tracer.max_depth,
         rr_depth: settings.tracer.rr_depth,

@@ -18,6 +18,7 @@
 //! the geometry terms on both sides of the chain and puts the core on `s = 0`.
 //! Run: `cargo test --release -p spectrace --test integrators_caustic_mis` (about 10 s).
 
+mod common_render;
 use glam::{DVec3, Vec2, Vec3A};
 use spectrace::camera::CameraSample;
 use spectrace::integrator::bdpt::mis::{mis_weight, LIGHT_TRACING_MIS_SCALE};
@@ -28,9 +29,7 @@ use spectrace::integrator::subpath::random_walk::{generate_camera_subpath, WalkS
 use spectrace::integrator::subpath::vertex::{Vertex, VertexKind};
 use spectrace::integrator::wavelengths::mixture::WavelengthMixture;
 use spectrace::integrator::{EffectsRequest, RenderPlan};
-use spectrace::integrator::{
-    IntegratorKind, PathStats, PathTracer, RenderSettings, SampleBudget, SampleRng,
-};
+use spectrace::integrator::{IntegratorKind, PathStats, SampleRng};
 use spectrace::scene::{build_scene, parse_scene_str, BuiltinFactory, Scene};
 use std::f64::consts::PI;
 use std::path::Path;
@@ -337,18 +336,7 @@ fn bdpt_matches_light_tracing_in_the_caustic_core() {
     let scene = scene();
     let plan = RenderPlan::new(&scene, &EffectsRequest::default());
     let render = |kind: IntegratorKind, seed: u64, strategies: bool| {
-        let settings = RenderSettings {
-            budget: SampleBudget::Spp(32),
-            seed,
-            threads: None,
-            camera: None,
-            tile_size: 16,
-            tracer: PathTracer {
-                max_depth: scene.options.max_depth,
-                ..PathTracer::default()
-            },
-            sampler: Default::default(),
-        };
+        let settings = common_render::spp_settings(&scene, 32, seed);
         render_planned(&scene, &plan, &settings, kind, strategies, &|_, _| {}, None).unwrap()
     };
     let stats = |a: &[[f64; 3]], b: &[[f64; 3]]| {

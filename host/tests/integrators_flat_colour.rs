@@ -3,10 +3,11 @@
 //! noise, and no change at all where paths touch a coloured surface.
 //! Run: `cargo test --release -p spectrace --test integrators_flat_colour` (a few seconds).
 
+mod common_render;
 use spectrace::film::XyzImage;
 use spectrace::integrator::select::render_planned;
+use spectrace::integrator::IntegratorKind;
 use spectrace::integrator::{EffectsMode, EffectsRequest, RenderPlan, Switch};
-use spectrace::integrator::{IntegratorKind, PathTracer, RenderSettings, SampleBudget};
 use spectrace::scene::{build_scene, parse_scene_str, BuiltinFactory, Scene};
 use std::path::Path;
 
@@ -32,18 +33,7 @@ fn render(scene: &Scene, kind: IntegratorKind, flat: bool, spp: u32, seed: u64) 
         },
     );
     assert_eq!(plan.flat_path_colour(), flat);
-    let settings = RenderSettings {
-        budget: SampleBudget::Spp(spp),
-        seed,
-        threads: None,
-        camera: None,
-        tile_size: 16,
-        tracer: PathTracer {
-            max_depth: scene.options.max_depth,
-            ..PathTracer::default()
-        },
-        sampler: Default::default(),
-    };
+    let settings = common_render::spp_settings(scene, spp, seed);
     let out = render_planned(scene, &plan, &settings, kind, false, &|_, _| {}, None).unwrap();
     assert_eq!(out.result.image.non_finite_count(), 0);
     out.result.image

@@ -3,11 +3,11 @@
 //! independent estimators of the same image.
 //! Run: `cargo test --release -p spectrace --test integrators_manifold` (a few seconds).
 
-mod common_bdpt;
+mod common_render;
 use spectrace::film::XyzImage;
 use spectrace::integrator::select::render_planned;
+use spectrace::integrator::IntegratorKind;
 use spectrace::integrator::{EffectsMode, EffectsRequest, RenderPlan, Switch};
-use spectrace::integrator::{IntegratorKind, PathTracer, RenderSettings, SampleBudget};
 use spectrace::scene::{build_scene, parse_scene_str, BuiltinFactory, Scene};
 use std::path::Path;
 
@@ -42,7 +42,7 @@ fn render_forced(scene: &Scene, (switch, on): (Switch, bool), spp: u32, seed: u6
         &EffectsRequest {
             mode: EffectsMode::Auto,
             forced: vec![(switch, on)],
-            ..common_bdpt::every_light_subpath()
+            ..common_render::every_light_subpath()
         },
     );
     let decided = match switch {
@@ -51,18 +51,7 @@ fn render_forced(scene: &Scene, (switch, on): (Switch, bool), spp: u32, seed: u6
         _ => unreachable!("only the two connections are switched here"),
     };
     assert_eq!(decided, on);
-    let settings = RenderSettings {
-        budget: SampleBudget::Spp(spp),
-        seed,
-        threads: None,
-        camera: None,
-        tile_size: 16,
-        tracer: PathTracer {
-            max_depth: scene.options.max_depth,
-            ..PathTracer::default()
-        },
-        sampler: Default::default(),
-    };
+    let settings = common_render::spp_settings(scene, spp, seed);
     let out = render_planned(
         scene,
         &plan,

@@ -12,7 +12,7 @@
 //! `python scripts/mitsuba_import/compare.py render bsdf_diffuse_textured-flatplane.xml
 //! OUT.exr --spp 4096 --seed 7 --size 80 60 --threads 2` in that folder.
 
-mod common_bdpt;
+mod common_render;
 use spectrace::color::SRGB;
 use spectrace::integrator::{render, PathTracer, RenderSettings, SampleBudget};
 use spectrace::scene::{build_scene, BuiltinFactory};
@@ -113,7 +113,7 @@ fn render_image_with(
         &spectrace::integrator::EffectsRequest {
             mode: spectrace::integrator::EffectsMode::Auto,
             forced: vec![],
-            ..common_bdpt::every_light_subpath()
+            ..common_render::every_light_subpath()
         },
     );
     let image = if kind == spectrace::integrator::select::IntegratorKind::Pt {

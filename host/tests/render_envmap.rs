@@ -2,7 +2,7 @@
 //! `environment` type, the photometric `illuminance`, in PT, BDPT and LT. The maps are written
 //! as OpenEXR into a temporary directory by the tests.
 
-mod common_bdpt;
+mod common_render;
 use spectrace::color::{CieObserverKind, Observer};
 use spectrace::integrator::{IntegratorKind, PathTracer, RenderSettings, SampleBudget};
 use spectrace::scene::{build_scene, parse_scene_str, BuiltinFactory, Scene};
@@ -41,7 +41,7 @@ fn render(scene: &Scene, kind: IntegratorKind, spp: u32) -> Vec<f64> {
         },
         ..RenderSettings::default()
     };
-    let out = common_bdpt::render(scene, &settings, kind).unwrap();
+    let out = common_render::render(scene, &settings, kind).unwrap();
     assert_eq!(out.result.image.non_finite_count(), 0);
     out.result.image.xyz.iter().map(|p| p[1]).collect()
 }

@@ -5,7 +5,7 @@
 //! sensors read the map's illuminance, and light tracing's variance is far below what uniform
 //! emission gives on the same map. The maps are written as OpenEXR into a temporary directory.
 
-mod common_bdpt;
+mod common_render;
 use glam::{Vec2, Vec3A};
 use spectrace::integrator::{IntegratorKind, PathTracer, RenderSettings, SampleBudget};
 use spectrace::light::{
@@ -60,7 +60,7 @@ fn render(scene: &Scene, kind: IntegratorKind, spp: u32, seed: u64) -> Vec<f64> 
         },
         ..RenderSettings::default()
     };
-    let out = common_bdpt::render(scene, &settings, kind).unwrap();
+    let out = common_render::render(scene, &settings, kind).unwrap();
     assert_eq!(out.result.image.non_finite_count(), 0);
     out.result.image.xyz.iter().map(|p| p[1]).collect()
 }

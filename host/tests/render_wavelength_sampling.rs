@@ -3,7 +3,7 @@
 //! estimate the same image: each lane divides by the density it was drawn with, so only the
 //! noise may differ.
 
-mod common_bdpt;
+mod common_render;
 use spectrace::integrator::{
     render, IntegratorKind, PathTracer, RenderSettings, SampleBudget, WavelengthSampling,
 };
@@ -108,7 +108,7 @@ fn mean_xyz_per_seed_with(kind: IntegratorKind, spp: u32, w: WavelengthSampling)
                 },
                 ..RenderSettings::default()
             };
-            let img = common_bdpt::render(&scene, &settings, kind)
+            let img = common_render::render(&scene, &settings, kind)
                 .unwrap()
                 .result
                 .image;

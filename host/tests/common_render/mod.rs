@@ -1,4 +1,7 @@
-//! BDPT's own estimator in the integration tests. BDPT's pilot may hand every camera sample to
+//! Rendering helpers of the integration tests: fixed-spp settings at the scene's own depth
+//! ([`spp_settings`]), and BDPT's own estimator ([`every_light_subpath`], [`render`]).
+//!
+//! BDPT's pilot may hand every camera sample to
 //! the path tracer where light subpaths do not pay (`--effect light-subpaths`, q = 0,
 //! `host/src/integrator/bdpt/path_traced.rs`); a test about BDPT's estimator (its agreement
 //! with pt or lt, its handling of a feature) would then compare the path tracer with itself.
@@ -8,8 +11,8 @@
 
 use spectrace::integrator::select::render_planned;
 use spectrace::integrator::{
-    EffectsRequest, IntegratorKind, IntegratorOutput, LightSubpaths, RenderError, RenderPlan,
-    RenderSettings,
+    EffectsRequest, IntegratorKind, IntegratorOutput, LightSubpaths, PathTracer, RenderError,
+    RenderPlan, RenderSettings, SampleBudget,
 };
 use spectrace::scene::Scene;
 
@@ -30,4 +33,18 @@ pub fn render(
 ) -> Result<IntegratorOutput, RenderError> {
     let plan = RenderPlan::new(scene, &every_light_subpath());
     render_planned(scene, &plan, settings, kind, false, &|_, _| {}, None)
+}
+
+/// A render of `spp` samples per pixel with `seed`, the path depth the scene declares, and the
+/// defaults otherwise (all threads, 16-pixel tiles, the first camera, the Sobol' sampler).
+pub fn spp_settings(scene: &Scene, spp: u32, seed: u64) -> RenderSettings {
+    RenderSettings {
+        budget: SampleBudget::Spp(spp),
+        seed,
+        tracer: PathTracer {
+            max_depth: scene.options.max_depth,
+            ..PathTracer::default()
+        },
+        ..RenderSettings::default()
+    }
 }
