@@ -97,8 +97,8 @@ use super::wavelengths::mixture::WavelengthMixture;
 use super::wavelengths::pairs::PairWavelengths;
 use super::wavelengths::xyz_weights::XyzWeights;
 use super::{PathStats, PixelSampler, RenderError, RenderResult, RenderSettings, UniformSource};
-use crate::camera::{Camera, CameraSample};
-use crate::film::rejected::check_sample;
+use crate::camera::{Camera, CameraRay, CameraSample};
+use crate::film::rejected::{check_sample, RejectKind};
 use crate::film::spectral::SpectralBins;
 use crate::film::spectral_film::{LaneEnergies, SpectralFilm};
 use crate::film::{Rejection, Sensor, SplatFilm};
@@ -615,6 +615,128 @@ impl Worker {
     }
 }
 
+/// The chain connections a render runs: the specular-chain connection (on or off), the
+/// camera-side chain connection, and the reflecting shapes that seed the former.
+type Chains<'a> = (bool, Option<&'a CameraChain>, Option<&'a SpecularShapes>);
+
+/// What the steps of one camera sample ([`Bdpt::sample`]) share: the scene and camera, the
+/// sample's pixel, wavelengths and observer weights, and the films it writes.
+struct SampleFrame<'a> {
+    scene: &'a Scene,
+    camera: &'a dyn Camera,
+    sensor: &'a Sensor,
+    mixture: &'a WavelengthMixture,
+    lambda: SampledWavelengths,
+    /// The observer's weights at `lambda`.
+    weights: XyzWeights,
+    /// The pixel, and its centre in raster units.
+    pixel: (u32, u32),
+    center: Vec2,
+    splats: &'a SplatFilm,
+    spectral: Option<&'a SpectralFilm>,
+    pixel_max: &'a PixelMaxY,
+    strategies: Option<&'a StrategyFilms>,
+    flat: Option<&'a FlatColour>,
+    guide: Option<&'a NeeGuide>,
+    /// Longest full path (bounces).
+    max_depth: usize,
+}
+
+impl SampleFrame<'_> {
+    /// Counts a contribution the film must not take (`kind`) under this sample's pixel and
+    /// `strategy`, never in the image.
+    fn reject(&self, strategy: String, kind: RejectKind) {
+        let (x, y) = self.pixel;
+        self.splats.reject(Rejection {
+            x,
+            y,
+            strategy,
+            kind,
+        });
+    }
+
+    /// A contribution landing at raster position `raster` (t = 1, the camera-side chain,
+    /// beams): the splat film, the strategy image of `st` (`None`: beams) and the spectral
+    /// film, with the lane energies `energies` gives.
+    fn splat(
+        &self,
+        raster: Vec2,
+        xyz: [f64; 3],
+        st: Option<(usize, usize)>,
+        energies: impl FnOnce() -> LaneEnergies,
+    ) {
+        Bdpt::record_splat(
+            self.splats,
+            self.strategies,
+            self.pixel_max,
+            raster,
+            xyz,
+            st,
+        );
+        if let Some(sf) = self.spectral {
+            sf.splat(raster.x, raster.y, &xyz, &energies());
+        }
+    }
+}
+
+/// A camera sample's contributions to its own pixel (the t ≥ 2 strategies and the
+/// specular-chain connection), which the pixel film takes as one sample.
+#[derive(Default)]
+struct OwnPixel {
+    xyz: [f64; 3],
+    lanes: LaneEnergies,
+    /// Per strategy (s, t), for the strategy images.
+    per_strategy: Vec<(usize, usize, [f64; 3])>,
+}
+
+impl OwnPixel {
+    /// Adds `xyz` of strategy `st`, with the lane energies `energies` gives where the frame
+    /// has a spectral film.
+    fn add(
+        &mut self,
+        frame: &SampleFrame<'_>,
+        xyz: [f64; 3],
+        (s, t): (usize, usize),
+        energies: impl FnOnce() -> LaneEnergies,
+    ) {
+        for (sum, v) in self.xyz.iter_mut().zip(xyz) {
+            *sum += v;
+        }
+        if frame.spectral.is_some() {
+            self.lanes.accumulate(&energies());
+        }
+        if frame.strategies.is_some() {
+            self.per_strategy.push((s, t, xyz));
+        }
+    }
+
+    /// Hands the sum to the frame's spectral film and strategy images; returns it (for the
+    /// pixel film).
+    fn finish(self, frame: &SampleFrame<'_>) -> [f64; 3] {
+        let c = frame.center;
+        frame.pixel_max.record(c.x, c.y, self.xyz[1]);
+        if let Some(sf) = frame.spectral {
+            // The spectral film judges the sum as the pixel film's guard does.
+            sf.add(frame.pixel.0, frame.pixel.1, &self.xyz, &[self.lanes]);
+        }
+        if let Some(sf) = frame.strategies {
+            for (s, t, xyz) in self.per_strategy {
+                sf.film(s, t).splat(c.x, c.y, xyz);
+            }
+        }
+        self.xyz
+    }
+}
+
+/// The light-fraction pilot's work counts of one camera sample: the light part's, and the
+/// camera part's connections (its rays and shadow rays are the rest of the sample's, counted
+/// from `before`).
+struct SampleWork {
+    before: PathStats,
+    light: PartCost,
+    camera_connections: u64,
+}
+
 /// Film XYZ of connection `c` of strategy (s, t): the exact colour of its emitter when the
 /// whole path is spectrally flat ([`FlatColour`]), else the ordinary per-lane estimate.
 #[allow(clippy::too_many_arguments)]
@@ -1086,6 +1208,12 @@ impl Bdpt {
 
     /// One camera sample of pixel `(x, y)`: returns the XYZ of all t ≥ 2 strategies for the
     /// pixel film and splats the t = 1 strategies (and beams) into `splats`.
+    ///
+    /// The steps, in the order they draw numbers: the subpaths ([`Self::trace_subpaths`]),
+    /// every (s, t) join of the two ([`Self::connect_subpaths`]), the specular-chain
+    /// connection ([`Self::specular_chain`]), the camera-side chain connection
+    /// ([`Self::camera_chain`]) and the further light subpaths, joined to the camera only
+    /// ([`Self::further_light_subpaths`]).
     #[allow(clippy::too_many_arguments)]
     fn sample(
         &self,
@@ -1099,11 +1227,7 @@ impl Bdpt {
         pixel_max: &PixelMaxY,
         strategies: Option<&StrategyFilms>,
         flat: Option<&FlatColour>,
-        (manifold, camera_chain, reflection_shapes): (
-            bool,
-            Option<&CameraChain>,
-            Option<&SpecularShapes>,
-        ),
+        chains: Chains<'_>,
         guide: Option<&NeeGuide>,
         worker: &mut Worker,
     ) -> [f64; 3] {
@@ -1113,20 +1237,101 @@ impl Bdpt {
         let lambda = pair.sample(ld);
         let weights = XyzWeights::new(sensor, &lambda);
         let offset = cam.filter.sample(ld.next_2d());
+        let center = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
         let cs = CameraSample {
-            p_film: Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset,
+            p_film: center + offset,
             p_lens: ld.next_2d(),
         };
         let Some(cray) = camera.generate_ray(&cs) else {
             return [0.0; 3];
         };
-        let max_depth = self.max_depth as usize;
+        let frame = SampleFrame {
+            scene,
+            camera,
+            sensor,
+            mixture,
+            lambda,
+            weights,
+            pixel: (x, y),
+            center,
+            splats,
+            spectral,
+            pixel_max,
+            strategies,
+            flat,
+            guide,
+            max_depth: self.max_depth as usize,
+        };
         let mut camera_path = std::mem::take(&mut worker.camera_path);
         let mut light_path = std::mem::take(&mut worker.light_path);
+        let (trace_light, mode, mut work) =
+            self.trace_subpaths(&frame, cray, ld, worker, &mut camera_path, &mut light_path);
+        let mut own = OwnPixel::default();
+        let paths = (camera_path.as_slice(), light_path.as_slice());
+        self.connect_subpaths(
+            &frame,
+            paths,
+            mode.as_ref(),
+            chains,
+            ld,
+            worker,
+            &mut own,
+            &mut work,
+        );
+        let (manifold, camera_chain, reflection_shapes) = chains;
+        if manifold {
+            self.specular_chain(
+                &frame,
+                &camera_path,
+                reflection_shapes,
+                ld,
+                worker,
+                &mut own,
+            );
+        }
+        if let Some(cc) = camera_chain {
+            self.camera_chain(&frame, cc, ld, worker);
+        }
+        if trace_light {
+            self.further_light_subpaths(
+                &frame,
+                &camera_path,
+                &mut light_path,
+                ld,
+                worker,
+                &mut work,
+            );
+        }
+        if let Some(p) = worker.pilot.as_mut() {
+            let camera_cost = PartCost {
+                rays: worker.stats.rays - work.before.rays - work.light.rays,
+                shadow_rays: worker.stats.shadow_rays
+                    - work.before.shadow_rays
+                    - work.light.shadow_rays,
+                connections: work.camera_connections,
+            };
+            p.finish_sample(center, camera_cost, work.light);
+        }
+        worker.camera_path = camera_path;
+        worker.light_path = light_path;
+        own.finish(&frame)
+    }
+
+    /// The sample's camera subpath and its first light subpath, which it traces with
+    /// probability `q` (drawn from a stratified dimension of its own: a pixel's samples trace
+    /// about `q` of them; with `q = 1` no number is drawn), with a beams-only light's beams and
+    /// the subpaths' flatness. Returns whether this sample traces light subpaths, the light
+    /// subpath's fluorescence mode, and the pilot's work counts so far.
+    fn trace_subpaths(
+        &self,
+        frame: &SampleFrame<'_>,
+        cray: CameraRay,
+        ld: &mut PixelSampler,
+        worker: &mut Worker,
+        camera_path: &mut Vec<Vertex>,
+        light_path: &mut Vec<Vertex>,
+    ) -> (bool, Option<LightMode>, SampleWork) {
         let counts = worker.counts;
-        // Whether this camera sample traces its light subpaths (probability `q`, from a
-        // stratified dimension of its own: a pixel's samples trace ~q of them). With q = 1
-        // no number is drawn, so the image is the one every sample tracing them gives.
         let trace_light = counts.fraction >= 1.0 || {
             block(ld, dimensions::LIGHT_FRACTION);
             ld.next_1d() < counts.fraction
@@ -1135,27 +1340,27 @@ impl Bdpt {
         let before = worker.stats;
         block(ld, dimensions::CAMERA_WALK);
         generate_camera_subpath(
-            scene,
-            camera,
+            frame.scene,
+            frame.camera,
             cray.ray,
             cray.weight,
-            &lambda,
+            &frame.lambda,
             ld,
-            max_depth + 2,
+            frame.max_depth + 2,
             self.rr_depth,
-            &mut camera_path,
+            camera_path,
             &mut worker.stats,
         );
         let after_camera = worker.stats;
         let (start, mode) = match u_start {
             Some(u_start) => self.light_subpath(
-                scene,
-                mixture,
-                &lambda,
+                frame.scene,
+                frame.mixture,
+                &frame.lambda,
                 u_start,
                 0,
                 ld,
-                &mut light_path,
+                light_path,
                 &mut worker.stats,
             ),
             None => {
@@ -1164,49 +1369,74 @@ impl Bdpt {
             }
         };
         // The pilot's cost counts of the light part (the rest is the camera part).
-        let mut light_cost = PartCost {
-            rays: worker.stats.rays - after_camera.rays,
-            ..PartCost::default()
-        };
-        let mut camera_connections = 0u64;
-        // A beams-only light's subpath, one of `light_paths` of this camera sample: light
-        // tracing alone, each splat weighted 1/light_paths.
-        let trace_beams = |index: usize, pmf: f32, j: u32, ld: &mut PixelSampler, stats: &mut _| {
-            let inv = 1.0 / self.light_paths as f64;
-            let mut splat = |raster: Vec2, xyz: [f64; 3], e: &dyn Fn() -> LaneEnergies| {
-                let xyz = xyz.map(|v| v * inv);
-                Self::record_splat(splats, strategies, pixel_max, raster, xyz, None);
-                if let Some(sf) = spectral {
-                    let mut e = e();
-                    e.e = e.e.map(|v| v * inv);
-                    sf.splat(raster.x, raster.y, &xyz, &e);
-                }
-            };
-            block(ld, dimensions::beams(j));
-            trace_beam(
-                scene,
-                camera,
-                sensor,
-                index,
-                pmf,
-                self.max_depth,
-                self.rr_depth,
-                ld,
-                stats,
-                &mut splat,
-            );
+        let work = SampleWork {
+            before,
+            light: PartCost {
+                rays: worker.stats.rays - after_camera.rays,
+                ..PartCost::default()
+            },
+            camera_connections: 0,
         };
         if let LightStart::Beams { index, pmf } = start {
-            trace_beams(index, pmf, 0, ld, &mut worker.stats);
+            self.trace_beams(frame, (index, pmf), 0, ld, &mut worker.stats);
         }
-        if let Some(fc) = flat {
-            fc.prefix(&camera_path, &mut worker.camera_flat);
-            fc.prefix(&light_path, &mut worker.light_flat);
+        if let Some(fc) = frame.flat {
+            fc.prefix(camera_path, &mut worker.camera_flat);
+            fc.prefix(light_path, &mut worker.light_flat);
         }
-        let pixel_center = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
-        let mut total = [0.0f64; 3];
-        let mut total_lanes = LaneEnergies::default();
-        let mut per_strategy: Vec<(usize, usize, [f64; 3])> = Vec::new();
+        (trace_light, mode, work)
+    }
+
+    /// A beams-only light's subpath `j` of this camera sample: light tracing alone, each
+    /// splat weighted 1/light_paths.
+    fn trace_beams(
+        &self,
+        frame: &SampleFrame<'_>,
+        (index, pmf): (usize, f32),
+        j: u32,
+        ld: &mut PixelSampler,
+        stats: &mut PathStats,
+    ) {
+        let inv = 1.0 / self.light_paths as f64;
+        let mut splat = |raster: Vec2, xyz: [f64; 3], e: &dyn Fn() -> LaneEnergies| {
+            frame.splat(raster, xyz.map(|v| v * inv), None, || {
+                let mut e = e();
+                e.e = e.e.map(|v| v * inv);
+                e
+            });
+        };
+        block(ld, dimensions::beams(j));
+        trace_beam(
+            frame.scene,
+            frame.camera,
+            frame.sensor,
+            index,
+            pmf,
+            self.max_depth,
+            self.rr_depth,
+            ld,
+            stats,
+            &mut splat,
+        );
+    }
+
+    /// Every (s, t) strategy joining the camera subpath to the first light subpath: t ≥ 2 to
+    /// the pixel, t = 1 splatted where it lands. An s = 0 path that a chain connection also
+    /// makes gives up the chain's share.
+    #[allow(clippy::too_many_arguments)]
+    fn connect_subpaths(
+        &self,
+        frame: &SampleFrame<'_>,
+        (camera_path, light_path): (&[Vertex], &[Vertex]),
+        mode: Option<&LightMode>,
+        (manifold, camera_chain, reflection_shapes): Chains<'_>,
+        ld: &mut PixelSampler,
+        worker: &mut Worker,
+        own: &mut OwnPixel,
+        work: &mut SampleWork,
+    ) {
+        let (scene, camera, lambda) = (frame.scene, frame.camera, &frame.lambda);
+        let (max_depth, counts) = (frame.max_depth, worker.counts);
         for t in 1..=camera_path.len() {
             // s = 1 with t ≥ 2 samples its own light point, so it runs even when this pair's
             // light subpath is empty (a beams-only light was chosen, or sampling failed):
@@ -1231,15 +1461,15 @@ impl Bdpt {
                 let connected = connect(
                     scene,
                     camera,
-                    mixture,
-                    &light_path,
-                    &camera_path,
+                    frame.mixture,
+                    light_path,
+                    camera_path,
                     s,
                     t,
-                    &lambda,
-                    mode.as_ref(),
+                    lambda,
+                    mode,
                     counts,
-                    guide,
+                    frame.guide,
                     ld,
                     &mut worker.stats,
                     worker.pilot.is_some().then_some(&mut alt),
@@ -1247,10 +1477,10 @@ impl Bdpt {
                 if worker.pilot.is_none() {
                     // (The cost counts below are the pilot's.)
                 } else if SampleCounts::uses_light_subpath(s, t) {
-                    light_cost.shadow_rays += worker.stats.shadow_rays - shadow_before;
-                    light_cost.connections += connected.is_some() as u64;
+                    work.light.shadow_rays += worker.stats.shadow_rays - shadow_before;
+                    work.light.connections += connected.is_some() as u64;
                 } else {
-                    camera_connections += connected.is_some() as u64;
+                    work.camera_connections += connected.is_some() as u64;
                 }
                 let Some(mut c) = connected else {
                     continue;
@@ -1264,15 +1494,9 @@ impl Bdpt {
                         shapes: reflection_shapes,
                         set: &mut worker.manifold_set,
                     };
-                    if let Some(w) = s0_weight(
-                        scene,
-                        camera,
-                        &camera_path,
-                        t,
-                        &lambda,
-                        max_depth,
-                        &mut seeds,
-                    ) {
+                    if let Some(w) =
+                        s0_weight(scene, camera, camera_path, t, lambda, max_depth, &mut seeds)
+                    {
                         c.weight *= w;
                     }
                 }
@@ -1284,9 +1508,9 @@ impl Bdpt {
                         if let Some(w) = cc.s0_weight(
                             scene,
                             camera,
-                            &camera_path,
+                            camera_path,
                             t,
-                            &lambda,
+                            lambda,
                             max_depth,
                             &mut worker.chain_scratch,
                         ) {
@@ -1298,30 +1522,24 @@ impl Bdpt {
                 // that reach the camera, each divided by its lane's start density over both
                 // modes (`t1_wavelengths`).
                 let shifted_weights;
-                let weights = match (t, light_path.get(s.wrapping_sub(1)), &mode) {
+                let weights = match (t, light_path.get(s.wrapping_sub(1)), mode) {
                     (1, Some(q), Some(m)) => {
-                        shifted_weights = XyzWeights::new(sensor, &t1_wavelengths(m, q));
+                        shifted_weights = XyzWeights::new(frame.sensor, &t1_wavelengths(m, q));
                         &shifted_weights
                     }
-                    _ => &weights,
+                    _ => &frame.weights,
                 };
                 let xyz = connection_xyz(
-                    flat,
+                    frame.flat,
                     (&worker.camera_flat, &worker.light_flat),
                     s,
                     t,
                     &c,
                     weights,
-                    &lambda,
+                    lambda,
                 );
                 if let Some(kind) = check_sample(&xyz) {
-                    // Counted under this sample's pixel and strategy, never in the image.
-                    splats.reject(Rejection {
-                        x,
-                        y,
-                        strategy: format!("bdpt s={s} t={t}"),
-                        kind,
-                    });
+                    frame.reject(format!("bdpt s={s} t={t}"), kind);
                     continue;
                 }
                 if let Some(p) = worker.pilot.as_mut() {
@@ -1337,208 +1555,194 @@ impl Bdpt {
                         let ratios =
                             alt.weights
                                 .map(|a| if w_mis > 0.0 { (a / w_mis) as f64 } else { 0.0 });
-                        let at = c.raster.unwrap_or(pixel_center);
+                        let at = c.raster.unwrap_or(frame.center);
                         p.book(at, SampleCounts::uses_light_subpath(s, t), xyz[1], &ratios);
                         let n = counts.count(s, t);
                         let own = c.raster.is_none().then_some(s + t - 2);
                         p.book_pt(xyz[1], c.weight[0], n, &alt.pt_ratios, own);
                     }
                 }
+                let energies = || weights.energies(&(c.l * c.weight), c.lanes);
                 match c.raster {
-                    Some(r) => {
-                        Self::record_splat(splats, strategies, pixel_max, r, xyz, Some((s, t)));
-                        if let Some(sf) = spectral {
-                            sf.splat(
-                                r.x,
-                                r.y,
-                                &xyz,
-                                &weights.energies(&(c.l * c.weight), c.lanes),
-                            );
-                        }
-                    }
-                    None => {
-                        for k in 0..3 {
-                            total[k] += xyz[k];
-                        }
-                        if spectral.is_some() {
-                            total_lanes.accumulate(&weights.energies(&(c.l * c.weight), c.lanes));
-                        }
-                        if strategies.is_some() {
-                            per_strategy.push((s, t, xyz));
-                        }
-                    }
+                    Some(r) => frame.splat(r, xyz, Some((s, t)), energies),
+                    None => own.add(frame, xyz, (s, t), energies),
                 }
             }
         }
-        if let Some(j) = manifold.then(|| anchor(scene, &camera_path)).flatten() {
-            // The specular-chain connection from the first non-specular camera vertex.
-            block(ld, dimensions::MANIFOLD);
-            let u = (ld.next_1d(), ld.next_2d());
-            let mut seeds = Seeds {
-                shapes: reflection_shapes,
-                set: &mut worker.manifold_set,
-            };
-            connect_manifold(
-                scene,
-                camera,
-                &camera_path,
-                j,
-                &lambda,
-                u,
-                max_depth,
-                &mut seeds,
-                &mut worker.stats,
-                &mut |m| {
-                    let c = Connection {
-                        l: m.l,
-                        weight: SampledSpectrum::splat(m.weight),
-                        raster: None,
-                        lanes: m.lanes,
-                        emitter: Some(m.emitter),
-                    };
-                    // Flat-path colour as for s = 1 at the same vertex, if the chain is flat too.
-                    let xyz = connection_xyz(
-                        flat.filter(|_| m.flat_chain),
-                        (&worker.camera_flat, &worker.light_flat),
-                        1,
-                        j + 1,
-                        &c,
-                        &weights,
-                        &lambda,
-                    );
-                    if let Some(kind) = check_sample(&xyz) {
-                        splats.reject(Rejection {
-                            x,
-                            y,
-                            strategy: "bdpt specular chain".into(),
-                            kind,
-                        });
-                    } else {
-                        if let Some(p) = worker.pilot.as_mut() {
-                            p.book(pixel_center, false, xyz[1], &[1.0; CANDIDATES.len()]);
-                        }
-                        for k in 0..3 {
-                            total[k] += xyz[k];
-                        }
-                        if spectral.is_some() {
-                            total_lanes.accumulate(&weights.energies(&(c.l * c.weight), c.lanes));
-                        }
-                        if strategies.is_some() {
-                            // Filed with s = 0 of the same path: the two share its class.
-                            per_strategy.push((0, m.t_equivalent, xyz));
-                        }
-                    }
-                },
-            );
-        }
-        if let Some(cc) = camera_chain {
-            // The camera-side chain connection, splatted like t = 1.
-            block(ld, dimensions::CAMERA_CHAIN);
-            let u_run = ld.next_1d();
-            let u = if u_run < super::connect::camera_chain::CAMERA_CHAIN_RATE {
-                (u_run, ld.next_1d(), ld.next_2d())
-            } else {
-                (u_run, 0.0, Vec2::ZERO)
-            };
-            cc.connect(
-                scene,
-                camera,
-                &lambda,
-                u,
-                max_depth,
-                &mut worker.chain_scratch,
-                &mut worker.stats,
-                |m| {
-                    let c = Connection {
-                        l: m.sample.l,
-                        weight: SampledSpectrum::splat(m.sample.weight),
-                        raster: Some(m.raster),
-                        lanes: m.sample.lanes,
-                        emitter: Some(m.sample.emitter),
-                    };
-                    let xyz = connection_xyz(
-                        flat.filter(|_| m.sample.flat_chain),
-                        (&worker.camera_flat, &worker.light_flat),
-                        0,
-                        1,
-                        &c,
-                        &weights,
-                        &lambda,
-                    );
-                    if let Some(kind) = check_sample(&xyz) {
-                        splats.reject(Rejection {
-                            x,
-                            y,
-                            strategy: "bdpt camera chain".into(),
-                            kind,
-                        });
-                        return;
-                    }
+    }
+
+    /// The specular-chain connection from the first non-specular camera vertex (a light seen
+    /// through delta surfaces), to the pixel.
+    fn specular_chain(
+        &self,
+        frame: &SampleFrame<'_>,
+        camera_path: &[Vertex],
+        reflection_shapes: Option<&SpecularShapes>,
+        ld: &mut PixelSampler,
+        worker: &mut Worker,
+        own: &mut OwnPixel,
+    ) {
+        let Some(j) = anchor(frame.scene, camera_path) else {
+            return;
+        };
+        block(ld, dimensions::MANIFOLD);
+        let u = (ld.next_1d(), ld.next_2d());
+        let mut seeds = Seeds {
+            shapes: reflection_shapes,
+            set: &mut worker.manifold_set,
+        };
+        connect_manifold(
+            frame.scene,
+            frame.camera,
+            camera_path,
+            j,
+            &frame.lambda,
+            u,
+            frame.max_depth,
+            &mut seeds,
+            &mut worker.stats,
+            &mut |m| {
+                let c = Connection {
+                    l: m.l,
+                    weight: SampledSpectrum::splat(m.weight),
+                    raster: None,
+                    lanes: m.lanes,
+                    emitter: Some(m.emitter),
+                };
+                // Flat-path colour as for s = 1 at the same vertex, if the chain is flat too.
+                let xyz = connection_xyz(
+                    frame.flat.filter(|_| m.flat_chain),
+                    (&worker.camera_flat, &worker.light_flat),
+                    1,
+                    j + 1,
+                    &c,
+                    &frame.weights,
+                    &frame.lambda,
+                );
+                if let Some(kind) = check_sample(&xyz) {
+                    frame.reject("bdpt specular chain".into(), kind);
+                } else {
                     if let Some(p) = worker.pilot.as_mut() {
-                        p.book(m.raster, false, xyz[1], &[1.0; CANDIDATES.len()]);
+                        p.book(frame.center, false, xyz[1], &[1.0; CANDIDATES.len()]);
                     }
-                    Self::record_splat(
-                        splats,
-                        strategies,
-                        pixel_max,
-                        m.raster,
-                        xyz,
-                        Some((0, m.sample.t_equivalent)),
-                    );
-                    if let Some(sf) = spectral {
-                        sf.splat(
-                            m.raster.x,
-                            m.raster.y,
-                            &xyz,
-                            &weights.energies(&(c.l * c.weight), c.lanes),
-                        );
-                    }
-                },
-            );
-        }
-        for j in 1..self.light_paths * trace_light as u32 {
-            // The further light subpaths of this camera sample: light tracing only (t = 1).
+                    // Filed with s = 0 of the same path: the two share its class.
+                    own.add(frame, xyz, (0, m.t_equivalent), || {
+                        frame.weights.energies(&(c.l * c.weight), c.lanes)
+                    });
+                }
+            },
+        );
+    }
+
+    /// The camera-side chain connection (a light's image through delta surfaces, from the
+    /// camera's side), splatted like t = 1.
+    fn camera_chain(
+        &self,
+        frame: &SampleFrame<'_>,
+        cc: &CameraChain,
+        ld: &mut PixelSampler,
+        worker: &mut Worker,
+    ) {
+        block(ld, dimensions::CAMERA_CHAIN);
+        let u_run = ld.next_1d();
+        let u = if u_run < super::connect::camera_chain::CAMERA_CHAIN_RATE {
+            (u_run, ld.next_1d(), ld.next_2d())
+        } else {
+            (u_run, 0.0, Vec2::ZERO)
+        };
+        cc.connect(
+            frame.scene,
+            frame.camera,
+            &frame.lambda,
+            u,
+            frame.max_depth,
+            &mut worker.chain_scratch,
+            &mut worker.stats,
+            |m| {
+                let c = Connection {
+                    l: m.sample.l,
+                    weight: SampledSpectrum::splat(m.sample.weight),
+                    raster: Some(m.raster),
+                    lanes: m.sample.lanes,
+                    emitter: Some(m.sample.emitter),
+                };
+                let xyz = connection_xyz(
+                    frame.flat.filter(|_| m.sample.flat_chain),
+                    (&worker.camera_flat, &worker.light_flat),
+                    0,
+                    1,
+                    &c,
+                    &frame.weights,
+                    &frame.lambda,
+                );
+                if let Some(kind) = check_sample(&xyz) {
+                    frame.reject("bdpt camera chain".into(), kind);
+                    return;
+                }
+                if let Some(p) = worker.pilot.as_mut() {
+                    p.book(m.raster, false, xyz[1], &[1.0; CANDIDATES.len()]);
+                }
+                frame.splat(m.raster, xyz, Some((0, m.sample.t_equivalent)), || {
+                    frame.weights.energies(&(c.l * c.weight), c.lanes)
+                });
+            },
+        );
+    }
+
+    /// The further light subpaths of this camera sample (`light_paths − 1` of them), each
+    /// joined to the camera only: light tracing (t = 1).
+    fn further_light_subpaths(
+        &self,
+        frame: &SampleFrame<'_>,
+        camera_path: &[Vertex],
+        light_path: &mut Vec<Vertex>,
+        ld: &mut PixelSampler,
+        worker: &mut Worker,
+        work: &mut SampleWork,
+    ) {
+        let (scene, counts) = (frame.scene, worker.counts);
+        for j in 1..self.light_paths {
             let u_start = Self::light_start(ld, j);
             let rays_before = worker.stats.rays;
             let (start, mode) = self.light_subpath(
                 scene,
-                mixture,
-                &lambda,
+                frame.mixture,
+                &frame.lambda,
                 u_start,
                 j,
                 ld,
-                &mut light_path,
+                light_path,
                 &mut worker.stats,
             );
             if let LightStart::Beams { index, pmf } = start {
-                trace_beams(index, pmf, j, ld, &mut worker.stats);
+                self.trace_beams(frame, (index, pmf), j, ld, &mut worker.stats);
             }
-            light_cost.rays += worker.stats.rays - rays_before;
-            if let Some(fc) = flat {
-                fc.prefix(&light_path, &mut worker.light_flat);
+            work.light.rays += worker.stats.rays - rays_before;
+            if let Some(fc) = frame.flat {
+                fc.prefix(light_path, &mut worker.light_flat);
             }
-            for s in 1..=light_path.len().min(max_depth + 1) {
+            for s in 1..=light_path.len().min(frame.max_depth + 1) {
                 block(ld, dimensions::t1(j, s));
                 let shadow_before = worker.stats.shadow_rays;
                 let mut alt = AltWeights::default();
                 let connected = connect(
                     scene,
-                    camera,
-                    mixture,
-                    &light_path,
-                    &camera_path,
+                    frame.camera,
+                    frame.mixture,
+                    light_path,
+                    camera_path,
                     s,
                     1,
-                    &lambda,
+                    &frame.lambda,
                     mode.as_ref(),
                     counts,
-                    guide,
+                    frame.guide,
                     ld,
                     &mut worker.stats,
                     worker.pilot.is_some().then_some(&mut alt),
                 );
-                light_cost.shadow_rays += worker.stats.shadow_rays - shadow_before;
-                light_cost.connections += connected.is_some() as u64;
+                work.light.shadow_rays += worker.stats.shadow_rays - shadow_before;
+                work.light.connections += connected.is_some() as u64;
                 let Some(c) = connected else {
                     continue;
                 };
@@ -1546,27 +1750,22 @@ impl Bdpt {
                 let shifted_weights;
                 let w = match (&mode, light_path.get(s - 1)) {
                     (Some(m), Some(q)) => {
-                        shifted_weights = XyzWeights::new(sensor, &t1_wavelengths(m, q));
+                        shifted_weights = XyzWeights::new(frame.sensor, &t1_wavelengths(m, q));
                         &shifted_weights
                     }
-                    _ => &weights,
+                    _ => &frame.weights,
                 };
                 let xyz = connection_xyz(
-                    flat,
+                    frame.flat,
                     (&worker.camera_flat, &worker.light_flat),
                     s,
                     1,
                     &c,
                     w,
-                    &lambda,
+                    &frame.lambda,
                 );
                 if let Some(kind) = check_sample(&xyz) {
-                    splats.reject(Rejection {
-                        x,
-                        y,
-                        strategy: format!("bdpt s={s} t=1"),
-                        kind,
-                    });
+                    frame.reject(format!("bdpt s={s} t=1"), kind);
                     continue;
                 }
                 if let Some(p) = worker.pilot.as_mut() {
@@ -1580,34 +1779,11 @@ impl Bdpt {
                         p.book_pt(xyz[1], cw, counts.count(s, 1), &alt.pt_ratios, None);
                     }
                 }
-                Self::record_splat(splats, strategies, pixel_max, r, xyz, Some((s, 1)));
-                if let Some(sf) = spectral {
-                    sf.splat(r.x, r.y, &xyz, &w.energies(&(c.l * c.weight), c.lanes));
-                }
+                frame.splat(r, xyz, Some((s, 1)), || {
+                    w.energies(&(c.l * c.weight), c.lanes)
+                });
             }
         }
-        if let Some(p) = worker.pilot.as_mut() {
-            let camera_cost = PartCost {
-                rays: worker.stats.rays - before.rays - light_cost.rays,
-                shadow_rays: worker.stats.shadow_rays - before.shadow_rays - light_cost.shadow_rays,
-                connections: camera_connections,
-            };
-            p.finish_sample(pixel_center, camera_cost, light_cost);
-        }
-        worker.camera_path = camera_path;
-        worker.light_path = light_path;
-        pixel_max.record(pixel_center.x, pixel_center.y, total[1]);
-        if let Some(sf) = spectral {
-            // The t ≥ 2 strategies go to this pixel's film as one sample (the film's guard
-            // judges their sum, so the spectral film does too).
-            sf.add(x, y, &total, &[total_lanes]);
-        }
-        if let Some(sf) = strategies {
-            for (s, t, xyz) in per_strategy {
-                sf.film(s, t).splat(pixel_center.x, pixel_center.y, xyz);
-            }
-        }
-        total
     }
 
     /// The start of light subpath `j` (light choice, `sample_le`'s two 2D numbers).
