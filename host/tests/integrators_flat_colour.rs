@@ -1,6 +1,6 @@
 //! The exact colour of spectrally flat paths (`integrator::flat_colour`, render-plan switch
 //! `flat-path-colour`): the same expected image as the four-wavelength estimate, with less
-//! noise, and no change at all where paths touch a coloured surface.
+//! noise, and no change at all where paths touch a coloured surface; bdpt, lt and pt.
 //! Run: `cargo test --release -p spectrace --test integrators_flat_colour` (a few seconds).
 
 mod common_render;
@@ -23,7 +23,15 @@ fn caustic(edits: &[(&str, &str)]) -> Scene {
     build_scene(&desc, Path::new("."), file, &[&BuiltinFactory]).unwrap()
 }
 
-fn render(scene: &Scene, kind: IntegratorKind, flat: bool, spp: u32, seed: u64) -> XyzImage {
+/// A render by `kind` (with `per_path` wavelengths a camera path where it is `pt`), the switch
+/// forced to `flat`.
+fn render(
+    scene: &Scene,
+    (kind, per_path): (IntegratorKind, u32),
+    flat: bool,
+    spp: u32,
+    seed: u64,
+) -> XyzImage {
     let plan = RenderPlan::new(
         scene,
         &EffectsRequest {
@@ -33,7 +41,8 @@ fn render(scene: &Scene, kind: IntegratorKind, flat: bool, spp: u32, seed: u64) 
         },
     );
     assert_eq!(plan.flat_path_colour(), flat);
-    let settings = common_render::spp_settings(scene, spp, seed);
+    let mut settings = common_render::spp_settings(scene, spp, seed);
+    settings.tracer.wavelengths_per_path = per_path;
     let out = render_planned(scene, &plan, &settings, kind, false, &|_, _| {}, None).unwrap();
     assert_eq!(out.result.image.non_finite_count(), 0);
     out.result.image
@@ -64,7 +73,8 @@ fn chromaticity_spread(images: &[XyzImage], white: [f64; 2]) -> f64 {
 }
 
 /// A spectrally flat caustic (grey floor and wall, constant-IOR glass, one D65 lamp), 40×30,
-/// K = 8 seeds × 16 spp, bdpt and lt, switch on against off.
+/// K = 8 seeds × 16 spp, bdpt, lt and pt (pt also with 8 wavelengths a path: two groups, each
+/// its own exact colour), switch on against off.
 /// Quantities: (1) per channel, the image mean over the K renders: on and off must agree
 /// within 4 standard errors of their difference (the SE from the seed-to-seed spread of each);
 /// a bias as small as the SE fails often, a correct estimator fails with probability about
@@ -81,7 +91,12 @@ fn flat_scene_agrees_and_loses_the_wavelength_noise() {
         ("resolution: (160, 120)", "resolution: (40, 30)"),
     ]);
     let k = 8u64;
-    for kind in [IntegratorKind::Bdpt, IntegratorKind::Lt] {
+    for kind in [
+        (IntegratorKind::Bdpt, 4),
+        (IntegratorKind::Lt, 4),
+        (IntegratorKind::Pt, 4),
+        (IntegratorKind::Pt, 8),
+    ] {
         let on: Vec<XyzImage> = (0..k)
             .map(|s| render(&scene, kind, true, 16, 50 + s))
             .collect();
@@ -93,12 +108,12 @@ fn flat_scene_agrees_and_loses_the_wavelength_noise() {
             let (m_off, v_off) = mean_var(&off.iter().map(|i| i.mean_xyz()[c]).collect::<Vec<_>>());
             let se = ((v_on + v_off) / k as f64).sqrt();
             eprintln!(
-                "{kind} channel {c}: on {m_on:.6} off {m_off:.6} diff {:+.6} se {se:.6}",
+                "{kind:?} channel {c}: on {m_on:.6} off {m_off:.6} diff {:+.6} se {se:.6}",
                 m_on - m_off
             );
             assert!(
                 (m_on - m_off).abs() < 4.0 * se,
-                "{kind} channel {c}: on {m_on} vs off {m_off}, 4 SE = {}",
+                "{kind:?} channel {c}: on {m_on} vs off {m_off}, 4 SE = {}",
                 4.0 * se
             );
         }
@@ -107,22 +122,22 @@ fn flat_scene_agrees_and_loses_the_wavelength_noise() {
             chromaticity_spread(&on, white),
             chromaticity_spread(&off, white),
         );
-        eprintln!("{kind}: chromaticity spread on {spread_on:.2e} off {spread_off:.2e}");
+        eprintln!("{kind:?}: chromaticity spread on {spread_on:.2e} off {spread_off:.2e}");
         assert!(
             spread_on < 1e-4,
-            "{kind}: colour noise {spread_on} with the switch on"
+            "{kind:?}: colour noise {spread_on} with the switch on"
         );
         assert!(
             spread_off > 5e-3,
-            "{kind}: colour noise only {spread_off} with it off"
+            "{kind:?}: colour noise only {spread_off} with it off"
         );
     }
 }
 
 /// Paths that touch a coloured surface keep the ordinary estimate. Quantity: every pixel's
 /// XYZ, bit for bit, switch on against off, for a camera that sees only the coloured back wall
-/// (every camera path's first surface is the wall, and every t = 1 connection ends on it), bdpt
-/// and lt. Tolerance: none (the switch changes no random numbers, only how a flat path's lanes
+/// (every camera path's first surface is the wall, and every t = 1 connection ends on it), bdpt,
+/// lt and pt. Tolerance: none (the switch changes no random numbers, only how a flat path's lanes
 /// become XYZ).
 #[test]
 fn paths_through_a_coloured_wall_are_unchanged() {
@@ -131,9 +146,9 @@ fn paths_through_a_coloured_wall_are_unchanged() {
         ("look_at: (0, 0.5, 0)", "look_at: (0, 2.0, -2.0)"),
         ("resolution: (160, 120)", "resolution: (24, 18)"),
     ]);
-    for kind in [IntegratorKind::Bdpt, IntegratorKind::Lt] {
-        let on = render(&scene, kind, true, 8, 3);
-        let off = render(&scene, kind, false, 8, 3);
+    for kind in [IntegratorKind::Bdpt, IntegratorKind::Lt, IntegratorKind::Pt] {
+        let on = render(&scene, (kind, 4), true, 8, 3);
+        let off = render(&scene, (kind, 4), false, 8, 3);
         assert!(off.mean_xyz()[1] > 0.0, "{kind}: the wall is black");
         assert_eq!(on.xyz, off.xyz, "{kind}: the coloured wall changed");
     }

@@ -12,6 +12,7 @@ use super::pixel_max::PixelMaxY;
 use super::render::ProgressFn;
 use super::render::{PathStats, PathTracer, SampleBudget};
 use super::tiled::render_tiles;
+use super::wavelengths::flat_colour::FlatColour;
 use super::wavelengths::groups::{PathWavelengthSampler, PathWavelengths, MAX_GROUPS};
 use super::{PixelSampler, RenderError, RenderResult, RenderSettings};
 use crate::camera::CameraSample;
@@ -137,6 +138,80 @@ impl Integrator for PathTracing {
 /// are zero.
 pub type GroupRadiance = [SampledSpectrum; MAX_GROUPS];
 
+/// A camera path's radiance as the film takes it: per wavelength group the ordinary per-lane
+/// estimate, except for the contributions of spectrally flat paths (every vertex scatters the
+/// same at every wavelength and the emitter has one spectral shape: [`FlatColour`]), which
+/// carry their emitter's exact colour instead (no colour noise from the wavelength draw).
+#[derive(Clone, Copy, Debug)]
+pub struct PathRadiance {
+    /// Per group: the radiance (per lane) of the contributions not in `flat_xyz`.
+    pub l: GroupRadiance,
+    /// Per group: the radiance (per lane) of the flat contributions, for the spectral film,
+    /// which keeps the ordinary estimate.
+    pub flat_lanes: GroupRadiance,
+    /// The flat contributions' exact XYZ ([`FlatColour::xyz`]) summed over the groups, before
+    /// the camera weight and the mean over groups.
+    pub flat_xyz: [f64; 3],
+}
+
+/// What a path has gathered so far, for `G` groups ([`PathRadiance`]), and the flat-path
+/// colour tables while every vertex so far is flat.
+struct Gathered<'a, const G: usize> {
+    l: [SampledSpectrum; G],
+    flat_lanes: [SampledSpectrum; G],
+    flat_xyz: [f64; 3],
+    /// `Some` while the path so far is spectrally flat (and the render has the tables).
+    flat: Option<&'a FlatColour>,
+}
+
+impl<'a, const G: usize> Gathered<'a, G> {
+    fn new(flat: Option<&'a FlatColour>) -> Self {
+        Self {
+            l: [SampledSpectrum::zero(); G],
+            flat_lanes: [SampledSpectrum::zero(); G],
+            flat_xyz: [0.0; 3],
+            flat,
+        }
+    }
+
+    /// Adds group `g`'s contribution `v` (per lane, at wavelengths `lambda`) of light
+    /// `light`: its exact colour where the path so far is flat, every lane is live and the
+    /// light has one shape, else the ordinary per-lane estimate.
+    #[inline]
+    fn add(
+        &mut self,
+        g: usize,
+        v: SampledSpectrum,
+        lambda: &SampledWavelengths,
+        light: Option<usize>,
+    ) {
+        if let (Some(fc), Some(li)) = (self.flat, light) {
+            if lambda.lanes.is_all() {
+                if let Some(xyz) = fc.xyz(li as u32, &v, lambda) {
+                    self.flat_lanes[g] += v;
+                    for (sum, x) in self.flat_xyz.iter_mut().zip(xyz) {
+                        *sum += x;
+                    }
+                    return;
+                }
+            }
+        }
+        self.l[g] += v;
+    }
+
+    /// The path's radiance, groups past `G` zero.
+    fn finish(self) -> PathRadiance {
+        let mut out = PathRadiance {
+            l: [SampledSpectrum::zero(); MAX_GROUPS],
+            flat_lanes: [SampledSpectrum::zero(); MAX_GROUPS],
+            flat_xyz: self.flat_xyz,
+        };
+        out.l[..G].copy_from_slice(&self.l);
+        out.flat_lanes[..G].copy_from_slice(&self.flat_lanes);
+        out
+    }
+}
+
 /// True when two sampled delta events are the same scattering event: same lobe and the same
 /// direction up to rounding (cos of the angle between them within 1e-6 of 1, about 0.08°).
 fn same_delta_event(a: &crate::material::BsdfSample, b: &crate::material::BsdfSample) -> bool {
@@ -194,31 +269,49 @@ impl PathTracer {
         rng: &mut PixelSampler,
         stats: &mut PathStats,
     ) -> GroupRadiance {
-        if lambdas.len() == 1 {
-            // One group (the default, 4 wavelengths a path): the walk compiled for one, so the
-            // per-group loops and arrays of every bounce shrink to the hero's (same results).
-            let [l] = self.li_groups_n::<1>(scene, guide, ray, lambdas, rng, stats);
-            let mut out = [SampledSpectrum::zero(); MAX_GROUPS];
-            out[0] = l;
-            out
-        } else {
-            self.li_groups_n::<MAX_GROUPS>(scene, guide, ray, lambdas, rng, stats)
-        }
+        self.li_film(scene, guide, None, ray, lambdas, rng, stats).l
     }
 
-    /// [`li_groups`](Self::li_groups) for at most `G` groups (`lambdas.len() <= G`).
-    fn li_groups_n<const G: usize>(
+    /// [`li_groups`](Self::li_groups) for the film: with the flat-path colour tables `flat`,
+    /// the contributions of spectrally flat paths carry their emitter's exact colour
+    /// ([`PathRadiance`]).
+    #[allow(clippy::too_many_arguments)]
+    pub fn li_film(
         &self,
         scene: &Scene,
         guide: Option<&NeeGuide>,
+        flat: Option<&FlatColour>,
+        ray: Ray,
+        lambdas: &mut PathWavelengths,
+        rng: &mut PixelSampler,
+        stats: &mut PathStats,
+    ) -> PathRadiance {
+        if lambdas.len() == 1 {
+            // One group (the default, 4 wavelengths a path): the walk compiled for one, so the
+            // per-group loops and arrays of every bounce shrink to the hero's (same results).
+            self.li_groups_n::<1>(scene, guide, flat, ray, lambdas, rng, stats)
+                .finish()
+        } else {
+            self.li_groups_n::<MAX_GROUPS>(scene, guide, flat, ray, lambdas, rng, stats)
+                .finish()
+        }
+    }
+
+    /// [`li_film`](Self::li_film) for at most `G` groups (`lambdas.len() <= G`).
+    #[allow(clippy::too_many_arguments)]
+    fn li_groups_n<'f, const G: usize>(
+        &self,
+        scene: &Scene,
+        guide: Option<&NeeGuide>,
+        flat: Option<&'f FlatColour>,
         mut ray: Ray,
         lambdas: &mut PathWavelengths,
         rng: &mut PixelSampler,
         stats: &mut PathStats,
-    ) -> [SampledSpectrum; G] {
+    ) -> Gathered<'f, G> {
         let n = lambdas.len();
         debug_assert!(n <= G);
-        let mut l = [SampledSpectrum::zero(); G];
+        let mut l = Gathered::<G>::new(flat);
         let mut beta = [SampledSpectrum::zero(); G];
         for b in beta.iter_mut().take(n) {
             *b = SampledSpectrum::splat(1.0);
@@ -303,6 +396,13 @@ impl PathTracer {
             ) {
                 break;
             }
+            // The path stays flat while every vertex it scatters at is (emission found here
+            // needed only the vertices before).
+            if let Some(fc) = l.flat {
+                if !fc.object_is_flat(hit.object) {
+                    l.flat = None;
+                }
+            }
             let ctx = LightSampleContext {
                 p: hit.point,
                 p_error: hit.point_error,
@@ -318,6 +418,8 @@ impl PathTracer {
             };
             let material: &dyn Material = match rerad {
                 Some(rr) => {
+                    // A fluorescent event moves lanes: no longer one spectral shape.
+                    l.flat = None;
                     let mut sh = shifted.unwrap_or_else(|| {
                         std::array::from_fn(|g| {
                             lambdas.groups().get(g).map_or([0.0; LANES], |w| w.lambda)
@@ -516,7 +618,7 @@ fn add_escaped<const G: usize>(
     cur: &[SampledWavelengths],
     active: usize,
     beta: &[SampledSpectrum; G],
-    l: &mut [SampledSpectrum; G],
+    l: &mut Gathered<'_, G>,
 ) {
     let Some(ei) = scene.lights.environment() else {
         return;
@@ -534,7 +636,7 @@ fn add_escaped<const G: usize>(
     for (g, lam) in cur.iter().enumerate().take(active) {
         let mut le = light.radiance(p_env, n_env, glam::Vec2::ZERO, back, lam);
         keep_line_power_only(scene, ei as usize, lam, &mut le);
-        l[g] += beta[g] * le * w;
+        l.add(g, beta[g] * le * w, lam, Some(ei as usize));
     }
 }
 
@@ -571,7 +673,7 @@ fn add_emission<const G: usize>(
     seen: &Seen<'_>,
     cur: &[SampledWavelengths],
     beta: &[SampledSpectrum; G],
-    l: &mut [SampledSpectrum; G],
+    l: &mut Gathered<'_, G>,
 ) {
     let hit = found.hit;
     // Which side emits is a property of the surface (its geometric normal, as the area light
@@ -586,15 +688,18 @@ fn add_emission<const G: usize>(
         if le.is_black() {
             continue;
         }
+        let light = scene
+            .lights
+            .light_of_object(hit.object)
+            .map(|li| li as usize);
         if seen.directly {
-            l[g] += beta[g] * le;
-        } else if let Some(li) = scene.lights.light_of_object(hit.object) {
-            let w = *weight.get_or_insert_with(|| {
-                seen.weight(scene, li as usize, hit.point, hit.geometric_normal)
-            });
-            l[g] += beta[g] * le * w;
+            l.add(g, beta[g] * le, lam, light);
+        } else if let Some(li) = light {
+            let w = *weight
+                .get_or_insert_with(|| seen.weight(scene, li, hit.point, hit.geometric_normal));
+            l.add(g, beta[g] * le * w, lam, light);
         } else {
-            l[g] += beta[g] * le;
+            l.add(g, beta[g] * le, lam, None);
         }
     }
 }
@@ -623,7 +728,7 @@ fn add_next_event<const G: usize>(
     event: &NextEvent<'_>,
     cur: &[SampledWavelengths],
     beta: &[SampledSpectrum; G],
-    l: &mut [SampledSpectrum; G],
+    l: &mut Gathered<'_, G>,
     stats: &mut PathStats,
 ) {
     let (hit, material, sctx, wo) = (found.hit, found.material, found.sctx, event.wo);
@@ -701,10 +806,10 @@ fn add_next_event<const G: usize>(
         let bsdf_pdf = material.pdf(wo, wi, sctx, hero, TransportMode::Radiance);
         power_heuristic(light_pdf, bsdf_pdf)
     };
-    for g in 0..cur.len() {
+    for (g, lam) in cur.iter().enumerate() {
         let (f, radiance) = terms[g];
         if !f.is_black() {
-            l[g] += beta[g] * f * radiance * (w / light_pdf);
+            l.add(g, beta[g] * f * radiance * (w / light_pdf), lam, Some(li));
         }
     }
 }
@@ -777,14 +882,15 @@ fn current<'a>(
 }
 
 /// A camera sample's XYZ: the mean over wavelength groups of each group's sensor response to
-/// its radiance `l` (scaled by the camera weight). One group gives exactly `Sensor::to_xyz`.
+/// its radiance `r.l` (scaled by the camera weight), plus the flat contributions' exact colour
+/// (the same mean and weight). One group gives exactly `Sensor::to_xyz`.
 pub(crate) fn film_xyz(
     sensor: &Sensor,
-    l: &GroupRadiance,
+    r: &PathRadiance,
     lambdas: &PathWavelengths,
     camera_weight: f32,
 ) -> [f64; 3] {
-    let groups = lambdas.groups();
+    let (l, groups) = (&r.l, lambdas.groups());
     let mut xyz = sensor.to_xyz(&(l[0] * camera_weight), &groups[0]);
     if groups.len() > 1 {
         for (lg, wg) in l.iter().zip(groups).skip(1) {
@@ -796,6 +902,12 @@ pub(crate) fn film_xyz(
         let inv = 1.0 / groups.len() as f64;
         for v in &mut xyz {
             *v *= inv;
+        }
+    }
+    if r.flat_xyz != [0.0; 3] {
+        let k = camera_weight as f64 / groups.len() as f64;
+        for (v, f) in xyz.iter_mut().zip(r.flat_xyz) {
+            *v += f * k;
         }
     }
     xyz
@@ -848,18 +960,19 @@ pub fn render_film(
 }
 
 /// A camera sample's lanes for the spectral film, group by group: `e = L·w/(pdf·LANES·G)` for
-/// the lanes [`Sensor::to_xyz`] counts (the same terms as [`film_xyz`]).
+/// the lanes [`Sensor::to_xyz`] counts (the same terms as [`film_xyz`]; flat contributions
+/// too, as their ordinary per-lane estimate).
 fn lane_energies(
-    l: &GroupRadiance,
+    r: &PathRadiance,
     lambdas: &PathWavelengths,
     camera_weight: f32,
 ) -> ([LaneEnergies; MAX_GROUPS], usize) {
     let groups = lambdas.groups();
     let mut out = [LaneEnergies::default(); MAX_GROUPS];
     let scale = 1.0 / (groups.len() as f64 * LANES as f64);
-    for ((o, lg), wg) in out.iter_mut().zip(l).zip(groups) {
+    for (((o, lg), fg), wg) in out.iter_mut().zip(&r.l).zip(&r.flat_lanes).zip(groups) {
         o.lambda = wg.lambda;
-        let v = *lg * camera_weight;
+        let v = (*lg + *fg) * camera_weight;
         for i in 0..LANES {
             let p = wg.pdf[i];
             if p != 0.0 && v.0[i] != 0.0 && wg.lanes.contains(i) {
@@ -964,6 +1077,9 @@ pub(crate) fn render_prepared(
     )
     .map_err(RenderError::Setup)?;
     let sensor = Sensor::new(scene.observer.clone());
+    let flat = plan.flat_colour(scene, sensor.observer().as_ref(), &|nm| {
+        wavelength_sampler.lane_density(nm)
+    });
     let Prepared {
         guide,
         prepass,
@@ -1008,9 +1124,10 @@ pub(crate) fn render_prepared(
                         let sample = camera_sample(cam, pinhole, &mut rng, (x, y));
                         let xyz = match cam.camera.generate_ray(&sample) {
                             Some(r) => {
-                                let l = settings.tracer.li_groups(
+                                let l = settings.tracer.li_film(
                                     scene,
                                     guide,
+                                    flat.as_ref(),
                                     r.ray,
                                     &mut lambdas,
                                     &mut rng,

@@ -20,10 +20,9 @@
 //! tracer's s = 0 makes their paths too; lens cameras, dispersion, thin films and the spectral
 //! image are the path tracer's as well.
 //!
-//! Limits: the path tracer has no flat-path colour (`wavelengths::flat_colour`): at `q = 0` a
-//! spectrally flat scene's colours carry the wavelengths' noise, which the pilot (luminance
-//! only) does not weigh. Its wavelengths are the path tracer's own draws (observer × emission,
-//! or with `narrowband-emission` half from the lights' spectra), not BDPT's pair.
+//! Its wavelengths are the path tracer's own draws (observer × emission, or with
+//! `narrowband-emission` half from the lights' spectra), not BDPT's pair; spectrally flat paths
+//! get their emitter's exact colour there as in BDPT (`wavelengths::flat_colour`).
 //!
 //! **The pilot's estimate** ([`pilot`]): the path tracer on the same pilot pixels, samples and
 //! seed as BDPT's pilot (fixed chunks reduced in order: the same at any thread count); per
@@ -128,6 +127,10 @@ pub fn pilot_sums(
     )
     .map_err(RenderError::Setup)?;
     let sensor = Sensor::new(scene.observer.clone());
+    // The render's flat-path colour (`path::render_prepared`), so the pilot sees its noise.
+    let flat = plan.flat_colour(scene, sensor.observer().as_ref(), &|nm| {
+        wavelengths.lane_density(nm)
+    });
     let pool = super::super::tiled::thread_pool(settings.threads)?;
     let seed = light_fraction::pilot_seed(settings.seed);
     let pinhole = cam.camera.pinhole();
@@ -144,8 +147,9 @@ pub fn pilot_sums(
                 let sample = camera_sample(cam, pinhole, &mut rng, (x, y));
                 let before = stats;
                 let lum = cam.camera.generate_ray(&sample).map_or(0.0, |r| {
+                    let (flat, stats) = (flat.as_ref(), &mut stats);
                     let l =
-                        tracer.li_groups(scene, guide, r.ray, &mut lambdas, &mut rng, &mut stats);
+                        tracer.li_film(scene, guide, flat, r.ray, &mut lambdas, &mut rng, stats);
                     if sees_emitter(scene, &r.ray) {
                         0.0
                     } else {

@@ -118,6 +118,13 @@ impl FlatColour {
         matches!(self.emitters.get(light as usize), Some(Some(_)))
     }
 
+    /// True when object `object` scatters the same at every wavelength (the path tracer's
+    /// test of a vertex; fluorescence and dead lanes it tests itself).
+    #[inline]
+    pub fn object_is_flat(&self, object: u32) -> bool {
+        self.objects.get(object as usize).copied().unwrap_or(false)
+    }
+
     /// True when `v` scatters the same at every wavelength (end points count as flat; their
     /// emission or importance is handled by the emitter's shape and the camera, which is grey).
     pub fn vertex_is_flat(&self, v: &Vertex) -> bool {

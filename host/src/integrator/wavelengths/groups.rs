@@ -70,7 +70,7 @@
 use crate::integrator::plan::RenderPlan;
 use crate::integrator::wavelengths::mixture::WavelengthMixture;
 use crate::integrator::{PixelSampler, WavelengthSampling};
-use crate::spectrum::wavelength_sampling::rotated;
+use crate::spectrum::wavelength_sampling::{rotated, visible_pdf};
 use crate::spectrum::wavelength_table::WavelengthTable;
 use crate::spectrum::{LaneMask, SampledWavelengths, LANES};
 
@@ -180,6 +180,9 @@ impl PathWavelengths {
     }
 }
 
+/// The range (nm) of [`WavelengthSampling::Uniform`]'s lanes.
+const UNIFORM_RANGE_NM: (f64, f64) = (360.0, 830.0);
+
 /// Draws a camera path's wavelength groups for one render.
 #[derive(Clone, Debug)]
 pub struct PathWavelengthSampler {
@@ -267,6 +270,28 @@ impl PathWavelengthSampler {
         self.fluorescence_refused_light_spd
     }
 
+    /// The density (1/nm) with which each lane of each group is drawn, marginally (the
+    /// rotations move a lane, not its distribution): what the flat-path colour's usable
+    /// probability integrates (`wavelengths::flat_colour`).
+    pub fn lane_density(&self, lambda_nm: f64) -> f64 {
+        if let Some(t) = &self.product {
+            return t.pdf(lambda_nm);
+        }
+        match (self.sampling, &self.emission) {
+            (WavelengthSampling::Uniform, _) => {
+                let (lo, hi) = UNIFORM_RANGE_NM;
+                if (lo..=hi).contains(&lambda_nm) {
+                    1.0 / (hi - lo)
+                } else {
+                    0.0
+                }
+            }
+            (WavelengthSampling::LightSpd, Some(m)) => m.emission_pdf(lambda_nm),
+            (WavelengthSampling::Visible, Some(m)) => m.pdf(lambda_nm),
+            _ => visible_pdf(lambda_nm),
+        }
+    }
+
     /// Draw the path's wavelengths: one uniform from `rng` for the rotations, plus one to pick
     /// the light SPD for [`WavelengthSampling::LightSpd`] (Product, Visible and Uniform draw
     /// exactly one, so Visible and Uniform with N = 4 reproduce earlier images bit for bit).
@@ -300,7 +325,8 @@ impl PathWavelengthSampler {
             }
             *group = match (self.sampling, &self.emission) {
                 (WavelengthSampling::Uniform, _) => {
-                    SampledWavelengths::sample_uniform(ug, 360.0, 830.0)
+                    let (lo, hi) = UNIFORM_RANGE_NM;
+                    SampledWavelengths::sample_uniform(ug, lo as f32, hi as f32)
                 }
                 (WavelengthSampling::LightSpd, Some(m)) => m
                     .sample_emission(u_spd as f64, ug as f64)
