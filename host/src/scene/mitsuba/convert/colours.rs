@@ -32,15 +32,7 @@ impl<'a> Converter<'a> {
                 Ok(num(v))
             }
             "rgb" => {
-                let v = c
-                    .attr("value")
-                    .and_then(numbers)
-                    .ok_or_else(|| c.error("not a list of numbers"))?;
-                let rgb = match v.as_slice() {
-                    [g] => [*g; 3],
-                    [r, g, b] => [*r, *g, *b],
-                    _ => return Err(c.error("an rgb value has 1 or 3 numbers")),
-                };
+                let rgb = rgb_value(c)?;
                 if rgb.iter().any(|&x| !(0.0..=1.0).contains(&x)) && name != "eta" && name != "k" {
                     self.note(
                         "rgb reflectance outside [0, 1]",
@@ -260,15 +252,7 @@ impl<'a> Converter<'a> {
                     .collect()
             }
             "rgb" => {
-                let v = c
-                    .attr("value")
-                    .and_then(numbers)
-                    .ok_or_else(|| c.error("not a list of numbers"))?;
-                let rgb = match v.as_slice() {
-                    [g] => [*g; 3],
-                    [r, g, b] => [*r, *g, *b],
-                    _ => return Err(c.error("an rgb value has 1 or 3 numbers")),
-                };
+                let rgb = rgb_value(c)?;
                 if rgb.iter().any(|&x| x < 0.0) {
                     return Err(c.error("negative emission"));
                 }
@@ -310,4 +294,17 @@ pub(super) fn pairs_checked(c: &Element, t: Vec<(f64, f64)>) -> Result<SpectrumV
         return Err(c.error("spectrum wavelengths must increase"));
     }
     Ok(SpectrumValue::Pairs(t))
+}
+
+/// An `<rgb value="…">` element's three numbers (one number stands for all three).
+fn rgb_value(c: &Element) -> Result<[f64; 3], SceneError> {
+    let v = c
+        .attr("value")
+        .and_then(numbers)
+        .ok_or_else(|| c.error("not a list of numbers"))?;
+    match v.as_slice() {
+        [g] => Ok([*g; 3]),
+        [r, g, b] => Ok([*r, *g, *b]),
+        _ => Err(c.error("an rgb value has 1 or 3 numbers")),
+    }
 }
