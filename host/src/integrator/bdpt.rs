@@ -109,7 +109,10 @@ use crate::scene::Scene;
 use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths, LANES};
 use fluorescent_mis::mis_weight_lanes;
 use glam::Vec2;
-use light_fraction::{AltWeights, Choice, LightSubpaths, PartCost, PilotSample, CANDIDATES};
+use light_fraction::{
+    AltWeights, Candidates, Choice, LightSubpathCount, LightSubpaths, PartCost, PilotSample,
+    MAX_CANDIDATES,
+};
 use mis::{mis_weight_guided, s1_guide_key, SampleCounts};
 use spectrace_plugin_api::ParamDoc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -395,15 +398,9 @@ fn connect_in<const FLUORESCENT: bool, S: UniformSource>(
             )
         };
         if let Some(alt) = alt {
-            // The pilot's weights under each candidate fraction (`light_fraction`).
-            for (a, &q) in alt.weights.iter_mut().zip(CANDIDATES.iter()) {
-                *a = weight(SampleCounts {
-                    fraction: q,
-                    ..counts
-                });
-            }
-            // And the path tracer's densities of this path (the candidate q = 0).
-            alt.pt_ratios = mis::path_tracing_ratios(
+            // The pilot's parts of the weight (its weight under each candidate (q, L) follows,
+            // `light_fraction`) and the path tracer's densities of this path (q = 0).
+            alt.terms = mis::pilot_terms(
                 scene,
                 camera,
                 light_path,
@@ -758,7 +755,9 @@ impl<'p> Setup<'p> {
 }
 
 /// The light-fraction pilot (`light_fraction`): [`light_fraction::PILOT_SPP`] camera samples
-/// of each pilot pixel at `q = 1` under the pilot's own seed, fixed chunks reduced in order.
+/// of each pilot pixel at `q = 1` with the largest `L` of `candidates`, under the pilot's own
+/// seed, fixed chunks reduced in order.
+#[allow(clippy::too_many_arguments)]
 fn pilot_sums(
     bdpt: &Bdpt,
     scene: &Scene,
@@ -766,7 +765,12 @@ fn pilot_sums(
     settings: &RenderSettings,
     cam: &crate::camera::manager::NamedCamera,
     setup: &Setup<'_>,
+    candidates: Candidates,
 ) -> Result<light_fraction::PilotSums, RenderError> {
+    let bdpt = &Bdpt {
+        light_paths: candidates.pilot_paths(),
+        ..*bdpt
+    };
     let (width, height) = cam.camera.resolution();
     let pool = super::tiled::thread_pool(settings.threads)?;
     let seed = light_fraction::pilot_seed(settings.seed);
@@ -775,7 +779,7 @@ fn pilot_sums(
     Ok(light_fraction::run_pilot(&pool, width, height, |pixels| {
         let mut worker = Worker::new(
             light_fraction::counts(bdpt.light_paths, 1.0),
-            Some(PilotSample::new(width, height)),
+            Some(PilotSample::new(width, height, candidates)),
         );
         for &(x, y) in pixels {
             let pixel = y as u64 * width as u64 + x as u64;
@@ -823,10 +827,35 @@ fn guide_notes(scene: &Scene, guide: Option<&NeeGuide>) -> Vec<String> {
     })
 }
 
+/// The candidates (q, L) of the pilot for `scene` under `plan`'s requests (`light_fraction`),
+/// and whether `q = 0` may be offered (the fraction not forced); `None` where nothing is left
+/// to choose: both forced, or the fraction forced in a scene with one count.
+fn pilot_candidates(bdpt: &Bdpt, scene: &Scene, plan: &RenderPlan) -> Option<(Candidates, bool)> {
+    let default_paths = light_paths_for(scene, bdpt.light_paths);
+    let forced = match plan.light_subpath_count() {
+        LightSubpathCount::Count(n) => Some(n),
+        LightSubpathCount::Auto => None,
+    };
+    let counts: Vec<u32> = match forced {
+        Some(n) => vec![n],
+        None if default_paths > 1 => light_fraction::COUNTS.to_vec(),
+        None => vec![1],
+    };
+    let (fractions, offer_pt) = match plan.light_subpaths() {
+        LightSubpaths::Auto => (light_fraction::CANDIDATES.to_vec(), true),
+        LightSubpaths::Fraction(q) => (vec![q.min(1.0)], false),
+    };
+    if !offer_pt && counts.len() == 1 {
+        return None;
+    }
+    let base = forced.unwrap_or(default_paths);
+    Some((Candidates::new(&fractions, &counts, base), offer_pt))
+}
+
 /// The fraction `q` of camera samples that trace light subpaths (`light_fraction`; 0: the
-/// camera samples are path traced, `path_traced`) and its run-time note: forced, kept at 1
-/// (`fraction_stays_one`), or the pilot's choice. A forced 0 where the path tracer cannot
-/// stand for BDPT is an error naming why.
+/// camera samples are path traced, `path_traced`), the number `L` each traces, and the
+/// run-time note: forced, kept at `q = 1` (`fraction_stays_one`), or the pilot's choice. A
+/// forced 0 where the path tracer cannot stand for BDPT is an error naming why.
 #[allow(clippy::too_many_arguments)]
 fn choose_fraction(
     bdpt: &Bdpt,
@@ -836,11 +865,14 @@ fn choose_fraction(
     cam: &crate::camera::manager::NamedCamera,
     setup: &Setup<'_>,
     start: std::time::Instant,
-) -> Result<(f32, Option<String>), RenderError> {
+) -> Result<(f32, u32, Option<String>), RenderError> {
     let stays_one = fraction_stays_one(scene);
-    Ok(match (plan.light_subpaths(), stays_one) {
-        (LightSubpaths::Fraction(q), _) if q >= 1.0 => (1.0, None),
-        (LightSubpaths::Fraction(q), _) if q <= 0.0 => {
+    let paths = match plan.light_subpath_count() {
+        LightSubpathCount::Count(n) => n,
+        LightSubpathCount::Auto => light_paths_for(scene, bdpt.light_paths),
+    };
+    if let LightSubpaths::Fraction(q) = plan.light_subpaths() {
+        if q <= 0.0 {
             if let Some(why) =
                 stays_one.or_else(|| path_traced::refusal(&bdpt.path_traced(), scene, plan))
             {
@@ -850,23 +882,39 @@ fn choose_fraction(
                 )));
             }
             let note = "bdpt light subpaths: q = 0 (forced), the camera samples are path traced";
-            (0.0, Some(note.to_string()))
+            return Ok((0.0, paths, Some(note.to_string())));
         }
-        (_, Some(why)) => (
-            1.0,
-            Some(format!(
-                "bdpt light subpaths: q = 1 (every camera sample traces them: {why})"
-            )),
-        ),
-        (LightSubpaths::Fraction(q), None) => (q, None),
-        (LightSubpaths::Auto, None) => {
-            let choice = pilot_choice(bdpt, scene, plan, settings, cam, setup)?;
-            (choice.q, Some(choice.note(start.elapsed().as_secs_f64())))
+    }
+    if let Some(why) = stays_one {
+        let forced_one = matches!(plan.light_subpaths(), LightSubpaths::Fraction(q) if q >= 1.0);
+        let note = (!forced_one).then(|| {
+            format!(
+                "bdpt light subpaths: q = 1, L = {paths} (every camera sample traces them: {why})"
+            )
+        });
+        return Ok((1.0, paths, note));
+    }
+    match pilot_candidates(bdpt, scene, plan) {
+        None => {
+            let q = match plan.light_subpaths() {
+                LightSubpaths::Fraction(q) => q.min(1.0),
+                LightSubpaths::Auto => 1.0,
+            };
+            Ok((q, paths, None))
         }
-    })
+        Some((candidates, offer_pt)) => {
+            let choice = pilot_choice(
+                bdpt, scene, plan, settings, cam, setup, candidates, offer_pt,
+            )?;
+            let note = choice.note(start.elapsed().as_secs_f64());
+            Ok((choice.q, choice.light_paths, Some(note)))
+        }
+    }
 }
 
-/// The pilots' decision (BDPT's and, where it may stand for BDPT, the path tracer's).
+/// The pilots' decision among `candidates` (BDPT's and, where `offer_pt` and it may stand for
+/// BDPT, the path tracer's).
+#[allow(clippy::too_many_arguments)]
 fn pilot_choice(
     bdpt: &Bdpt,
     scene: &Scene,
@@ -874,9 +922,15 @@ fn pilot_choice(
     settings: &RenderSettings,
     cam: &crate::camera::manager::NamedCamera,
     setup: &Setup<'_>,
+    candidates: Candidates,
+    offer_pt: bool,
 ) -> Result<Choice, RenderError> {
-    let sums = pilot_sums(bdpt, scene, plan, settings, cam, setup)?;
-    let refused = path_traced::refusal(&bdpt.path_traced(), scene, plan);
+    let sums = pilot_sums(bdpt, scene, plan, settings, cam, setup, candidates)?;
+    let refused = if offer_pt {
+        path_traced::refusal(&bdpt.path_traced(), scene, plan)
+    } else {
+        Some("the fraction is forced (--effect light-subpaths)")
+    };
     let pt = match refused {
         None => Some(path_traced::pilot(
             &bdpt.path_traced(),
@@ -925,7 +979,12 @@ fn render_bdpt(
     let guide = setup.guide.as_ref();
     // The fraction of camera samples that trace light subpaths (`light_fraction`).
     let pilot_start = std::time::Instant::now();
-    let (q, note) = choose_fraction(bdpt, scene, plan, settings, cam, &setup, pilot_start)?;
+    let (q, light_paths, note) =
+        choose_fraction(bdpt, scene, plan, settings, cam, &setup, pilot_start)?;
+    let bdpt = &Bdpt {
+        light_paths,
+        ..*bdpt
+    };
     // The pilot and the guide's pre-pass are part of the render: a time budget counts them.
     let prepass_time = std::time::Duration::from_secs_f64(guide.map_or(0.0, NeeGuide::seconds));
     let pilot_time = pilot_start.elapsed() + prepass_time;
@@ -1060,9 +1119,10 @@ impl Bdpt {
     }
 
     /// The light-fraction pilot's decision for `scene` (what `--effect light-subpaths=auto`
-    /// renders with, `q = 0` among the candidates where [`path_traced::refusal`] allows it),
-    /// run as the render would run it; `None` where the fraction stays 1 without a pilot
-    /// (beams-only lights, fluorescence).
+    /// and `light-subpath-count=auto` render with, `q = 0` among the candidates where
+    /// [`path_traced::refusal`] allows it), run as the render would run it; `None`
+    /// where no pilot runs: the fraction stays 1 (beams-only lights, fluorescence) or nothing
+    /// is left to choose (both forced, or the fraction forced in a scene with one count).
     pub fn light_fraction_pilot(
         &self,
         scene: &Scene,
@@ -1076,12 +1136,14 @@ impl Bdpt {
             .cameras
             .get(settings.camera.as_deref())
             .map_err(RenderError::Setup)?;
-        let bdpt = &Bdpt {
-            light_paths: light_paths_for(scene, self.light_paths),
-            ..*self
+        let Some((candidates, offer_pt)) = pilot_candidates(self, scene, plan) else {
+            return Ok(None);
         };
         let setup = Setup::new(scene, plan, settings, cam.camera.as_ref());
-        pilot_choice(bdpt, scene, plan, settings, cam, &setup).map(Some)
+        pilot_choice(
+            self, scene, plan, settings, cam, &setup, candidates, offer_pt,
+        )
+        .map(Some)
     }
 
     /// One camera sample of pixel `(x, y)`: returns the XYZ of all t ≥ 2 strategies for the
@@ -1168,6 +1230,8 @@ impl Bdpt {
             rays: worker.stats.rays - after_camera.rays,
             ..PartCost::default()
         };
+        // And of the further light subpaths (light tracing only).
+        let mut further_cost = PartCost::default();
         let mut camera_connections = 0u64;
         // A beams-only light's subpath, one of `light_paths` of this camera sample: light
         // tracing alone, each splat weighted 1/light_paths.
@@ -1333,15 +1397,13 @@ impl Bdpt {
                         None => camera_path.get(1),
                     };
                     if seen.is_none_or(|v| v.light_index(scene).is_none()) {
-                        // Candidate weights over the current one.
-                        let ratios =
-                            alt.weights
-                                .map(|a| if w_mis > 0.0 { (a / w_mis) as f64 } else { 0.0 });
+                        // Each candidate's weight over the current one (and count, t = 1).
+                        let ratios = p.candidates().ratios(&alt.terms, (s, t), 0, w_mis);
                         let at = c.raster.unwrap_or(pixel_center);
                         p.book(at, SampleCounts::uses_light_subpath(s, t), xyz[1], &ratios);
                         let n = counts.count(s, t);
                         let own = c.raster.is_none().then_some(s + t - 2);
-                        p.book_pt(xyz[1], c.weight[0], n, &alt.pt_ratios, own);
+                        p.book_pt(xyz[1], c.weight[0], n, &alt.terms.pt_ratios, own);
                     }
                 }
                 match c.raster {
@@ -1415,7 +1477,7 @@ impl Bdpt {
                         });
                     } else {
                         if let Some(p) = worker.pilot.as_mut() {
-                            p.book(pixel_center, false, xyz[1], &[1.0; CANDIDATES.len()]);
+                            p.book(pixel_center, false, xyz[1], &[1.0; MAX_CANDIDATES]);
                         }
                         for k in 0..3 {
                             total[k] += xyz[k];
@@ -1475,7 +1537,7 @@ impl Bdpt {
                         return;
                     }
                     if let Some(p) = worker.pilot.as_mut() {
-                        p.book(m.raster, false, xyz[1], &[1.0; CANDIDATES.len()]);
+                        p.book(m.raster, false, xyz[1], &[1.0; MAX_CANDIDATES]);
                     }
                     Self::record_splat(
                         splats,
@@ -1513,7 +1575,7 @@ impl Bdpt {
             if let LightStart::Beams { index, pmf } = start {
                 trace_beams(index, pmf, j, ld, &mut worker.stats);
             }
-            light_cost.rays += worker.stats.rays - rays_before;
+            further_cost.rays += worker.stats.rays - rays_before;
             if let Some(fc) = flat {
                 fc.prefix(&light_path, &mut worker.light_flat);
             }
@@ -1537,8 +1599,8 @@ impl Bdpt {
                     &mut worker.stats,
                     worker.pilot.is_some().then_some(&mut alt),
                 );
-                light_cost.shadow_rays += worker.stats.shadow_rays - shadow_before;
-                light_cost.connections += connected.is_some() as u64;
+                further_cost.shadow_rays += worker.stats.shadow_rays - shadow_before;
+                further_cost.connections += connected.is_some() as u64;
                 let Some(c) = connected else {
                     continue;
                 };
@@ -1571,13 +1633,11 @@ impl Bdpt {
                 }
                 if let Some(p) = worker.pilot.as_mut() {
                     let cw = c.weight[0];
-                    let ratios = alt
-                        .weights
-                        .map(|a| if cw > 0.0 { (a / cw) as f64 } else { 0.0 });
                     // Left out where the camera sees an emitter, as above.
                     if light_path[s - 1].light_index(scene).is_none() {
+                        let ratios = p.candidates().ratios(&alt.terms, (s, 1), j, cw);
                         p.book(r, true, xyz[1], &ratios);
-                        p.book_pt(xyz[1], cw, counts.count(s, 1), &alt.pt_ratios, None);
+                        p.book_pt(xyz[1], cw, counts.count(s, 1), &alt.terms.pt_ratios, None);
                     }
                 }
                 Self::record_splat(splats, strategies, pixel_max, r, xyz, Some((s, 1)));
@@ -1588,11 +1648,14 @@ impl Bdpt {
         }
         if let Some(p) = worker.pilot.as_mut() {
             let camera_cost = PartCost {
-                rays: worker.stats.rays - before.rays - light_cost.rays,
-                shadow_rays: worker.stats.shadow_rays - before.shadow_rays - light_cost.shadow_rays,
+                rays: worker.stats.rays - before.rays - light_cost.rays - further_cost.rays,
+                shadow_rays: worker.stats.shadow_rays
+                    - before.shadow_rays
+                    - light_cost.shadow_rays
+                    - further_cost.shadow_rays,
                 connections: camera_connections,
             };
-            p.finish_sample(pixel_center, camera_cost, light_cost);
+            p.finish_sample(pixel_center, camera_cost, light_cost, further_cost);
         }
         worker.camera_path = camera_path;
         worker.light_path = light_path;

@@ -80,24 +80,120 @@
 //! tracing alone) and scenes that render fluorescence (its two light-subpath modes are not
 //! covered by the pilot and untested with `q < 1`).
 
-use super::mis::SampleCounts;
+use super::mis::{PilotTerms, SampleCounts};
 use glam::Vec2;
 use rayon::prelude::*;
 
-pub use crate::integrator::plan::LightSubpaths;
+pub use crate::integrator::plan::{LightSubpathCount, LightSubpaths};
 
 /// The fractions the pilot compares, `q = 1` first.
 pub const CANDIDATES: [f32; 5] = [1.0, 0.5, 0.25, 0.125, 0.0625];
 
-/// What the pilot learns of one connection besides its weight: its weights under each
-/// candidate of [`CANDIDATES`], and the squared densities of the path tracer's strategies
-/// (s = 0, s = 1) for its path relative to its own ([`super::mis::path_tracing_ratios`]).
+/// The numbers of light subpaths per camera sample the pilot compares in scenes with delta
+/// surfaces (`super::light_paths_for`; elsewhere 1).
+pub const COUNTS: [u32; 4] = [1, 2, 4, 8];
+
+/// Most candidates (q, L) a pilot compares.
+pub const MAX_CANDIDATES: usize = CANDIDATES.len() * COUNTS.len();
+
+/// The candidates (q, L) of one pilot: fraction `q` of camera samples tracing light
+/// subpaths, `L` light subpaths each; the pilot renders at `q = 1` with the largest `L`
+/// ([`pilot_paths`](Self::pilot_paths)), and `base` is the one kept unless another is
+/// estimated [`MIN_GAIN`] better.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Candidates {
+    list: [(f32, u32); MAX_CANDIDATES],
+    len: usize,
+    base: usize,
+}
+
+impl Default for Candidates {
+    fn default() -> Self {
+        Self::new(&CANDIDATES, &[1], 1)
+    }
+}
+
+impl Candidates {
+    /// Every pair of `fractions` × `counts` (each non-empty, at most [`CANDIDATES`] and
+    /// [`COUNTS`] long), the base being the first fraction with `base_count` (or the count
+    /// nearest to it).
+    pub fn new(fractions: &[f32], counts: &[u32], base_count: u32) -> Self {
+        assert!(!fractions.is_empty() && !counts.is_empty());
+        assert!(fractions.len() * counts.len() <= MAX_CANDIDATES);
+        let mut list = [(1.0, 1); MAX_CANDIDATES];
+        let mut len = 0;
+        for &l in counts {
+            for &q in fractions {
+                list[len] = (q, l.max(1));
+                len += 1;
+            }
+        }
+        let l0 = *counts
+            .iter()
+            .min_by_key(|&&l| (l as i64 - base_count as i64).abs())
+            .unwrap_or(&1);
+        let base = list[..len]
+            .iter()
+            .position(|&(q, l)| q == fractions[0] && l == l0)
+            .unwrap_or(0);
+        Self { list, len, base }
+    }
+
+    /// The candidates, (q, L).
+    pub fn list(&self) -> &[(f32, u32)] {
+        &self.list[..self.len]
+    }
+
+    /// The candidate kept unless another is estimated [`MIN_GAIN`] better.
+    pub fn base(&self) -> (f32, u32) {
+        self.list[self.base]
+    }
+
+    /// Light subpaths per camera sample of the pilot: the largest candidate `L`.
+    pub fn pilot_paths(&self) -> u32 {
+        self.list().iter().map(|c| c.1).max().unwrap_or(1)
+    }
+
+    /// The factors by which each candidate multiplies a pilot connection's weighted
+    /// contribution: strategy (s, t), for t = 1 from light subpath `j` (0: the first), with
+    /// weight `w_pilot` under the pilot's counts and `terms` its weight's parts. The
+    /// candidate's weight over the pilot's, and for t = 1 its count over the candidate's:
+    /// the pilot divides each t = 1 contribution by its `L_p` light subpaths, a candidate by
+    /// its own `L` (subpaths `j ≥ L` it does not trace: 0). The fraction's `1/q` is the
+    /// estimator's (`PilotSums::estimates`), not the booking's.
+    pub fn ratios(
+        &self,
+        terms: &PilotTerms,
+        (s, t): (usize, usize),
+        j: u32,
+        w_pilot: f32,
+    ) -> [f64; MAX_CANDIDATES] {
+        let mut out = [0.0; MAX_CANDIDATES];
+        if !(w_pilot > 0.0) {
+            return out;
+        }
+        let lp = self.pilot_paths() as f64;
+        for (o, &(q, l)) in out.iter_mut().zip(self.list()) {
+            if t == 1 && j >= l {
+                continue;
+            }
+            let w = terms.weight(s, t, counts(l, q));
+            *o = (w / w_pilot) as f64;
+            if t == 1 {
+                *o *= lp / l as f64;
+            }
+        }
+        out
+    }
+}
+
+/// What the pilot learns of one connection besides its weight: the parts of its weight
+/// ([`PilotTerms`]), from which its weight under each candidate follows, and the path
+/// tracer's squared densities for its path.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct AltWeights {
-    /// The weights under each candidate.
-    pub weights: [f32; CANDIDATES.len()],
-    /// `(p₀/p)²`, `(p₁/p)²`.
-    pub pt_ratios: [f32; 2],
+    /// The weight's parts and `(p₀/p)²`, `(p₁/p)²`.
+    pub terms: PilotTerms,
 }
 
 /// Pilot pixels (a regular grid over the image; fewer when the image is smaller).
@@ -203,27 +299,31 @@ impl CostWeights {
 #[derive(Clone, Copy, Debug)]
 struct Entry {
     pixel: u64,
-    a: [f64; CANDIDATES.len()],
-    c: [f64; CANDIDATES.len()],
+    a: [f64; MAX_CANDIDATES],
+    c: [f64; MAX_CANDIDATES],
 }
 
 /// The pilot's sums (additive over camera samples, reduced in a fixed order).
 #[derive(Clone, Debug, Default)]
 pub struct PilotSums {
+    /// The candidates these sums are booked for.
+    candidates: Candidates,
     /// Per candidate: Σ A², Σ A·C, Σ C² over the camera samples' own pixels.
-    own: [[f64; 3]; CANDIDATES.len()],
+    own: [[f64; 3]; MAX_CANDIDATES],
     /// The same for the pixels other than the sample's own (t = 1 and camera-chain splats).
-    splat: [[f64; 3]; CANDIDATES.len()],
+    splat: [[f64; 3]; MAX_CANDIDATES],
     /// Per candidate: Σ over pilot pixels of the squared mean of their own-pixel estimate
-    /// (`A_q + C_q`: the candidates move weight between the pixel's own strategies and the
-    /// t = 1 splats, so its own part's mean depends on `q`).
-    mean_sq: [f64; CANDIDATES.len()],
+    /// (`A + C`: the candidates move weight between the pixel's own strategies and the
+    /// t = 1 splats, so its own part's mean depends on the candidate).
+    mean_sq: [f64; MAX_CANDIDATES],
     /// Camera samples and pixels.
     samples: u64,
     pixels: u64,
-    /// Work counts of the camera part and the light part.
+    /// Work counts of the camera part, of the first light subpath (with its joins and its
+    /// t = 1 connections) and of the further light subpaths (t = 1 only, all of them).
     camera: PartCost,
     light: PartCost,
+    further: PartCost,
     /// The path tracer's second moment of `Y` per camera sample, summed over the pilot's
     /// pixels, estimated from these BDPT samples ([`PilotSample::book_pt`]).
     pt_m2: f64,
@@ -236,7 +336,10 @@ pub struct PilotSums {
 
 impl PilotSums {
     fn add(&mut self, o: &PilotSums) {
-        for k in 0..CANDIDATES.len() {
+        if self.samples == 0 {
+            self.candidates = o.candidates;
+        }
+        for k in 0..MAX_CANDIDATES {
             for m in 0..3 {
                 self.own[k][m] += o.own[k][m];
                 self.splat[k][m] += o.splat[k][m];
@@ -249,32 +352,45 @@ impl PilotSums {
         self.pixels += o.pixels;
         self.camera.add(&o.camera);
         self.light.add(&o.light);
+        self.further.add(&o.further);
         self.pt_m2 += o.pt_m2;
         self.pt_missed += o.pt_missed;
         self.pt_mean_sq += o.pt_mean_sq;
     }
 
-    /// Per candidate: (q, variance, cost per camera sample, efficiency 1/(variance·cost)).
+    /// The candidates of these sums.
+    pub fn candidates(&self) -> &Candidates {
+        &self.candidates
+    }
+
+    /// Per candidate: (q, L, variance, cost per camera sample, efficiency 1/(variance·cost)).
     /// The variance is the sum over the pilot's pixels of one camera sample's variance of
     /// the pixel's `Y` (within-pixel sample variance for the own-pixel part, with `n − 1`;
-    /// the splats' second moment, whose mean per camera sample is negligible, over `n`).
+    /// the splats' second moment, whose mean per camera sample is negligible, over `n`). The
+    /// cost is `cost_A + q·(cost_first + (L − 1)·cost_further)`: the camera part, the first
+    /// light subpath with all its connections, and each further light subpath (the pilot's
+    /// `L_p − 1` of them averaged).
     pub fn estimates(&self, weights: &CostWeights) -> Vec<Estimate> {
         let n = (self.samples as f64 / self.pixels.max(1) as f64).max(2.0);
         let per_sample = 1.0 / self.samples.max(1) as f64;
         let cost_a = weights.sample + weights.of(&self.camera) * per_sample;
-        let cost_c = weights.of(&self.light) * per_sample;
-        CANDIDATES
+        let cost_first = weights.of(&self.light) * per_sample;
+        let further_paths = self.candidates.pilot_paths().saturating_sub(1).max(1) as f64;
+        let cost_further = weights.of(&self.further) * per_sample / further_paths;
+        self.candidates
+            .list()
             .iter()
             .enumerate()
-            .map(|(k, &q)| {
+            .map(|(k, &(q, l))| {
                 let q64 = q as f64;
                 let m2 = |s: &[f64; 3]| s[0] + 2.0 * s[1] + s[2] / q64;
                 let variance =
                     (m2(&self.own[k]) - n * self.mean_sq[k]) / (n - 1.0) + m2(&self.splat[k]) / n;
-                let cost = cost_a + q64 * cost_c;
+                let cost = cost_a + q64 * (cost_first + (l as f64 - 1.0) * cost_further);
                 let efficiency = 1.0 / (variance * cost);
                 Estimate {
                     q,
+                    light_paths: l,
                     variance,
                     cost,
                     efficiency,
@@ -284,11 +400,13 @@ impl PilotSums {
     }
 }
 
-/// The pilot's estimate for one candidate `q`.
+/// The pilot's estimate for one candidate (q, L).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Estimate {
     /// The fraction.
     pub q: f32,
+    /// Light subpaths per camera sample that traces them (0 for the path tracer, `q = 0`).
+    pub light_paths: u32,
     /// Summed per-pixel variance of one camera sample's luminance (the pilot's pixels).
     pub variance: f64,
     /// Cost per camera sample (instructions, [`COST_WEIGHTS`]).
@@ -305,7 +423,7 @@ pub struct PilotSample {
     height: u32,
     entries: Vec<Entry>,
     /// Σ of the current pixel's own-pixel estimates per candidate, and its sample count.
-    pixel_sum: [f64; CANDIDATES.len()],
+    pixel_sum: [f64; MAX_CANDIDATES],
     pixel_samples: u64,
     /// Σ of the current pixel's own-pixel `Y` per path length (bounces; the last entry: longer).
     depth_sum: [f64; DEPTHS],
@@ -316,17 +434,25 @@ pub struct PilotSample {
 const DEPTHS: usize = 24;
 
 impl PilotSample {
-    /// An empty recorder for an image of `width × height` pixels.
-    pub fn new(width: u32, height: u32) -> Self {
+    /// An empty recorder for an image of `width × height` pixels and `candidates`.
+    pub fn new(width: u32, height: u32, candidates: Candidates) -> Self {
         Self {
             width,
             height,
             entries: Vec::with_capacity(16),
-            pixel_sum: [0.0; CANDIDATES.len()],
+            pixel_sum: [0.0; MAX_CANDIDATES],
             pixel_samples: 0,
             depth_sum: [0.0; DEPTHS],
-            sums: PilotSums::default(),
+            sums: PilotSums {
+                candidates,
+                ..PilotSums::default()
+            },
         }
+    }
+
+    /// The candidates booked.
+    pub fn candidates(&self) -> &Candidates {
+        &self.sums.candidates
     }
 
     fn pixel(&self, at: Vec2) -> u64 {
@@ -335,18 +461,18 @@ impl PilotSample {
         y as u64 * self.width as u64 + x as u64
     }
 
-    /// Books weighted luminance `y` (under the current weights, `q = 1`) of a connection
-    /// landing at raster position `at`, of the light-subpath class (`light`) or not, with the
-    /// candidates' weights over the current one (`ratios`).
-    pub fn book(&mut self, at: Vec2, light: bool, y: f64, ratios: &[f64; CANDIDATES.len()]) {
+    /// Books weighted luminance `y` (under the pilot's counts) of a connection landing at
+    /// raster position `at`, of the light-subpath class (`light`) or not, with each
+    /// candidate's factor ([`Candidates::ratios`]; 1 for the strategies no candidate changes).
+    pub fn book(&mut self, at: Vec2, light: bool, y: f64, ratios: &[f64; MAX_CANDIDATES]) {
         let pixel = self.pixel(at);
         let i = match self.entries.iter().position(|e| e.pixel == pixel) {
             Some(i) => i,
             None => {
                 self.entries.push(Entry {
                     pixel,
-                    a: [0.0; CANDIDATES.len()],
-                    c: [0.0; CANDIDATES.len()],
+                    a: [0.0; MAX_CANDIDATES],
+                    c: [0.0; MAX_CANDIDATES],
                 });
                 self.entries.len() - 1
             }
@@ -390,8 +516,15 @@ impl PilotSample {
         }
     }
 
-    /// Ends a camera sample of the pixel whose centre is `center`, with its work counts.
-    pub fn finish_sample(&mut self, center: Vec2, camera: PartCost, light: PartCost) {
+    /// Ends a camera sample of the pixel whose centre is `center`, with its work counts: the
+    /// camera part, the first light subpath's and the further light subpaths'.
+    pub fn finish_sample(
+        &mut self,
+        center: Vec2,
+        camera: PartCost,
+        light: PartCost,
+        further: PartCost,
+    ) {
         let own = self.pixel(center);
         for e in &self.entries {
             let sums = if e.pixel == own {
@@ -413,6 +546,7 @@ impl PilotSample {
         self.sums.samples += 1;
         self.sums.camera.add(&camera);
         self.sums.light.add(&light);
+        self.sums.further.add(&further);
     }
 
     /// Ends a pilot pixel (all its samples done).
@@ -429,7 +563,7 @@ impl PilotSample {
             self.sums.pixels += 1;
         }
         self.depth_sum = [0.0; DEPTHS];
-        self.pixel_sum = [0.0; CANDIDATES.len()];
+        self.pixel_sum = [0.0; MAX_CANDIDATES];
         self.pixel_samples = 0;
     }
 
@@ -564,6 +698,7 @@ impl PtPilotSums {
         let cost = weights.sample + weights.of(&self.cost) / self.samples.max(1) as f64;
         Estimate {
             q: 0.0,
+            light_paths: 0,
             variance,
             cost,
             efficiency: 1.0 / (variance * cost),
@@ -585,13 +720,17 @@ impl PtPilotSums {
     }
 }
 
-/// The pilot's decision: the chosen fraction and every candidate's estimate.
+/// The pilot's decision: the chosen fraction and count and every candidate's estimate.
 #[derive(Clone, Debug)]
 pub struct Choice {
     /// The chosen fraction; 0: no light subpaths, the camera samples are path traced.
     pub q: f32,
-    /// The candidates' estimates, [`CANDIDATES`] order.
+    /// The chosen number of light subpaths per camera sample that traces them.
+    pub light_paths: u32,
+    /// The candidates' estimates, [`Candidates::list`] order.
     pub estimates: Vec<Estimate>,
+    /// The candidate kept unless another is estimated [`MIN_GAIN`] better.
+    pub base: (f32, u32),
     /// The path tracer's estimate (`q = 0`), where the scene lets it stand for BDPT.
     pub path_traced: Option<Estimate>,
     /// Why `q = 0` was not offered, where it was not.
@@ -602,21 +741,27 @@ pub struct Choice {
 }
 
 impl Choice {
-    /// The candidate of greatest estimated efficiency, `q = 1` unless another beats it by
-    /// [`MIN_GAIN`] (and `q = 1` when the estimates are degenerate: no light, no variance);
-    /// `q = 0` (`path_traced`, its estimate) only where it beats every `q > 0` by [`MIN_GAIN`].
+    /// The candidate of greatest estimated efficiency, the base candidate
+    /// ([`Candidates::base`]: `q = 1` with [`super::LIGHT_PATHS`] light subpaths where the
+    /// scene has delta surfaces) unless another beats it by [`MIN_GAIN`] (and the base when
+    /// the estimates are degenerate: no light, no variance); `q = 0` (`path_traced`, its
+    /// estimate) only where it beats every `q > 0` by [`MIN_GAIN`].
     pub fn from_sums(sums: &PilotSums, path_traced: Option<Estimate>) -> Self {
         let estimates = sums.estimates(&COST_WEIGHTS);
-        let base = estimates[0].efficiency;
-        let mut q = 1.0;
+        let base = sums.candidates().base();
+        let base_eff = estimates
+            .iter()
+            .find(|e| (e.q, e.light_paths) == base)
+            .map_or(f64::NAN, |e| e.efficiency);
+        let (mut q, mut light_paths) = base;
         let best = estimates
             .iter()
             .filter(|e| e.efficiency.is_finite() && e.efficiency > 0.0 && e.variance > 0.0)
             .max_by(|a, b| a.efficiency.total_cmp(&b.efficiency));
-        if base.is_finite() && base > 0.0 {
+        if base_eff.is_finite() && base_eff > 0.0 {
             if let Some(b) = best {
-                if b.efficiency >= MIN_GAIN * base {
-                    q = b.q;
+                if b.efficiency >= MIN_GAIN * base_eff {
+                    (q, light_paths) = (b.q, b.light_paths);
                 }
             }
         }
@@ -628,45 +773,78 @@ impl Choice {
         }
         Self {
             q,
+            light_paths,
             estimates,
+            base,
             path_traced,
             path_traced_refused: None,
             path_traced_work: None,
         }
     }
 
-    /// The estimate of fraction `q`, if it is a candidate (0: the path tracer's).
-    pub fn estimate(&self, q: f32) -> Option<&Estimate> {
+    /// The estimate of fraction `q` with `light_paths` subpaths, if it is a candidate (q = 0:
+    /// the path tracer's, whatever `light_paths`).
+    pub fn estimate(&self, q: f32, light_paths: u32) -> Option<&Estimate> {
         if q == 0.0 {
             return self.path_traced.as_ref();
         }
-        self.estimates.iter().find(|e| e.q == q)
+        self.estimates
+            .iter()
+            .find(|e| e.q == q && e.light_paths == light_paths)
     }
 
-    /// The run-time line: what was chosen and why.
+    /// The estimate of the chosen candidate.
+    pub fn chosen(&self) -> Option<&Estimate> {
+        self.estimate(self.q, self.light_paths)
+    }
+
+    /// The estimated efficiency of the chosen candidate over the base's.
+    pub fn gain(&self) -> f64 {
+        let base = self.estimate(self.base.0, self.base.1);
+        match (self.chosen(), base) {
+            (Some(c), Some(b)) if (c.efficiency / b.efficiency).is_finite() => {
+                c.efficiency / b.efficiency
+            }
+            _ => 1.0,
+        }
+    }
+
+    /// The run-time line: what was chosen and why (every candidate's estimated efficiency
+    /// relative to the base's, grouped by L).
     pub fn note(&self, seconds: f64) -> String {
-        let base = self.estimates[0].efficiency;
-        let gain = self.estimate(self.q).map_or(1.0, |e| e.efficiency / base);
-        let all: Vec<String> = self
-            .path_traced
-            .iter()
-            .chain(&self.estimates)
-            .map(|e| format!("{}: {:.2}", fraction_text(e.q), e.efficiency / base))
-            .collect();
-        let what = if self.q == 0.0 {
-            ", the camera samples are path traced"
+        let base_eff = self
+            .estimate(self.base.0, self.base.1)
+            .map_or(f64::NAN, |e| e.efficiency);
+        let mut groups: Vec<String> = Vec::new();
+        if let Some(p) = &self.path_traced {
+            groups.push(format!("q = 0: {:.2}", p.efficiency / base_eff));
+        }
+        let mut counts: Vec<u32> = self.estimates.iter().map(|e| e.light_paths).collect();
+        counts.dedup();
+        for l in counts {
+            let row: Vec<String> = self
+                .estimates
+                .iter()
+                .filter(|e| e.light_paths == l)
+                .map(|e| format!("{} {:.2}", fraction_text(e.q), e.efficiency / base_eff))
+                .collect();
+            groups.push(format!("L = {l}: {}", row.join(", ")));
+        }
+        let chosen = if self.q == 0.0 {
+            "q = 0, the camera samples are path traced".to_string()
         } else {
-            ""
+            format!("q = {}, L = {}", fraction_text(self.q), self.light_paths)
         };
         let refused = self
             .path_traced_refused
             .map_or_else(String::new, |why| format!("; q = 0 not offered: {why}"));
         format!(
-            "bdpt light subpaths: q = {}{what} (estimated efficiency {:.2}x q = 1; candidates \
-             {}{refused}), pilot {seconds:.2} s",
-            fraction_text(self.q),
-            if gain.is_finite() { gain } else { 1.0 },
-            all.join(", ")
+            "bdpt light subpaths: {chosen} (estimated efficiency {:.2}x q = {}, L = {}; \
+             candidates {}{refused}), pilot {seconds:.2} s",
+            self.gain(),
+            fraction_text(self.base.0),
+            self.base.1,
+            groups.join("; ")
         )
     }
 }
@@ -703,13 +881,18 @@ mod tests {
     /// rounding). Checks the assembly of `A² + 2AC + C²/q` and the `n − 1` of the own part.
     #[test]
     fn variance_of_a_bernoulli_split_is_exact() {
-        let mut p = PilotSample::new(4, 4);
+        let mut p = PilotSample::new(4, 4, Candidates::default());
         let c = Vec2::new(1.5, 1.5);
-        let ones = [1.0; CANDIDATES.len()];
+        let ones = [1.0; MAX_CANDIDATES];
         for i in 0..4 {
             p.book(c, false, 1.0, &ones);
             p.book(c, true, if i % 2 == 0 { 2.0 } else { 0.0 }, &ones);
-            p.finish_sample(c, PartCost::default(), PartCost::default());
+            p.finish_sample(
+                c,
+                PartCost::default(),
+                PartCost::default(),
+                PartCost::default(),
+            );
         }
         p.finish_pixel();
         let est = p.sums().estimates(&COST_WEIGHTS);
@@ -733,13 +916,13 @@ mod tests {
     /// A path neither makes is counted as missed. Tolerance: rounding.
     #[test]
     fn path_tracer_second_moment_by_reweighting() {
-        let mut p = PilotSample::new(4, 4);
+        let mut p = PilotSample::new(4, 4, Candidates::default());
         p.book_pt(2.0, 1.0, 1.0, &[1.0, 0.0], Some(1));
         assert!((p.sums().pt_m2 - 4.0).abs() < 1e-9);
-        let mut p = PilotSample::new(4, 4);
+        let mut p = PilotSample::new(4, 4, Candidates::default());
         p.book_pt(1.0, 0.5, 4.0, &[0.01, 0.0], None);
         assert!((p.sums().pt_m2 - 80.0).abs() < 1e-4, "{}", p.sums().pt_m2);
-        let mut p = PilotSample::new(4, 4);
+        let mut p = PilotSample::new(4, 4, Candidates::default());
         p.book_pt(3.0, 1.0, 1.0, &[1.0, 1.0], Some(1));
         assert!((p.sums().pt_m2 - 4.5).abs() < 1e-9);
         p.book_pt(3.0, 1.0, 1.0, &[0.0, 0.0], Some(1));
