@@ -519,7 +519,7 @@ fn the_pilot_predicts_the_variance_of_a_quarter() {
     for (name, scene) in [("cornell", cornell(64, 48)), ("window room", window_room())] {
         let choice = pilot(&scene, SamplerKind::Independent);
         let predicted =
-            choice.estimate(0.25).unwrap().variance / choice.estimate(1.0).unwrap().variance;
+            choice.estimate(0.25, 1).unwrap().variance / choice.estimate(1.0, 1).unwrap().variance;
         let (emitter, _, _, _) = view_masks(&scene).unwrap();
         let counted: Vec<bool> = emitter.iter().map(|e| !e).collect();
         let var = |q: f32| {
@@ -540,7 +540,7 @@ fn the_pilot_predicts_the_variance_of_a_quarter() {
         println!("{name}: Var(1/4)/Var(1) predicted {predicted:.3}, measured {measured:.3}");
         // The path tracer (`q = 0`): its variance per camera sample against BDPT's at q = 1.
         let pt_predicted =
-            choice.estimate(0.0).unwrap().variance / choice.estimate(1.0).unwrap().variance;
+            choice.estimate(0.0, 0).unwrap().variance / choice.estimate(1.0, 1).unwrap().variance;
         let pt_measured = var(0.0) / var1;
         println!("{name}: Var(0)/Var(1) predicted {pt_predicted:.3}, measured {pt_measured:.3}");
         let r0 = pt_predicted / pt_measured;
@@ -554,4 +554,18 @@ fn the_pilot_predicts_the_variance_of_a_quarter() {
             "{name}: predicted {predicted:.3} against measured {measured:.3}"
         );
     }
+}
+
+#[test]
+#[ignore]
+fn debug_estimates() {
+    let scene = glass_sphere();
+    let c = pilot_with(&scene, 3, false);
+    for e in &c.estimates {
+        println!(
+            "q {} L {} var {:.4e} cost {:.0} eff {:.3e}",
+            e.q, e.light_paths, e.variance, e.cost, e.efficiency
+        );
+    }
+    println!("{}", c.note(0.0));
 }

@@ -110,7 +110,7 @@ use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths, LANES};
 use fluorescent_mis::mis_weight_lanes;
 use glam::Vec2;
 use light_fraction::{
-    AltWeights, Candidates, Choice, LightSubpathCount, LightSubpaths, PartCost, PilotSample,
+    AltWeights, Candidates, Choice, LightSubpathCount, LightSubpaths, Part, PartCost, PilotSample,
     MAX_CANDIDATES,
 };
 use mis::{mis_weight_guided, s1_guide_key, SampleCounts};
@@ -1398,12 +1398,18 @@ impl Bdpt {
                     };
                     if seen.is_none_or(|v| v.light_index(scene).is_none()) {
                         // Each candidate's weight over the current one (and count, t = 1).
-                        let ratios = p.candidates().ratios(&alt.terms, (s, t), 0, w_mis);
+                        let ratios = p.candidates().ratios(&alt.terms, (s, t), w_mis);
                         let at = c.raster.unwrap_or(pixel_center);
-                        p.book(at, SampleCounts::uses_light_subpath(s, t), xyz[1], &ratios);
+                        let part = match (s, t) {
+                            (_, 1) => Part::LightTracing(0),
+                            (2.., _) => Part::Join,
+                            _ => Part::Camera,
+                        };
+                        p.book(at, part, xyz[1], &ratios);
                         let n = counts.count(s, t);
                         let own = c.raster.is_none().then_some(s + t - 2);
                         p.book_pt(xyz[1], c.weight[0], n, &alt.terms.pt_ratios, own);
+                        p.book_reweighted(xyz[1], c.weight[0], n, (s, t), Some(&alt.terms));
                     }
                 }
                 match c.raster {
@@ -1477,7 +1483,8 @@ impl Bdpt {
                         });
                     } else {
                         if let Some(p) = worker.pilot.as_mut() {
-                            p.book(pixel_center, false, xyz[1], &[1.0; MAX_CANDIDATES]);
+                            p.book(pixel_center, Part::Camera, xyz[1], &[1.0; MAX_CANDIDATES]);
+                            p.book_reweighted(xyz[1], 1.0, 1.0, (0, 0), None);
                         }
                         for k in 0..3 {
                             total[k] += xyz[k];
@@ -1537,7 +1544,8 @@ impl Bdpt {
                         return;
                     }
                     if let Some(p) = worker.pilot.as_mut() {
-                        p.book(m.raster, false, xyz[1], &[1.0; MAX_CANDIDATES]);
+                        p.book(m.raster, Part::Camera, xyz[1], &[1.0; MAX_CANDIDATES]);
+                        p.book_reweighted(xyz[1], 1.0, 1.0, (0, 0), None);
                     }
                     Self::record_splat(
                         splats,
@@ -1635,15 +1643,20 @@ impl Bdpt {
                     let cw = c.weight[0];
                     // Left out where the camera sees an emitter, as above.
                     if light_path[s - 1].light_index(scene).is_none() {
-                        let ratios = p.candidates().ratios(&alt.terms, (s, 1), j, cw);
-                        p.book(r, true, xyz[1], &ratios);
-                        p.book_pt(xyz[1], cw, counts.count(s, 1), &alt.terms.pt_ratios, None);
+                        let ratios = p.candidates().ratios(&alt.terms, (s, 1), cw);
+                        p.book(r, Part::LightTracing(j), xyz[1], &ratios);
+                        let n = counts.count(s, 1);
+                        p.book_pt(xyz[1], cw, n, &alt.terms.pt_ratios, None);
+                        p.book_reweighted(xyz[1], cw, n, (s, 1), Some(&alt.terms));
                     }
                 }
                 Self::record_splat(splats, strategies, pixel_max, r, xyz, Some((s, 1)));
                 if let Some(sf) = spectral {
                     sf.splat(r.x, r.y, &xyz, &w.energies(&(c.l * c.weight), c.lanes));
                 }
+            }
+            if let Some(p) = worker.pilot.as_mut() {
+                p.end_subpath();
             }
         }
         if let Some(p) = worker.pilot.as_mut() {

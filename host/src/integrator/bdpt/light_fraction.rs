@@ -155,17 +155,15 @@ impl Candidates {
     }
 
     /// The factors by which each candidate multiplies a pilot connection's weighted
-    /// contribution: strategy (s, t), for t = 1 from light subpath `j` (0: the first), with
-    /// weight `w_pilot` under the pilot's counts and `terms` its weight's parts. The
-    /// candidate's weight over the pilot's, and for t = 1 its count over the candidate's:
-    /// the pilot divides each t = 1 contribution by its `L_p` light subpaths, a candidate by
-    /// its own `L` (subpaths `j ≥ L` it does not trace: 0). The fraction's `1/q` is the
-    /// estimator's (`PilotSums::estimates`), not the booking's.
+    /// contribution: strategy (s, t) with weight `w_pilot` under the pilot's counts and `terms`
+    /// its weight's parts. The candidate's weight over the pilot's, and for t = 1 times the
+    /// pilot's count `L_p`: light tracing is booked per subpath, undivided (`l·w`), and
+    /// [`PilotSample::finish_sample`] forms each candidate's mean over its `L` subpaths. The
+    /// fraction's `1/q` is the estimator's (`PilotSums::estimates`), not the booking's.
     pub fn ratios(
         &self,
         terms: &PilotTerms,
         (s, t): (usize, usize),
-        j: u32,
         w_pilot: f32,
     ) -> [f64; MAX_CANDIDATES] {
         let mut out = [0.0; MAX_CANDIDATES];
@@ -174,13 +172,10 @@ impl Candidates {
         }
         let lp = self.pilot_paths() as f64;
         for (o, &(q, l)) in out.iter_mut().zip(self.list()) {
-            if t == 1 && j >= l {
-                continue;
-            }
             let w = terms.weight(s, t, counts(l, q));
             *o = (w / w_pilot) as f64;
             if t == 1 {
-                *o *= lp / l as f64;
+                *o *= lp;
             }
         }
         out
@@ -295,12 +290,45 @@ impl CostWeights {
     }
 }
 
-/// One pixel's bookings within the current camera sample.
+/// The part of a camera sample's estimate a pilot connection belongs to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Part {
+    /// Counted once per camera sample: s = 0, s = 1 with t ≥ 2, the chain connections.
+    Camera,
+    /// The first light subpath's joins (s ≥ 2, t ≥ 2).
+    Join,
+    /// Light tracing (t = 1) from light subpath `j` (0: the first).
+    LightTracing(u32),
+}
+
+/// One pixel's bookings within the current camera sample, per candidate: the camera part, the
+/// joins, and light tracing's single-subpath values (`l · w`, not divided by a count): the
+/// first subpath's, the current further subpath's, and the further subpaths' sum and sum of
+/// squares.
 #[derive(Clone, Copy, Debug)]
 struct Entry {
     pixel: u64,
     a: [f64; MAX_CANDIDATES],
-    c: [f64; MAX_CANDIDATES],
+    join: [f64; MAX_CANDIDATES],
+    t0: [f64; MAX_CANDIDATES],
+    current: [f64; MAX_CANDIDATES],
+    sum: [f64; MAX_CANDIDATES],
+    sum_sq: [f64; MAX_CANDIDATES],
+}
+
+impl Entry {
+    fn new(pixel: u64) -> Self {
+        let z = [0.0; MAX_CANDIDATES];
+        Self {
+            pixel,
+            a: z,
+            join: z,
+            t0: z,
+            current: z,
+            sum: z,
+            sum_sq: z,
+        }
+    }
 }
 
 /// The pilot's sums (additive over camera samples, reduced in a fixed order).
@@ -324,6 +352,9 @@ pub struct PilotSums {
     camera: PartCost,
     light: PartCost,
     further: PartCost,
+    /// Per candidate: Σ over the camera samples of its second moment reweighted from the
+    /// pilot's connections ([`PilotSample::book_reweighted`]).
+    reweighted: [f64; MAX_CANDIDATES],
     /// The path tracer's second moment of `Y` per camera sample, summed over the pilot's
     /// pixels, estimated from these BDPT samples ([`PilotSample::book_pt`]).
     pt_m2: f64,
@@ -346,6 +377,9 @@ impl PilotSums {
             }
         }
         for (m, o) in self.mean_sq.iter_mut().zip(&o.mean_sq) {
+            *m += o;
+        }
+        for (m, o) in self.reweighted.iter_mut().zip(&o.reweighted) {
             *m += o;
         }
         self.samples += o.samples;
@@ -384,8 +418,10 @@ impl PilotSums {
             .map(|(k, &(q, l))| {
                 let q64 = q as f64;
                 let m2 = |s: &[f64; 3]| s[0] + 2.0 * s[1] + s[2] / q64;
-                let variance =
+                let direct =
                     (m2(&self.own[k]) - n * self.mean_sq[k]) / (n - 1.0) + m2(&self.splat[k]) / n;
+                let reweighted = self.reweighted[k] / n - self.pt_mean_sq;
+                let variance = direct.max(reweighted);
                 let cost = cost_a + q64 * (cost_first + (l as f64 - 1.0) * cost_further);
                 let efficiency = 1.0 / (variance * cost);
                 Estimate {
@@ -462,25 +498,69 @@ impl PilotSample {
     }
 
     /// Books weighted luminance `y` (under the pilot's counts) of a connection landing at
-    /// raster position `at`, of the light-subpath class (`light`) or not, with each
-    /// candidate's factor ([`Candidates::ratios`]; 1 for the strategies no candidate changes).
-    pub fn book(&mut self, at: Vec2, light: bool, y: f64, ratios: &[f64; MAX_CANDIDATES]) {
+    /// raster position `at`, of part `part`, with each candidate's factor
+    /// ([`Candidates::ratios`]; 1 for the strategies no candidate changes).
+    pub fn book(&mut self, at: Vec2, part: Part, y: f64, ratios: &[f64; MAX_CANDIDATES]) {
         let pixel = self.pixel(at);
         let i = match self.entries.iter().position(|e| e.pixel == pixel) {
             Some(i) => i,
             None => {
-                self.entries.push(Entry {
-                    pixel,
-                    a: [0.0; MAX_CANDIDATES],
-                    c: [0.0; MAX_CANDIDATES],
-                });
+                self.entries.push(Entry::new(pixel));
                 self.entries.len() - 1
             }
         };
         let e = &mut self.entries[i];
-        let part = if light { &mut e.c } else { &mut e.a };
-        for (p, r) in part.iter_mut().zip(ratios) {
+        let to = match part {
+            Part::Camera => &mut e.a,
+            Part::Join => &mut e.join,
+            Part::LightTracing(0) => &mut e.t0,
+            Part::LightTracing(_) => &mut e.current,
+        };
+        for (p, r) in to.iter_mut().zip(ratios) {
             *p += y * r;
+        }
+    }
+
+    /// Books one pilot connection's share of every candidate's second moment: weighted
+    /// luminance `y`, weight `w` and count `n` under the pilot's counts, `(s, t)` and `terms`
+    /// its strategy and weight's parts (`None`: a chain connection, which no candidate
+    /// changes). Each candidate's second moment per camera sample is estimated from the
+    /// pilot's samples of every strategy ([`PilotTerms::second_moment`]), so the variance of
+    /// a strategy the pilot rarely samples but a candidate leans on (the camera path that
+    /// hits the lamp through glass, where few light subpaths leave a caustic to it) is seen
+    /// through the strategies that sample those paths well.
+    pub fn book_reweighted(
+        &mut self,
+        y: f64,
+        w: f32,
+        n: f32,
+        st: (usize, usize),
+        terms: Option<&PilotTerms>,
+    ) {
+        if !(w > 0.0) || y == 0.0 || !y.is_finite() {
+            return;
+        }
+        let candidates = self.sums.candidates;
+        for (m, &(q, l)) in self.sums.reweighted.iter_mut().zip(candidates.list()) {
+            *m += match terms {
+                Some(tm) => {
+                    y * y * n as f64 / w as f64 * tm.second_moment(st.0, st.1, counts(l, q))
+                }
+                None => y * y,
+            };
+        }
+    }
+
+    /// Ends a further light subpath (`j ≥ 1`) of the current camera sample: its per-pixel
+    /// values join the sum and the sum of squares.
+    pub fn end_subpath(&mut self) {
+        for e in &mut self.entries {
+            for k in 0..MAX_CANDIDATES {
+                let c = e.current[k];
+                e.sum[k] += c;
+                e.sum_sq[k] += c * c;
+                e.current[k] = 0.0;
+            }
         }
     }
 
@@ -526,19 +606,43 @@ impl PilotSample {
         further: PartCost,
     ) {
         let own = self.pixel(center);
+        let candidates = self.sums.candidates;
+        let lp = candidates.pilot_paths() as f64;
         for e in &self.entries {
-            let sums = if e.pixel == own {
-                for (k, p) in self.pixel_sum.iter_mut().enumerate() {
-                    *p += e.a[k] + e.c[k];
-                }
-                &mut self.sums.own
-            } else {
-                &mut self.sums.splat
-            };
-            for (k, sk) in sums.iter_mut().enumerate() {
+            let is_own = e.pixel == own;
+            for (k, &(_, l)) in candidates.list().iter().enumerate() {
+                // Light tracing over `L` subpaths, `T = (1/L)·Σ_{j<L} t_j`, from all `L_p` of
+                // the pilot: the t_j are exchangeable (the same distribution, independent
+                // given the camera sample's wavelengths), so E[T] = E[t],
+                // E[T²] = E[t²]/L + (1 − 1/L)·E[t_i·t_j], E[A·T] = E[A·t], and the joins,
+                // which share the first subpath, E[J·T] = (E[J·t₀] + (L − 1)·E[J·t_j])/L,
+                // j ≥ 1. Every candidate L reads every subpath (its first L alone gave the
+                // small L estimates of few samples, which rare bright splats decided).
+                let l = l as f64;
+                let total = e.t0[k] + e.sum[k];
+                let squares = e.t0[k] * e.t0[k] + e.sum_sq[k];
+                let mean = total / lp;
+                let (pairs, join_further) = if lp > 1.0 {
+                    (
+                        (total * total - squares) / (lp * (lp - 1.0)),
+                        e.join[k] * e.sum[k] / (lp - 1.0),
+                    )
+                } else {
+                    (0.0, 0.0)
+                };
+                let t2 = squares / lp / l + (1.0 - 1.0 / l) * pairs;
+                let jt = (e.join[k] * e.t0[k] + (l - 1.0) * join_further) / l;
+                let c = e.join[k] + mean;
+                let c2 = e.join[k] * e.join[k] + 2.0 * jt + t2;
+                let sk = if is_own {
+                    self.pixel_sum[k] += e.a[k] + c;
+                    &mut self.sums.own[k]
+                } else {
+                    &mut self.sums.splat[k]
+                };
                 sk[0] += e.a[k] * e.a[k];
-                sk[1] += e.a[k] * e.c[k];
-                sk[2] += e.c[k] * e.c[k];
+                sk[1] += e.a[k] * c;
+                sk[2] += c2;
             }
         }
         self.entries.clear();
@@ -741,30 +845,44 @@ pub struct Choice {
 }
 
 impl Choice {
-    /// The candidate of greatest estimated efficiency, the base candidate
-    /// ([`Candidates::base`]: `q = 1` with [`super::LIGHT_PATHS`] light subpaths where the
-    /// scene has delta surfaces) unless another beats it by [`MIN_GAIN`] (and the base when
-    /// the estimates are degenerate: no light, no variance); `q = 0` (`path_traced`, its
-    /// estimate) only where it beats every `q > 0` by [`MIN_GAIN`].
+    /// The pilot's choice in two steps, each keeping what it has unless another candidate is
+    /// estimated [`MIN_GAIN`] better: among the fractions at the base count (the base
+    /// candidate, [`Candidates::base`]: `q = 1` with [`super::LIGHT_PATHS`] light subpaths
+    /// where the scene has delta surfaces), then among all candidates (another count L). So a
+    /// count other than the base's is taken only where it beats the best fraction at the
+    /// base's count, not where it ties with it: a fraction and a count often trade for the
+    /// same expected number of light subpaths per camera sample (`q·L`), and with 20
+    /// candidates the largest of several near-equal noisy estimates would decide. The base
+    /// stays where the estimates are degenerate (no light, no variance). `q = 0`
+    /// (`path_traced`, its estimate) only where it beats every `q > 0` by [`MIN_GAIN`].
     pub fn from_sums(sums: &PilotSums, path_traced: Option<Estimate>) -> Self {
         let estimates = sums.estimates(&COST_WEIGHTS);
         let base = sums.candidates().base();
-        let base_eff = estimates
+        let usable =
+            |e: &&Estimate| e.efficiency.is_finite() && e.efficiency > 0.0 && e.variance > 0.0;
+        let best_of = |l: Option<u32>| {
+            estimates
+                .iter()
+                .filter(usable)
+                .filter(|e| l.is_none_or(|l| e.light_paths == l))
+                .max_by(|a, b| a.efficiency.total_cmp(&b.efficiency))
+        };
+        let mut kept = estimates
             .iter()
-            .find(|e| (e.q, e.light_paths) == base)
-            .map_or(f64::NAN, |e| e.efficiency);
-        let (mut q, mut light_paths) = base;
-        let best = estimates
-            .iter()
-            .filter(|e| e.efficiency.is_finite() && e.efficiency > 0.0 && e.variance > 0.0)
-            .max_by(|a, b| a.efficiency.total_cmp(&b.efficiency));
-        if base_eff.is_finite() && base_eff > 0.0 {
-            if let Some(b) = best {
-                if b.efficiency >= MIN_GAIN * base_eff {
-                    (q, light_paths) = (b.q, b.light_paths);
-                }
+            .filter(usable)
+            .find(|e| (e.q, e.light_paths) == base);
+        if let (Some(k), Some(b)) = (kept, best_of(Some(base.1))) {
+            if b.efficiency >= MIN_GAIN * k.efficiency {
+                kept = Some(b);
             }
         }
+        let best = best_of(None);
+        if let (Some(k), Some(b)) = (kept, best) {
+            if b.efficiency >= MIN_GAIN * k.efficiency {
+                kept = Some(b);
+            }
+        }
+        let (mut q, light_paths) = kept.map_or(base, |k| (k.q, k.light_paths));
         if let (Some(p), Some(b)) = (&path_traced, best) {
             let usable = p.efficiency.is_finite() && p.variance > 0.0 && p.cost > 0.0;
             if usable && p.efficiency >= MIN_GAIN * b.efficiency {
@@ -885,8 +1003,8 @@ mod tests {
         let c = Vec2::new(1.5, 1.5);
         let ones = [1.0; MAX_CANDIDATES];
         for i in 0..4 {
-            p.book(c, false, 1.0, &ones);
-            p.book(c, true, if i % 2 == 0 { 2.0 } else { 0.0 }, &ones);
+            p.book(c, Part::Camera, 1.0, &ones);
+            p.book(c, Part::Join, if i % 2 == 0 { 2.0 } else { 0.0 }, &ones);
             p.finish_sample(
                 c,
                 PartCost::default(),
