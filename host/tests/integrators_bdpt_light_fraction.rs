@@ -11,7 +11,9 @@ use spectrace::analysis::bench_fit::view_masks;
 use spectrace::integrator::bdpt::light_fraction::Choice;
 use spectrace::integrator::bdpt::{Bdpt, LIGHT_PATHS};
 use spectrace::integrator::driver::{Integrator, IntegratorOutput};
-use spectrace::integrator::{EffectsRequest, LightSubpaths, RenderPlan, SamplerKind};
+use spectrace::integrator::{
+    EffectsRequest, LightSubpathCount, LightSubpaths, RenderPlan, SamplerKind,
+};
 use spectrace::integrator::{PathTracer, RenderSettings, SampleBudget};
 use spectrace::scene::{build_scene, parse_scene_str, BuiltinFactory, Scene};
 use std::path::Path;
@@ -83,13 +85,41 @@ fn bdpt(scene: &Scene, strategy_images: bool) -> Bdpt {
 }
 
 fn plan(scene: &Scene, light_subpaths: LightSubpaths) -> RenderPlan {
+    plan_counted(scene, light_subpaths, LightSubpathCount::Auto)
+}
+
+/// The plan with the fraction and the number of light subpaths requested.
+fn plan_counted(
+    scene: &Scene,
+    light_subpaths: LightSubpaths,
+    light_subpath_count: LightSubpathCount,
+) -> RenderPlan {
     RenderPlan::new(
         scene,
         &EffectsRequest {
             light_subpaths,
+            light_subpath_count,
             ..Default::default()
         },
     )
+}
+
+/// A BDPT render with both the fraction and the number of light subpaths forced.
+fn render_counted(
+    scene: &Scene,
+    (q, l): (f32, u32),
+    settings: &RenderSettings,
+) -> IntegratorOutput {
+    let mut s = settings.clone();
+    s.tracer.max_depth = scene.options.max_depth;
+    let p = plan_counted(
+        scene,
+        LightSubpaths::Fraction(q),
+        LightSubpathCount::Count(l),
+    );
+    bdpt(scene, false)
+        .render(scene, &p, &s, &|_, _| {}, None)
+        .unwrap()
 }
 
 fn render(
@@ -556,16 +586,260 @@ fn the_pilot_predicts_the_variance_of_a_quarter() {
     }
 }
 
+/// `scenes/caustic.ron` (a glass ball on a diffuse floor under a quad lamp) at `w × h`.
+fn caustic(w: u32, h: u32) -> Scene {
+    let to = format!("resolution: ({w}, {h})");
+    scene(
+        "caustic.ron",
+        include_str!("../../scenes/caustic.ron"),
+        &[("resolution: (160, 120)", &to)],
+    )
+}
+
+/// The spectral caustic (`scenes/bench/spectral_caustic.ron`) at 80 × 60.
+fn spectral_caustic() -> Scene {
+    bench_scene(
+        "spectral_caustic.ron",
+        include_str!("../../scenes/bench/spectral_caustic.ron"),
+    )
+}
+
+/// Quantity: the mean luminance Y of `scenes/caustic.ron` (40 × 30) over the whole image and
+/// over its caustic core (the pixels brighter than 4× the median of the `L = 4` mean), BDPT
+/// with every camera sample tracing light subpaths (`q = 1`) and `L` = 1, 2, 8 of them forced,
+/// against `L = 4`, 12 seeds × 4 spp each, the standard errors from the seeds' spread.
+/// Tolerance: 4 standard errors of the difference in each region and count (a false failure
+/// about 4·10⁻⁴ over the six comparisons).
+///
+/// Why it can fail: each t = 1 contribution is divided by its count `L` and weighed by it in
+/// the power heuristic; a count that differs between the two (the division by the default 4
+/// while `L` subpaths are traced) moves the light-tracing share of the image by a factor
+/// `L/4`. The test checks that the light-tracing share (t = 1, from the strategy images of
+/// one `L = 4` render) is large enough that a factor of 2 on it moves the core's mean by more
+/// than 10 standard errors.
+#[test]
+fn every_light_subpath_count_keeps_the_mean() {
+    let scene = caustic(40, 30);
+    let seeds = 12u64;
+    let images = |l: u32| -> Vec<Vec<f64>> {
+        (0..seeds)
+            .map(|seed| {
+                luminance(&render_counted(
+                    &scene,
+                    (1.0, l),
+                    &settings(4, 200 + seed, None, SamplerKind::Sobol),
+                ))
+            })
+            .collect()
+    };
+    let base = images(4);
+    let npix = base[0].len();
+    let mean_image: Vec<f64> = (0..npix)
+        .map(|i| base.iter().map(|r| r[i]).sum::<f64>() / seeds as f64)
+        .collect();
+    let mut sorted = mean_image.clone();
+    sorted.sort_by(f64::total_cmp);
+    let median = sorted[npix / 2];
+    let core: Vec<bool> = mean_image.iter().map(|&m| m > 4.0 * median).collect();
+    let ncore = core.iter().filter(|&&c| c).count();
+    assert!(ncore >= 4, "no caustic core ({ncore} pixels)");
+    let region = |r: &[f64], core_only: bool| -> f64 {
+        let v: Vec<f64> = (0..npix)
+            .filter(|&i| !core_only || core[i])
+            .map(|i| r[i])
+            .collect();
+        v.iter().sum::<f64>() / v.len() as f64
+    };
+    let mut core_se = 0.0;
+    for l in [1u32, 2, 8] {
+        let other = images(l);
+        for (name, core_only) in [("image", false), ("core", true)] {
+            let a: Vec<f64> = base.iter().map(|r| region(r, core_only)).collect();
+            let b: Vec<f64> = other.iter().map(|r| region(r, core_only)).collect();
+            let (ma, sa) = mean_se(&a);
+            let (mb, sb) = mean_se(&b);
+            let se = (sa * sa + sb * sb).sqrt();
+            let z = (mb - ma) / se;
+            println!("{name}: L = 4 {ma:.5} ± {sa:.5}, L = {l} {mb:.5} ± {sb:.5}, z = {z:+.2}");
+            assert!(z.abs() < 4.0, "{name}, L = {l}: z = {z:.2}");
+            if core_only {
+                core_se = f64::max(core_se, se);
+            }
+        }
+    }
+    // The light-tracing share of the core (strategy images of one L = 4 render).
+    let mut s = settings(8, 99, None, SamplerKind::Sobol);
+    s.tracer.max_depth = scene.options.max_depth;
+    let p = plan_counted(
+        &scene,
+        LightSubpaths::Fraction(1.0),
+        LightSubpathCount::Count(4),
+    );
+    let o = bdpt(&scene, true)
+        .render(&scene, &p, &s, &|_, _| {}, None)
+        .unwrap();
+    let (mut t1, mut all) = (0.0, 0.0);
+    for ((_, t), img) in &o.strategy_images {
+        let y: f64 = (0..npix).filter(|&i| core[i]).map(|i| img.xyz[i][1]).sum();
+        all += y;
+        if *t == 1 {
+            t1 += y;
+        }
+    }
+    let share = t1 / all;
+    let shift = share * region(&mean_image, true);
+    println!(
+        "core: light-tracing share {share:.3}; a factor 2 on it moves the core by {:.1} SE",
+        shift / core_se
+    );
+    assert!(shift > 10.0 * core_se, "the test cannot see a wrong count");
+}
+
+/// The pilot's estimates for `scene` at render seed `seed` (candidates (q, L) and q = 0).
+fn pilot_estimates(scene: &Scene, seed: u64, sampler: SamplerKind) -> Choice {
+    let mut s = settings(1, seed, None, sampler);
+    s.tracer.max_depth = scene.options.max_depth;
+    bdpt(scene, false)
+        .light_fraction_pilot(scene, &plan(scene, LightSubpaths::Auto), &s)
+        .unwrap()
+        .expect("a pilot")
+}
+
+/// Quantity: the pilot's predicted variance ratio Var(q = 1, L = 1) / Var(q = 1, L = 4)
+/// and Var(q = 1, L = 8) / Var(q = 1, L = 4) against the ratios measured from renders at
+/// those counts (per-pixel variance over 8 seeds at 2 spp, summed over the pixels that do
+/// not see an emitter), on the spectral caustic and the glass-sphere caustic at 80 × 60, with
+/// independent numbers (the pilot treats samples as independent).
+///
+/// Tolerance: each predicted ratio within 1.3× of the measured one. The measured sums over
+/// ~4800 pixels from 8 seeds are heavy-tailed (a caustic's rare bright splats): a ratio's
+/// relative standard error is ~10%, so 1.3× is about 2.5 standard errors of the two sums
+/// together; a wrong count in the light-tracing moments (the candidate's mean over its L
+/// subpaths taken as one subpath, or the pilot's L_p = 8 for every candidate) moves the L = 1
+/// ratio by 2× or more.
+#[test]
+fn the_pilot_predicts_the_variance_of_other_counts() {
+    const SEEDS: u64 = 16;
+    const FIREFLY_SHARE: f64 = 0.9;
+    let mut results = Vec::new();
+    for (name, scene) in [
+        ("spectral caustic", spectral_caustic()),
+        ("glass sphere", glass_sphere()),
+    ] {
+        let choice = pilot_estimates(&scene, 3, SamplerKind::Independent);
+        let v = |l: u32| choice.estimate(1.0, l).unwrap().variances.0;
+        let (emitter, _, _, _) = view_masks(&scene).unwrap();
+        let counted: Vec<bool> = emitter.iter().map(|e| !e).collect();
+        let sets: Vec<(u32, Vec<Vec<f64>>)> = [1u32, 4, 8]
+            .into_iter()
+            .map(|l| {
+                let renders = (0..SEEDS)
+                    .map(|seed| {
+                        luminance(&render_counted(
+                            &scene,
+                            (1.0, l),
+                            &settings(2, 300 + seed, None, SamplerKind::Independent),
+                        ))
+                    })
+                    .collect();
+                (l, renders)
+            })
+            .collect();
+        // Firefly pixels: one seed carries most of the pixel's squared deviations in some set.
+        let mut kept = counted.clone();
+        for (_, renders) in &sets {
+            for (i, k) in kept.iter_mut().enumerate() {
+                let m = renders.iter().map(|r| r[i]).sum::<f64>() / SEEDS as f64;
+                let d: Vec<f64> = renders.iter().map(|r| (r[i] - m).powi(2)).collect();
+                let sum: f64 = d.iter().sum();
+                if d.iter().any(|&x| x > FIREFLY_SHARE * sum) {
+                    *k = false;
+                }
+            }
+        }
+        let dropped = (0..kept.len()).filter(|&i| counted[i] && !kept[i]).count();
+        println!("{name}: {dropped} firefly pixels left out");
+        let measured = |l: u32| {
+            let renders = &sets.iter().find(|(m, _)| *m == l).unwrap().1;
+            summed_variance(renders, &kept)
+        };
+        let m4 = measured(4);
+        for l in [1u32, 8] {
+            let predicted = v(l) / v(4);
+            let ml = measured(l);
+            let m = ml / m4;
+            let e = choice.estimate(1.0, l).unwrap();
+            println!(
+                "{name}: Var(L = {l})/Var(L = 4) predicted {predicted:.3}, measured {m:.3} \
+                 ({ml:.4e} / {m4:.4e}; estimates {:?} / {:?})",
+                e.variances,
+                choice.estimate(1.0, 4).unwrap().variances
+            );
+            results.push((name, l, predicted, m));
+        }
+    }
+    for (name, l, predicted, m) in results {
+        let r = predicted / m;
+        assert!(
+            (1.0 / 1.3..1.3).contains(&r),
+            "{name}, L = {l}: predicted {predicted:.3} against measured {m:.3}"
+        );
+    }
+}
+
 #[test]
 #[ignore]
 fn debug_estimates() {
-    let scene = glass_sphere();
-    let c = pilot_with(&scene, 3, false);
+    let name = std::env::var("LC_SCENE").unwrap_or("caustic".into());
+    let scene = match name.as_str() {
+        "caustic" => caustic(80, 60),
+        "spectral" => spectral_caustic(),
+        _ => glass_sphere(),
+    };
+    let seed: u64 = std::env::var("LC_SEED").map_or(3, |s| s.parse().unwrap());
+    let c = pilot_with(&scene, seed, false);
     for e in &c.estimates {
         println!(
-            "q {} L {} var {:.4e} cost {:.0} eff {:.3e}",
-            e.q, e.light_paths, e.variance, e.cost, e.efficiency
+            "q {} L {} var {:.4e} {:.4e} {:.4e} cost {:.0} eff {:.3e}",
+            e.q, e.light_paths, e.variance, e.variances.0, e.variances.1, e.cost, e.efficiency
         );
     }
     println!("{}", c.note(0.0));
+}
+
+#[test]
+#[ignore]
+fn debug_measured() {
+    let scene = if std::env::var("LC_SCENE").is_ok_and(|s| s == "glass") {
+        glass_sphere()
+    } else {
+        spectral_caustic()
+    };
+    let l: u32 = std::env::var("LC_L").map_or(4, |s| s.parse().unwrap());
+    let (emitter, _, w, _) = view_masks(&scene).unwrap();
+    let renders: Vec<Vec<f64>> = (0..8)
+        .map(|seed| {
+            luminance(&render_counted(
+                &scene,
+                (1.0, l),
+                &settings(2, 300 + seed, None, SamplerKind::Independent),
+            ))
+        })
+        .collect();
+    let n = renders.len() as f64;
+    let mut v: Vec<(f64, usize, f64)> = (0..emitter.len())
+        .filter(|&i| !emitter[i])
+        .map(|i| {
+            let m = renders.iter().map(|r| r[i]).sum::<f64>() / n;
+            let var = renders.iter().map(|r| (r[i] - m).powi(2)).sum::<f64>() / (n - 1.0);
+            (var, i, m)
+        })
+        .collect();
+    let total: f64 = v.iter().map(|x| x.0).sum();
+    v.sort_by(|a, b| b.0.total_cmp(&a.0));
+    println!("total {total:.4e}");
+    for (var, i, m) in v.iter().take(15) {
+        let vals: Vec<String> = renders.iter().map(|r| format!("{:.2}", r[*i])).collect();
+        println!("({}, {}) var {var:.3e} ({:.1}%) mean {m:.3} {}", i % w as usize, i / w as usize, 100.0 * var / total, vals.join(" "));
+    }
 }

@@ -428,6 +428,7 @@ impl PilotSums {
                     q,
                     light_paths: l,
                     variance,
+                    variances: (direct, reweighted),
                     cost,
                     efficiency,
                 }
@@ -445,6 +446,9 @@ pub struct Estimate {
     pub light_paths: u32,
     /// Summed per-pixel variance of one camera sample's luminance (the pilot's pixels).
     pub variance: f64,
+    /// Its two estimates (`variance` is the larger): from the pilot's own-pixel and splat
+    /// moments, and from the second moment reweighted from every strategy's samples.
+    pub variances: (f64, f64),
     /// Cost per camera sample (instructions, [`COST_WEIGHTS`]).
     pub cost: f64,
     /// `1 / (variance · cost)`.
@@ -804,6 +808,7 @@ impl PtPilotSums {
             q: 0.0,
             light_paths: 0,
             variance,
+            variances: self.variances(bdpt),
             cost,
             efficiency: 1.0 / (variance * cost),
         }
