@@ -1409,7 +1409,6 @@ impl Bdpt {
                         let n = counts.count(s, t);
                         let own = c.raster.is_none().then_some(s + t - 2);
                         p.book_pt(xyz[1], c.weight[0], n, &alt.terms.pt_ratios, own);
-                        p.book_reweighted(xyz[1], c.weight[0], n, (s, t), Some(&alt.terms));
                     }
                 }
                 match c.raster {
@@ -1484,7 +1483,6 @@ impl Bdpt {
                     } else {
                         if let Some(p) = worker.pilot.as_mut() {
                             p.book(pixel_center, Part::Camera, xyz[1], &[1.0; MAX_CANDIDATES]);
-                            p.book_reweighted(xyz[1], 1.0, 1.0, (0, 0), None);
                         }
                         for k in 0..3 {
                             total[k] += xyz[k];
@@ -1545,7 +1543,6 @@ impl Bdpt {
                     }
                     if let Some(p) = worker.pilot.as_mut() {
                         p.book(m.raster, Part::Camera, xyz[1], &[1.0; MAX_CANDIDATES]);
-                        p.book_reweighted(xyz[1], 1.0, 1.0, (0, 0), None);
                     }
                     Self::record_splat(
                         splats,
@@ -1647,7 +1644,6 @@ impl Bdpt {
                         p.book(r, Part::LightTracing(j), xyz[1], &ratios);
                         let n = counts.count(s, 1);
                         p.book_pt(xyz[1], cw, n, &alt.terms.pt_ratios, None);
-                        p.book_reweighted(xyz[1], cw, n, (s, 1), Some(&alt.terms));
                     }
                 }
                 Self::record_splat(splats, strategies, pixel_max, r, xyz, Some((s, 1)));

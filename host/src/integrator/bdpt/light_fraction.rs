@@ -93,6 +93,15 @@ pub const CANDIDATES: [f32; 5] = [1.0, 0.5, 0.25, 0.125, 0.0625];
 /// surfaces (`super::light_paths_for`; elsewhere 1).
 pub const COUNTS: [u32; 4] = [1, 2, 4, 8];
 
+/// Fewest light subpaths per camera sample (`q·L`) of a candidate where the pilot compares
+/// counts: today's smallest without the count (q = 1/16 with 4 subpaths). Why: the pilot sees
+/// the variance of the paths its own samples make. A candidate with few light subpaths hands
+/// a caustic to the camera paths that hit the lamp through glass (s = 0), which the pilot's
+/// few thousand camera samples rarely make: its estimate of those candidates falls where
+/// their variance rises (the glass sphere: variance estimated 5× lower at q = 1/16, L = 1
+/// than at q = 1, L = 1, so that candidate looked 4× as efficient as the base).
+pub const MIN_EXPECTED_SUBPATHS: f32 = 0.25;
+
 /// Most candidates (q, L) a pilot compares.
 pub const MAX_CANDIDATES: usize = CANDIDATES.len() * COUNTS.len();
 
@@ -114,18 +123,23 @@ impl Default for Candidates {
 }
 
 impl Candidates {
-    /// Every pair of `fractions` × `counts` (each non-empty, at most [`CANDIDATES`] and
+    /// The pairs of `fractions` × `counts` (each non-empty, at most [`CANDIDATES`] and
     /// [`COUNTS`] long), the base being the first fraction with `base_count` (or the count
-    /// nearest to it).
+    /// nearest to it). Where the counts are compared (more than one), the pairs with fewer
+    /// than [`MIN_EXPECTED_SUBPATHS`] light subpaths per camera sample (`q·L`) are left out,
+    /// except the first fraction's.
     pub fn new(fractions: &[f32], counts: &[u32], base_count: u32) -> Self {
         assert!(!fractions.is_empty() && !counts.is_empty());
         assert!(fractions.len() * counts.len() <= MAX_CANDIDATES);
         let mut list = [(1.0, 1); MAX_CANDIDATES];
         let mut len = 0;
         for &l in counts {
-            for &q in fractions {
-                list[len] = (q, l.max(1));
-                len += 1;
+            for (i, &q) in fractions.iter().enumerate() {
+                let few = counts.len() > 1 && q * (l as f32) < MIN_EXPECTED_SUBPATHS;
+                if i == 0 || !few {
+                    list[len] = (q, l.max(1));
+                    len += 1;
+                }
             }
         }
         let l0 = *counts
@@ -352,9 +366,6 @@ pub struct PilotSums {
     camera: PartCost,
     light: PartCost,
     further: PartCost,
-    /// Per candidate: Σ over the camera samples of its second moment reweighted from the
-    /// pilot's connections ([`PilotSample::book_reweighted`]).
-    reweighted: [f64; MAX_CANDIDATES],
     /// The path tracer's second moment of `Y` per camera sample, summed over the pilot's
     /// pixels, estimated from these BDPT samples ([`PilotSample::book_pt`]).
     pt_m2: f64,
@@ -377,9 +388,6 @@ impl PilotSums {
             }
         }
         for (m, o) in self.mean_sq.iter_mut().zip(&o.mean_sq) {
-            *m += o;
-        }
-        for (m, o) in self.reweighted.iter_mut().zip(&o.reweighted) {
             *m += o;
         }
         self.samples += o.samples;
@@ -418,17 +426,14 @@ impl PilotSums {
             .map(|(k, &(q, l))| {
                 let q64 = q as f64;
                 let m2 = |s: &[f64; 3]| s[0] + 2.0 * s[1] + s[2] / q64;
-                let direct =
+                let variance =
                     (m2(&self.own[k]) - n * self.mean_sq[k]) / (n - 1.0) + m2(&self.splat[k]) / n;
-                let reweighted = self.reweighted[k] / n - self.pt_mean_sq;
-                let variance = direct.max(reweighted);
                 let cost = cost_a + q64 * (cost_first + (l as f64 - 1.0) * cost_further);
                 let efficiency = 1.0 / (variance * cost);
                 Estimate {
                     q,
                     light_paths: l,
                     variance,
-                    variances: (direct, reweighted),
                     cost,
                     efficiency,
                 }
@@ -446,9 +451,6 @@ pub struct Estimate {
     pub light_paths: u32,
     /// Summed per-pixel variance of one camera sample's luminance (the pilot's pixels).
     pub variance: f64,
-    /// Its two estimates (`variance` is the larger): from the pilot's own-pixel and splat
-    /// moments, and from the second moment reweighted from every strategy's samples.
-    pub variances: (f64, f64),
     /// Cost per camera sample (instructions, [`COST_WEIGHTS`]).
     pub cost: f64,
     /// `1 / (variance · cost)`.
@@ -522,36 +524,6 @@ impl PilotSample {
         };
         for (p, r) in to.iter_mut().zip(ratios) {
             *p += y * r;
-        }
-    }
-
-    /// Books one pilot connection's share of every candidate's second moment: weighted
-    /// luminance `y`, weight `w` and count `n` under the pilot's counts, `(s, t)` and `terms`
-    /// its strategy and weight's parts (`None`: a chain connection, which no candidate
-    /// changes). Each candidate's second moment per camera sample is estimated from the
-    /// pilot's samples of every strategy ([`PilotTerms::second_moment`]), so the variance of
-    /// a strategy the pilot rarely samples but a candidate leans on (the camera path that
-    /// hits the lamp through glass, where few light subpaths leave a caustic to it) is seen
-    /// through the strategies that sample those paths well.
-    pub fn book_reweighted(
-        &mut self,
-        y: f64,
-        w: f32,
-        n: f32,
-        st: (usize, usize),
-        terms: Option<&PilotTerms>,
-    ) {
-        if !(w > 0.0) || y == 0.0 || !y.is_finite() {
-            return;
-        }
-        let candidates = self.sums.candidates;
-        for (m, &(q, l)) in self.sums.reweighted.iter_mut().zip(candidates.list()) {
-            *m += match terms {
-                Some(tm) => {
-                    y * y * n as f64 / w as f64 * tm.second_moment(st.0, st.1, counts(l, q))
-                }
-                None => y * y,
-            };
         }
     }
 
@@ -808,7 +780,6 @@ impl PtPilotSums {
             q: 0.0,
             light_paths: 0,
             variance,
-            variances: self.variances(bdpt),
             cost,
             efficiency: 1.0 / (variance * cost),
         }

@@ -183,13 +183,6 @@ pub struct PilotTerms {
     /// What the sum is divided by besides the strategy's own scale: the next-event factor
     /// when the strategy is s = 1, t ≥ 2 (see [`mis_weight_guided`]), else 1.
     pub own: f32,
-    /// The same sums of `r^{3/2}` (each term `r` a squared density ratio): for
-    /// [`PilotTerms::second_moment`].
-    pub unit3: f32,
-    /// See [`unit3`](Self::unit3).
-    pub join3: f32,
-    /// See [`unit3`](Self::unit3).
-    pub t1_3: f32,
 }
 
 impl PilotTerms {
@@ -204,37 +197,6 @@ impl PilotTerms {
         let w = 1.0 / (1.0 + sum);
         if w.is_finite() {
             w
-        } else {
-            0.0
-        }
-    }
-}
-
-impl PilotTerms {
-    /// The second moment per camera sample that sample counts `counts` give this path, over
-    /// what this sample contributes (`x = l·w/n`, `w` its weight and `n` its count under the
-    /// counts it was sampled with), times `x²·n/w`: `√r·Σᵢ hᵢ²·rᵢ^{3/2}/nᵢ / (Σᵢ hᵢ·rᵢ)²`
-    /// over the strategies i that make the path, `rᵢ` their squared densities relative to this
-    /// chain's, `hᵢ` their heuristic scales ([`heuristic_scale`]) and `nᵢ` their counts under
-    /// `counts`, `r` this strategy's own. Why: with MIS weights `wᵢ = hᵢpᵢ²/Σ hₘpₘ²` and `nᵢ`
-    /// samples of strategy i per camera sample, the estimate's second moment (without the
-    /// cross terms of different samples) is `∫ f²·Σᵢ wᵢ²/(nᵢpᵢ)`, which any strategy's samples
-    /// estimate with their own weight: `w·g/(n·p)` per sample of density `p`.
-    pub fn second_moment(&self, s: usize, t: usize, counts: SampleCounts) -> f64 {
-        let q = counts.fraction as f64;
-        let h_t1 = heuristic_scale(1, 1, counts) as f64;
-        let n_t1 = counts.count(1, 1) as f64;
-        let h_own = heuristic_scale(s, t, counts) as f64;
-        let n_own = counts.count(s, t) as f64;
-        let own = self.own as f64;
-        let d = h_own * own + self.unit as f64 + self.join as f64 * q * q + self.t1 as f64 * h_t1;
-        let n = h_own * h_own * own * own.sqrt() / n_own
-            + self.unit3 as f64
-            + self.join3 as f64 * q * q * q
-            + self.t1_3 as f64 * h_t1 * h_t1 / n_t1;
-        let g = own.sqrt() * n / (d * d);
-        if g.is_finite() {
-            g
         } else {
             0.0
         }
@@ -421,16 +383,12 @@ fn mis_weight_in<const FRACTION: bool, const GUIDED: bool>(
             sum += ri * nee_here * scale / own_scale;
             if let Some(p) = pilot.as_deref_mut() {
                 let r = ri * nee_here;
-                let r3 = r * r.sqrt();
                 if i == 1 {
                     p.t1 += r;
-                    p.t1_3 += r3;
                 } else if s + t - i >= 2 {
                     p.join += r;
-                    p.join3 += r3;
                 } else {
                     p.unit += r;
-                    p.unit3 += r3;
                 }
                 if s + t - i <= 1 {
                     p.pt_ratios[s + t - i] = ri * nee_here;
@@ -452,13 +410,10 @@ fn mis_weight_in<const FRACTION: bool, const GUIDED: bool>(
             let nee_here = if i == 1 { nee } else { 1.0 };
             if let Some(p) = pilot.as_deref_mut() {
                 let r = ri * nee_here;
-                let r3 = r * r.sqrt();
                 if i >= 2 {
                     p.join += r;
-                    p.join3 += r3;
                 } else {
                     p.unit += r;
-                    p.unit3 += r3;
                     p.pt_ratios[i] = r;
                 }
             }
