@@ -262,8 +262,9 @@ fn a_quarter_of_the_light_subpaths_keeps_the_mean() {
     );
 }
 
-/// Quantity: the image and the pilot's note of the window room (80 × 60, 2 spp, `auto`) on one
-/// and on two threads. Tolerance: none (the pilot runs fixed chunks reduced in order under its
+/// Quantity: the image and the pilot's note of the window room (80 × 60, 2 spp, `auto`) and
+/// of the prism (80 × 60, 2 spp, `auto`: the pilot chooses 8 light subpaths) on one and on two
+/// threads. Tolerance: none (the pilot runs fixed chunks reduced in order under its
 /// own seed, the render's numbers are per pixel and sample). The note must show a fraction
 /// below 1, so the path with the fraction's dimension is what is compared.
 #[test]
@@ -295,6 +296,23 @@ fn auto_is_the_same_on_one_and_two_threads() {
     let stable = |s: String| s.split(", pilot").next().unwrap_or("").to_string();
     assert_eq!(stable(note(&a)), stable(note(&b)));
     assert!(a.result.image.xyz == b.result.image.xyz, "images differ");
+    // And where the pilot chooses the number of light subpaths too (the prism: L = 8).
+    let prism = prism();
+    let [a, b] = [1, 2].map(|threads| {
+        render(
+            &prism,
+            LightSubpaths::Auto,
+            &settings(2, 7, Some(threads), SamplerKind::Sobol),
+            false,
+        )
+    });
+    println!("{}", note(&a));
+    assert!(note(&a).contains("L = 8"), "prism: {}", note(&a));
+    assert_eq!(stable(note(&a)), stable(note(&b)));
+    assert!(
+        a.result.image.xyz == b.result.image.xyz,
+        "prism: images differ"
+    );
 }
 
 fn pilot(scene: &Scene, sampler: SamplerKind) -> Choice {
@@ -847,7 +865,11 @@ fn the_pilot_chooses_the_number_of_light_subpaths() {
         let c = pilot_with(&prism(), seed, false);
         println!("prism, seed {seed}: {}", c.note(0.0));
         assert_eq!((c.q, c.light_paths), (1.0, 8), "prism, seed {seed}");
-        assert!(c.gain() >= 1.15, "prism, seed {seed}: margin {:.2}", c.gain());
+        assert!(
+            c.gain() >= 1.15,
+            "prism, seed {seed}: margin {:.2}",
+            c.gain()
+        );
         for (name, scene) in &kept {
             let c = pilot_with(scene, seed, false);
             let at4 = best_at(&c, 4);
@@ -866,69 +888,9 @@ fn the_pilot_chooses_the_number_of_light_subpaths() {
     }
     for (name, seed, l, one) in results {
         assert_eq!(l, 4, "{name}, seed {seed}");
-        assert!(one < 0.95, "{name}, seed {seed}: L = 1 at {one:.2} of L = 4");
-    }
-}
-
-#[test]
-#[ignore]
-fn debug_estimates() {
-    let name = std::env::var("LC_SCENE").unwrap_or("caustic".into());
-    let scene = match name.as_str() {
-        "caustic" => caustic(80, 60),
-        "spectral" => spectral_caustic(),
-        _ => glass_sphere(),
-    };
-    let seed: u64 = std::env::var("LC_SEED").map_or(3, |s| s.parse().unwrap());
-    let c = pilot_with(&scene, seed, false);
-    for e in &c.estimates {
-        println!(
-            "q {} L {} var {:.4e} cost {:.0} eff {:.3e}",
-            e.q, e.light_paths, e.variance, e.cost, e.efficiency
-        );
-    }
-    println!("{}", c.note(0.0));
-}
-
-#[test]
-#[ignore]
-fn debug_measured() {
-    let scene = if std::env::var("LC_SCENE").is_ok_and(|s| s == "glass") {
-        glass_sphere()
-    } else {
-        spectral_caustic()
-    };
-    let l: u32 = std::env::var("LC_L").map_or(4, |s| s.parse().unwrap());
-    let (emitter, _, w, _) = view_masks(&scene).unwrap();
-    let renders: Vec<Vec<f64>> = (0..8)
-        .map(|seed| {
-            luminance(&render_counted(
-                &scene,
-                (1.0, l),
-                &settings(2, 300 + seed, None, SamplerKind::Independent),
-            ))
-        })
-        .collect();
-    let n = renders.len() as f64;
-    let mut v: Vec<(f64, usize, f64)> = (0..emitter.len())
-        .filter(|&i| !emitter[i])
-        .map(|i| {
-            let m = renders.iter().map(|r| r[i]).sum::<f64>() / n;
-            let var = renders.iter().map(|r| (r[i] - m).powi(2)).sum::<f64>() / (n - 1.0);
-            (var, i, m)
-        })
-        .collect();
-    let total: f64 = v.iter().map(|x| x.0).sum();
-    v.sort_by(|a, b| b.0.total_cmp(&a.0));
-    println!("total {total:.4e}");
-    for (var, i, m) in v.iter().take(15) {
-        let vals: Vec<String> = renders.iter().map(|r| format!("{:.2}", r[*i])).collect();
-        println!(
-            "({}, {}) var {var:.3e} ({:.1}%) mean {m:.3} {}",
-            i % w as usize,
-            i / w as usize,
-            100.0 * var / total,
-            vals.join(" ")
+        assert!(
+            one < 0.95,
+            "{name}, seed {seed}: L = 1 at {one:.2} of L = 4"
         );
     }
 }
