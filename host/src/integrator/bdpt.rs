@@ -39,15 +39,16 @@
 //! connection in its own fixed block of dimensions ([`dimensions`]), so a pixel's samples are
 //! stratified in the first bounces and next-event estimates too.
 //!
-//! Light subpaths: in a scene with delta surfaces (caustics), each camera sample traces
-//! [`LIGHT_PATHS`] of them ([`light_paths_for`]), otherwise one. The first is joined to every
+//! Light subpaths: a camera sample that traces them traces `L`: the first is joined to every
 //! camera-subpath prefix; all of them are joined to the camera (t = 1), which the power
-//! heuristic then counts as that many samples (see [`LIGHT_PATHS`]).
+//! heuristic then counts as that many samples (see [`LIGHT_PATHS`]). `L` is chosen per scene
+//! by the pilot of [`light_fraction`] among 1, 2, 4 and 8 in a scene with delta surfaces
+//! (caustics, [`light_paths_for`]), otherwise 1 (`--effect light-subpath-count=auto|N`).
 //!
 //! Light-subpath fraction: a camera sample traces its light subpaths only with probability `q`
-//! (`--effect light-subpaths=auto|Q`; `auto` chooses `q` per scene by a short pilot); the
+//! (`--effect light-subpaths=auto|Q`; `auto` chooses `q` per scene by the same pilot); the
 //! strategies that use them are divided by their expected count and weighted by it
-//! ([`mis::SampleCounts`], [`light_fraction`]). `q = 1` renders exactly as before. `q = 0`
+//! ([`mis::SampleCounts`], [`light_fraction`]). `q = 1` traces them in every sample. `q = 0`
 //! (chosen by the pilot, or forced, where path tracing samples every path BDPT does) traces no
 //! light subpaths and hands the render to the path tracer ([`path_traced`]), whose estimator is
 //! BDPT's s = 0 and s = 1 at less cost per camera sample.
@@ -173,7 +174,10 @@ pub struct Bdpt {
     pub light_paths: u32,
 }
 
-/// Light subpaths traced per camera sample (see [`Bdpt::light_paths`]).
+/// Light subpaths per camera sample that traces them, in a scene with delta surfaces, where
+/// nothing chooses it: the pilot's base candidate (kept unless another count is estimated
+/// [`light_fraction::MIN_GAIN_COUNT`] better), and the count with beams-only lights or
+/// fluorescence (no pilot) unless `--effect light-subpath-count=N` gives one.
 ///
 /// Why more than one: a camera sample of BDPT (camera subpath, its connections, the
 /// specular-chain strategies) costs several light paths of `lt` (callgrind: 4.0× on
@@ -181,35 +185,35 @@ pub struct Bdpt {
 /// diffuse surface is made by the light-tracing strategy alone: with one light subpath per
 /// camera sample, BDPT's efficiency in that caustic's core was 0.22× that of `lt`. Each
 /// further light subpath is joined to the camera only (t = 1), the cheap part of a light
-/// path's use, and the power heuristic counts the t = 1 strategy `light_paths` times (Veach
-/// 1997, §9.2: the heuristic over `nᵢ·pᵢ`; [`mis::heuristic_scale`]) while each t = 1
-/// contribution is divided by `light_paths`: the estimate stays unbiased and the images
-/// deterministic (the subpaths draw from the camera sample's own sequence).
+/// path's use, and the power heuristic counts the t = 1 strategy `L` times (Veach 1997, §9.2:
+/// the heuristic over `nᵢ·pᵢ`; [`mis::heuristic_scale`]) while each t = 1 contribution is
+/// divided by `L`: the estimate stays unbiased and the images deterministic (the subpaths
+/// draw from the camera sample's own sequence).
 ///
-/// Why 4 (docs/performance.md, "BDPT and its own strategies": instruction counts and
-/// variances per region): it raises BDPT's efficiency in the caustic cores of the glass
-/// sphere and the spectral caustic 2.4× and 2.6×, and costs the lamp images seen in the
-/// glass 1.6–1.7×, where BDPT stays 3.5× or more ahead of path tracing.
+/// The pilot's candidates are `L` ∈ [`light_fraction::COUNTS`] (1, 2, 4, 8) × the fractions
+/// `q`. Measured (efficiency 1/(variance·instructions) relative to `q = 1, L = 4`: per-pixel
+/// variance of Y over the pixels that see no emitter, 16 seeds × 4 spp at 80 × 60; instructions
+/// per camera sample from callgrind, 3 spp minus 1 spp at 64 × 48, `--threads 1`, seed 3;
+/// predicted: the pilot at 160 × 120, seed 3; auto's choice the same at 80 × 60, seeds 1–4):
 ///
-/// Counts 1, 2, 4 and 8 compared (efficiency 1/(MSE·cost) relative to 4: MSE at 32 spp,
-/// 160×120, against the Mitsuba references, 8–12 seeds, the references' own noise from their
-/// two halves subtracted; cost from callgrind instruction counts of the render at 40×30, 8 spp;
-/// "core" is the largest component of pixels brighter than 4× the median, the floor caustic):
+/// | scene                        | auto's (q, L) | candidate        | predicted | measured |
+/// |------------------------------|---------------|------------------|-----------|----------|
+/// | `prism.ron`                  | (1, 8)        | (1, 8)           | 1.24      | 1.29     |
+/// | `bench/glass_sphere_mesh.ron`| (1, 4)        | (1, 8)           | 0.91 (80 × 60: 1.00–1.06) | 0.98 |
+/// |                              |               | (1, 1)           | 0.65      | 0.52     |
+/// | `caustic.ron`                | (½, 4)        | (½, 4)           | 1.19      | 1.44     |
+/// |                              |               | (1, 8)           | 0.66      | 0.63     |
+/// | `bench/spectral_caustic.ron` | (½ or ¼, 4)   | (½, 4)           | 1.19      | 1.43     |
+/// |                              |               | (1, 1)           | 1.11      | 1.62     |
 ///
-/// | scene                            | region | 1    | 2    | 4 | 8    |
-/// |----------------------------------|--------|------|------|---|------|
-/// | `bench/glass_sphere_mesh.ron`    | core   | 0.47 | 0.72 | 1 | 1.27 |
-/// |                                  | rest   | 1.09 | 1.16 | 1 | 0.71 |
-/// |                                  | all    | 0.78 | 0.97 | 1 | 0.83 |
-/// | `bench/spectral_caustic.ron`     | core   | 1.51 | 1.34 | 1 | 0.66 |
-/// |                                  | rest   | 1.63 | 1.37 | 1 | 0.64 |
-///
-/// Cost per camera sample relative to one light subpath: 1.20, 1.59, 2.38 (glass sphere) and
-/// 1.25, 1.74, 2.73 (spectral caustic) for 2, 4, 8. On the glass sphere 4 is the best of the
-/// four over the whole image and its caustic wants more; on the spectral caustic the extra
-/// subpaths lower the core's variance by only 13% (luminance and colour alike: most of it does
-/// not come from the t = 1 strategy) and one subpath is best everywhere. No count is best on
-/// both: 4 stays.
+/// Instructions per camera sample: prism 23.8 k / 38.7 k (L = 4 / 8); glass sphere 22.7 k,
+/// 27.1 k, 35.7 k, 52.0 k (L = 1, 2, 4, 8); spectral caustic 23.4 k, 29.1 k, 40.2 k, 61.1 k,
+/// at (½, 4) 27.7 k; `caustic.ron` 32.4 k, 52.5 k (L = 4, 8), at (½, 4) 21.3 k. Only the
+/// prism (light tracing alone makes its image) changes `L`; elsewhere another count is
+/// estimated within 1.15× of the best fraction at `L = 4`, and the fraction takes most of
+/// what the count would (the pilot's efficiencies depend mostly on `q·L`, the expected number
+/// of light subpaths per camera sample). On the spectral caustic `L = 1` at `q = 1` is
+/// measured 1.13× auto's `(½, 4)` but estimated below it.
 pub const LIGHT_PATHS: u32 = 4;
 
 /// Light subpaths per camera sample that `bdpt` traces in `scene`: `light_paths` when some

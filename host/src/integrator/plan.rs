@@ -838,6 +838,28 @@ mod tests {
         assert!(e.contains("unknown effect") && e.contains("sparkle"), "{e}");
         let e = EffectsRequest::parse(EffectsMode::Auto, &["dispersion=maybe".into()]).unwrap_err();
         assert!(e.contains("maybe"), "{e}");
+        // The count of light subpaths: auto or 1..=64, the error naming the value; it enters
+        // the settings' key only when forced (older keys stay as they were).
+        let r = EffectsRequest::parse(
+            EffectsMode::Auto,
+            &[
+                "light-subpath-count=2".into(),
+                "light_subpath_count=8".into(),
+            ],
+        )
+        .unwrap();
+        assert_eq!(r.light_subpath_count, LightSubpathCount::Count(8));
+        assert!(r.key().ends_with("light-subpath-count=8"), "{}", r.key());
+        assert_eq!(
+            EffectsRequest::parse(EffectsMode::Auto, &[]).unwrap().key(),
+            "Auto[]"
+        );
+        for bad in ["0", "65", "2.5", "four", "-1"] {
+            let e =
+                EffectsRequest::parse(EffectsMode::Auto, &[format!("light-subpath-count={bad}")])
+                    .unwrap_err();
+            assert!(e.contains(&format!("light-subpath-count={bad}")), "{e}");
+        }
         let e = EffectsRequest::parse(EffectsMode::Auto, &["dispersion".into()]).unwrap_err();
         assert!(e.contains("NAME=on"), "{e}");
     }

@@ -1,41 +1,50 @@
-//! The fraction `q` of BDPT's camera samples that trace light subpaths, and the pilot that
-//! chooses it per scene (after Grittmann, Yazici, Georgiev, Slusallek 2022, "Efficiency-aware
-//! multiple importance sampling for bidirectional rendering algorithms", ACM TOG 41(4) 80:
-//! choose the sample counts of the techniques by a variance-times-cost estimate from a short
-//! pilot, and weigh the techniques by those counts). Their candidates include no light paths
-//! at all: their renderer starts with unidirectional path tracing and enables bidirectional
-//! techniques where the estimate says they pay, computing the efficiency of other
-//! combinations from one combination's samples. Here the limit `q = 0` is that candidate
-//! (`super::path_traced`: the path tracer renders the image), where path tracing samples every
-//! path BDPT does.
+//! The fraction `q` of BDPT's camera samples that trace light subpaths and the number `L` each
+//! traces, and the pilot that chooses them per scene (after Grittmann, Yazici, Georgiev,
+//! Slusallek 2022, "Efficiency-aware multiple importance sampling for bidirectional rendering
+//! algorithms", ACM TOG 41(4) 80: choose the sample counts of the techniques, the number of
+//! light paths among them, by a variance-times-cost estimate from a short pilot, and weigh the
+//! techniques by those counts). Their candidates include no light paths at all: their renderer
+//! starts with unidirectional path tracing and enables bidirectional techniques where the
+//! estimate says they pay, computing the efficiency of other combinations from one
+//! combination's samples. Here the limit `q = 0` is that candidate (`super::path_traced`: the
+//! path tracer renders the image), where path tracing samples every path BDPT does.
 //!
-//! **The mechanism** (`bdpt.rs`): each camera sample traces its light subpath(s) with
+//! **The mechanism** (`bdpt.rs`): each camera sample traces its `L` light subpaths with
 //! probability `q`, decided by a stratified dimension of the pixel's sampler
-//! ([`super::dimensions::LIGHT_FRACTION`]): a pixel's samples trace about `q` of them. When
-//! traced, every strategy that uses the light subpath (s ≥ 2 with t ≥ 2, and t = 1) is divided
-//! by its expected count; s = 0 and s = 1 (next-event estimation) run in every camera sample.
-//! The power heuristic weighs each strategy by its expected count
-//! ([`SampleCounts`]), so the estimate stays unbiased (Wald's
-//! identity). The specular-chain and camera-chain connections compete with s = 0 only (no other
-//! strategy makes their paths), so their weights do not involve `q`.
+//! ([`super::dimensions::LIGHT_FRACTION`]): a pixel's samples trace about `q` of them. The
+//! first is joined to every camera vertex, the others to the camera only (t = 1). When traced,
+//! every strategy that uses a light subpath is divided by its expected count (`q` for s ≥ 2
+//! with t ≥ 2, `q·L` for t = 1); s = 0 and s = 1 (next-event estimation) run in every camera
+//! sample. The power heuristic weighs each strategy by its expected count ([`SampleCounts`]),
+//! so the estimate stays unbiased (Wald's identity). The specular-chain and camera-chain
+//! connections compete with s = 0 only (no other strategy makes their paths), so their weights
+//! do not involve `q` or `L`.
 //!
-//! **The choice** ([`LightSubpaths::Auto`], the default): a deterministic pilot of
-//! [`PILOT_PIXELS`] pixels on a regular grid × [`PILOT_SPP`] samples (its own seed derived from
-//! the render's, fixed chunks reduced in order: the same choice at any thread count) renders
-//! with `q = 1` and, per camera sample and for each candidate `q` in [`CANDIDATES`], splits the
-//! sample's weighted luminance `Y` under that candidate's weights into `A_q` (s = 0, s = 1 and
-//! the chain connections: count 1) and `C_q` (the light-subpath strategies; t = 1 splats booked
-//! at the pixel they land in). The candidate's estimator is `A_q + (B/q)·C_q`, `B ~
-//! Bernoulli(q)`, so per pixel `E[X_q²] = E[A_q²] + 2E[A_q·C_q] + E[C_q²]/q`; its variance is
-//! that minus the square of the pixel's own-part mean `E[A_q + C_q]` (the candidates move
-//! weight between the pixel's own strategies and the t = 1 splats it receives; the splats'
-//! mean per camera sample is negligible), summed over the pilot's pixels (luminance `Y`),
-//! leaving out the paths whose first camera-side vertex is an emitter (as the bench leaves
-//! those pixels out: s = 0 makes them without noise, while the power heuristic gives light
-//! tracing a share there). The cost per camera sample is `cost_A + q·cost_C` from deterministic
-//! counts ([`CostWeights`]), never a clock. The pilot picks the `q` maximising
-//! `1/(variance·cost)`, keeping `q = 1` unless another candidate is estimated at least
-//! [`MIN_GAIN`] better. The render says what it chose and why.
+//! **The choice** ([`LightSubpaths::Auto`] and [`LightSubpathCount::Auto`], the defaults): a
+//! deterministic pilot of [`PILOT_PIXELS`] pixels on a regular grid × [`PILOT_SPP`] samples
+//! (its own seed derived from the render's, fixed chunks reduced in order: the same choice at
+//! any thread count) renders with `q = 1` and the largest candidate count `L_p`
+//! ([`Candidates`]: `q` in [`CANDIDATES`] × `L` in [`COUNTS`] where the scene has delta
+//! surfaces, else `L = 1`; a forced fraction or count leaves the other to choose). Per camera
+//! sample and candidate it splits the sample's weighted luminance `Y` under that candidate's
+//! weights (all from one evaluation of the weight's parts, [`super::mis::PilotTerms`]) into
+//! `A` (s = 0, s = 1 and the chain connections: count 1) and `C` (the light-subpath
+//! strategies: the first subpath's joins `J`, and light tracing `T`, booked at the pixel each
+//! splat lands in). The candidate's estimator is `A + (B/q)·C`, `B ~ Bernoulli(q)`, so per
+//! pixel `E[X²] = E[A²] + 2E[A·C] + E[C²]/q`; its variance is that minus the square of the
+//! pixel's own-part mean `E[A + C]` (the candidates move weight between the pixel's own
+//! strategies and the t = 1 splats it receives; the splats' mean per camera sample is
+//! negligible), summed over the pilot's pixels, leaving out the paths whose first camera-side
+//! vertex is an emitter (as the bench leaves those pixels out: s = 0 makes them without
+//! noise, while the power heuristic gives light tracing a share there). `T = (1/L)·Σ_{j<L} t_j`
+//! over single-subpath values `t_j`, which are exchangeable, so every candidate `L` reads all
+//! `L_p` of the pilot's subpaths ([`PilotSample::finish_sample`]). The cost per camera sample
+//! is `cost_A + q·(cost_first + (L − 1)·cost_further)` from deterministic counts
+//! ([`CostWeights`]), never a clock. The pilot picks the candidate maximising
+//! `1/(variance·cost)` in two steps ([`Choice::from_sums`]): the fraction at `L = 4`, leaving
+//! `q = 1` only where another is estimated at least [`MIN_GAIN`] better, then another count
+//! only where it is estimated [`MIN_GAIN_COUNT`] better than that. The render says what it
+//! chose and each candidate's estimate.
 //!
 //! **`q = 0`** (no light subpaths; the camera samples are path traced, `super::path_traced`):
 //! offered where path tracing samples every path BDPT does (`path_traced::refusal`), chosen
@@ -53,14 +62,22 @@
 //! | constant        | value                   | meaning                                        |
 //! |-----------------|-------------------------|------------------------------------------------|
 //! | `CANDIDATES`    | 1, ½, ¼, ⅛, 1/16        | BDPT's fractions the pilot compares            |
+//! | `COUNTS`        | 1, 2, 4, 8              | light subpaths per camera sample it compares (scenes with delta surfaces; else 1) |
+//! | `MIN_EXPECTED_SUBPATHS` | ¼               | fewest `q·L` of a candidate where counts are compared |
 //! | (q = 0)         | path traced             | compared where eligible (`path_traced`)        |
 //! | `PILOT_PIXELS`  | 1024                    | pixels of the pilot (a grid over the image)    |
 //! | `PILOT_SPP`     | 8                       | camera samples per pilot pixel                 |
 //! | `MIN_GAIN`      | 1.05                    | estimated efficiency gain needed to leave q = 1, and for q = 0 over every q > 0 |
+//! | `MIN_GAIN_COUNT`| 1.15                    | estimated gain over the best fraction at L = 4 needed to take another L |
+//!
+//! The pilot costs 1024 × 8 BDPT camera samples at `L_p = 8` (and as many path-traced ones
+//! where `q = 0` is offered): 0.02–0.10 s on the bench scenes at 160 × 120 on a loaded 2-core
+//! machine (the run-time note prints it).
 //!
 //! Measured (docs/performance.md, "BDPT and its own strategies": instructions per camera
 //! sample from callgrind, per-pixel variance from six seeds; efficiency 1/(MSE·instructions)
-//! over the pixels that do not see an emitter, relative to `q = 1`):
+//! over the pixels that do not see an emitter, relative to `q = 1`, at `L = 4` where the scene
+//! has delta surfaces):
 //!
 //! | scene                     | auto's `q` | q = ¼ | q = 1/16 | `pt` = q = 0 |
 //! |---------------------------|------------|-------|----------|-------|
@@ -76,9 +93,18 @@
 //! of `q = 0` to `q = 1` against renders: 2.03 predicted, 1.92 measured on the Cornell box
 //! (64×48), 0.79 and 0.87 in the window room (80×60; `integrators_bdpt_light_fraction`).
 //!
-//! Kept at `q = 1` (said at run time): scenes with beams-only lights (their subpaths are light
-//! tracing alone) and scenes that render fluorescence (its two light-subpath modes are not
-//! covered by the pilot and untested with `q < 1`).
+//! The count `L`: measured against `L = 4` in [`super::LIGHT_PATHS`]'s table (the prism takes
+//! `L = 8`, 1.29× measured for 1.24× predicted; the pilot's Var(L = 1)/Var(L = 4) and
+//! Var(L = 8)/Var(L = 4) against renders: 1.86 and 0.80 predicted, 1.70 and 0.83 measured
+//! on the spectral caustic, 3.05 and 0.64 against 2.88 and 0.67 on the glass sphere, 80 × 60,
+//! `integrators_bdpt_light_fraction`; the cost model's ratio of `L = 8` to `L = 4` per camera
+//! sample: 1.58, 1.58 and 1.62 against callgrind's 1.46, 1.52 and 1.62 on the glass sphere,
+//! the spectral caustic and `caustic.ron`).
+//!
+//! Kept at `q = 1` with `L` = [`super::LIGHT_PATHS`] where the scene has delta surfaces (said
+//! at run time; `--effect light-subpath-count` still sets `L`): scenes with beams-only lights
+//! (their subpaths are light tracing alone) and scenes that render fluorescence (its two
+//! light-subpath modes are not covered by the pilot and untested with `q < 1`).
 
 use super::mis::{PilotTerms, SampleCounts};
 use glam::Vec2;
