@@ -168,9 +168,10 @@ pub struct Bdpt {
     pub strategy_images: bool,
     /// Also accumulate a spectral image at these nodes.
     pub spectral: Option<SpectralBins>,
-    /// Light subpaths per camera sample in scenes with delta surfaces ([`light_paths_for`]):
-    /// the first is joined to every camera-subpath prefix, every one to the camera (t = 1, see
-    /// [`LIGHT_PATHS`]).
+    /// Light subpaths per camera sample in scenes with delta surfaces ([`light_paths_for`])
+    /// where nothing chooses it: the pilot's base count, and the count where no pilot runs
+    /// (`--effect light-subpath-count=N` wins over it). The first is joined to every
+    /// camera-subpath prefix, every one to the camera (t = 1, see [`LIGHT_PATHS`]).
     pub light_paths: u32,
 }
 
