@@ -1833,4 +1833,57 @@ mod tests {
             "camera-subpath throughput {worst} outside the glass ({outside} vertices)"
         );
     }
+
+    /// The light-subpath pilot's weights under each candidate (q, L), from one evaluation's
+    /// parts (`mis::PilotTerms::weight`), against `mis_weight_guided` evaluated under those
+    /// counts. Quantity: the s = 0 weights of every camera-subpath vertex on the lamp of the
+    /// Cornell box (20 000 camera rays), whose alternatives are all three kinds the terms
+    /// separate (s = 1, the joins s ≥ 2, light tracing t = 1). Tolerance: 1e-4 relative plus
+    /// 1e-6 (single-precision rounding of the same sums in another order).
+    #[test]
+    fn pilot_weights_match_the_weights_under_each_candidate() {
+        let file = Path::new("cornell_box.ron");
+        let desc = parse_scene_str(include_str!("../../../scenes/cornell_box.ron"), file).unwrap();
+        let scene = build_scene(&desc, Path::new("."), file, &[&BuiltinFactory]).unwrap();
+        let cam = scene.cameras.get(None).unwrap();
+        let camera = cam.camera.as_ref();
+        let candidates = Candidates::new(&light_fraction::CANDIDATES, &light_fraction::COUNTS, 4);
+        let pilot = light_fraction::counts(candidates.pilot_paths(), 1.0);
+        let window = (Vec2::ZERO, Vec2::new(256.0, 256.0));
+        let (mut checked, mut shared) = (0u64, 0u64);
+        for_each_camera_subpath(&scene, 11, 20_000, window, (18, 1), |path, lambda| {
+            for t in 2..=path.len() {
+                if path[t - 1].light_index(&scene).is_none() {
+                    continue;
+                }
+                let terms =
+                    mis::pilot_terms(&scene, camera, &[], path, None, (0, t), lambda, pilot, None);
+                for &(q, l) in candidates.list() {
+                    let counts = light_fraction::counts(l, q);
+                    let w = mis_weight_guided(
+                        &scene,
+                        camera,
+                        &[],
+                        path,
+                        None,
+                        (0, t),
+                        lambda,
+                        counts,
+                        None,
+                    );
+                    let w_terms = terms.weight(0, t, counts);
+                    assert!(
+                        (w - w_terms).abs() <= 1e-4 * w.abs() + 1e-6,
+                        "t = {t}, q = {q}, L = {l}: {w} against {w_terms}"
+                    );
+                    checked += 1;
+                    shared += (w < 0.99 && w > 0.01) as u64;
+                }
+            }
+        });
+        assert!(
+            checked > 500 && shared > 50,
+            "{checked} weights, {shared} shared"
+        );
+    }
 }
