@@ -578,7 +578,7 @@ impl PilotSample {
     /// Books one connection's share of the path tracer's second moment (the candidate
     /// `q = 0`): the connection of weighted luminance `y`, weight `w`, `n` expected samples of
     /// its strategy per camera sample and the path tracer's relative squared densities
-    /// `ratios` = `(p₀/p)², (p₁/p)²` ([`AltWeights::pt_ratios`]). Its path, `x`, made with
+    /// `ratios` = `(p₀/p)², (p₁/p)²` ([`PilotTerms::pt_ratios`]). Its path, `x`, made with
     /// density `p` by this strategy, is one sample of BDPT's combination estimating
     /// `∫ f²·(w₀²/p₀ + w₁²/p₁)` (the path tracer's second moment, its power-heuristic weights
     /// `wᵢ = pᵢ²/(p₀² + p₁²)`): `w·h(x)/(n·p)` with `f/p = y·n/w` is
