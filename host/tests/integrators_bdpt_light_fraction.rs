@@ -845,7 +845,7 @@ fn best_at(c: &Choice, l: u32) -> f64 {
 /// 1.3×). Not clear-cut, so `L = 4` stays: the glass spheres (mesh and analytic), the spectral
 /// caustic and `scenes/caustic.ron`, where the best other count is estimated within
 /// `MIN_GAIN_COUNT` (1.15) of the best at `L = 4` (their margins are printed; `L = 8` at up to
-/// 1.06× on the glass spheres, measured 0.75×) and `L = 1` well below (≤ 0.94×).
+/// 1.06× on the glass spheres, measured 0.98×) and `L = 1` well below (≤ 0.94×).
 /// Tolerance: none on the choices (the pilot is deterministic). Fails on the constant
 /// `L = 4` (the prism).
 #[test]

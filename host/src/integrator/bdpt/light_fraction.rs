@@ -245,12 +245,14 @@ const CHUNK: usize = 32;
 pub const MIN_GAIN: f64 = 1.05;
 
 /// Estimated efficiency gain over the best fraction at the base count needed to take another
-/// count `L`. Why more than [`MIN_GAIN`]: the pilot's estimates of other counts err by up to
-/// ~1.2× towards them where rare bright camera paths (fireflies) that no count changes carry
-/// much of the variance, which the pilot's few thousand camera samples rarely see (glass
-/// sphere at 80 × 60: `L = 8` estimated 1.00–1.06× `L = 4`, measured 0.75×; `scenes/materials.ron`:
-/// `L = 1` estimated 1.18× the best at `L = 4`, measured 0.97×), while a count that pays
-/// clearly is estimated well above it (the prism: 1.24×, measured 1.29×).
+/// count `L`. Why more than [`MIN_GAIN`]: the pilot's estimates of other counts scatter by
+/// ~5% between seeds and err by up to ~1.2× where rare bright paths carry much of the
+/// variance, which the pilot's few thousand camera samples rarely see (`scenes/materials.ron`,
+/// a spot light's caustics through glass: `L = 1` estimated 1.18× the best fraction at
+/// `L = 4`, measured 0.97×). With [`MIN_GAIN`] the glass spheres' tie between `L = 4` and
+/// `L = 8` (estimated 1.00–1.06× at 80 × 60, measured 0.98×) went to whichever a seed
+/// favoured; a count that pays clearly is estimated well above 1.15 (the prism: 1.24×,
+/// measured 1.29×).
 pub const MIN_GAIN_COUNT: f64 = 1.15;
 
 /// Salt of the pilot's seed, so its numbers are not the render's.
