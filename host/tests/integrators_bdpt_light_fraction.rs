@@ -11,7 +11,9 @@ use spectrace::analysis::bench_fit::view_masks;
 use spectrace::integrator::bdpt::light_fraction::Choice;
 use spectrace::integrator::bdpt::{Bdpt, LIGHT_PATHS};
 use spectrace::integrator::driver::{Integrator, IntegratorOutput};
-use spectrace::integrator::{EffectsRequest, LightSubpaths, RenderPlan, SamplerKind};
+use spectrace::integrator::{
+    EffectsRequest, LightSubpathCount, LightSubpaths, RenderPlan, SamplerKind,
+};
 use spectrace::integrator::{PathTracer, RenderSettings, SampleBudget};
 use spectrace::scene::{build_scene, parse_scene_str, BuiltinFactory, Scene};
 use std::path::Path;
@@ -83,13 +85,41 @@ fn bdpt(scene: &Scene, strategy_images: bool) -> Bdpt {
 }
 
 fn plan(scene: &Scene, light_subpaths: LightSubpaths) -> RenderPlan {
+    plan_counted(scene, light_subpaths, LightSubpathCount::Auto)
+}
+
+/// The plan with the fraction and the number of light subpaths requested.
+fn plan_counted(
+    scene: &Scene,
+    light_subpaths: LightSubpaths,
+    light_subpath_count: LightSubpathCount,
+) -> RenderPlan {
     RenderPlan::new(
         scene,
         &EffectsRequest {
             light_subpaths,
+            light_subpath_count,
             ..Default::default()
         },
     )
+}
+
+/// A BDPT render with both the fraction and the number of light subpaths forced.
+fn render_counted(
+    scene: &Scene,
+    (q, l): (f32, u32),
+    settings: &RenderSettings,
+) -> IntegratorOutput {
+    let mut s = settings.clone();
+    s.tracer.max_depth = scene.options.max_depth;
+    let p = plan_counted(
+        scene,
+        LightSubpaths::Fraction(q),
+        LightSubpathCount::Count(l),
+    );
+    bdpt(scene, false)
+        .render(scene, &p, &s, &|_, _| {}, None)
+        .unwrap()
 }
 
 fn render(
@@ -232,8 +262,9 @@ fn a_quarter_of_the_light_subpaths_keeps_the_mean() {
     );
 }
 
-/// Quantity: the image and the pilot's note of the window room (80 × 60, 2 spp, `auto`) on one
-/// and on two threads. Tolerance: none (the pilot runs fixed chunks reduced in order under its
+/// Quantity: the image and the pilot's note of the window room (80 × 60, 2 spp, `auto`) and
+/// of the prism (80 × 60, 2 spp, `auto`: the pilot chooses 8 light subpaths) on one and on two
+/// threads. Tolerance: none (the pilot runs fixed chunks reduced in order under its
 /// own seed, the render's numbers are per pixel and sample). The note must show a fraction
 /// below 1, so the path with the fraction's dimension is what is compared.
 #[test]
@@ -265,6 +296,23 @@ fn auto_is_the_same_on_one_and_two_threads() {
     let stable = |s: String| s.split(", pilot").next().unwrap_or("").to_string();
     assert_eq!(stable(note(&a)), stable(note(&b)));
     assert!(a.result.image.xyz == b.result.image.xyz, "images differ");
+    // And where the pilot chooses the number of light subpaths too (the prism: L = 8).
+    let prism = prism();
+    let [a, b] = [1, 2].map(|threads| {
+        render(
+            &prism,
+            LightSubpaths::Auto,
+            &settings(2, 7, Some(threads), SamplerKind::Sobol),
+            false,
+        )
+    });
+    println!("{}", note(&a));
+    assert!(note(&a).contains("L = 8"), "prism: {}", note(&a));
+    assert_eq!(stable(note(&a)), stable(note(&b)));
+    assert!(
+        a.result.image.xyz == b.result.image.xyz,
+        "prism: images differ"
+    );
 }
 
 fn pilot(scene: &Scene, sampler: SamplerKind) -> Choice {
@@ -519,7 +567,7 @@ fn the_pilot_predicts_the_variance_of_a_quarter() {
     for (name, scene) in [("cornell", cornell(64, 48)), ("window room", window_room())] {
         let choice = pilot(&scene, SamplerKind::Independent);
         let predicted =
-            choice.estimate(0.25).unwrap().variance / choice.estimate(1.0).unwrap().variance;
+            choice.estimate(0.25, 1).unwrap().variance / choice.estimate(1.0, 1).unwrap().variance;
         let (emitter, _, _, _) = view_masks(&scene).unwrap();
         let counted: Vec<bool> = emitter.iter().map(|e| !e).collect();
         let var = |q: f32| {
@@ -540,7 +588,7 @@ fn the_pilot_predicts_the_variance_of_a_quarter() {
         println!("{name}: Var(1/4)/Var(1) predicted {predicted:.3}, measured {measured:.3}");
         // The path tracer (`q = 0`): its variance per camera sample against BDPT's at q = 1.
         let pt_predicted =
-            choice.estimate(0.0).unwrap().variance / choice.estimate(1.0).unwrap().variance;
+            choice.estimate(0.0, 0).unwrap().variance / choice.estimate(1.0, 1).unwrap().variance;
         let pt_measured = var(0.0) / var1;
         println!("{name}: Var(0)/Var(1) predicted {pt_predicted:.3}, measured {pt_measured:.3}");
         let r0 = pt_predicted / pt_measured;
@@ -552,6 +600,368 @@ fn the_pilot_predicts_the_variance_of_a_quarter() {
         assert!(
             (1.0 / 1.25..1.25).contains(&r),
             "{name}: predicted {predicted:.3} against measured {measured:.3}"
+        );
+    }
+}
+
+/// `scenes/caustic.ron` (a glass ball on a diffuse floor under a quad lamp) at `w × h`.
+fn caustic(w: u32, h: u32) -> Scene {
+    let to = format!("resolution: ({w}, {h})");
+    scene(
+        "caustic.ron",
+        include_str!("../../scenes/caustic.ron"),
+        &[("resolution: (160, 120)", &to)],
+    )
+}
+
+/// `scenes/prism.ron` (a slit lamp's light dispersed by a glass prism onto a screen) at 80 × 60.
+fn prism() -> Scene {
+    scene(
+        "prism.ron",
+        include_str!("../../scenes/prism.ron"),
+        &[("resolution: (160, 120)", "resolution: (80, 60)")],
+    )
+}
+
+/// `scenes/materials.ron` (spheres of glass, gold, frosted glass and a mirror under a quad
+/// lamp and a spot light) at 80 × 50.
+fn materials() -> Scene {
+    scene(
+        "materials.ron",
+        include_str!("../../scenes/materials.ron"),
+        &[("resolution: (320, 200)", "resolution: (80, 50)")],
+    )
+}
+
+/// The spectral caustic (`scenes/bench/spectral_caustic.ron`) at 80 × 60.
+fn spectral_caustic() -> Scene {
+    bench_scene(
+        "spectral_caustic.ron",
+        include_str!("../../scenes/bench/spectral_caustic.ron"),
+    )
+}
+
+/// Quantity: the mean luminance Y of `scenes/caustic.ron` (40 × 30) over the whole image and
+/// over its caustic core (the pixels brighter than 4× the median of the `L = 4` mean), BDPT
+/// with every camera sample tracing light subpaths (`q = 1`) and `L` = 1, 2, 8 of them forced,
+/// against `L = 4`, 12 seeds × 4 spp each; the difference paired by seed (the camera subpaths
+/// draw the same numbers at every L), its standard error from the 12 per-seed differences.
+/// Tolerance: 4 standard errors of the difference in each region and count (a false failure
+/// about 4·10⁻⁴ over the six comparisons with normal errors; with 11 degrees of freedom
+/// Student's t makes it ~1.5·10⁻²).
+///
+/// Why it can fail: each t = 1 contribution is divided by its count `L` and weighed by it in
+/// the power heuristic; a count that differs between the two (the division by the default 4
+/// while `L` subpaths are traced) moves the light-tracing share of the image by a factor
+/// `L/4`. The test checks that the light-tracing share (t = 1, from the strategy images of
+/// one `L = 4` render) is large enough that a factor of 2 on it moves the core's mean by more
+/// than 10 standard errors.
+#[test]
+fn every_light_subpath_count_keeps_the_mean() {
+    let scene = caustic(40, 30);
+    let seeds = 12u64;
+    let images = |l: u32| -> Vec<Vec<f64>> {
+        (0..seeds)
+            .map(|seed| {
+                luminance(&render_counted(
+                    &scene,
+                    (1.0, l),
+                    &settings(4, 200 + seed, None, SamplerKind::Sobol),
+                ))
+            })
+            .collect()
+    };
+    let base = images(4);
+    let npix = base[0].len();
+    let mean_image: Vec<f64> = (0..npix)
+        .map(|i| base.iter().map(|r| r[i]).sum::<f64>() / seeds as f64)
+        .collect();
+    let mut sorted = mean_image.clone();
+    sorted.sort_by(f64::total_cmp);
+    let median = sorted[npix / 2];
+    let core: Vec<bool> = mean_image.iter().map(|&m| m > 4.0 * median).collect();
+    let ncore = core.iter().filter(|&&c| c).count();
+    assert!(ncore >= 4, "no caustic core ({ncore} pixels)");
+    let region = |r: &[f64], core_only: bool| -> f64 {
+        let v: Vec<f64> = (0..npix)
+            .filter(|&i| !core_only || core[i])
+            .map(|i| r[i])
+            .collect();
+        v.iter().sum::<f64>() / v.len() as f64
+    };
+    let mut core_se = 0.0;
+    for l in [1u32, 2, 8] {
+        let other = images(l);
+        for (name, core_only) in [("image", false), ("core", true)] {
+            // Paired by seed: the camera subpaths are the same numbers at every L.
+            let a: Vec<f64> = base.iter().map(|r| region(r, core_only)).collect();
+            let d: Vec<f64> = other
+                .iter()
+                .zip(&a)
+                .map(|(r, a)| region(r, core_only) - a)
+                .collect();
+            let (ma, _) = mean_se(&a);
+            let (md, se) = mean_se(&d);
+            let z = md / se;
+            println!("{name}: L = 4 {ma:.5}, L = {l} − L = 4: {md:+.6} ± {se:.6}, z = {z:+.2}");
+            assert!(z.abs() < 4.0, "{name}, L = {l}: z = {z:.2}");
+            if core_only {
+                core_se = f64::max(core_se, se);
+            }
+        }
+    }
+    // The light-tracing share of the core (strategy images of one L = 4 render).
+    let mut s = settings(8, 99, None, SamplerKind::Sobol);
+    s.tracer.max_depth = scene.options.max_depth;
+    let p = plan_counted(
+        &scene,
+        LightSubpaths::Fraction(1.0),
+        LightSubpathCount::Count(4),
+    );
+    let o = bdpt(&scene, true)
+        .render(&scene, &p, &s, &|_, _| {}, None)
+        .unwrap();
+    let (mut t1, mut all) = (0.0, 0.0);
+    for ((_, t), img) in &o.strategy_images {
+        let y: f64 = (0..npix).filter(|&i| core[i]).map(|i| img.xyz[i][1]).sum();
+        all += y;
+        if *t == 1 {
+            t1 += y;
+        }
+    }
+    let share = t1 / all;
+    let shift = share * region(&mean_image, true);
+    println!(
+        "core: light-tracing share {share:.3}; a factor 2 on it moves the core by {:.1} SE",
+        shift / core_se
+    );
+    assert!(shift > 10.0 * core_se, "the test cannot see a wrong count");
+}
+
+/// The pilot's estimates for `scene` at render seed `seed` (candidates (q, L) and q = 0).
+fn pilot_estimates(scene: &Scene, seed: u64, sampler: SamplerKind) -> Choice {
+    let mut s = settings(1, seed, None, sampler);
+    s.tracer.max_depth = scene.options.max_depth;
+    bdpt(scene, false)
+        .light_fraction_pilot(scene, &plan(scene, LightSubpaths::Auto), &s)
+        .unwrap()
+        .expect("a pilot")
+}
+
+/// Quantity: the pilot's predicted variance ratio Var(q = 1, L = 1) / Var(q = 1, L = 4)
+/// and Var(q = 1, L = 8) / Var(q = 1, L = 4) against the ratios measured from renders at
+/// those counts (per-pixel variance over 8 seeds at 2 spp, summed over the pixels that do
+/// not see an emitter), on the spectral caustic and the glass-sphere caustic at 80 × 60, with
+/// independent numbers (the pilot treats samples as independent).
+///
+/// Tolerance: each predicted ratio within 1.3× of the measured one. The measured sums over
+/// ~4800 pixels from 8 seeds are heavy-tailed (a caustic's rare bright splats): a ratio's
+/// relative standard error is ~10%, so 1.3× is about 2.5 standard errors of the two sums
+/// together; a wrong count in the light-tracing moments (the candidate's mean over its L
+/// subpaths taken as one subpath, or the pilot's L_p = 8 for every candidate) moves the L = 1
+/// ratio by 2× or more.
+#[test]
+fn the_pilot_predicts_the_variance_of_other_counts() {
+    const SEEDS: u64 = 16;
+    const FIREFLY_SHARE: f64 = 0.9;
+    let mut results = Vec::new();
+    for (name, scene) in [
+        ("spectral caustic", spectral_caustic()),
+        ("glass sphere", glass_sphere()),
+    ] {
+        let choice = pilot_estimates(&scene, 3, SamplerKind::Independent);
+        let v = |l: u32| choice.estimate(1.0, l).unwrap().variance;
+        let (emitter, _, _, _) = view_masks(&scene).unwrap();
+        let counted: Vec<bool> = emitter.iter().map(|e| !e).collect();
+        let sets: Vec<(u32, Vec<Vec<f64>>)> = [1u32, 4, 8]
+            .into_iter()
+            .map(|l| {
+                let renders = (0..SEEDS)
+                    .map(|seed| {
+                        luminance(&render_counted(
+                            &scene,
+                            (1.0, l),
+                            &settings(2, 300 + seed, None, SamplerKind::Independent),
+                        ))
+                    })
+                    .collect();
+                (l, renders)
+            })
+            .collect();
+        // Firefly pixels: one seed carries most of the pixel's squared deviations in some set.
+        let mut kept = counted.clone();
+        for (_, renders) in &sets {
+            for (i, k) in kept.iter_mut().enumerate() {
+                let m = renders.iter().map(|r| r[i]).sum::<f64>() / SEEDS as f64;
+                let d: Vec<f64> = renders.iter().map(|r| (r[i] - m).powi(2)).collect();
+                let sum: f64 = d.iter().sum();
+                if d.iter().any(|&x| x > FIREFLY_SHARE * sum) {
+                    *k = false;
+                }
+            }
+        }
+        let dropped = (0..kept.len()).filter(|&i| counted[i] && !kept[i]).count();
+        println!("{name}: {dropped} firefly pixels left out");
+        let measured = |l: u32| {
+            let renders = &sets.iter().find(|(m, _)| *m == l).unwrap().1;
+            summed_variance(renders, &kept)
+        };
+        let m4 = measured(4);
+        for l in [1u32, 8] {
+            let predicted = v(l) / v(4);
+            let ml = measured(l);
+            let m = ml / m4;
+            println!(
+                "{name}: Var(L = {l})/Var(L = 4) predicted {predicted:.3}, measured {m:.3} \
+                 ({ml:.4e} / {m4:.4e})"
+            );
+            results.push((name, l, predicted, m));
+        }
+    }
+    for (name, l, predicted, m) in results {
+        let r = predicted / m;
+        assert!(
+            (1.0 / 1.3..1.3).contains(&r),
+            "{name}, L = {l}: predicted {predicted:.3} against measured {m:.3}"
+        );
+    }
+}
+
+/// The best estimated efficiency at count `l` over the base's, and the chosen candidate's.
+fn best_at(c: &Choice, l: u32) -> f64 {
+    let base = c.estimate(c.base.0, c.base.1).unwrap().efficiency;
+    c.estimates
+        .iter()
+        .filter(|e| e.light_paths == l)
+        .map(|e| e.efficiency / base)
+        .fold(0.0, f64::max)
+}
+
+/// Quantity: the pilot's choice of the number of light subpaths `L` (with the fraction `q`)
+/// on five scenes with delta surfaces at 80 × 60, render seeds 1–4. Clear-cut: the prism
+/// (`scenes/prism.ron`: a slit lamp's light dispersed onto a screen, made by light tracing
+/// alone) takes `L = 8`, estimated 1.24× the best at `L = 4` (measured: per-pixel variance
+/// 2.1× lower at `L = 8` than at `L = 4`, 16 seeds × 4 spp, for 1.6× the instructions:
+/// 1.3×). Not clear-cut, so `L = 4` stays: the glass spheres (mesh and analytic), the spectral
+/// caustic and `scenes/caustic.ron`, where the best other count is estimated within
+/// `MIN_GAIN_COUNT` (1.15) of the best at `L = 4` (their margins are printed; `L = 8` at up to
+/// 1.06× on the glass spheres, measured 0.98×) and `L = 1` well below (≤ 0.94×).
+/// Tolerance: none on the choices (the pilot is deterministic). Fails on the constant
+/// `L = 4` (the prism).
+#[test]
+fn the_pilot_chooses_the_number_of_light_subpaths() {
+    let glass_analytic = bench_scene(
+        "glass_sphere.ron",
+        include_str!("../../scenes/bench/glass_sphere.ron"),
+    );
+    let kept = [
+        ("glass sphere (mesh)", glass_sphere()),
+        ("glass sphere", glass_analytic),
+        ("spectral caustic", spectral_caustic()),
+        ("caustic.ron", caustic(80, 60)),
+    ];
+    let mut results = Vec::new();
+    for seed in 1..=4 {
+        let c = pilot_with(&prism(), seed, false);
+        println!("prism, seed {seed}: {}", c.note(0.0));
+        assert_eq!((c.q, c.light_paths), (1.0, 8), "prism, seed {seed}");
+        assert!(
+            c.gain() >= 1.15,
+            "prism, seed {seed}: margin {:.2}",
+            c.gain()
+        );
+        for (name, scene) in &kept {
+            let c = pilot_with(scene, seed, false);
+            let at4 = best_at(&c, 4);
+            let margins: Vec<String> = [1, 2, 8]
+                .iter()
+                .map(|&l| format!("L = {l}: {:.2}", best_at(&c, l) / at4))
+                .collect();
+            println!(
+                "{name}, seed {seed}: q = {}, L = {}; best other count over best at L = 4: {}",
+                c.q,
+                c.light_paths,
+                margins.join(", ")
+            );
+            results.push((name, seed, c.light_paths, best_at(&c, 1) / at4));
+        }
+    }
+    for (name, seed, l, one) in results {
+        assert_eq!(l, 4, "{name}, seed {seed}");
+        assert!(
+            one < 0.95,
+            "{name}, seed {seed}: L = 1 at {one:.2} of L = 4"
+        );
+    }
+}
+
+/// Measurement (not a check): per-pixel variance of Y summed over the pixels that do not see
+/// an emitter, all of them and without single-seed fireflies, for candidates (q, L) forced,
+/// `LC_SCENE` at 80 × 60, 16 seeds × 4 spp (Sobol'), and the pilot's choice.
+#[test]
+#[ignore]
+fn measure_counts() {
+    let name = std::env::var("LC_SCENE").unwrap_or("caustic".into());
+    let scene = match name.as_str() {
+        "caustic" => caustic(80, 60),
+        "spectral" => spectral_caustic(),
+        "glass_analytic" => bench_scene(
+            "glass_sphere.ron",
+            include_str!("../../scenes/bench/glass_sphere.ron"),
+        ),
+        "prism" => prism(),
+        "materials" => materials(),
+        _ => glass_sphere(),
+    };
+    let cands: Vec<(f32, u32)> = std::env::var("LC_CANDS")
+        .unwrap_or("1:4,1:8".into())
+        .split(',')
+        .map(|c| {
+            let (q, l) = c.split_once(':').unwrap();
+            let q = match q.split_once('/') {
+                Some((a, b)) => a.parse::<f32>().unwrap() / b.parse::<f32>().unwrap(),
+                None => q.parse().unwrap(),
+            };
+            (q, l.parse().unwrap())
+        })
+        .collect();
+    for seed in 1..=4 {
+        println!("seed {seed}: {}", pilot_with(&scene, seed, false).note(0.0));
+    }
+    let (emitter, _, _, _) = view_masks(&scene).unwrap();
+    let counted: Vec<bool> = emitter.iter().map(|e| !e).collect();
+    let sets: Vec<Vec<Vec<f64>>> = cands
+        .iter()
+        .map(|&c| {
+            (0..16)
+                .map(|seed| {
+                    luminance(&render_counted(
+                        &scene,
+                        c,
+                        &settings(4, 500 + seed, None, SamplerKind::Sobol),
+                    ))
+                })
+                .collect()
+        })
+        .collect();
+    let mut kept = counted.clone();
+    for renders in &sets {
+        for (i, k) in kept.iter_mut().enumerate() {
+            let m = renders.iter().map(|r| r[i]).sum::<f64>() / 16.0;
+            let d: Vec<f64> = renders.iter().map(|r| (r[i] - m).powi(2)).collect();
+            let sum: f64 = d.iter().sum();
+            if d.iter().any(|&x| x > 0.9 * sum) {
+                *k = false;
+            }
+        }
+    }
+    for (c, renders) in cands.iter().zip(&sets) {
+        println!(
+            "{name} q {} L {}: variance all {:.4e}, without fireflies {:.4e}",
+            c.0,
+            c.1,
+            summed_variance(renders, &counted),
+            summed_variance(renders, &kept)
         );
     }
 }

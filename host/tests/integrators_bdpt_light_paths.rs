@@ -13,7 +13,7 @@
 mod common_render;
 use spectrace::integrator::bdpt::{light_paths_for, Bdpt, LIGHT_PATHS};
 use spectrace::integrator::driver::{Integrator, IntegratorOutput};
-use spectrace::integrator::{EffectsRequest, LightSubpaths, RenderPlan};
+use spectrace::integrator::{EffectsRequest, LightSubpathCount, LightSubpaths, RenderPlan};
 use spectrace::scene::{build_scene, parse_scene_str, BuiltinFactory, Scene};
 use std::path::Path;
 
@@ -30,10 +30,17 @@ fn core_pixels() -> impl Iterator<Item = usize> {
     (87..=90).flat_map(|y| (63..=80).map(move |x| y * 160 + x))
 }
 
-fn render(scene: &Scene, light_paths: u32, spp: u32, seed: u64) -> IntegratorOutput {
+/// BDPT with `light_paths` as its default count (`Bdpt::light_paths`), forced by the plan too
+/// (`--effect light-subpath-count`) when `forced` (else the pilot may choose another).
+fn render(scene: &Scene, light_paths: u32, spp: u32, seed: u64, forced: bool) -> IntegratorOutput {
     // Every camera sample traces its light subpaths (auto could path trace them all).
     let request = EffectsRequest {
         light_subpaths: LightSubpaths::Fraction(1.0),
+        light_subpath_count: if forced {
+            LightSubpathCount::Count(light_paths)
+        } else {
+            LightSubpathCount::Auto
+        },
         ..Default::default()
     };
     let plan = RenderPlan::new(scene, &request);
@@ -81,10 +88,13 @@ fn core_stats(a: &IntegratorOutput, b: &IntegratorOutput) -> (f64, f64, f64) {
 fn more_light_paths_per_camera_sample_make_the_caustic_core_cheaper() {
     let scene = scene();
     let spp = 16;
-    let one = [render(&scene, 1, spp, 1), render(&scene, 1, spp, 2)];
+    let one = [
+        render(&scene, 1, spp, 1, true),
+        render(&scene, 1, spp, 2, true),
+    ];
     let many = [
-        render(&scene, LIGHT_PATHS, spp, 1),
-        render(&scene, LIGHT_PATHS, spp, 2),
+        render(&scene, LIGHT_PATHS, spp, 1, true),
+        render(&scene, LIGHT_PATHS, spp, 2, true),
     ];
     let (var_1, mean_1, n) = core_stats(&one[0], &one[1]);
     let (var_n, mean_n, _) = core_stats(&many[0], &many[1]);
@@ -112,8 +122,9 @@ fn more_light_paths_per_camera_sample_make_the_caustic_core_cheaper() {
 
 /// Quantity: the light subpaths per camera sample chosen for a scene, and the Cornell box's
 /// image. A scene without delta surfaces (the Cornell box: all diffuse) gets one
-/// (`light_paths_for`), so its image is bit-identical whatever `Bdpt::light_paths` says; the
-/// glass-sphere scene gets the setting. Tolerance: none (the same computation).
+/// (`light_paths_for`), so its image is bit-identical whatever `Bdpt::light_paths` (the
+/// default count) says, the count not forced; the glass-sphere scene gets the setting.
+/// Tolerance: none (the same computation).
 #[test]
 fn scenes_without_delta_surfaces_keep_one_light_path() {
     let file = Path::new("cornell_box.ron");
@@ -122,8 +133,8 @@ fn scenes_without_delta_surfaces_keep_one_light_path() {
     let cornell = build_scene(&desc, Path::new("."), file, &[&BuiltinFactory]).unwrap();
     assert_eq!(light_paths_for(&cornell, LIGHT_PATHS), 1);
     assert_eq!(light_paths_for(&scene(), LIGHT_PATHS), LIGHT_PATHS);
-    let a = render(&cornell, 1, 1, 7);
-    let b = render(&cornell, LIGHT_PATHS, 1, 7);
+    let a = render(&cornell, 1, 1, 7, false);
+    let b = render(&cornell, LIGHT_PATHS, 1, 7, false);
     assert!(a.result.image.xyz == b.result.image.xyz);
     assert_eq!(a.result.rays, b.result.rays);
 }

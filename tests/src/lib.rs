@@ -81,7 +81,8 @@ pub fn render_auto_xyz(
 /// may hand every camera sample to the path tracer where light subpaths do not pay (q = 0); the
 /// tests that compare integrators or plugin objects under BDPT keep BDPT's own estimator (its
 /// adjoint evaluations, light subpaths and connections) by tracing light subpaths in every
-/// camera sample. For pt and lt it changes nothing.
+/// camera sample (the pilot still chooses how many, where delta surfaces make caustics). For pt
+/// and lt it changes nothing.
 pub fn every_light_subpath() -> spectrace::integrator::EffectsRequest {
     spectrace::integrator::EffectsRequest {
         light_subpaths: spectrace::integrator::LightSubpaths::Fraction(1.0),

@@ -39,15 +39,16 @@
 //! connection in its own fixed block of dimensions ([`dimensions`]), so a pixel's samples are
 //! stratified in the first bounces and next-event estimates too.
 //!
-//! Light subpaths: in a scene with delta surfaces (caustics), each camera sample traces
-//! [`LIGHT_PATHS`] of them ([`light_paths_for`]), otherwise one. The first is joined to every
+//! Light subpaths: a camera sample that traces them traces `L`: the first is joined to every
 //! camera-subpath prefix; all of them are joined to the camera (t = 1), which the power
-//! heuristic then counts as that many samples (see [`LIGHT_PATHS`]).
+//! heuristic then counts as that many samples (see [`LIGHT_PATHS`]). `L` is chosen per scene
+//! by the pilot of [`light_fraction`] among 1, 2, 4 and 8 in a scene with delta surfaces
+//! (caustics, [`light_paths_for`]), otherwise 1 (`--effect light-subpath-count=auto|N`).
 //!
 //! Light-subpath fraction: a camera sample traces its light subpaths only with probability `q`
-//! (`--effect light-subpaths=auto|Q`; `auto` chooses `q` per scene by a short pilot); the
+//! (`--effect light-subpaths=auto|Q`; `auto` chooses `q` per scene by the same pilot); the
 //! strategies that use them are divided by their expected count and weighted by it
-//! ([`mis::SampleCounts`], [`light_fraction`]). `q = 1` renders exactly as before. `q = 0`
+//! ([`mis::SampleCounts`], [`light_fraction`]). `q = 1` traces them in every sample. `q = 0`
 //! (chosen by the pilot, or forced, where path tracing samples every path BDPT does) traces no
 //! light subpaths and hands the render to the path tracer ([`path_traced`]), whose estimator is
 //! BDPT's s = 0 and s = 1 at less cost per camera sample.
@@ -109,7 +110,10 @@ use crate::scene::Scene;
 use crate::spectrum::{LaneMask, SampledSpectrum, SampledWavelengths, LANES};
 use fluorescent_mis::mis_weight_lanes;
 use glam::Vec2;
-use light_fraction::{AltWeights, Choice, LightSubpaths, PartCost, PilotSample, CANDIDATES};
+use light_fraction::{
+    AltWeights, Candidates, Choice, LightSubpathCount, LightSubpaths, Part, PartCost, PilotSample,
+    MAX_CANDIDATES,
+};
 use mis::{mis_weight_guided, s1_guide_key, SampleCounts};
 use spectrace_plugin_api::ParamDoc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -164,13 +168,17 @@ pub struct Bdpt {
     pub strategy_images: bool,
     /// Also accumulate a spectral image at these nodes.
     pub spectral: Option<SpectralBins>,
-    /// Light subpaths per camera sample in scenes with delta surfaces ([`light_paths_for`]):
-    /// the first is joined to every camera-subpath prefix, every one to the camera (t = 1, see
-    /// [`LIGHT_PATHS`]).
+    /// Light subpaths per camera sample in scenes with delta surfaces ([`light_paths_for`])
+    /// where nothing chooses it: the pilot's base count, and the count where no pilot runs
+    /// (`--effect light-subpath-count=N` wins over it). The first is joined to every
+    /// camera-subpath prefix, every one to the camera (t = 1, see [`LIGHT_PATHS`]).
     pub light_paths: u32,
 }
 
-/// Light subpaths traced per camera sample (see [`Bdpt::light_paths`]).
+/// Light subpaths per camera sample that traces them, in a scene with delta surfaces, where
+/// nothing chooses it: the pilot's base candidate (kept unless another count is estimated
+/// [`light_fraction::MIN_GAIN_COUNT`] better), and the count with beams-only lights or
+/// fluorescence (no pilot) unless `--effect light-subpath-count=N` gives one.
 ///
 /// Why more than one: a camera sample of BDPT (camera subpath, its connections, the
 /// specular-chain strategies) costs several light paths of `lt` (callgrind: 4.0× on
@@ -178,35 +186,41 @@ pub struct Bdpt {
 /// diffuse surface is made by the light-tracing strategy alone: with one light subpath per
 /// camera sample, BDPT's efficiency in that caustic's core was 0.22× that of `lt`. Each
 /// further light subpath is joined to the camera only (t = 1), the cheap part of a light
-/// path's use, and the power heuristic counts the t = 1 strategy `light_paths` times (Veach
-/// 1997, §9.2: the heuristic over `nᵢ·pᵢ`; [`mis::heuristic_scale`]) while each t = 1
-/// contribution is divided by `light_paths`: the estimate stays unbiased and the images
-/// deterministic (the subpaths draw from the camera sample's own sequence).
+/// path's use, and the power heuristic counts the t = 1 strategy `L` times (Veach 1997, §9.2:
+/// the heuristic over `nᵢ·pᵢ`; [`mis::heuristic_scale`]) while each t = 1 contribution is
+/// divided by `L`: the estimate stays unbiased and the images deterministic (the subpaths
+/// draw from the camera sample's own sequence).
 ///
-/// Why 4 (docs/performance.md, "BDPT and its own strategies": instruction counts and
-/// variances per region): it raises BDPT's efficiency in the caustic cores of the glass
-/// sphere and the spectral caustic 2.4× and 2.6×, and costs the lamp images seen in the
-/// glass 1.6–1.7×, where BDPT stays 3.5× or more ahead of path tracing.
+/// The pilot's candidates are `L` ∈ [`light_fraction::COUNTS`] (1, 2, 4, 8) × the fractions
+/// `q`. Measured (efficiency 1/(variance·instructions) relative to `q = 1, L = 4`: per-pixel
+/// variance of Y over the pixels that see no emitter, 16 seeds × 4 spp at 80 × 60; instructions
+/// per camera sample from callgrind, 3 spp minus 1 spp at 64 × 48, `--threads 1`, seed 3;
+/// predicted: the pilot at 160 × 120, seed 3; auto's choice the same at 80 × 60, seeds 1–4):
 ///
-/// Counts 1, 2, 4 and 8 compared (efficiency 1/(MSE·cost) relative to 4: MSE at 32 spp,
-/// 160×120, against the Mitsuba references, 8–12 seeds, the references' own noise from their
-/// two halves subtracted; cost from callgrind instruction counts of the render at 40×30, 8 spp;
-/// "core" is the largest component of pixels brighter than 4× the median, the floor caustic):
+/// | scene                        | auto's (q, L) | candidate | predicted | measured | without fireflies |
+/// |------------------------------|---------------|-----------|-----------|----------|------------------|
+/// | `prism.ron`                  | (1, 8)        | (1, 8)    | 1.24      | 1.29     | 1.55             |
+/// | `bench/glass_sphere_mesh.ron`| (1, 4)        | (1, 8)    | 0.91 (80 × 60: 1.00–1.06) | 0.98 | 1.01 |
+/// |                              |               | (1, 1)    | 0.65      | 0.52     | 0.49             |
+/// | `caustic.ron`                | (½, 4)        | (½, 4)    | 1.19      | 1.44     | 1.43             |
+/// |                              |               | (1, 8)    | 0.66      | 0.63     | 0.63             |
+/// | `bench/spectral_caustic.ron` | (½ or ¼, 4)   | (½, 4)    | 1.19      | 1.43     | 1.24             |
+/// |                              |               | (1, 1)    | 1.11      | 1.62     | 1.08             |
 ///
-/// | scene                            | region | 1    | 2    | 4 | 8    |
-/// |----------------------------------|--------|------|------|---|------|
-/// | `bench/glass_sphere_mesh.ron`    | core   | 0.47 | 0.72 | 1 | 1.27 |
-/// |                                  | rest   | 1.09 | 1.16 | 1 | 0.71 |
-/// |                                  | all    | 0.78 | 0.97 | 1 | 0.83 |
-/// | `bench/spectral_caustic.ron`     | core   | 1.51 | 1.34 | 1 | 0.66 |
-/// |                                  | rest   | 1.63 | 1.37 | 1 | 0.64 |
+/// ("Without fireflies": the pixels where one of the 16 seeds carries 90% of the squared
+/// deviations left out; on the spectral caustic one such pixel, the same in every candidate's
+/// renders, holds 90% of the variance over all pixels, so there the ratios over all pixels
+/// are mostly the instructions'.)
 ///
-/// Cost per camera sample relative to one light subpath: 1.20, 1.59, 2.38 (glass sphere) and
-/// 1.25, 1.74, 2.73 (spectral caustic) for 2, 4, 8. On the glass sphere 4 is the best of the
-/// four over the whole image and its caustic wants more; on the spectral caustic the extra
-/// subpaths lower the core's variance by only 13% (luminance and colour alike: most of it does
-/// not come from the t = 1 strategy) and one subpath is best everywhere. No count is best on
-/// both: 4 stays.
+/// Instructions per camera sample: prism 23.8 k / 38.7 k (L = 4 / 8); glass sphere 22.7 k,
+/// 27.1 k, 35.7 k, 52.0 k (L = 1, 2, 4, 8); spectral caustic 23.4 k, 29.1 k, 40.2 k, 61.1 k,
+/// at (½, 4) 27.7 k; `caustic.ron` 32.4 k, 52.5 k (L = 4, 8), at (½, 4) 21.3 k. Only the
+/// prism (light tracing alone makes its image) changes `L`; elsewhere another count is
+/// estimated within 1.15× of the best fraction at `L = 4`, and the fraction takes most of
+/// what the count would (the pilot's efficiencies depend mostly on `q·L`, the expected number
+/// of light subpaths per camera sample). On the spectral caustic `L = 1` at `q = 1` is
+/// measured 1.13× auto's `(½, 4)` over all pixels (0.87× without the firefly) but estimated
+/// below it (0.93×).
 pub const LIGHT_PATHS: u32 = 4;
 
 /// Light subpaths per camera sample that `bdpt` traces in `scene`: `light_paths` when some
@@ -395,15 +409,9 @@ fn connect_in<const FLUORESCENT: bool, S: UniformSource>(
             )
         };
         if let Some(alt) = alt {
-            // The pilot's weights under each candidate fraction (`light_fraction`).
-            for (a, &q) in alt.weights.iter_mut().zip(CANDIDATES.iter()) {
-                *a = weight(SampleCounts {
-                    fraction: q,
-                    ..counts
-                });
-            }
-            // And the path tracer's densities of this path (the candidate q = 0).
-            alt.pt_ratios = mis::path_tracing_ratios(
+            // The pilot's parts of the weight (its weight under each candidate (q, L) follows,
+            // `light_fraction`) and the path tracer's densities of this path (q = 0).
+            alt.terms = mis::pilot_terms(
                 scene,
                 camera,
                 light_path,
@@ -728,12 +736,15 @@ impl OwnPixel {
     }
 }
 
-/// The light-fraction pilot's work counts of one camera sample: the light part's, and the
+/// The light-fraction pilot's work counts of one camera sample: the light parts', and the
 /// camera part's connections (its rays and shadow rays are the rest of the sample's, counted
 /// from `before`).
 struct SampleWork {
     before: PathStats,
+    /// The first light subpath and its joins.
     light: PartCost,
+    /// The further light subpaths (light tracing only).
+    further: PartCost,
     camera_connections: u64,
 }
 
@@ -880,7 +891,9 @@ impl<'p> Setup<'p> {
 }
 
 /// The light-fraction pilot (`light_fraction`): [`light_fraction::PILOT_SPP`] camera samples
-/// of each pilot pixel at `q = 1` under the pilot's own seed, fixed chunks reduced in order.
+/// of each pilot pixel at `q = 1` with the largest `L` of `candidates`, under the pilot's own
+/// seed, fixed chunks reduced in order.
+#[allow(clippy::too_many_arguments)]
 fn pilot_sums(
     bdpt: &Bdpt,
     scene: &Scene,
@@ -888,7 +901,12 @@ fn pilot_sums(
     settings: &RenderSettings,
     cam: &crate::camera::manager::NamedCamera,
     setup: &Setup<'_>,
+    candidates: Candidates,
 ) -> Result<light_fraction::PilotSums, RenderError> {
+    let bdpt = &Bdpt {
+        light_paths: candidates.pilot_paths(),
+        ..*bdpt
+    };
     let (width, height) = cam.camera.resolution();
     let pool = super::tiled::thread_pool(settings.threads)?;
     let seed = light_fraction::pilot_seed(settings.seed);
@@ -897,7 +915,7 @@ fn pilot_sums(
     Ok(light_fraction::run_pilot(&pool, width, height, |pixels| {
         let mut worker = Worker::new(
             light_fraction::counts(bdpt.light_paths, 1.0),
-            Some(PilotSample::new(width, height)),
+            Some(PilotSample::new(width, height, candidates)),
         );
         for &(x, y) in pixels {
             let pixel = y as u64 * width as u64 + x as u64;
@@ -945,10 +963,35 @@ fn guide_notes(scene: &Scene, guide: Option<&NeeGuide>) -> Vec<String> {
     })
 }
 
+/// The candidates (q, L) of the pilot for `scene` under `plan`'s requests (`light_fraction`),
+/// and whether `q = 0` may be offered (the fraction not forced); `None` where nothing is left
+/// to choose: both forced, or the fraction forced in a scene with one count.
+fn pilot_candidates(bdpt: &Bdpt, scene: &Scene, plan: &RenderPlan) -> Option<(Candidates, bool)> {
+    let default_paths = light_paths_for(scene, bdpt.light_paths);
+    let forced = match plan.light_subpath_count() {
+        LightSubpathCount::Count(n) => Some(n),
+        LightSubpathCount::Auto => None,
+    };
+    let counts: Vec<u32> = match forced {
+        Some(n) => vec![n],
+        None if default_paths > 1 => light_fraction::COUNTS.to_vec(),
+        None => vec![1],
+    };
+    let (fractions, offer_pt) = match plan.light_subpaths() {
+        LightSubpaths::Auto => (light_fraction::CANDIDATES.to_vec(), true),
+        LightSubpaths::Fraction(q) => (vec![q.min(1.0)], false),
+    };
+    if !offer_pt && counts.len() == 1 {
+        return None;
+    }
+    let base = forced.unwrap_or(default_paths);
+    Some((Candidates::new(&fractions, &counts, base), offer_pt))
+}
+
 /// The fraction `q` of camera samples that trace light subpaths (`light_fraction`; 0: the
-/// camera samples are path traced, `path_traced`) and its run-time note: forced, kept at 1
-/// (`fraction_stays_one`), or the pilot's choice. A forced 0 where the path tracer cannot
-/// stand for BDPT is an error naming why.
+/// camera samples are path traced, `path_traced`), the number `L` each traces, and the
+/// run-time note: forced, kept at `q = 1` (`fraction_stays_one`), or the pilot's choice. A
+/// forced 0 where the path tracer cannot stand for BDPT is an error naming why.
 #[allow(clippy::too_many_arguments)]
 fn choose_fraction(
     bdpt: &Bdpt,
@@ -958,11 +1001,14 @@ fn choose_fraction(
     cam: &crate::camera::manager::NamedCamera,
     setup: &Setup<'_>,
     start: std::time::Instant,
-) -> Result<(f32, Option<String>), RenderError> {
+) -> Result<(f32, u32, Option<String>), RenderError> {
     let stays_one = fraction_stays_one(scene);
-    Ok(match (plan.light_subpaths(), stays_one) {
-        (LightSubpaths::Fraction(q), _) if q >= 1.0 => (1.0, None),
-        (LightSubpaths::Fraction(q), _) if q <= 0.0 => {
+    let paths = match plan.light_subpath_count() {
+        LightSubpathCount::Count(n) => n,
+        LightSubpathCount::Auto => light_paths_for(scene, bdpt.light_paths),
+    };
+    if let LightSubpaths::Fraction(q) = plan.light_subpaths() {
+        if q <= 0.0 {
             if let Some(why) =
                 stays_one.or_else(|| path_traced::refusal(&bdpt.path_traced(), scene, plan))
             {
@@ -972,23 +1018,39 @@ fn choose_fraction(
                 )));
             }
             let note = "bdpt light subpaths: q = 0 (forced), the camera samples are path traced";
-            (0.0, Some(note.to_string()))
+            return Ok((0.0, paths, Some(note.to_string())));
         }
-        (_, Some(why)) => (
-            1.0,
-            Some(format!(
-                "bdpt light subpaths: q = 1 (every camera sample traces them: {why})"
-            )),
-        ),
-        (LightSubpaths::Fraction(q), None) => (q, None),
-        (LightSubpaths::Auto, None) => {
-            let choice = pilot_choice(bdpt, scene, plan, settings, cam, setup)?;
-            (choice.q, Some(choice.note(start.elapsed().as_secs_f64())))
+    }
+    if let Some(why) = stays_one {
+        let forced_one = matches!(plan.light_subpaths(), LightSubpaths::Fraction(q) if q >= 1.0);
+        let note = (!forced_one).then(|| {
+            format!(
+                "bdpt light subpaths: q = 1, L = {paths} (every camera sample traces them: {why})"
+            )
+        });
+        return Ok((1.0, paths, note));
+    }
+    match pilot_candidates(bdpt, scene, plan) {
+        None => {
+            let q = match plan.light_subpaths() {
+                LightSubpaths::Fraction(q) => q.min(1.0),
+                LightSubpaths::Auto => 1.0,
+            };
+            Ok((q, paths, None))
         }
-    })
+        Some((candidates, offer_pt)) => {
+            let choice = pilot_choice(
+                bdpt, scene, plan, settings, cam, setup, candidates, offer_pt,
+            )?;
+            let note = choice.note(start.elapsed().as_secs_f64());
+            Ok((choice.q, choice.light_paths, Some(note)))
+        }
+    }
 }
 
-/// The pilots' decision (BDPT's and, where it may stand for BDPT, the path tracer's).
+/// The pilots' decision among `candidates` (BDPT's and, where `offer_pt` and it may stand for
+/// BDPT, the path tracer's).
+#[allow(clippy::too_many_arguments)]
 fn pilot_choice(
     bdpt: &Bdpt,
     scene: &Scene,
@@ -996,9 +1058,15 @@ fn pilot_choice(
     settings: &RenderSettings,
     cam: &crate::camera::manager::NamedCamera,
     setup: &Setup<'_>,
+    candidates: Candidates,
+    offer_pt: bool,
 ) -> Result<Choice, RenderError> {
-    let sums = pilot_sums(bdpt, scene, plan, settings, cam, setup)?;
-    let refused = path_traced::refusal(&bdpt.path_traced(), scene, plan);
+    let sums = pilot_sums(bdpt, scene, plan, settings, cam, setup, candidates)?;
+    let refused = if offer_pt {
+        path_traced::refusal(&bdpt.path_traced(), scene, plan)
+    } else {
+        Some("the fraction is forced (--effect light-subpaths)")
+    };
     let pt = match refused {
         None => Some(path_traced::pilot(
             &bdpt.path_traced(),
@@ -1047,7 +1115,12 @@ fn render_bdpt(
     let guide = setup.guide.as_ref();
     // The fraction of camera samples that trace light subpaths (`light_fraction`).
     let pilot_start = std::time::Instant::now();
-    let (q, note) = choose_fraction(bdpt, scene, plan, settings, cam, &setup, pilot_start)?;
+    let (q, light_paths, note) =
+        choose_fraction(bdpt, scene, plan, settings, cam, &setup, pilot_start)?;
+    let bdpt = &Bdpt {
+        light_paths,
+        ..*bdpt
+    };
     // The pilot and the guide's pre-pass are part of the render: a time budget counts them.
     let prepass_time = std::time::Duration::from_secs_f64(guide.map_or(0.0, NeeGuide::seconds));
     let pilot_time = pilot_start.elapsed() + prepass_time;
@@ -1182,9 +1255,10 @@ impl Bdpt {
     }
 
     /// The light-fraction pilot's decision for `scene` (what `--effect light-subpaths=auto`
-    /// renders with, `q = 0` among the candidates where [`path_traced::refusal`] allows it),
-    /// run as the render would run it; `None` where the fraction stays 1 without a pilot
-    /// (beams-only lights, fluorescence).
+    /// and `light-subpath-count=auto` render with, `q = 0` among the candidates where
+    /// [`path_traced::refusal`] allows it), run as the render would run it; `None`
+    /// where no pilot runs: the fraction stays 1 (beams-only lights, fluorescence) or nothing
+    /// is left to choose (both forced, or the fraction forced in a scene with one count).
     pub fn light_fraction_pilot(
         &self,
         scene: &Scene,
@@ -1198,12 +1272,14 @@ impl Bdpt {
             .cameras
             .get(settings.camera.as_deref())
             .map_err(RenderError::Setup)?;
-        let bdpt = &Bdpt {
-            light_paths: light_paths_for(scene, self.light_paths),
-            ..*self
+        let Some((candidates, offer_pt)) = pilot_candidates(self, scene, plan) else {
+            return Ok(None);
         };
         let setup = Setup::new(scene, plan, settings, cam.camera.as_ref());
-        pilot_choice(bdpt, scene, plan, settings, cam, &setup).map(Some)
+        pilot_choice(
+            self, scene, plan, settings, cam, &setup, candidates, offer_pt,
+        )
+        .map(Some)
     }
 
     /// One camera sample of pixel `(x, y)`: returns the XYZ of all t ≥ 2 strategies for the
@@ -1304,13 +1380,14 @@ impl Bdpt {
         }
         if let Some(p) = worker.pilot.as_mut() {
             let camera_cost = PartCost {
-                rays: worker.stats.rays - work.before.rays - work.light.rays,
+                rays: worker.stats.rays - work.before.rays - work.light.rays - work.further.rays,
                 shadow_rays: worker.stats.shadow_rays
                     - work.before.shadow_rays
-                    - work.light.shadow_rays,
+                    - work.light.shadow_rays
+                    - work.further.shadow_rays,
                 connections: work.camera_connections,
             };
-            p.finish_sample(center, camera_cost, work.light);
+            p.finish_sample(center, camera_cost, work.light, work.further);
         }
         worker.camera_path = camera_path;
         worker.light_path = light_path;
@@ -1375,6 +1452,7 @@ impl Bdpt {
                 rays: worker.stats.rays - after_camera.rays,
                 ..PartCost::default()
             },
+            further: PartCost::default(),
             camera_connections: 0,
         };
         if let LightStart::Beams { index, pmf } = start {
@@ -1551,15 +1629,18 @@ impl Bdpt {
                         None => camera_path.get(1),
                     };
                     if seen.is_none_or(|v| v.light_index(scene).is_none()) {
-                        // Candidate weights over the current one.
-                        let ratios =
-                            alt.weights
-                                .map(|a| if w_mis > 0.0 { (a / w_mis) as f64 } else { 0.0 });
+                        // Each candidate's weight over the current one (and count, t = 1).
+                        let ratios = p.candidates().ratios(&alt.terms, (s, t), w_mis);
                         let at = c.raster.unwrap_or(frame.center);
-                        p.book(at, SampleCounts::uses_light_subpath(s, t), xyz[1], &ratios);
+                        let part = match (s, t) {
+                            (_, 1) => Part::LightTracing(0),
+                            (2.., _) => Part::Join,
+                            _ => Part::Camera,
+                        };
+                        p.book(at, part, xyz[1], &ratios);
                         let n = counts.count(s, t);
                         let own = c.raster.is_none().then_some(s + t - 2);
-                        p.book_pt(xyz[1], c.weight[0], n, &alt.pt_ratios, own);
+                        p.book_pt(xyz[1], c.weight[0], n, &alt.terms.pt_ratios, own);
                     }
                 }
                 let energies = || weights.energies(&(c.l * c.weight), c.lanes);
@@ -1623,7 +1704,7 @@ impl Bdpt {
                     frame.reject("bdpt specular chain".into(), kind);
                 } else {
                     if let Some(p) = worker.pilot.as_mut() {
-                        p.book(frame.center, false, xyz[1], &[1.0; CANDIDATES.len()]);
+                        p.book(frame.center, Part::Camera, xyz[1], &[1.0; MAX_CANDIDATES]);
                     }
                     // Filed with s = 0 of the same path: the two share its class.
                     own.add(frame, xyz, (0, m.t_equivalent), || {
@@ -1680,7 +1761,7 @@ impl Bdpt {
                     return;
                 }
                 if let Some(p) = worker.pilot.as_mut() {
-                    p.book(m.raster, false, xyz[1], &[1.0; CANDIDATES.len()]);
+                    p.book(m.raster, Part::Camera, xyz[1], &[1.0; MAX_CANDIDATES]);
                 }
                 frame.splat(m.raster, xyz, Some((0, m.sample.t_equivalent)), || {
                     frame.weights.energies(&(c.l * c.weight), c.lanes)
@@ -1717,7 +1798,7 @@ impl Bdpt {
             if let LightStart::Beams { index, pmf } = start {
                 self.trace_beams(frame, (index, pmf), j, ld, &mut worker.stats);
             }
-            work.light.rays += worker.stats.rays - rays_before;
+            work.further.rays += worker.stats.rays - rays_before;
             if let Some(fc) = frame.flat {
                 fc.prefix(light_path, &mut worker.light_flat);
             }
@@ -1741,8 +1822,8 @@ impl Bdpt {
                     &mut worker.stats,
                     worker.pilot.is_some().then_some(&mut alt),
                 );
-                work.light.shadow_rays += worker.stats.shadow_rays - shadow_before;
-                work.light.connections += connected.is_some() as u64;
+                work.further.shadow_rays += worker.stats.shadow_rays - shadow_before;
+                work.further.connections += connected.is_some() as u64;
                 let Some(c) = connected else {
                     continue;
                 };
@@ -1770,18 +1851,20 @@ impl Bdpt {
                 }
                 if let Some(p) = worker.pilot.as_mut() {
                     let cw = c.weight[0];
-                    let ratios = alt
-                        .weights
-                        .map(|a| if cw > 0.0 { (a / cw) as f64 } else { 0.0 });
                     // Left out where the camera sees an emitter, as above.
                     if light_path[s - 1].light_index(scene).is_none() {
-                        p.book(r, true, xyz[1], &ratios);
-                        p.book_pt(xyz[1], cw, counts.count(s, 1), &alt.pt_ratios, None);
+                        let ratios = p.candidates().ratios(&alt.terms, (s, 1), cw);
+                        p.book(r, Part::LightTracing(j), xyz[1], &ratios);
+                        let n = counts.count(s, 1);
+                        p.book_pt(xyz[1], cw, n, &alt.terms.pt_ratios, None);
                     }
                 }
                 frame.splat(r, xyz, Some((s, 1)), || {
                     w.energies(&(c.l * c.weight), c.lanes)
                 });
+            }
+            if let Some(p) = worker.pilot.as_mut() {
+                p.end_subpath();
             }
         }
     }
@@ -1930,6 +2013,59 @@ mod tests {
         assert!(
             worst <= 1.0 / 0.95 + 1e-4,
             "camera-subpath throughput {worst} outside the glass ({outside} vertices)"
+        );
+    }
+
+    /// The light-subpath pilot's weights under each candidate (q, L), from one evaluation's
+    /// parts (`mis::PilotTerms::weight`), against `mis_weight_guided` evaluated under those
+    /// counts. Quantity: the s = 0 weights of every camera-subpath vertex on the lamp of the
+    /// Cornell box (20 000 camera rays), whose alternatives are all three kinds the terms
+    /// separate (s = 1, the joins s ≥ 2, light tracing t = 1). Tolerance: 1e-4 relative plus
+    /// 1e-6 (single-precision rounding of the same sums in another order).
+    #[test]
+    fn pilot_weights_match_the_weights_under_each_candidate() {
+        let file = Path::new("cornell_box.ron");
+        let desc = parse_scene_str(include_str!("../../../scenes/cornell_box.ron"), file).unwrap();
+        let scene = build_scene(&desc, Path::new("."), file, &[&BuiltinFactory]).unwrap();
+        let cam = scene.cameras.get(None).unwrap();
+        let camera = cam.camera.as_ref();
+        let candidates = Candidates::new(&light_fraction::CANDIDATES, &light_fraction::COUNTS, 4);
+        let pilot = light_fraction::counts(candidates.pilot_paths(), 1.0);
+        let window = (Vec2::ZERO, Vec2::new(256.0, 256.0));
+        let (mut checked, mut shared) = (0u64, 0u64);
+        for_each_camera_subpath(&scene, 11, 20_000, window, (18, 1), |path, lambda| {
+            for t in 2..=path.len() {
+                if path[t - 1].light_index(&scene).is_none() {
+                    continue;
+                }
+                let terms =
+                    mis::pilot_terms(&scene, camera, &[], path, None, (0, t), lambda, pilot, None);
+                for &(q, l) in candidates.list() {
+                    let counts = light_fraction::counts(l, q);
+                    let w = mis_weight_guided(
+                        &scene,
+                        camera,
+                        &[],
+                        path,
+                        None,
+                        (0, t),
+                        lambda,
+                        counts,
+                        None,
+                    );
+                    let w_terms = terms.weight(0, t, counts);
+                    assert!(
+                        (w - w_terms).abs() <= 1e-4 * w.abs() + 1e-6,
+                        "t = {t}, q = {q}, L = {l}: {w} against {w_terms}"
+                    );
+                    checked += 1;
+                    shared += (w < 0.99 && w > 0.01) as u64;
+                }
+            }
+        });
+        assert!(
+            checked > 500 && shared > 50,
+            "{checked} weights, {shared} shared"
         );
     }
 }

@@ -39,7 +39,7 @@ pub mod wavelengths;
 pub use crate::sampler::{PixelSampler, SampleRng, SamplerKind, UniformSource};
 pub use driver::{Integrator, IntegratorInfo, IntegratorOptions, IntegratorOutput, Registration};
 pub use path::render;
-pub use plan::{EffectsMode, EffectsRequest, LightSubpaths, RenderPlan, Switch};
+pub use plan::{EffectsMode, EffectsRequest, LightSubpathCount, LightSubpaths, RenderPlan, Switch};
 pub use render::{
     DroppedPass, PathStats, PathTracer, RenderError, RenderResult, RenderSettings, SampleBudget,
 };

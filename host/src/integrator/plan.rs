@@ -17,6 +17,7 @@
 //! | `manifold` (alias `mnee`)              | bdpt adds the specular-chain connection (`integrator::connect::manifold_connection`) for paths that only `s = 0` can make otherwise (found with specular chains) | those paths come from `s = 0` alone |
 //! | `camera-chain`                         | bdpt adds the camera-side specular-chain connection (`integrator::connect::camera_chain`): the lamp seen reflected in or refracted through smooth specular objects from a pinhole (found with specular chains; thin-lens cameras: not run) | those paths come from `s = 0` alone |
 //! | `light-subpaths=auto\|Q` (not on/off) | auto (the default): bdpt chooses the fraction `q` of camera samples that trace light subpaths by a short pilot (`integrator::bdpt::light_fraction`), `0` (path trace every camera sample, `integrator::bdpt::path_traced`) among the candidates where path tracing samples every path bdpt does; `Q` forces it: `1` (every camera sample), `0.5`, `1/8`, any value in [0, 1] (0 is an error where path tracing would lose light) | – |
+//! | `light-subpath-count=auto\|N` (not on/off) | auto (the default): the same pilot chooses how many light subpaths a camera sample that traces them traces, 1, 2, 4 or 8 where some surface scatters by a delta lobe (caustics), else 1; `N` forces it (1 to 64; with beams-only lights or fluorescence, where no pilot runs, auto means 4 in scenes with delta surfaces) | – |
 //! | `visibility-guide` (alias `nee-guide`) | pt's next-event estimation and bdpt's s = 1 strategy draw points of area lights on quads and small meshes, and the directions of the constant, image-map and CIE environments, from a density learned by a short pre-pass where they are partly hidden (`integrator::nee_guide`; found with such lights, then switched on per light where the pre-pass finds at least 30% of their light occluded; forced on or `--effects all`: every such light) | uniform points by area (no pre-pass) |
 //!
 //! bdpt and lt draw the pair's wavelengths from the observer-plus-emission mixture
@@ -197,6 +198,40 @@ impl LightSubpaths {
     }
 }
 
+/// bdpt's number of light subpaths per camera sample that traces them (`--effect
+/// light-subpath-count=auto|N`, see `integrator::bdpt::light_fraction`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum LightSubpathCount {
+    /// Chosen per scene by the pilot (the default): 1, 2, 4 or 8 where some surface scatters
+    /// by a delta lobe, else 1.
+    #[default]
+    Auto,
+    /// Forced: this many, in [1, [`MAX_LIGHT_SUBPATH_COUNT`]].
+    Count(u32),
+}
+
+/// The most light subpaths per camera sample `--effect light-subpath-count` accepts.
+pub const MAX_LIGHT_SUBPATH_COUNT: u32 = 64;
+
+impl LightSubpathCount {
+    /// The value of `--effect light-subpath-count=VALUE`: `auto`, or a whole number in
+    /// [1, [`MAX_LIGHT_SUBPATH_COUNT`]].
+    pub fn parse(value: &str) -> Result<Self, String> {
+        let v = value.trim().to_ascii_lowercase();
+        if v == "auto" {
+            return Ok(Self::Auto);
+        }
+        match v.parse::<u32>() {
+            Ok(n) if (1..=MAX_LIGHT_SUBPATH_COUNT).contains(&n) => Ok(Self::Count(n)),
+            _ => Err(format!(
+                "--effect light-subpath-count={value}: expected auto or a whole number from 1 \
+                 to {MAX_LIGHT_SUBPATH_COUNT} of light subpaths per camera sample that traces \
+                 them (1, 2, 4, 8, …)"
+            )),
+        }
+    }
+}
+
 /// What the command line asks for: a mode and single effects forced on or off.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct EffectsRequest {
@@ -206,6 +241,8 @@ pub struct EffectsRequest {
     pub forced: Vec<(Switch, bool)>,
     /// `--effect light-subpaths=auto|Q` (the last one given).
     pub light_subpaths: LightSubpaths,
+    /// `--effect light-subpath-count=auto|N` (the last one given).
+    pub light_subpath_count: LightSubpathCount,
 }
 
 impl EffectsRequest {
@@ -215,6 +252,7 @@ impl EffectsRequest {
             mode,
             forced: Vec::new(),
             light_subpaths: LightSubpaths::Auto,
+            light_subpath_count: LightSubpathCount::Auto,
         };
         for arg in forced {
             let Some((name, value)) = arg.split_once('=') else {
@@ -225,6 +263,10 @@ impl EffectsRequest {
             let n = name.trim().to_ascii_lowercase().replace('_', "-");
             if n == "light-subpaths" || n == "light-fraction" {
                 out.light_subpaths = LightSubpaths::parse(value)?;
+                continue;
+            }
+            if n == "light-subpath-count" {
+                out.light_subpath_count = LightSubpathCount::parse(value)?;
                 continue;
             }
             let switch = Switch::parse(name)?;
@@ -254,11 +296,15 @@ impl EffectsRequest {
             .iter()
             .map(|(s, on)| format!("{}={}", s.name(), if *on { "on" } else { "off" }))
             .collect();
-        match self.light_subpaths {
+        let count = match self.light_subpath_count {
             // The key of every request before the setting existed.
-            LightSubpaths::Auto => format!("{:?}[{}]", self.mode, forced.join(",")),
+            LightSubpathCount::Auto => String::new(),
+            LightSubpathCount::Count(n) => format!("light-subpath-count={n}"),
+        };
+        match self.light_subpaths {
+            LightSubpaths::Auto => format!("{:?}[{}]{count}", self.mode, forced.join(",")),
             LightSubpaths::Fraction(q) => format!(
-                "{:?}[{}]light-subpaths={}",
+                "{:?}[{}]light-subpaths={}{count}",
                 self.mode,
                 forced.join(","),
                 q.to_bits()
@@ -515,6 +561,12 @@ impl RenderPlan {
         self.request.light_subpaths
     }
 
+    /// bdpt's light subpaths per camera sample that traces them (`--effect
+    /// light-subpath-count`; `integrator::bdpt::light_fraction`).
+    pub fn light_subpath_count(&self) -> LightSubpathCount {
+        self.request.light_subpath_count
+    }
+
     /// pt's visibility guide (`integrator::nee_guide`): `None` when its pre-pass decides per
     /// light (found, auto), `Some(true)` to guide every light it can (forced on or
     /// `--effects all`), `Some(false)` for none (forced off, or no light it can guide).
@@ -628,6 +680,12 @@ impl RenderPlan {
                 format!("; bdpt light subpaths in {q} of camera samples (forced)")
             }
         };
+        let ls = match self.request.light_subpath_count {
+            LightSubpathCount::Auto => ls,
+            LightSubpathCount::Count(n) => {
+                format!("{ls}; bdpt light subpaths per camera sample: {n} (forced)")
+            }
+        };
         format!(
             "plan (--effects {}): {}; {wl}; {lp}{ls}",
             match self.request.mode {
@@ -707,9 +765,11 @@ impl RenderPlan {
                 LightSubpaths::Auto => {
                     "a short pilot chooses the fraction q of camera samples that trace light \
                      subpaths (1, 1/2, …, 1/16, and 0: every camera sample path traced, where \
-                     path tracing samples every path bdpt does) by estimated variance × cost; \
-                     the light-subpath strategies are weighted by their expected counts (q = 1 \
-                     with beams-only lights or fluorescence)"
+                     path tracing samples every path bdpt does) and, unless \
+                     light-subpath-count is given, how many each traces (1, 2, 4 or 8 where \
+                     some surface scatters by a delta lobe, else 1) by estimated variance × \
+                     cost; the light-subpath strategies are weighted by their expected counts \
+                     (q = 1 with beams-only lights or fluorescence)"
                 }
                 LightSubpaths::Fraction(q) if q <= 0.0 => {
                     "no light subpaths: the camera samples are path traced (pt's estimator and \
@@ -721,6 +781,15 @@ impl RenderPlan {
                      use them weighted by their expected counts (q = 1 with beams-only lights \
                      or fluorescence)"
                 }
+            }
+        ));
+        out.push_str(&format!(
+            "  light-subpath-count: {} — bdpt: light subpaths per camera sample that traces \
+             them, the first joined to every camera vertex, the others to the camera only \
+             (t = 1)\n",
+            match self.request.light_subpath_count {
+                LightSubpathCount::Auto => "auto (the pilot's choice)".to_string(),
+                LightSubpathCount::Count(n) => format!("{n} (forced)"),
             }
         ));
         for n in &self.notes {
@@ -769,6 +838,28 @@ mod tests {
         assert!(e.contains("unknown effect") && e.contains("sparkle"), "{e}");
         let e = EffectsRequest::parse(EffectsMode::Auto, &["dispersion=maybe".into()]).unwrap_err();
         assert!(e.contains("maybe"), "{e}");
+        // The count of light subpaths: auto or 1..=64, the error naming the value; it enters
+        // the settings' key only when forced (older keys stay as they were).
+        let r = EffectsRequest::parse(
+            EffectsMode::Auto,
+            &[
+                "light-subpath-count=2".into(),
+                "light_subpath_count=8".into(),
+            ],
+        )
+        .unwrap();
+        assert_eq!(r.light_subpath_count, LightSubpathCount::Count(8));
+        assert!(r.key().ends_with("light-subpath-count=8"), "{}", r.key());
+        assert_eq!(
+            EffectsRequest::parse(EffectsMode::Auto, &[]).unwrap().key(),
+            "Auto[]"
+        );
+        for bad in ["0", "65", "2.5", "four", "-1"] {
+            let e =
+                EffectsRequest::parse(EffectsMode::Auto, &[format!("light-subpath-count={bad}")])
+                    .unwrap_err();
+            assert!(e.contains(&format!("light-subpath-count={bad}")), "{e}");
+        }
         let e = EffectsRequest::parse(EffectsMode::Auto, &["dispersion".into()]).unwrap_err();
         assert!(e.contains("NAME=on"), "{e}");
     }

@@ -5,8 +5,9 @@
 //! the path tracer where light subpaths do not pay (`--effect light-subpaths`, q = 0,
 //! `host/src/integrator/bdpt/path_traced.rs`); a test about BDPT's estimator (its agreement
 //! with pt or lt, its handling of a feature) would then compare the path tracer with itself.
-//! So such tests render with light subpaths in every camera sample (`light-subpaths=1`); for
-//! pt and lt the setting changes nothing.
+//! So such tests render with light subpaths in every camera sample (`light-subpaths=1`; the
+//! pilot still chooses how many where delta surfaces make caustics); for pt and lt the setting
+//! changes nothing.
 #![allow(dead_code)] // each test file uses a part
 
 use spectrace::integrator::select::render_planned;

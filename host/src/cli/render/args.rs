@@ -79,7 +79,10 @@ pub struct RenderArgs {
     /// camera-chain, visibility-guide (pt's and bdpt's s = 1 learned light points; see docs/effects.md). Also
     /// light-subpaths=auto|Q: the fraction of bdpt's camera samples that trace light subpaths,
     /// auto (chosen by a short pilot, the default) or Q in [0, 1] (1, 0.5, 1/8, …; 0: every
-    /// camera sample path traced, an error where that would lose light).
+    /// camera sample path traced, an error where that would lose light); and
+    /// light-subpath-count=auto|N: how many light subpaths such a camera sample traces, auto
+    /// (the same pilot: 1, 2, 4 or 8 where delta surfaces make caustics, else 1) or N in
+    /// [1, 64].
     #[arg(long = "effect", value_name = "NAME=on|off")]
     pub effect: Vec<String>,
     /// Debug (bdpt): write each (s, t) strategy's weighted contribution as its own EXR here.

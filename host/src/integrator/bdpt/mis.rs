@@ -162,13 +162,50 @@ pub fn mis_weight_guided(
     }
 }
 
-/// For the light-fraction pilot's path-tracing candidate (`light_fraction::PtPilotSums`): the
-/// squared densities `(p₀/p, p₁/p)²` with which the strategies s = 0 and s = 1 (the path
-/// tracer's two) make the path of strategy (s, t), relative to that strategy's own density `p`
-/// (the chain [`mis_weight_guided`] sums, with the same next-event correction and guide
-/// factor); 0 where the strategy cannot make the path (a delta vertex or an unhittable light).
+/// What the light-fraction pilot (`light_fraction`) reads of one connection's weight: the
+/// power heuristic's sum split by the scale each alternative strategy carries, so that the
+/// weight under any sample counts is [`PilotTerms::weight`] without evaluating the densities
+/// again, and the squared densities `(p₀/p, p₁/p)²` with which the path tracer's two
+/// strategies (s = 0, s = 1) make the path of strategy (s, t), relative to that strategy's own
+/// density `p` (the chain [`mis_weight_guided`] sums, with the same next-event correction and
+/// guide factor; 0 where the strategy cannot make the path: a delta vertex or an unhittable
+/// light), for the path-tracing candidate (`light_fraction::PtPilotSums`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PilotTerms {
+    /// `(p₀/p)²`, `(p₁/p)²`.
+    pub pt_ratios: [f32; 2],
+    /// Σ of the alternatives counted once per camera sample (s ≤ 1, t ≥ 2), unscaled.
+    pub unit: f32,
+    /// Σ of the joins' terms (s ≥ 2, t ≥ 2), before their scale `q²`.
+    pub join: f32,
+    /// The light-tracing term (t = 1), before its scale ([`heuristic_scale`]`(1, 1, ·)`).
+    pub t1: f32,
+    /// What the sum is divided by besides the strategy's own scale: the next-event factor
+    /// when the strategy is s = 1, t ≥ 2 (see [`mis_weight_guided`]), else 1.
+    pub own: f32,
+}
+
+impl PilotTerms {
+    /// The weight of strategy (s, t) for this path under `counts`: what [`mis_weight_guided`]
+    /// computes (up to rounding) from the same terms.
+    #[inline]
+    pub fn weight(&self, s: usize, t: usize, counts: SampleCounts) -> f32 {
+        let sum = (self.unit
+            + self.join * counts.fraction * counts.fraction
+            + self.t1 * heuristic_scale(1, 1, counts))
+            / (heuristic_scale(s, t, counts) * self.own);
+        let w = 1.0 / (1.0 + sum);
+        if w.is_finite() {
+            w
+        } else {
+            0.0
+        }
+    }
+}
+
+/// The [`PilotTerms`] of strategy (s, t)'s path (the light-fraction pilot's, see there).
 #[allow(clippy::too_many_arguments)]
-pub fn path_tracing_ratios(
+pub fn pilot_terms(
     scene: &Scene,
     camera: &dyn Camera,
     light_path: &[Vertex],
@@ -178,8 +215,11 @@ pub fn path_tracing_ratios(
     lambda: &SampledWavelengths,
     counts: SampleCounts,
     guide: Option<&NeeGuide>,
-) -> [f32; 2] {
-    let mut out = [0.0f32; 2];
+) -> PilotTerms {
+    let mut out = PilotTerms {
+        own: 1.0,
+        ..PilotTerms::default()
+    };
     let args = (
         scene,
         camera,
@@ -215,7 +255,7 @@ type WeightArgs<'a> = (
 #[inline(always)]
 fn mis_weight_in<const FRACTION: bool, const GUIDED: bool>(
     (scene, camera, light_path, camera_path, sampled, s, t, lambda, counts, guide): WeightArgs<'_>,
-    mut pt_ratios: Option<&mut [f32; 2]>,
+    mut pilot: Option<&mut PilotTerms>,
 ) -> f32 {
     // The same overrides as [`mis_weight_overrides`], written out here on purpose: calling it
     // (even `#[inline(always)]`, moving the `Overrides` with its two vertex copies) costs
@@ -341,8 +381,18 @@ fn mis_weight_in<const FRACTION: bool, const GUIDED: bool>(
                 1.0
             };
             sum += ri * nee_here * scale / own_scale;
-            if let Some(r) = pt_ratios.as_deref_mut().filter(|_| s + t - i <= 1) {
-                r[s + t - i] = ri * nee_here;
+            if let Some(p) = pilot.as_deref_mut() {
+                let r = ri * nee_here;
+                if i == 1 {
+                    p.t1 += r;
+                } else if s + t - i >= 2 {
+                    p.join += r;
+                } else {
+                    p.unit += r;
+                }
+                if s + t - i <= 1 {
+                    p.pt_ratios[s + t - i] = ri * nee_here;
+                }
             }
         }
     }
@@ -358,8 +408,14 @@ fn mis_weight_in<const FRACTION: bool, const GUIDED: bool>(
         if !delta && !delta_before {
             // The alternative (i, t + s − i) has t + (s − i) ≥ 2 camera vertices.
             let nee_here = if i == 1 { nee } else { 1.0 };
-            if let Some(r) = pt_ratios.as_deref_mut().filter(|_| i <= 1) {
-                r[i] = ri * nee_here;
+            if let Some(p) = pilot.as_deref_mut() {
+                let r = ri * nee_here;
+                if i >= 2 {
+                    p.join += r;
+                } else {
+                    p.unit += r;
+                    p.pt_ratios[i] = r;
+                }
             }
             if FRACTION && i >= 2 {
                 sum += ri * nee_here * join_scale / own_scale;
@@ -371,12 +427,13 @@ fn mis_weight_in<const FRACTION: bool, const GUIDED: bool>(
     if s == 1 && t >= 2 && nee > 0.0 {
         // This strategy is next-event estimation: its own density carries the factor.
         sum /= nee;
-        if let Some(r) = pt_ratios.as_deref_mut() {
-            r[0] /= nee;
+        if let Some(p) = pilot.as_deref_mut() {
+            p.pt_ratios[0] /= nee;
+            p.own = nee;
         }
     }
-    if let Some(r) = pt_ratios.filter(|_| s <= 1 && t >= 2) {
-        r[s] = 1.0;
+    if let Some(p) = pilot.filter(|_| s <= 1 && t >= 2) {
+        p.pt_ratios[s] = 1.0;
     }
     let w = 1.0 / (1.0 + sum);
     if w.is_finite() {
