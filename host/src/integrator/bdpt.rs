@@ -958,12 +958,26 @@ fn render_bdpt(
         bdpt.spectral,
         |buf, samples, splats, spectral| {
             let mut worker = Worker::new(counts, None);
+            // One sampler per tile, restarted for every sample: with several samples of a
+            // pixel in this pass it keeps the pixel's scramble seeds across them (the same
+            // numbers as a new sampler each time, as in the path tracer; callgrind, passes of
+            // 4 to 16 spp: 1.1-1.2% fewer of bdpt's instructions per camera sample on the
+            // Cornell box and the two caustics). A pass of one sample per pixel (a render's
+            // first ones) would only fill the memo, +0.7%: it hashes as before.
+            let (first_pixel, pass_spp) = (
+                buf.y0 as u64 * width as u64 + buf.x0 as u64,
+                samples.end.saturating_sub(samples.start),
+            );
+            let mut ld = if pass_spp > 1 {
+                PixelSampler::memoised(settings.sampler, settings.seed, first_pixel, 0)
+            } else {
+                PixelSampler::with_kind(settings.sampler, settings.seed, first_pixel, 0)
+            };
             for y in buf.y0..buf.y0 + buf.h {
                 for x in buf.x0..buf.x0 + buf.w {
                     let pixel = y as u64 * width as u64 + x as u64;
                     for si in samples.clone() {
-                        let mut ld =
-                            PixelSampler::with_kind(settings.sampler, settings.seed, pixel, si);
+                        ld.restart(pixel, si);
                         let xyz = bdpt.sample(
                             scene,
                             cam,
