@@ -97,7 +97,7 @@ use super::wavelengths::mixture::WavelengthMixture;
 use super::wavelengths::pairs::PairWavelengths;
 use super::wavelengths::xyz_weights::XyzWeights;
 use super::{PathStats, PixelSampler, RenderError, RenderResult, RenderSettings, UniformSource};
-use crate::camera::{Camera, CameraSample};
+use crate::camera::Camera;
 use crate::film::rejected::check_sample;
 use crate::film::spectral::SpectralBins;
 use crate::film::spectral_film::{LaneEnergies, SpectralFilm};
@@ -1126,11 +1126,9 @@ impl Bdpt {
         // block of dimensions (`dimensions.rs`), so a pixel's samples are stratified in each.
         let lambda = pair.sample(ld);
         let weights = XyzWeights::new(sensor, &lambda);
-        let offset = cam.filter.sample(ld.next_2d());
-        let cs = CameraSample {
-            p_film: Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset,
-            p_lens: ld.next_2d(),
-        };
+        // The film and lens numbers as the path tracer draws them: a pinhole's lens numbers,
+        // which it never reads, are skipped (the same later numbers, so the same image).
+        let cs = super::path::camera_sample(cam, camera.pinhole(), ld, (x, y));
         let Some(cray) = camera.generate_ray(&cs) else {
             return [0.0; 3];
         };
