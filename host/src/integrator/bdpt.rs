@@ -490,7 +490,7 @@ fn connect_s0(
 /// numbers are drawn from its density for the camera vertex's key (`mis::s1_guide_key`) and
 /// the point's density is `pdf_li` times its factor, which the MIS weights evaluate at the
 /// point (`mis::s1_guide_factor`).
-#[inline]
+#[inline(always)]
 fn connect_s1<S: UniformSource>(
     scene: &Scene,
     camera_path: &[Vertex],
