@@ -504,7 +504,7 @@ fn connect_s1<S: UniformSource>(
     if !pt.connectible(scene) {
         return None;
     }
-    let (li, pmf) = scene.lights.sample(rng.next_1d())?;
+    let (li, pmf) = scene.lights.sample(light_choice_number(scene, rng))?;
     let u = rng.next_2d();
     let (u, guided) = match guide {
         Some(g) if g.guides(li) => g.sample(li, s1_guide_key(g, pt, &camera_path[t - 2]), u),
@@ -545,6 +545,19 @@ fn connect_s1<S: UniformSource>(
     // Only the MIS weight reads it: not asked for connections that give nothing.
     lv.pdf_fwd = lv.pdf_light_origin(scene, pt);
     Some((c, lv))
+}
+
+/// The number that chooses a light (`LightSourceManager::sample`). With one light the choice
+/// ignores it: its dimension is consumed without computing it (`skip_1d`, every later number
+/// stays the same, so the same image), as the path tracer's next-event estimation does.
+#[inline]
+fn light_choice_number<S: UniformSource>(scene: &Scene, rng: &mut S) -> f32 {
+    if scene.lights.lights().len() > 1 {
+        rng.next_1d()
+    } else {
+        rng.skip_1d();
+        0.0
+    }
 }
 
 /// s ≥ 2, t ≥ 2, the general case: join two surface vertices.
@@ -1143,7 +1156,7 @@ impl Bdpt {
             block(ld, dimensions::LIGHT_FRACTION);
             ld.next_1d() < counts.fraction
         };
-        let u_start = trace_light.then(|| Self::light_start(ld, 0));
+        let u_start = trace_light.then(|| Self::light_start_in(scene, ld, 0));
         let before = worker.stats;
         block(ld, dimensions::CAMERA_WALK);
         generate_camera_subpath(
@@ -1385,7 +1398,7 @@ impl Bdpt {
         if let Some(j) = manifold.then(|| anchor(scene, &camera_path)).flatten() {
             // The specular-chain connection from the first non-specular camera vertex.
             block(ld, dimensions::MANIFOLD);
-            let u = (ld.next_1d(), ld.next_2d());
+            let u = (light_choice_number(scene, ld), ld.next_2d());
             let mut seeds = Seeds {
                 shapes: reflection_shapes,
                 set: &mut worker.manifold_set,
@@ -1627,6 +1640,14 @@ impl Bdpt {
     fn light_start(ld: &mut PixelSampler, j: u32) -> (f32, Vec2, Vec2) {
         block(ld, dimensions::light_start(j));
         (ld.next_1d(), ld.next_2d(), ld.next_2d())
+    }
+
+    /// [`light_start`](Self::light_start) with the light choice's number skipped in a scene
+    /// of one light ([`light_choice_number`]): the same numbers, one Sobol' request fewer.
+    #[inline]
+    fn light_start_in(scene: &Scene, ld: &mut PixelSampler, j: u32) -> (f32, Vec2, Vec2) {
+        block(ld, dimensions::light_start(j));
+        (light_choice_number(scene, ld), ld.next_2d(), ld.next_2d())
     }
 
     /// Light subpath `j` of a pair, and in a fluorescent scene its mode (see
