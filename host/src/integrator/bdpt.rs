@@ -468,7 +468,7 @@ fn moved_lanes(
 }
 
 /// s = 0: the camera path found an emitter by itself.
-#[inline]
+#[inline(always)]
 fn connect_s0(
     scene: &Scene,
     camera_path: &[Vertex],
@@ -561,7 +561,7 @@ fn light_choice_number<S: UniformSource>(scene: &Scene, rng: &mut S) -> f32 {
 }
 
 /// s ≥ 2, t ≥ 2, the general case: join two surface vertices.
-#[inline]
+#[inline(always)]
 fn connect_surfaces(
     scene: &Scene,
     light_path: &[Vertex],
