@@ -438,9 +438,20 @@ fn scan_round(
 /// Impact parameter `i` of `n` across `[-extent, extent]`, sine-spaced so the points crowd
 /// towards the rim, where a chain's leaving direction turns fastest.
 fn rim_spaced(i: usize, n: usize, extent: f32) -> f32 {
-    let phi = -1.0 + (i as f32 + 0.5) * 2.0 / n as f32;
-    extent * (std::f32::consts::FRAC_PI_2 * phi).sin()
+    extent * rim_sine(i, n)
 }
+
+/// The sine of [`rim_spaced`] (its value for `extent` 1).
+fn rim_sine(i: usize, n: usize) -> f32 {
+    let phi = -1.0 + (i as f32 + 0.5) * 2.0 / n as f32;
+    (std::f32::consts::FRAC_PI_2 * phi).sin()
+}
+
+/// [`rim_sine`] of the [`THROUGH_POINTS`] impact parameters, computed once: the closed-form
+/// scan runs at every specular-chain connection, and its 32 sines were an eighth of the
+/// scan's instructions (`extent * sine` is the same product, so the same parameters).
+static THROUGH_SINES: std::sync::LazyLock<[f32; THROUGH_POINTS]> =
+    std::sync::LazyLock::new(|| std::array::from_fn(|i| rim_sine(i, THROUGH_POINTS)));
 
 /// The in-plane direction `v` (unit) refracted at a surface with unit normal `m` facing it
 /// (`m · v < 0`), `e` = incident over transmitted index; `None` at total internal reflection.
@@ -516,8 +527,10 @@ impl ThroughPlane {
         // (impact parameter, angle) of the last two points; `None` where the ray missed.
         let mut prev2: Option<(f32, f32)> = None;
         let mut prev: Option<(f32, f32)> = None;
-        for i in 0..THROUGH_POINTS {
-            let p = rim_spaced(i, THROUGH_POINTS, r);
+        let sines = &*THROUGH_SINES;
+        for &sine in sines {
+            // `rim_spaced(i, THROUGH_POINTS, r)`, bit for bit.
+            let p = r * sine;
             let cur = self.angle(p).map(|(a, _)| (p, a));
             match (prev2, prev, cur) {
                 (_, Some(a), Some(b)) if (a.1 <= 0.0) != (b.1 <= 0.0) => self.narrow(a, b.0, f),
@@ -665,5 +678,32 @@ impl SolutionSet {
 
     fn contains(&self, chain: &Chain) -> bool {
         self.find(chain).is_some()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The closed-form scan's impact parameters from the table equal `rim_spaced`'s, bit for
+    /// bit (the seeds, hence the images, must not move): every index at radii over ten
+    /// decades, including 0, subnormal and huge ones.
+    #[test]
+    fn through_sines_give_the_rim_spaced_parameters() {
+        let mut radii = vec![0.0f32, f32::MIN_POSITIVE / 4.0, 1.0, 0.1, 0.5, 3.0e30];
+        let mut r = 1.0e-5f32;
+        while r < 1.0e5 {
+            radii.push(r);
+            r *= 1.37;
+        }
+        for &r in &radii {
+            for (i, &sine) in THROUGH_SINES.iter().enumerate() {
+                assert_eq!(
+                    (r * sine).to_bits(),
+                    rim_spaced(i, THROUGH_POINTS, r).to_bits(),
+                    "radius {r}, point {i}"
+                );
+            }
+        }
     }
 }

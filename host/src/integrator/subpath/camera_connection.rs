@@ -17,6 +17,7 @@ pub type SplatFn<'a> =
 /// The t = 1 connection of light vertex `s − 1` (s ≥ 1) to a lens point sampled with `u`:
 /// the unweighted contribution, the raster position and the lens vertex. For s = 1 it is the
 /// light's own emission seen by the camera (area lights only).
+#[inline(always)]
 pub fn connect_to_camera(
     scene: &Scene,
     camera: &dyn Camera,

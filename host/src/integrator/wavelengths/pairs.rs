@@ -85,15 +85,24 @@ impl<'a> PairWavelengths<'a> {
     /// instructions) per pair.
     #[inline]
     pub fn sample(&self, ld: &mut PixelSampler) -> SampledWavelengths {
-        let (u_comp, u_spd, u) = (ld.next_1d(), ld.next_1d(), ld.next_1d());
+        // The hero's number; the two before it, which only the mixture reads, are skipped
+        // rather than computed (`skip_1d` leaves the sampler where drawing them would).
+        let hero = |ld: &mut PixelSampler| {
+            ld.skip_1d();
+            ld.skip_1d();
+            ld.next_1d()
+        };
         match self {
-            Self::Product(t) => t.sample_lanes(u as f64),
+            Self::Product(t) => t.sample_lanes(hero(ld) as f64),
             Self::Uniform => SampledWavelengths::sample_uniform(
-                u,
+                hero(ld),
                 VISIBLE_RANGE.0 as f32,
                 VISIBLE_RANGE.1 as f32,
             ),
-            Self::Mixture(m) => m.sample_with(u_comp, u_spd as f64, u as f64),
+            Self::Mixture(m) => {
+                let (u_comp, u_spd, u) = (ld.next_1d(), ld.next_1d(), ld.next_1d());
+                m.sample_with(u_comp, u_spd as f64, u as f64)
+            }
         }
     }
 
