@@ -31,7 +31,9 @@
 //! [`PT_COST_WEIGHTS`](super::light_fraction::PT_COST_WEIGHTS).
 
 use super::super::nee_guide::NeeGuide;
-use super::super::path::{camera_sample, film_xyz, guide_notes, render_prepared, Prepared};
+use super::super::path::{
+    camera_sample, film_xyz, flat_colour, guide_notes, render_prepared, Prepared,
+};
 use super::super::pixel_max::PixelMaxY;
 use super::super::render::{PathTracer, ProgressFn};
 use super::super::wavelengths::groups::{PathWavelengthSampler, PathWavelengths};
@@ -128,9 +130,7 @@ pub fn pilot_sums(
     .map_err(RenderError::Setup)?;
     let sensor = Sensor::new(scene.observer.clone());
     // The render's flat-path colour (`path::render_prepared`), so the pilot sees its noise.
-    let flat = plan.flat_colour(scene, sensor.observer().as_ref(), &|nm| {
-        wavelengths.lane_density(nm)
-    });
+    let flat = flat_colour(scene, plan, &sensor, &wavelengths);
     let pool = super::super::tiled::thread_pool(settings.threads)?;
     let seed = light_fraction::pilot_seed(settings.seed);
     let pinhole = cam.camera.pinhole();
