@@ -324,11 +324,7 @@ impl<'a> Converter<'a> {
             }
             "principled" | "principledthin" => {
                 let r = self.reflectance(&p, "base_color", 0.5, item)?;
-                for c in &el.children {
-                    if let Some(n) = c.attr("name") {
-                        let _ = p.get(n);
-                    }
-                }
+                p.mark_named();
                 self.note(kind, "not supported: a lambertian of its base_color", item);
                 ("lambertian".into(), map(vec![("reflectance", r)]))
             }
@@ -389,11 +385,7 @@ impl<'a> Converter<'a> {
                 return Ok(None);
             }
             other => {
-                for c in &el.children {
-                    if let Some(n) = c.attr("name") {
-                        let _ = p.get(n);
-                    }
-                }
+                p.mark_named();
                 self.note(
                     &format!("bsdf {other}"),
                     "not supported: a lambertian of reflectance 0.5 stands in",

@@ -112,11 +112,7 @@ impl<'a> Converter<'a> {
             }
             "area" => return Err(el.error("an area emitter belongs inside a <shape>")),
             other => {
-                for c in &el.children {
-                    if let Some(n) = c.attr("name") {
-                        let _ = p.get(n);
-                    }
-                }
+                p.mark_named();
                 self.note(
                     &format!("emitter {other}"),
                     "not supported: left out",

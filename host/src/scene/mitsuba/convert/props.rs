@@ -60,6 +60,16 @@ impl<'a> Props<'a> {
         Some(c)
     }
 
+    /// Marks every named child used (what [`get`](Self::get) of each name marks): for an
+    /// element left out as a whole, whose parameters are not noted one by one.
+    pub(super) fn mark_named(&self) {
+        for c in &self.el.children {
+            if let Some(n) = c.attr("name") {
+                let _ = self.get(n);
+            }
+        }
+    }
+
     pub(super) fn has(&self, name: &str) -> bool {
         self.el
             .children
@@ -162,6 +172,12 @@ impl<'a> Props<'a> {
 }
 
 pub(super) fn point_of(c: &Element) -> Result<DVec3, SceneError> {
+    vector_of(c, 0.0)
+}
+
+/// An element's vector: its `value` (one number for all three, or three), else its `x`, `y`,
+/// `z` attributes, each `default` where absent.
+fn vector_of(c: &Element, default: f64) -> Result<DVec3, SceneError> {
     if let Some(v) = c.attr("value") {
         let n = numbers(v).ok_or_else(|| c.error(format!("`{v}` is not a list of numbers")))?;
         return match n.as_slice() {
@@ -172,7 +188,7 @@ pub(super) fn point_of(c: &Element) -> Result<DVec3, SceneError> {
     }
     let f = |k: &str| -> Result<f64, SceneError> {
         match c.attr(k) {
-            None => Ok(0.0),
+            None => Ok(default),
             Some(s) => s
                 .trim()
                 .parse::<f64>()
@@ -191,29 +207,7 @@ pub(super) fn point_of(c: &Element) -> Result<DVec3, SceneError> {
 pub fn transform_of(t: &Element) -> Result<DMat4, SceneError> {
     let mut m = DMat4::IDENTITY;
     for op in &t.children {
-        let attr3 = |default: f64| -> Result<DVec3, SceneError> {
-            if let Some(v) = op.attr("value") {
-                let n = numbers(v)
-                    .ok_or_else(|| op.error(format!("`{v}` is not a list of numbers")))?;
-                return match n.as_slice() {
-                    [x] => Ok(DVec3::splat(*x)),
-                    [x, y, z] => Ok(DVec3::new(*x, *y, *z)),
-                    _ => Err(op.error(format!("`{v}`: expected 1 or 3 numbers"))),
-                };
-            }
-            let f = |k: &str| -> Result<f64, SceneError> {
-                match op.attr(k) {
-                    None => Ok(default),
-                    Some(s) => s
-                        .trim()
-                        .parse::<f64>()
-                        .ok()
-                        .filter(|x| x.is_finite())
-                        .ok_or_else(|| op.error(format!("`{k}`: `{s}` is not a number"))),
-                }
-            };
-            Ok(DVec3::new(f("x")?, f("y")?, f("z")?))
-        };
+        let attr3 = |default: f64| vector_of(op, default);
         let vec_attr = |k: &str| -> Result<Option<DVec3>, SceneError> {
             match op.attr(k) {
                 None => Ok(None),

@@ -16,11 +16,7 @@ impl<'a> Converter<'a> {
         let p = Props::new(el);
         let base = el.attr("id").unwrap_or("camera").to_string();
         if !matches!(kind, "perspective" | "thinlens") {
-            for c in &el.children {
-                if let Some(n) = c.attr("name") {
-                    let _ = p.get(n);
-                }
-            }
+            p.mark_named();
             self.note(&format!("sensor {kind}"), "not supported: left out", &base);
             return Ok(());
         }
@@ -324,19 +320,11 @@ impl<'a> Converter<'a> {
                     p.mark(i);
                     self.integrator(c)?;
                 }
-                for c in &el.children {
-                    if let Some(n) = c.attr("name") {
-                        let _ = p.get(n);
-                    }
-                }
+                p.mark_named();
                 self.note(&format!("integrator {kind}"), "its extra channels are not produced: the nested integrator's settings are used", "");
             }
             other => {
-                for c in &el.children {
-                    if let Some(n) = c.attr("name") {
-                        let _ = p.get(n);
-                    }
-                }
+                p.mark_named();
                 self.note(
                     &format!("integrator {other}"),
                     "not supported: spectrace's own (render --integrator) is used",

@@ -185,11 +185,7 @@ impl<'a> Converter<'a> {
                 ("mesh".into(), mesh_value(&cylinder_mesh(p0, p1, r, flip)))
             }
             other => {
-                for c in &el.children {
-                    if let Some(n) = c.attr("name") {
-                        let _ = p.get(n);
-                    }
-                }
+                p.mark_named();
                 self.note(&format!("shape {other}"), "not supported: left out", base);
                 return Ok(None);
             }
