@@ -1126,10 +1126,6 @@ fn render_bdpt(
         .map_err(RenderError::Setup)?;
     let camera = cam.camera.as_ref();
     let (width, height) = camera.resolution();
-    let bdpt = &Bdpt {
-        light_paths: light_paths_for(scene, bdpt.light_paths),
-        ..*bdpt
-    };
     let setup = Setup::new(scene, plan, settings, camera);
     let (sensor, mixture, pair, flat) = (&setup.sensor, plan.mixture(), &setup.pair, &setup.flat);
     let (manifold, camera_chain) = (setup.manifold, &setup.camera_chain);

@@ -401,7 +401,7 @@ fn mis_weight_in<const FRACTION: bool, const GUIDED: bool>(
                     p.unit += r;
                 }
                 if s + t - i <= 1 {
-                    p.pt_ratios[s + t - i] = ri * nee_here;
+                    p.pt_ratios[s + t - i] = r;
                 }
             }
         }

@@ -130,9 +130,7 @@ impl FlatColour {
     pub fn vertex_is_flat(&self, v: &Vertex) -> bool {
         let own = match v.kind {
             VertexKind::Camera | VertexKind::Light { .. } => true,
-            VertexKind::Surface { object } => {
-                self.objects.get(object as usize).copied().unwrap_or(false)
-            }
+            VertexKind::Surface { object } => self.object_is_flat(object),
         };
         own && v.lanes.is_all() && v.shifted.is_none() && !v.unit_lobe && v.moved == LaneMask::NONE
     }
