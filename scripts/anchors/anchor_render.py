@@ -29,7 +29,10 @@ comparison errs in its favour.
 Configurations (`configs` lists them), each with Russian roulette at the renderer's default and
 off (`-rroff`):
   mitsuba-{independent,multijitter,orthogonal,ldsampler}: Mitsuba 3 `path` in llvm_ad_spectral
-      (its spectral path tracer; the sampler is the only difference);
+      (its spectral path tracer; the sampler is the only difference), its film a `specfilm`
+      recording the CIE 1931 1 nm table's X, Y, Z, turned into linear sRGB as spectrace does
+      (`observer.py`, which says why not `hdrfilm`); references likewise, their EXR headers
+      stating that colour convention;
   luxcore-bidir-{sobol,random,metropolis}: LuxCore BIDIRCPU with that sampler;
   luxcore-bidirvm: LuxCore BIDIRVMCPU (vertex merging; its default sampler).
 LuxCore is an RGB renderer: every reflectance is projected to linear sRGB under the scene's
@@ -45,16 +48,12 @@ llvm variants need LLVM >= 16 (Debian: `apt-get install libllvm19`; the script s
 DRJIT_LIBLLVM_PATH to /usr/lib/x86_64-linux-gnu/libLLVM.so.19.1 when that exists and the
 variable is unset).
 """
-import argparse, csv, json, math, os, sys, time
+import argparse, json, math, os, sys, time
 
-ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
-CMF = os.path.join(ROOT, "host", "data", "cie", "cie1931_2deg.csv")
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from observer import COLOUR, COLOUR_ATTRIBUTE, film_to_srgb, mitsuba_film, srgb_of_spectrum  # noqa: E402
+
 FORMAT = "spectrace-bench-scene/1"
-
-# Linear sRGB (D65) from CIE 1931 XYZ.
-XYZ_TO_SRGB = [[3.240479, -1.537150, -0.498535],
-               [-0.969256, 1.875991, 0.041556],
-               [0.055648, -0.204043, 1.057311]]
 
 MITSUBA_SAMPLERS = ["independent", "multijitter", "orthogonal", "ldsampler"]
 LUX_SAMPLERS = ["sobol", "random", "metropolis"]
@@ -173,24 +172,9 @@ def from_frame(frame, p):
 
 
 # ------------------------------------------------------------------------------- spectra → RGB
-def cmf_table():
-    rows = [r for r in csv.reader(l for l in open(CMF) if not l.startswith("#"))][1:]
-    return {int(round(float(r[0]))): (float(r[1]), float(r[2]), float(r[3])) for r in rows}
-
-
 def srgb_of(grid, values):
-    """Linear sRGB of a spectrum on `grid` (nm), XYZ = sum L·cmf / sum y (spectrace's film)."""
-    cmf = cmf_table()
-    xyz, ysum = [0.0, 0.0, 0.0], 0.0
-    for nm, v in zip(grid, values):
-        bars = cmf.get(int(round(nm)))
-        if bars is None:
-            continue
-        for i in range(3):
-            xyz[i] += v * bars[i]
-        ysum += bars[1]
-    xyz = [c / ysum for c in xyz]
-    return [sum(XYZ_TO_SRGB[r][c] * xyz[c] for c in range(3)) for r in range(3)]
+    """Linear sRGB of a spectrum on `grid` (nm): the CIE integral (`observer.py`)."""
+    return [float(v) for v in srgb_of_spectrum(grid, values)]
 
 
 def fresnel_conductor(cos_i, eta, k):
@@ -231,8 +215,8 @@ def mitsuba_dict(sc, sampler, rr_off, mi):
                                                        target=to_frame(frame, cam["look_at"]),
                                                        up=cam["up"]),
             "sampler": {"type": sampler},
-            "film": {"type": "hdrfilm", "width": sc["width"], "height": sc["height"],
-                     "rfilter": {"type": "box"}, "pixel_format": "rgb"},
+            # The bands are the CIE 1931 1 nm table; `observer.film_to_srgb` makes the image.
+            "film": mitsuba_film(sc["width"], sc["height"]),
         },
     }
     bsdfs = {}
@@ -308,6 +292,7 @@ def run_mitsuba(sc, cfg, args, budgets, out_prefix, spp_fixed=None):
         t0 = time.perf_counter()
         img = np.array(mi.render(scene, spp=spp, seed=args.seed * 1000 + i), dtype=np.float64)
         wall = time.perf_counter() - t0
+        img = film_to_srgb(img)  # XYZ -> sRGB, 3×3 a pixel: microseconds, left out like loading
         secs = kernel_seconds(dr)
         sampler = scene.sensors()[0].sampler()
         results.append((img, {"spp": int(sampler.sample_count()), "requested_spp": spp,
@@ -435,11 +420,16 @@ def run_luxcore(sc, cfg, args, budgets, out_prefix):
 
 
 # ------------------------------------------------------------------------------------ outputs
-def write_exr(path, rgb):
+def write_exr(path, rgb, colour=None):
+    """Linear sRGB as R, G, B; `colour` names the image's colour convention in the header
+    attribute the bench checks on a reference (`observer.COLOUR_ATTRIBUTE`)."""
     import numpy as np
     import OpenEXR
     rgb = np.ascontiguousarray(rgb[..., :3].astype(np.float32))
-    with OpenEXR.File({"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage},
+    header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
+    if colour:
+        header[COLOUR_ATTRIBUTE] = colour
+    with OpenEXR.File(header,
                       {"R": rgb[..., 0].copy(), "G": rgb[..., 1].copy(), "B": rgb[..., 2].copy()}) as f:
         f.write(path)
 
@@ -491,11 +481,11 @@ def cmd_reference(a):
             img += n * np.array(mi.render(scene, spp=n, seed=seed), dtype=np.float64)
             done += n
             p += 1
-        img /= part_spp
+        img = film_to_srgb(img / part_spp)
         check_finite(img, f"reference part {k + 1}")
         total += img
-        write_exr(f"{a.out_prefix}_part{k + 1}.exr", img)
-    write_exr(f"{a.out_prefix}.exr", total / a.parts)
+        write_exr(f"{a.out_prefix}_part{k + 1}.exr", img, COLOUR)
+    write_exr(f"{a.out_prefix}.exr", total / a.parts, COLOUR)
     print(json.dumps({"renderer": f"mitsuba {mi.__version__} llvm_ad_spectral path independent",
                       "spp": a.parts * part_spp, "parts": a.parts,
                       "seconds": round(time.perf_counter() - t0, 3),

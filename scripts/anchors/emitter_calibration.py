@@ -7,14 +7,15 @@ by a constant factor differs from them by that factor everywhere, which the mean
 camera sees an emitter fully (value within 3% of the emitter's expected RGB), independently of
 every renderer: the exported spectrum (`spectrace bench export`, every nm 360-830 nm) times the
 CIE 1931 2-degree colour-matching functions (host/data/cie/cie1931_2deg.csv), trapezoid rule,
-divided by the integral of y-bar, then the sRGB (D65) matrix of IEC 61966-2-1.
+divided by the integral of y-bar, then the sRGB (D65) matrix of IEC 61966-2-1 (`observer.py`).
 
     python scripts/anchors/emitter_calibration.py DIR/scene.json IMAGE.exr [IMAGE.exr ...]
 
-With `--mitsuba` instead, Mitsuba 3 (`llvm_ad_spectral`, the bench's variant) renders an
-8 x 8-pixel view filling with an area emitter of an equal-energy and of a ramp spectrum
-(16,384 spp, box filter) and prints each image's mean against the same CIE integral: the
-factor of its spectrum-to-RGB conversion, whatever the scene.
+With `--mitsuba` instead, Mitsuba 3 (`llvm_ad_spectral`, the bench's variant, with the bench's
+film: `observer.mitsuba_film`) renders an 8 x 8-pixel view filling with an area emitter of an
+equal-energy and of a ramp spectrum (16,384 spp, box filter) and prints each image's mean
+against the same CIE integral: the factor of its spectrum-to-RGB conversion (1 within the
+wavelength sampling's noise since the film records the integrals themselves).
 
     python scripts/anchors/emitter_calibration.py --mitsuba
 """
@@ -24,9 +25,11 @@ from pathlib import Path
 
 import numpy as np
 
-XYZ_TO_SRGB = np.array([[3.2404542, -1.5371385, -0.4985314],
-                        [-0.9692660, 1.8760108, 0.0415560],
-                        [0.0556434, -0.2040259, 1.0572252]])
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from observer import cmf_on, film_to_srgb, mitsuba_film, xyz_to_srgb_matrix, y_integral  # noqa: E402
+
+XYZ_TO_SRGB = xyz_to_srgb_matrix()
 
 
 def read_exr(path):
@@ -45,7 +48,7 @@ def expected_rgb(scene_json):
     sc = json.loads(Path(scene_json).read_text())
     wl = np.asarray(sc["wavelengths_nm"], float)
     cmf = cmf_on(wl)
-    y_int = np.trapezoid(cmf[:, 1], wl)
+    y_int = y_integral()
     out = {}
     for name, m in sc["materials"].items():
         if "radiance" in m:
@@ -53,12 +56,6 @@ def expected_rgb(scene_json):
             xyz = np.trapezoid(le[:, None] * cmf, wl, axis=0) / y_int
             out[name] = XYZ_TO_SRGB @ xyz
     return out
-
-
-def cmf_on(wl):
-    cmf_file = Path(__file__).resolve().parents[2] / "host/data/cie/cie1931_2deg.csv"
-    d = np.genfromtxt(cmf_file, delimiter=",", comments="#", skip_header=2)
-    return np.stack([np.interp(wl, d[:, 0], d[:, k]) for k in (1, 2, 3)], -1)
 
 
 def flat_emitter_dict(mi, values, spp, seed=0):
@@ -71,8 +68,7 @@ def flat_emitter_dict(mi, values, spp, seed=0):
         "sensor": {"type": "perspective", "fov": 10,
                    "to_world": mi.ScalarTransform4f.look_at(origin=[0, 0, 5], target=[0, 0, 0],
                                                             up=[0, 1, 0]),
-                   "film": {"type": "hdrfilm", "width": 8, "height": 8,
-                            "rfilter": {"type": "box"}},
+                   "film": mitsuba_film(8, 8),
                    "sampler": {"type": "independent", "sample_count": spp, "seed": seed}},
         "light": {"type": "rectangle", "emitter": {"type": "area", "radiance": spectrum}},
     }
@@ -82,12 +78,11 @@ def mitsuba_colour_factor(mi, values, spp=16384, passes=1):
     """Mitsuba's image of the emitter over the CIE integral of `values`, per channel."""
     wl = np.arange(360, 831, 1.0)
     cmf = cmf_on(wl)
-    expected = XYZ_TO_SRGB @ (np.trapezoid(values[:, None] * cmf, wl, axis=0)
-                              / np.trapezoid(cmf[:, 1], wl))
+    expected = XYZ_TO_SRGB @ (np.trapezoid(values[:, None] * cmf, wl, axis=0) / y_integral())
     got = np.zeros(3)
     for p in range(passes):
         scene = mi.load_dict(flat_emitter_dict(mi, values, spp, seed=p))
-        got += np.array(mi.render(scene), dtype=np.float64).reshape(-1, 3).mean(0)
+        got += film_to_srgb(mi.render(scene)).reshape(-1, 3).mean(0)
     return got / passes / expected
 
 

@@ -286,16 +286,13 @@ impl MeanCheck {
     }
 }
 
-/// Pooled mean of a set of renders against the reference times `reference_scale` in `region`
-/// (`None`: every counted pixel), with `ref_var` the reference's own variance per value (see
-/// the module docs). The scale is 1 except for renders in the reference renderer's own colour
-/// convention (Mitsuba 3's, whose reference the bench divided by Mitsuba's colour factor).
+/// Pooled mean of a set of renders against the reference in `region` (`None`: every counted
+/// pixel), with `ref_var` the reference's own variance per value (see the module docs).
 /// `None` when the region is empty or no render has a usable variance.
 pub fn mean_check(
     splits: &[&RegionSplit],
     region: Option<usize>,
     ref_var: f64,
-    reference_scale: f64,
 ) -> Option<MeanCheck> {
     let pick = |v: &[f64; 3]| match region {
         Some(r) => v[r],
@@ -324,11 +321,8 @@ pub fn mean_check(
     if wsum == 0.0 {
         return None;
     }
-    // Against the reference times `reference_scale`: the difference moves by the scale's
-    // share of the reference's mean, and so does its own noise.
-    let d = wd / wsum - (reference_scale - 1.0) * reference;
-    let se = (1.0 / wsum + reference_scale * reference_scale * ref_var / pixels).sqrt();
-    let reference = reference_scale * reference;
+    let d = wd / wsum;
+    let se = (1.0 / wsum + ref_var / pixels).sqrt();
     Some(MeanCheck {
         relative: if reference != 0.0 {
             d / reference
@@ -707,23 +701,16 @@ mod tests {
         };
         let fair = [render(0.0), render(0.0)];
         let off = [render(0.01), render(0.01)];
-        let m = mean_check(&[&fair[0], &fair[1]], None, 0.0, 1.0).unwrap();
+        let m = mean_check(&[&fair[0], &fair[1]], None, 0.0).unwrap();
         assert!(m.within() && m.z.abs() < 3.0, "{m:?}");
-        let m = mean_check(&[&off[0], &off[1]], Some(2), 0.0, 1.0).unwrap();
+        let m = mean_check(&[&off[0], &off[1]], Some(2), 0.0).unwrap();
         assert!(!m.within() && m.z > 10.0, "{m:?}");
         assert!((m.relative - 0.01).abs() < 0.002, "{m:?}");
         // A noisy reference widens the standard error: the same offset against a reference
         // with σ = 1 per value (its mean ±0.01) is no longer significant.
-        let m = mean_check(&[&off[0], &off[1]], Some(2), 1.0, 1.0).unwrap();
+        let m = mean_check(&[&off[0], &off[1]], Some(2), 1.0).unwrap();
         assert!(m.within(), "{m:?}");
-        assert_eq!(mean_check(&[&off[0]], Some(0), 0.0, 1.0), None);
-        // Renders in the reference renderer's own colour convention: the 1% offset against a
-        // reference scaled by 1.01 is no offset (|z| as for the fair renders), and the fair
-        // renders are then 1% below it.
-        let m = mean_check(&[&off[0], &off[1]], Some(2), 0.0, 1.01).unwrap();
-        assert!(m.within() && m.z.abs() < 3.0, "{m:?}");
-        let m = mean_check(&[&fair[0], &fair[1]], None, 0.0, 1.01).unwrap();
-        assert!(!m.within() && (m.relative + 0.0099).abs() < 0.002, "{m:?}");
+        assert_eq!(mean_check(&[&off[0]], Some(0), 0.0), None);
     }
 
     // Two halves differing by ±d per value: MSE between them 4d², so the full reference's

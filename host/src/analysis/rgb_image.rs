@@ -15,6 +15,31 @@ pub struct RgbImage {
 }
 
 impl RgbImage {
+    /// The text attribute `name` of `path`'s header (any part), if it has one: what a file
+    /// says of itself, such as the colour convention of a bench reference.
+    pub fn read_exr_text_attribute(
+        path: &Path,
+        name: &str,
+    ) -> Result<Option<String>, AnalysisError> {
+        let meta =
+            exr::meta::MetaData::read_from_file(path, false).map_err(|e| AnalysisError::Read {
+                path: path.to_path_buf(),
+                message: format!("not a readable OpenEXR file ({e})"),
+            })?;
+        let key = exr::prelude::Text::from(name);
+        Ok(meta.headers.iter().find_map(|h| {
+            let value = h
+                .own_attributes
+                .other
+                .get(&key)
+                .or(h.shared_attributes.other.get(&key));
+            match value {
+                Some(exr::meta::attribute::AttributeValue::Text(t)) => Some(t.to_string()),
+                _ => None,
+            }
+        }))
+    }
+
     /// Read channels R, G and B of the first layer of `path` that has all three. Channel names
     /// may carry a layer prefix (`layer.R`). Other channels (A, X, Y, Z) are ignored.
     pub fn read_exr(path: &Path) -> Result<Self, AnalysisError> {

@@ -19,8 +19,8 @@ use std::time::Duration;
 pub enum BenchCommand {
     /// Error versus time of renderer configurations against a reference image.
     Accuracy(AccuracyArgs),
-    /// Equal-time efficiency of spectrace against Mitsuba 3 and LuxCore on the Cornell box and
-    /// the caustic (see docs/performance.md).
+    /// Equal-time efficiency of spectrace against Mitsuba 3 and LuxCore on the bench's scene
+    /// suite, per region, with their means against Mitsuba references (see docs/performance.md).
     Speed(super::bench_speed::SpeedArgs),
     /// Write a scene for the anchors (scene.json and PLY files; see `bench speed`).
     Export(super::bench_speed::ExportArgs),
