@@ -900,9 +900,8 @@ fn report(
          fitted); \"biased\" = b minus the reference's own variance above \
          Student's t (95%, the fit's degrees of freedom) standard errors and a tenth of a/t \
          at the longest budget (floor), or the mean more than {MEAN_Z_LIMIT} standard errors \
-         off the reference (mean; Mitsuba's configurations against the reference in Mitsuba's \
-         own colour convention, see the means table). Ratio = a of the best unbiased anchor configuration / a of the \
-         row (> 1: more efficient than the best anchor).\n",
+         off the reference (mean; see the means table). Ratio = a of the best unbiased anchor \
+         configuration / a of the row (> 1: more efficient than the best anchor).\n",
         budgets,
         args.seeds(),
         args.threads
