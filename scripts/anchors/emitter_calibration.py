@@ -27,9 +27,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from observer import cmf_on, film_to_srgb, mitsuba_film, xyz_to_srgb_matrix, y_integral  # noqa: E402
-
-XYZ_TO_SRGB = xyz_to_srgb_matrix()
+from observer import film_to_srgb, mitsuba_film, srgb_of_spectrum  # noqa: E402
 
 
 def read_exr(path):
@@ -46,15 +44,10 @@ def read_exr(path):
 def expected_rgb(scene_json):
     """Linear sRGB of every emitter's radiance spectrum, by the CIE integral."""
     sc = json.loads(Path(scene_json).read_text())
-    wl = np.asarray(sc["wavelengths_nm"], float)
-    cmf = cmf_on(wl)
-    y_int = y_integral()
     out = {}
     for name, m in sc["materials"].items():
         if "radiance" in m:
-            le = np.asarray(m["radiance"], float)
-            xyz = np.trapezoid(le[:, None] * cmf, wl, axis=0) / y_int
-            out[name] = XYZ_TO_SRGB @ xyz
+            out[name] = srgb_of_spectrum(sc["wavelengths_nm"], m["radiance"])
     return out
 
 
@@ -76,9 +69,7 @@ def flat_emitter_dict(mi, values, spp, seed=0):
 
 def mitsuba_colour_factor(mi, values, spp=16384, passes=1):
     """Mitsuba's image of the emitter over the CIE integral of `values`, per channel."""
-    wl = np.arange(360, 831, 1.0)
-    cmf = cmf_on(wl)
-    expected = XYZ_TO_SRGB @ (np.trapezoid(values[:, None] * cmf, wl, axis=0) / y_integral())
+    expected = srgb_of_spectrum(np.arange(360, 831, 1.0), values)
     got = np.zeros(3)
     for p in range(passes):
         scene = mi.load_dict(flat_emitter_dict(mi, values, spp, seed=p))

@@ -33,8 +33,10 @@ SRGB_PRIMARIES = [(0.64, 0.33), (0.30, 0.60), (0.15, 0.06)]
 D65_XY = (0.3127, 0.3290)
 
 
+@functools.cache
 def cmf_table():
-    """(wavelengths nm, (n, 3) x-bar, y-bar, z-bar) of the shipped table."""
+    """(wavelengths nm, (n, 3) x-bar, y-bar, z-bar) of the shipped table, read once (callers
+    only read the arrays)."""
     import numpy as np
     d = np.genfromtxt(CMF_FILE, delimiter=",", comments="#", skip_header=2)
     return d[:, 0], d[:, 1:4]
