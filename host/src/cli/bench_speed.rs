@@ -24,7 +24,7 @@
 
 use crate::analysis::bench_fit::{
     cpu_description, fit_inverse_time, mean_check, reference_variance, view_masks, Fit,
-    RegionSplit, Regions, MEAN_Z_LIMIT, REGION_NAMES,
+    ReferenceHalves, RegionSplit, Regions, MEAN_Z_LIMIT, REGION_NAMES,
 };
 use crate::analysis::bench_scene::export_scene;
 use crate::analysis::RgbImage;
@@ -165,9 +165,13 @@ struct Point {
 
 /// The reference of one scene and what is known of its noise.
 struct Reference {
+    /// Mean of every part: the whole image's reference.
     image: RgbImage,
+    /// Mean of the even-numbered parts: each region's reference (`ReferenceHalves`).
+    compared: RgbImage,
     spp: String,
-    /// Variance of the reference per value: whole image and per region.
+    /// Variance of the reference per value: whole image (all parts) and per region (the
+    /// even-numbered parts).
     var_total: f64,
     var_region: [f64; 3],
 }
@@ -368,17 +372,21 @@ fn set_up_scene(args: &SpeedArgs, name: &str, path: &Path) -> Result<SceneSetup,
     let load_seconds = t0.elapsed().as_secs_f64();
     let (emitter, shiny, _, _) = view_masks(&scene)?;
     let (image, parts, spp) = reference(args, name, &exported.path)?;
-    let regions =
-        Regions::from_masks(&emitter, &shiny, &image).map_err(|e| format!("{name}: {e}"))?;
+    // The regions from the odd-numbered parts, each region compared with the even-numbered
+    // ones (why: `ReferenceHalves`), the whole image with all of them.
+    let halves = ReferenceHalves::new(&parts).map_err(|e| format!("{name}: {e}"))?;
+    let regions = Regions::from_masks(&emitter, &shiny, &halves.regions_from)
+        .map_err(|e| format!("{name}: {e}"))?;
     let counted = regions.counted();
     let var_total = reference_variance(&parts, &counted);
     let mut var_region = [0.0; 3];
     for (r, v) in var_region.iter_mut().enumerate() {
         let mask: Vec<bool> = regions.region.iter().map(|x| *x == Some(r)).collect();
-        *v = reference_variance(&parts, &mask);
+        *v = reference_variance(&parts, &mask) * halves.compared_variance_factor;
     }
     println!(
-        "{name}: reference {spp}, {} parts (RMSE of its own noise {:.5}); regions: {}",
+        "{name}: reference {spp}, {} parts (RMSE of its own noise {:.5}; the regions drawn \
+         from the odd-numbered parts, each compared with the even-numbered ones); regions: {}",
         parts.len(),
         var_total.sqrt(),
         REGION_NAMES
@@ -396,6 +404,7 @@ fn set_up_scene(args: &SpeedArgs, name: &str, path: &Path) -> Result<SceneSetup,
         regions,
         reference: Reference {
             image,
+            compared: halves.compared,
             spp,
             var_total,
             var_region,
@@ -429,7 +438,7 @@ fn own_points(
                 .map_err(|e| format!("{}: {e}", file.display()))?;
             let split = setup
                 .regions
-                .split(&img, &setup.reference.image)
+                .split(&img, &setup.reference.compared, &setup.reference.image)
                 .map_err(|e| format!("{name} {label} at {b} s: {e}"))?;
             let p = Point {
                 scene: name.clone(),
@@ -481,7 +490,7 @@ fn anchor_points(
             let img = RgbImage::read_exr(&file).map_err(|e| e.to_string())?;
             let split = setup
                 .regions
-                .split(&img, &setup.reference.image)
+                .split(&img, &setup.reference.compared, &setup.reference.image)
                 .map_err(|e| format!("{name} {config} at {budget} s: {e}"))?;
             let p = Point {
                 scene: name.clone(),
@@ -1226,6 +1235,8 @@ mod tests {
                 sse: [0.0, 0.0, 3e4 * mse],
                 values: [0, 0, 30_000],
                 sum_ref: [0.0, 0.0, 3e4],
+                total_sse: 3e4 * mse,
+                total_sum_ref: 3e4,
                 ..Default::default()
             },
         }
@@ -1253,12 +1264,14 @@ mod tests {
     /// The report of `pts` (budgets 1, 2, 4, 8 s) on one scene "s" with an exact one-pixel
     /// reference in the rest region.
     fn test_report(pts: &[Point]) -> String {
+        let image = RgbImage {
+            width: 1,
+            height: 1,
+            rgb: vec![[0.0; 3]],
+        };
         let reference = Reference {
-            image: RgbImage {
-                width: 1,
-                height: 1,
-                rgb: vec![[0.0; 3]],
-            },
+            compared: image.clone(),
+            image,
             spp: "test".into(),
             var_total: 0.0,
             var_region: [0.0; 3],
@@ -1292,6 +1305,7 @@ mod tests {
             let mut a = point("A", true, t, 1.0 / t + 0.2);
             // A's floor is an offset of its mean: √0.2 ≈ 0.45 on a reference of 1.
             a.split.sum_diff = [0.0, 0.0, 3e4 * 0.2f64.sqrt()];
+            a.split.total_sum_diff = 3e4 * 0.2f64.sqrt();
             pts.push(a);
             pts.push(point("B", true, t, 2.0 / t));
             pts.push(point("spectrace-bdpt", false, t, 1.0 / t));
@@ -1330,6 +1344,7 @@ mod tests {
             for name in ["luxcore-c", "mitsuba-d"] {
                 let mut p = point(name, true, t, 0.5 / t);
                 p.split.sum_diff = [0.0, 0.0, 3e4 * 0.01];
+                p.split.total_sum_diff = 3e4 * 0.01;
                 pts.push(p);
             }
             pts.push(point("B", true, t, 2.0 / t));
