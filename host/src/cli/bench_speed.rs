@@ -919,8 +919,9 @@ fn report(
         let scene_points: Vec<&Point> = points.iter().filter(|p| &p.scene == name).collect();
         let _ = writeln!(
             s,
-            "### {name}\n\nReference: {}, {}×{} px; its own noise RMSE {:.2e} (whole), per region \
-             {}. Regions: {}.\n",
+            "### {name}\n\nReference: {}, {}×{} px; its own noise RMSE {:.2e} (whole, all parts), \
+             per region {} (the even-numbered parts). Regions: {} (drawn from the odd-numbered \
+             parts).\n",
             reference.spp,
             reference.image.width,
             reference.image.height,
