@@ -432,18 +432,23 @@ impl ReferenceHalves {
                 parts.len()
             ));
         }
-        let mean = |pick: usize| -> Result<RgbImage, String> {
+        let first = &parts[0];
+        if let Some((k, p)) = parts
+            .iter()
+            .enumerate()
+            .find(|(_, p)| (p.width, p.height) != (first.width, first.height))
+        {
+            return Err(format!(
+                "reference part {} is {}×{} but part 1 is {}×{}",
+                k + 1,
+                p.width,
+                p.height,
+                first.width,
+                first.height
+            ));
+        }
+        let mean = |pick: usize| -> RgbImage {
             let chosen: Vec<&RgbImage> = parts.iter().skip(pick).step_by(2).collect();
-            let first = chosen[0];
-            if let Some(p) = chosen
-                .iter()
-                .find(|p| (p.width, p.height) != (first.width, first.height))
-            {
-                return Err(format!(
-                    "reference parts of different sizes: {}×{} and {}×{}",
-                    first.width, first.height, p.width, p.height
-                ));
-            }
             let k = chosen.len() as f64;
             let rgb = (0..first.rgb.len())
                 .map(|i| {
@@ -456,15 +461,15 @@ impl ReferenceHalves {
                     v
                 })
                 .collect();
-            Ok(RgbImage {
+            RgbImage {
                 width: first.width,
                 height: first.height,
                 rgb,
-            })
+            }
         };
         Ok(Self {
-            regions_from: mean(0)?,
-            compared: mean(1)?,
+            regions_from: mean(0),
+            compared: mean(1),
             compared_variance_factor: parts.len() as f64 / (parts.len() / 2) as f64,
         })
     }
@@ -873,6 +878,10 @@ mod tests {
         assert!(reference_variance(&parts, &everything) > 0.0);
         assert_eq!(halves.compared_variance_factor, 2.0);
         assert!(ReferenceHalves::new(&parts[..1]).is_err());
+        let mut odd_size = parts.clone();
+        odd_size[5].width -= 1;
+        let e = ReferenceHalves::new(&odd_size).unwrap_err();
+        assert!(e.contains("part 6"), "{e}");
     }
 
     // Two halves differing by ±d per value: MSE between them 4d², so the full reference's
