@@ -550,11 +550,12 @@ fn bench_sphere_grazing_image_matches_the_geometric_integral() {
 /// camera: 54 pixels), BDPT and the path tracer, 16 seeds × 64 spp each, against the
 /// geometric integral times the lamp's luminance.
 /// Tolerance: 4 standard errors of the seeds' mean plus 0.5% for the integral's grid.
-/// Why: in the bench, BDPT's "lamp images" region sits 1.6–3.2% below Mitsuba 3's reference
+/// Why: in the bench, BDPT's "lamp images" region sat 1.6–3.2% below Mitsuba 3's reference
 /// (z −2.0 to −3.5) over four three-seed runs, Mitsuba's own renders 0.4–1.6% and the path
-/// tracer 0.2–2.2% (docs/performance.md). That region is mostly the floor's caustic seen
-/// through the ball (light, glass, floor, glass, camera); the lamp's own images are these 54
-/// pixels, which this checks (measured: BDPT +0.80% ± 0.21%).
+/// tracer 0.2–2.2%, while the region was drawn from the reference it was compared with (the
+/// selection docs/performance.md describes; now it is not). That region is mostly the floor's
+/// caustic seen through the ball (light, glass, floor, glass, camera); the lamp's own images
+/// are these 54 pixels, which this checks (measured: BDPT +0.80% ± 0.21%).
 /// A measurement (about a minute on two cores): `cargo test --release -p spectrace --test
 /// caustic_lamp_images -- --ignored --nocapture`.
 #[test]

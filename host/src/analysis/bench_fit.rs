@@ -447,31 +447,35 @@ impl ReferenceHalves {
                 first.height
             ));
         }
-        let mean = |pick: usize| -> RgbImage {
-            let chosen: Vec<&RgbImage> = parts.iter().skip(pick).step_by(2).collect();
-            let k = chosen.len() as f64;
-            let rgb = (0..first.rgb.len())
-                .map(|i| {
-                    let mut v = [0.0; 3];
-                    for p in &chosen {
-                        for (c, x) in v.iter_mut().enumerate() {
-                            *x += p.rgb[i][c] / k;
-                        }
-                    }
-                    v
-                })
-                .collect();
-            RgbImage {
-                width: first.width,
-                height: first.height,
-                rgb,
-            }
-        };
+        let half =
+            |pick: usize| mean_image(&parts.iter().skip(pick).step_by(2).collect::<Vec<_>>());
         Ok(Self {
-            regions_from: mean(0),
-            compared: mean(1),
+            regions_from: half(0),
+            compared: half(1),
             compared_variance_factor: parts.len() as f64 / (parts.len() / 2) as f64,
         })
+    }
+}
+
+/// The per-value mean of `images` (at least one, all of the first one's size).
+fn mean_image(images: &[&RgbImage]) -> RgbImage {
+    let first = images[0];
+    let k = images.len() as f64;
+    let rgb = (0..first.rgb.len())
+        .map(|i| {
+            let mut v = [0.0; 3];
+            for p in images {
+                for (c, x) in v.iter_mut().enumerate() {
+                    *x += p.rgb[i][c] / k;
+                }
+            }
+            v
+        })
+        .collect();
+    RgbImage {
+        width: first.width,
+        height: first.height,
+        rgb,
     }
 }
 
@@ -848,13 +852,7 @@ mod tests {
         let parts: Vec<RgbImage> = (0..8).map(|_| noisy(0.3)).collect();
         let renders = [noisy(0.1), noisy(0.1)];
         let halves = ReferenceHalves::new(&parts).unwrap();
-        let full = {
-            let mut m = parts[0].clone();
-            for (i, p) in m.rgb.iter_mut().enumerate() {
-                *p = [parts.iter().map(|q| q.rgb[i][0]).sum::<f64>() / 8.0; 3];
-            }
-            m
-        };
+        let full = mean_image(&parts.iter().collect::<Vec<_>>());
         let no = vec![false; n];
         let everything = vec![true; n];
         let core_check = |regions_from: &RgbImage, compared: &RgbImage, var_factor: f64| {
